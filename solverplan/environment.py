@@ -1,0 +1,800 @@
+"""Polygonal environments: rings, validation, orientation, boundary coordinates, file formats.
+
+An :class:`Environment` is a polygon with holes, stored with **exact** rational coordinates
+(decimals in files are read exactly) beside float arrays for fast numerics. It is always
+valid and normalised: the outer ring is counter-clockwise, holes are clockwise, so the free
+space lies on the **left** of every directed edge (DESIGN §2).
+
+Edge numbering (CONTRACT.md): the outer ring's edges are ``0 .. n0−1``, edge ``i`` going from
+vertex ``i`` to the next vertex of its ring; each hole's edges continue the numbering in file
+order. Vertex ``i`` is the first vertex of edge ``i``. A boundary point is ``(edge, t)`` with the
+boundary parameter t ∈ [0, 1] along the directed edge; its perimeter position ("arc length") is
+measured along the rings in numbering order.
+
+>>> env = Environment.from_coords([[0, 0], [0, 1], [1, 1], [1, 0]], name="square")
+>>> env.reoriented            # the outer ring was clockwise: its vertex order was reversed
+(True,)
+>>> env.ring(0)[:2]
+((Fraction(0, 1), Fraction(0, 1)), (Fraction(1, 1), Fraction(0, 1)))
+>>> env.area, env.perimeter
+(Fraction(1, 1), 4.0)
+>>> env.point_at(1, 0.25)
+(1.0, 0.25)
+>>> env.arc_length(1, 0.25)
+1.25
+>>> env.boundary_set("e1:0.25:0.75,e3")
+BoundarySet(pieces=(BoundaryPiece(edge=1, t0=Fraction(1, 4), t1=Fraction(3, 4)), BoundaryPiece(edge=3, t0=Fraction(0, 1), t1=Fraction(1, 1))))
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass, field
+from decimal import Decimal
+from fractions import Fraction
+from functools import cached_property
+from pathlib import Path
+from typing import Iterable, Literal, Sequence
+
+import numpy as np
+
+from solverplan._io import atomic_write_text
+from solverplan.errors import InvalidBoundarySet, InvalidEnvironment, MalformedFile
+from solverplan.exact import (
+    ExactPoint,
+    format_number,
+    format_point,
+    orient,
+    orient_filter,
+    point_in_ring,
+    segment_intersection,
+    to_fraction,
+)
+
+__all__ = [
+    "Environment",
+    "Edge",
+    "BoundaryPiece",
+    "BoundarySet",
+    "FileFormat",
+    "load_environment",
+    "parse_environment",
+    "save_environment",
+    "format_environment",
+]
+
+FileFormat = Literal["json", "geojson", "wkt"]
+_EXTENSIONS: dict[str, FileFormat] = {".json": "json", ".geojson": "geojson", ".wkt": "wkt"}
+
+
+def _ring_name(index: int) -> str:
+    return "outer ring" if index == 0 else f"hole {index - 1}"
+
+
+def _signed_area2(ring: Sequence[ExactPoint]) -> Fraction:
+    """Twice the signed area (shoelace), exact: positive for a CCW ring."""
+    total = Fraction(0)
+    n = len(ring)
+    for i in range(n):
+        (x0, y0), (x1, y1) = ring[i], ring[(i + 1) % n]
+        total += x0 * y1 - x1 * y0
+    return total
+
+
+@dataclass(frozen=True, slots=True)
+class Edge:
+    """A directed boundary edge ``a → b`` (free space on its left), with its global ``id`` and ``ring``."""
+
+    id: int
+    ring: int
+    a: ExactPoint
+    b: ExactPoint
+
+
+@dataclass(frozen=True, slots=True)
+class BoundaryPiece:
+    """The part of edge ``edge`` with boundary parameter t ∈ [t0, t1] (0 ≤ t0 < t1 ≤ 1)."""
+
+    edge: int
+    t0: Fraction
+    t1: Fraction
+
+    def __str__(self) -> str:
+        if self.t0 == 0 and self.t1 == 1:
+            return f"e{self.edge}"
+        return f"e{self.edge}:{format_number(self.t0)}:{format_number(self.t1)}"
+
+
+@dataclass(frozen=True, slots=True)
+class BoundarySet:
+    """A union of boundary pieces (start sets, goal sets, patrol edges); see CONTRACT.md."""
+
+    pieces: tuple[BoundaryPiece, ...]
+
+    def __str__(self) -> str:
+        return ",".join(str(piece) for piece in self.pieces)
+
+    @property
+    def edges(self) -> tuple[int, ...]:
+        """The distinct edges touched, in the order given."""
+        return tuple(dict.fromkeys(piece.edge for piece in self.pieces))
+
+
+_PIECE = re.compile(r"^e(\d+)(?::([^:]+):([^:]+))?$")
+
+
+@dataclass(frozen=True, eq=False)
+class Environment:
+    """A valid polygonal environment with holes, exact and normalised.
+
+    Build one with :meth:`from_coords` or :func:`load_environment`; the constructor itself takes
+    rings that are already exact and oriented (outer CCW, holes CW) and validates them.
+
+    Parameters
+    ----------
+    rings
+        ``rings[0]`` is the outer ring (CCW), ``rings[1:]`` the holes (CW); each a tuple of
+        exact points, not closed (the first vertex is not repeated).
+    name
+        Free text, kept in files.
+    reoriented
+        For each ring, whether its input vertex order was reversed to normalise orientation.
+
+    Raises
+    ------
+    InvalidEnvironment
+        With one line saying what is wrong and where (ring, edge, point).
+    """
+
+    rings: tuple[tuple[ExactPoint, ...], ...]
+    name: str = ""
+    reoriented: tuple[bool, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        if not self.rings:
+            raise InvalidEnvironment("environment is empty: no outer ring")
+        if not self.reoriented:
+            object.__setattr__(self, "reoriented", (False,) * len(self.rings))
+        for index, ring in enumerate(self.rings):
+            _check_ring_shape(ring, index)
+        for index, ring in enumerate(self.rings):
+            want = 1 if index == 0 else -1
+            area2 = _signed_area2(ring)
+            if (area2 > 0) - (area2 < 0) != want:
+                raise InvalidEnvironment(
+                    f"{_ring_name(index)} is {'clockwise' if area2 < 0 else 'counter-clockwise'}: "
+                    "use Environment.from_coords to normalise orientation"
+                )
+        _check_crossings(self)
+        _check_nesting(self)
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_coords(
+        cls,
+        outer: Iterable[Sequence[object]],
+        holes: Iterable[Iterable[Sequence[object]]] = (),
+        *,
+        name: str = "",
+    ) -> Environment:
+        """Build an environment from coordinate lists in either orientation.
+
+        Coordinates may be ints, floats (taken at their shortest decimal), decimals, fractions or
+        numeric strings; a closing vertex equal to the first is dropped (GeoJSON/WKT style).
+        Rings are reoriented (outer CCW, holes CW) and validated.
+
+        >>> Environment.from_coords([[0, 0], [2, 2], [2, 0], [0, 2]])
+        Traceback (most recent call last):
+        ...
+        solverplan.errors.InvalidEnvironment: outer ring self-intersects: edge 0 crosses edge 2 at (1, 1)
+        """
+        raw_rings = [outer, *holes]
+        rings: list[tuple[ExactPoint, ...]] = []
+        flipped: list[bool] = []
+        for index, raw in enumerate(raw_rings):
+            ring = _exact_ring(raw, index)
+            _check_ring_shape(ring, index)
+            area2 = _signed_area2(ring)
+            if area2 == 0:
+                if all(orient(ring[0], ring[1], p) == 0 for p in ring[2:]):
+                    raise InvalidEnvironment(f"{_ring_name(index)} has zero area (all its vertices are collinear)")
+                _check_ring_simple(ring, index)  # a bowtie has zero signed area: name the crossing first
+                raise InvalidEnvironment(f"{_ring_name(index)} has zero area (its vertices are collinear)")
+            flip = (area2 > 0) != (index == 0)  # outer CCW, holes CW
+            if flip:
+                ring = (ring[0], *reversed(ring[1:]))
+            rings.append(ring)
+            flipped.append(flip)
+        return cls(tuple(rings), name=name, reoriented=tuple(flipped))
+
+    # ------------------------------------------------------------------ structure
+    def ring(self, index: int) -> tuple[ExactPoint, ...]:
+        """Ring ``index`` (0 = outer), normalised."""
+        return self.rings[index]
+
+    @property
+    def outer(self) -> tuple[ExactPoint, ...]:
+        return self.rings[0]
+
+    @property
+    def holes(self) -> tuple[tuple[ExactPoint, ...], ...]:
+        return self.rings[1:]
+
+    @cached_property
+    def ring_offsets(self) -> tuple[int, ...]:
+        """Global index of each ring's first vertex/edge, plus the total at the end."""
+        offsets = [0]
+        for ring in self.rings:
+            offsets.append(offsets[-1] + len(ring))
+        return tuple(offsets)
+
+    @property
+    def n_edges(self) -> int:
+        """Number of edges (= number of vertices) over all rings."""
+        return self.ring_offsets[-1]
+
+    @property
+    def n_vertices(self) -> int:
+        return self.ring_offsets[-1]
+
+    @cached_property
+    def exact_vertices(self) -> tuple[ExactPoint, ...]:
+        """All vertices in global numbering, exact."""
+        return tuple(p for ring in self.rings for p in ring)
+
+    @cached_property
+    def vertices(self) -> np.ndarray:
+        """All vertices in global numbering, float array of shape (n, 2) (read-only)."""
+        arr = np.array([[float(x), float(y)] for x, y in self.exact_vertices], dtype=float)
+        arr.setflags(write=False)
+        return arr
+
+    @cached_property
+    def ring_of(self) -> np.ndarray:
+        """Ring index of each vertex / edge, int array of shape (n,)."""
+        sizes = np.diff(np.array(self.ring_offsets))
+        arr = np.repeat(np.arange(len(self.rings)), sizes)
+        arr.setflags(write=False)
+        return arr
+
+    @cached_property
+    def next_vertex(self) -> np.ndarray:
+        """Global index of the next vertex along each vertex's ring (edge i ends there)."""
+        idx = np.arange(self.n_vertices) + 1
+        starts = np.array(self.ring_offsets[:-1])
+        ends = np.array(self.ring_offsets[1:])
+        idx[ends - 1] = starts
+        idx.setflags(write=False)
+        return idx
+
+    @cached_property
+    def prev_vertex(self) -> np.ndarray:
+        """Global index of the previous vertex along each vertex's ring (edge prev[i] ends at i)."""
+        idx = np.empty(self.n_vertices, dtype=int)
+        idx[self.next_vertex] = np.arange(self.n_vertices)
+        idx.setflags(write=False)
+        return idx
+
+    def edge(self, index: int) -> Edge:
+        """Edge ``index`` as exact end points. Raises :class:`InvalidBoundarySet` if unknown."""
+        self._check_edge_id(index)
+        verts = self.exact_vertices
+        return Edge(index, int(self.ring_of[index]), verts[index], verts[int(self.next_vertex[index])])
+
+    @property
+    def edges(self) -> tuple[Edge, ...]:
+        return tuple(self.edge(i) for i in range(self.n_edges))
+
+    @cached_property
+    def edge_start(self) -> np.ndarray:
+        """Float start points of all edges, shape (n, 2)."""
+        return self.vertices
+
+    @cached_property
+    def edge_end(self) -> np.ndarray:
+        """Float end points of all edges, shape (n, 2)."""
+        arr = self.vertices[self.next_vertex]
+        arr.setflags(write=False)
+        return arr
+
+    @cached_property
+    def edge_lengths(self) -> np.ndarray:
+        """Euclidean length of every edge (float), shape (n,)."""
+        arr = np.hypot(*(self.edge_end - self.edge_start).T)
+        arr.setflags(write=False)
+        return arr
+
+    @cached_property
+    def edge_offsets(self) -> np.ndarray:
+        """Perimeter position of each edge's start, plus the total perimeter at the end, shape (n+1,)."""
+        arr = np.concatenate([[0.0], np.cumsum(self.edge_lengths)])
+        arr.setflags(write=False)
+        return arr
+
+    @property
+    def perimeter(self) -> float:
+        """Total length of all rings."""
+        return float(self.edge_offsets[-1])
+
+    @cached_property
+    def area(self) -> Fraction:
+        """Exact area of the free space (outer minus holes)."""
+        return sum((_signed_area2(ring) for ring in self.rings), Fraction(0)) / 2
+
+    @cached_property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) of the outer ring, floats."""
+        lo = self.vertices.min(axis=0)
+        hi = self.vertices.max(axis=0)
+        return (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+
+    @cached_property
+    def reflex_vertices(self) -> tuple[int, ...]:
+        """Global indices of vertices whose free-space angle exceeds π.
+
+        With the free space on the left of every edge this is a right turn prev → v → next,
+        so the convex corners of holes are reflex. Collinear vertices (angle exactly π) are not.
+        """
+        verts = self.exact_vertices
+        prev, nxt = self.prev_vertex, self.next_vertex
+        return tuple(i for i in range(self.n_vertices) if orient(verts[prev[i]], verts[i], verts[nxt[i]]) < 0)
+
+    def is_reflex(self, vertex: int) -> bool:
+        """Is global vertex ``vertex`` reflex with respect to the free space?"""
+        return vertex in self._reflex_set
+
+    @cached_property
+    def _reflex_set(self) -> frozenset[int]:
+        return frozenset(self.reflex_vertices)
+
+    # ------------------------------------------------------------------ boundary coordinates
+    def _check_edge_id(self, index: int) -> None:
+        if not (0 <= int(index) < self.n_edges) or int(index) != index:
+            raise InvalidBoundarySet(f"unknown edge e{index}: edges are e0..e{self.n_edges - 1}")
+
+    def point_at(self, edge: int, t: float) -> tuple[float, float]:
+        """Float point of boundary coordinate (edge, t), t ∈ [0, 1]."""
+        self._check_edge_id(edge)
+        p = self.edge_start[edge] + float(t) * (self.edge_end[edge] - self.edge_start[edge])
+        return (float(p[0]), float(p[1]))
+
+    def exact_point_at(self, edge: int, t: Fraction | int) -> ExactPoint:
+        """Exact point of boundary coordinate (edge, t)."""
+        e = self.edge(edge)
+        t = Fraction(t)
+        return (e.a[0] + t * (e.b[0] - e.a[0]), e.a[1] + t * (e.b[1] - e.a[1]))
+
+    def points_at(self, edges: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Vectorised :meth:`point_at`: arrays of edge ids and parameters → points, shape (m, 2)."""
+        edges = np.asarray(edges, dtype=int)
+        t = np.asarray(t, dtype=float)
+        a, b = self.edge_start[edges], self.edge_end[edges]
+        return a + t[..., None] * (b - a)
+
+    def arc_length(self, edge: int | np.ndarray, t: float | np.ndarray) -> float | np.ndarray:
+        """Perimeter position of (edge, t): rings in numbering order, each edge from its start."""
+        edge_arr = np.asarray(edge, dtype=int)
+        s = self.edge_offsets[edge_arr] + np.asarray(t, dtype=float) * self.edge_lengths[edge_arr]
+        return float(s) if np.ndim(s) == 0 else s
+
+    def from_arc_length(self, s: float | np.ndarray) -> tuple[np.ndarray | int, np.ndarray | float]:
+        """Inverse of :meth:`arc_length`; s is taken modulo the perimeter."""
+        s_arr = np.mod(np.asarray(s, dtype=float), self.perimeter)
+        edge = np.clip(np.searchsorted(self.edge_offsets, s_arr, side="right") - 1, 0, self.n_edges - 1)
+        t = (s_arr - self.edge_offsets[edge]) / self.edge_lengths[edge]
+        t = np.clip(t, 0.0, 1.0)
+        if np.ndim(s_arr) == 0:
+            return int(edge), float(t)
+        return edge, t
+
+    def locate(self, point: Sequence[object]) -> tuple[int, Fraction]:
+        """Exact boundary coordinate (edge, t) of a point lying exactly on the boundary.
+
+        A vertex is reported on the edge it starts (t = 0). Raises :class:`InvalidBoundarySet`
+        if the point is not on the boundary.
+        """
+        p = (to_fraction(point[0], where="point"), to_fraction(point[1], where="point"))
+        verts = self.exact_vertices
+        for i in range(self.n_edges):
+            a, b = verts[i], verts[int(self.next_vertex[i])]
+            if orient(a, b, p) == 0 and min(a, b) <= p <= max(a, b):
+                dx, dy = b[0] - a[0], b[1] - a[1]
+                t = (p[0] - a[0]) / dx if dx != 0 else (p[1] - a[1]) / dy
+                if t == 1:
+                    return int(self.next_vertex[i]), Fraction(0)
+                return i, t
+        raise InvalidBoundarySet(f"point {format_point(p)} is not on the boundary")
+
+    def nearest_boundary_coordinate(self, xy: Sequence[float]) -> tuple[int, float]:
+        """Float (edge, t) of the boundary point nearest to ``xy``."""
+        p = np.asarray(xy, dtype=float)
+        a, b = self.edge_start, self.edge_end
+        d = b - a
+        t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.einsum("ij,ij->i", d, d), 0.0, 1.0)
+        dist = np.hypot(*(a + t[:, None] * d - p).T)
+        i = int(np.argmin(dist))
+        return i, float(t[i])
+
+    def boundary_set(self, spec: str) -> BoundarySet:
+        """Parse a boundary set such as ``e3``, ``e3:0.25:0.75`` or ``e3:0.5:1,e4`` (CONTRACT.md).
+
+        >>> Environment.from_coords([[0, 0], [1, 0], [0, 1]]).boundary_set("e7")
+        Traceback (most recent call last):
+        ...
+        solverplan.errors.InvalidBoundarySet: unknown edge e7: edges are e0..e2
+        """
+        if not isinstance(spec, str) or not spec.strip():
+            raise InvalidBoundarySet(f"boundary set {spec!r} is empty: expected e.g. 'e3' or 'e3:0.25:0.75,e4'")
+        pieces = []
+        for part in spec.split(","):
+            text = part.strip()
+            match = _PIECE.match(text)
+            if not match:
+                raise InvalidBoundarySet(
+                    f"boundary set piece {text!r} is malformed: expected 'eK' or 'eK:T0:T1' with 0 <= T0 < T1 <= 1"
+                )
+            edge = int(match.group(1))
+            self._check_edge_id(edge)
+            if match.group(2) is None:
+                t0, t1 = Fraction(0), Fraction(1)
+            else:
+                where = f"boundary set piece {text!r}"
+                t0 = to_fraction(match.group(2), where=where)
+                t1 = to_fraction(match.group(3), where=where)
+                if not (0 <= t0 < t1 <= 1):
+                    raise InvalidBoundarySet(
+                        f"boundary set piece {text!r}: need 0 <= t0 < t1 <= 1, got t0={format_number(t0)}, "
+                        f"t1={format_number(t1)}"
+                    )
+            pieces.append(BoundaryPiece(edge, t0, t1))
+        return BoundarySet(tuple(pieces))
+
+    # ------------------------------------------------------------------ conversion
+    def to_shapely(self):
+        """The free space as a :class:`shapely.Polygon` (floats)."""
+        import shapely
+
+        return shapely.Polygon(
+            [tuple(map(float, p)) for p in self.outer], [[tuple(map(float, p)) for p in h] for h in self.holes]
+        )
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict per CONTRACT (numbers exact where they are terminating decimals)."""
+        data: dict = {"name": self.name, "outer": [_json_point(p) for p in self.outer]}
+        if self.holes:
+            data["holes"] = [[_json_point(p) for p in hole] for hole in self.holes]
+        return data
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Environment):
+            return NotImplemented
+        return self.rings == other.rings
+
+    def __hash__(self) -> int:
+        return hash(self.rings)
+
+    def __repr__(self) -> str:
+        return (
+            f"Environment(name={self.name!r}, vertices={self.n_vertices}, holes={len(self.holes)}, "
+            f"reflex={len(self.reflex_vertices)})"
+        )
+
+
+# ---------------------------------------------------------------------- validation helpers
+def _exact_ring(raw: Iterable[Sequence[object]], index: int) -> tuple[ExactPoint, ...]:
+    name = _ring_name(index)
+    if isinstance(raw, (str, bytes)):
+        raise InvalidEnvironment(f"{name}: expected a list of [x, y] pairs, got a string")
+    try:
+        items = list(raw)
+    except TypeError:
+        raise InvalidEnvironment(f"{name}: expected a list of [x, y] pairs, got {raw!r}") from None
+    ring = []
+    for k, item in enumerate(items):
+        where = f"{name} vertex {k}"
+        if isinstance(item, (str, bytes)) or not hasattr(item, "__len__") or len(item) != 2:
+            raise InvalidEnvironment(f"{where}: expected a pair [x, y], got {item!r}")
+        try:
+            ring.append((to_fraction(item[0], where=where), to_fraction(item[1], where=where)))
+        except ValueError as exc:
+            raise InvalidEnvironment(str(exc)) from None
+    if len(ring) >= 2 and ring[0] == ring[-1]:
+        ring.pop()  # closed ring (GeoJSON, WKT): the closing vertex is not a vertex of its own
+    return tuple(ring)
+
+
+def _check_ring_shape(ring: Sequence[ExactPoint], index: int) -> None:
+    name = _ring_name(index)
+    distinct = len(set(ring))
+    if distinct < 3:
+        raise InvalidEnvironment(f"{name} has fewer than 3 distinct vertices ({distinct})")
+    n = len(ring)
+    for i in range(n):
+        j = (i + 1) % n
+        if ring[i] == ring[j]:
+            raise InvalidEnvironment(f"{name} repeats vertex {i} at {format_point(ring[i])} as vertex {j}")
+
+
+def _check_ring_simple(ring: Sequence[ExactPoint], index: int) -> None:
+    """Self-intersection of one ring, reported with edge ids local to that ring."""
+    pairs = _candidate_pairs(np.array([[float(x), float(y)] for x, y in ring]), np.roll(np.arange(len(ring)), -1))
+    for i, j in pairs:
+        problem = _edge_pair_problem(ring, len(ring), i, j)
+        if problem:
+            raise InvalidEnvironment(f"{_ring_name(index)} self-intersects: {problem}")
+
+
+def _edge_pair_problem(ring: Sequence[ExactPoint], n: int, i: int, j: int) -> str | None:
+    """Describe how edges i < j of one ring meet illegally, or None."""
+    a, b = ring[i], ring[(i + 1) % n]
+    c, d = ring[j], ring[(j + 1) % n]
+    hit = segment_intersection(a, b, c, d)
+    if hit is None:
+        return None
+    adjacent = (j == i + 1) or (i == 0 and j == n - 1)
+    if adjacent and hit.kind == "point":
+        return None  # the shared vertex
+    if hit.kind == "overlap":
+        return f"edge {i} overlaps edge {j} from {format_point(hit.points[0])} to {format_point(hit.points[1])}"
+    point = hit.points[0]
+    proper = point not in (a, b, c, d)
+    return f"edge {i} {'crosses' if proper else 'touches'} edge {j} at {format_point(point)}"
+
+
+def _candidate_pairs(starts: np.ndarray, next_index: np.ndarray) -> list[tuple[int, int]]:
+    """Pairs i < j of edges whose closed float bounding boxes meet (a superset of meeting edges).
+
+    Rounding to float is monotone, so exact boxes that meet give float boxes that meet.
+    Then a vectorised orientation filter drops the pairs that certainly do not meet.
+    """
+    import shapely
+
+    ends = starts[next_index]
+    n = len(starts)
+    if n <= 64:
+        ii, jj = np.triu_indices(n, k=1)
+    else:
+        lines = shapely.linestrings(np.stack([starts, ends], axis=1))
+        tree = shapely.STRtree(lines)
+        ii, jj = tree.query(lines)
+        keep = ii < jj
+        ii, jj = ii[keep], jj[keep]
+    a, b, c, d = starts[ii], ends[ii], starts[jj], ends[jj]
+    o1, o2 = orient_filter(a, b, c), orient_filter(a, b, d)
+    o3, o4 = orient_filter(c, d, a), orient_filter(c, d, b)
+    apart = (o1 * o2 > 0) | (o3 * o4 > 0)
+    return list(zip(ii[~apart].tolist(), jj[~apart].tolist()))
+
+
+def _input_edge(env: Environment, edge: int) -> int:
+    """Ring-local edge id of global ``edge`` in the ring's *input* vertex order (for messages)."""
+    ring = int(env.ring_of[edge])
+    local = edge - env.ring_offsets[ring]
+    if env.reoriented[ring]:
+        n = len(env.rings[ring])
+        local = (n - local - 1) % n  # reversing (v0, v1, ..., vn-1) to (v0, vn-1, ..., v1)
+    return local
+
+
+def _check_crossings(env: Environment) -> None:
+    """Edges of different rings must not meet; edges of one ring only at their shared vertex.
+
+    Messages name edges as numbered in the input ring, so users can find them in their file.
+    """
+    verts = env.exact_vertices
+    nxt = env.next_vertex
+    ring_of = env.ring_of
+    for i, j in _candidate_pairs(env.vertices, nxt):
+        ri, rj = int(ring_of[i]), int(ring_of[j])
+        hit = segment_intersection(verts[i], verts[nxt[i]], verts[j], verts[nxt[j]])
+        if hit is None:
+            continue
+        if ri == rj:
+            if hit.kind == "point" and (nxt[i] == j or nxt[j] == i):
+                continue  # neighbours meeting at their shared vertex
+            li, lj = sorted((_input_edge(env, i), _input_edge(env, j)))
+            ring = verts[env.ring_offsets[ri] : env.ring_offsets[ri + 1]]
+            if env.reoriented[ri]:
+                ring = (ring[0], *reversed(ring[1:]))
+            problem = _edge_pair_problem(ring, len(ring), li, lj)
+            raise InvalidEnvironment(f"{_ring_name(ri)} self-intersects: {problem}")
+        where = format_point(hit.points[0])
+        li, lj = _input_edge(env, i), _input_edge(env, j)
+        if ri == 0:
+            raise InvalidEnvironment(f"hole {rj - 1} touches the outer ring at {where} (hole edge {lj}, outer edge {li})")
+        raise InvalidEnvironment(f"hole {ri - 1} touches hole {rj - 1} at {where} (edge {li} of hole {ri - 1}, edge {lj} of hole {rj - 1})")
+
+
+def _check_nesting(env: Environment) -> None:
+    """With no crossings left, each hole lies wholly inside the outer ring and outside every other hole."""
+    outer = env.outer
+    for k, hole in enumerate(env.holes):
+        if point_in_ring(hole[0], outer) < 0:
+            raise InvalidEnvironment(f"hole {k} lies outside the outer ring")
+        for m, other in enumerate(env.holes):
+            if m != k and point_in_ring(hole[0], other) > 0:
+                raise InvalidEnvironment(f"hole {k} lies inside hole {m}")
+
+
+# ---------------------------------------------------------------------- file formats
+def _reject_constant(name: str) -> None:
+    raise MalformedFile(f"non-finite number {name} in file")
+
+
+def _json_point(p: ExactPoint) -> list:
+    return [_json_number(p[0]), _json_number(p[1])]
+
+
+def _json_number(x: Fraction) -> int | float | str:
+    """Integers as integers; decimals whose shortest float text is exact as JSON numbers; else exact strings."""
+    if x.denominator == 1:
+        return int(x.numerator)
+    text = format_number(x)
+    if "/" not in text and Fraction(repr(float(x))) == x:
+        return float(x)
+    return text
+
+
+def parse_environment(
+    text: str, fmt: FileFormat, *, name: str = "", default_name: str = "", source: str = "input"
+) -> Environment:
+    """Parse environment text in ``fmt`` (``json``, ``geojson`` or ``wkt``); decimals read exactly.
+
+    Raises :class:`MalformedFile` for unreadable text and :class:`InvalidEnvironment` for an
+    invalid polygon, each with ``source`` (a file name) in the message.
+    """
+    try:
+        if fmt == "wkt":
+            rings, file_name = _parse_wkt(text), ""
+        elif fmt in ("json", "geojson"):
+            try:
+                data = json.loads(text, parse_float=Decimal, parse_constant=_reject_constant)
+            except json.JSONDecodeError as exc:
+                raise MalformedFile(f"{source}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})") from None
+            rings, file_name = (_parse_geojson(data) if fmt == "geojson" or _looks_geojson(data) else _parse_json(data))
+        else:
+            raise MalformedFile(f"{source}: unknown format {fmt!r}: use json, geojson or wkt")
+        return Environment.from_coords(rings[0], rings[1:], name=name or file_name or default_name)
+    except (MalformedFile, InvalidEnvironment) as exc:
+        message = str(exc)
+        if not message.startswith(f"{source}:"):
+            message = f"{source}: {message}"
+        raise type(exc)(message) from None
+
+
+def _looks_geojson(data: object) -> bool:
+    return isinstance(data, dict) and "type" in data and "outer" not in data
+
+
+def _parse_json(data: object) -> tuple[list, str]:
+    if not isinstance(data, dict):
+        raise MalformedFile('expected a JSON object {"outer": [[x, y], ...], "holes": [...]}')
+    if "outer" not in data:
+        raise MalformedFile('missing "outer": expected {"outer": [[x, y], ...], "holes": [...]}')
+    outer = data["outer"]
+    holes = data.get("holes", [])
+    if not isinstance(outer, list) or not isinstance(holes, list):
+        raise MalformedFile('"outer" must be a list of [x, y] pairs and "holes" a list of such lists')
+    name = data.get("name", "")
+    return [outer, *holes], name if isinstance(name, str) else str(name)
+
+
+def _parse_geojson(data: object) -> tuple[list, str]:
+    name = ""
+    if isinstance(data, dict) and data.get("type") == "FeatureCollection":
+        features = data.get("features")
+        if not isinstance(features, list) or len(features) != 1:
+            count = len(features) if isinstance(features, list) else 0
+            raise MalformedFile(f"GeoJSON FeatureCollection must hold exactly one feature, found {count}")
+        data = features[0]
+    if isinstance(data, dict) and data.get("type") == "Feature":
+        props = data.get("properties") or {}
+        name = str(props.get("name", "")) if isinstance(props, dict) else ""
+        data = data.get("geometry")
+    if not isinstance(data, dict) or data.get("type") != "Polygon":
+        kind = data.get("type") if isinstance(data, dict) else type(data).__name__
+        raise MalformedFile(f"GeoJSON geometry must be a Polygon, got {kind}")
+    coords = data.get("coordinates")
+    if not isinstance(coords, list) or not coords:
+        raise MalformedFile("GeoJSON Polygon has no coordinates (empty polygon)")
+    return coords, name
+
+
+_WKT_HEAD = re.compile(r"^\s*POLYGON\s*", re.IGNORECASE)
+
+
+def _parse_wkt(text: str) -> list:
+    match = _WKT_HEAD.match(text)
+    if not match:
+        head = text.strip().split("(")[0].strip()[:30] or "empty text"
+        raise MalformedFile(f"WKT must be a POLYGON, got {head!r}")
+    body = text[match.end() :].strip()
+    if body.upper() == "EMPTY":
+        raise MalformedFile("WKT polygon is EMPTY")
+    if not (body.startswith("(") and body.endswith(")")):
+        raise MalformedFile("WKT polygon must be POLYGON ((x y, ...), (...)); unbalanced parentheses")
+    inner = body[1:-1].strip()
+    rings = []
+    for ring_match in re.finditer(r"\(([^()]*)\)|([^\s,])", inner):
+        if ring_match.group(2) is not None:
+            raise MalformedFile(f"WKT: unexpected {ring_match.group(2)!r} between rings")
+        points = []
+        for k, chunk in enumerate(ring_match.group(1).split(",")):
+            parts = chunk.split()
+            if len(parts) != 2:
+                raise MalformedFile(f"WKT ring {len(rings)} point {k}: expected 'x y', got {chunk.strip()!r}")
+            points.append(parts)
+        rings.append(points)
+    if not rings:
+        raise MalformedFile("WKT polygon has no rings")
+    return rings
+
+
+def format_environment(env: Environment, fmt: FileFormat = "json") -> str:
+    """Text of ``env`` in ``fmt``. JSON keeps exact decimals (ratios as ``"p/q"`` strings);
+    GeoJSON and WKT close their rings; WKT writes non-terminating ratios to 17 digits."""
+    if fmt == "json":
+        # one vertex per line: readable, diffable, and still plain JSON
+        def ring_text(ring: Sequence[ExactPoint], indent: str) -> str:
+            rows = ",\n".join(f"{indent}  {json.dumps(_json_point(p))}" for p in ring)
+            return f"[\n{rows}\n{indent}]"
+
+        parts = [f'  "name": {json.dumps(env.name)}', f'  "outer": {ring_text(env.outer, "  ")}']
+        if env.holes:
+            holes = ",\n".join(f"    {ring_text(h, '    ')}" for h in env.holes)
+            parts.append(f'  "holes": [\n{holes}\n  ]')
+        return "{\n" + ",\n".join(parts) + "\n}\n"
+    if fmt == "geojson":
+        rings = [[_json_point(p) for p in (*ring, ring[0])] for ring in env.rings]
+        feature = {
+            "type": "Feature",
+            "properties": {"name": env.name},
+            "geometry": {"type": "Polygon", "coordinates": rings},
+        }
+        return json.dumps(feature) + "\n"
+    if fmt == "wkt":
+        def num(x: Fraction) -> str:
+            text = format_number(x)
+            return repr(float(x)) if "/" in text else text
+
+        rings = ", ".join(
+            "(" + ", ".join(f"{num(x)} {num(y)}" for x, y in (*ring, ring[0])) + ")" for ring in env.rings
+        )
+        return f"POLYGON ({rings})\n"
+    raise MalformedFile(f"unknown format {fmt!r}: use json, geojson or wkt")
+
+
+def _format_of(path: Path, fmt: str | None) -> FileFormat:
+    if fmt:
+        if fmt not in ("json", "geojson", "wkt"):
+            raise MalformedFile(f"unknown format {fmt!r}: use json, geojson or wkt")
+        return fmt  # type: ignore[return-value]
+    try:
+        return _EXTENSIONS[path.suffix.lower()]
+    except KeyError:
+        raise MalformedFile(
+            f"{path}: cannot tell the format from the extension {path.suffix!r}: use .json, .geojson or .wkt, or --format"
+        ) from None
+
+
+def load_environment(path: str | Path, fmt: FileFormat | None = None) -> Environment:
+    """Read an environment file (format from the extension unless ``fmt`` is given).
+
+    The name defaults to the file's stem when the file gives none.
+    """
+    path = Path(path)
+    kind = _format_of(path, fmt)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise MalformedFile(f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
+    return parse_environment(text, kind, default_name=path.stem, source=str(path))
+
+
+def save_environment(env: Environment, path: str | Path, fmt: FileFormat | None = None) -> None:
+    """Write ``env`` atomically, format from the extension unless ``fmt`` is given."""
+    path = Path(path)
+    atomic_write_text(path, format_environment(env, _format_of(path, fmt)))

@@ -1,0 +1,258 @@
+"""Exact numbers and the orientation family of predicates.
+
+The lowest layer of solverplan: everything that decides a tie (collinear, parallel,
+on-vertex) comes here. Coordinates are :class:`fractions.Fraction` (decimals from
+files are read exactly, never through binary floats). Every predicate has a float
+*filter*: a vectorised numpy version that answers when the float answer is provably
+right and says "uncertain" (0) otherwise, so exact arithmetic runs only near ties.
+
+>>> orient((0, 0), (1, 0), (0, 1))
+1
+>>> orient((0, 0), (1, 1), (Fraction(1, 3), Fraction(1, 3)))
+0
+>>> segment_intersection((0, 0), (2, 2), (2, 0), (0, 2))
+SegmentIntersection(kind='point', points=((Fraction(1, 1), Fraction(1, 1)),))
+>>> format_point((Fraction(1, 2), Fraction(1, 3)))
+'(0.5, 1/3)'
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from fractions import Fraction
+from numbers import Rational
+from typing import Literal, Sequence
+
+import numpy as np
+
+from solverplan.errors import InputError
+
+__all__ = [
+    "ExactPoint",
+    "to_fraction",
+    "exact_point",
+    "format_number",
+    "format_point",
+    "orient",
+    "orient_filter",
+    "SegmentIntersection",
+    "segment_intersection",
+    "line_intersection",
+    "on_segment",
+    "point_in_ring",
+    "FLOAT_FILTER_REL",
+]
+
+ExactPoint = tuple[Fraction, Fraction]
+"""A point with exact rational coordinates."""
+
+# Relative error bound of the float orientation determinant when the coordinates are
+# themselves roundings of exact rationals (one rounding per coordinate, then two
+# subtractions, two products and a difference): about 12 u with u = 2**-53. We use
+# ten times that, so a sign the filter certifies is the exact sign.
+FLOAT_FILTER_REL = 1.5e-14
+
+_FRACTION_TEXT = re.compile(r"^\s*[+-]?\d+\s*/\s*\d+\s*$")
+
+
+def to_fraction(value: object, *, where: str = "value") -> Fraction:
+    """Convert a user-supplied number to an exact :class:`Fraction`.
+
+    Integers, fractions and :class:`~decimal.Decimal` are exact. Python floats are taken
+    at their shortest decimal representation (``0.1`` is 1/10, the number the user typed,
+    not the binary float nearest to it). Strings may hold a decimal (``"0.25"``, ``"1e-3"``)
+    or a ratio (``"1/3"``).
+
+    Raises
+    ------
+    InputError
+        ``where`` names the place, e.g. ``outer ring vertex 2: coordinate 'abc' is not a number``;
+        NaN and infinities are rejected as non-finite.
+    """
+    if isinstance(value, bool):
+        raise InputError(f"{where}: {value!r} is not a number")
+    if isinstance(value, Fraction):
+        return value
+    if isinstance(value, int):
+        return Fraction(value)
+    if isinstance(value, Rational):
+        return Fraction(value.numerator, value.denominator)
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise InputError(f"{where}: coordinate is not finite ({value!r})")
+        return Fraction(repr(value))
+    if isinstance(value, Decimal):
+        if not value.is_finite():
+            raise InputError(f"{where}: coordinate is not finite ({value})")
+        return Fraction(value)
+    if isinstance(value, np.generic):
+        return to_fraction(value.item(), where=where)
+    if isinstance(value, str):
+        text = value.strip()
+        if _FRACTION_TEXT.match(text):
+            num, den = (int(part) for part in text.split("/"))
+            if den == 0:
+                raise InputError(f"{where}: {value!r} divides by zero")
+            return Fraction(num, den)
+        try:
+            number = Decimal(text)
+        except InvalidOperation:
+            raise InputError(f"{where}: {value!r} is not a number") from None
+        return to_fraction(number, where=where)
+    raise InputError(f"{where}: {value!r} is not a number")
+
+
+def exact_point(xy: Sequence[object], *, where: str = "point") -> ExactPoint:
+    """Convert a pair of numbers to an exact point; see :func:`to_fraction`."""
+    if isinstance(xy, (str, bytes)) or not hasattr(xy, "__len__") or len(xy) != 2:
+        raise InputError(f"{where}: expected a pair [x, y], got {xy!r}")
+    return (to_fraction(xy[0], where=where), to_fraction(xy[1], where=where))
+
+
+def format_number(value: Fraction | int | float) -> str:
+    """Shortest faithful text for a number: ``3``, ``0.25``, ``1/3`` (exact), floats as ``repr``."""
+    if isinstance(value, float):
+        return repr(value)
+    value = Fraction(value)
+    if value.denominator == 1:
+        return str(value.numerator)
+    den = value.denominator
+    twos = fives = 0
+    while den % 2 == 0:
+        den //= 2
+        twos += 1
+    while den % 5 == 0:
+        den //= 5
+        fives += 1
+    if den == 1:  # terminating decimal: print it exactly
+        digits = max(twos, fives)
+        scaled = value * 10**digits
+        sign = "-" if scaled < 0 else ""
+        text = str(abs(scaled.numerator)).rjust(digits + 1, "0")
+        return f"{sign}{text[:-digits]}.{text[-digits:]}"
+    return f"{value.numerator}/{value.denominator}"
+
+
+def format_point(p: Sequence[Fraction | int | float]) -> str:
+    """``(x, y)`` with :func:`format_number` coordinates, for messages."""
+    return f"({format_number(p[0])}, {format_number(p[1])})"
+
+
+def orient(a: Sequence[Fraction | int], b: Sequence[Fraction | int], c: Sequence[Fraction | int]) -> int:
+    """Exact sign of the turn a → b → c: +1 left (CCW), −1 right (CW), 0 collinear."""
+    det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    return (det > 0) - (det < 0)
+
+
+def orient_filter(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Vectorised float filter for :func:`orient`.
+
+    ``a``, ``b``, ``c`` are float arrays of shape (..., 2), roundings of exact points.
+    Returns int8 signs: +1 / −1 where the float determinant is provably of that exact
+    sign, 0 where it is too close to call (then use :func:`orient`).
+    """
+    abx = b[..., 0] - a[..., 0]
+    aby = b[..., 1] - a[..., 1]
+    acx = c[..., 0] - a[..., 0]
+    acy = c[..., 1] - a[..., 1]
+    left = abx * acy
+    right = aby * acx
+    det = left - right
+    # bound in terms of the coordinates' magnitudes (covers the rounding of the inputs too)
+    mag = (np.abs(a[..., 0]) + np.abs(b[..., 0]) + np.abs(c[..., 0])) * (
+        np.abs(a[..., 1]) + np.abs(b[..., 1]) + np.abs(c[..., 1])
+    )
+    bound = FLOAT_FILTER_REL * mag
+    sign = np.zeros(det.shape, dtype=np.int8)
+    sign[det > bound] = 1
+    sign[det < -bound] = -1
+    return sign
+
+
+@dataclass(frozen=True, slots=True)
+class SegmentIntersection:
+    """How two closed segments meet: at one ``point``, or along an ``overlap`` (two end points)."""
+
+    kind: Literal["point", "overlap"]
+    points: tuple[ExactPoint, ...]
+
+
+def _between(p: Sequence[Fraction], a: Sequence[Fraction], b: Sequence[Fraction]) -> bool:
+    """For p collinear with a, b: is p on the closed segment ab?"""
+    return min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= p[1] <= max(a[1], b[1])
+
+
+def on_segment(p: Sequence[Fraction], a: Sequence[Fraction], b: Sequence[Fraction]) -> bool:
+    """Exactly: does p lie on the closed segment ab?"""
+    return orient(a, b, p) == 0 and _between(p, a, b)
+
+
+def line_intersection(
+    a: Sequence[Fraction], b: Sequence[Fraction], c: Sequence[Fraction], d: Sequence[Fraction]
+) -> ExactPoint | None:
+    """Exact intersection of the lines ab and cd, or ``None`` if they are parallel (or equal)."""
+    rx, ry = b[0] - a[0], b[1] - a[1]
+    sx, sy = d[0] - c[0], d[1] - c[1]
+    den = rx * sy - ry * sx
+    if den == 0:
+        return None
+    lam = Fraction((c[0] - a[0]) * sy - (c[1] - a[1]) * sx) / den
+    return (a[0] + lam * rx, a[1] + lam * ry)
+
+
+def segment_intersection(
+    a: Sequence[Fraction], b: Sequence[Fraction], c: Sequence[Fraction], d: Sequence[Fraction]
+) -> SegmentIntersection | None:
+    """Exact intersection of the closed segments ab and cd (``None`` if disjoint).
+
+    Touching counts: an end point on the other segment is a ``point`` intersection.
+    Collinear segments sharing more than a point give an ``overlap`` with its two ends.
+    """
+    o1, o2 = orient(a, b, c), orient(a, b, d)
+    o3, o4 = orient(c, d, a), orient(c, d, b)
+    if o1 == o2 == 0:  # collinear (or degenerate): overlap of 1-D intervals, ordered lexicographically
+        lo1, hi1 = sorted((a, b))
+        lo2, hi2 = sorted((c, d))
+        lo, hi = max(lo1, lo2), min(hi1, hi2)
+        if lo > hi:
+            return None
+        lo = (Fraction(lo[0]), Fraction(lo[1]))
+        hi = (Fraction(hi[0]), Fraction(hi[1]))
+        if lo == hi:
+            return SegmentIntersection("point", (lo,))
+        return SegmentIntersection("overlap", (lo, hi))
+    if o1 * o2 > 0 or o3 * o4 > 0:
+        return None
+    if o1 == 0:
+        return SegmentIntersection("point", ((Fraction(c[0]), Fraction(c[1])),))
+    if o2 == 0:
+        return SegmentIntersection("point", ((Fraction(d[0]), Fraction(d[1])),))
+    if o3 == 0:
+        return SegmentIntersection("point", ((Fraction(a[0]), Fraction(a[1])),))
+    if o4 == 0:
+        return SegmentIntersection("point", ((Fraction(b[0]), Fraction(b[1])),))
+    point = line_intersection(a, b, c, d)
+    assert point is not None  # proper crossing: lines are not parallel
+    return SegmentIntersection("point", (point,))
+
+
+def point_in_ring(p: Sequence[Fraction], ring: Sequence[Sequence[Fraction]]) -> int:
+    """Exact location of p relative to a simple closed ring: +1 inside, 0 on the boundary, −1 outside.
+
+    Crossing-number test with half-open edge rule; orientation-independent.
+    """
+    inside = False
+    n = len(ring)
+    for i in range(n):
+        a, b = ring[i], ring[(i + 1) % n]
+        if on_segment(p, a, b):
+            return 0
+        if (a[1] > p[1]) != (b[1] > p[1]):
+            # x of the edge at height p.y, compared exactly without division
+            side = orient(a, b, p)
+            if (b[1] > a[1] and side > 0) or (b[1] < a[1] and side < 0):
+                inside = not inside
+    return 1 if inside else -1
