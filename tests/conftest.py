@@ -1,0 +1,38 @@
+"""Shared test configuration: hypothesis profiles and the shipped models in the doctest namespace.
+
+Profiles (select with HYPOTHESIS_PROFILE or pytest --hypothesis-profile):
+- ``ci`` (default): derandomized, no deadline — reproducible, never flaky;
+- ``thorough``: 10× the examples, for local runs before resolving an issue.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, settings
+
+settings.register_profile(
+    "ci",
+    derandomize=True,
+    deadline=None,
+    print_blob=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.register_profile(
+    "thorough",
+    max_examples=1000,
+    deadline=None,
+    print_blob=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+MODELS = Path(__file__).resolve().parent.parent / "models"
+
+
+@pytest.fixture
+def models_dir() -> Path:
+    """The folder of shipped environment files."""
+    return MODELS
