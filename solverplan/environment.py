@@ -40,7 +40,7 @@ from typing import Iterable, Literal, Sequence
 import numpy as np
 
 from solverplan._io import atomic_write_text
-from solverplan.errors import InvalidBoundarySet, InvalidEnvironment, MalformedFile
+from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
 from solverplan.exact import (
     ExactPoint,
     format_number,
@@ -440,8 +440,11 @@ class Environment:
                 t0, t1 = Fraction(0), Fraction(1)
             else:
                 where = f"boundary set piece {text!r}"
-                t0 = to_fraction(match.group(2), where=where)
-                t1 = to_fraction(match.group(3), where=where)
+                try:
+                    t0 = to_fraction(match.group(2), where=where)
+                    t1 = to_fraction(match.group(3), where=where)
+                except InputError as exc:
+                    raise InvalidBoundarySet(str(exc)) from None
                 if not (0 <= t0 < t1 <= 1):
                     raise InvalidBoundarySet(
                         f"boundary set piece {text!r}: need 0 <= t0 < t1 <= 1, got t0={format_number(t0)}, "

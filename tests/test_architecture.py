@@ -1,0 +1,83 @@
+"""Data flows one way (DESIGN §4): each layer imports only from layers to its left.
+
+environment → geometry kernel → model structures (bounce, rectilinear, …) → planners →
+results (simulate, studies, certificates) → renderings / descriptions → CLI.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "solverplan"
+
+# rank of each top-level part of the package; a module may import lower ranks or its own part
+LAYERS = {
+    "errors": 0,
+    "_io": 0,
+    "exact": 1,
+    "environment": 2,
+    "geometry": 3,
+    "bounce": 4,
+    "rectilinear": 4,
+    "wallfollow": 4,
+    "explore": 4,
+    "reflection": 4,
+    "plan": 5,
+    "simulate": 6,
+    "studies": 6,
+    "certify": 6,
+    "describe": 7,
+    "render": 7,
+    "cli": 8,
+    "__init__": 9,
+    "__main__": 9,
+}
+
+
+def _modules():
+    for path in sorted(PACKAGE.rglob("*.py")):
+        yield path, path.relative_to(PACKAGE).parts[0].removesuffix(".py")
+
+
+def _imported_parts(tree: ast.AST, path: Path) -> set[str]:
+    parts: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:  # relative import: resolve against the module's package
+                base = path.relative_to(PACKAGE).parts[: -node.level]
+                names = [".".join(("solverplan", *base, node.module or ""))]
+            else:
+                names = [node.module or ""]
+        else:
+            continue
+        for name in names:
+            bits = name.split(".")
+            if bits[0] == "solverplan" and len(bits) > 1 and bits[1]:
+                parts.add(bits[1])
+    return parts
+
+
+@pytest.mark.parametrize("path,part", list(_modules()), ids=lambda v: str(v) if isinstance(v, str) else v.name)
+def test_modules_import_only_from_layers_to_their_left(path, part):
+    assert part in LAYERS, f"{part} has no layer: add it to LAYERS in {__file__}"
+    tree = ast.parse(path.read_text())
+    for imported in _imported_parts(tree, path):
+        assert imported in LAYERS, f"{path.name} imports unknown part {imported}"
+        assert imported == part or LAYERS[imported] < LAYERS[part], (
+            f"{path.relative_to(PACKAGE)} (layer {part}) imports solverplan.{imported}, a layer to its right"
+        )
+
+
+def test_library_modules_never_print():
+    """stdout belongs to the CLI (STYLE §7.3): a stray print corrupts JSON output."""
+    for path, part in _modules():
+        if part in ("cli", "__main__"):
+            continue
+        tree = ast.parse(path.read_text())
+        calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call) and getattr(n.func, "id", None) == "print"]
+        assert not calls, f"{path.relative_to(PACKAGE)} calls print() on line {calls[0].lineno}"

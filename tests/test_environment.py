@@ -1,0 +1,251 @@
+"""Environment: normalisation, numbering, boundary coordinates, file formats, validation messages."""
+
+from __future__ import annotations
+
+import json
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from solverplan.environment import (
+    BoundaryPiece,
+    Environment,
+    format_environment,
+    load_environment,
+    parse_environment,
+    save_environment,
+)
+from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
+from tests.strategies import polygons_with_holes
+
+SQUARE_WITH_HOLE = Environment.from_coords(
+    [[0, 0], [10, 0], [10, 10], [0, 10]], [[[2, 2], [4, 2], [4, 4], [2, 4]]], name="sq-hole"
+)
+
+
+def test_orientation_is_normalised_outer_ccw_holes_cw():
+    env = Environment.from_coords([[0, 0], [0, 10], [10, 10], [10, 0]], [[[2, 2], [4, 2], [4, 4], [2, 4]]])
+    assert env.reoriented == (True, True)
+    assert env.outer == ((0, 0), (10, 0), (10, 10), (0, 10))
+    assert env.holes[0] == ((2, 2), (2, 4), (4, 4), (4, 2))
+
+
+def test_edge_numbering_continues_over_holes():
+    env = SQUARE_WITH_HOLE
+    assert env.n_edges == 8 and env.ring_offsets == (0, 4, 8)
+    assert env.edge(3).a == (0, 10) and env.edge(3).b == (0, 0)  # outer ring wraps
+    assert env.edge(4).ring == 1 and env.edge(7).b == env.edge(4).a  # hole ring wraps to its own start
+    assert list(env.next_vertex) == [1, 2, 3, 0, 5, 6, 7, 4]
+    assert list(env.prev_vertex[env.next_vertex]) == list(range(8))
+
+
+def test_reflex_vertices_include_convex_corners_of_holes():
+    assert SQUARE_WITH_HOLE.reflex_vertices == (4, 5, 6, 7)
+    l_shape = Environment.from_coords([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]])
+    assert l_shape.reflex_vertices == (3,)
+
+
+def test_collinear_consecutive_vertices_are_kept_and_not_reflex():
+    env = Environment.from_coords([[0, 0], [1, 0], [2, 0], [2, 2], [0, 2]])
+    assert env.n_vertices == 5 and env.reflex_vertices == ()
+
+
+def test_area_is_exact_and_decimals_are_read_exactly():
+    env = Environment.from_coords([[0, 0], ["0.1", 0], ["0.1", "0.3"]])
+    assert env.area == Fraction(3, 200)
+    env_float = Environment.from_coords([[0, 0], [0.1, 0], [0.1, 0.3]])
+    assert env_float.area == Fraction(3, 200)  # floats taken at their shortest decimal
+
+
+def test_boundary_coordinates_round_trip_through_arc_length():
+    env = SQUARE_WITH_HOLE
+    edges = np.array([0, 3, 4, 7, 5])
+    t = np.array([0.0, 0.5, 0.25, 0.999, 0.5])
+    s = env.arc_length(edges, t)
+    back_edges, back_t = env.from_arc_length(s)
+    assert list(back_edges) == list(edges) and np.allclose(back_t, t)
+    assert env.arc_length(4, 0) == 40.0
+    assert env.perimeter == 48.0
+
+
+def test_locate_exact_points_and_vertices():
+    env = SQUARE_WITH_HOLE
+    assert env.locate((10, "2.5")) == (1, Fraction(1, 4))
+    assert env.locate((10, 10)) == (2, 0)  # a vertex is reported on the edge it starts
+    assert env.exact_point_at(1, Fraction(1, 4)) == (10, Fraction(5, 2))
+    with pytest.raises(InvalidBoundarySet, match=r"^point \(5, 5\) is not on the boundary$"):
+        env.locate((5, 5))
+
+
+def test_boundary_sets_parse_pieces_and_reject_bad_ones():
+    env = SQUARE_WITH_HOLE
+    parsed = env.boundary_set("e3:0.5:1, e4")
+    assert parsed.pieces == (BoundaryPiece(3, Fraction(1, 2), Fraction(1)), BoundaryPiece(4, Fraction(0), Fraction(1)))
+    assert str(parsed) == "e3:0.5:1,e4"
+    assert parsed.edges == (3, 4)
+    with pytest.raises(InvalidBoundarySet, match=r"^unknown edge e8: edges are e0\.\.e7$"):
+        env.boundary_set("e8")
+    with pytest.raises(InvalidBoundarySet, match=r"need 0 <= t0 < t1 <= 1, got t0=0.75, t1=0.25$"):
+        env.boundary_set("e1:0.75:0.25")
+    with pytest.raises(InvalidBoundarySet, match=r"^boundary set piece 'x3' is malformed"):
+        env.boundary_set("x3")
+    with pytest.raises(InvalidBoundarySet, match=r"is not a number$"):
+        env.boundary_set("e1:a:0.5")
+
+
+@pytest.mark.parametrize(
+    ("outer", "holes", "message"),
+    [
+        ([[0, 0], [2, 2], [2, 0], [0, 2]], [], r"^outer ring self-intersects: edge 0 crosses edge 2 at \(1, 1\)$"),
+        ([[0, 0], [1, 0]], [], r"^outer ring has fewer than 3 distinct vertices \(2\)$"),
+        ([[0, 0], [1, 0], [1, 0], [0, 1]], [], r"^outer ring repeats vertex 1 at \(1, 0\) as vertex 2$"),
+        ([[0, 0], [1, 0], [2, 0]], [], r"^outer ring has zero area \(all its vertices are collinear\)$"),
+        ([[0, 0], [float("nan"), 0], [0, 1]], [], r"^outer ring vertex 1: coordinate is not finite \(nan\)$"),
+        ([[0, 0], [float("inf"), 0], [0, 1]], [], r"^outer ring vertex 1: coordinate is not finite \(inf\)$"),
+        ([[0, 0], ["abc", 0], [0, 1]], [], r"^outer ring vertex 1: 'abc' is not a number$"),
+        ([[0, 0], [1], [0, 1]], [], r"^outer ring vertex 1: expected a pair \[x, y\], got \[1\]$"),
+        ([[0, 0], [4, 0], [4, 4], [2, 0], [0, 4]], [], r"^outer ring self-intersects: edge 0 touches edge 2 at \(2, 0\)$"),
+        ([[0, 0], [4, 0], [4, 4], [4, 2], [0, 4]], [], r"^outer ring self-intersects: edge 1 overlaps edge 2 from \(4, 2\) to \(4, 4\)$"),
+        (
+            [[0, 0], [10, 0], [10, 10], [0, 10]],
+            [[[20, 20], [21, 20], [21, 21]]],
+            r"^hole 0 lies outside the outer ring$",
+        ),
+        (
+            [[0, 0], [10, 0], [10, 10], [0, 10]],
+            [[[0, 5], [2, 5], [2, 6]]],
+            r"^hole 0 touches the outer ring at \(0, 5\) \(hole edge 2, outer edge 3\)$",
+        ),
+        (
+            [[0, 0], [10, 0], [10, 10], [0, 10]],
+            [[[1, 1], [5, 1], [5, 5]], [[3, 1], [3, 0.5], [6, 0.5]]],
+            r"^hole 0 touches hole 1 at \(3, 1\)",
+        ),
+        (
+            [[0, 0], [10, 0], [10, 10], [0, 10]],
+            [[[1, 1], [8, 1], [8, 8], [1, 8]], [[3, 3], [4, 3], [4, 4]]],
+            r"^hole 1 lies inside hole 0$",
+        ),
+    ],
+    ids=[
+        "bowtie",
+        "two-vertices",
+        "repeated-vertex",
+        "collinear",
+        "nan",
+        "inf",
+        "non-numeric",
+        "not-a-pair",
+        "ring-touches-itself",
+        "spike-overlap",
+        "hole-outside",
+        "hole-touches-outer",
+        "holes-touch",
+        "hole-in-hole",
+    ],
+)
+def test_invalid_environments_get_one_clear_message(outer, holes, message):
+    with pytest.raises(InvalidEnvironment, match=message) as info:
+        Environment.from_coords(outer, holes)
+    assert "\n" not in str(info.value)
+    assert isinstance(info.value, ValueError)  # callers may catch the builtin
+
+
+def test_self_intersection_is_reported_in_input_numbering_even_when_reversed():
+    # clockwise figure: reversing it must not renumber the edges named in the message
+    with pytest.raises(InvalidEnvironment, match=r"^outer ring self-intersects: edge 0 crosses edge 3 at \(2.4, 1.2\)$"):
+        Environment.from_coords([[0, 2], [6, 0], [4, 0], [4, 2], [0, 0]])  # clockwise
+
+
+def test_constructor_rejects_wrong_orientation():
+    with pytest.raises(InvalidEnvironment, match=r"^outer ring is clockwise"):
+        Environment((((0, 0), (0, 1), (1, 0)),))
+
+
+@pytest.mark.parametrize("fmt", ["json", "geojson", "wkt"])
+@given(env=polygons_with_holes(max_holes=2))
+def test_every_file_format_round_trips_exactly(fmt, env):
+    text = format_environment(env, fmt)
+    back = parse_environment(text, fmt)
+    assert back == env
+    assert back.reoriented == (False,) * len(env.rings)  # written normalised
+
+
+def test_json_keeps_exact_decimals_and_ratios(tmp_path):
+    env = Environment.from_coords([[0, 0], ["0.1", 0], ["1/3", "2.75"]], name="exact")
+    path = tmp_path / "exact.json"
+    save_environment(env, path)
+    assert json.loads(path.read_text())["outer"][2] == ["1/3", 2.75]
+    assert load_environment(path) == env and load_environment(path).name == "exact"
+
+
+def test_geojson_feature_collection_and_wkt_files_load(tmp_path):
+    collection = {
+        "type": "FeatureCollection",
+        "features": [
+            {
+                "type": "Feature",
+                "properties": {"name": "tri"},
+                "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 0], [0, 1], [0, 0]]]},
+            }
+        ],
+    }
+    (tmp_path / "a.geojson").write_text(json.dumps(collection))
+    assert load_environment(tmp_path / "a.geojson").name == "tri"
+    (tmp_path / "b.wkt").write_text("POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0), (2 2, 2 4, 4 4, 4 2, 2 2))")
+    env = load_environment(tmp_path / "b.wkt")
+    assert env.name == "b" and env.n_edges == 8
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "message"),
+    [
+        ("trunc.json", '{"outer": [[0, 0], [1, 0], [0, 1]', r"trunc\.json: not valid JSON \(Expecting ',' delimiter"),
+        ("nan.json", '{"outer": [[0, 0], [NaN, 0], [0, 1]]}', r"nan\.json: non-finite number NaN in file$"),
+        ("list.json", "[1, 2]", r'list\.json: expected a JSON object'),
+        ("noouter.json", '{"holes": []}', r'noouter\.json: missing "outer"'),
+        ("two.geojson", '{"type": "FeatureCollection", "features": []}', r"exactly one feature, found 0$"),
+        ("line.geojson", '{"type": "LineString", "coordinates": []}', r"must be a Polygon, got LineString$"),
+        ("pt.wkt", "POINT (1 2)", r"pt\.wkt: WKT must be a POLYGON, got 'POINT'$"),
+        ("empty.wkt", "POLYGON EMPTY", r"WKT polygon is EMPTY$"),
+        ("trunc.wkt", "POLYGON ((0 0, 1 0", r"unbalanced parentheses$"),
+        ("bad.wkt", "POLYGON ((0 0, 1, 0 1))", r"WKT ring 0 point 1: expected 'x y', got '1'$"),
+        ("shape.txt", "{}", r"cannot tell the format from the extension '\.txt'"),
+    ],
+)
+def test_malformed_files_get_one_clear_message(tmp_path, name, text, message):
+    path = tmp_path / name
+    path.write_text(text)
+    with pytest.raises(MalformedFile, match=message) as info:
+        load_environment(path)
+    assert "\n" not in str(info.value)
+
+
+def test_missing_file_is_input_error(tmp_path):
+    with pytest.raises(InputError, match=r"nothere\.json: no such file$"):
+        load_environment(tmp_path / "nothere.json")
+
+
+def test_invalid_polygon_in_file_names_the_file(tmp_path):
+    path = tmp_path / "bowtie.json"
+    path.write_text('{"outer": [[0, 0], [2, 2], [2, 0], [0, 2]]}')
+    with pytest.raises(InvalidEnvironment, match=r"bowtie\.json: outer ring self-intersects: edge 0 crosses edge 2"):
+        load_environment(path)
+
+
+def test_save_is_atomic_and_leaves_no_temporary_files(tmp_path):
+    path = tmp_path / "out.json"
+    save_environment(SQUARE_WITH_HOLE, path)
+    assert [p.name for p in tmp_path.iterdir()] == ["out.json"]
+
+
+@given(env=polygons_with_holes(), data=st.data())
+def test_point_at_lies_on_its_edge_and_locate_inverts_exact_point_at(env, data):
+    edge = data.draw(st.integers(0, env.n_edges - 1))
+    t = data.draw(st.fractions(0, 1, max_denominator=50).filter(lambda f: f < 1))
+    point = env.exact_point_at(edge, t)
+    assert env.locate(point) == (edge, t) or t == 0
+    assert np.allclose(env.point_at(edge, float(t)), [float(point[0]), float(point[1])])
