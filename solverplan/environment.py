@@ -45,6 +45,7 @@ from solverplan.exact import (
     ExactPoint,
     format_number,
     format_point,
+    json_number,
     orient,
     orient_filter,
     point_in_ring,
@@ -626,17 +627,7 @@ def _reject_constant(name: str) -> None:
 
 
 def _json_point(p: ExactPoint) -> list:
-    return [_json_number(p[0]), _json_number(p[1])]
-
-
-def _json_number(x: Fraction) -> int | float | str:
-    """Integers as integers; decimals whose shortest float text is exact as JSON numbers; else exact strings."""
-    if x.denominator == 1:
-        return int(x.numerator)
-    text = format_number(x)
-    if "/" not in text and Fraction(repr(float(x))) == x:
-        return float(x)
-    return text
+    return [json_number(p[0]), json_number(p[1])]
 
 
 def parse_environment(
@@ -777,7 +768,7 @@ def _format_of(path: Path, fmt: str | None) -> FileFormat:
         return _EXTENSIONS[path.suffix.lower()]
     except KeyError:
         raise MalformedFile(
-            f"{path}: cannot tell the format from the extension {path.suffix!r}: use .json, .geojson or .wkt, or --format"
+            f"{path}: cannot tell the format from the extension {path.suffix!r}: use .json, .geojson or .wkt, or name the format"
         ) from None
 
 

@@ -35,6 +35,7 @@ __all__ = [
     "to_fraction",
     "exact_point",
     "format_number",
+    "json_number",
     "format_point",
     "orient",
     "orient_filter",
@@ -80,16 +81,16 @@ def to_fraction(value: object, *, where: str = "value") -> Fraction:
         return Fraction(value)
     if isinstance(value, Rational):
         return Fraction(value.numerator, value.denominator)
+    if isinstance(value, np.generic):
+        return to_fraction(value.item(), where=where)
     if isinstance(value, float):
         if not math.isfinite(value):
             raise InputError(f"{where}: coordinate is not finite ({value!r})")
-        return Fraction(repr(value))
+        return Fraction(repr(float(value)))
     if isinstance(value, Decimal):
         if not value.is_finite():
             raise InputError(f"{where}: coordinate is not finite ({value})")
         return Fraction(value)
-    if isinstance(value, np.generic):
-        return to_fraction(value.item(), where=where)
     if isinstance(value, str):
         text = value.strip()
         if _FRACTION_TEXT.match(text):
@@ -134,6 +135,22 @@ def format_number(value: Fraction | int | float) -> str:
         text = str(abs(scaled.numerator)).rjust(digits + 1, "0")
         return f"{sign}{text[:-digits]}.{text[-digits:]}"
     return f"{value.numerator}/{value.denominator}"
+
+
+def json_number(value: Fraction | int) -> int | float | str:
+    """An exact number as JSON: integers as integers, decimals whose shortest float text is exact as
+    numbers, anything else as an exact string (``"1/3"``, or a long decimal) that :func:`to_fraction` reads back.
+
+    >>> json_number(Fraction(5, 2)), json_number(Fraction(1, 3)), json_number(7)
+    (2.5, '1/3', 7)
+    """
+    value = Fraction(value)
+    if value.denominator == 1:
+        return int(value.numerator)
+    text = format_number(value)
+    if "/" not in text and Fraction(repr(float(value))) == value:
+        return float(value)
+    return text
 
 
 def format_point(p: Sequence[Fraction | int | float]) -> str:

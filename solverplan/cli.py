@@ -1,0 +1,286 @@
+"""The ``solverplan`` command: a thin shell over the public API (CONTRACT.md, "Commands").
+
+Every command parses its arguments, calls the library, and emits the answer's ``to_json()``
+(default) or ``to_text()`` (``--format text``) on stdout, or writes it atomically to ``-o FILE``.
+No geometry, planning or JSON shaping happens here: if a command needs some, the API lacks it.
+
+Exit codes: 0 answered; 1 internal failure; 2 bad input — one line on stderr
+(``error: <message>``), no traceback, nothing written. :func:`exit_codes` maps library errors;
+the :class:`_Shell` group does the same for usage errors (unknown option, bad choice).
+
+Adding a command::
+
+    @app.command()
+    def partition(env: EnvArg, env_format: EnvFormatOpt = None, fmt: FormatOpt = OutputFormat.JSON,
+                  out: OutOpt = None, verbose: VerboseOpt = 0) -> None:
+        \"\"\"The partition P′ of Algorithm 1.\"\"\"
+        with exit_codes(verbose):
+            emit(partition_environment(load_environment(env, env_format)), fmt, out)
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import logging
+import shutil
+import sys
+import traceback
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated, Any, Iterator, Protocol
+
+import typer
+from typer.core import TyperGroup
+
+from solverplan._io import atomic_write_text
+from solverplan.describe import describe_environment
+from solverplan.environment import load_environment
+from solverplan.errors import InputError, SolverplanError
+
+__all__ = ["app", "main", "exit_codes", "emit", "OutputFormat", "EnvFormat"]
+
+logger = logging.getLogger(__name__)
+
+
+# ---------------------------------------------------------------------- answers and output
+class Answer(Protocol):
+    """What a command emits: every result type of the library has these two methods."""
+
+    def to_json(self) -> dict: ...
+
+    def to_text(self, *, width: int = ...) -> str: ...
+
+
+class OutputFormat(StrEnum):
+    JSON = "json"
+    TEXT = "text"
+
+
+class EnvFormat(StrEnum):
+    JSON = "json"
+    GEOJSON = "geojson"
+    WKT = "wkt"
+
+
+def _text_width(out: Path | None) -> int:
+    if out is None and sys.stdout.isatty():
+        return max(shutil.get_terminal_size().columns, 60)
+    return 100
+
+
+def _depth(value: Any) -> int:
+    if isinstance(value, dict):
+        return 1 + max(map(_depth, value.values()), default=0)
+    if isinstance(value, (list, tuple)):
+        return 1 + max(map(_depth, value), default=0)
+    return 0
+
+
+def _json_text(value: Any, indent: str = "", width: int = 110) -> str:
+    """Indented JSON that keeps small things (a point, an edge record, a short ring) on one line."""
+    flat = json.dumps(value, ensure_ascii=False, allow_nan=False)
+    if _depth(value) <= 2 and len(indent) + len(flat) <= width:
+        return flat
+    step = indent + "  "
+    if isinstance(value, dict):
+        items = (f"{step}{json.dumps(str(k), ensure_ascii=False)}: {_json_text(v, step, width)}" for k, v in value.items())
+        return "{\n" + ",\n".join(items) + f"\n{indent}}}"
+    if isinstance(value, (list, tuple)):
+        return "[\n" + ",\n".join(step + _json_text(v, step, width) for v in value) + f"\n{indent}]"
+    return flat
+
+
+def emit(answer: Answer, fmt: OutputFormat, out: Path | None) -> None:
+    """Print ``answer`` as JSON or text on stdout, or write it atomically to ``out``."""
+    if fmt is OutputFormat.JSON:
+        text = _json_text(answer.to_json()) + "\n"
+    else:
+        text = answer.to_text(width=_text_width(out))
+    if out is None:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return
+    try:
+        atomic_write_text(out, text)
+    except OSError as exc:
+        raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+    logger.info("wrote %s", out)
+
+
+# ---------------------------------------------------------------------- errors and logging
+def _one_line(message: str) -> str:
+    return " ".join(part.strip() for part in message.splitlines() if part.strip())
+
+
+def _fail(message: str, code: int) -> typer.Exit:
+    sys.stderr.write(f"error: {_one_line(message)}\n")
+    sys.stderr.flush()
+    return typer.Exit(code)
+
+
+@contextlib.contextmanager
+def _stderr_logging(verbose: int) -> Iterator[None]:
+    """Log solverplan's messages to stderr while a command runs: -v info, -vv debug."""
+    if verbose <= 0:
+        yield
+        return
+    root = logging.getLogger("solverplan")
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+    old_level = root.level
+    root.addHandler(handler)
+    root.setLevel(logging.DEBUG if verbose > 1 else logging.INFO)
+    try:
+        yield
+    finally:
+        root.removeHandler(handler)
+        root.setLevel(old_level)
+
+
+@contextlib.contextmanager
+def exit_codes(verbose: int = 0) -> Iterator[None]:
+    """Run a command body, mapping errors to CONTRACT exit codes with one line on stderr.
+
+    :class:`InputError` → 2; any other :class:`SolverplanError` → 1; anything unexpected → 1 with
+    ``internal error: ...`` (and the traceback before it when ``verbose``). Also sets up ``-v`` logging.
+    """
+    with _stderr_logging(verbose):
+        try:
+            yield
+        except (typer.Exit, typer.Abort, BrokenPipeError):
+            raise
+        except InputError as exc:
+            raise _fail(str(exc) or type(exc).__name__, 2) from None
+        except SolverplanError as exc:
+            raise _fail(str(exc) or type(exc).__name__, 1) from None
+        except Exception as exc:  # a bug: say so in one line, the traceback only on request
+            if verbose:
+                traceback.print_exc(file=sys.stderr)
+                hint = ""
+            else:
+                hint = " (run with -v for the traceback)"
+            raise _fail(f"internal error: {type(exc).__name__}: {exc}{hint}", 1) from None
+
+
+class _Shell(TyperGroup):
+    """The command group, reporting usage errors (bad option, bad choice) as one ``error:`` line, exit 2."""
+
+    def main(  # type: ignore[override]
+        self,
+        args: Any = None,
+        prog_name: str | None = None,
+        complete_var: str | None = None,
+        standalone_mode: bool = True,
+        **extra: Any,
+    ) -> Any:
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
+        try:
+            result = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
+        except typer.TyperException as exc:  # the framework's usage errors (vendored click)
+            ctx = getattr(exc, "ctx", None)
+            if type(exc).__name__ == "NoArgsIsHelpError":  # bare `solverplan`: show the help
+                sys.stderr.write(exc.format_message() + "\n")
+            else:
+                hint = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
+                sys.stderr.write(f"error: {_one_line(exc.format_message())}{hint}\n")
+            sys.stderr.flush()
+            sys.exit(getattr(exc, "exit_code", 2))
+        except typer.Abort:
+            sys.stderr.write("error: aborted\n")
+            sys.exit(1)
+        # non-standalone mode returns the code of a typer.Exit (commands themselves return None)
+        sys.exit(result if isinstance(result, int) else 0)
+
+
+# ---------------------------------------------------------------------- the app
+app = typer.Typer(
+    name="solverplan",
+    cls=_Shell,
+    help="Planning with proofs for minimal bouncing robots. Answers are JSON on stdout (see CONTRACT.md).",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+EnvArg = Annotated[
+    Path,
+    typer.Argument(
+        metavar="ENV", help="Environment file: .json, .geojson or .wkt (or say which with --env-format).", show_default=False
+    ),
+]
+EnvFormatOpt = Annotated[
+    EnvFormat | None,
+    typer.Option("--env-format", help="Format of the environment file, when its extension does not say.", show_default=False),
+]
+FormatOpt = Annotated[OutputFormat, typer.Option("--format", help="Answer as JSON (for scripts) or text tables (for people).")]
+OutOpt = Annotated[
+    Path | None,
+    typer.Option("-o", "--output", help="Write the answer to this file (atomically) instead of stdout.", show_default=False),
+]
+VerboseOpt = Annotated[
+    int, typer.Option("-v", "--verbose", count=True, show_default=False, help="Log progress to stderr (-vv: debug).")
+]
+
+
+def _version(value: bool) -> None:
+    if value:
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            number = version("solverplan")
+        except PackageNotFoundError:  # running from a source tree that is not installed
+            number = "unknown"
+        sys.stdout.write(f"solverplan {number}\n")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _root(
+    show_version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version and exit.")
+    ] = False,
+) -> None:
+    """Planning with proofs for minimal bouncing robots in polygonal environments."""
+
+
+@app.command()
+def info(
+    env: EnvArg,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Describe an environment: vertices, rings, edges (id, ring, end points, length), reflex vertices, area, perimeter."""
+    with exit_codes(verbose):
+        environment = load_environment(env, env_format.value if env_format else None)
+        logger.info("loaded %r: %d vertices, %d holes", environment.name, environment.n_vertices, len(environment.holes))
+        emit(describe_environment(environment), fmt, out)
+
+
+@app.command()
+def render(
+    env: EnvArg,
+    out: Annotated[Path, typer.Option("-o", "--output", help="Picture file to write: .png or .svg.", show_default=False)],
+    edge_ids: Annotated[bool, typer.Option("--edge-ids", help="Label edges e<i> with arrows showing their direction.")] = False,
+    vertex_ids: Annotated[bool, typer.Option("--vertex-ids", help="Label vertices v<i>.")] = False,
+    reflex: Annotated[bool, typer.Option("--reflex/--no-reflex", help="Mark reflex vertices.")] = True,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Draw an environment to a PNG or SVG file; prints {"written": FILE, ...}."""
+    from solverplan.render import figure_format, render_environment, save_figure
+
+    with exit_codes(verbose):
+        figure_format(out)  # a bad extension is reported before any work
+        environment = load_environment(env, env_format.value if env_format else None)
+        figure = render_environment(environment, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex)
+        emit(save_figure(figure, out), fmt, None)
+
+
+def main() -> None:
+    """Console-script entry point (``solverplan = "solverplan.cli:main"``)."""
+    app()

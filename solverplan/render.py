@@ -1,0 +1,571 @@
+"""Pictures of environments (and, later, partitions, graphs, plans and trajectories).
+
+All plotting in solverplan lives here. Figures are built on the Agg canvas without pyplot, so no
+window opens, no global figure list grows, and nothing depends on the user's matplotlib backend.
+
+A picture is a stack of layers. Each layer is a ``draw_*`` function that takes an
+:class:`~matplotlib.axes.Axes` and the data to draw and returns the artists it added, so callers
+(and tests) can restyle or count them; every artist carries a ``gid`` (``edge-id-3``,
+``vertex-id-0``, ``reflex-vertices``, ...) that also becomes its ``id`` in SVG output.
+:func:`render_environment` composes the environment layers; later layers (``draw_partition``,
+``draw_plan``, ``draw_trajectories``) take the same Axes and stack on top.
+
+Conventions match the rest of the package: free space on the left of every directed edge; edge
+``i`` goes from vertex ``i`` to the next vertex of its ring; labels are ``e3`` / ``v3`` like the
+boundary-set syntax (CONTRACT.md).
+
+>>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]], [[[1, 1], [2, 1], [2, 2], [1, 2]]])
+>>> fig = render_environment(env, edge_ids=True)
+>>> len([t for t in fig.axes[0].texts if t.get_gid().startswith("edge-id-")])
+8
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection, PathCollection
+from matplotlib.figure import Figure
+from matplotlib.patches import PathPatch
+from matplotlib.path import Path as MplPath
+from matplotlib.text import Annotation
+
+from solverplan._io import atomic_write_bytes
+from solverplan.environment import Environment
+from solverplan.errors import InputError
+
+__all__ = [
+    "FigureFormat",
+    "new_figure",
+    "draw_free_space",
+    "draw_boundary",
+    "draw_edge_directions",
+    "draw_edge_ids",
+    "draw_vertex_ids",
+    "LabelPlacer",
+    "draw_reflex_vertices",
+    "render_environment",
+    "figure_format",
+    "figure_bytes",
+    "save_figure",
+    "SavedFigure",
+]
+
+FigureFormat = Literal["png", "svg"]
+_FORMATS: dict[str, FigureFormat] = {".png": "png", ".svg": "svg"}
+
+# Palette: light free space, dark walls, hole interiors left white; ids in muted colours.
+FREE_SPACE_COLOR = "#e8f0f8"
+BOUNDARY_COLOR = "#1f2a36"
+EDGE_ID_COLOR = "#1a5fa8"
+VERTEX_ID_COLOR = "#5a5a5a"
+REFLEX_COLOR = "#d1495b"
+
+PNG_DPI = 150
+ARROW_SIZE = 14.0  # points: the arrowheads showing edge directions
+
+
+# ---------------------------------------------------------------------- figures
+def new_figure(env: Environment, *, width: float | None = None, title: str | None = None) -> tuple[Figure, Axes]:
+    """A fresh figure with one Axes sized to ``env``'s aspect ratio (height clamped).
+
+    ``width`` is in inches; by default 7, growing with the number of edges and for long thin
+    environments (up to 16) so that labels keep room. The figure is attached to an Agg canvas (no screen needed) and is not
+    registered with pyplot.
+    """
+    if width is None:
+        width = float(np.clip(7.0 * np.sqrt(env.n_edges / 30), 7.0, 16.0))
+    xmin, ymin, xmax, ymax = env.bounds
+    span_x, span_y = max(xmax - xmin, 1e-12), max(ymax - ymin, 1e-12)
+    if span_x > 3 * span_y:  # long and thin (hallways): wider, so the labels fit across
+        width = float(min(16.0, width * np.sqrt(span_x / (3 * span_y))))
+    height = min(max(width * span_y / span_x, 3.0), width * 10 / 7)
+    if span_y > span_x:  # tall environments: keep the height, narrow the figure
+        width = min(max(height * span_x / span_y, 3.0), width)
+    fig = Figure(figsize=(width, height))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    _style_axes(ax, title)
+    return fig, ax
+
+
+def _style_axes(ax: Axes, title: str | None) -> None:
+    ax.set_aspect("equal", adjustable="box")
+    ax.tick_params(labelsize=7, colors="#777777")
+    for spine in ax.spines.values():
+        spine.set_color("#cccccc")
+    if title:
+        ax.set_title(title, fontsize=11)
+
+
+def _font_size(n_labels: int) -> float:
+    """Smaller labels when there are many of them."""
+    if n_labels <= 40:
+        return 8.0
+    if n_labels <= 120:
+        return 6.5
+    return 5.0
+
+
+# ---------------------------------------------------------------------- geometry helpers
+def _unit(v: np.ndarray) -> np.ndarray:
+    norm = np.hypot(v[..., 0], v[..., 1])[..., None]
+    return np.divide(v, norm, out=np.zeros_like(v), where=norm > 0)
+
+
+def _left_normals(env: Environment) -> np.ndarray:
+    """Unit normals of every edge pointing into the free space (the left side), shape (n, 2)."""
+    d = _unit(env.edge_end - env.edge_start)
+    return np.stack([-d[:, 1], d[:, 0]], axis=1)
+
+
+def _free_space_angles(env: Environment) -> np.ndarray:
+    """The free space's angle at every vertex, in (0, 2π) (π for a collinear vertex, > π reflex), shape (n,)."""
+    verts = env.vertices
+    back = verts[env.prev_vertex] - verts
+    ahead = verts[env.next_vertex] - verts
+    cross = ahead[:, 0] * back[:, 1] - ahead[:, 1] * back[:, 0]
+    dot = np.einsum("ij,ij->i", ahead, back)
+    return np.mod(np.arctan2(cross, dot), 2 * np.pi)
+
+
+def _inward_at_vertices(env: Environment) -> np.ndarray:
+    """Unit directions at every vertex bisecting the free-space angle (into the free space), shape (n, 2)."""
+    verts = env.vertices
+    ahead = _unit(verts[env.next_vertex] - verts)
+    half = 0.5 * _free_space_angles(env)
+    c, s = np.cos(half), np.sin(half)
+    return np.stack([c * ahead[:, 0] - s * ahead[:, 1], s * ahead[:, 0] + c * ahead[:, 1]], axis=1)
+
+
+def _edge_label_params(env: Environment) -> np.ndarray:
+    """Where along each edge its label (and arrow) goes: the midpoint, moved away from a sharp corner.
+
+    Two edges meeting at an acute corner of the free space would have their labels meet in the
+    corner's narrow wedge; sliding each label towards its edge's other end gives them room.
+    """
+    angles = _free_space_angles(env)
+    tail, head = angles, angles[env.next_vertex]
+    sharpest = np.minimum(tail, head)
+    shift = 0.3 * np.clip(1.0 - sharpest / (np.pi / 2), 0.0, 1.0)
+    return np.where(head < tail, 0.5 - shift, 0.5 + shift)
+
+
+def _label_half_size(text: str, fontsize: float, pad: float = 2.0) -> tuple[float, float]:
+    """Approximate half width and half height, in points, of a centred label with ``pad`` around it."""
+    return 0.31 * fontsize * len(text) + pad, 0.5 * fontsize + pad
+
+
+def _clear_distance(direction: np.ndarray, half: tuple[float, float], gap: float) -> float:
+    """Distance in points from an anchor to a label's centre, so the label box clears it by ``gap``
+    along ``direction`` (a unit vector) whatever the direction's slope."""
+    return gap + abs(float(direction[0])) * half[0] + abs(float(direction[1])) * half[1]
+
+
+def _point_clear_distance(direction: np.ndarray, half: tuple[float, float], gap: float) -> float:
+    """Distance in points from an anchor to a label's centre along ``direction`` so the label box
+    leaves the anchor ``gap`` points clear along one of the box's axes (whichever comes first)."""
+    ux, uy = abs(float(direction[0])), abs(float(direction[1]))
+    return min((half[0] + gap) / ux if ux > 1e-9 else np.inf, (half[1] + gap) / uy if uy > 1e-9 else np.inf)
+
+
+_COMPASS = (np.array([0.0, 1.0]), np.array([0.0, -1.0]), np.array([1.0, 0.0]), np.array([-1.0, 0.0]))
+
+
+def _rotate(v: np.ndarray, degrees: float) -> np.ndarray:
+    a = np.radians(degrees)
+    c, s = np.cos(a), np.sin(a)
+    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+class LabelPlacer:
+    """Greedy placement of small labels clear of the boundary, the vertices and each other.
+
+    Works in the Axes' current view, so create it after the limits are set (:func:`draw_free_space`
+    sets them) and share one placer between the label layers of a picture. A candidate is an
+    anchor (data coordinates) and an offset (points); :meth:`place` returns the first candidate
+    whose label box meets no boundary edge, no vertex and no label placed before, and whose centre
+    sees its anchor; failing that, the first in sight of its anchor that meets no other label;
+    then the first that meets no other label; then the first candidate. Callers list candidates
+    best first.
+    """
+
+    #: above this many labels, candidates are not searched (the labels are unreadable anyway)
+    MAX_SEARCH = 2000
+
+    def __init__(self, ax: Axes, env: Environment, *, vertex_clearance: float = 3.5) -> None:
+        import shapely
+
+        ax.apply_aspect()
+        figure = ax.get_figure()
+        width_points = ax.get_position().width * figure.get_figwidth() * 72.0
+        x0, x1 = ax.get_xlim()
+        self.points_per_unit = width_points / abs(x1 - x0)
+        self._shapely = shapely
+        self._edges = shapely.STRtree(shapely.linestrings(np.stack([env.edge_start, env.edge_end], axis=1)))
+        self._search = env.n_edges <= self.MAX_SEARCH
+        xmin, ymin, xmax, ymax = env.bounds
+        self._cell = max(xmax - xmin, ymax - ymin) / 40 or 1.0
+        self._grid: dict[tuple[int, int], list[tuple[float, float, float, float]]] = {}
+        r = vertex_clearance / self.points_per_unit
+        for x, y in env.vertices:
+            self._add((x - r, y - r, x + r, y + r))
+
+    def reserve(self, anchor: np.ndarray, offset: np.ndarray, half: tuple[float, float]) -> None:
+        """Keep later labels off a box of half size ``half`` (points) at ``offset`` (points) from ``anchor``."""
+        self._add(self._box(anchor, offset, half))
+
+    def _cells(self, box: tuple[float, float, float, float]):
+        c = self._cell
+        for i in range(int(np.floor(box[0] / c)), int(np.floor(box[2] / c)) + 1):
+            for j in range(int(np.floor(box[1] / c)), int(np.floor(box[3] / c)) + 1):
+                yield (i, j)
+
+    def _add(self, box: tuple[float, float, float, float]) -> None:
+        for cell in self._cells(box):
+            self._grid.setdefault(cell, []).append(box)
+
+    def _clear_of_labels(self, box: tuple[float, float, float, float]) -> bool:
+        for cell in self._cells(box):
+            for other in self._grid.get(cell, ()):
+                if box[0] < other[2] and other[0] < box[2] and box[1] < other[3] and other[1] < box[3]:
+                    return False
+        return True
+
+    def _clear_of_edges(self, box: tuple[float, float, float, float]) -> bool:
+        return self._edges.query(self._shapely.box(*box), predicate="intersects").size == 0
+
+    def _box(self, anchor: np.ndarray, offset: np.ndarray, half: tuple[float, float]) -> tuple[float, float, float, float]:
+        k = self.points_per_unit
+        cx, cy = anchor[0] + offset[0] / k, anchor[1] + offset[1] / k
+        return (cx - half[0] / k, cy - half[1] / k, cx + half[0] / k, cy + half[1] / k)
+
+    def _sees(self, anchor: np.ndarray, offset: np.ndarray) -> bool:
+        """Does the label's centre see its anchor (no boundary edge in between)?
+
+        Keeps a label in the region of what it labels: never across a thin wall.
+        """
+        norm = float(np.hypot(offset[0], offset[1]))
+        if norm == 0:
+            return True
+        k = self.points_per_unit
+        start = anchor + offset * (0.5 / norm) / k  # half a point off the anchor, which lies on the boundary
+        end = anchor + offset / k
+        line = self._shapely.linestrings([start, end])
+        return self._edges.query(line, predicate="intersects").size == 0
+
+    def place(self, candidates: list[tuple[np.ndarray, np.ndarray]], half: tuple[float, float]) -> int:
+        """Index of the candidate ``(anchor, offset)`` chosen for a label of half size ``half`` (points)."""
+        chosen = 0
+        if self._search:
+            boxes = [self._box(anchor, offset, half) for anchor, offset in candidates]
+            free_of_labels = [k for k, box in enumerate(boxes) if self._clear_of_labels(box)]
+            in_sight = [k for k in free_of_labels if self._sees(*candidates[k])]
+            clear = [k for k in in_sight if self._clear_of_edges(boxes[k])]
+            # crowded: crossing a line is better than being far from the anchor or hiding another label
+            for ranked in (clear, in_sight, free_of_labels):
+                if ranked:
+                    chosen = ranked[0]
+                    break
+        anchor, offset = candidates[chosen]
+        self._add(self._box(anchor, offset, half))
+        return chosen
+
+
+# ---------------------------------------------------------------------- environment layers
+def draw_free_space(ax: Axes, env: Environment, *, color: str = FREE_SPACE_COLOR) -> PathPatch:
+    """Fill the free space (outer ring minus holes) and set the view limits to the environment."""
+    vertices: list[tuple[float, float]] = []
+    codes: list[int] = []
+    start = 0
+    for ring in env.rings:
+        pts = env.vertices[start : start + len(ring)]
+        start += len(ring)
+        vertices.extend(map(tuple, pts))
+        vertices.append(tuple(pts[0]))
+        codes.extend([MplPath.MOVETO] + [MplPath.LINETO] * (len(pts) - 1) + [MplPath.CLOSEPOLY])
+    patch = PathPatch(MplPath(vertices, codes), facecolor=color, edgecolor="none", zorder=0, gid="free-space")
+    ax.add_patch(patch)
+    xmin, ymin, xmax, ymax = env.bounds
+    pad = 0.1 * max(xmax - xmin, ymax - ymin)  # room for labels outside the outer ring
+    ax.set_xlim(xmin - pad, xmax + pad)
+    ax.set_ylim(ymin - pad, ymax + pad)
+    return patch
+
+
+def draw_boundary(ax: Axes, env: Environment, *, color: str = BOUNDARY_COLOR, linewidth: float = 1.6) -> LineCollection:
+    """Draw every boundary edge as a line segment (one collection, in edge order)."""
+    segments = np.stack([env.edge_start, env.edge_end], axis=1)
+    lines = LineCollection(segments, colors=color, linewidths=linewidth, capstyle="round", zorder=2, gid="boundary")
+    ax.add_collection(lines)
+    return lines
+
+
+def _arrow(ax: Axes, at: np.ndarray, direction: np.ndarray, *, color: str, size: float, gid: str) -> Annotation:
+    tail = (-float(direction[0]) * size, -float(direction[1]) * size)
+    arrow = ax.annotate(
+        "",
+        xy=(float(at[0]), float(at[1])),
+        xytext=tail,
+        textcoords="offset points",
+        arrowprops=dict(
+            arrowstyle="-|>,head_length=0.5,head_width=0.22",
+            color=color,
+            lw=0,
+            shrinkA=0,
+            shrinkB=0,
+            mutation_scale=size,
+        ),
+        zorder=3,
+        annotation_clip=False,
+    )
+    arrow.set_gid(gid)
+    return arrow
+
+
+def draw_edge_directions(
+    ax: Axes, env: Environment, *, t: np.ndarray | None = None, color: str = EDGE_ID_COLOR, size: float | None = None
+) -> list[Annotation]:
+    """An arrowhead on every edge pointing along it (a → b), at boundary parameter ``t`` (default: near the middle)."""
+    size = size or ARROW_SIZE
+    params = _edge_label_params(env) if t is None else np.asarray(t, dtype=float)
+    spots = env.points_at(np.arange(env.n_edges), params)
+    dirs = _unit(env.edge_end - env.edge_start)
+    return [_arrow(ax, spots[i], dirs[i], color=color, size=size, gid=f"edge-arrow-{i}") for i in range(env.n_edges)]
+
+
+def draw_edge_ids(
+    ax: Axes,
+    env: Environment,
+    *,
+    arrows: bool = True,
+    placer: LabelPlacer | None = None,
+    color: str = EDGE_ID_COLOR,
+    fontsize: float | None = None,
+) -> list[Annotation]:
+    """Label every edge ``e<i>`` beside it in the free space, with an arrowhead showing its direction.
+
+    Each label sits near its edge's middle, moved along the edge or further from it when that
+    spot is taken (by another label, a vertex or an edge). Returns the labels (gid ``edge-id-<i>``);
+    the arrows (gid ``edge-arrow-<i>``) are added to the Axes beside them.
+    """
+    size = fontsize or _font_size(env.n_edges)
+    placer = placer or LabelPlacer(ax, env)
+    preferred = _edge_label_params(env)
+    normals = _left_normals(env)
+    dirs = _unit(env.edge_end - env.edge_start)
+    labels = []
+    for i in range(env.n_edges):
+        text = f"e{i}"
+        half = _label_half_size(text, size)
+        base = _clear_distance(normals[i], half, gap=3.5)
+        params = list(dict.fromkeys([float(preferred[i]), 0.5, 0.35, 0.65, 0.2, 0.8]))
+        candidates = [
+            (env.points_at(np.array([i]), np.array([t]))[0], normals[i] * base * stretch)
+            for stretch in (1.0, 1.6, 2.4)
+            for t in params
+        ]
+        chosen = placer.place(candidates, half)
+        anchor, offset = candidates[chosen]
+        label = ax.annotate(
+            text,
+            xy=(float(anchor[0]), float(anchor[1])),
+            xytext=(float(offset[0]), float(offset[1])),
+            textcoords="offset points",
+            ha="center",
+            va="center",
+            fontsize=size,
+            color=color,
+            zorder=4,
+            annotation_clip=False,
+            bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8),
+        )
+        label.set_gid(f"edge-id-{i}")
+        labels.append(label)
+        if arrows:
+            _arrow(ax, anchor, dirs[i], color=color, size=ARROW_SIZE, gid=f"edge-arrow-{i}")
+            head = 0.5 * ARROW_SIZE  # head_length of the arrow style, in points
+            placer.reserve(anchor, -dirs[i] * head / 2, (abs(dirs[i][0]) * head / 2 + 3, abs(dirs[i][1]) * head / 2 + 3))
+    return labels
+
+
+def draw_vertex_ids(
+    ax: Axes,
+    env: Environment,
+    *,
+    placer: LabelPlacer | None = None,
+    color: str = VERTEX_ID_COLOR,
+    fontsize: float | None = None,
+) -> list[Annotation]:
+    """Label every vertex ``v<i>``, preferably outside the free space (beyond the outer ring, inside holes).
+
+    Each label goes on the bisector of the angle outside the free space, or turned from it when
+    that spot is taken.
+
+    Returns the labels (gid ``vertex-id-<i>``).
+    """
+    size = fontsize or _font_size(env.n_vertices)
+    placer = placer or LabelPlacer(ax, env)
+    outward = -_inward_at_vertices(env)
+    labels = []
+    for i in range(env.n_vertices):
+        text = f"v{i}"
+        half = _label_half_size(text, size, pad=0.5)  # no box behind vertex labels
+        anchor = env.vertices[i]
+        candidates = []
+        for turn, stretches in ((0, (1.0, 1.6, 2.4)), (25, (1.0, 1.6)), (-25, (1.0, 1.6)), (60, (1.0,)), (-60, (1.0,)),
+                                (100, (1.0,)), (-100, (1.0,)), (145, (1.0,)), (-145, (1.0,)), (180, (1.0,))):
+            direction = _rotate(outward[i], turn)
+            base = _point_clear_distance(direction, half, gap=4.0)
+            candidates.extend((anchor, direction * base * stretch) for stretch in stretches)
+        for direction in _COMPASS:  # last resorts in crowded corners: straight up, down, left, right
+            base = _point_clear_distance(direction, half, gap=4.0)
+            candidates.extend((anchor, direction * base * stretch) for stretch in (1.0, 2.0, 3.0))
+        chosen = placer.place(candidates, half)
+        _, offset = candidates[chosen]
+        label = ax.annotate(
+            text,
+            xy=(float(anchor[0]), float(anchor[1])),
+            xytext=(float(offset[0]), float(offset[1])),
+            textcoords="offset points",
+            ha="center",
+            va="center",
+            fontsize=size,
+            color=color,
+            zorder=4,
+            annotation_clip=False,
+        )
+        label.set_gid(f"vertex-id-{i}")
+        labels.append(label)
+    return labels
+
+
+def draw_reflex_vertices(ax: Axes, env: Environment, *, color: str = REFLEX_COLOR, size: float = 22.0) -> PathCollection:
+    """Mark the reflex vertices (free-space angle > π) with dots."""
+    ids = list(env.reflex_vertices)
+    pts = env.vertices[ids] if ids else np.empty((0, 2))
+    dots = ax.scatter(pts[:, 0], pts[:, 1], s=size, c=color, zorder=5, edgecolors="white", linewidths=0.6, gid="reflex-vertices")
+    return dots
+
+
+def render_environment(
+    env: Environment,
+    *,
+    ax: Axes | None = None,
+    edge_ids: bool = False,
+    vertex_ids: bool = False,
+    reflex: bool = True,
+    title: str | None = None,
+) -> Figure:
+    """Draw ``env``: free space, boundary, and on request edge ids (with direction arrows) and vertex ids.
+
+    Parameters
+    ----------
+    env
+        The environment (normalised: free space on the left of every edge).
+    ax
+        Draw into this Axes; by default a new figure sized to the environment (:func:`new_figure`).
+    edge_ids
+        Label edges ``e<i>`` near their midpoints, inside the free space, with an arrowhead showing direction.
+    vertex_ids
+        Label vertices ``v<i>``, outside the free space.
+    reflex
+        Mark reflex vertices (red dots).
+    title
+        Axes title; defaults to the environment's name when drawing a new figure.
+
+    Returns
+    -------
+    Figure
+        The figure holding the Axes (``fig.axes[0]`` for a new figure); write it with :func:`save_figure`.
+    """
+    if ax is None:
+        fig, ax = new_figure(env, title=title if title is not None else env.name)
+    else:
+        fig = ax.get_figure()
+        if title:
+            ax.set_title(title, fontsize=11)
+    draw_free_space(ax, env)
+    draw_boundary(ax, env)
+    if reflex:
+        draw_reflex_vertices(ax, env)
+    if edge_ids or vertex_ids:
+        placer = LabelPlacer(ax, env)  # one placer, so edge and vertex labels keep clear of each other
+        if edge_ids:
+            draw_edge_ids(ax, env, placer=placer)
+        if vertex_ids:
+            draw_vertex_ids(ax, env, placer=placer)
+    return fig  # type: ignore[return-value]
+
+
+# ---------------------------------------------------------------------- output
+def figure_format(path: str | os.PathLike[str]) -> FigureFormat:
+    """The picture format for ``path``, from its extension (``.png`` or ``.svg``).
+
+    >>> figure_format("plan.SVG")
+    'svg'
+    >>> figure_format("plan.pdf")
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: plan.pdf: unknown picture format '.pdf': use a .png or .svg file name
+    """
+    suffix = Path(path).suffix.lower()
+    try:
+        return _FORMATS[suffix]
+    except KeyError:
+        shown = repr(suffix) if suffix else "(no extension)"
+        raise InputError(f"{path}: unknown picture format {shown}: use a .png or .svg file name") from None
+
+
+def figure_bytes(fig: Figure, fmt: FigureFormat) -> bytes:
+    """Render ``fig`` in memory as PNG or SVG bytes (reproducible: no dates or random ids in SVG)."""
+    from matplotlib import rc_context
+
+    buffer = io.BytesIO()
+    metadata = {"Date": None} if fmt == "svg" else {"Software": None}
+    with rc_context({"svg.hashsalt": "solverplan", "svg.fonttype": "none"}):
+        fig.savefig(buffer, format=fmt, dpi=PNG_DPI, bbox_inches="tight", pad_inches=0.1, metadata=metadata)
+    return buffer.getvalue()
+
+
+@dataclass(frozen=True, slots=True)
+class SavedFigure:
+    """What :func:`save_figure` wrote: the file, its format and its size in bytes."""
+
+    path: Path
+    format: FigureFormat
+    size: int
+
+    def to_json(self) -> dict:
+        return {"written": str(self.path), "format": self.format, "bytes": self.size}
+
+    def to_text(self, *, width: int = 100) -> str:
+        return f"wrote {self.path} ({self.format.upper()}, {self.size} bytes)\n"
+
+
+def save_figure(fig: Figure, path: str | os.PathLike[str]) -> SavedFigure:
+    """Write ``fig`` to ``path`` atomically, as PNG or SVG by the extension.
+
+    The picture is rendered in memory first, so a failure leaves no partial file behind.
+
+    Raises
+    ------
+    InputError
+        For an extension other than ``.png`` / ``.svg``, or a path that cannot be written
+        (missing folder, no permission); nothing is written.
+    """
+    fmt = figure_format(path)
+    data = figure_bytes(fig, fmt)
+    try:
+        atomic_write_bytes(path, data)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+    return SavedFigure(Path(path), fmt, len(data))
+
