@@ -611,14 +611,42 @@ def _check_crossings(env: Environment) -> None:
 
 
 def _check_nesting(env: Environment) -> None:
-    """With no crossings left, each hole lies wholly inside the outer ring and outside every other hole."""
-    outer = env.outer
-    for k, hole in enumerate(env.holes):
-        if point_in_ring(hole[0], outer) < 0:
+    """With no crossings left, each hole lies wholly inside the outer ring and outside every other hole.
+
+    One vertex per hole decides. Floats answer where the vertex is clearly away from the other ring
+    (shapely, vectorised); exact :func:`point_in_ring` decides the rest.
+    """
+    if not env.holes:
+        return
+    import shapely
+
+    firsts = np.array([[float(h[0][0]), float(h[0][1])] for h in env.holes])
+    scale = max(1.0, float(np.abs(env.vertices).max()))
+    margin = 1e-9 * scale
+
+    def float_rings(index: int):
+        coords = env.vertices[env.ring_offsets[index] : env.ring_offsets[index + 1]]
+        return shapely.Polygon(coords), shapely.LinearRing(coords)
+
+    def location(point_index: int, ring_index: int, polygon, ring) -> int:
+        x, y = firsts[point_index]
+        if shapely.distance(ring, shapely.Point(x, y)) > margin:
+            return 1 if shapely.contains_xy(polygon, x, y) else -1
+        return point_in_ring(env.holes[point_index][0], env.rings[ring_index])
+
+    outer_polygon, outer_ring = float_rings(0)
+    for k in range(len(env.holes)):
+        if location(k, 0, outer_polygon, outer_ring) < 0:
             raise InvalidEnvironment(f"hole {k} lies outside the outer ring")
-        for m, other in enumerate(env.holes):
-            if m != k and point_in_ring(hole[0], other) > 0:
-                raise InvalidEnvironment(f"hole {k} lies inside hole {m}")
+    if len(env.holes) < 2:
+        return
+    # candidates by bounding box (rounding is monotone, so exact containment implies float box overlap)
+    hole_rings = [float_rings(m + 1) for m in range(len(env.holes))]
+    tree = shapely.STRtree([polygon for polygon, _ in hole_rings])
+    points, holes = tree.query(shapely.points(firsts))
+    for k, m in zip(points.tolist(), holes.tolist()):
+        if k != m and location(k, m + 1, *hole_rings[m]) > 0:
+            raise InvalidEnvironment(f"hole {k} lies inside hole {m}")
 
 
 # ---------------------------------------------------------------------- file formats

@@ -1,0 +1,201 @@
+"""The shipped models: every file loads, the README table is right, each model has the properties it is for."""
+
+from __future__ import annotations
+
+import importlib.util
+import itertools
+import json
+from decimal import Decimal
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from solverplan.environment import Environment, load_environment
+from solverplan.exact import orient
+from solverplan.studies import star_polygon, worst_case_polygon
+
+MODELS = Path(__file__).resolve().parent.parent / "models"
+FILES = sorted(MODELS.glob("*.json"))
+
+
+def model(stem: str) -> Environment:
+    return load_environment(MODELS / f"{stem}.json")
+
+
+def edge_vectors(ring):
+    return [(b[0] - a[0], b[1] - a[1]) for a, b in zip(ring, (*ring[1:], ring[0]))]
+
+
+def cross(u, v):
+    return u[0] * v[1] - u[1] * v[0]
+
+
+def is_rectilinear(env: Environment) -> bool:
+    return all(dx == 0 or dy == 0 for ring in env.rings for dx, dy in edge_vectors(ring))
+
+
+def pieces_after_erosion(env: Environment, distance: float) -> list:
+    """The parts of the free space at distance > ``distance`` from the boundary (float, shapely)."""
+    eroded = env.to_shapely().buffer(-distance)
+    return list(getattr(eroded, "geoms", [eroded]))
+
+
+def make_table_module():
+    spec = importlib.util.spec_from_file_location("make_table", MODELS / "make_table.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+# ---------------------------------------------------------------------- every file
+def test_at_least_fourteen_models():
+    assert len(FILES) >= 14
+
+
+@pytest.mark.parametrize("path", FILES, ids=lambda p: p.stem)
+def test_model_loads_normalised_with_its_name_and_exact_short_coordinates(path):
+    env = load_environment(path)
+    data = json.loads(path.read_text(), parse_float=Decimal)
+    assert data["name"] == path.stem == env.name
+    assert not any(env.reoriented), "files are stored normalised: outer ring CCW, holes CW"
+    numbers = [x for ring in [data["outer"], *data.get("holes", [])] for point in ring for x in point]
+    assert all(isinstance(x, (int, Decimal)) for x in numbers), "coordinates are JSON numbers, not strings"
+    assert all((Fraction(x) * 10**6).denominator == 1 for x in numbers), "at most 6 decimals"
+
+
+def test_readme_table_matches_the_files():
+    make_table = make_table_module()
+    readme = (MODELS / "README.md").read_text(encoding="utf-8")
+    assert make_table.embedded_table(readme) == make_table.table(), "run: python models/make_table.py --write"
+    assert set(make_table.PURPOSES) == {path.stem for path in FILES}
+
+
+# ---------------------------------------------------------------------- each model's purpose
+def test_square_is_a_square():
+    env = model("square")
+    assert env.n_vertices == 4 and is_rectilinear(env)
+    assert {abs(dx) + abs(dy) for dx, dy in edge_vectors(env.outer)} == {10}
+
+
+def test_triangle_is_acute_and_scalene():
+    ring = model("triangle").outer
+    assert len(ring) == 3
+    sides = edge_vectors(ring)
+    squared = {dx * dx + dy * dy for dx, dy in sides}
+    assert len(squared) == 3
+    for u, v in zip(sides, sides[1:] + sides[:1]):  # angle at each vertex < 90°: −u·v > 0
+        assert -(u[0] * v[0] + u[1] * v[1]) > 0
+
+
+def test_hexagon_is_close_to_regular_with_exactly_parallel_opposite_edges():
+    env = model("hexagon")
+    assert env.n_vertices == 6 and env.reflex_vertices == ()
+    sides = edge_vectors(env.outer)
+    assert all(cross(sides[i], sides[i + 3]) == 0 for i in range(3))
+    assert np.ptp(env.edge_lengths) < 1e-7
+    angles = np.arctan2(env.vertices[:, 1], env.vertices[:, 0])
+    regular = 10 * np.column_stack([np.cos(angles), np.sin(angles)])
+    assert np.allclose(np.hypot(*env.vertices.T), 10, atol=1e-7)
+    assert np.allclose(np.diff(np.unwrap(angles)), np.pi / 3, atol=1e-7) and np.allclose(env.vertices, regular)
+
+
+def test_irregular_convex_is_strictly_convex_without_parallel_edges():
+    env = model("irregular_convex")
+    ring = env.outer
+    assert len(ring) == 7 and env.reflex_vertices == ()
+    assert all(orient(ring[i - 1], ring[i], ring[(i + 1) % 7]) > 0 for i in range(7))
+    sides = edge_vectors(ring)
+    assert all(cross(u, v) != 0 for u, v in itertools.combinations(sides, 2))
+
+
+def test_l_shape_has_one_reflex_vertex():
+    env = model("l_shape")
+    assert env.n_vertices == 6 and len(env.reflex_vertices) == 1 and is_rectilinear(env)
+
+
+def test_two_rooms_are_joined_by_a_corridor_with_non_parallel_sides():
+    env = model("two_rooms")
+    assert 12 <= env.n_vertices <= 20 and env.holes == ()
+    slanted = [v for v in edge_vectors(env.outer) if v[0] != 0 and v[1] != 0]
+    assert len(slanted) == 2 and cross(*slanted) != 0  # the corridor's sides, and only they, are slanted
+    rooms = pieces_after_erosion(env, 1.1)  # the corridor is 2 wide at its narrow end
+    assert len(rooms) == 2 and min(room.area for room in rooms) > 20
+    assert len(pieces_after_erosion(env, 0.9)) == 1
+
+
+def test_comb_has_five_teeth():
+    env = model("comb")
+    assert is_rectilinear(env) and env.holes == ()
+    assert len(env.reflex_vertices) == 2 * (5 - 1)  # two reflex corners between neighbouring teeth
+
+
+def test_spiral_is_rectilinear_with_a_single_reflex_chain():
+    env = model("spiral")
+    assert is_rectilinear(env) and env.holes == ()
+    reflex = set(env.reflex_vertices)
+    assert len(reflex) >= 8
+    starts = [v for v in reflex if (v - 1) % env.n_vertices not in reflex]
+    assert len(starts) == 1, "the reflex vertices are consecutive along the boundary"
+
+
+def test_star_is_the_generator_output_with_its_seed():
+    env = model("star")
+    generated = star_polygon(20, 0.3, 0.3, radius=10, seed=7)
+    assert env == generated, "numpy's Generator stream changed, or the generator did: regenerate models/star.json"
+    origin = (Fraction(0), Fraction(0))
+    ring = env.outer
+    assert all(orient(origin, ring[i], ring[(i + 1) % 20]) > 0 for i in range(20))  # star-shaped about 0
+
+
+@pytest.mark.parametrize("stem,holes", [("one_hole", 1), ("two_holes", 2), ("degenerate", 1)])
+def test_models_with_holes(stem, holes):
+    assert len(model(stem).holes) == holes
+
+
+def test_warehouse_is_rectilinear_with_at_least_six_rooms_behind_narrow_doors():
+    env = model("warehouse")
+    assert is_rectilinear(env) and env.holes == ()
+    pieces = pieces_after_erosion(env, 0.6)  # doors are 1 wide: eroding by 0.6 closes every door
+    assert len(pieces) >= 7  # ≥ 6 rooms and the corridor
+    assert sum(piece.area > 40 for piece in pieces) >= 6
+    assert len(pieces_after_erosion(env, 0.4)) == 1
+
+
+def test_hallway_is_long_and_narrow():
+    env = model("hallway")
+    xmin, ymin, xmax, ymax = env.bounds
+    assert is_rectilinear(env) and (xmax - xmin) >= 10 * (ymax - ymin)
+
+
+def test_narrow_door_joins_two_rooms_through_a_narrow_doorway():
+    env = model("narrow_door")
+    rooms = pieces_after_erosion(env, 0.11)  # the doorway is 0.2 wide
+    assert len(rooms) == 2 and min(room.area for room in rooms) > 50
+    assert len(pieces_after_erosion(env, 0.09)) == 1
+
+
+def test_worst_case_t4_is_the_generator_output():
+    env = model("worst_case_t4")
+    assert env == worst_case_polygon(4)
+    assert env.n_vertices == 18 and len(env.reflex_vertices) == 8
+
+
+def test_degenerate_has_collinear_vertices_parallel_edges_and_aligned_hole_vertices():
+    env = model("degenerate")
+    outer, hole = env.outer, env.holes[0]
+    n = len(outer)
+    assert any(orient(outer[i - 1], outer[i], outer[(i + 1) % n]) == 0 for i in range(n))
+    sides = edge_vectors(outer)
+    assert any(cross(u, v) == 0 for u, v in itertools.combinations(sides, 2))
+    outer_edges = list(zip(outer, (*outer[1:], outer[0])))
+    # a hole vertex on the supporting line of an outer edge (off the edge itself: holes never touch)
+    assert any(orient(a, b, h) == 0 for a, b in outer_edges for h in hole)
+    # a hole vertex on the line through two outer vertices that are not an edge
+    assert any(
+        orient(p, q, h) == 0
+        for p, q in itertools.combinations(outer, 2)
+        if (p, q) not in outer_edges and (q, p) not in outer_edges
+        for h in hole
+    )
