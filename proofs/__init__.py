@@ -1,0 +1,11 @@
+"""Symbolic proofs (sympy) of the results solverplan relies on: one module per result.
+
+Each module defines ``prove() -> ProofResult``: the formula under test is *derived* (from the
+geometry, not retyped) and compared by simplification; each step says what it checks and whether
+it held. An erratum (where a seed paper's text disagrees with what the proof yields) goes in the
+module docstring. ``solverplan prove`` runs them all; the test suite runs them too.
+"""
+
+from proofs._core import ProofResult, Step, all_proofs, run_all
+
+__all__ = ["ProofResult", "Step", "all_proofs", "run_all"]
