@@ -476,6 +476,11 @@ class Environment:
         return self.rings == other.rings
 
     def __hash__(self) -> int:
+        return self._hash
+
+    @cached_property
+    def _hash(self) -> int:
+        # hashing every Fraction is O(n) and caches keyed on environments ask often
         return hash(self.rings)
 
     def __repr__(self) -> str:

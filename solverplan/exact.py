@@ -171,21 +171,17 @@ def orient_filter(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
     Returns int8 signs: +1 / −1 where the float determinant is provably of that exact
     sign, 0 where it is too close to call (then use :func:`orient`).
     """
-    abx = b[..., 0] - a[..., 0]
-    aby = b[..., 1] - a[..., 1]
-    acx = c[..., 0] - a[..., 0]
-    acy = c[..., 1] - a[..., 1]
-    left = abx * acy
-    right = aby * acx
-    det = left - right
-    # bound in terms of the coordinates' magnitudes (covers the rounding of the inputs too)
-    mag = (np.abs(a[..., 0]) + np.abs(b[..., 0]) + np.abs(c[..., 0])) * (
-        np.abs(a[..., 1]) + np.abs(b[..., 1]) + np.abs(c[..., 1])
-    )
-    bound = FLOAT_FILTER_REL * mag
+    with np.errstate(over="ignore", invalid="ignore"):  # overflow → inf/nan → "uncertain" below
+        det = (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
+        # bound in terms of the coordinates' magnitudes (covers the rounding of the inputs too)
+        mag = (np.abs(a[..., 0]) + np.abs(b[..., 0]) + np.abs(c[..., 0])) * (
+            np.abs(a[..., 1]) + np.abs(b[..., 1]) + np.abs(c[..., 1])
+        )
+        bound = FLOAT_FILTER_REL * mag
     sign = np.zeros(det.shape, dtype=np.int8)
-    sign[det > bound] = 1
-    sign[det < -bound] = -1
+    finite = np.isfinite(det) & np.isfinite(bound)
+    sign[finite & (det > bound)] = 1
+    sign[finite & (det < -bound)] = -1
     return sign
 
 
