@@ -260,6 +260,22 @@ def info(
         emit(describe_environment(environment), fmt, out)
 
 
+@app.command(name="partition")
+def partition_command(
+    env: EnvArg,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """The partition P′ of Algorithm 1: vertices per ring, segments (id, edge, t0, t1, a, b), inserted points."""
+    from solverplan.bounce.partition import partition as partition_boundary
+
+    with exit_codes(verbose):
+        environment = load_environment(env, env_format.value if env_format else None)
+        emit(partition_boundary(environment), fmt, out)
+
+
 @app.command()
 def render(
     env: EnvArg,
@@ -267,6 +283,25 @@ def render(
     edge_ids: Annotated[bool, typer.Option("--edge-ids", help="Label edges e<i> with arrows showing their direction.")] = False,
     vertex_ids: Annotated[bool, typer.Option("--vertex-ids", help="Label vertices v<i>.")] = False,
     reflex: Annotated[bool, typer.Option("--reflex/--no-reflex", help="Mark reflex vertices.")] = True,
+    show_partition: Annotated[
+        bool, typer.Option("--partition", help="Draw the partition P′ (Algorithm 1): numbered segments, inserted points.")
+    ] = False,
+    trajectories: Annotated[
+        int, typer.Option("--trajectories", min=0, metavar="N", help="Simulate N rollouts of --rule and draw them.")
+    ] = 0,
+    rule: Annotated[
+        str,
+        typer.Option(
+            "--rule", metavar="RULE",
+            help="Bounce rule of the trajectories: specular, fixed:THETA, relative:THETA or monotone:THETA (radians, pi/3 allowed).",
+        ),
+    ] = "specular",
+    start: Annotated[
+        str | None,
+        typer.Option("--from", metavar="SET", help="Start set of the trajectories, e.g. e0 or e3:0.25:0.75,e4 (default: the whole boundary).", show_default=False),
+    ] = None,
+    bounces: Annotated[int, typer.Option("--bounces", min=0, metavar="K", help="Bounces per trajectory.")] = 20,
+    seed: Annotated[int, typer.Option("--seed", min=0, metavar="S", help="Random seed of the trajectories.")] = 0,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,
@@ -276,9 +311,46 @@ def render(
 
     with exit_codes(verbose):
         figure_format(out)  # a bad extension is reported before any work
+        from solverplan.bounce.rules import parse_rule
+
+        bounce_rule = parse_rule(rule)
         environment = load_environment(env, env_format.value if env_format else None)
+        if start is not None:
+            environment.boundary_set(start)  # a bad start set is reported before drawing
         figure = render_environment(environment, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex)
+        if show_partition:
+            from solverplan.bounce.partition import partition as partition_boundary
+            from solverplan.render import draw_partition
+
+            draw_partition(figure.axes[0], partition_boundary(environment))
+        if trajectories:
+            from solverplan.render import draw_trajectories
+            from solverplan.simulate import simulate_rule
+
+            runs = simulate_rule(environment, bounce_rule, start, bounces=bounces, trials=trajectories, seed=seed)
+            logger.info("simulated %s", runs.to_text().strip().replace("\n", "; "))
+            draw_trajectories(figure.axes[0], runs)
         emit(save_figure(figure, out), fmt, None)
+
+
+@app.command(name="prove")
+def prove_command(
+    only: Annotated[
+        list[str] | None,
+        typer.Option("--only", metavar="NAME", help="Run only this proof module (repeatable), e.g. lemma2_contraction.", show_default=False),
+    ] = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Run the symbolic proofs in proofs/ (sympy): a table of results (proof, status, seconds); exit 1 if any fails."""
+    import proofs
+
+    with exit_codes(verbose):
+        report = proofs.prove_all(only or None)
+        emit(report, fmt, out)
+    if not report.passed:
+        raise typer.Exit(1)
 
 
 def main() -> None:

@@ -26,7 +26,7 @@ import io
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -38,8 +38,12 @@ from matplotlib.path import Path as MplPath
 from matplotlib.text import Annotation
 
 from solverplan._io import atomic_write_bytes
+from solverplan.bounce.partition import Partition
 from solverplan.environment import Environment
 from solverplan.errors import InputError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from solverplan.simulate import Rollouts
 
 __all__ = [
     "FigureFormat",
@@ -51,6 +55,8 @@ __all__ = [
     "draw_vertex_ids",
     "LabelPlacer",
     "draw_reflex_vertices",
+    "draw_partition",
+    "draw_trajectories",
     "render_environment",
     "figure_format",
     "figure_bytes",
@@ -67,6 +73,11 @@ BOUNDARY_COLOR = "#1f2a36"
 EDGE_ID_COLOR = "#1a5fa8"
 VERTEX_ID_COLOR = "#5a5a5a"
 REFLEX_COLOR = "#d1495b"
+PARTITION_COLORS = ("#e07a1f", "#2a9d8f", "#7b5ea7")  # alternate along each ring; the third closes odd rings
+INSERTED_COLOR = "#1f2a36"
+TRAJECTORY_COLOR = "#d95f02"  # warm, against the pale free space and the dark walls
+TRAJECTORY_START_COLOR = "#1b7837"
+TRAJECTORY_FLAG_COLOR = "#b2182b"
 
 PNG_DPI = 150
 ARROW_SIZE = 14.0  # points: the arrowheads showing edge directions
@@ -453,6 +464,168 @@ def draw_reflex_vertices(ax: Axes, env: Environment, *, color: str = REFLEX_COLO
     pts = env.vertices[ids] if ids else np.empty((0, 2))
     dots = ax.scatter(pts[:, 0], pts[:, 1], s=size, c=color, zorder=5, edgecolors="white", linewidths=0.6, gid="reflex-vertices")
     return dots
+
+
+def _reserve_labels(placer: LabelPlacer, ax: Axes) -> None:
+    """Keep new labels off the labels already on ``ax`` (annotations placed with an offset in points)."""
+    for text in ax.texts:
+        if not isinstance(text, Annotation) or text.anncoords != "offset points":
+            continue
+        anchor, offset = np.asarray(text.xy, dtype=float), np.asarray(text.xyann, dtype=float)
+        label = text.get_text()
+        if label:
+            placer.reserve(anchor, offset, _label_half_size(label, float(text.get_fontsize())))
+        else:  # an arrow drawn from `offset` to its anchor: keep its shaft and head clear
+            placer.reserve(anchor, offset / 2, (abs(offset[0]) / 2 + 3, abs(offset[1]) / 2 + 3))
+
+
+def draw_partition(
+    ax: Axes,
+    partition: Partition,
+    *,
+    segment_ids: bool = True,
+    placer: LabelPlacer | None = None,
+    colors: tuple[str, ...] = PARTITION_COLORS,
+    fontsize: float | None = None,
+) -> list:
+    """Draw the partition P′ (paper Algorithm 1, as in the paper's Figs. 3 and 4).
+
+    Segments are drawn over the boundary in colours alternating along each ring (a third colour
+    closes a ring with an odd number of segments, so neighbours always differ); inserted points are
+    white dots ringed in dark; with ``segment_ids`` each segment is labelled with its id beside its
+    middle, in the free space, in the segment's colour.
+
+    Returns the artists added: the segments' :class:`~matplotlib.collections.LineCollection` (gid
+    ``partition-segments``), the inserted points' ``PathCollection`` (gid ``partition-inserted``),
+    then the labels (gid ``segment-id-<k>``).
+    """
+    env = partition.env
+    m = partition.n_segments
+    colour_of = []
+    for k in range(len(partition.ring_offsets) - 1):
+        count = partition.ring_offsets[k + 1] - partition.ring_offsets[k]
+        ring_colours = [colors[j % 2] for j in range(count)]
+        if count % 2 and count > 1:
+            ring_colours[-1] = colors[2 % len(colors)]
+        colour_of.extend(ring_colours)
+    starts, ends = partition.seg_start, partition.seg_end
+    lines = LineCollection(
+        np.stack([starts, ends], axis=1), colors=colour_of, linewidths=3.2, capstyle="butt", zorder=2.5,
+        gid="partition-segments",
+    )
+    ax.add_collection(lines)
+    pts = np.array([[float(q.point[0]), float(q.point[1])] for q in partition.inserted]).reshape(-1, 2)
+    dots = ax.scatter(
+        pts[:, 0], pts[:, 1], s=16, c="white", edgecolors=INSERTED_COLOR, linewidths=0.9, zorder=5.5,
+        gid="partition-inserted",
+    )
+    artists: list = [lines, dots]
+    if not segment_ids:
+        return artists
+    size = fontsize or _font_size(m)
+    if placer is None:
+        placer = LabelPlacer(ax, env)
+        _reserve_labels(placer, ax)
+    normals = _left_normals(env)
+    for k in range(m):
+        text = str(k)
+        half = _label_half_size(text, size, pad=1.0)
+        normal = normals[int(partition.seg_edge[k])]
+        base = _clear_distance(normal, half, gap=3.0)
+        candidates = [
+            (starts[k] + f * (ends[k] - starts[k]), normal * base * stretch)
+            for stretch in (1.0, 1.7, 2.5, 3.5)
+            for f in (0.5, 0.35, 0.65, 0.2, 0.8)
+        ]
+        anchor, offset = candidates[placer.place(candidates, half)]
+        label = ax.annotate(
+            text,
+            xy=(float(anchor[0]), float(anchor[1])),
+            xytext=(float(offset[0]), float(offset[1])),
+            textcoords="offset points",
+            ha="center",
+            va="center",
+            fontsize=size,
+            color=colour_of[k],
+            fontweight="bold",
+            zorder=4,
+            annotation_clip=False,
+        )
+        label.set_gid(f"segment-id-{k}")
+        artists.append(label)
+    return artists
+
+
+def _trajectory_alpha(ax: Axes, env: Environment, segments: np.ndarray, linewidth: float) -> float:
+    """Opacity so that the ink of all paths, if spread evenly, would cover the free space about half
+    over: few short paths stay clearly visible, dense ones do not saturate, and where many paths
+    agree (a limit cycle) the picture still darkens."""
+    if len(segments) == 0:
+        return 0.8
+    ax.apply_aspect()
+    x0, x1 = ax.get_xlim()
+    width_points = ax.get_position().width * ax.get_figure().get_figwidth() * 72.0
+    line_width = linewidth / (width_points / abs(x1 - x0))  # in data units
+    ink = float(np.hypot(*(segments[:, 1] - segments[:, 0]).T).sum()) * line_width
+    coverage = ink / max(float(env.area), 1e-300)
+    return float(np.clip(0.5 / max(coverage, 1e-12), 0.04, 0.8))
+
+
+def draw_trajectories(
+    ax: Axes,
+    rollouts: Rollouts,
+    *,
+    max_paths: int | None = None,
+    color: str = TRAJECTORY_COLOR,
+    linewidth: float = 0.6,
+    alpha: float | None = None,
+    starts: bool = True,
+    flags: bool = True,
+) -> list:
+    """Draw simulated trajectories: thin, semi-transparent polylines through the contacts, start points
+    marked (green dots), rollouts stopped at a vertex or a near-tie marked where they stopped (red ×).
+
+    ``max_paths`` limits the drawing to the first rollouts (all by default). ``alpha`` defaults to a
+    value that falls with the total ink of the paths (see :func:`_trajectory_alpha`), so that dense
+    pictures do not saturate and where many paths agree (a limit cycle) the picture darkens. Draw
+    after :func:`draw_free_space` (which sets the view). Needs rollouts recorded with ``record="all"``.
+
+    Returns the artists: the paths' :class:`~matplotlib.collections.LineCollection` (gid
+    ``trajectories``), then the start dots (gid ``trajectory-starts``) and the flags
+    (gid ``trajectory-flags``) when drawn.
+    """
+    if rollouts.record != "all":
+        raise InputError("these rollouts kept only their end points: simulate with record='all' to draw trajectories")
+    count = rollouts.trials if max_paths is None else max(0, min(int(max_paths), rollouts.trials))
+    x, y = rollouts.x[:count], rollouts.y[:count]
+    a = np.stack([x[:, :-1], y[:, :-1]], axis=-1)
+    b = np.stack([x[:, 1:], y[:, 1:]], axis=-1)
+    valid = np.isfinite(a).all(axis=-1) & np.isfinite(b).all(axis=-1)
+    segments = np.stack([a[valid], b[valid]], axis=1)
+    if alpha is None:
+        alpha = _trajectory_alpha(ax, rollouts.env, segments, linewidth)
+    lines = LineCollection(
+        segments, colors=color, linewidths=linewidth, alpha=alpha, capstyle="round", zorder=1.5, gid="trajectories"
+    )
+    ax.add_collection(lines)
+    artists: list = [lines]
+    if starts and count:
+        dots = ax.scatter(
+            x[:, 0], y[:, 0], s=9, c=TRAJECTORY_START_COLOR, edgecolors="white", linewidths=0.4, zorder=5.2,
+            alpha=min(1.0, 2 * alpha + 0.2), gid="trajectory-starts",
+        )
+        artists.append(dots)
+    if flags and count:
+        flagged = np.flatnonzero(rollouts.flagged[:count])
+        ends = rollouts.final_points[flagged]
+        ends = ends[np.isfinite(ends).all(axis=1)]
+        if len(ends):
+            marks = ax.scatter(
+                ends[:, 0], ends[:, 1], s=28, marker="x", c=TRAJECTORY_FLAG_COLOR, linewidths=1.2, zorder=5.4,
+                gid="trajectory-flags",
+            )
+            artists.append(marks)
+    return artists
 
 
 def render_environment(

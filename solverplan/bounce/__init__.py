@@ -2,5 +2,6 @@
 transitions, contraction and limit cycles."""
 
 from solverplan.bounce.interval import Interval, heading_interval
+from solverplan.bounce.partition import InsertedPoint, Partition, PartitionSegment, partition
 
-__all__ = ["Interval", "heading_interval"]
+__all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment", "partition"]
