@@ -1,14 +1,20 @@
-"""The shared shape of a proof: named steps with a pass/fail each, and discovery of proof modules."""
+"""The shared shape of a proof: named steps with a pass/fail each, discovery of proof modules, the report.
+
+:func:`prove_all` is what ``solverplan prove`` answers: a :class:`ProofReport` with ``to_json()``
+(``{"proofs": [...], "passed": bool}``) and ``to_text(width=)`` (a table: proof, result, status, steps,
+seconds; then any failed steps and the errata the proofs recorded).
+"""
 
 from __future__ import annotations
 
 import importlib
+import io
 import pkgutil
 import time
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Sequence
 
-__all__ = ["Step", "ProofResult", "all_proofs", "run_all"]
+__all__ = ["Step", "ProofResult", "ProofReport", "all_proofs", "run_all", "prove_all"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,16 +70,100 @@ def all_proofs() -> dict[str, Callable[[], ProofResult]]:
     return found
 
 
-def run_all(names: list[str] | None = None) -> list[ProofResult]:
-    """Run the named proofs (all by default), timing each."""
+def run_all(names: Sequence[str] | None = None) -> list[ProofResult]:
+    """Run the named proofs (all by default), timing each.
+
+    A proof that raises does not stop the others: it is reported as failed, with one step naming
+    the exception.
+    """
     results = []
     for name, prove in all_proofs().items():
         if names and name not in names:
             continue
         start = time.perf_counter()
-        result = prove()
+        try:
+            result = prove()
+        except Exception as exc:  # a crashing proof is a failing proof, not a crashing command
+            result = ProofResult(name, (Step("prove() ran to the end", False, f"{type(exc).__name__}: {exc}"),))
         elapsed = time.perf_counter() - start
         results.append(
             ProofResult(result.result, result.steps, elapsed, name, result.errata)
         )
     return results
+
+
+@dataclass(frozen=True)
+class ProofReport:
+    """The outcome of a run of proofs: what ``solverplan prove`` prints."""
+
+    proofs: tuple[ProofResult, ...]
+
+    @property
+    def passed(self) -> bool:
+        """True iff there was at least one proof and every proof passed."""
+        return bool(self.proofs) and all(p.passed for p in self.proofs)
+
+    @property
+    def seconds(self) -> float:
+        return sum(p.seconds for p in self.proofs)
+
+    def to_json(self) -> dict:
+        return {"proofs": [p.to_json() for p in self.proofs], "passed": self.passed}
+
+    def to_text(self, *, width: int = 100) -> str:
+        """A table (proof, result, status, steps, seconds), then failed steps and recorded errata."""
+        from rich import box
+        from rich.console import Console
+        from rich.table import Table
+
+        buffer = io.StringIO()
+        console = Console(file=buffer, width=width, color_system=None, force_terminal=False, highlight=False)
+        table = Table(box=box.SIMPLE)
+        table.add_column("proof")
+        table.add_column("result")
+        table.add_column("status")
+        table.add_column("steps", justify="right")
+        table.add_column("seconds", justify="right")
+        for p in self.proofs:
+            held = sum(step.holds for step in p.steps)
+            table.add_row(p.module, p.result, "passed" if p.passed else "FAILED", f"{held}/{len(p.steps)}", f"{p.seconds:.2f}")
+        console.print(table)
+        failed = [p for p in self.proofs if not p.passed]
+        verdict = "all passed" if self.passed else f"{len(failed)} failed"
+        console.print(f"{len(self.proofs)} proofs, {verdict}, {self.seconds:.2f} s")
+        for p in failed:
+            console.print(f"\n{p.module}: failed steps")
+            console.print(_bullets([s.claim + (f" [{s.detail}]" if s.detail else "") for s in p.failed_steps] or ["(no steps)"]))
+        errata = [f"{p.module}: {e}" for p in self.proofs for e in p.errata]
+        if errata:
+            console.print("\nerrata recorded by the proofs (DESIGN / seed text vs what the proof yields)")
+            console.print(_bullets(errata))
+        return "".join(line.rstrip() + "\n" for line in buffer.getvalue().splitlines())
+
+
+def _bullets(lines: list[str]):
+    """A borderless two-column grid so that wrapped lines keep their indent."""
+    from rich.table import Table
+    from rich.text import Text
+
+    grid = Table.grid(padding=(0, 1))
+    grid.add_column(no_wrap=True)
+    grid.add_column()
+    for line in lines:
+        grid.add_row("  -", Text(line))
+    return grid
+
+
+def prove_all(names: Sequence[str] | None = None) -> ProofReport:
+    """Run the named proofs (all by default) into a :class:`ProofReport`.
+
+    Raises :class:`solverplan.errors.InputError` naming an unknown proof.
+    """
+    if names:
+        known = all_proofs()
+        unknown = [name for name in names if name not in known]
+        if unknown:
+            from solverplan.errors import InputError
+
+            raise InputError(f"unknown proof {unknown[0]!r}: proofs are {', '.join(known)}")
+    return ProofReport(tuple(run_all(names)))

@@ -344,9 +344,9 @@ def prove_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """Run the symbolic proofs in proofs/ (sympy): a table of results (proof, status, seconds); exit 1 if any fails."""
-    import proofs
-
     with exit_codes(verbose):
+        import proofs  # packaged beside solverplan (pyproject), imported only by this command
+
         report = proofs.prove_all(only or None)
         emit(report, fmt, out)
     if not report.passed:
