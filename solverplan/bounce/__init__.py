@@ -3,5 +3,9 @@ transitions, contraction and limit cycles."""
 
 from solverplan.bounce.interval import Interval, heading_interval
 from solverplan.bounce.partition import InsertedPoint, Partition, PartitionSegment, partition
+from solverplan.bounce.rules import BounceRule, Fixed, FixedInterval, MonotoneFixed, Relative, Specular, parse_rule
+from solverplan.bounce.transitions import AffineMap, affine_map, exact_transition, transition, transition_set
 
-__all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment", "partition"]
+__all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment", "partition",
+           "BounceRule", "Fixed", "FixedInterval", "MonotoneFixed", "Relative", "Specular", "parse_rule",
+           "AffineMap", "affine_map", "exact_transition", "transition", "transition_set"]
