@@ -276,6 +276,59 @@ def partition_command(
         emit(partition_boundary(environment), fmt, out)
 
 
+class GraphFormat(StrEnum):
+    JSON = "json"
+    TEXT = "text"
+    GRAPHML = "graphml"
+    DOT = "dot"
+
+
+def _emit_string(text: str, out: Path | None) -> None:
+    """Write ready-made text (GraphML, DOT) to stdout or atomically to ``out``."""
+    if out is None:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return
+    try:
+        atomic_write_text(out, text)
+    except OSError as exc:
+        raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+    logger.info("wrote %s", out)
+
+
+@app.command(name="graph")
+def graph_command(
+    env: EnvArg,
+    safe: Annotated[bool, typer.Option("--safe", help="Label every arc with its exact safe headings (paper §5).")] = False,
+    source: Annotated[
+        int | None, typer.Option("--from", metavar="SEG", help="Only the arcs leaving segment SEG of P′.", show_default=False)
+    ] = None,
+    heading: Annotated[
+        float | None,
+        typer.Option("--heading", metavar="THETA", help="Only the arcs whose safe set holds heading THETA (radians, in (0, π)); implies --safe.", show_default=False),
+    ] = None,
+    env_format: EnvFormatOpt = None,
+    fmt: Annotated[GraphFormat, typer.Option("--format", help="JSON (CONTRACT), text, GraphML or Graphviz DOT.")] = GraphFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """The bounce visibility graph of P′: arcs between segments that see each other; with --safe, their safe headings."""
+    from solverplan.bounce.bvg import safe_bounce_visibility_graph
+
+    with exit_codes(verbose):
+        environment = load_environment(env, env_format.value if env_format else None)
+        graph = safe_bounce_visibility_graph(environment)
+        logger.info("safe BVG: %d segments, %d arcs, %d safe (%.3f s)", graph.n_segments, graph.n_arcs, graph.n_safe_arcs,
+                    graph.stats.get("seconds_total", 0.0))
+        view = graph.select(source=source, heading=heading, safe=safe or heading is not None)
+        if fmt is GraphFormat.GRAPHML:
+            _emit_string(view.to_graphml(), out)
+        elif fmt is GraphFormat.DOT:
+            _emit_string(view.to_dot(), out)
+        else:
+            emit(view, OutputFormat(fmt.value), out)
+
+
 @app.command()
 def render(
     env: EnvArg,
@@ -285,6 +338,12 @@ def render(
     reflex: Annotated[bool, typer.Option("--reflex/--no-reflex", help="Mark reflex vertices.")] = True,
     show_partition: Annotated[
         bool, typer.Option("--partition", help="Draw the partition P′ (Algorithm 1): numbered segments, inserted points.")
+    ] = False,
+    show_graph: Annotated[
+        bool, typer.Option("--graph", help="Draw the bounce visibility graph lightly (a line between segments that see each other).")
+    ] = False,
+    safe_arcs: Annotated[
+        bool, typer.Option("--safe-arcs", help="Draw every safe arc as a ray that lands on its target segment.")
     ] = False,
     trajectories: Annotated[
         int, typer.Option("--trajectories", min=0, metavar="N", help="Simulate N rollouts of --rule and draw them.")
@@ -302,6 +361,15 @@ def render(
     ] = None,
     bounces: Annotated[int, typer.Option("--bounces", min=0, metavar="K", help="Bounces per trajectory.")] = 20,
     seed: Annotated[int, typer.Option("--seed", min=0, metavar="S", help="Random seed of the trajectories.")] = 0,
+    show_cycle: Annotated[
+        bool,
+        typer.Option("--cycle", help="Draw the limit cycle of the constant heading --theta on top (bold; contacts as yellow "
+                     "circles); --trajectories then follow that constant rule (paper Fig. 9)."),
+    ] = False,
+    cycle_theta: Annotated[
+        str | None,
+        typer.Option("--theta", metavar="THETA", help="The constant heading of --cycle, as in 'solverplan cycle'.", show_default=False),
+    ] = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,
@@ -314,23 +382,107 @@ def render(
         from solverplan.bounce.rules import parse_rule
 
         bounce_rule = parse_rule(rule)
+        if show_cycle != (cycle_theta is not None):
+            raise InputError("--cycle and --theta go together: --cycle draws the limit cycle of the heading --theta")
         environment = load_environment(env, env_format.value if env_format else None)
         if start is not None:
             environment.boundary_set(start)  # a bad start set is reported before drawing
-        figure = render_environment(environment, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex)
-        if show_partition:
+        cycle = initial = title = None
+        if show_cycle:
+            from solverplan.bounce.cycles import limit_cycle
+            from solverplan.bounce.rules import Fixed
+
+            cycle = limit_cycle(environment, cycle_theta)
+            bounce_rule, initial = Fixed(cycle.heading.theta), [cycle.heading.theta]
+            title = cycle.title()
+        figure = render_environment(environment, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex, title=title)
+        if show_partition or show_graph or safe_arcs:
             from solverplan.bounce.partition import partition as partition_boundary
             from solverplan.render import draw_partition
 
-            draw_partition(figure.axes[0], partition_boundary(environment))
+            boundary = partition_boundary(environment)
+            if show_graph or safe_arcs:
+                from solverplan.bounce.bvg import safe_bounce_visibility_graph
+                from solverplan.render import draw_graph, draw_safe_arcs
+
+                graph = safe_bounce_visibility_graph(boundary)
+                if show_graph:
+                    draw_graph(figure.axes[0], graph)
+                if safe_arcs:
+                    draw_safe_arcs(figure.axes[0], graph)
+            if show_partition:
+                draw_partition(figure.axes[0], boundary)
         if trajectories:
             from solverplan.render import draw_trajectories
             from solverplan.simulate import simulate_rule
 
-            runs = simulate_rule(environment, bounce_rule, start, bounces=bounces, trials=trajectories, seed=seed)
+            runs = simulate_rule(environment, bounce_rule, start, bounces=bounces, trials=trajectories, seed=seed, initial=initial)
             logger.info("simulated %s", runs.to_text().strip().replace("\n", "; "))
             draw_trajectories(figure.axes[0], runs)
+        if cycle is not None:
+            from solverplan.render import draw_cycle
+
+            draw_cycle(figure.axes[0], cycle)
         emit(save_figure(figure, out), fmt, None)
+
+
+class CycleMethod(StrEnum):
+    AUTO = "auto"
+    THEOREM1 = "theorem1"
+    ITERATE = "iterate"
+    EDGES = "edges"
+
+
+@app.command(name="cycle")
+def cycle_command(
+    env: EnvArg,
+    theta: Annotated[
+        str,
+        typer.Option(
+            "--theta", metavar="THETA",
+            help="The constant heading (CCW from each wall): radians, e.g. 0.3 or pi/12 (taken at the exact direction "
+            "(cos θ, sin θ) of its binary floats, < 1e-15 rad away; theta_exact in the answer says which); tan:P/Q "
+            "(exact rational tangent, alias atan:P/Q; negative for θ > π/2); dir:C,S (exact direction pair); or auto "
+            "(search a heading that drives every start into a verified cycle, Prop. 4).",
+        ),
+    ],
+    edges: Annotated[
+        str | None,
+        typer.Option("--edges", metavar="e0,e1,...", help="Ask for the cycle along this edge sequence.", show_default=False),
+    ] = None,
+    epsilon: Annotated[
+        float | None,
+        typer.Option("--epsilon", metavar="E", help="Also report the cycles needed to shrink the position set below E (Cor. 4; a length).", show_default=False),
+    ] = None,
+    method: Annotated[
+        CycleMethod,
+        typer.Option("--method", help="theorem1 (convex polygons: the CCW cycle), iterate (follow the rule from --start), "
+                     "edges (--edges); auto picks."),
+    ] = CycleMethod.AUTO,
+    cycle_start: Annotated[
+        str | None,
+        typer.Option("--start", metavar="eK:T", help="Iterate: the start point (default e0:0.5).", show_default=False),
+    ] = None,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Iterate: bounce budget.")] = 20000,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """The limit cycle of a constant heading (paper §6.1, Theorem 1, Prop. 4), verified in exact arithmetic:
+    contact points, exact contraction, fixed points, basins; status says if and why there is none."""
+    from solverplan.bounce.cycles import constant_controller, limit_cycle
+
+    with exit_codes(verbose):
+        environment = load_environment(env, env_format.value if env_format else None)
+        if theta.strip().lower() == "auto":
+            if edges is not None or cycle_start is not None or method is not CycleMethod.AUTO:
+                raise InputError("--theta auto searches for one heading for every start: drop --edges, --start and --method")
+            emit(constant_controller(environment, epsilon=epsilon), fmt, out)
+            return
+        result = limit_cycle(environment, theta, edges=edges, method=method.value, start=cycle_start, epsilon=epsilon,
+                             max_bounces=max_bounces)
+        emit(result, fmt, out)
 
 
 @app.command(name="prove")
@@ -352,6 +504,33 @@ def prove_command(
     if not report.passed:
         raise typer.Exit(1)
 
+
+
+@app.command(name="verify")
+def verify_command(
+    cert: Annotated[Path, typer.Argument(metavar="CERT.json", help="The certificate file to check.", show_default=False)],
+    env: Annotated[
+        Path | None,
+        typer.Option("--env", metavar="ENV", help="Also require the certificate's environment to be exactly this environment file.", show_default=False),
+    ] = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Check a certificate in exact rational arithmetic: exit 0 valid, 1 invalid (the first failing claim on stderr), 2 malformed."""
+    from solverplan.certify.check import check_certificate
+    from solverplan.certify.schema import load_certificate
+
+    with exit_codes(verbose):
+        certificate = load_certificate(cert)
+        rings = load_environment(env, env_format.value if env_format else None).rings if env is not None else None
+        report = check_certificate(certificate, expected_rings=rings)
+        emit(report, fmt, out)
+    if not report.valid:
+        more = len(report.failures) - 1
+        suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
+        raise _fail(f"certificate invalid: {report.failures[0]}{suffix}", 1)
 
 def main() -> None:
     """Console-script entry point (``solverplan = "solverplan.cli:main"``)."""

@@ -43,6 +43,8 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover
+    from solverplan.bounce.bvg import SafeBVG
+    from solverplan.bounce.cycles import LimitCycle
     from solverplan.simulate import Rollouts
 
 __all__ = [
@@ -56,7 +58,10 @@ __all__ = [
     "LabelPlacer",
     "draw_reflex_vertices",
     "draw_partition",
+    "draw_graph",
+    "draw_safe_arcs",
     "draw_trajectories",
+    "draw_cycle",
     "render_environment",
     "figure_format",
     "figure_bytes",
@@ -75,9 +80,13 @@ VERTEX_ID_COLOR = "#5a5a5a"
 REFLEX_COLOR = "#d1495b"
 PARTITION_COLORS = ("#e07a1f", "#2a9d8f", "#7b5ea7")  # alternate along each ring; the third closes odd rings
 INSERTED_COLOR = "#1f2a36"
+GRAPH_COLOR = "#6b7b8c"  # the BVG's arcs: light grey-blue lines under everything else
+SAFE_ARC_COLOR = "#2c7fb8"  # safe arcs: rays that really land, a little stronger
 TRAJECTORY_COLOR = "#d95f02"  # warm, against the pale free space and the dark walls
 TRAJECTORY_START_COLOR = "#1b7837"
 TRAJECTORY_FLAG_COLOR = "#b2182b"
+CYCLE_COLOR = "#08306b"  # a limit cycle: bold dark blue over the warm trajectories
+CYCLE_POINT_COLOR = "#ffd92f"  # its contact points: yellow circles, as in the paper's Fig. 9
 
 PNG_DPI = 150
 ARROW_SIZE = 14.0  # points: the arrowheads showing edge directions
@@ -556,6 +565,85 @@ def draw_partition(
     return artists
 
 
+def _ink_alpha(ax: Axes, env: Environment, segments: np.ndarray, linewidth: float, coverage_goal: float) -> float:
+    """Opacity so that the ink of all lines, spread evenly, would cover ``coverage_goal`` of the free space."""
+    if len(segments) == 0:
+        return 0.8
+    ax.apply_aspect()
+    x0, x1 = ax.get_xlim()
+    width_points = ax.get_position().width * ax.get_figure().get_figwidth() * 72.0
+    line_width = linewidth / (width_points / abs(x1 - x0))  # in data units
+    ink = float(np.hypot(*(segments[:, 1] - segments[:, 0]).T).sum()) * line_width
+    coverage = ink / max(float(env.area), 1e-300)
+    return float(np.clip(coverage_goal / max(coverage, 1e-12), 0.01, 0.6))
+
+
+def draw_graph(
+    ax: Axes,
+    graph: SafeBVG,
+    *,
+    color: str = GRAPH_COLOR,
+    linewidth: float = 0.5,
+    alpha: float | None = None,
+) -> list:
+    """Draw the bounce visibility graph lightly: one thin line between the midpoints of every two
+    segments of P′ that see each other (arcs come in both directions; each pair is drawn once).
+
+    The line joins midpoints, so it may cross an obstacle when the segments see each other only in
+    part; :func:`draw_safe_arcs` draws lines that are real trajectories. ``alpha`` defaults to a value
+    that falls with the total ink, so a dense graph reads as a shade. Draw after :func:`draw_free_space`.
+
+    Returns the artists: one :class:`~matplotlib.collections.LineCollection` (gid ``bvg-arcs``).
+    """
+    p = graph.partition
+    mid = 0.5 * (np.asarray(p.seg_start) + np.asarray(p.seg_end))
+    once = graph.source < graph.target
+    segments = np.stack([mid[graph.source[once]], mid[graph.target[once]]], axis=1).reshape(-1, 2, 2)
+    if alpha is None:
+        alpha = _ink_alpha(ax, p.env, segments, linewidth, 0.6)
+    lines = LineCollection(segments, colors=color, linewidths=linewidth, alpha=alpha, zorder=1.2, gid="bvg-arcs")
+    ax.add_collection(lines)
+    return [lines]
+
+
+def draw_safe_arcs(
+    ax: Axes,
+    graph: SafeBVG,
+    *,
+    color: str = SAFE_ARC_COLOR,
+    linewidth: float = 0.6,
+    alpha: float | None = None,
+) -> list:
+    """Draw every safe arc i → j as the ray it stands for: from the midpoint of segment i at the middle
+    heading of the arc's widest safe interval, to where it lands on segment j (which it does: the
+    heading is safe). Open ends at 0 or π are clipped to 0.02 rad inside, so the ray leaves the wall.
+
+    Returns the artists: one :class:`~matplotlib.collections.LineCollection` (gid ``safe-arcs``).
+    """
+    p = graph.partition
+    rows = np.flatnonzero(graph.safe)
+    i, j = graph.source[rows], graph.target[rows]
+    start, end = np.asarray(p.seg_start), np.asarray(p.seg_end)
+    m = 0.5 * (start[i] + end[i])
+    e = end[i] - start[i]
+    e = e / np.hypot(e[:, 0], e[:, 1])[:, None]
+    lo = np.maximum(graph.lo[rows], np.minimum(0.02, graph.hi[rows]))
+    hi = np.minimum(graph.hi[rows], np.maximum(np.pi - 0.02, graph.lo[rows]))
+    theta = 0.5 * (lo + hi)
+    c, s = np.cos(theta), np.sin(theta)
+    u = np.stack([c * e[:, 0] - s * e[:, 1], s * e[:, 0] + c * e[:, 1]], axis=1)
+    q, d = start[j], end[j] - start[j]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = ((q[:, 0] - m[:, 0]) * d[:, 1] - (q[:, 1] - m[:, 1]) * d[:, 0]) / (u[:, 0] * d[:, 1] - u[:, 1] * d[:, 0])
+    ok = np.isfinite(t) & (t > 0)
+    segments = np.stack([m[ok], m[ok] + t[ok, None] * u[ok]], axis=1).reshape(-1, 2, 2)
+    if alpha is None:
+        alpha = _ink_alpha(ax, p.env, segments, linewidth, 0.35)
+    lines = LineCollection(segments, colors=color, linewidths=linewidth, alpha=alpha, zorder=1.4, gid="safe-arcs")
+    ax.add_collection(lines)
+    return [lines]
+
+
 def _trajectory_alpha(ax: Axes, env: Environment, segments: np.ndarray, linewidth: float) -> float:
     """Opacity so that the ink of all paths, if spread evenly, would cover the free space about half
     over: few short paths stay clearly visible, dense ones do not saturate, and where many paths
@@ -625,6 +713,55 @@ def draw_trajectories(
                 gid="trajectory-flags",
             )
             artists.append(marks)
+    return artists
+
+
+def draw_cycle(
+    ax: Axes,
+    cycle: LimitCycle,
+    *,
+    color: str = CYCLE_COLOR,
+    point_color: str = CYCLE_POINT_COLOR,
+    linewidth: float = 2.2,
+) -> list:
+    """Draw a limit cycle (:class:`~solverplan.bounce.cycles.LimitCycle`) on top of everything: a bold
+    closed polyline through its contact points with an arrowhead on every leg (the direction of travel)
+    and yellow circles at the contacts (the paper's Fig. 9). A periodic orbit that is not a stable cycle
+    (status other than ``found``, e.g. ``not-contracting``) is drawn dashed and grey; a cycle without
+    contact points draws nothing.
+
+    Returns the artists: the polyline (gid ``limit-cycle``), the arrowheads (``limit-cycle-arrow-k``) and
+    the contact points (``limit-cycle-points``).
+    """
+    from matplotlib import patheffects
+
+    pts = np.array([[float(p.point[0]), float(p.point[1])] for p in cycle.points], dtype=float).reshape(-1, 2)
+    if len(pts) == 0:
+        return []
+    stable = cycle.found
+    ink = color if stable else "#6b6b6b"
+    closed = np.vstack([pts, pts[:1]])
+    halo = [patheffects.Stroke(linewidth=linewidth + 2.2, foreground="white", alpha=0.85), patheffects.Normal()]
+    (line,) = ax.plot(
+        closed[:, 0], closed[:, 1], color=ink, linewidth=linewidth, linestyle="-" if stable else (0, (4, 2.5)),
+        solid_capstyle="round", solid_joinstyle="round", zorder=6, path_effects=halo, gid="limit-cycle",
+    )
+    artists: list = [line]
+    for k in range(len(pts)):
+        a, b = closed[k], closed[k + 1]
+        direction = b - a
+        norm = float(np.hypot(*direction))
+        if norm == 0:
+            continue
+        arrow = _arrow(ax, a + 0.55 * direction, direction / norm, color=ink, size=ARROW_SIZE * 0.9,
+                       gid=f"limit-cycle-arrow-{k}")
+        arrow.set_zorder(6.2)
+        artists.append(arrow)
+    dots = ax.scatter(
+        pts[:, 0], pts[:, 1], s=70, c=point_color if stable else "white", edgecolors=ink, linewidths=1.4, zorder=6.6,
+        gid="limit-cycle-points",
+    )
+    artists.append(dots)
     return artists
 
 

@@ -4,8 +4,11 @@ transitions, contraction and limit cycles."""
 from solverplan.bounce.interval import Interval, heading_interval
 from solverplan.bounce.partition import InsertedPoint, Partition, PartitionSegment, partition
 from solverplan.bounce.rules import BounceRule, Fixed, FixedInterval, MonotoneFixed, Relative, Specular, parse_rule
+from solverplan.bounce.bvg import SafeBVG, bounce_visibility_graph, safe_bounce_visibility_graph
+from solverplan.bounce.safe import SafeSet, safe_interval, safe_set
 from solverplan.bounce.transitions import AffineMap, affine_map, exact_transition, transition, transition_set
 
 __all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment", "partition",
            "BounceRule", "Fixed", "FixedInterval", "MonotoneFixed", "Relative", "Specular", "parse_rule",
+           "SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph", "SafeSet", "safe_interval", "safe_set",
            "AffineMap", "affine_map", "exact_transition", "transition", "transition_set"]

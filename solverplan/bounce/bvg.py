@@ -1,0 +1,896 @@
+"""The bounce visibility graph (BVG) and the safe BVG of P′ (paper §4–5, Def. 5–8, Prop. 1–3, 5).
+
+- :func:`bounce_visibility_graph` — the directed edge-visibility graph of P′: an arc i → j for every
+  two segments whose **open** segments see each other (some point of one sees some point of the
+  other through the interior of the free space; paper Def. 5, note 000 trap 5 — not "an end point is
+  visible"). Visibility is symmetric, so the arc set is; never a self-loop, never an arc between two
+  segments of one edge (collinear), none between the two segments at a reflex or flat vertex.
+- :func:`safe_bounce_visibility_graph` — the same arcs, each labelled with the **exact set of safe
+  headings** (Def. 7: every point of the open e_i reaches the open e_j), its widest interval, the
+  transition side (Def. 8) and φ_ij: a :class:`SafeBVG`. The safe set is the one of
+  :func:`solverplan.bounce.safe.safe_set` — Prop. 2's interval for entirely visible pairs (Cor. 1 for
+  adjacent segments at convex corners), and the exact, possibly smaller set for every other pair;
+  with holes it may be several intervals.
+
+Algorithm (see :mod:`solverplan.bounce._sweep` for the sweeps)
+--------------------------------------------------------------
+1. From every vertex x of P′, in the frame of each segment it ends, an angular *sweep* lists which
+   segment the ray from x first meets, as closed heading ranges ("entries").
+2. **Arcs.** e_i and e_j see each other iff one of the four sweeps at their end points (a and b of
+   e_i, c and d of e_j) meets the other segment over a heading range of positive width. *Proof.* The
+   pairs (p, q) ∈ e_i × e_j that see each other form an open set V. Inside an open segment of P′ the
+   combinatorial structure of the visibility polygon does not change (its changes happen where the
+   line through a vertex and a reflex vertex meets the boundary — Algorithm 1's points), so each
+   window through which q is seen slides monotonically with p, bounded by curves t = f(s) through
+   fixed reflex vertices. A component of V therefore reaches the boundary of e_i × e_j in an open
+   piece of one of its four sides, unless its window degenerates to a single line at both ends of e_i
+   — impossible, since one pair of fixed reflex vertices is collinear with only one point of e_i's
+   line. An open piece of a side, say s = a, is a range of positive width in the sweep from a. □
+   (The tests compare this with the exact :func:`~solverplan.geometry.visibility.segments_see_each_other`
+   on random polygons with holes.)
+3. **Safe sets.** With A_a(j), A_b(j) the entries for j in the sweeps at a ("+") and b ("−") of e_i,
+   the safe set is A_a(j) ∩ A_b(j) minus the open interval (max ang(v − a), min ang(v − b)) of every
+   hole lying strictly on the free side of both segments' lines (:mod:`solverplan.bounce.safe`,
+   proof (4)). The entries are closures, which can add only isolated points (the exact safe set is
+   closed); every single-point interval is therefore re-checked exactly with
+   :func:`~solverplan.bounce.safe.heading_is_safe`.
+
+All comparisons of interval ends are exact when their floats are within the error bound (ends are
+directions between two exact points of P′, or the frame ends 0 and π, which are excluded).
+
+Cost: the sweeps (O(M·n log n) plus the size of the visibility structure) and a sort-merge join,
+all numpy — no loop over pairs of segments. See ``benchmarks/bench_bvg.py`` for measured times.
+"""
+
+from __future__ import annotations
+
+import html
+import io
+import logging
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+from functools import cached_property
+
+import networkx as nx
+import numpy as np
+
+from solverplan.bounce import _sweep
+from solverplan.bounce._sweep import MARK_PI, MARK_ZERO, ExactPoints, Sweeps, _ninf, build_sweeps
+from solverplan.bounce.interval import Interval
+from solverplan.bounce.partition import Partition, partition as make_partition
+from solverplan.bounce.safe import Direction, SafeInterval, SafeSet
+from solverplan.environment import Environment
+from solverplan.errors import InputError, InvalidBoundarySet
+
+__all__ = ["SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph"]
+
+logger = logging.getLogger(__name__)
+
+_TRANSITIONS = {1: "right", -1: "left", 0: "parallel"}
+# Float separating-axis tests of single-heading regions: orientations within this times the squared
+# coordinate scale of zero are decided exactly.
+_SAT_REL = 1e-12
+
+
+def _as_partition(obj: Partition | Environment) -> Partition:
+    if isinstance(obj, Partition):
+        return obj
+    if isinstance(obj, Environment):
+        return make_partition(obj)
+    raise InputError(f"expected a Partition or an Environment, got {type(obj).__name__}")
+
+
+# ---------------------------------------------------------------------------------------------
+# exact-on-ties comparison of interval ends
+# ---------------------------------------------------------------------------------------------
+class _Ends:
+    """Compares heading ends given as (from P′ id, to P′ id or mark, float heading, error bound),
+    all in the frame of one edge per row; exact (integer) arithmetic when the floats are too close."""
+
+    def __init__(self, exact: ExactPoints) -> None:
+        self.exact = exact
+        self.checks = 0
+
+    def cmp(self, edge, f1, t1, a1, e1, f2, t2, a2, e2) -> np.ndarray:
+        d = a1 - a2
+        out = np.sign(d).astype(np.int8)
+        unsure = np.abs(d) <= e1 + e2
+        idx = np.flatnonzero(unsure)
+        self.checks += len(idx)
+        hc = self.exact.heading_cmp
+        for i in idx.tolist():
+            out[i] = hc(int(edge[i]), int(f1[i]), int(t1[i]), int(f2[i]), int(t2[i]))
+        return out
+
+
+@dataclass
+class _Pieces:
+    """Flat table of candidate intervals: arc row, lo end, hi end (from, to, heading, error)."""
+
+    arc: np.ndarray
+    lo_from: np.ndarray
+    lo_to: np.ndarray
+    lo: np.ndarray
+    lo_err: np.ndarray
+    hi_from: np.ndarray
+    hi_to: np.ndarray
+    hi: np.ndarray
+    hi_err: np.ndarray
+
+    def take(self, idx: np.ndarray) -> _Pieces:
+        return _Pieces(*(getattr(self, name)[idx] for name in self.__dataclass_fields__))
+
+    @staticmethod
+    def concat(parts: list[_Pieces]) -> _Pieces:
+        return _Pieces(*(np.concatenate([getattr(p, name) for p in parts]) for name in _Pieces.__dataclass_fields__))
+
+
+# ---------------------------------------------------------------------------------------------
+# the safe BVG
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class SafeBVG:
+    """The bounce visibility graph of P′ with the safe headings of every arc.
+
+    Build it with :func:`safe_bounce_visibility_graph`. Arcs are stored as numpy arrays of length
+    ``n_arcs``, sorted by (source, target):
+
+    ``source``, ``target``
+        Segment ids (int64).
+    ``lo``, ``hi``
+        The widest safe interval (radians, float64), NaN when the arc has no safe heading. An end
+        equal to 0 or π means "open there" (Cor. 1's intervals at convex corners).
+    ``n_intervals``
+        Number of disjoint safe intervals (0, 1, or more with holes); all of them are in
+        ``set_lo``/``set_hi`` (flat, ``set_offsets[k]:set_offsets[k+1]`` for arc k).
+    ``transition``
+        int8: +1 right, −1 left, 0 parallel (Def. 8); see :attr:`transitions` for the strings.
+    ``phi``
+        φ_ij in radians (0 for parallel lines).
+
+    Exact end directions (for certificates) are rebuilt on demand by :meth:`safe_set`.
+
+    >>> from solverplan.environment import Environment
+    >>> square = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> g = safe_bounce_visibility_graph(square)
+    >>> g.n_arcs, g.n_safe_arcs          # every ordered pair of sides, all safe (note 000 trap 1)
+    (12, 12)
+    >>> g.safe_set(0, 1).interval        # bottom → right side: Cor. 1, (0, π/4]
+    Interval(lo=0.0, hi=0.7853981633974483)
+    >>> g.to_json()["arcs"][0]
+    {'from': 0, 'to': 1, 'safe': [0.0, 0.7853981633974483], 'transition': 'right', 'phi': 1.5707963267948966, 'safe_set': [[0.0, 0.7853981633974483]]}
+    """
+
+    partition: Partition
+    source: np.ndarray
+    target: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    n_intervals: np.ndarray
+    set_offsets: np.ndarray
+    set_lo: np.ndarray
+    set_hi: np.ndarray
+    transition: np.ndarray
+    phi: np.ndarray
+    _set_ends: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] = field(repr=False)
+    stats: dict = field(default_factory=dict, repr=False)
+    labelled: bool = True
+    """Whether :meth:`to_json` and the other outputs show the safe headings by default (``False``
+    after ``select(safe=False)``: the plain BVG)."""
+
+    # ------------------------------------------------------------------ size and lookup
+    @property
+    def n_segments(self) -> int:
+        return len(self.partition.segments)
+
+    @property
+    def n_arcs(self) -> int:
+        return len(self.source)
+
+    @property
+    def n_safe_arcs(self) -> int:
+        return int(np.count_nonzero(self.n_intervals))
+
+    @property
+    def safe(self) -> np.ndarray:
+        """Boolean mask of the arcs with at least one safe heading."""
+        return self.n_intervals > 0
+
+    @property
+    def transitions(self) -> list[str]:
+        """Def. 8 per arc: ``"left"``, ``"right"`` or ``"parallel"``."""
+        return [_TRANSITIONS[int(s)] for s in self.transition]
+
+    def _check_segment(self, segment: object, name: str = "") -> int:
+        n = self.n_segments
+        if isinstance(segment, bool) or not isinstance(segment, (int, np.integer)) or not 0 <= int(segment) < n:
+            raise InvalidBoundarySet(f"unknown segment {segment!r}: segments are 0..{n - 1}")
+        return int(segment)
+
+    def select(self, *, source: int | None = None, heading: float | None = None, safe: bool = True) -> SafeBVG:
+        """A copy restricted to the arcs leaving ``source`` and/or the arcs whose safe set contains
+        ``heading`` (radians, in (0, π)); ``safe=False`` makes the outputs show the plain BVG.
+
+        >>> from solverplan.environment import Environment
+        >>> square = safe_bounce_visibility_graph(Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]]))
+        >>> [(a["from"], a["to"]) for a in square.select(source=0, heading=0.5).to_json()["arcs"]]
+        [(0, 1)]
+        >>> square.select(heading=3.5)
+        Traceback (most recent call last):
+        ...
+        solverplan.errors.InvalidBoundarySet: heading 3.5 is not inside (0, π)
+        """
+        keep = np.ones(self.n_arcs, dtype=bool)
+        if source is not None:
+            keep &= self.source == self._check_segment(source)
+        if heading is not None:
+            h = float(heading)
+            if not (math.isfinite(h) and 0 < h < math.pi):
+                raise InvalidBoundarySet(f"heading {h:g} is not inside (0, π)")
+            inside = (self.set_lo <= h) & (h <= self.set_hi)
+            arc_of = np.repeat(np.arange(self.n_arcs), self.n_intervals)
+            hit = np.zeros(self.n_arcs, dtype=bool)
+            hit[arc_of[inside]] = True
+            keep &= hit
+        rows = np.flatnonzero(keep)
+        counts = self.n_intervals[rows]
+        starts = self.set_offsets[rows]
+        take = np.repeat(starts, counts) + _ragged(counts)
+        return SafeBVG(
+            partition=self.partition,
+            source=self.source[rows],
+            target=self.target[rows],
+            lo=self.lo[rows],
+            hi=self.hi[rows],
+            n_intervals=counts,
+            set_offsets=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
+            set_lo=self.set_lo[take],
+            set_hi=self.set_hi[take],
+            transition=self.transition[rows],
+            phi=self.phi[rows],
+            _set_ends=tuple(a[take] for a in self._set_ends),
+            stats=self.stats,
+            labelled=safe,
+        )
+
+    def arc_index(self, source: int, target: int) -> int | None:
+        """Row of the arc source → target, ``None`` if the segments do not see each other.
+
+        Raises :class:`~solverplan.errors.InvalidBoundarySet` for an unknown segment id.
+        """
+        i = self._check_segment(source)
+        j = self._check_segment(target)
+        key = i * self.n_segments + j
+        k = int(np.searchsorted(self._keys, key))
+        return k if k < len(self._keys) and int(self._keys[k]) == key else None
+
+    @cached_property
+    def _keys(self) -> np.ndarray:
+        return self.source * self.n_segments + self.target
+
+    def safe_set(self, source: int, target: int) -> SafeSet:
+        """The exact safe set of the arc source → target (empty if there is no such arc or no safe heading),
+        with exact end directions (:class:`~solverplan.bounce.safe.SafeInterval`)."""
+        k = self.arc_index(source, target)
+        if k is None:
+            return SafeSet()
+        s0, s1 = int(self.set_offsets[k]), int(self.set_offsets[k + 1])
+        lo_from, lo_to, hi_from, hi_to = self._set_ends
+        seg = self.partition.segments[int(self.source[k])]
+        pts = [s.a for s in self.partition.segments]
+        e = (seg.b[0] - seg.a[0], seg.b[1] - seg.a[1])
+
+        def direction(frm: int, to: int) -> Direction:
+            if to == MARK_ZERO:
+                return e
+            if to == MARK_PI:
+                return (-e[0], -e[1])
+            p, q = pts[frm], pts[to]
+            return (q[0] - p[0], q[1] - p[1])
+
+        return SafeSet(tuple(
+            SafeInterval(Interval(float(self.set_lo[r]), float(self.set_hi[r])),
+                         direction(int(lo_from[r]), int(lo_to[r])), direction(int(hi_from[r]), int(hi_to[r])))
+            for r in range(s0, s1)
+        ))
+
+    def interval(self, source: int, target: int) -> Interval:
+        """The widest safe interval of source → target (:data:`Interval.EMPTY` if none or no arc)."""
+        k = self.arc_index(source, target)
+        if k is None or self.n_intervals[k] == 0:
+            return Interval.EMPTY
+        return Interval(float(self.lo[k]), float(self.hi[k]))
+
+    def successors(self, segment: int, *, safe_only: bool = False) -> np.ndarray:
+        """Targets of the arcs leaving ``segment`` (only the safe ones with ``safe_only``)."""
+        i = self._check_segment(segment)
+        a, b = np.searchsorted(self.source, [i, i + 1])
+        rows = np.arange(a, b)
+        if safe_only:
+            rows = rows[self.n_intervals[rows] > 0]
+        return self.target[rows]
+
+    # ------------------------------------------------------------------ conversions
+    def to_networkx(self, *, safe_only: bool = False) -> nx.DiGraph:
+        """A :class:`networkx.DiGraph` on the segment ids.
+
+        Node attributes: ``edge``, ``t0``, ``t1`` (floats). Arc attributes: ``safe`` (the widest
+        :class:`Interval`, EMPTY if none), ``safe_set`` (tuple of Intervals), ``transition``
+        (``"left"``/``"right"``/``"parallel"``), ``phi`` (radians). ``safe_only`` keeps only arcs with
+        safe headings (the paper's BVG_safe).
+        """
+        g = nx.DiGraph(name=f"safe BVG of {self.partition.env.name!r}")
+        for s in self.partition.segments:
+            g.add_node(s.id, edge=s.edge, t0=float(s.t0), t1=float(s.t1))
+        sets = self._float_sets()
+        names = self.transitions
+        for k in range(self.n_arcs):
+            if safe_only and not self.n_intervals[k]:
+                continue
+            safe = Interval(float(self.lo[k]), float(self.hi[k])) if self.n_intervals[k] else Interval.EMPTY
+            g.add_edge(int(self.source[k]), int(self.target[k]), safe=safe, safe_set=sets[k],
+                       transition=names[k], phi=float(self.phi[k]))
+        return g
+
+    def _float_sets(self) -> list[tuple[Interval, ...]]:
+        out = []
+        off = self.set_offsets
+        for k in range(self.n_arcs):
+            out.append(tuple(Interval(float(self.set_lo[r]), float(self.set_hi[r])) for r in range(int(off[k]), int(off[k + 1]))))
+        return out
+
+    def to_json(self, *, safe: bool | None = None) -> dict:
+        """CONTRACT ``solverplan graph``: ``{"arcs": [{"from", "to", "safe": [lo, hi] or null, "transition"}]}``,
+        plus ``phi`` and ``safe_set`` (every safe interval; more than one only with holes), and counts.
+        With ``safe=False`` (the plain BVG; the default after ``select(safe=False)``) arcs carry only
+        ``from``, ``to``, ``transition``."""
+        safe = self.labelled if safe is None else safe
+        names = self.transitions
+        arcs = []
+        src, dst = self.source.tolist(), self.target.tolist()
+        lo, hi, phi = self.lo.tolist(), self.hi.tolist(), self.phi.tolist()
+        off, slo, shi = self.set_offsets.tolist(), self.set_lo.tolist(), self.set_hi.tolist()
+        count = self.n_intervals.tolist()
+        for k in range(self.n_arcs):
+            if not safe:
+                arcs.append({"from": src[k], "to": dst[k], "transition": names[k]})
+                continue
+            arcs.append({
+                "from": src[k],
+                "to": dst[k],
+                "safe": [lo[k], hi[k]] if count[k] else None,
+                "transition": names[k],
+                "phi": phi[k],
+                "safe_set": [[slo[r], shi[r]] for r in range(off[k], off[k + 1])],
+            })
+        out = {
+            "name": self.partition.env.name,
+            "n_segments": self.n_segments,
+            "n_arcs": self.n_arcs,
+        }
+        if safe:
+            out["n_safe_arcs"] = self.n_safe_arcs
+        out["arcs"] = arcs
+        return out
+
+    def to_text(self, *, width: int = 100, safe: bool | None = None) -> str:
+        """A summary and one line per segment listing its out-arcs (safe ones with their intervals)."""
+        safe = self.labelled if safe is None else safe
+        buffer = io.StringIO()
+        env = self.partition.env
+        buffer.write(f"{'safe ' if safe else ''}bounce visibility graph of {env.name!r}\n")
+        buffer.write(f"  segments: {self.n_segments}   arcs: {self.n_arcs}")
+        if safe:
+            buffer.write(f"   safe arcs: {self.n_safe_arcs}")
+            multi = int(np.count_nonzero(self.n_intervals > 1))
+            if multi:
+                buffer.write(f"   arcs with several safe intervals: {multi}")
+        buffer.write("\n")
+        starts = np.searchsorted(self.source, np.arange(self.n_segments + 1))
+        for i in range(self.n_segments):
+            rows = range(int(starts[i]), int(starts[i + 1]))
+            if not rows:
+                continue
+            seg = self.partition.segments[i]
+            head = f"{i:>5} (e{seg.edge}) →"
+            if not safe:
+                items = [str(int(self.target[k])) for k in rows]
+            else:
+                items = []
+                for k in rows:
+                    j = int(self.target[k])
+                    if self.n_intervals[k]:
+                        extra = f"+{int(self.n_intervals[k]) - 1}" if self.n_intervals[k] > 1 else ""
+                        items.append(f"{j}[{self.lo[k]:.4f},{self.hi[k]:.4f}]{extra}")
+                    else:
+                        items.append(f"{j}")
+            line, lines = head, []
+            for item in items:
+                if len(line) + 1 + len(item) > width:
+                    lines.append(line)
+                    line = " " * len(head)
+                line += " " + item
+            lines.append(line)
+            buffer.write("\n".join(lines) + "\n")
+        return buffer.getvalue()
+
+    def to_graphml(self, *, safe: bool | None = None) -> str:
+        """GraphML text: nodes with ``edge``, ``t0``, ``t1``; arcs with ``transition``, ``phi`` and, when
+        ``safe``, ``safe_lo``/``safe_hi`` (absent without safe headings) and ``safe_set`` (JSON text)."""
+        import json
+
+        safe = self.labelled if safe is None else safe
+        g = nx.DiGraph()
+        for s in self.partition.segments:
+            g.add_node(s.id, edge=int(s.edge), t0=float(s.t0), t1=float(s.t1))
+        names = self.transitions
+        off = self.set_offsets
+        for k in range(self.n_arcs):
+            attrs = {"transition": names[k], "phi": float(self.phi[k])}
+            if safe:
+                if self.n_intervals[k]:
+                    attrs["safe_lo"] = float(self.lo[k])
+                    attrs["safe_hi"] = float(self.hi[k])
+                attrs["safe_set"] = json.dumps([[float(self.set_lo[r]), float(self.set_hi[r])] for r in range(int(off[k]), int(off[k + 1]))])
+            g.add_edge(int(self.source[k]), int(self.target[k]), **attrs)
+        return "\n".join(nx.generate_graphml(g)) + "\n"
+
+    def to_dot(self, *, safe: bool | None = None) -> str:
+        """Graphviz DOT text; safe arcs are solid and labelled ``[lo, hi]``, the others dashed and grey."""
+        safe = self.labelled if safe is None else safe
+        out = io.StringIO()
+        name = self.partition.env.name.replace('"', "'")
+        out.write(f'digraph "bvg {html.escape(name)}" {{\n  node [shape=circle, fontsize=10];\n')
+        for s in self.partition.segments:
+            out.write(f'  {s.id} [tooltip="e{s.edge} t=[{float(s.t0):.4g}, {float(s.t1):.4g}]"];\n')
+        names = self.transitions
+        for k in range(self.n_arcs):
+            i, j = int(self.source[k]), int(self.target[k])
+            if safe and self.n_intervals[k]:
+                label = f"[{self.lo[k]:.3f}, {self.hi[k]:.3f}]"
+                if self.n_intervals[k] > 1:
+                    label += f" +{int(self.n_intervals[k]) - 1}"
+                out.write(f'  {i} -> {j} [label="{label}", transition={names[k]}];\n')
+            elif safe:
+                out.write(f'  {i} -> {j} [style=dashed, color=gray70, transition={names[k]}];\n')
+            else:
+                out.write(f"  {i} -> {j} [transition={names[k]}];\n")
+        out.write("}\n")
+        return out.getvalue()
+
+
+# ---------------------------------------------------------------------------------------------
+# construction
+# ---------------------------------------------------------------------------------------------
+def bounce_visibility_graph(partition: Partition | Environment) -> nx.DiGraph:
+    """The bounce visibility graph of P′ (paper §4): a :class:`networkx.DiGraph` on segment ids with
+    an arc i → j whenever the open segments i and j see each other (Def. 5). Node attributes
+    ``edge``, ``t0``, ``t1``; arc attribute ``transition`` (Def. 8). Accepts an environment too
+    (it is partitioned first).
+
+    >>> from solverplan.environment import Environment
+    >>> ell = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]])
+    >>> g = bounce_visibility_graph(ell)
+    >>> g.number_of_nodes(), g.number_of_edges()
+    (8, 40)
+    >>> g.has_edge(0, 1), g.has_edge(3, 4), g.has_edge(2, 3)   # one edge; the reflex corner; a convex one
+    (False, False, True)
+    """
+    safe = safe_bounce_visibility_graph(partition)
+    g = nx.DiGraph(name=f"BVG of {safe.partition.env.name!r}")
+    for s in safe.partition.segments:
+        g.add_node(s.id, edge=s.edge, t0=float(s.t0), t1=float(s.t1))
+    names = safe.transitions
+    g.add_edges_from(
+        (int(i), int(j), {"transition": names[k]}) for k, (i, j) in enumerate(zip(safe.source.tolist(), safe.target.tolist()))
+    )
+    return g
+
+
+def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
+    """The safe bounce visibility graph of P′ (paper §5, MKSAFEBVG, with exact safe sets).
+
+    Every arc of the BVG carries the exact set of safe headings (radians, CCW from the source
+    segment's direction), its widest interval, the transition side (Def. 8) and φ_ij. See the module
+    docstring for the algorithm and its proof; the safe sets equal
+    :func:`solverplan.bounce.safe.safe_set` for every pair. Accepts an environment too.
+    """
+    import time
+
+    p = _as_partition(partition)
+    env = p.env
+    N = len(p.segments)
+    t0 = time.perf_counter()
+    sw = build_sweeps(p)
+    t1 = time.perf_counter()
+    exact = ExactPoints([s.a for s in p.segments], _edge_vectors(env))
+    ends = _Ends(exact)
+    seg_edge = np.asarray(p.seg_edge, dtype=np.int64)
+
+    # ---- roles: entries of "+" sweeps belong to the segment starting at the origin (x = a),
+    # entries of "−" sweeps to the segment ending there (x = b)
+    e_plus = sw.plus_seg[sw.sweep]
+    e_minus = sw.minus_seg[sw.sweep]
+    frm = sw.origin[sw.sweep]
+    ia = np.flatnonzero(e_plus >= 0)
+    ib = np.flatnonzero(e_minus >= 0)
+    A_i, B_i = e_plus[ia], e_minus[ib]
+    A_key = A_i * N + sw.seg[ia]
+    B_key = B_i * N + sw.seg[ib]
+
+    # ---- arcs: every pair met by some sweep, both directions
+    keys = np.concatenate([A_key, B_key])
+    i_all, j_all = keys // N, keys % N
+    keys = np.sort(np.concatenate([keys, j_all * N + i_all]))
+    keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
+    source, target = keys // N, keys % N
+    n_arcs = len(keys)
+
+    # ---- candidate safe sets: A_a(j) ∩ A_b(j) (closures), a sort-merge join on (i, j)
+    oa = np.argsort(A_key, kind="stable")
+    ob = np.argsort(B_key, kind="stable")
+    ia, ib, A_key, B_key = ia[oa], ib[ob], A_key[oa], B_key[ob]
+    b_start = np.searchsorted(B_key, A_key, side="left")
+    b_end = np.searchsorted(B_key, A_key, side="right")
+    cnt = b_end - b_start
+    pa = np.repeat(ia, cnt)
+    pb = ib[np.repeat(b_start, cnt) + _ragged(cnt)]
+    pkey = np.repeat(A_key, cnt)
+    edge_p = seg_edge[pkey // N]
+    c_lo = ends.cmp(edge_p, frm[pa], sw.lo_to[pa], sw.lo[pa], sw.lo_err[pa], frm[pb], sw.lo_to[pb], sw.lo[pb], sw.lo_err[pb])
+    c_hi = ends.cmp(edge_p, frm[pa], sw.hi_to[pa], sw.hi[pa], sw.hi_err[pa], frm[pb], sw.hi_to[pb], sw.hi[pb], sw.hi_err[pb])
+    lo_pick = np.where(c_lo >= 0, pa, pb)
+    hi_pick = np.where(c_hi <= 0, pa, pb)
+    pieces = _Pieces(
+        np.searchsorted(keys, pkey),
+        frm[lo_pick], sw.lo_to[lo_pick], sw.lo[lo_pick], sw.lo_err[lo_pick],
+        frm[hi_pick], sw.hi_to[hi_pick], sw.hi[hi_pick], sw.hi_err[hi_pick],
+    )
+    edge_of = seg_edge[source]
+    pieces = _nonempty(pieces, ends, edge_of)
+
+    # ---- holes lying strictly inside every swept region of a range of headings
+    if len(env.rings) > 1 and len(pieces.arc):
+        pieces = _subtract_holes(p, sw, pieces, ends, source, target, edge_of)
+
+    # ---- single points: closures may add isolated points; check them exactly
+    single = _singletons(pieces, ends, edge_of)
+    n_single = int(np.count_nonzero(single))
+    if n_single:
+        rows = np.flatnonzero(single)
+        ok = _single_headings_safe(p, exact, source, target, pieces.take(rows), edge_of)
+        keep = np.ones(len(pieces.arc), dtype=bool)
+        keep[rows[~ok]] = False
+        pieces = pieces.take(np.flatnonzero(keep))
+    t2 = time.perf_counter()
+
+    # ---- per arc: all intervals (sorted), the widest one
+    order = np.lexsort((pieces.lo, pieces.arc))
+    pieces = pieces.take(order)
+    counts = np.bincount(pieces.arc, minlength=n_arcs).astype(np.int64)
+    offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    set_lo = pieces.lo.copy()
+    set_hi = pieces.hi.copy()
+    # exact ends: an end at a frame mark is exactly 0 or π; equal exact ends share one float
+    set_lo = np.where(pieces.lo_to == MARK_ZERO, 0.0, set_lo)
+    set_hi = np.where(pieces.hi_to == MARK_PI, math.pi, set_hi)
+    equal = _equal_ends(pieces, ends, edge_of)
+    set_hi = np.where(equal, set_lo, np.maximum(set_hi, set_lo))
+    lo = np.full(n_arcs, np.nan)
+    hi = np.full(n_arcs, np.nan)
+    if len(pieces.arc):
+        width = set_hi - set_lo
+        # widest per arc: sort by (arc, -width) and take the first
+        o2 = np.lexsort((-width, pieces.arc))
+        firsts = o2[np.concatenate([[True], pieces.arc[o2][1:] != pieces.arc[o2][:-1]])]
+        lo[pieces.arc[firsts]] = set_lo[firsts]
+        hi[pieces.arc[firsts]] = set_hi[firsts]
+
+    # ---- transitions and φ (they depend on the two edges only)
+    transition, phi = _transitions(env, seg_edge[source], seg_edge[target])
+    t3 = time.perf_counter()
+    stats = {
+        "sweeps": len(sw.origin),
+        "entries": len(sw.seg),
+        "seconds_sweeps": t1 - t0,
+        "seconds_join": t2 - t1,
+        "seconds_total": t3 - t0,
+        "exact_checks": sw.exact_checks + ends.checks,
+        "exact_casts": sw.exact_casts,
+        "singletons_checked": n_single,
+    }
+    logger.debug("safe BVG of %r: %s", env.name, stats)
+    return SafeBVG(
+        partition=p,
+        source=source.astype(np.int64),
+        target=target.astype(np.int64),
+        lo=lo,
+        hi=hi,
+        n_intervals=counts,
+        set_offsets=offsets,
+        set_lo=set_lo,
+        set_hi=set_hi,
+        transition=transition,
+        phi=phi,
+        _set_ends=(pieces.lo_from, pieces.lo_to, pieces.hi_from, pieces.hi_to),
+        stats=stats,
+    )
+
+
+def _edge_vectors(env: Environment) -> list[tuple[Fraction, Fraction]]:
+    verts, nv = env.exact_vertices, env.next_vertex
+    return [(verts[int(nv[e])][0] - verts[e][0], verts[int(nv[e])][1] - verts[e][1]) for e in range(env.n_edges)]
+
+
+def _ragged(counts: np.ndarray) -> np.ndarray:
+    counts = np.asarray(counts, dtype=np.int64)
+    total = int(counts.sum())
+    if total == 0:
+        return np.zeros(0, dtype=np.int64)
+    ends = np.cumsum(counts)
+    return np.arange(total, dtype=np.int64) - np.repeat(ends - counts, counts)
+
+
+def _cmp_ends(pieces: _Pieces, ends: _Ends, edge_of: np.ndarray, which1: str, which2: str) -> np.ndarray:
+    g = lambda w, name: getattr(pieces, f"{w}_{name}")  # noqa: E731
+    return ends.cmp(edge_of[pieces.arc], g(which1, "from"), g(which1, "to"), getattr(pieces, which1), g(which1, "err"),
+                    g(which2, "from"), g(which2, "to"), getattr(pieces, which2), g(which2, "err"))
+
+
+def _nonempty(pieces: _Pieces, ends: _Ends, edge_of: np.ndarray) -> _Pieces:
+    """Keep pieces with lo ≤ hi (exactly)."""
+    if not len(pieces.arc):
+        return pieces
+    c = _cmp_ends(pieces, ends, edge_of, "lo", "hi")
+    return pieces.take(np.flatnonzero(c <= 0))
+
+
+def _single_headings_safe(p: Partition, exact: ExactPoints, source, target, sp: _Pieces, edge_of) -> np.ndarray:
+    """Exactly: is the single heading of each piece safe? (Module docstring, step 3.)
+
+    The heading u is in the closure of the landing sets from a and b, so its landing points L_a, L_b
+    lie on [c, d]; it is safe iff no boundary edge meets the open swept region R = conv(a, b, L_b, L_a)
+    (:mod:`solverplan.bounce.safe`, proof (1)). Edges are tested against R with the separating-axis
+    test: a float pass with a margin settles almost all (edge, region) pairs, the rest are decided in
+    exact integer arithmetic on homogeneous coordinates.
+    """
+    env = p.env
+    S = len(sp.arc)
+    k = sp.arc
+    i, j = source[k], target[k]
+    nxt = np.asarray(p.next_segment, dtype=np.int64)
+    ia, ib, jc, jd = i, nxt[i], j, nxt[j]  # P′ ids of a, b, c, d
+    # exact region corners (homogeneous integers) and their floats
+    corners = []
+    for r in range(S):
+        u = exact.direction(int(sp.lo_from[r]), int(sp.lo_to[r]), int(edge_of[k[r]]))
+        A, B, C, D = (exact.point(int(x)) for x in (ia[r], ib[r], jc[r], jd[r]))
+        line_cd = _hcross(C, D)
+        La = A if _on_line(line_cd, A) else _hmeet(_hcross(A, _hshift(A, u)), line_cd)
+        Lb = B if _on_line(line_cd, B) else _hmeet(_hcross(B, _hshift(B, u)), line_cd)
+        quad = [A, B, Lb, La]
+        quad = [q for t, q in enumerate(quad) if not _hsame(q, quad[t - 1])]  # a shared corner: a triangle
+        corners.append(quad)
+    n_e = env.n_edges
+    E0, E1 = env.edge_start, env.edge_end
+    verts_h = [exact.point(int(x)) for x in _orig_pv(p)]
+    nv = np.asarray(env.next_vertex, dtype=np.int64)
+    seg_edge = np.asarray(p.seg_edge, dtype=np.int64)
+    scale = float(np.max(np.abs(env.vertices))) + 1.0
+    tol = _SAT_REL * scale * scale
+    # float corners, triangles padded by repeating their last corner (a zero side is ignored)
+    Q = np.empty((S, 4, 2))
+    live = np.ones((S, 4), dtype=bool)
+    for r, quad in enumerate(corners):
+        pts = [(q[0] / q[2], q[1] / q[2]) for q in quad]
+        if len(pts) == 3:
+            pts.append(pts[-1])
+            live[r, 2] = False  # side from corner 2 to the repeated corner 3
+        Q[r] = pts
+    ok = np.ones(S, dtype=bool)
+    block = max(1, (1 << 20) // max(n_e, 1))
+    for s0 in range(0, S, block):
+        sl = slice(s0, min(S, s0 + block))
+        q = Q[sl]
+        lv = live[sl]
+        m = len(q)
+        sep = np.zeros((m, n_e), dtype=bool)
+        inside_all = np.ones((m, n_e), dtype=bool)  # certainly not separated by any side
+        for t in range(4):
+            q0, q1 = q[:, t, :], q[:, (t + 1) % 4, :]
+            d = q1 - q0
+            o0 = d[:, None, 0] * (E0[None, :, 1] - q0[:, None, 1]) - d[:, None, 1] * (E0[None, :, 0] - q0[:, None, 0])
+            o1 = d[:, None, 0] * (E1[None, :, 1] - q0[:, None, 1]) - d[:, None, 1] * (E1[None, :, 0] - q0[:, None, 0])
+            on = lv[:, t][:, None]
+            sep |= on & (o0 < -tol) & (o1 < -tol)
+            inside_all &= ~on | (np.maximum(o0, o1) > tol)
+        dE = E1 - E0
+        oq = dE[None, :, None, 0] * (q[:, None, :, 1] - E0[None, :, None, 1]) - dE[None, :, None, 1] * (q[:, None, :, 0] - E0[None, :, None, 0])
+        sep |= (oq > tol).all(axis=2) | (oq < -tol).all(axis=2)
+        split = (oq > tol).any(axis=2) & (oq < -tol).any(axis=2)
+        rows = np.arange(s0, s0 + m)
+        skip = np.zeros((m, n_e), dtype=bool)
+        skip[np.arange(m), seg_edge[i[rows]]] = True
+        skip[np.arange(m), seg_edge[j[rows]]] = True
+        hit = inside_all & split & ~skip & ~sep
+        ok[rows[hit.any(axis=1)]] = False
+        unsure = ~sep & ~skip & ~hit
+        unsure[~ok[rows]] = False
+        for rr, e in zip(*np.nonzero(unsure)):
+            r = s0 + int(rr)
+            if ok[r] and _meets_open_convex(corners[r], verts_h[e], verts_h[int(nv[e])]):
+                ok[r] = False
+    return ok
+
+
+def _orig_pv(p: Partition) -> np.ndarray:
+    return np.searchsorted(np.asarray(p.seg_edge), np.arange(p.env.n_edges), side="left")
+
+
+def _hcross(p, q):
+    """Homogeneous cross product: the line through two points, or the meeting point of two lines."""
+    return (p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0])
+
+
+def _hmeet(l1, l2):
+    x, y, w = _hcross(l1, l2)
+    return (-x, -y, -w) if w < 0 else (x, y, w)
+
+
+def _hshift(p, u):
+    return (p[0] + u[0] * p[2], p[1] + u[1] * p[2], p[2])
+
+
+def _on_line(line, p) -> bool:
+    return line[0] * p[0] + line[1] * p[1] + line[2] * p[2] == 0
+
+
+def _hsame(p, q) -> bool:
+    return p[0] * q[2] == q[0] * p[2] and p[1] * q[2] == q[1] * p[2]
+
+
+def _horient(p, q, r) -> int:
+    """Exact orientation of three homogeneous points with positive weights."""
+    det = (p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) + p[2] * (q[0] * r[1] - q[1] * r[0]))
+    return (det > 0) - (det < 0)
+
+
+def _meets_open_convex(quad, s0, s1) -> bool:
+    """Does the closed segment s0s1 meet the interior of the convex CCW polygon ``quad``? Exact
+    (separating axes: the polygon's sides and the segment's line)."""
+    m = len(quad)
+    for t in range(m):
+        if _horient(quad[t], quad[(t + 1) % m], s0) <= 0 and _horient(quad[t], quad[(t + 1) % m], s1) <= 0:
+            return False
+    signs = {_horient(s0, s1, q) for q in quad}
+    return 1 in signs and -1 in signs
+
+
+def _singletons(pieces: _Pieces, ends: _Ends, edge_of: np.ndarray) -> np.ndarray:
+    if not len(pieces.arc):
+        return np.zeros(0, dtype=bool)
+    return _cmp_ends(pieces, ends, edge_of, "lo", "hi") == 0
+
+
+def _equal_ends(pieces: _Pieces, ends: _Ends, edge_of: np.ndarray) -> np.ndarray:
+    return _singletons(pieces, ends, edge_of)
+
+
+def _hole_side_table(p: Partition) -> np.ndarray:
+    """S[e, h]: hole h lies strictly left of the line of edge e (the free side), exact near ties."""
+    env = p.env
+    H = len(env.rings) - 1
+    A, B = env.edge_start, env.edge_end
+    d = B - A
+    scale = float(np.max(np.abs(env.vertices))) + 1.0
+    out = np.zeros((env.n_edges, H), dtype=bool)
+    verts = env.exact_vertices
+    nv = env.next_vertex
+    for h in range(H):
+        lo, hi = env.ring_offsets[h + 1], env.ring_offsets[h + 2]
+        V = env.vertices[lo:hi]
+        rel = V[None, :, :] - A[:, None, :]
+        cr = d[:, None, 0] * rel[..., 1] - d[:, None, 1] * rel[..., 0]
+        tol = 0.1 * _sweep._CROSS_REL * _ninf(d)[:, None] * (_ninf(rel) + scale)
+        sure_left = cr > tol
+        unsure = np.abs(cr) <= tol
+        left = sure_left.all(axis=1)
+        maybe = ~left & (sure_left | unsure).all(axis=1)
+        for e in np.flatnonzero(maybe).tolist():
+            a, b = verts[e], verts[int(nv[e])]
+            ok = True
+            for w in range(lo, hi):
+                q = verts[w]
+                if (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]) <= 0:
+                    ok = False
+                    break
+            left[e] = ok
+        out[:, h] = left
+    return out
+
+
+def _subtract_holes(p: Partition, sw: Sweeps, pieces: _Pieces, ends: _Ends, source, target, edge_of) -> _Pieces:
+    """Remove, for every hole H strictly left of the lines of e_i and e_j, the open heading interval
+    (max ang(v − a), min ang(v − b)) during which all of H lies inside the swept region."""
+    seg_edge = np.asarray(p.seg_edge, dtype=np.int64)
+    side = _hole_side_table(p)
+    N = len(p.segments)
+    # the sweep of each segment's "+" end (at a) and "−" end (at b)
+    plus_of = np.full(N, -1, dtype=np.int64)
+    minus_of = np.full(N, -1, dtype=np.int64)
+    ok = sw.plus_seg >= 0
+    plus_of[sw.plus_seg[ok]] = np.flatnonzero(ok)
+    ok = sw.minus_seg >= 0
+    minus_of[sw.minus_seg[ok]] = np.flatnonzero(ok)
+    H = side.shape[1]
+    for h in range(H):
+        arc = pieces.arc
+        i, j = source[arc], target[arc]
+        applies = side[seg_edge[i], h] & side[seg_edge[j], h]
+        rows = np.flatnonzero(applies)
+        if not len(rows):
+            continue
+        ma, mb = plus_of[i[rows]], minus_of[i[rows]]
+        a_id, b_id = sw.origin[ma], sw.origin[mb]
+        bl, bl_to = sw.hole_alpha[ma, h], sw.hole_alpha_v[ma, h]
+        bh, bh_to = sw.hole_beta[mb, h], sw.hole_beta_v[mb, h]
+        eg = edge_of[arc[rows]]
+        # blocked error bounds: recompute with the angle filter's scale (cheap, conservative)
+        berr = _angle_err(p, a_id, bl_to)
+        herr = _angle_err(p, b_id, bh_to)
+        sub = pieces.take(rows)
+        c_open = ends.cmp(eg, a_id, bl_to, bl, berr, b_id, bh_to, bh, herr)  # bl < bh: a real interval
+        c1 = ends.cmp(eg, a_id, bl_to, bl, berr, sub.hi_from, sub.hi_to, sub.hi, sub.hi_err)  # bl < hi
+        c2 = ends.cmp(eg, b_id, bh_to, bh, herr, sub.lo_from, sub.lo_to, sub.lo, sub.lo_err)  # bh > lo
+        hit = (c_open < 0) & (c1 < 0) & (c2 > 0)
+        if not hit.any():
+            continue
+        hit_rows = rows[hit]
+        untouched = np.ones(len(arc), dtype=bool)
+        untouched[hit_rows] = False
+        hs = pieces.take(hit_rows)
+        hb = np.flatnonzero(hit)
+        # left piece [lo, bl] if lo <= bl; right piece [bh, hi] if bh <= hi
+        cl = ends.cmp(eg[hb], hs.lo_from, hs.lo_to, hs.lo, hs.lo_err, a_id[hb], bl_to[hb], bl[hb], berr[hb])
+        cr = ends.cmp(eg[hb], b_id[hb], bh_to[hb], bh[hb], herr[hb], hs.hi_from, hs.hi_to, hs.hi, hs.hi_err)
+        left = hs.take(np.flatnonzero(cl <= 0))
+        lk = np.flatnonzero(cl <= 0)
+        left.hi_from, left.hi_to, left.hi, left.hi_err = a_id[hb][lk], bl_to[hb][lk], bl[hb][lk], berr[hb][lk]
+        right = hs.take(np.flatnonzero(cr <= 0))
+        rk = np.flatnonzero(cr <= 0)
+        right.lo_from, right.lo_to, right.lo, right.lo_err = b_id[hb][rk], bh_to[hb][rk], bh[hb][rk], herr[hb][rk]
+        pieces = _Pieces.concat([pieces.take(np.flatnonzero(untouched)), left, right])
+    return pieces
+
+
+def _angle_err(p: Partition, frm: np.ndarray, to: np.ndarray) -> np.ndarray:
+    P = np.asarray(p.seg_start, dtype=float)
+    rel = P[to] - P[frm]
+    mag = _ninf(P[frm]) + _ninf(P[to])
+    return _sweep._ANGLE_REL * mag / np.hypot(rel[:, 0], rel[:, 1]) + 1e-15
+
+
+def _transitions(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Def. 8 side (+1 right, −1 left, 0 parallel; exact) and φ (radians) for edge pairs."""
+    d = env.edge_end - env.edge_start
+    u, v = d[ei], d[ej]
+    cr = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    dt = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]
+    scale = float(np.max(np.abs(env.vertices))) + 1.0
+    tol = 0.1 * _sweep._CROSS_REL * (_ninf(u) * scale + _ninf(v) * scale)
+    side = np.sign(cr).astype(np.int8)
+    unsure = np.flatnonzero(np.abs(cr) <= tol)
+    if len(unsure):
+        vec = _edge_vectors(env)
+        cache: dict[tuple[int, int], int] = {}
+        for k in unsure.tolist():
+            key = (int(ei[k]), int(ej[k]))
+            if key not in cache:
+                (ax, ay), (bx, by) = vec[key[0]], vec[key[1]]
+                c = ax * by - ay * bx
+                cache[key] = (c > 0) - (c < 0)
+            side[k] = cache[key]
+    heading = np.arctan2(cr, dt)  # heading of δ in the frame of e_i, in (−π, π]
+    phi = np.where(side > 0, math.pi - heading, np.where(side < 0, heading + math.pi, 0.0))
+    return side, phi

@@ -1,0 +1,379 @@
+"""The bounce visibility graph and the safe BVG (paper §4–5: Def. 5, Prop. 1, Prop. 3, Prop. 5).
+
+References: the exact predicate :func:`~solverplan.geometry.visibility.segments_see_each_other`
+(open segments, no grazing) for the arcs, :func:`~solverplan.bounce.safe.safe_set` for the labels.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import networkx as nx
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from typer.testing import CliRunner
+
+import solverplan.bounce._sweep as sweep_module
+from solverplan import cli
+from solverplan.bounce.bvg import SafeBVG, bounce_visibility_graph, safe_bounce_visibility_graph
+from solverplan.bounce.interval import Interval
+from solverplan.bounce.partition import partition
+from solverplan.bounce.safe import safe_set
+from solverplan.environment import Environment, load_environment
+from solverplan.errors import InputError, InvalidBoundarySet
+from solverplan.geometry.visibility import segments_see_each_other
+from solverplan.studies.generators import worst_case_polygon
+from tests.strategies import polygons_with_holes, simple_polygons
+
+MODELS = Path(__file__).resolve().parents[2] / "models"
+SQUARE = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]], name="square")
+ELL = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], name="L")
+
+# Prop. 1 on the paper's worst-case family n = 4t + 2 (§4.0.1): (t, n, segments of P′, BVG arcs, safe arcs)
+WORST_CASE_COUNTS = [
+    (2, 10, 22, 282, 154),
+    (3, 14, 42, 914, 470),
+    (4, 18, 70, 2190, 1090),
+    (5, 22, 94, 4066, 1982),
+    (6, 26, 134, 7754, 3742),
+    (7, 30, 182, 13398, 6414),
+    (8, 34, 238, 21434, 10306),
+]
+
+
+def examples(k: int) -> int:
+    """k examples in the default profile, 10 k in the thorough one."""
+    return max(k, settings.default.max_examples * k // 100)
+
+
+def model(name: str) -> Environment:
+    return load_environment(MODELS / f"{name}.json")
+
+
+def arcs_of(g: SafeBVG) -> set[tuple[int, int]]:
+    return set(zip(g.source.tolist(), g.target.tolist()))
+
+
+# ---------------------------------------------------------------------------------------------
+# acceptance and small cases
+# ---------------------------------------------------------------------------------------------
+def test_issue3_square_has_four_segments_and_safe_arcs_both_ways():
+    g = safe_bounce_visibility_graph(SQUARE)
+    assert g.n_segments == 4
+    assert arcs_of(g) == {(i, j) for i in range(4) for j in range(4) if i != j}
+    assert g.n_safe_arcs == 12  # note 000 trap 1: the adjacent sides too, in both directions
+    assert g.transitions[g.arc_index(0, 1)] == "right" and g.transitions[g.arc_index(1, 0)] == "left"
+    assert g.transitions[g.arc_index(0, 2)] == "parallel" and g.phi[g.arc_index(0, 2)] == 0.0
+    assert g.phi[g.arc_index(0, 1)] == pytest.approx(math.pi / 2)
+
+
+def test_note000_trap5_arcs_need_open_segments_to_see_each_other():
+    """In an L, the right wall's lower part and the top of the left arm see each other only along
+    the line grazing the reflex vertex: no arc, although an end point of each is visible from the other."""
+    p = partition(ELL)
+    g = safe_bounce_visibility_graph(p)
+    wall = p.segment_at(1, 0.5)  # (4, 0)–(4, 2)
+    top = p.segment_at(4, 0.5)  # (2, 4)–(0, 4)
+    assert (wall, top) not in arcs_of(g) and (top, wall) not in arcs_of(g)
+    s, t = p.segments[wall], p.segments[top]
+    assert not segments_see_each_other(ELL, (s.a, s.b), (t.a, t.b))
+
+
+def test_no_self_loops_no_arcs_within_an_edge_and_symmetric():
+    for name in ("two_rooms", "degenerate", "two_holes"):
+        p = partition(model(name))
+        g = safe_bounce_visibility_graph(p)
+        arcs = arcs_of(g)
+        assert all(i != j for i, j in arcs)
+        assert all(p.segments[i].edge != p.segments[j].edge for i, j in arcs)  # collinear pieces of one edge
+        assert all((j, i) in arcs for i, j in arcs)  # visibility is symmetric
+        assert np.all(np.diff(g.source * g.n_segments + g.target) > 0)  # sorted, no duplicates
+
+
+def test_no_arc_between_the_segments_at_a_reflex_vertex():
+    p = partition(ELL)
+    g = safe_bounce_visibility_graph(p)
+    r = ELL.reflex_vertices[0]
+    after = p.segment_at(r, 0)
+    before = int(p.prev_segment[after])
+    assert (before, after) not in arcs_of(g) and (after, before) not in arcs_of(g)
+
+
+def test_bounce_visibility_graph_is_a_networkx_digraph():
+    p = partition(model("l_shape"))
+    g = bounce_visibility_graph(p)
+    safe = safe_bounce_visibility_graph(p)
+    assert isinstance(g, nx.DiGraph)
+    assert set(g.nodes) == set(range(len(p)))
+    assert set(g.edges) == arcs_of(safe)
+    assert all(data["transition"] in ("left", "right", "parallel") for _, _, data in g.edges(data=True))
+    h = safe.to_networkx()
+    assert set(h.edges) == set(g.edges)
+    for i, j, data in h.edges(data=True):
+        assert data["safe"] == safe.interval(i, j)
+        assert data["safe_set"] == tuple(piece.interval for piece in safe.safe_set(i, j).intervals)
+    only = safe.to_networkx(safe_only=True)
+    assert only.number_of_edges() == safe.n_safe_arcs
+    assert all(not data["safe"].is_empty for _, _, data in only.edges(data=True))
+
+
+# ---------------------------------------------------------------------------------------------
+# Def. 5 against the exact reference
+# ---------------------------------------------------------------------------------------------
+def check_arcs_against_reference(env: Environment) -> None:
+    p = partition(env)
+    g = safe_bounce_visibility_graph(p)
+    arcs = arcs_of(g)
+    segs = p.segments
+    for i in range(len(segs)):
+        for j in range(i + 1, len(segs)):
+            sees = segments_see_each_other(env, (segs[i].a, segs[i].b), (segs[j].a, segs[j].b))
+            assert sees == ((i, j) in arcs) == ((j, i) in arcs), (i, j, sees)
+
+
+@given(env=polygons_with_holes(max_vertices=7, max_holes=2))
+@settings(max_examples=examples(8))
+def test_def5_arcs_equal_the_exact_reference_with_holes(env):
+    check_arcs_against_reference(env)
+
+
+@given(env=simple_polygons(max_vertices=10))
+@settings(max_examples=examples(10))
+def test_def5_arcs_equal_the_exact_reference_without_holes(env):
+    check_arcs_against_reference(env)
+
+
+@pytest.mark.parametrize("name", ["degenerate", "l_shape", "comb"])
+def test_def5_arcs_equal_the_exact_reference_on_models(name):
+    """The degenerate model: collinear vertices, parallel edges, inserted points on lines through
+    vertices — the exact ties of note 000 trap 4."""
+    check_arcs_against_reference(model(name))
+
+
+@pytest.mark.parametrize("name", ["degenerate", "two_holes", "worst_case_t4", "spiral"])
+def test_exact_fallbacks_agree_with_the_float_path(monkeypatch, name):
+    """Force the decisions through the exact fallbacks (huge tolerances make every float answer
+    uncertain; every sector is cast exactly): the graph and its safe sets must not change."""
+    import solverplan.bounce.bvg as bvg_module
+
+    env = model(name)
+    want = safe_bounce_visibility_graph(env)
+    monkeypatch.setattr(sweep_module, "_ANGLE_REL", 1e3)
+    monkeypatch.setattr(sweep_module, "_CROSS_REL", 1e3)
+    monkeypatch.setattr(sweep_module, "_THIN", 10.0)
+    monkeypatch.setattr(bvg_module, "_SAT_REL", 1e3)
+    got = safe_bounce_visibility_graph(env)
+    assert got.stats["exact_casts"] > 0 and got.stats["exact_checks"] > 5 * want.stats["exact_checks"]
+    assert arcs_of(got) == arcs_of(want)
+    assert np.array_equal(got.n_intervals, want.n_intervals)
+    assert np.allclose(got.set_lo, want.set_lo, atol=1e-12) and np.allclose(got.set_hi, want.set_hi, atol=1e-12)
+    assert np.array_equal(got.transition, want.transition)
+
+
+# ---------------------------------------------------------------------------------------------
+# Prop. 1: sizes
+# ---------------------------------------------------------------------------------------------
+def test_prop1_arc_counts_on_the_worst_case_family():
+    rows = []
+    for t, n, segments, arcs, safe in WORST_CASE_COUNTS:
+        env = worst_case_polygon(t)
+        p = partition(env)
+        g = safe_bounce_visibility_graph(p)
+        assert (env.n_vertices, len(p), g.n_arcs, g.n_safe_arcs) == (n, segments, arcs, safe), t
+        rows.append((n, segments, arcs))
+    n, segments, arcs = (np.array(col, dtype=float) for col in zip(*rows))
+    assert np.all(np.diff(arcs) > 0) and np.all(np.diff(segments) > 0)
+    assert np.all(arcs <= segments * (segments - 1))
+    # |P′| = O(n²) and |arcs| = O(n⁴): fitted exponents on this range (the asymptote is reached slowly)
+    seg_slope = np.polyfit(np.log(n), np.log(segments), 1)[0]
+    arc_slope = np.polyfit(np.log(n), np.log(arcs), 1)[0]
+    assert 1.5 < seg_slope <= 2.2 and 3.0 < arc_slope <= 4.2
+    assert arcs[-1] / n[-1] ** 4 > arcs[0] / n[0] ** 4 * 0.5  # no collapse below n⁴ growth
+
+
+# ---------------------------------------------------------------------------------------------
+# Prop. 3 and Prop. 5
+# ---------------------------------------------------------------------------------------------
+def check_prop3(env: Environment) -> None:
+    """Every segment has a safe action (0, θ_l] and one [θ_r, π) (paper Prop. 3, both kinds)."""
+    g = safe_bounce_visibility_graph(env)
+    right = np.zeros(g.n_segments, dtype=bool)
+    left = np.zeros(g.n_segments, dtype=bool)
+    for k in np.flatnonzero(g.safe).tolist():
+        pieces = g.safe_set(int(g.source[k]), int(g.target[k])).intervals
+        right[g.source[k]] |= pieces[0].lo == 0.0
+        left[g.source[k]] |= pieces[-1].hi == math.pi
+    assert right.all() and left.all(), (np.flatnonzero(~right).tolist(), np.flatnonzero(~left).tolist())
+    assert np.all(np.bincount(g.source[g.safe], minlength=g.n_segments) >= 2)
+
+
+@pytest.mark.parametrize("name", ["square", "triangle", "l_shape", "two_rooms", "comb", "spiral", "one_hole",
+                                  "two_holes", "warehouse", "degenerate", "worst_case_t4"])
+def test_prop3_every_segment_has_two_safe_outgoing_intervals_on_models(name):
+    check_prop3(model(name))
+
+
+@given(env=st.one_of(simple_polygons(max_vertices=14), polygons_with_holes(max_vertices=10, max_holes=3)))
+@settings(max_examples=examples(30))
+def test_prop3_every_segment_has_two_safe_outgoing_intervals(env):
+    check_prop3(env)
+
+
+def test_prop5_a_segment_without_safe_incoming_arcs():
+    """Paper Prop. 5 (Fig. 10): planning in BVG_safe is incomplete. In the two-rooms model one segment
+    of P′ is reached by no safe action — checked against the exact reference from every other segment;
+    its two ends are reflex or inserted points, as the paper's proof says they must be."""
+    env = model("two_rooms")
+    p = partition(env)
+    g = safe_bounce_visibility_graph(p)
+    reached = np.zeros(g.n_segments, dtype=bool)
+    reached[g.target[g.safe]] = True
+    unreached = np.flatnonzero(~reached).tolist()
+    assert unreached
+    j = unreached[0]
+    target = p.segments[j]
+    for i, source in enumerate(p.segments):
+        if i != j:
+            assert safe_set(env, (source.a, source.b), (target.a, target.b)).is_empty
+    assert g.n_intervals[g.target == j].sum() == 0 and (g.target == j).any()  # seen, never safely reached
+    reflex = {env.exact_vertices[v] for v in env.reflex_vertices}
+    inserted = {q.point for q in p.inserted}
+    assert target.a in reflex | inserted and target.b in reflex | inserted
+
+
+# ---------------------------------------------------------------------------------------------
+# output formats
+# ---------------------------------------------------------------------------------------------
+def test_contract_json_of_the_safe_graph():
+    g = safe_bounce_visibility_graph(model("two_rooms"))
+    data = g.to_json()
+    assert data["n_arcs"] == len(data["arcs"]) == g.n_arcs and data["n_safe_arcs"] == g.n_safe_arcs
+    json.dumps(data, allow_nan=False)  # no NaN leaks into JSON
+    for arc in data["arcs"]:
+        assert set(arc) == {"from", "to", "safe", "transition", "phi", "safe_set"}
+        assert arc["transition"] in ("left", "right", "parallel")
+        if arc["safe"] is None:
+            assert arc["safe_set"] == []
+        else:
+            lo, hi = arc["safe"]
+            assert 0.0 <= lo <= hi <= math.pi and [lo, hi] in arc["safe_set"]
+    plain = g.to_json(safe=False)
+    assert all(set(arc) == {"from", "to", "transition"} for arc in plain["arcs"])
+
+
+def test_graphml_dot_and_text_exports():
+    g = safe_bounce_visibility_graph(model("l_shape"))
+    back = nx.parse_graphml(g.to_graphml(), node_type=int)
+    assert set(back.edges) == arcs_of(g)
+    k = int(np.flatnonzero(g.safe)[0])
+    i, j = int(g.source[k]), int(g.target[k])
+    assert back.edges[i, j]["safe_lo"] == g.lo[k] and json.loads(back.edges[i, j]["safe_set"]) == [[g.lo[k], g.hi[k]]]
+    dot = g.to_dot()
+    assert dot.startswith('digraph "bvg l_shape"') and dot.count("->") == g.n_arcs and dot.rstrip().endswith("}")
+    text = g.to_text(width=80)
+    assert text.splitlines()[1].split() == ["segments:", str(g.n_segments), "arcs:", str(g.n_arcs), "safe", "arcs:", str(g.n_safe_arcs)]
+    assert all(len(line) <= 80 for line in text.splitlines())
+
+
+def test_lookup_errors_name_the_segment():
+    g = safe_bounce_visibility_graph(SQUARE)
+    with pytest.raises(InvalidBoundarySet, match=r"^unknown segment 7: segments are 0\.\.3$"):
+        g.safe_set(0, 7)
+    with pytest.raises(InvalidBoundarySet, match=r"^unknown segment -1: segments are 0\.\.3$"):
+        g.successors(-1)
+    assert g.interval(0, 0) is Interval.EMPTY and g.arc_index(0, 0) is None
+    with pytest.raises(InputError, match="expected a Partition or an Environment"):
+        safe_bounce_visibility_graph("square.json")
+
+
+# ---------------------------------------------------------------------------------------------
+# CLI
+# ---------------------------------------------------------------------------------------------
+runner = CliRunner()
+
+
+def test_cli_graph_safe_json():
+    result = runner.invoke(cli.app, ["graph", str(MODELS / "two_rooms.json"), "--safe"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    g = safe_bounce_visibility_graph(model("two_rooms"))
+    assert data["n_arcs"] == g.n_arcs and data["arcs"][0]["safe_set"] is not None
+
+
+def test_cli_graph_plain_and_formats(tmp_path):
+    result = runner.invoke(cli.app, ["graph", str(MODELS / "square.json")])
+    assert result.exit_code == 0
+    assert all(set(arc) == {"from", "to", "transition"} for arc in json.loads(result.stdout)["arcs"])
+    out = tmp_path / "g.graphml"
+    result = runner.invoke(cli.app, ["graph", str(MODELS / "square.json"), "--safe", "--format", "graphml", "-o", str(out)])
+    assert result.exit_code == 0 and result.stdout == ""
+    assert nx.read_graphml(out).number_of_edges() == 12
+    result = runner.invoke(cli.app, ["graph", str(MODELS / "square.json"), "--format", "dot"])
+    assert result.exit_code == 0 and result.stdout.startswith("digraph")
+    result = runner.invoke(cli.app, ["graph", str(MODELS / "square.json"), "--safe", "--format", "text"])
+    assert result.exit_code == 0 and "safe arcs: 12" in result.stdout
+
+
+def test_cli_graph_filters_by_segment_and_heading():
+    result = runner.invoke(cli.app, ["graph", str(MODELS / "square.json"), "--safe", "--from", "0", "--heading", "0.5"])
+    assert result.exit_code == 0, result.output
+    arcs = json.loads(result.stdout)["arcs"]
+    assert [(a["from"], a["to"]) for a in arcs] == [(0, 1)]  # bottom side: only (0, π/4] holds 0.5
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--from", "9"], "error: unknown segment 9: segments are 0..3"),
+        (["--heading", "3.5"], "error: heading 3.5 is not inside (0, π)"),
+        (["--heading", "0"], "error: heading 0 is not inside (0, π)"),
+    ],
+)
+def test_cli_graph_bad_input_is_one_line_exit_2(args, message):
+    result = runner.invoke(cli.app, ["graph", str(MODELS / "square.json"), "--safe", *args])
+    assert result.exit_code == 2
+    assert result.stdout == ""
+    assert result.stderr.splitlines() == [message]
+
+
+# ---------------------------------------------------------------------------------------------
+# rendering layers
+# ---------------------------------------------------------------------------------------------
+def test_render_layers_draw_every_pair_once_and_safe_arcs_as_landing_rays(tmp_path):
+    from solverplan.render import draw_graph, draw_partition, draw_safe_arcs, render_environment, save_figure
+
+    env = model("two_rooms")
+    p = partition(env)
+    g = safe_bounce_visibility_graph(p)
+    fig = render_environment(env)
+    ax = fig.axes[0]
+    (lines,) = draw_graph(ax, g)
+    assert lines.get_gid() == "bvg-arcs" and len(lines.get_segments()) == g.n_arcs // 2
+    (rays,) = draw_safe_arcs(ax, g)
+    segments = np.array(rays.get_segments())
+    assert rays.get_gid() == "safe-arcs" and len(segments) == g.n_safe_arcs
+    # every ray starts at the middle of its source segment and ends on its target segment
+    rows = np.flatnonzero(g.safe)
+    start, end = np.asarray(p.seg_start), np.asarray(p.seg_end)
+    i, j = g.source[rows], g.target[rows]
+    assert np.allclose(segments[:, 0], 0.5 * (start[i] + end[i]))
+    d = end[j] - start[j]
+    w = segments[:, 1] - start[j]
+    along = (w * d).sum(axis=1) / (d * d).sum(axis=1)
+    off = np.abs(w[:, 0] * d[:, 1] - w[:, 1] * d[:, 0]) / np.hypot(d[:, 0], d[:, 1])
+    assert np.all(off < 1e-9) and np.all((along > -1e-9) & (along < 1 + 1e-9))
+    draw_partition(ax, p)
+    saved = save_figure(fig, tmp_path / "graph.svg")
+    svg = (tmp_path / "graph.svg").read_text()
+    assert saved.format == "svg" and 'id="bvg-arcs"' in svg and 'id="safe-arcs"' in svg
+
+
+def test_cli_render_partition_graph(tmp_path):
+    out = tmp_path / "g.png"
+    result = runner.invoke(cli.app, ["render", str(MODELS / "l_shape.json"), "--partition", "--graph", "--safe-arcs", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["written"] == str(out) and out.stat().st_size > 1000
