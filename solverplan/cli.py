@@ -420,9 +420,14 @@ def render(
             logger.info("simulated %s", runs.to_text().strip().replace("\n", "; "))
             draw_trajectories(figure.axes[0], runs)
         if cycle is not None:
+            from solverplan.bounce.cycles import limit_cycles
             from solverplan.render import draw_cycle
 
-            draw_cycle(figure.axes[0], cycle)
+            ends = list(zip(runs.final_edge.tolist(), runs.final_t.tolist())) if trajectories else []
+            cycles = limit_cycles(environment, cycle.heading, ends)  # every cycle the trajectories reach
+            for each in cycles:
+                draw_cycle(figure.axes[0], each)
+            figure.axes[0].set_title(cycles[0].title(others=len(cycles) - 1), fontsize=11)
         emit(save_figure(figure, out), fmt, None)
 
 
@@ -513,6 +518,14 @@ def verify_command(
         Path | None,
         typer.Option("--env", metavar="ENV", help="Also require the certificate's environment to be exactly this environment file.", show_default=False),
     ] = None,
+    start: Annotated[
+        str | None,
+        typer.Option("--from", metavar="SET", help="Also require the certificate's start set to be exactly SET (needs --env).", show_default=False),
+    ] = None,
+    goal: Annotated[
+        str | None,
+        typer.Option("--to", metavar="SET", help="Also require the certificate's goal set to be exactly SET (needs --env).", show_default=False),
+    ] = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,
@@ -523,14 +536,23 @@ def verify_command(
     from solverplan.certify.schema import load_certificate
 
     with exit_codes(verbose):
+        if (start is not None or goal is not None) and env is None:
+            raise InputError("--from and --to name edges of an environment: give it with --env")
         certificate = load_certificate(cert)
-        rings = load_environment(env, env_format.value if env_format else None).rings if env is not None else None
-        report = check_certificate(certificate, expected_rings=rings)
+        environment = load_environment(env, env_format.value if env_format else None) if env is not None else None
+        query = {}
+        if environment is not None:
+            query["expected_rings"] = environment.rings
+            for key, text in (("expected_start", start), ("expected_goal", goal)):
+                if text is not None:
+                    query[key] = [(p.edge, p.t0, p.t1) for p in environment.boundary_set(text).pieces]
+        report = check_certificate(certificate, **query)
         emit(report, fmt, out)
     if not report.valid:
         more = len(report.failures) - 1
         suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
         raise _fail(f"certificate invalid: {report.failures[0]}{suffix}", 1)
+
 
 def main() -> None:
     """Console-script entry point (``solverplan = "solverplan.cli:main"``)."""

@@ -7,8 +7,15 @@ from solverplan.bounce.rules import BounceRule, Fixed, FixedInterval, MonotoneFi
 from solverplan.bounce.bvg import SafeBVG, bounce_visibility_graph, safe_bounce_visibility_graph
 from solverplan.bounce.safe import SafeSet, safe_interval, safe_set
 from solverplan.bounce.transitions import AffineMap, affine_map, exact_transition, transition, transition_set
+from solverplan.bounce.dynamics import (ExactHeading, composite_contraction, contraction_coefficient, cycles_to_epsilon,
+                                        distance_bound, is_contracting, lemma3_max_heading, lemma3_range, parse_heading,
+                                        theorem1_fixed_point, worst_case_contraction)
+from solverplan.bounce.cycles import CycleStatus, LimitCycle, constant_controller, limit_cycle
 
 __all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment", "partition",
            "BounceRule", "Fixed", "FixedInterval", "MonotoneFixed", "Relative", "Specular", "parse_rule",
            "SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph", "SafeSet", "safe_interval", "safe_set",
-           "AffineMap", "affine_map", "exact_transition", "transition", "transition_set"]
+           "AffineMap", "affine_map", "exact_transition", "transition", "transition_set",
+           "ExactHeading", "composite_contraction", "contraction_coefficient", "cycles_to_epsilon", "distance_bound",
+           "is_contracting", "lemma3_max_heading", "lemma3_range", "parse_heading", "theorem1_fixed_point",
+           "worst_case_contraction", "CycleStatus", "LimitCycle", "constant_controller", "limit_cycle"]

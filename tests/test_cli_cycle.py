@@ -1,0 +1,80 @@
+"""`solverplan cycle` (the cycle answer of CONTRACT.md) and `solverplan render --cycle`."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+from typer.testing import CliRunner
+
+from solverplan import cli
+from solverplan.bounce.rules import Fixed
+from solverplan.environment import load_environment
+from solverplan.simulate import simulate_rule
+
+runner = CliRunner()
+MODELS = Path(__file__).resolve().parent.parent / "models"
+
+
+def run(*args: object):
+    return runner.invoke(cli.app, [str(a) for a in args])
+
+
+def test_cycle_agrees_with_a_10000_bounce_simulation():
+    """Issue 4's acceptance: irregular_convex, θ inside Lemma 3, versus 10,000 simulated bounces."""
+    result = run("cycle", MODELS / "irregular_convex.json", "--theta", "0.25", "--epsilon", "1e-9")
+    assert result.exit_code == 0, result.stderr
+    answer = json.loads(result.stdout)
+    assert answer["status"] == "found" and answer["scope"] == "every-start" and answer["lemma3"]["inside"]
+    assert answer["cycles_to_epsilon"] >= 1 and 0 < float(answer["contraction"]) < 1
+    env = load_environment(MODELS / "irregular_convex.json")
+    runs = simulate_rule(env, Fixed(0.25), None, bounces=10000, trials=50, seed=4, initial=[0.25], record="ends")
+    assert runs.outcome_counts()["ok"] == 50
+    fixed = {p["edge"]: p["t"] for p in answer["fixed_point"]}
+    expected = np.array([fixed[e] for e in runs.final_edge])
+    assert np.all(np.abs(runs.final_t - expected) / expected < 1e-9)
+
+
+def test_cycle_outside_the_admissible_range_is_a_clear_answer():
+    result = run("cycle", MODELS / "irregular_convex.json", "--theta", "1.2")
+    assert result.exit_code == 0
+    answer = json.loads(result.stdout)
+    assert answer["status"] == "edge-order-broken" and answer["fixed_point"] == [] and answer["contraction"] is None
+    assert answer["reason"].startswith("θ is outside Lemma 3's CCW range (0, 0.307046)")
+
+
+def test_cycle_exact_tangent_gives_exact_numbers_and_text():
+    result = run("cycle", MODELS / "square.json", "--theta", "atan:1/2", "--format", "text")
+    assert result.exit_code == 0
+    assert "contraction per cycle: 0.0625 (exact 0.0625)" in result.stdout
+    answer = json.loads(run("cycle", MODELS / "square.json", "--theta", "tan:1/2").stdout)
+    assert answer["contraction_exact"] == "0.0625" and {p["t_exact"] for p in answer["fixed_point"]} == {"1/3"}
+    assert answer["theta_exact"] == "tan:0.5" and answer["theta"] == math.atan(0.5)
+
+
+def test_cycle_bad_heading_is_exit_2_with_one_line():
+    for bad in ("4", "0", "-1", "north", "tan:0"):
+        result = run("cycle", MODELS / "square.json", "--theta", bad)
+        assert result.exit_code == 2 and result.stdout == ""
+        assert len(result.stderr.strip().splitlines()) == 1 and result.stderr.startswith("error: ")
+    result = run("cycle", MODELS / "square.json", "--theta", "0.3", "--edges", "e0,e7")
+    assert result.exit_code == 2 and "unknown edge e7" in result.stderr
+
+
+def test_cycle_auto_finds_a_constant_controller_for_a_model_with_holes():
+    result = run("cycle", MODELS / "two_holes.json", "--theta", "auto")
+    assert result.exit_code == 0, result.stderr
+    answer = json.loads(result.stdout)
+    assert answer["proved"] and answer["cycles"] and all(c["status"] == "found" for c in answer["cycles"])
+
+
+def test_render_cycle_draws_the_cycle_on_top(tmp_path):
+    out = tmp_path / "cycle.svg"
+    result = run("render", MODELS / "one_hole.json", "--cycle", "--theta", "tan:1/3", "--trajectories", "5", "-o", out)
+    assert result.exit_code == 0, result.stderr
+    svg = out.read_text()
+    assert 'id="limit-cycle"' in svg and 'id="limit-cycle-points"' in svg and 'id="trajectories"' in svg
+    result = run("render", MODELS / "one_hole.json", "--cycle", "-o", tmp_path / "x.png")
+    assert result.exit_code == 2 and "--cycle and --theta go together" in result.stderr
