@@ -1,0 +1,695 @@
+"""The certificate format (version 1): frozen dataclasses, and JSON in and out.
+
+A certificate is a self-contained statement that :mod:`solverplan.certify.check` re-derives in exact
+rational arithmetic: the environment, the partition segments it names, the start and goal sets, and
+per stage the moves the robot may make, each with an action cone given by two rational direction
+vectors. Nothing in it is trusted: angles, widths, images and return maps are recomputed.
+
+Numbers
+-------
+Every exact number is written as a JSON integer or a string: ``"3/7"`` or an exact decimal ``"0.25"``
+(:func:`json_value` picks the shortest). When reading, JSON numbers with a fraction part are taken
+at their decimal text (``0.1`` is 1/10, never the binary float near it); Python floats handed to
+:meth:`Certificate.from_json` are refused, since their binary value is not what anybody wrote.
+
+Conventions (DESIGN §2, CONTRACT.md)
+------------------------------------
+- ``environment.rings``: outer ring counter-clockwise, holes clockwise (free space on the left of
+  every directed edge); edge ``i`` goes from vertex ``i`` to the next vertex of its ring, the outer
+  ring's edges first, then each hole's.
+- A boundary parameter ``t`` ∈ [0, 1] runs along a directed edge (t = 0 at its first vertex).
+- A **move** leaves the source interval ``source = [p, q]`` of edge ``edge`` with any direction in
+  the cone from ``d_lo`` counter-clockwise to ``d_hi`` (world frame, rational vectors, any length)
+  and lands on edge ``target_edge`` within ``target = [c, d]`` (parameters on that edge); it may name
+  the partition segments involved (``source_segment``, ``target_segment``).
+- A **stage** is one bounce: a list of moves, one per possible source (belief-state plans: the robot
+  does not know which source it is on). The robot executes a heading θ measured from the edge it is
+  on, so the stage's action interval is the set of headings common to all its moves' cones, each
+  measured from its own source edge; ``interval`` (optional, radians) claims a part of it.
+  ``positions`` (funnels) claims the exact set of positions after the stage.
+- ``kind``: ``plan`` (start → goal), ``funnel`` (a plan whose stages carry ``positions``) or
+  ``cycle`` (``stages[cycle.stages[0]:]`` repeat forever; the block claims the exact affine return
+  map of the nominal directions, its fixed point and the worst-case contraction over the cones).
+
+>>> cert = Certificate.from_json(EXAMPLE)
+>>> cert.kind, len(cert.stages), cert.stages[0].moves[0].d_lo
+('plan', 1, (Fraction(1, 1), Fraction(20, 1)))
+>>> Certificate.from_json(cert.to_json()) == cert
+True
+>>> parse_certificate('{"schema": "solverplan-certificate", "version": 2}')
+Traceback (most recent call last):
+...
+solverplan.certify.schema.CertificateFormatError: certificate version 2 is not supported (this solverplan reads version 1)
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from fractions import Fraction
+from pathlib import Path
+from typing import Any, Literal
+
+from solverplan.errors import MalformedFile
+
+__all__ = [
+    "SCHEMA",
+    "VERSION",
+    "KINDS",
+    "Point",
+    "CertificateFormatError",
+    "EnvironmentRecord",
+    "SegmentRecord",
+    "Piece",
+    "Move",
+    "Stage",
+    "Optimality",
+    "Claims",
+    "CycleClaim",
+    "Certificate",
+    "parse_number",
+    "json_value",
+    "number_text",
+    "point_text",
+    "parse_certificate",
+    "load_certificate",
+    "dumps_certificate",
+    "EXAMPLE",
+]
+
+SCHEMA = "solverplan-certificate"
+VERSION = 1
+KINDS = ("plan", "cycle", "funnel")
+
+Kind = Literal["plan", "cycle", "funnel"]
+Point = tuple[Fraction, Fraction]
+"""An exact point or direction vector."""
+
+
+class CertificateFormatError(MalformedFile):
+    """The certificate is not a version-1 certificate (wrong schema, bad number, missing field):
+    bad input, exit code 2. Messages name the place, e.g. ``stages[1].moves[0].d_lo: 'x' is not a number``."""
+
+
+# ---------------------------------------------------------------------- numbers
+_RATIO = re.compile(r"^\s*([+-]?\d+)\s*/\s*(\d+)\s*$")
+
+
+def parse_number(value: object, where: str) -> Fraction:
+    """An exact number from JSON: an int, a ``"p/q"`` or decimal string, or a :class:`~decimal.Decimal`
+    (a JSON number read with ``parse_float=Decimal``). Binary floats, booleans and non-finite values
+    are refused with :class:`CertificateFormatError` naming ``where``."""
+    if isinstance(value, bool):
+        raise CertificateFormatError(f"{where}: {value!r} is not a number")
+    if isinstance(value, int):
+        return Fraction(value)
+    if isinstance(value, Fraction):
+        return value
+    if isinstance(value, float):
+        raise CertificateFormatError(
+            f"{where}: {value!r} is a binary float; write exact numbers as integers or strings (\"1/3\", \"0.25\")"
+        )
+    if isinstance(value, Decimal):
+        if not value.is_finite():
+            raise CertificateFormatError(f"{where}: {value} is not finite")
+        return Fraction(value)
+    if isinstance(value, str):
+        match = _RATIO.match(value)
+        if match:
+            num, den = int(match.group(1)), int(match.group(2))
+            if den == 0:
+                raise CertificateFormatError(f"{where}: {value!r} divides by zero")
+            return Fraction(num, den)
+        try:
+            number = Decimal(value.strip())
+        except InvalidOperation:
+            raise CertificateFormatError(f"{where}: {value!r} is not a number") from None
+        if not number.is_finite():
+            raise CertificateFormatError(f"{where}: {value!r} is not finite")
+        return Fraction(number)
+    raise CertificateFormatError(f"{where}: {value!r} is not a number")
+
+
+def _terminating_decimal(value: Fraction) -> str | None:
+    den = value.denominator
+    twos = fives = 0
+    while den % 2 == 0:
+        den //= 2
+        twos += 1
+    while den % 5 == 0:
+        den //= 5
+        fives += 1
+    if den != 1:
+        return None
+    digits = max(twos, fives)
+    scaled = abs(value.numerator) * (10**digits // value.denominator)
+    text = str(scaled).rjust(digits + 1, "0")
+    sign = "-" if value < 0 else ""
+    return f"{sign}{text[:-digits]}.{text[-digits:]}"
+
+
+def number_text(value: Fraction | int) -> str:
+    """Exact text of a number: ``3``, ``-0.25``, ``1/3`` (a terminating decimal when shorter)."""
+    value = Fraction(value)
+    if value.denominator == 1:
+        return str(value.numerator)
+    ratio = f"{value.numerator}/{value.denominator}"
+    decimal = _terminating_decimal(value)
+    return decimal if decimal is not None and len(decimal) <= len(ratio) + 4 else ratio
+
+
+def json_value(value: Fraction | int) -> int | str:
+    """An exact number as JSON: an integer, or the string of :func:`number_text`."""
+    value = Fraction(value)
+    return int(value.numerator) if value.denominator == 1 else number_text(value)
+
+
+def point_text(p: tuple[Fraction | int, Fraction | int]) -> str:
+    """``(x, y)`` with :func:`number_text` coordinates, for messages."""
+    return f"({number_text(p[0])}, {number_text(p[1])})"
+
+
+# ---------------------------------------------------------------------- records
+@dataclass(frozen=True, slots=True)
+class EnvironmentRecord:
+    """The environment: ``rings[0]`` the outer ring (CCW), then the holes (CW); exact points."""
+
+    rings: tuple[tuple[Point, ...], ...]
+    name: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class SegmentRecord:
+    """A segment of P′ named by the certificate: t ∈ [t0, t1] of ``edge``, from ``a`` to ``b``."""
+
+    id: int
+    edge: int
+    t0: Fraction
+    t1: Fraction
+    a: Point
+    b: Point
+
+
+@dataclass(frozen=True, slots=True)
+class Piece:
+    """The part t ∈ [t0, t1] of edge ``edge`` (closed; t0 < t1)."""
+
+    edge: int
+    t0: Fraction
+    t1: Fraction
+
+
+@dataclass(frozen=True, slots=True)
+class Move:
+    """From ``source`` = [p, q] on ``edge``, any direction from ``d_lo`` CCW to ``d_hi``, onto
+    ``target`` = [c, d] on ``target_edge`` (see the module docstring)."""
+
+    edge: int
+    source: tuple[Fraction, Fraction]
+    d_lo: Point
+    d_hi: Point
+    target_edge: int
+    target: tuple[Fraction, Fraction]
+    source_segment: int | None = None
+    target_segment: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Stage:
+    """One bounce: its moves, optionally the claimed heading ``interval`` (radians, measured from each
+    move's source edge) and the claimed exact ``positions`` after the stage."""
+
+    moves: tuple[Move, ...]
+    interval: tuple[Fraction, Fraction] | None = None
+    positions: tuple[Piece, ...] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Optimality:
+    """How optimality was established: ``method`` (e.g. ``search-exhausted``, ``lp-duality``,
+    ``heuristic``), whether it is ``proved``, and the ``bound`` (best objective any plan could reach)."""
+
+    method: str
+    proved: bool
+    bound: Fraction | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Claims:
+    """The numbers a certificate claims (all re-derived by the checker).
+
+    ``min_width`` is a lower bound on the narrowest stage's angular width (radians), within 1e-9 of
+    it; ``tolerance`` = min_width / 2; ``sum_width`` (optional) a lower bound on the sum of the widths.
+    """
+
+    bounces: int
+    min_width: Fraction
+    tolerance: Fraction
+    objective: str | None = None
+    sum_width: Fraction | None = None
+    optimality: Optimality | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class CycleClaim:
+    """A limit cycle: ``stages`` (the tail of the stage list that repeats), one ``nominal`` direction
+    per cycle stage (inside that stage's cone), the exact return map t ↦ ``alpha`` t + ``beta`` of the
+    nominal directions on the entry edge, its ``fixed_point`` β / (1 − α), and ``contraction``: the
+    worst case of |α| over all directions in the cones (must be < 1). ``visits``: edges the cycle
+    visits in this cyclic order (patrolling)."""
+
+    stages: tuple[int, ...]
+    nominal: tuple[Point, ...]
+    alpha: Fraction
+    beta: Fraction
+    fixed_point: Fraction
+    contraction: Fraction
+    visits: tuple[int, ...] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Certificate:
+    """A version-1 certificate; see the module docstring. Build with :mod:`solverplan.certify.writer`
+    or :meth:`from_json`; check with :func:`solverplan.certify.check.check_certificate`."""
+
+    kind: Kind
+    environment: EnvironmentRecord
+    segments: tuple[SegmentRecord, ...]
+    start: tuple[Piece, ...]
+    goal: tuple[Piece, ...] | None
+    stages: tuple[Stage, ...]
+    claims: Claims
+    cycle: CycleClaim | None = None
+    producer: str = ""
+
+    # ------------------------------------------------------------------ JSON out
+    def to_json(self) -> dict:
+        """The certificate as JSON data (exact numbers as ints or strings)."""
+        data: dict[str, Any] = {"schema": SCHEMA, "version": VERSION, "kind": self.kind}
+        if self.producer:
+            data["producer"] = self.producer
+        env: dict[str, Any] = {}
+        if self.environment.name:
+            env["name"] = self.environment.name
+        env["rings"] = [[_point_json(p) for p in ring] for ring in self.environment.rings]
+        data["environment"] = env
+        data["segments"] = [
+            {"id": s.id, "edge": s.edge, "t0": json_value(s.t0), "t1": json_value(s.t1), "a": _point_json(s.a), "b": _point_json(s.b)}
+            for s in self.segments
+        ]
+        data["start"] = [_piece_json(p) for p in self.start]
+        data["goal"] = None if self.goal is None else [_piece_json(p) for p in self.goal]
+        data["stages"] = [_stage_json(s) for s in self.stages]
+        claims: dict[str, Any] = {
+            "bounces": self.claims.bounces,
+            "min_width": json_value(self.claims.min_width),
+            "tolerance": json_value(self.claims.tolerance),
+        }
+        if self.claims.objective is not None:
+            claims["objective"] = self.claims.objective
+        if self.claims.sum_width is not None:
+            claims["sum_width"] = json_value(self.claims.sum_width)
+        if self.claims.optimality is not None:
+            opt = self.claims.optimality
+            claims["optimality"] = {
+                "method": opt.method,
+                "proved": opt.proved,
+                "bound": None if opt.bound is None else json_value(opt.bound),
+            }
+        data["claims"] = claims
+        if self.cycle is not None:
+            c = self.cycle
+            cycle: dict[str, Any] = {
+                "stages": list(c.stages),
+                "nominal": [_point_json(d) for d in c.nominal],
+                "alpha": json_value(c.alpha),
+                "beta": json_value(c.beta),
+                "fixed_point": json_value(c.fixed_point),
+                "contraction": json_value(c.contraction),
+            }
+            if c.visits is not None:
+                cycle["visits"] = list(c.visits)
+            data["cycle"] = cycle
+        return data
+
+    # ------------------------------------------------------------------ JSON in
+    @classmethod
+    def from_json(cls, data: object) -> Certificate:
+        """Read JSON data (as from ``json.loads(text, parse_float=Decimal)``).
+
+        Raises
+        ------
+        CertificateFormatError
+            Wrong schema or version, a missing or unknown field, a bad number; the message names the
+            place (``stages[0].moves[1].target``). Semantic problems (a ray missing its target, an
+            unknown segment id) are not format errors: the checker reports them.
+        """
+        top = _object(data, "certificate")
+        if top.get("schema") != SCHEMA:
+            raise CertificateFormatError(f"not a solverplan certificate: schema is {top.get('schema')!r}, expected {SCHEMA!r}")
+        version = top.get("version")
+        if version != VERSION or isinstance(version, bool):
+            raise CertificateFormatError(f"certificate version {version} is not supported (this solverplan reads version {VERSION})")
+        _known(
+            top,
+            {"schema", "version", "kind", "producer", "environment", "segments", "start", "goal", "stages", "claims", "cycle"},
+            "certificate",
+        )
+        kind = _field(top, "kind", "certificate")
+        if kind not in KINDS:
+            raise CertificateFormatError(f"kind: {kind!r} is not one of {', '.join(KINDS)}")
+        producer = top.get("producer", "")
+        if not isinstance(producer, str):
+            raise CertificateFormatError(f"producer: expected a string, got {producer!r}")
+        environment = _environment(_field(top, "environment", "certificate"))
+        segments = tuple(_segment(s, f"segments[{i}]") for i, s in enumerate(_list(_field(top, "segments", "certificate"), "segments")))
+        start = _pieces(_field(top, "start", "certificate"), "start")
+        if not start:
+            raise CertificateFormatError("start: the start set is empty")
+        goal_raw = top.get("goal")
+        goal = None if goal_raw is None else _pieces(goal_raw, "goal")
+        stages_raw = _list(_field(top, "stages", "certificate"), "stages")
+        if not stages_raw:
+            raise CertificateFormatError("stages: a certificate has at least one stage")
+        stages = tuple(_stage(s, f"stages[{i}]") for i, s in enumerate(stages_raw))
+        claims = _claims(_field(top, "claims", "certificate"))
+        cycle_raw = top.get("cycle")
+        cycle = None if cycle_raw is None else _cycle(cycle_raw)
+        if kind == "cycle":
+            if cycle is None:
+                raise CertificateFormatError("cycle: a cycle certificate needs the cycle block")
+            if goal is not None:
+                raise CertificateFormatError("goal: a cycle certificate has no goal (its cycle is the goal): use null")
+        else:
+            if cycle is not None:
+                raise CertificateFormatError(f"cycle: a {kind} certificate has no cycle block")
+            if goal is None or not goal:
+                raise CertificateFormatError(f"goal: a {kind} certificate needs a non-empty goal set")
+        if kind == "funnel":
+            for i, stage in enumerate(stages):
+                if stage.positions is None:
+                    raise CertificateFormatError(f"stages[{i}].positions: a funnel certificate claims the positions after every stage")
+        return cls(kind, environment, segments, start, goal, stages, claims, cycle, producer)
+
+
+# ---------------------------------------------------------------------- text in and out
+def parse_certificate(text: str, *, source: str = "certificate") -> Certificate:
+    """Parse certificate JSON text (decimals read exactly); :class:`CertificateFormatError` if malformed."""
+    try:
+        data = json.loads(text, parse_float=Decimal, parse_constant=_reject_constant)
+    except json.JSONDecodeError as exc:
+        raise CertificateFormatError(f"{source}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})") from None
+    except CertificateFormatError as exc:
+        raise CertificateFormatError(f"{source}: {exc}") from None
+    except RecursionError:
+        raise CertificateFormatError(f"{source}: JSON nested too deeply") from None
+    return Certificate.from_json(data)
+
+
+def load_certificate(path: str | Path) -> Certificate:
+    """Read a certificate file; :class:`CertificateFormatError` (naming the file) if it is unreadable or malformed."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise CertificateFormatError(f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CertificateFormatError(f"{path}: cannot read ({exc.__class__.__name__})") from None
+    try:
+        return parse_certificate(text, source=str(path))
+    except CertificateFormatError as exc:
+        message = str(exc)
+        raise CertificateFormatError(message if message.startswith(f"{path}:") else f"{path}: {message}") from None
+
+
+def dumps_certificate(cert: Certificate) -> str:
+    """The certificate as JSON text (two-space indent, small arrays on one line), ending in a newline."""
+    return _layout(cert.to_json(), "") + "\n"
+
+
+def _layout(value: Any, indent: str) -> str:
+    flat = json.dumps(value, ensure_ascii=False)
+    if not isinstance(value, (dict, list)) or len(flat) + len(indent) <= 100 and _shallow(value):
+        return flat
+    step = indent + "  "
+    if isinstance(value, dict):
+        body = ",\n".join(f"{step}{json.dumps(k)}: {_layout(v, step)}" for k, v in value.items())
+        return "{\n" + body + "\n" + indent + "}"
+    body = ",\n".join(step + _layout(v, step) for v in value)
+    return "[\n" + body + "\n" + indent + "]"
+
+
+def _shallow(value: Any, depth: int = 0) -> bool:
+    if isinstance(value, dict):
+        return depth < 2 and all(_shallow(v, depth + 1) for v in value.values())
+    if isinstance(value, list):
+        return depth < 3 and all(_shallow(v, depth + 1) for v in value)
+    return True
+
+
+def _reject_constant(name: str) -> None:
+    raise CertificateFormatError(f"non-finite number {name}")
+
+
+# ---------------------------------------------------------------------- JSON helpers (out)
+def _point_json(p: Point) -> list:
+    return [json_value(p[0]), json_value(p[1])]
+
+
+def _piece_json(p: Piece) -> dict:
+    return {"edge": p.edge, "t0": json_value(p.t0), "t1": json_value(p.t1)}
+
+
+def _move_json(m: Move) -> dict:
+    data: dict[str, Any] = {}
+    if m.source_segment is not None:
+        data["source_segment"] = m.source_segment
+    data["edge"] = m.edge
+    data["source"] = [json_value(m.source[0]), json_value(m.source[1])]
+    data["d_lo"] = _point_json(m.d_lo)
+    data["d_hi"] = _point_json(m.d_hi)
+    if m.target_segment is not None:
+        data["target_segment"] = m.target_segment
+    data["target_edge"] = m.target_edge
+    data["target"] = [json_value(m.target[0]), json_value(m.target[1])]
+    return data
+
+
+def _stage_json(s: Stage) -> dict:
+    data: dict[str, Any] = {}
+    if s.interval is not None:
+        data["interval"] = [json_value(s.interval[0]), json_value(s.interval[1])]
+    data["moves"] = [_move_json(m) for m in s.moves]
+    if s.positions is not None:
+        data["positions"] = [_piece_json(p) for p in s.positions]
+    return data
+
+
+# ---------------------------------------------------------------------- JSON helpers (in)
+def _object(value: object, where: str) -> dict:
+    if not isinstance(value, dict):
+        raise CertificateFormatError(f"{where}: expected a JSON object, got {_kind_of(value)}")
+    return value
+
+
+def _list(value: object, where: str) -> list:
+    if not isinstance(value, list):
+        raise CertificateFormatError(f"{where}: expected a list, got {_kind_of(value)}")
+    return value
+
+
+def _kind_of(value: object) -> str:
+    names = {dict: "an object", list: "a list", str: "a string", bool: "a boolean", type(None): "null"}
+    for kind, name in names.items():
+        if isinstance(value, kind):
+            return name
+    return "a number" if isinstance(value, (int, float, Decimal)) else type(value).__name__
+
+
+def _field(obj: dict, key: str, where: str) -> Any:
+    if key not in obj:
+        raise CertificateFormatError(f"{where}: missing field {key!r}")
+    return obj[key]
+
+
+def _known(obj: dict, keys: set[str], where: str) -> None:
+    unknown = sorted(set(obj) - keys)
+    if unknown:
+        raise CertificateFormatError(f"{where}: unknown field {unknown[0]!r}")
+
+
+def _integer(value: object, where: str, *, minimum: int | None = 0) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise CertificateFormatError(f"{where}: expected an integer, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise CertificateFormatError(f"{where}: expected an integer ≥ {minimum}, got {value}")
+    return value
+
+
+def _point(value: object, where: str) -> Point:
+    if not isinstance(value, list) or len(value) != 2:
+        raise CertificateFormatError(f"{where}: expected a pair [x, y], got {value!r}")
+    return (parse_number(value[0], where), parse_number(value[1], where))
+
+
+def _pair(value: object, where: str) -> tuple[Fraction, Fraction]:
+    if not isinstance(value, list) or len(value) != 2:
+        raise CertificateFormatError(f"{where}: expected a pair [lo, hi], got {value!r}")
+    return (parse_number(value[0], where), parse_number(value[1], where))
+
+
+def _environment(value: object) -> EnvironmentRecord:
+    obj = _object(value, "environment")
+    _known(obj, {"name", "rings"}, "environment")
+    name = obj.get("name", "")
+    if not isinstance(name, str):
+        raise CertificateFormatError(f"environment.name: expected a string, got {name!r}")
+    rings_raw = _list(_field(obj, "rings", "environment"), "environment.rings")
+    if not rings_raw:
+        raise CertificateFormatError("environment.rings: no outer ring")
+    rings = []
+    for r, ring in enumerate(rings_raw):
+        where = f"environment.rings[{r}]"
+        rings.append(tuple(_point(p, f"{where}[{k}]") for k, p in enumerate(_list(ring, where))))
+    return EnvironmentRecord(tuple(rings), name)
+
+
+def _segment(value: object, where: str) -> SegmentRecord:
+    obj = _object(value, where)
+    _known(obj, {"id", "edge", "t0", "t1", "a", "b"}, where)
+    return SegmentRecord(
+        _integer(_field(obj, "id", where), f"{where}.id"),
+        _integer(_field(obj, "edge", where), f"{where}.edge"),
+        parse_number(_field(obj, "t0", where), f"{where}.t0"),
+        parse_number(_field(obj, "t1", where), f"{where}.t1"),
+        _point(_field(obj, "a", where), f"{where}.a"),
+        _point(_field(obj, "b", where), f"{where}.b"),
+    )
+
+
+def _piece(value: object, where: str) -> Piece:
+    obj = _object(value, where)
+    _known(obj, {"edge", "t0", "t1"}, where)
+    return Piece(
+        _integer(_field(obj, "edge", where), f"{where}.edge"),
+        parse_number(_field(obj, "t0", where), f"{where}.t0"),
+        parse_number(_field(obj, "t1", where), f"{where}.t1"),
+    )
+
+
+def _pieces(value: object, where: str) -> tuple[Piece, ...]:
+    return tuple(_piece(p, f"{where}[{i}]") for i, p in enumerate(_list(value, where)))
+
+
+def _move(value: object, where: str) -> Move:
+    obj = _object(value, where)
+    _known(obj, {"source_segment", "edge", "source", "d_lo", "d_hi", "target_segment", "target_edge", "target"}, where)
+    source_segment = obj.get("source_segment")
+    target_segment = obj.get("target_segment")
+    return Move(
+        edge=_integer(_field(obj, "edge", where), f"{where}.edge"),
+        source=_pair(_field(obj, "source", where), f"{where}.source"),
+        d_lo=_point(_field(obj, "d_lo", where), f"{where}.d_lo"),
+        d_hi=_point(_field(obj, "d_hi", where), f"{where}.d_hi"),
+        target_edge=_integer(_field(obj, "target_edge", where), f"{where}.target_edge"),
+        target=_pair(_field(obj, "target", where), f"{where}.target"),
+        source_segment=None if source_segment is None else _integer(source_segment, f"{where}.source_segment"),
+        target_segment=None if target_segment is None else _integer(target_segment, f"{where}.target_segment"),
+    )
+
+
+def _stage(value: object, where: str) -> Stage:
+    obj = _object(value, where)
+    _known(obj, {"interval", "moves", "positions"}, where)
+    moves_raw = _list(_field(obj, "moves", where), f"{where}.moves")
+    if not moves_raw:
+        raise CertificateFormatError(f"{where}.moves: a stage has at least one move")
+    moves = tuple(_move(m, f"{where}.moves[{i}]") for i, m in enumerate(moves_raw))
+    interval_raw = obj.get("interval")
+    interval = None if interval_raw is None else _pair(interval_raw, f"{where}.interval")
+    positions_raw = obj.get("positions")
+    positions = None if positions_raw is None else _pieces(positions_raw, f"{where}.positions")
+    return Stage(moves, interval, positions)
+
+
+def _claims(value: object) -> Claims:
+    where = "claims"
+    obj = _object(value, where)
+    _known(obj, {"bounces", "min_width", "tolerance", "objective", "sum_width", "optimality"}, where)
+    objective = obj.get("objective")
+    if objective is not None and not isinstance(objective, str):
+        raise CertificateFormatError(f"claims.objective: expected a string, got {objective!r}")
+    sum_raw = obj.get("sum_width")
+    optimality = None
+    if obj.get("optimality") is not None:
+        opt = _object(obj["optimality"], "claims.optimality")
+        _known(opt, {"method", "proved", "bound"}, "claims.optimality")
+        method = _field(opt, "method", "claims.optimality")
+        if not isinstance(method, str) or not method:
+            raise CertificateFormatError(f"claims.optimality.method: expected a non-empty string, got {method!r}")
+        proved = _field(opt, "proved", "claims.optimality")
+        if not isinstance(proved, bool):
+            raise CertificateFormatError(f"claims.optimality.proved: expected true or false, got {proved!r}")
+        bound_raw = opt.get("bound")
+        bound = None if bound_raw is None else parse_number(bound_raw, "claims.optimality.bound")
+        optimality = Optimality(method, proved, bound)
+    return Claims(
+        bounces=_integer(_field(obj, "bounces", where), "claims.bounces"),
+        min_width=parse_number(_field(obj, "min_width", where), "claims.min_width"),
+        tolerance=parse_number(_field(obj, "tolerance", where), "claims.tolerance"),
+        objective=objective,
+        sum_width=None if sum_raw is None else parse_number(sum_raw, "claims.sum_width"),
+        optimality=optimality,
+    )
+
+
+def _cycle(value: object) -> CycleClaim:
+    where = "cycle"
+    obj = _object(value, where)
+    _known(obj, {"stages", "nominal", "alpha", "beta", "fixed_point", "contraction", "visits"}, where)
+    stages = tuple(_integer(s, f"cycle.stages[{i}]") for i, s in enumerate(_list(_field(obj, "stages", where), "cycle.stages")))
+    if not stages:
+        raise CertificateFormatError("cycle.stages: a cycle has at least one stage")
+    nominal = tuple(_point(d, f"cycle.nominal[{i}]") for i, d in enumerate(_list(_field(obj, "nominal", where), "cycle.nominal")))
+    visits_raw = obj.get("visits")
+    visits = None
+    if visits_raw is not None:
+        visits = tuple(_integer(e, f"cycle.visits[{i}]") for i, e in enumerate(_list(visits_raw, "cycle.visits")))
+    return CycleClaim(
+        stages=stages,
+        nominal=nominal,
+        alpha=parse_number(_field(obj, "alpha", where), "cycle.alpha"),
+        beta=parse_number(_field(obj, "beta", where), "cycle.beta"),
+        fixed_point=parse_number(_field(obj, "fixed_point", where), "cycle.fixed_point"),
+        contraction=parse_number(_field(obj, "contraction", where), "cycle.contraction"),
+        visits=visits,
+    )
+
+
+EXAMPLE: dict = {
+    "schema": SCHEMA,
+    "version": VERSION,
+    "kind": "plan",
+    "producer": "hand-written example: square, bottom to top",
+    "environment": {"name": "square", "rings": [[[0, 0], [10, 0], [10, 10], [0, 10]]]},
+    "segments": [
+        {"id": 0, "edge": 0, "t0": 0, "t1": 1, "a": [0, 0], "b": [10, 0]},
+        {"id": 2, "edge": 2, "t0": 0, "t1": 1, "a": [10, 10], "b": [0, 10]},
+    ],
+    "start": [{"edge": 0, "t0": "0.1", "t1": "0.9"}],
+    "goal": [{"edge": 2, "t0": 0, "t1": 1}],
+    "stages": [
+        {
+            "interval": ["1.5208379310729539", "1.6207547225168393"],
+            "moves": [
+                {"source_segment": 0, "edge": 0, "source": ["0.1", "0.9"], "d_lo": [1, 20], "d_hi": [-1, 20],
+                 "target_segment": 2, "target_edge": 2, "target": [0, 1]}
+            ],
+        }
+    ],
+    "claims": {"bounces": 1, "min_width": "0.0999167914438854", "tolerance": "0.0499583957219427"},
+}
+"""A small valid certificate (one stage in the 10 × 10 square, from the middle of the bottom edge
+straight up, headings π/2 ± atan(1/20)): the shape every certificate has."""

@@ -1,0 +1,78 @@
+"""The certificate format (solverplan/certify/schema.py): exact numbers, round trips, format errors."""
+
+from __future__ import annotations
+
+from decimal import Decimal
+from fractions import Fraction
+
+import pytest
+
+from solverplan.certify.schema import (
+    EXAMPLE,
+    Certificate,
+    CertificateFormatError,
+    dumps_certificate,
+    json_value,
+    number_text,
+    parse_certificate,
+    parse_number,
+)
+from solverplan.errors import InputError
+from tests.certify import cases
+
+
+@pytest.mark.parametrize(
+    "value,expected",
+    [(3, Fraction(3)), ("1/3", Fraction(1, 3)), (" -2 / 6 ", Fraction(-1, 3)), ("0.25", Fraction(1, 4)), ("1e-3", Fraction(1, 1000)), (Decimal("0.1"), Fraction(1, 10))],
+)
+def test_parse_number_is_exact(value, expected):
+    assert parse_number(value, "x") == expected
+
+
+@pytest.mark.parametrize(
+    "value,fragment",
+    [(0.1, "is a binary float"), (True, "True is not a number"), ("inf", "is not finite"), ("NaN", "is not finite"), ("1/0", "divides by zero"), ([1], "is not a number")],
+)
+def test_parse_number_refuses(value, fragment):
+    with pytest.raises(CertificateFormatError, match="^here: ") as info:
+        parse_number(value, "here")
+    assert fragment in str(info.value)
+    assert isinstance(info.value, InputError)  # exit code 2 in the CLI
+
+
+def test_numbers_as_json():
+    assert [json_value(x) for x in (Fraction(4), Fraction(1, 4), Fraction(1, 3), Fraction(-5, 2))] == [4, "0.25", "1/3", "-2.5"]
+    assert number_text(Fraction(1, 1024)) == "1/1024"  # shorter than its 10-digit decimal
+    assert number_text(Fraction(-1, 20)) == "-0.05"
+
+
+@pytest.mark.parametrize("name", [*cases.ALL_VALID, "square_neutral"])
+def test_round_trips(name):
+    data = cases.square_neutral_cycle() if name == "square_neutral" else cases.ALL_VALID[name]()
+    cert = Certificate.from_json(data)
+    assert Certificate.from_json(cert.to_json()) == cert
+    assert parse_certificate(dumps_certificate(cert)) == cert
+
+
+def test_example_is_a_plan():
+    cert = Certificate.from_json(EXAMPLE)
+    assert cert.kind == "plan" and cert.claims.bounces == 1 and cert.goal is not None
+
+
+def test_python_floats_in_data_are_refused_with_their_place():
+    data = cases.square_up()
+    data["stages"][0]["moves"][0]["source"] = [0.1, "9/10"]
+    with pytest.raises(CertificateFormatError, match=r"^stages\[0\]\.moves\[0\]\.source: 0\.1 is a binary float"):
+        Certificate.from_json(data)
+
+
+def test_kind_specific_blocks():
+    cycle = cases.square_cycle()
+    with pytest.raises(CertificateFormatError, match="a plan certificate has no cycle block"):
+        Certificate.from_json(dict(cycle, kind="plan", goal=[{"edge": 0, "t0": 0, "t1": 1}]))
+    with pytest.raises(CertificateFormatError, match="a cycle certificate has no goal"):
+        Certificate.from_json(dict(cycle, goal=[{"edge": 0, "t0": 0, "t1": 1}]))
+    with pytest.raises(CertificateFormatError, match="needs the cycle block"):
+        Certificate.from_json({k: v for k, v in cycle.items() if k != "cycle"})
+    with pytest.raises(CertificateFormatError, match="needs a non-empty goal set"):
+        Certificate.from_json(dict(cases.square_up(), goal=None))

@@ -1,0 +1,147 @@
+"""`solverplan verify CERT.json`: exit 0 valid, 1 invalid (first failing claim on one stderr line, all
+failures in the report on stdout), 2 malformed (one line, nothing on stdout)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from solverplan import cli
+from solverplan.certify.schema import EXAMPLE
+from tests.certify import cases
+from tests.certify.cases import MODELS, tampered
+
+runner = CliRunner()
+
+
+def run(*args: object):
+    return runner.invoke(cli.app, [str(a) for a in args])
+
+
+def write(folder: Path, name: str, content: str | dict) -> Path:
+    path = folder / name
+    path.write_text(content if isinstance(content, str) else json.dumps(content), encoding="utf-8")
+    return path
+
+
+def assert_one_line_error(result, code: int, fragment: str, *, stdout_empty: bool = True) -> str:
+    assert result.exit_code == code, (result.exit_code, result.stdout, result.stderr)
+    if stdout_empty:
+        assert result.stdout == ""
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("error: ")
+    assert fragment in lines[0], lines[0]
+    assert "Traceback" not in result.stderr
+    return lines[0]
+
+
+# ---------------------------------------------------------------------- valid
+def test_valid_certificate_exits_0_with_a_json_report(tmp_path):
+    result = run("verify", write(tmp_path, "c.json", cases.square_adjacent()))
+    assert result.exit_code == 0, result.stderr
+    assert result.stderr == ""
+    report = json.loads(result.stdout)
+    assert report["valid"] is True and report["failures"] == [] and report["kind"] == "plan"
+    assert report["checked"]["corner_rays"] == 8 and report["checked"]["edge_tests"] == 8
+
+
+def test_valid_certificate_text_report(tmp_path):
+    result = run("verify", write(tmp_path, "c.json", cases.l_shape_plan()), "--format", "text")
+    assert result.exit_code == 0
+    assert result.stdout.splitlines()[0] == "certificate (plan): VALID"
+
+
+def test_the_schema_example_verifies(tmp_path):
+    assert run("verify", write(tmp_path, "example.json", EXAMPLE)).exit_code == 0
+
+
+def test_report_to_a_file(tmp_path):
+    out = tmp_path / "report.json"
+    result = run("verify", write(tmp_path, "c.json", cases.square_cycle()), "-o", out)
+    assert result.exit_code == 0 and result.stdout == ""
+    assert json.loads(out.read_text())["kind"] == "cycle"
+
+
+def test_environment_and_query_checks(tmp_path):
+    cert = write(tmp_path, "c.json", cases.square_up())
+    square, ell = MODELS / "square.json", MODELS / "l_shape.json"
+    assert run("verify", cert, "--env", square, "--from", "e0:0.1:0.9", "--to", "e2").exit_code == 0
+    line = assert_one_line_error(run("verify", cert, "--env", ell), 1, "certificate invalid: environment.rings[0]", stdout_empty=False)
+    assert "the given environment's ring has 6" in line
+    assert_one_line_error(run("verify", cert, "--env", square, "--from", "e0"), 1, "start: is e0:[0.1, 0.9], but the query's start set is e0:[0, 1]", stdout_empty=False)
+    assert_one_line_error(run("verify", cert, "--from", "e0"), 2, "give it with --env")
+    assert_one_line_error(run("verify", cert, "--env", square, "--to", "e9"), 2, "unknown edge e9")
+
+
+# ---------------------------------------------------------------------- invalid: exit 1
+def test_invalid_certificate_exits_1_naming_the_first_failing_claim(tmp_path):
+    data = tampered(cases.square_up(), "stages.0.moves.0.d_hi", [-1, 2])
+    result = run("verify", write(tmp_path, "bad.json", data))
+    line = assert_one_line_error(result, 1, "certificate invalid: stages[0].moves[0].d_hi: corner ray from (1, 0)", stdout_empty=False)
+    report = json.loads(result.stdout)
+    assert report["valid"] is False
+    assert report["failures"][0]["claim"] == "stages[0].moves[0].d_hi"
+    more = len(report["failures"]) - 1
+    assert more >= 1 and line.endswith(f"(and {more} more failure{'s' if more > 1 else ''} in the report)")
+
+
+def test_swept_region_through_the_hole_exits_1(tmp_path):
+    result = run("verify", write(tmp_path, "hole.json", cases.one_hole_through_the_hole()))
+    assert_one_line_error(result, 1, "stages[0].moves[0].swept: edge 4 runs through the swept region", stdout_empty=False)
+
+
+def test_single_failure_has_no_more_suffix(tmp_path):
+    data = tampered(cases.square_cycle(), "cycle.fixed_point", "1/12")
+    line = assert_one_line_error(run("verify", write(tmp_path, "c.json", data)), 1, "cycle.fixed_point: claims 1/12", stdout_empty=False)
+    assert "more failure" not in line
+
+
+# ---------------------------------------------------------------------- malformed: exit 2
+@pytest.mark.parametrize(
+    "mutate,fragment",
+    [
+        (lambda d: d.update(schema="something-else"), "not a solverplan certificate: schema is 'something-else'"),
+        (lambda d: d.update(version=2), "certificate version 2 is not supported (this solverplan reads version 1)"),
+        (lambda d: d["claims"].update(min_width="abc"), "claims.min_width: 'abc' is not a number"),
+        (lambda d: d["claims"].update(tolerance="1/0"), "claims.tolerance: '1/0' divides by zero"),
+        (lambda d: d["stages"][0]["moves"][0].update(d_lo=[1]), "stages[0].moves[0].d_lo: expected a pair [x, y], got [1]"),
+        (lambda d: d["stages"][0]["moves"][0].pop("target"), "stages[0].moves[0]: missing field 'target'"),
+        (lambda d: d["stages"][0]["moves"][0].update(colour="red"), "stages[0].moves[0]: unknown field 'colour'"),
+        (lambda d: d.update(kind="tour"), "kind: 'tour' is not one of plan, cycle, funnel"),
+        (lambda d: d.update(stages=[]), "stages: a certificate has at least one stage"),
+        (lambda d: d.update(kind="funnel"), "stages[0].positions: a funnel certificate claims the positions after every stage"),
+    ],
+)
+def test_malformed_certificate_exits_2_with_one_line(tmp_path, mutate, fragment):
+    data = cases.square_up()
+    mutate(data)
+    assert_one_line_error(run("verify", write(tmp_path, "m.json", data)), 2, fragment)
+
+
+def test_not_json_and_missing_file_exit_2(tmp_path):
+    assert_one_line_error(run("verify", write(tmp_path, "t.json", '{"schema": ')), 2, "not valid JSON")
+    assert_one_line_error(run("verify", tmp_path / "none.json"), 2, "none.json: no such file")
+    assert_one_line_error(run("verify", write(tmp_path, "n.json", '{"x": NaN}')), 2, "non-finite number NaN")
+
+
+def test_json_decimals_are_read_exactly_not_as_binary_floats(tmp_path):
+    text = json.dumps(cases.square_up()).replace('"0.1"', "0.1")  # a JSON number: read as the decimal 1/10
+    assert '"t0": 0.1' in text
+    assert run("verify", write(tmp_path, "d.json", text)).exit_code == 0
+
+
+def test_installed_script_verifies(tmp_path):
+    """One end-to-end run of the real console script (CONTRACT exit codes)."""
+    script = Path(sys.executable).with_name("solverplan")
+    if not script.exists():
+        pytest.skip("console script not installed in this environment")
+    ok = subprocess.run([str(script), "verify", str(write(tmp_path, "c.json", cases.one_hole_plan()))], capture_output=True, text=True)
+    assert ok.returncode == 0 and json.loads(ok.stdout)["valid"] is True
+    bad = subprocess.run([str(script), "verify", str(write(tmp_path, "b.json", cases.l_shape_around_the_corner()))], capture_output=True, text=True)
+    assert bad.returncode == 1 and bad.stderr.count("\n") == 1 and "stages[0].moves[0].swept" in bad.stderr
