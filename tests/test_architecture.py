@@ -17,6 +17,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "solverplan"
 LAYERS = {
     "errors": 0,
     "_io": 0,
+    "_arrays": 0,
     "exact": 1,
     "environment": 2,
     "geometry": 3,

@@ -42,6 +42,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from solverplan._arrays import ragged_arange
 from solverplan.errors import SolverFailed
 from solverplan.geometry.raycast import cast_ray
 
@@ -420,15 +421,6 @@ def _ninf(x: np.ndarray) -> np.ndarray:
     return np.maximum(np.abs(x[..., 0]), np.abs(x[..., 1]))
 
 
-def _ragged(counts: np.ndarray) -> np.ndarray:
-    counts = np.asarray(counts, dtype=np.int64)
-    total = int(counts.sum())
-    if total == 0:
-        return np.zeros(0, dtype=np.int64)
-    ends = np.cumsum(counts)
-    return np.arange(total, dtype=np.int64) - np.repeat(ends - counts, counts)
-
-
 def _front_facing(ctx: _Context, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Pairs (sweep row, edge) with the origin strictly left of the edge's line (exact near ties)."""
     M, n = len(origin), ctx.n
@@ -483,7 +475,7 @@ def _hit_edges(ctx: _Context, origin, frame, cls, rank, K, dir_ang, dir_to, dir_
     sec_off = dir_off[:-1] - np.arange(M)
     total = int(n_sec.sum())
     sec_m = np.repeat(np.arange(M), n_sec)
-    sec_g = dir_off[sec_m] + _ragged(n_sec)
+    sec_g = dir_off[sec_m] + ragged_arange(n_sec)
     mid = 0.5 * (dir_ang[sec_g] + dir_ang[sec_g + 1])
     f = ctx.edge_unit[frame[sec_m]]
     c, s = np.cos(mid), np.sin(mid)
@@ -505,7 +497,7 @@ def _hit_edges(ctx: _Context, origin, frame, cls, rank, K, dir_ang, dir_to, dir_
         stop = max(int(np.searchsorted(csum, base + (1 << 21), side="right")), start + 1)
         c_blk = cnt[start:stop]
         rep = np.repeat(np.arange(start, stop), c_blk)
-        gl = gl_first[rep] + _ragged(c_blk)
+        gl = gl_first[rep] + ragged_arange(c_blk)
         dx, dy = dxp[rep], dyp[rep]
         with np.errstate(divide="ignore", invalid="ignore"):
             dist = numer[rep] / (UX[gl] * dy - UY[gl] * dx)
@@ -555,7 +547,7 @@ def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off,
     M = len(origin)
     n_sec = K + 1
     m_all = np.repeat(np.arange(M), n_sec)
-    k_all = _ragged(n_sec)
+    k_all = ragged_arange(n_sec)
     if len(hit) and (hit < 0).any():  # pragma: no cover - every ray in a valid environment hits
         i = int(np.flatnonzero(hit < 0)[0])
         raise SolverFailed(f"no edge found for sector {int(k_all[i])} of the sweep from P′ vertex {int(origin[m_all[i]])}")
@@ -572,7 +564,7 @@ def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off,
     c0 = ctx.edge_first[r_e] + 1
     ccount = ctx.edge_first[r_e + 1] - c0
     rr = np.repeat(np.arange(len(starts)), ccount)
-    y = np.repeat(c0, ccount) + _ragged(ccount)
+    y = np.repeat(c0, ccount) + ragged_arange(ccount)
     mm = r_m[rr]
     o = origin[mm]
     X = ctx.P[o]
@@ -609,7 +601,7 @@ def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off,
     base = ctx.edge_first[r_e] + nb
     pieces = ni + 1
     er = np.repeat(np.arange(len(starts)), pieces)
-    p = _ragged(pieces)
+    p = ragged_arange(pieces)
     seg = base[er] + p
     last = p == ni[er]
     lo_to = np.where(p == 0, dir_to[r_lo[er]], seg)

@@ -55,6 +55,7 @@ from functools import cached_property
 import networkx as nx
 import numpy as np
 
+from solverplan._arrays import ragged_arange
 from solverplan.bounce import _sweep
 from solverplan.bounce._sweep import MARK_PI, MARK_ZERO, ExactPoints, Sweeps, _ninf, build_sweeps
 from solverplan.bounce.interval import Interval
@@ -236,7 +237,7 @@ class SafeBVG:
         rows = np.flatnonzero(keep)
         counts = self.n_intervals[rows]
         starts = self.set_offsets[rows]
-        take = np.repeat(starts, counts) + _ragged(counts)
+        take = np.repeat(starts, counts) + ragged_arange(counts)
         return SafeBVG(
             partition=self.partition,
             source=self.source[rows],
@@ -535,7 +536,7 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     b_end = np.searchsorted(B_key, A_key, side="right")
     cnt = b_end - b_start
     pa = np.repeat(ia, cnt)
-    pb = ib[np.repeat(b_start, cnt) + _ragged(cnt)]
+    pb = ib[np.repeat(b_start, cnt) + ragged_arange(cnt)]
     pkey = np.repeat(A_key, cnt)
     edge_p = seg_edge[pkey // N]
     c_lo = ends.cmp(edge_p, frm[pa], sw.lo_to[pa], sw.lo[pa], sw.lo_err[pa], frm[pb], sw.lo_to[pb], sw.lo[pb], sw.lo_err[pb])
@@ -621,15 +622,6 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
 def _edge_vectors(env: Environment) -> list[tuple[Fraction, Fraction]]:
     verts, nv = env.exact_vertices, env.next_vertex
     return [(verts[int(nv[e])][0] - verts[e][0], verts[int(nv[e])][1] - verts[e][1]) for e in range(env.n_edges)]
-
-
-def _ragged(counts: np.ndarray) -> np.ndarray:
-    counts = np.asarray(counts, dtype=np.int64)
-    total = int(counts.sum())
-    if total == 0:
-        return np.zeros(0, dtype=np.int64)
-    ends = np.cumsum(counts)
-    return np.arange(total, dtype=np.int64) - np.repeat(ends - counts, counts)
 
 
 def _cmp_ends(pieces: _Pieces, ends: _Ends, edge_of: np.ndarray, which1: str, which2: str) -> np.ndarray:

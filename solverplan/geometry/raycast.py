@@ -50,6 +50,7 @@ from typing import TYPE_CHECKING, Literal, Mapping, Sequence
 
 import numpy as np
 
+from solverplan._arrays import ragged_arange
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, format_point, to_fraction
 
@@ -607,7 +608,7 @@ class RayCaster:
         c1 = np.clip(np.floor(hix), 0, nx - 1).astype(np.int64)
         ncols = c1 - c0 + 1
         edge_of = np.repeat(np.arange(n, dtype=np.int64), ncols)
-        col = np.repeat(c0, ncols) + _ragged_arange(ncols)
+        col = np.repeat(c0, ncols) + ragged_arange(ncols)
         # y-range of the edge over the column's x-range (clipped to the edge's own x-range)
         xl = np.maximum(col.astype(float), lox[edge_of])
         xr = np.minimum(col + 1.0, hix[edge_of])
@@ -625,7 +626,7 @@ class RayCaster:
         r1 = np.clip(np.floor(yhi), 0, ny - 1).astype(np.int64)
         nrows = r1 - r0 + 1
         edge_of2 = np.repeat(edge_of, nrows)
-        cell = (np.repeat(r0, nrows) + _ragged_arange(nrows)) * nx + np.repeat(col, nrows)
+        cell = (np.repeat(r0, nrows) + ragged_arange(nrows)) * nx + np.repeat(col, nrows)
         order = np.lexsort((edge_of2, cell))
         cell, edge_of2 = cell[order], edge_of2[order]
         self._cell_edges = edge_of2
@@ -919,7 +920,7 @@ class RayCaster:
             flat = cells.reshape(-1)
             cnt = cell_count[flat]
             per_ray = cnt.reshape(k, steps).sum(axis=1)
-            edges = cell_edges[np.repeat(cell_start[flat], cnt) + _ragged_arange(cnt)]
+            edges = cell_edges[np.repeat(cell_start[flat], cnt) + ragged_arange(cnt)]
             self._test_pairs(st, active, per_ray, edges, ray)
             keep = (st.best_s[active] + tol > exit_s) & inside
             active = active[keep]
@@ -1021,17 +1022,6 @@ class _RayState:
         limit = self.best_s + self.tol
         uncertain = (self.best_e < 0) | (self.v >= 0) | (self.near <= limit) | (self.second <= limit)
         return self.best_s, self.best_e, self.t, self.v, uncertain, self.d
-
-
-def _ragged_arange(counts: np.ndarray) -> np.ndarray:
-    """Concatenated ``arange(c)`` for each c in counts."""
-    counts = np.asarray(counts, dtype=np.int64)
-    total = int(counts.sum())
-    if total == 0:
-        return np.zeros(0, dtype=np.int64)
-    ends = np.cumsum(counts)
-    offsets = np.repeat(ends - counts, counts)
-    return np.arange(total, dtype=np.int64) - offsets
 
 
 def _as_points(values: object, name: str) -> np.ndarray:
