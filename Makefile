@@ -15,11 +15,20 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $@
 
+# The demo query: from the middle of the left room's floor to the right half of the right room's floor,
+# across the corridor (the start spans four segments of P′: one plan must work from all of them).
+DEMO_ENV := models/two_rooms.json
+DEMO_QUERY := --from e0:0.2:0.8 --to e4:0.5:1
+
 demo: $(VENV)/.installed
 	@mkdir -p $(OUT)
-	$(BIN)/solverplan info models/two_rooms.json --format text
-	$(BIN)/solverplan render models/two_rooms.json --edge-ids -o $(OUT)/two_rooms.png
-	@echo "demo: wrote $(OUT)/two_rooms.png"
+	$(BIN)/solverplan plan $(DEMO_ENV) $(DEMO_QUERY) --pareto --format text
+	$(BIN)/solverplan plan $(DEMO_ENV) $(DEMO_QUERY) --objective tolerance -o $(OUT)/plan.json --certificate $(OUT)/certificate.json
+	$(BIN)/solverplan plan $(DEMO_ENV) $(DEMO_QUERY) --objective tolerance --format text
+	$(BIN)/solverplan verify $(OUT)/certificate.json --env $(DEMO_ENV) $(DEMO_QUERY) --format text
+	$(BIN)/solverplan simulate $(DEMO_ENV) $(OUT)/plan.json --trials 10000 --seed 1 --sampling endpoints --format text
+	$(BIN)/solverplan render $(DEMO_ENV) --plan $(OUT)/plan.json --trajectories 100 --edge-ids -o $(OUT)/plan.png
+	@echo "demo: wrote $(OUT)/plan.json, $(OUT)/certificate.json (verified) and $(OUT)/plan.png"
 
 test: $(VENV)/.installed
 	$(BIN)/python -m pytest -q

@@ -346,7 +346,7 @@ def render(
         bool, typer.Option("--safe-arcs", help="Draw every safe arc as a ray that lands on its target segment.")
     ] = False,
     trajectories: Annotated[
-        int, typer.Option("--trajectories", min=0, metavar="N", help="Simulate N rollouts of --rule and draw them.")
+        int, typer.Option("--trajectories", min=0, metavar="N", help="Simulate N rollouts of --rule (or of --plan) and draw them.")
     ] = 0,
     rule: Annotated[
         str,
@@ -370,6 +370,11 @@ def render(
         str | None,
         typer.Option("--theta", metavar="THETA", help="The constant heading of --cycle, as in 'solverplan cycle'.", show_default=False),
     ] = None,
+    plan_file: Annotated[
+        Path | None,
+        typer.Option("--plan", metavar="PLAN.json", help="Draw a plan (from 'solverplan plan -o'): its cones per stage, start and goal "
+                     "sets; --trajectories then follow the plan.", show_default=False),
+    ] = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,
@@ -388,6 +393,15 @@ def render(
         if start is not None:
             environment.boundary_set(start)  # a bad start set is reported before drawing
         cycle = initial = title = None
+        plan = None
+        if plan_file is not None:
+            from solverplan.plan import load_plan
+            from solverplan.render import plan_title
+
+            if show_cycle or start is not None:
+                raise InputError("--plan draws a plan and its own trajectories: drop --cycle and --from")
+            plan = load_plan(plan_file)
+            title = plan_title(plan)
         if show_cycle:
             from solverplan.bounce.cycles import limit_cycle
             from solverplan.bounce.rules import Fixed
@@ -412,7 +426,21 @@ def render(
                     draw_safe_arcs(figure.axes[0], graph)
             if show_partition:
                 draw_partition(figure.axes[0], boundary)
-        if trajectories:
+        if plan is not None:
+            from solverplan.bounce.partition import partition as partition_boundary
+            from solverplan.render import draw_plan
+
+            boundary = partition_boundary(environment)
+            plan.check_environment(environment, boundary.n_segments)
+            draw_plan(figure.axes[0], boundary, plan)
+            if trajectories and plan.found and plan.stages:
+                from solverplan.render import draw_trajectories
+                from solverplan.simulate import simulate_plan
+
+                runs = simulate_plan(environment, plan, trials=trajectories, seed=seed, record="all", partition=boundary)
+                logger.info("simulated %s", runs.to_text().strip().replace("\n", "; "))
+                draw_trajectories(figure.axes[0], runs, color="#2b2b2b", linewidth=0.4, alpha=0.3)
+        elif trajectories:
             from solverplan.render import draw_trajectories
             from solverplan.simulate import simulate_rule
 
@@ -490,6 +518,276 @@ def cycle_command(
         emit(result, fmt, out)
 
 
+class PatrolObjective(StrEnum):
+    CONTRACTION = "contraction"
+    TOLERANCE = "tolerance"
+    RATE = "rate"
+
+
+CertificateOpt = Annotated[
+    Path | None,
+    typer.Option("--certificate", metavar="FILE", help="Also write a certificate of the answer (check it with 'solverplan verify').", show_default=False),
+]
+PictureOpt = Annotated[
+    Path | None,
+    typer.Option("--picture", metavar="FIG", help="Also draw the answer to a .png or .svg file.", show_default=False),
+]
+
+
+@app.command(name="patrol")
+def patrol_command(
+    env: EnvArg,
+    visit: Annotated[str, typer.Option("--visit", metavar="e2,e5,e9", help="The edges to visit, in this cyclic order.")],
+    start: Annotated[
+        str | None,
+        typer.Option("--from", metavar="SET", help="Start set: the strategy first brings every point of it into the cycle.", show_default=False),
+    ] = None,
+    tolerance: Annotated[
+        float | None,
+        typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): half the width of every interval (default 0.01; --objective tolerance maximises it).", show_default=False),
+    ] = None,
+    objective: Annotated[
+        PatrolObjective,
+        typer.Option("--objective", help="contraction: least worst-case contraction per pass of the sequence; tolerance: widest "
+                     "intervals that still contract; rate: least contraction per bounce (minimum mean cycle, LP and Karp)."),
+    ] = PatrolObjective.CONTRACTION,
+    max_between: Annotated[
+        int | None,
+        typer.Option("--max-between", min=0, metavar="H", help="Intermediate bounces allowed between consecutive required visits (default: the fewest that work, up to 3).", show_default=False),
+    ] = None,
+    epsilon: Annotated[
+        float | None,
+        typer.Option("--epsilon", metavar="X", help="Also report the cycles needed to shrink the position set below the length X.", show_default=False),
+    ] = None,
+    certificate: CertificateOpt = None,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """A stable patrol cycle visiting edges in order (paper Def. 15), optimal for the objective, from a start set."""
+    from solverplan.plan.patrol import patrol
+
+    with exit_codes(verbose):
+        if picture is not None:
+            from solverplan.render import figure_format
+
+            figure_format(picture)
+        environment = load_environment(env, env_format.value if env_format else None)
+        result = patrol(environment, visit, start=start, objective=objective.value, tolerance=tolerance,
+                        max_between=max_between, epsilon=epsilon)
+        if result.found:
+            _write_extras(result, certificate, picture, "patrol")
+        emit(result, fmt, out)
+
+
+@app.command(name="funnel")
+def funnel_command(
+    env: EnvArg,
+    start: Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4.")],
+    goal: Annotated[str, typer.Option("--to", metavar="SET", help="Goal set: every start must end inside it.")],
+    tolerance: Annotated[
+        float | None,
+        typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): every interval is 2ε wide (default 0.005).", show_default=False),
+    ] = None,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget of the search.")] = 30,
+    certificate: CertificateOpt = None,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """A funnel (paper Fig. 14): track the exact set of possible positions and use contraction to shrink it into the goal."""
+    from solverplan.plan.funnel import funnel
+
+    with exit_codes(verbose):
+        if picture is not None:
+            from solverplan.render import figure_format
+
+            figure_format(picture)
+        environment = load_environment(env, env_format.value if env_format else None)
+        result = funnel(environment, start, goal, tolerance=tolerance, max_bounces=max_bounces)
+        if result.found:
+            _write_extras(result, certificate, picture, "funnel")
+        emit(result, fmt, out)
+
+
+@app.command(name="localize")
+def localize_command(
+    env: EnvArg,
+    epsilon: Annotated[float, typer.Option("--epsilon", metavar="X", help="Length the final position interval must be shorter than.")],
+    start: Annotated[
+        str | None,
+        typer.Option("--from", metavar="SET", help="Start set (default: the whole boundary).", show_default=False),
+    ] = None,
+    tolerance: Annotated[
+        float | None,
+        typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): every interval is 2ε wide (default 0.005).", show_default=False),
+    ] = None,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget of the search.")] = 40,
+    certificate: CertificateOpt = None,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Localisation (paper §8.4): an open-loop strategy after which the possible positions lie in one interval shorter than X."""
+    from solverplan.plan.localize import localize
+
+    with exit_codes(verbose):
+        if picture is not None:
+            from solverplan.render import figure_format
+
+            figure_format(picture)
+        environment = load_environment(env, env_format.value if env_format else None)
+        result = localize(environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces)
+        if result.found:
+            _write_extras(result, certificate, picture, "localize")
+        emit(result, fmt, out)
+
+
+def _write_extras(result: Any, certificate: Path | None, picture: Path | None, kind: str) -> None:
+    """The --certificate and --picture files of a contraction answer (patrol, funnel, localize)."""
+    if certificate is not None:
+        from solverplan.certify.contraction import funnel_certificate, patrol_certificate
+        from solverplan.certify.writer import write_certificate
+
+        cert = patrol_certificate(result) if kind == "patrol" else funnel_certificate(result)
+        try:
+            write_certificate(cert, certificate)
+        except OSError as exc:
+            raise InputError(f"{certificate}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+    if picture is not None:
+        from solverplan.render import render_answer, save_figure
+
+        save_figure(render_answer(result), picture)
+
+
+class PlanObjective(StrEnum):
+    FEWEST = "fewest"
+    TOLERANCE = "tolerance"
+    SUM = "sum"
+    CONSTANT = "constant"
+
+
+class PlanSampling(StrEnum):
+    UNIFORM = "uniform"
+    ENDPOINTS = "endpoints"
+    LO = "lo"
+    HI = "hi"
+    MID = "mid"
+
+
+class TieMode(StrEnum):
+    EXACT = "exact"
+    FLAG = "flag"
+
+
+@app.command(name="plan")
+def plan_command(
+    env: EnvArg,
+    start: Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4 (may span edges and segments: the plan works from every point).")],
+    goal: Annotated[str, typer.Option("--to", metavar="SET", help="Goal set, same syntax.")],
+    objective: Annotated[
+        PlanObjective | None,
+        typer.Option("--objective", help="fewest bounces (default); tolerance: the narrowest interval as wide as possible; sum: "
+                     "the sum of the widths within --max-bounces; constant: one interval at every stage (Algorithm 2).", show_default=False),
+    ] = None,
+    max_bounces: Annotated[
+        int | None, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget (needed by --objective sum).", show_default=False)
+    ] = None,
+    pareto: Annotated[
+        bool, typer.Option("--pareto", help="Answer the Pareto front bounces ↔ tolerance instead of one plan (objective tolerance).")
+    ] = False,
+    method: Annotated[
+        str, typer.Option("--method", metavar="M", help="auto, or: fewest bfs; tolerance label|milp; sum dp|lp; constant label.")
+    ] = "auto",
+    certificate: Annotated[
+        Path | None,
+        typer.Option("--certificate", metavar="FILE", help="Also write the plan's certificate (checked before it is written; "
+                     "verify it with 'solverplan verify'). With --pareto: of the most tolerant plan.", show_default=False),
+    ] = None,
+    heading_margin: Annotated[
+        float, typer.Option("--heading-margin", metavar="D", help="Keep every heading this far (radians) from the walls (0 and π).")
+    ] = 1e-3,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """An optimal plan from one boundary set to another (paper §7–8), or a proof that there is none (exit 0)."""
+    from solverplan.plan import find_plan, pareto_front
+
+    with exit_codes(verbose):
+        environment = load_environment(env, env_format.value if env_format else None)
+        if pareto:
+            if objective not in (None, PlanObjective.TOLERANCE) or method != "auto":
+                raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
+            answer: Any = pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin)
+            best = answer.best()
+            chosen = best.plan if best is not None else None
+        else:
+            answer = chosen = find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
+                                        max_bounces=max_bounces, method=method, heading_margin=heading_margin)
+        if certificate is not None:
+            _write_plan_certificate(environment, chosen, certificate)
+        emit(answer, fmt, out)
+
+
+def _write_plan_certificate(environment: Any, plan: Any, path: Path) -> None:
+    """Check the plan's certificate exactly, then write it (nothing is written for an infeasible answer)."""
+    if plan is None or not plan.found or not plan.stages:
+        why = "the answer is infeasible" if plan is None or not plan.found else "the plan has no stages"
+        sys.stderr.write(f"warning: no certificate written to {path}: {why} (certificates certify plans)\n")
+        return
+    from solverplan.certify.check import check_certificate
+    from solverplan.certify.from_plan import plan_certificate
+    from solverplan.certify.writer import write_certificate
+    from solverplan.errors import SolverFailed
+
+    cert = plan_certificate(environment, plan)
+    report = check_certificate(cert)
+    if not report.valid:
+        raise SolverFailed(f"the plan's certificate does not verify: {report.failures[0]}")
+    try:
+        write_certificate(cert, path)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+    logger.info("wrote certificate %s (verified)", path)
+
+
+@app.command(name="simulate")
+def simulate_command(
+    env: EnvArg,
+    plan_file: Annotated[Path, typer.Argument(metavar="PLAN.json", help="A plan written by 'solverplan plan -o PLAN.json'.", show_default=False)],
+    trials: Annotated[int, typer.Option("--trials", min=1, metavar="N", help="Number of rollouts.")] = 10000,
+    seed: Annotated[int, typer.Option("--seed", min=0, metavar="S", help="Random seed (recorded in the answer).")] = 0,
+    sampling: Annotated[
+        PlanSampling,
+        typer.Option("--sampling", help="How headings are drawn from each interval: uniform, or endpoints (adversarial: an end of the interval)."),
+    ] = PlanSampling.UNIFORM,
+    ties: Annotated[
+        TieMode, typer.Option("--ties", help="exact: re-resolve rays the float caster cannot call; flag: stop and count them.")
+    ] = TieMode.EXACT,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Monte Carlo rollouts of a plan: success rate (goal reached through every stage's segments) and bounce statistics."""
+    from solverplan.plan import load_plan
+    from solverplan.simulate import simulate_plan
+
+    with exit_codes(verbose):
+        environment = load_environment(env, env_format.value if env_format else None)
+        plan = load_plan(plan_file)
+        runs = simulate_plan(environment, plan, trials=trials, seed=seed, sampling=sampling.value, ties=ties.value)
+        emit(runs, fmt, out)
+
+
 @app.command(name="prove")
 def prove_command(
     only: Annotated[
@@ -552,6 +850,230 @@ def verify_command(
         more = len(report.failures) - 1
         suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
         raise _fail(f"certificate invalid: {report.failures[0]}{suffix}", 1)
+
+
+# ---------------------------------------------------------------------- generate (random environments)
+generate_app = typer.Typer(
+    name="generate", cls=_Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
+    help="Random valid environments (seeded): prints the environment file, or writes it with -o (.json, .geojson, .wkt).",
+)
+app.add_typer(generate_app, name="generate")
+
+SeedOpt = Annotated[int, typer.Option("--seed", min=0, metavar="S", help="Random seed: the same seed gives the same environment.")]
+EnvOutOpt = Annotated[
+    Path | None,
+    typer.Option("-o", "--output", help="Write the environment file atomically (format by extension: .json, .geojson, .wkt).", show_default=False),
+]
+
+
+def _emit_generated(make: Any, fmt: OutputFormat, out: Path | None, verbose: int, **params: Any) -> None:
+    from solverplan.studies.generators import GeneratedEnvironment
+
+    with exit_codes(verbose):
+        answer = GeneratedEnvironment(make(**params))
+        if out is not None:
+            answer.save(out)
+            logger.info("wrote %s", out)
+        else:
+            emit(answer, fmt, None)
+
+
+@generate_app.command("star")
+def generate_star(
+    n: Annotated[int, typer.Option("--n", min=3, help="Number of vertices.")] = 20,
+    irregularity: Annotated[float, typer.Option("--irregularity", min=0.0, max=1.0, help="Spread of the angle steps (fraction of 2π/n).")] = 0.3,
+    spikiness: Annotated[float, typer.Option("--spikiness", min=0.0, max=1.0, help="Spread of the radii (fraction of the radius).")] = 0.3,
+    radius: Annotated[float, typer.Option("--radius", help="Mean distance of the vertices from the origin.")] = 1.0,
+    seed: SeedOpt = 0,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: EnvOutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """A random star polygon (the paper's §7.3 family, irregularity scaled)."""
+    from solverplan.studies.generators import star_polygon
+
+    _emit_generated(star_polygon, fmt, out, verbose, n=n, irregularity=irregularity, spikiness=spikiness, radius=radius, seed=seed)
+
+
+@generate_app.command("holes")
+def generate_holes(
+    n: Annotated[int, typer.Option("--n", min=3, help="Vertices of the outer ring.")] = 20,
+    holes: Annotated[int, typer.Option("--holes", min=0, help="Number of holes.")] = 2,
+    hole_vertices: Annotated[int, typer.Option("--hole-vertices", min=3, help="Vertices per hole.")] = 6,
+    hole_kind: Annotated[str, typer.Option("--hole-kind", help="convex or star.")] = "convex",
+    irregularity: Annotated[float, typer.Option("--irregularity", min=0.0, max=1.0)] = 0.2,
+    spikiness: Annotated[float, typer.Option("--spikiness", min=0.0, max=1.0)] = 0.15,
+    seed: SeedOpt = 0,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: EnvOutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """A random star polygon with small holes strictly inside."""
+    from solverplan.studies.generators import star_polygon_with_holes
+
+    _emit_generated(star_polygon_with_holes, fmt, out, verbose, n=n, n_holes=holes, hole_vertices=hole_vertices,
+                    hole_kind=hole_kind, irregularity=irregularity, spikiness=spikiness, seed=seed)
+
+
+@generate_app.command("rooms")
+def generate_rooms(
+    rooms: Annotated[int, typer.Option("--rooms", min=1, help="Number of rooms.")] = 5,
+    loops: Annotated[int, typer.Option("--loops", min=0, help="Extra corridors closing loops (one hole each).")] = 0,
+    room_size: Annotated[float, typer.Option("--room-size", help="Room diameter.")] = 4.0,
+    spacing: Annotated[float, typer.Option("--spacing", help="Distance between neighbouring rooms (>= 1.6 room size).")] = 10.0,
+    corridor_width: Annotated[float, typer.Option("--corridor-width", help="Corridor width (< room size / 3).")] = 1.0,
+    seed: SeedOpt = 0,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: EnvOutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Convex rooms on a jittered grid joined by straight corridors (an office-like environment)."""
+    from solverplan.studies.generators import rooms_and_corridors
+
+    _emit_generated(rooms_and_corridors, fmt, out, verbose, n_rooms=rooms, loops=loops, room_size=room_size,
+                    spacing=spacing, corridor_width=corridor_width, seed=seed)
+
+
+@generate_app.command("rectilinear")
+def generate_rectilinear(
+    rooms: Annotated[int, typer.Option("--rooms", min=1, help="Number of rooms.")] = 4,
+    width: Annotated[int | None, typer.Option("--width", min=1, help="Building width (default grows with the rooms).", show_default=False)] = None,
+    height: Annotated[int | None, typer.Option("--height", min=1, help="Building height.", show_default=False)] = None,
+    wall: Annotated[int, typer.Option("--wall", min=1, help="Wall thickness.")] = 1,
+    door: Annotated[int, typer.Option("--door", min=1, help="Door width.")] = 2,
+    min_room: Annotated[int, typer.Option("--min-room", min=1, help="Smallest room width (>= door + 2).")] = 4,
+    pillars: Annotated[int, typer.Option("--pillars", min=0, help="Square pillars (holes), one per room at most.")] = 0,
+    seed: SeedOpt = 0,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: EnvOutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """A rectangular building split into rooms by walls with doors (integer coordinates)."""
+    from solverplan.studies.generators import rectilinear_floor_plan
+
+    _emit_generated(rectilinear_floor_plan, fmt, out, verbose, n_rooms=rooms, width=width, height=height, wall=wall,
+                    door=door, min_room=min_room, pillars=pillars, seed=seed)
+
+
+# ---------------------------------------------------------------------- study (batch experiments)
+study_app = typer.Typer(
+    name="study", cls=_Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
+    help="Batch studies over random environments (paper §7.3-7.4, §8.2): tables (CSV, JSON) and heatmaps; resumable.",
+)
+app.add_typer(study_app, name="study")
+
+
+class GeneratorName(StrEnum):
+    STAR = "star"
+    HOLES = "holes"
+    ROOMS = "rooms"
+    RECTILINEAR = "rectilinear"
+
+
+GeneratorOpt = Annotated[GeneratorName, typer.Option("--generator", help="The random environments.")]
+GridOpt = Annotated[
+    list[str] | None,
+    typer.Option("--grid", metavar="NAME=VALUES", show_default=False,
+                 help="A generator parameter: one value (20), a list (0.1,0.3) or START:STOP:COUNT (0.1:0.4:5); repeatable. "
+                      "Default for star: the paper's n=20, irregularity=0.1:0.4:5, spikiness=0.1:0.5:5."),
+]
+PerCellOpt = Annotated[int, typer.Option("--per-cell", min=1, metavar="N", help="Environments per grid cell.")]
+StudySeedOpt = Annotated[int, typer.Option("--seed", min=0, metavar="S", help="Base seed (each row's seed derives from it).")]
+OutDirOpt = Annotated[
+    Path | None,
+    typer.Option("--out-dir", metavar="DIR", show_default=False,
+                 help="Folder of NAME.jsonl (rows, written as they finish), NAME.csv, NAME.json, NAME.png (default ./NAME-study)."),
+]
+WorkersOpt = Annotated[
+    int | None, typer.Option("--workers", min=1, metavar="N", show_default=False, help="Local worker processes (default: the CPU count).")
+]
+SchedulerOpt = Annotated[
+    str | None, typer.Option("--scheduler", metavar="ADDRESS", show_default=False, help="Run on this Dask scheduler (tcp://host:8786).")
+]
+FreshOpt = Annotated[bool, typer.Option("--fresh", help="Start over instead of resuming the rows already in --out-dir.")]
+QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar (there is none when stderr is not a terminal).")]
+FigureOpt = Annotated[bool, typer.Option("--figure/--no-figure", help="Draw the heatmaps to DIR/NAME.png.")]
+
+
+@contextlib.contextmanager
+def _progress_bar(description: str, quiet: bool) -> Iterator[Any]:
+    """A rich progress bar on stderr (never stdout), or None when quiet or stderr is not a terminal."""
+    if quiet or not sys.stderr.isatty():
+        yield None
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=Console(stderr=True)) as bar:
+        task = bar.add_task(description, total=None)
+        yield lambda done, total: bar.update(task, completed=done, total=total)
+
+
+def _study(name: str, generator: GeneratorName, grid: list[str] | None, per_cell: int, seed: int, out_dir: Path | None,
+           workers: int | None, scheduler: str | None, fresh: bool, quiet: bool, figure: bool, fmt: OutputFormat,
+           out: Path | None, verbose: int, **options: Any) -> None:
+    from solverplan.studies import StudyInterrupted, build_study, run_study
+    from solverplan.studies.execute import output_paths
+
+    with exit_codes(verbose):
+        study = build_study(name, generator=generator.value, grid=grid or (), per_cell=per_cell, seed=seed, **options)
+        folder = out_dir if out_dir is not None else Path(f"{study.name}-study")
+        try:
+            with _progress_bar(f"study {study.name}", quiet) as progress:
+                result = run_study(study, folder, workers=workers, scheduler=scheduler, resume=not fresh, progress=progress)
+        except StudyInterrupted as exc:
+            raise _fail(str(exc), 130) from None
+        if figure:
+            from solverplan.render import render_heatmaps, save_figure
+
+            path = output_paths(study, folder)["figure"]
+            save_figure(render_heatmaps(result.table.heatmaps(), title=result.figure_title(),
+                                        columns=result.table.panel_columns()), path)
+            result = result.with_file("figure", path)
+        emit(result, fmt, out)
+
+
+@study_app.command("reachability")
+def study_reachability(
+    generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
+    out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
+    quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Share of the boundary no safe action reaches (safe-BVG nodes without incoming arcs; paper Fig. 15)."""
+    _study("reachability", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose)
+
+
+@study_app.command("connectivity")
+def study_connectivity(
+    generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
+    out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
+    quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Strongly and weakly connected components of the safe BVG (paper Fig. 16)."""
+    _study("connectivity", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose)
+
+
+@study_app.command("rules")
+def study_rules(
+    rules: Annotated[
+        str, typer.Option("--rules", metavar="F1,F2,...", help="Rule families: any, fixed, monotone, relative, specular, or one rule "
+                          "such as fixed:pi/4.")
+    ] = "any,fixed,monotone,relative,specular",
+    family_size: Annotated[int, typer.Option("--family-size", min=1, metavar="M", help="Parameters per family: θ = kπ/(M+1).")] = 5,
+    trials: Annotated[int, typer.Option("--trials", min=1, metavar="K", help="Simulated robots per environment and family.")] = 200,
+    bounces: Annotated[int, typer.Option("--bounces", min=2, metavar="B", help="Bounces per simulated robot.")] = 50,
+    generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
+    out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
+    quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Compare bounce-rule families by the reachability of the systems they induce (paper §8.2; see rule_systems)."""
+    families = [f for f in (part.strip() for part in rules.split(",")) if f]
+    _study("rules", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose,
+           families=families, family_size=family_size, trials=trials, bounces=bounces)
 
 
 def main() -> None:

@@ -45,6 +45,7 @@ from solverplan.errors import InputError
 if TYPE_CHECKING:  # pragma: no cover
     from solverplan.bounce.bvg import SafeBVG
     from solverplan.bounce.cycles import LimitCycle
+    from solverplan.plan.result import Plan
     from solverplan.simulate import Rollouts
 
 __all__ = [
@@ -62,11 +63,18 @@ __all__ = [
     "draw_safe_arcs",
     "draw_trajectories",
     "draw_cycle",
+    "draw_plan",
+    "plan_title",
+    "draw_patrol",
+    "draw_position_sets",
+    "render_answer",
     "render_environment",
     "figure_format",
     "figure_bytes",
     "save_figure",
     "SavedFigure",
+    "draw_heatmap",
+    "render_heatmaps",
 ]
 
 FigureFormat = Literal["png", "svg"]
@@ -765,6 +773,128 @@ def draw_cycle(
     return artists
 
 
+PLAN_STAGE_COLORS = ("#1b9e77", "#d95f02", "#7570b3", "#1f78b4", "#66a61e", "#e6ab02", "#a6761d", "#17becf")
+PLAN_START_COLOR = "#1b7837"  # the start set: green, like the trajectories' start dots
+PLAN_GOAL_COLOR = "#c51b7d"  # the goal set: magenta, distinct from every stage colour
+
+
+def _plan_cone(p: Partition, source: int, target: int, lo: float, hi: float) -> np.ndarray | None:
+    """The region swept by one move (floats): the hull of the source segment and its four corner landings."""
+    a, b = np.asarray(p.seg_start[source]), np.asarray(p.seg_end[source])
+    c, d = np.asarray(p.seg_start[target]), np.asarray(p.seg_end[target])
+    e = (b - a) / float(np.hypot(*(b - a)))
+    f = d - c
+    hits = []
+    for theta in (lo, hi):
+        u = np.array([np.cos(theta) * e[0] - np.sin(theta) * e[1], np.sin(theta) * e[0] + np.cos(theta) * e[1]])
+        den = u[0] * f[1] - u[1] * f[0]
+        if abs(den) < 1e-15:
+            return None
+        for x in (a, b):
+            s = ((c[0] - x[0]) * f[1] - (c[1] - x[1]) * f[0]) / den
+            hits.append(x + max(s, 0.0) * u)
+    pts = np.array([a, b, *hits])
+    centre = pts.mean(axis=0)
+    order = np.argsort(np.arctan2(pts[:, 1] - centre[1], pts[:, 0] - centre[0]))
+    return pts[order]
+
+
+def _boundary_set_lines(env: Environment, spec: str) -> np.ndarray:
+    pieces = env.boundary_set(spec).pieces
+    a = env.points_at(np.array([q.edge for q in pieces]), np.array([float(q.t0) for q in pieces]))
+    b = env.points_at(np.array([q.edge for q in pieces]), np.array([float(q.t1) for q in pieces]))
+    return np.stack([a, b], axis=1)
+
+
+def draw_plan(
+    ax: Axes,
+    partition: Partition,
+    plan: Plan,
+    *,
+    colors: tuple[str, ...] = PLAN_STAGE_COLORS,
+    alpha: float = 0.3,
+    legend: bool = True,
+) -> list:
+    """Draw a plan (:class:`~solverplan.plan.Plan`) as the paper's Figs. 12–13: for every stage and every
+    possible source segment, the **cone** the robot may sweep — the region between the source segment
+    and the four landing points of its corner rays at the two ends of the stage's interval — filled in
+    the stage's colour; the segments a stage lands on drawn bold in that colour and numbered with the
+    stage; the start set (green) and the goal set (magenta) drawn along the walls; and a legend with each
+    stage's interval and width. Draw after :func:`draw_free_space`; draw trajectories on top
+    (:func:`draw_trajectories` with rollouts of :func:`solverplan.simulate.simulate_plan`).
+
+    Returns the artists: the cones (gid ``plan-cone-<stage>-<source>``, filled, under the trajectories, and
+    ``plan-cone-outline-<stage>-<source>``, their outlines above them), the landing segments
+    (``plan-targets-<stage>``), their stage numbers (``plan-stage-label-<stage>``), the start and goal
+    sets (``plan-start``, ``plan-goal``) and the legend (``plan-legend``).
+    """
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Polygon
+
+    env = partition.env
+    artists: list = []
+    handles = []
+    normals = _left_normals(env)
+    for k, stage in enumerate(plan.stages):
+        colour = colors[k % len(colors)]
+        lo, hi = stage.interval.lo, stage.interval.hi
+        for i, j in stage.moves:
+            cone = _plan_cone(partition, i, j, lo, hi)
+            if cone is None:
+                continue
+            patch = Polygon(cone, closed=True, facecolor=colour, edgecolor="none", alpha=alpha, zorder=1.3,
+                            gid=f"plan-cone-{k}-{i}")
+            outline = Polygon(cone, closed=True, fill=False, edgecolor=colour, alpha=0.9, linewidth=0.9, zorder=1.7,
+                              gid=f"plan-cone-outline-{k}-{i}")
+            ax.add_patch(patch)
+            ax.add_patch(outline)
+            artists.extend([patch, outline])
+        segs = np.stack([partition.seg_start[list(stage.to_segments)], partition.seg_end[list(stage.to_segments)]], axis=1)
+        lines = LineCollection(segs, colors=colour, linewidths=4.0, capstyle="butt", zorder=3.2, gid=f"plan-targets-{k}")
+        ax.add_collection(lines)
+        artists.append(lines)
+        for s in stage.to_segments[:1]:
+            mid = 0.5 * (np.asarray(partition.seg_start[s]) + np.asarray(partition.seg_end[s]))
+            normal = normals[int(partition.seg_edge[s])]
+            label = ax.annotate(
+                str(k + 1), xy=(float(mid[0]), float(mid[1])), xytext=(float(-normal[0] * 9), float(-normal[1] * 9)),
+                textcoords="offset points", ha="center", va="center", fontsize=8, fontweight="bold", color="white",
+                bbox=dict(boxstyle="circle,pad=0.18", facecolor=colour, edgecolor="none"), zorder=6.8,
+                annotation_clip=False,
+            )
+            label.set_gid(f"plan-stage-label-{k}")
+            artists.append(label)
+        handles.append(Line2D([], [], color=colour, linewidth=6, alpha=0.6,
+                              label=f"{k + 1}: [{lo:.4f}, {hi:.4f}]  width {hi - lo:.4f}"))
+    for spec, colour, gid, name in ((plan.start, PLAN_START_COLOR, "plan-start", "start"),
+                                   (plan.goal, PLAN_GOAL_COLOR, "plan-goal", "goal")):
+        if not spec:
+            continue
+        lines = LineCollection(_boundary_set_lines(env, spec), colors=colour, linewidths=7.0, alpha=0.55,
+                               capstyle="butt", zorder=2.9, gid=gid)
+        ax.add_collection(lines)
+        artists.append(lines)
+        handles.append(Line2D([], [], color=colour, linewidth=6, alpha=0.55, label=f"{name} {spec}"))
+    if legend and handles:
+        box = ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7.5, frameon=False,
+                        title="stage: heading interval (rad)", title_fontsize=8, handlelength=1.6, borderaxespad=0.0)
+        box.set_gid("plan-legend")
+        box._legend_box.align = "left"
+        artists.append(box)
+    return artists
+
+
+def plan_title(plan: Plan) -> str:
+    """A one-line description of a plan for a figure title."""
+    env = plan.environment.get("name", "") if plan.environment else ""
+    head = f"{env}: " if env else ""
+    if not plan.found:
+        return f"{head}{plan.objective} plan from {plan.start} to {plan.goal}: infeasible"
+    tol = plan.tolerance or 0.0
+    return (f"{head}{plan.objective} plan {plan.start} → {plan.goal}: {plan.bounces} bounce"
+            f"{'s' if plan.bounces != 1 else ''}, tolerance ±{tol:.4f} rad (±{np.degrees(tol):.2f}°)")
+
+
 def render_environment(
     env: Environment,
     *,
@@ -879,3 +1009,236 @@ def save_figure(fig: Figure, path: str | os.PathLike[str]) -> SavedFigure:
         raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
     return SavedFigure(Path(path), fmt, len(data))
 
+
+# ---------------------------------------------------------------------- study heatmaps
+HEATMAP_CMAP = "viridis"
+
+
+def draw_heatmap(
+    ax: Axes,
+    heatmap,
+    *,
+    cmap: str = HEATMAP_CMAP,
+    vmin: float | None = None,
+    vmax: float | None = None,
+    annotate: bool = True,
+):
+    """Draw one study heatmap (paper Figs. 15–16): a cell per (x, y) coloured by its mean, annotated.
+
+    ``heatmap`` is a :class:`solverplan.studies.study.Heatmap` (any object with ``title``, ``x_name``,
+    ``x_values``, ``y_name``, ``y_values``, ``mean`` (rows = y, columns = x, NaN = no rows) and
+    ``count``). y grows upwards. Returns the :class:`~matplotlib.image.AxesImage` (gid ``heatmap``).
+    """
+    mean = np.asarray(heatmap.mean, dtype=float)
+    finite = mean[np.isfinite(mean)]
+    lo = vmin if vmin is not None else (float(finite.min()) if finite.size else 0.0)
+    hi = vmax if vmax is not None else (float(finite.max()) if finite.size else 1.0)
+    if hi <= lo:
+        hi = lo + (abs(lo) * 0.01 or 1.0)
+    image = ax.imshow(mean, origin="lower", cmap=cmap, vmin=lo, vmax=hi, aspect="auto", interpolation="nearest")
+    image.set_gid("heatmap")
+    ax.set_xticks(range(len(heatmap.x_values)), [f"{v:g}" if isinstance(v, float) else str(v) for v in heatmap.x_values])
+    ax.set_yticks(range(len(heatmap.y_values)), [f"{v:g}" if isinstance(v, float) else str(v) for v in heatmap.y_values])
+    ax.set_xlabel(heatmap.x_name, fontsize=9)
+    ax.set_ylabel(heatmap.y_name, fontsize=9)
+    ax.tick_params(labelsize=8)
+    ax.set_title(heatmap.title, fontsize=10)
+    if annotate:
+        from matplotlib import colormaps
+
+        colours = colormaps[cmap]
+        size = 8 if mean.size <= 36 else 6
+        for i in range(mean.shape[0]):
+            for j in range(mean.shape[1]):
+                value = mean[i, j]
+                if not np.isfinite(value):
+                    continue
+                level = (value - lo) / (hi - lo)
+                r, g, b, _ = colours(float(np.clip(level, 0, 1)))
+                ink = "white" if 0.299 * r + 0.587 * g + 0.114 * b < 0.5 else "black"
+                text = f"{value:.3g}" if abs(value) >= 0.01 or value == 0 else f"{value:.1e}"
+                ax.text(j, i, text, ha="center", va="center", fontsize=size, color=ink, gid=f"heatmap-value-{i}-{j}")
+    return image
+
+
+def render_heatmaps(heatmaps, *, title: str | None = None, columns: int | None = None, cmap: str = HEATMAP_CMAP) -> Figure:
+    """A figure of study heatmaps in a grid (``columns`` per row; default: all in one row up to 5).
+
+    Panels showing the same ``value`` share one colour scale (so families or options compare
+    directly); each scale has a colour bar beside the last panel using it.
+    """
+    panels = list(heatmaps)
+    if not panels:
+        raise InputError("no heatmap to draw")
+    ncols = columns or min(len(panels), 5)
+    nrows = -(-len(panels) // ncols)
+    fig = Figure(figsize=(3.9 * ncols + 0.6, 3.4 * nrows + (0.5 if title else 0.1)))
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(nrows, ncols, squeeze=False)
+    scales: dict[str, tuple[float, float]] = {}
+    for h in panels:
+        finite = np.asarray(h.mean, dtype=float)[np.isfinite(h.mean)]
+        if finite.size:
+            lo, hi = scales.get(h.value, (float("inf"), float("-inf")))
+            scales[h.value] = (min(lo, float(finite.min())), max(hi, float(finite.max())))
+    last = {h.value: k for k, h in enumerate(panels)}
+    for k, h in enumerate(panels):
+        ax = axes[k // ncols][k % ncols]
+        lo, hi = scales.get(h.value, (0.0, 1.0))
+        image = draw_heatmap(ax, h, cmap=cmap, vmin=lo, vmax=hi)
+        if last[h.value] == k:
+            fig.colorbar(image, ax=ax, fraction=0.046, pad=0.03).ax.tick_params(labelsize=7)
+    for k in range(len(panels), nrows * ncols):
+        axes[k // ncols][k % ncols].set_visible(False)
+    if title:
+        fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    return fig  # type: ignore[return-value]
+
+
+# ---------------------------------------------------------------------- contraction answers (issue 6)
+PATROL_EDGE_COLOR = "#7b3294"  # the edges a patrol must visit
+CONE_COLOR = "#2c7fb8"  # the heading interval of a stage, as a fan of rays
+FUNNEL_START_COLOR = "#1b7837"
+FUNNEL_GOAL_COLOR = "#b2182b"
+
+
+def _piece_xy(env: Environment, edge: int, t0: float, t1: float) -> np.ndarray:
+    return env.points_at(np.array([edge, edge]), np.array([float(t0), float(t1)]))
+
+
+def draw_patrol(ax: Axes, patrol, *, linewidth: float = 2.2) -> list:
+    """Draw a patrol (:class:`~solverplan.plan.patrol.Patrol`): the required edges (thick, purple), each cycle
+    stage's heading interval as a shaded fan of rays from its nominal contact point, and the nominal limit
+    cycle (bold, contact points as yellow circles). Returns the artists (gids ``patrol-edges``,
+    ``patrol-cone-k``, ``patrol-cycle``, ``patrol-points``)."""
+    from matplotlib.patches import Polygon
+
+    from solverplan.geometry.raycast import cast_from_boundary
+
+    env = patrol.env
+    artists: list = []
+    segs = [env.points_at(np.array([e, e]), np.array([0.0, 1.0])) for e in dict.fromkeys(patrol.visit)]
+    if segs:
+        lines = LineCollection(segs, colors=PATROL_EDGE_COLOR, linewidths=5.0, alpha=0.55, zorder=3.5,
+                               gid="patrol-edges", capstyle="butt")
+        ax.add_collection(lines)
+        artists.append(lines)
+    if not patrol.points:
+        return artists
+    for k, (st, p) in enumerate(zip(patrol.cycle, patrol.points)):
+        hits = cast_from_boundary(env, np.array([st.from_edge] * 2), np.array([float(p.t)] * 2),
+                                  np.array([st.interval.lo, st.interval.hi]))
+        origin = [float(p.point[0]), float(p.point[1])]
+        fan = Polygon([origin, [hits.x[0], hits.y[0]], [hits.x[1], hits.y[1]]], closed=True, facecolor=CONE_COLOR,
+                      edgecolor=CONE_COLOR, alpha=0.18, linewidth=0.6, zorder=4, gid=f"patrol-cone-{k}")
+        ax.add_patch(fan)
+        artists.append(fan)
+    pts = np.array([[float(p.point[0]), float(p.point[1])] for p in patrol.points])
+    closed = np.vstack([pts, pts[:1]])
+    (line,) = ax.plot(closed[:, 0], closed[:, 1], color=CYCLE_COLOR if patrol.found else "#6b6b6b", linewidth=linewidth,
+                      zorder=6, gid="patrol-cycle")
+    artists.append(line)
+    artists.append(ax.scatter(pts[:, 0], pts[:, 1], s=60, c=CYCLE_POINT_COLOR, edgecolors=CYCLE_COLOR, linewidths=1.2,
+                              zorder=6.5, gid="patrol-points"))
+    return artists
+
+
+def draw_position_sets(ax: Axes, answer, *, cmap: str = "viridis") -> list:
+    """Draw a funnel or localisation strategy: the start set (green), the goal (red), and for every stage the
+    region its rays sweep (the hull of the source pieces and their corner hits, shaded) and the exact set of
+    positions after it (thick, coloured from the first stage to the last) — the shrinking position sets.
+    Returns the artists (gids ``funnel-start``, ``funnel-goal``, ``funnel-swept-k``, ``funnel-positions-k``)."""
+    from matplotlib import colormaps
+    from matplotlib.patches import Polygon
+
+    env = answer.env
+    artists: list = []
+    colours = colormaps[cmap]
+    n = max(len(answer.stages), 1)
+
+    def pieces(items, colour, width, gid, z):
+        segs = [_piece_xy(env, p.edge, p.t0, p.t1) for p in items]
+        if not segs:
+            return
+        lc = LineCollection(segs, colors=colour, linewidths=width, zorder=z, gid=gid, capstyle="round")
+        ax.add_collection(lc)
+        artists.append(lc)
+
+    pieces(answer.start.pieces, FUNNEL_START_COLOR, 6.0, "funnel-start", 3.6)
+    if answer.goal is not None:
+        pieces(answer.goal.pieces, FUNNEL_GOAL_COLOR, 6.0, "funnel-goal", 3.6)
+    for k, st in enumerate(answer.stages):
+        colour = colours(0.1 + 0.8 * k / max(n - 1, 1))
+        for src, (d_lo, d_hi) in zip(st.sources, st.cones):
+            a = _piece_xy(env, src.edge, src.t0, src.t1)
+            corner = []
+            for origin in a:
+                for d in (d_lo, d_hi):
+                    corner.append(_ray_to_boundary(env, origin, np.array([float(d[0]), float(d[1])])))
+            hull = _hull(np.vstack([a, np.array(corner)]))
+            patch = Polygon(hull, closed=True, facecolor=colour, edgecolor=colour, alpha=0.3, linewidth=0.8, zorder=4,
+                            gid=f"funnel-swept-{k}")
+            ax.add_patch(patch)
+            artists.append(patch)
+        pieces(st.positions, colour, 4.5, f"funnel-positions-{k}", 5.5)
+        p = st.positions[0]
+        x, y = _piece_xy(env, p.edge, p.t0, p.t1).mean(axis=0)
+        label = ax.annotate(str(k + 1), (x, y), xytext=(6, 6), textcoords="offset points", fontsize=8, color="black",
+                            zorder=7, gid=f"funnel-label-{k}",
+                            bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": colour, "alpha": 0.85})
+        artists.append(label)
+    return artists
+
+
+def _ray_to_boundary(env: Environment, origin: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """The first boundary point along origin + s d, s > 0 (floats; for drawing only)."""
+    a, b = env.edge_start, env.edge_end
+    e = b - a
+    den = d[0] * e[:, 1] - d[1] * e[:, 0]
+    rel = a - origin
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = (rel[:, 0] * e[:, 1] - rel[:, 1] * e[:, 0]) / den
+        u = (rel[:, 0] * d[1] - rel[:, 1] * d[0]) / den
+    scale = float(np.hypot(*d))
+    ok = np.isfinite(s) & (s * scale > 1e-9 * (1 + np.abs(origin).max())) & (u >= -1e-12) & (u <= 1 + 1e-12)
+    if not ok.any():
+        return origin
+    return origin + s[ok].min() * d
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    pts = sorted(set(map(tuple, np.round(points, 12).tolist())))
+    if len(pts) < 3:
+        return np.array(pts)
+
+    def chain(seq):
+        out: list = []
+        for p in seq:
+            while len(out) >= 2 and (out[-1][0] - out[-2][0]) * (p[1] - out[-2][1]) - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0]) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = chain(pts), chain(pts[::-1])
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def render_answer(answer, *, edge_ids: bool = True) -> Figure:
+    """A picture of a patrol, funnel or localisation answer over its environment, with a two-line title."""
+    env = answer.env
+    name = env.name or "environment"
+    if hasattr(answer, "cycle"):
+        seq = "→".join(f"e{e}" for e in answer.visit)
+        sub = (f"worst-case contraction {answer.contraction:.3g} per cycle, {answer.rate:.3g} per bounce"
+               if answer.found else answer.status)
+        fig = render_environment(env, edge_ids=edge_ids, title=f"{name}: patrol {seq} ({answer.objective})\n{sub}")
+        draw_patrol(fig.axes[0], answer)
+        return fig
+    widths = answer.widths
+    sub = (f"{len(answer.stages)} bounces; position set {widths[0]:.3g} → {widths[-1]:.3g} long" if answer.stages
+           else answer.status)
+    target = f"< {answer.epsilon:g}" if answer.kind == "localize" else str(answer.goal)
+    fig = render_environment(env, edge_ids=edge_ids, title=f"{name}: {answer.kind} {answer.start} → {target}\n{sub}")
+    draw_position_sets(fig.axes[0], answer)
+    return fig

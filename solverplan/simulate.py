@@ -65,6 +65,8 @@ __all__ = [
     "sample_boundary",
     "in_boundary_set",
     "Starts",
+    "plan_policy",
+    "simulate_plan",
 ]
 
 
@@ -688,3 +690,67 @@ def simulate_rule(
     """
     policy = RulePolicy(rule, initial=initial, sampling=sampling, initial_sampling=initial_sampling)
     return simulate_policy(env, policy, starts, bounces=bounces, trials=trials, seed=seed, ties=ties, record=record)
+
+
+# ---------------------------------------------------------------------- plans (issue 5)
+def plan_policy(env: Environment, plan: Any, *, sampling: Sampling = "uniform", partition: Any = None) -> tuple[StagePolicy, BoundarySet]:
+    """The :class:`StagePolicy` that executes a :class:`~solverplan.plan.Plan`, and its start set.
+
+    Stage k's interval is executed at the k-th contact; landing outside stage k's ``to_segments`` fails
+    the rollout; after the last stage the robot must be in the plan's goal set (its ``goal`` boundary
+    set; the last stage's segments if the plan does not name it). Starts are the plan's ``start`` set
+    (the first stage's segments if it does not name it). The plan must have been made in ``env``
+    (same exact rings; its segment ids refer to ``env``'s partition P′).
+
+    Raises :class:`InputError` for an infeasible plan, a plan without stages, or a plan made in
+    another environment.
+    """
+    from solverplan.bounce.partition import partition as make_partition
+    from solverplan.plan.result import Plan
+
+    if not isinstance(plan, Plan):
+        raise InputError(f"expected a Plan, got {type(plan).__name__}")
+    if not plan.found:
+        raise InputError(f"the plan is infeasible ({plan.reason}): there is nothing to execute")
+    if not plan.stages:
+        raise InputError("the plan has no stages (its start set lies in its goal set): there is nothing to execute")
+    part = partition if partition is not None else make_partition(env)
+    plan.check_environment(env, part.n_segments)
+
+    def pieces(segments) -> BoundarySet:
+        return BoundarySet(tuple(BoundaryPiece(part.segments[s].edge, part.segments[s].t0, part.segments[s].t1)
+                                 for s in sorted(segments)))
+
+    targets = tuple(tuple(part.segments[s] for s in stage.to_segments) for stage in plan.stages)
+    goal = env.boundary_set(plan.goal) if plan.goal else pieces(plan.stages[-1].to_segments)
+    start = env.boundary_set(plan.start) if plan.start else pieces(plan.stages[0].from_segments)
+    policy = StagePolicy(plan.intervals, targets=targets, goal=goal, sampling=sampling)
+    return policy, start
+
+
+def simulate_plan(
+    env: Environment,
+    plan: Any,
+    *,
+    trials: int,
+    seed: int | np.random.Generator | None = None,
+    sampling: Sampling = "uniform",
+    ties: Literal["flag", "exact"] = "exact",
+    record: Literal["all", "ends"] = "ends",
+    partition: Any = None,
+) -> Rollouts:
+    """Monte Carlo rollouts of a plan (:func:`plan_policy`): starts uniform by arc length in the start set,
+    headings drawn from each stage's interval by ``sampling`` (``uniform``, or ``endpoints``: each
+    heading at an end of its interval, the adversarial choice). A rollout succeeds (outcome ``goal``)
+    when every stage lands on its segments and the last one in the goal set. ``ties="exact"`` (default)
+    re-resolves the rays the float caster cannot call, so only exact vertex hits are flagged.
+
+    >>> from solverplan.environment import Environment
+    >>> from solverplan.plan import find_plan
+    >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])
+    >>> runs = simulate_plan(square, find_plan(square, "e0", "e2"), trials=1000, seed=3, sampling="endpoints")
+    >>> runs.success_rate, runs.outcome_counts()["goal"]
+    (1.0, 1000)
+    """
+    policy, start = plan_policy(env, plan, sampling=sampling, partition=partition)
+    return simulate_policy(env, policy, start, bounces=len(plan.stages), trials=trials, seed=seed, ties=ties, record=record)

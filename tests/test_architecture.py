@@ -28,7 +28,7 @@ LAYERS = {
     "reflection": 4,
     "plan": 5,
     "simulate": 6,
-    "studies": 6,
+    "studies": 7,  # studies run simulations (simulate, 6) and feed render (7, via plain arrays)
     "certify": 6,
     "describe": 7,
     "render": 7,

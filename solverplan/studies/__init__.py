@@ -1,11 +1,60 @@
-"""Studies: random environments, reachability/connectivity sweeps, batch execution.
+"""Studies: random environments, reachability/connectivity sweeps, batch execution (seed 000 §7.3–7.4, §8.1–8.2).
 
-The generators (:mod:`solverplan.studies.generators`) always return valid, exact environments:
-random star polygons (the paper's §7.3 family, with the irregularity scaled properly), star
-polygons with holes for ray-casting tests and benchmarks, and the paper's worst case for
-Algorithm 1 (§4.0.1).
+- :mod:`~solverplan.studies.generators` — seeded generators that always return valid, exact
+  environments: random star polygons (the paper's §7.3 family, irregularity scaled properly), star
+  polygons with holes, rooms joined by corridors, rectilinear floor plans, the paper's worst case for
+  Algorithm 1 (§4.0.1).
+- :mod:`~solverplan.studies.study` — a :class:`Study` is a grid of generator parameters × N seeds per
+  cell; one tidy row per environment, with the seed that regenerates it; tables and heatmap data.
+- :mod:`~solverplan.studies.metrics` — the :class:`Metric` interface and the paper's metrics on the
+  safe BVG (Fig. 15 reachability, Fig. 16 connectivity); :mod:`~solverplan.studies.rule_systems` —
+  §8.2's comparison of bounce-rule families.
+- :mod:`~solverplan.studies.execute` — :func:`run_study`: in process, on a local process pool or on a
+  Dask cluster, written row by row so an interrupted study resumes (:mod:`~solverplan.studies.store`).
+- :mod:`~solverplan.studies.catalog` — the named studies of ``solverplan study``.
+
+Programs that run a study on a process pool must guard their entry point
+(``if __name__ == "__main__":``): the workers start with the ``forkserver`` method.
 """
 
-from solverplan.studies.generators import star_polygon, star_polygon_with_holes, worst_case_polygon
+from solverplan.studies.catalog import DEFAULT_GRIDS, STUDIES, build_study
+from solverplan.studies.execute import StudyInterrupted, StudyResult, run_study
+from solverplan.studies.generators import (
+    GENERATORS,
+    generate,
+    rectilinear_floor_plan,
+    rooms_and_corridors,
+    star_polygon,
+    star_polygon_with_holes,
+    worst_case_polygon,
+)
+from solverplan.studies.metrics import Connectivity, Metric, Reachability
+from solverplan.studies.rule_systems import RuleReachability
+from solverplan.studies.study import Heatmap, Study, StudyTable, parse_grid, parse_values, row_seed, run_task
 
-__all__ = ["star_polygon", "star_polygon_with_holes", "worst_case_polygon"]
+__all__ = [
+    "star_polygon",
+    "star_polygon_with_holes",
+    "rooms_and_corridors",
+    "rectilinear_floor_plan",
+    "worst_case_polygon",
+    "GENERATORS",
+    "generate",
+    "Study",
+    "StudyTable",
+    "Heatmap",
+    "parse_grid",
+    "parse_values",
+    "row_seed",
+    "run_task",
+    "Metric",
+    "Reachability",
+    "Connectivity",
+    "RuleReachability",
+    "run_study",
+    "StudyResult",
+    "StudyInterrupted",
+    "build_study",
+    "STUDIES",
+    "DEFAULT_GRIDS",
+]

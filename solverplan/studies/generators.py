@@ -19,16 +19,27 @@ parameters and the seed.
 from __future__ import annotations
 
 import math
+import os
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Literal
 
 import numpy as np
 
-from solverplan.environment import Environment
+from solverplan.environment import Environment, format_environment, save_environment
 from solverplan.errors import InputError, InvalidEnvironment
 from solverplan.exact import ExactPoint, orient
 
-__all__ = ["star_polygon", "star_polygon_with_holes", "worst_case_polygon"]
+__all__ = [
+    "star_polygon",
+    "star_polygon_with_holes",
+    "rooms_and_corridors",
+    "rectilinear_floor_plan",
+    "worst_case_polygon",
+    "GENERATORS",
+    "generate",
+    "GeneratedEnvironment",
+]
 
 Seed = int | np.random.Generator | None
 
@@ -438,3 +449,390 @@ def worst_case_polygon(t: int) -> Environment:
     top = [slot(j) for j in range(2 * t + 1)]  # c_0, r_1, c_1, …, r_t, c_t
     bottom = [(x, -y) for x, y in reversed(top)]  # c_t′, r_t′, …, r_1′, c_0′
     return Environment.from_coords(top + bottom, name=f"worst_case_t{t}")
+
+
+# ---------------------------------------------------------------------- shapes from shapely unions
+def _rings_of(shape, decimals: int | None) -> tuple[list[ExactPoint], list[list[ExactPoint]]] | None:
+    """Exact rings (outer, holes) of a shapely Polygon; ``None`` if it is not one polygon.
+
+    Collinear points left by the union are dropped (``simplify(0)``); coordinates are rounded to
+    ``decimals`` places (``None``: the floats are integers already) and repeated points merged.
+    """
+    import shapely
+
+    if shape.geom_type != "Polygon" or shape.is_empty:
+        return None
+    shape = shapely.simplify(shape, 0.0)
+    if shape.geom_type != "Polygon":
+        return None
+
+    def ring(coords) -> list[ExactPoint]:
+        xy = np.asarray(coords)[:-1]
+        if decimals is None:
+            points = [(Fraction(round(float(x))), Fraction(round(float(y)))) for x, y in xy]
+        else:
+            points = _to_decimals(xy, decimals)
+        merged = [p for k, p in enumerate(points) if p != points[k - 1]] if len(points) > 1 else points
+        return merged
+
+    return ring(shape.exterior.coords), [ring(h.coords) for h in shape.interiors]
+
+
+# ---------------------------------------------------------------------- rooms joined by corridors
+def _grid_tree(rng: np.random.Generator, n_rooms: int, side: int) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
+    """``n_rooms`` cells of a side × side grid grown at random from one cell, and the tree joining them.
+
+    Returns the cells (in order of growth) and the tree's edges as pairs of cell indices.
+    """
+    cells = [(int(rng.integers(side)), int(rng.integers(side)))]
+    index = {cells[0]: 0}
+    edges: list[tuple[int, int]] = []
+    while len(cells) < n_rooms:
+        frontier = sorted(
+            {
+                (x + dx, y + dy)
+                for x, y in cells
+                for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))
+                if 0 <= x + dx < side and 0 <= y + dy < side and (x + dx, y + dy) not in index
+            }
+        )
+        new = frontier[int(rng.integers(len(frontier)))]
+        neighbours = [index[(new[0] + dx, new[1] + dy)] for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))
+                      if (new[0] + dx, new[1] + dy) in index]
+        edges.append((neighbours[int(rng.integers(len(neighbours)))], len(cells)))
+        index[new] = len(cells)
+        cells.append(new)
+    return cells, edges
+
+
+def rooms_and_corridors(
+    n_rooms: int,
+    *,
+    seed: Seed,
+    loops: int = 0,
+    room_size: float = 4.0,
+    spacing: float = 10.0,
+    corridor_width: float = 1.0,
+    room_vertices: tuple[int, int] = (4, 8),
+    decimals: int = 3,
+    max_attempts: int = 50,
+) -> Environment:
+    """Convex rooms on a jittered grid, joined by straight corridors (an office-like environment, §8.1).
+
+    Rooms sit on ``n_rooms`` cells of a square grid (side ⌈√n_rooms⌉ + 1), grown at random from one
+    cell; the corridors follow the spanning tree of that growth, plus ``loops`` extra corridors
+    between adjacent rooms, each of which closes a loop and so encloses one **hole**. Room centres are
+    jittered by up to ±10 % of ``spacing``; a room is the convex hull of k vertices (k uniform in
+    ``room_vertices``) at jittered angles and radii 0.85…1.15 × ``room_size``/2 around its centre; a
+    corridor is a ``corridor_width``-wide strip from centre to centre. The union is rounded to exact
+    decimals, validated, and resampled if invalid.
+
+    Parameters
+    ----------
+    n_rooms
+        Number of rooms (≥ 1).
+    seed
+        ``int``, :class:`numpy.random.Generator` or ``None``.
+    loops
+        Extra corridors closing loops (each makes one hole), at most ``n_rooms // 2 - 1``; layouts
+        with many loops are rare, so keep loops to about ``n_rooms / 4`` or raise ``max_attempts``.
+    room_size
+        Nominal room diameter (length units).
+    spacing
+        Distance between neighbouring grid cells; at least 1.6 × ``room_size`` so rooms never overlap.
+    corridor_width
+        Width of the corridors; less than ``room_size``/3 so a corridor enters a room through one wall.
+    room_vertices
+        Inclusive range (lo, hi) of the number of vertices of a room before the convex hull, 3 ≤ lo ≤ hi.
+    decimals
+        Decimal places of the exact coordinates.
+    max_attempts
+        Layouts tried before giving up.
+
+    Raises
+    ------
+    InputError
+        A parameter is out of range (named with its value).
+    InvalidEnvironment
+        No valid layout in ``max_attempts`` tries (e.g. more loops than the layouts allow).
+
+    Examples
+    --------
+    >>> env = rooms_and_corridors(5, loops=1, seed=2)
+    >>> len(env.holes), env == rooms_and_corridors(5, loops=1, seed=2)
+    (1, True)
+    >>> env.name
+    'rooms_and_corridors(n_rooms=5, loops=1, room_size=4, spacing=10, corridor_width=1, seed=2)'
+    """
+    import shapely
+
+    n_rooms = _check_int("n_rooms", n_rooms, 1)
+    loops = _check_int("loops", loops, 0)
+    room_size_f = _check_positive("room_size", room_size)
+    spacing_f = _check_positive("spacing", spacing)
+    width_f = _check_positive("corridor_width", corridor_width)
+    decimals = _check_int("decimals", decimals, 0)
+    max_attempts = _check_int("max_attempts", max_attempts, 1)
+    if loops > max(n_rooms // 2 - 1, 0):
+        raise InputError(f"expected loops <= n_rooms // 2 - 1 = {max(n_rooms // 2 - 1, 0)} (a loop needs a ring of rooms), "
+                         f"got loops={loops!r}")
+    if spacing_f < 1.6 * room_size_f:
+        raise InputError(f"expected spacing >= 1.6 * room_size = {1.6 * room_size_f:g}, got spacing={spacing!r}")
+    if width_f >= room_size_f / 3:
+        raise InputError(f"expected corridor_width < room_size / 3 = {room_size_f / 3:g}, got corridor_width={corridor_width!r}")
+    try:
+        k_lo, k_hi = (int(k) for k in room_vertices)
+    except (TypeError, ValueError):
+        raise InputError(f"expected room_vertices as a pair (lo, hi), got room_vertices={room_vertices!r}") from None
+    if not 3 <= k_lo <= k_hi:
+        raise InputError(f"expected 3 <= lo <= hi in room_vertices, got room_vertices={room_vertices!r}")
+    rng = np.random.default_rng(seed)
+    name = (
+        f"rooms_and_corridors(n_rooms={n_rooms}, loops={loops}, room_size={room_size_f:g}, spacing={spacing_f:g}, "
+        f"corridor_width={width_f:g}, seed={_seed_text(seed)})"
+    )
+    side = math.isqrt(n_rooms - 1) + 2
+    problem = "no candidate tried"
+    for _ in range(max_attempts):
+        cells, tree = _grid_tree(rng, n_rooms, side)
+        where = {cell: k for k, cell in enumerate(cells)}
+        spare = sorted(
+            {(min(a, b), max(a, b)) for a, cell in enumerate(cells) for b in
+             (where.get((cell[0] + 1, cell[1])), where.get((cell[0], cell[1] + 1))) if b is not None}
+            - {(min(a, b), max(a, b)) for a, b in tree}
+        )
+        if len(spare) < loops:
+            problem = f"only {len(spare)} room pairs left to close loops, {loops} asked"
+            continue
+        extra = [spare[int(k)] for k in rng.choice(len(spare), size=loops, replace=False)] if loops else []
+        centres = np.asarray(cells, dtype=float) * spacing_f + rng.uniform(-0.1, 0.1, size=(n_rooms, 2)) * spacing_f
+        pieces = []
+        for c in centres:
+            k = int(rng.integers(k_lo, k_hi + 1))
+            angles = rng.uniform(0, 2 * math.pi) + (2 * math.pi / k) * (np.arange(k) + rng.uniform(-0.2, 0.2, size=k))
+            radii = room_size_f / 2 * rng.uniform(0.85, 1.15, size=k)
+            pts = c + np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
+            pieces.append(shapely.MultiPoint(pts).convex_hull)
+        for a, b in [*tree, *extra]:
+            pieces.append(shapely.LineString([centres[a], centres[b]]).buffer(width_f / 2, cap_style="flat"))
+        rings = _rings_of(shapely.union_all(pieces), decimals)
+        if rings is None:
+            problem = "the rooms and corridors do not form one polygon"
+            continue
+        outer, holes = rings
+        try:
+            env = Environment.from_coords(outer, holes, name=name)
+        except InvalidEnvironment as exc:
+            problem = str(exc)
+            continue
+        if len(env.holes) == loops:
+            return env
+        problem = f"{len(env.holes)} holes instead of {loops}"
+    raise InvalidEnvironment(
+        f"no valid rooms-and-corridors layout with n_rooms={n_rooms}, loops={loops} in {max_attempts} attempts "
+        f"(last: {problem})"
+    )
+
+
+# ---------------------------------------------------------------------- rectilinear floor plans
+@dataclass
+class _Room:
+    x0: int
+    y0: int
+    x1: int
+    y1: int
+    doors: dict[str, list[tuple[int, int]]]  # per side ("left", "right", "bottom", "top"): door spans along it
+
+    @property
+    def area(self) -> int:
+        return (self.x1 - self.x0) * (self.y1 - self.y0)
+
+
+def _door_free(doors: list[tuple[int, int]], lo: int, hi: int) -> bool:
+    return all(b <= lo or a >= hi for a, b in doors)
+
+
+def _clip_doors(doors: list[tuple[int, int]], lo: int, hi: int) -> list[tuple[int, int]]:
+    return [(a, b) for a, b in doors if a < hi and b > lo]
+
+
+def _split_positions(room: _Room, vertical: bool, wall: int, min_room: int) -> list[int]:
+    """Where a wall ``wall`` thick may go (its low coordinate) so both parts keep ``min_room`` and the
+    wall's ends meet solid wall (one unit clear of any door in the two sides it ends on)."""
+    if vertical:
+        lo, hi, ends = room.x0 + min_room, room.x1 - min_room - wall, (room.doors["bottom"], room.doors["top"])
+    else:
+        lo, hi, ends = room.y0 + min_room, room.y1 - min_room - wall, (room.doors["left"], room.doors["right"])
+    return [p for p in range(lo, hi + 1) if all(_door_free(d, p - 1, p + wall + 1) for d in ends)]
+
+
+def rectilinear_floor_plan(
+    n_rooms: int,
+    *,
+    seed: Seed,
+    width: int | None = None,
+    height: int | None = None,
+    wall: int = 1,
+    door: int = 2,
+    min_room: int = 4,
+    pillars: int = 0,
+    max_attempts: int = 50,
+) -> Environment:
+    """A rectangular building cut into ``n_rooms`` rooms by walls with one door each (seed 002's setting).
+
+    A width × height rectangle is split recursively (binary space partition): the room to split is
+    drawn with probability proportional to its area, the cut runs across its longer side when it can
+    (else across the other), at an integer position leaving both parts at least ``min_room`` wide and
+    meeting solid wall at both ends; the cut is a wall ``wall`` thick with one door ``door`` wide at
+    an integer position at least one unit from its ends. The free space is the rectangle minus the
+    walls: a rectilinear polygon with **integer** coordinates whose notches are the walls (walls meet
+    the outer wall or other walls; none floats). ``pillars`` unit-square pillars, each in its own room
+    at least one unit from its walls, are holes. Valid by construction; validated anyway.
+
+    Parameters
+    ----------
+    n_rooms
+        Number of rooms (≥ 1).
+    seed
+        ``int``, :class:`numpy.random.Generator` or ``None``.
+    width, height
+        Building size in units; default ⌈2.5·min_room·√n_rooms⌉ + wall for both.
+    wall, door, min_room
+        Wall thickness, door width and the smallest room width (positive integers,
+        ``min_room >= door + 2``).
+    pillars
+        Number of square pillars (holes), at most ``n_rooms``.
+    max_attempts
+        Partitions tried before giving up (when the building is too small for ``n_rooms``).
+
+    Examples
+    --------
+    >>> env = rectilinear_floor_plan(4, pillars=1, seed=1)
+    >>> len(env.holes), all(x.denominator == 1 for p in env.exact_vertices for x in p)
+    (1, True)
+    >>> env.name
+    'rectilinear_floor_plan(n_rooms=4, width=21, height=21, wall=1, door=2, min_room=4, pillars=1, seed=1)'
+    """
+    import shapely
+
+    n_rooms = _check_int("n_rooms", n_rooms, 1)
+    wall = _check_int("wall", wall, 1)
+    door = _check_int("door", door, 1)
+    min_room = _check_int("min_room", min_room, door + 2)
+    pillars = _check_int("pillars", pillars, 0)
+    if pillars > n_rooms:
+        raise InputError(f"expected pillars <= n_rooms = {n_rooms}, got pillars={pillars!r}")
+    default = math.ceil(2.5 * min_room * math.sqrt(n_rooms)) + wall
+    width = default if width is None else _check_int("width", width, min_room)
+    height = default if height is None else _check_int("height", height, min_room)
+    max_attempts = _check_int("max_attempts", max_attempts, 1)
+    rng = np.random.default_rng(seed)
+    name = (
+        f"rectilinear_floor_plan(n_rooms={n_rooms}, width={width}, height={height}, wall={wall}, door={door}, "
+        f"min_room={min_room}, pillars={pillars}, seed={_seed_text(seed)})"
+    )
+    problem = "no candidate tried"
+    for _ in range(max_attempts):
+        rooms = [_Room(0, 0, width, height, {"left": [], "right": [], "bottom": [], "top": []})]
+        walls = []
+        while len(rooms) < n_rooms:
+            options = []
+            for k, room in enumerate(rooms):
+                for vertical in (True, False):
+                    positions = _split_positions(room, vertical, wall, min_room)
+                    if positions:
+                        longer = (room.x1 - room.x0 >= room.y1 - room.y0) == vertical
+                        options.append((k, vertical, positions, room.area * (3 if longer else 1)))
+            if not options:
+                break
+            weights = np.array([w for *_, w in options], dtype=float)
+            k, vertical, positions, _ = options[int(rng.choice(len(options), p=weights / weights.sum()))]
+            room = rooms[k]
+            p = positions[int(rng.integers(len(positions)))]
+            if vertical:
+                d = int(rng.integers(room.y0 + 1, room.y1 - door))  # door [d, d + door], ≥ 1 from the ends
+                walls += [shapely.box(p, room.y0, p + wall, d), shapely.box(p, d + door, p + wall, room.y1)]
+                low = _Room(room.x0, room.y0, p, room.y1, dict(room.doors, right=[(d, d + door)],
+                            bottom=_clip_doors(room.doors["bottom"], room.x0, p), top=_clip_doors(room.doors["top"], room.x0, p)))
+                high = _Room(p + wall, room.y0, room.x1, room.y1, dict(room.doors, left=[(d, d + door)],
+                             bottom=_clip_doors(room.doors["bottom"], p + wall, room.x1), top=_clip_doors(room.doors["top"], p + wall, room.x1)))
+            else:
+                d = int(rng.integers(room.x0 + 1, room.x1 - door))
+                walls += [shapely.box(room.x0, p, d, p + wall), shapely.box(d + door, p, room.x1, p + wall)]
+                low = _Room(room.x0, room.y0, room.x1, p, dict(room.doors, top=[(d, d + door)],
+                            left=_clip_doors(room.doors["left"], room.y0, p), right=_clip_doors(room.doors["right"], room.y0, p)))
+                high = _Room(room.x0, p + wall, room.x1, room.y1, dict(room.doors, bottom=[(d, d + door)],
+                             left=_clip_doors(room.doors["left"], p + wall, room.y1), right=_clip_doors(room.doors["right"], p + wall, room.y1)))
+            rooms[k:k + 1] = [low, high]
+        if len(rooms) < n_rooms:
+            problem = f"a {width} x {height} building holds only {len(rooms)} rooms of width >= {min_room}"
+            continue
+        holes = []
+        for k in sorted(rng.choice(len(rooms), size=pillars, replace=False).tolist()) if pillars else []:
+            room = rooms[k]
+            x = int(rng.integers(room.x0 + 1, room.x1 - 1))
+            y = int(rng.integers(room.y0 + 1, room.y1 - 1))
+            holes.append([(x, y), (x, y + 1), (x + 1, y + 1), (x + 1, y)])
+        free = shapely.box(0, 0, width, height).difference(shapely.union_all(walls)) if walls else shapely.box(0, 0, width, height)
+        rings = _rings_of(free, None)
+        if rings is None:
+            problem = "the walls cut the building apart"
+            continue
+        try:
+            return Environment.from_coords(rings[0], holes, name=name)
+        except InvalidEnvironment as exc:
+            problem = str(exc)
+    raise InvalidEnvironment(
+        f"no rectilinear floor plan with n_rooms={n_rooms} in a {width} x {height} building in {max_attempts} attempts "
+        f"(last: {problem}); use a larger building or a smaller min_room"
+    )
+
+
+# ---------------------------------------------------------------------- by name
+GENERATORS = {
+    "star": star_polygon,
+    "holes": star_polygon_with_holes,
+    "rooms": rooms_and_corridors,
+    "rectilinear": rectilinear_floor_plan,
+}
+"""The random generators by their short name (CLI ``solverplan generate NAME``, study ``generator``)."""
+
+
+def generate(kind: str, *, seed: Seed, **params: object) -> Environment:
+    """The environment of generator ``kind`` (a key of :data:`GENERATORS`) with ``params`` and ``seed``.
+
+    >>> generate("star", n=6, irregularity=0.2, spikiness=0.1, seed=0) == star_polygon(6, 0.2, 0.1, seed=0)
+    True
+    >>> generate("blob", seed=0)
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: unknown generator 'blob': use star, holes, rooms or rectilinear
+    """
+    try:
+        make = GENERATORS[kind]
+    except (KeyError, TypeError):
+        raise InputError(f"unknown generator {kind!r}: use {', '.join(list(GENERATORS)[:-1])} or {list(GENERATORS)[-1]}") from None
+    try:
+        return make(seed=seed, **params)  # type: ignore[operator]
+    except TypeError as exc:  # an unknown or missing parameter name
+        raise InputError(f"generator {kind!r}: {exc}".replace(f"{make.__name__}() ", "")) from None
+
+
+@dataclass(frozen=True)
+class GeneratedEnvironment:
+    """A generated environment as a CLI answer: its JSON is the environment file itself (CONTRACT)."""
+
+    env: Environment
+
+    def to_json(self) -> dict:
+        return self.env.to_dict()
+
+    def to_text(self, *, width: int = 100) -> str:
+        return format_environment(self.env, "json")
+
+    def save(self, path: str | os.PathLike[str]) -> None:
+        """Write the environment file atomically, format by extension (.json, .geojson, .wkt)."""
+        try:
+            save_environment(self.env, path)
+        except OSError as exc:
+            raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None

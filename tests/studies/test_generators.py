@@ -292,3 +292,72 @@ def test_worst_case_is_in_general_position(t):
 def test_worst_case_rejects_t_below_one():
     with pytest.raises(InputError, match=r"^expected t >= 1, got t=0$"):
         worst_case_polygon(0)
+
+
+# ---------------------------------------------------------------------- rooms joined by corridors
+from solverplan.studies import generate, rectilinear_floor_plan, rooms_and_corridors  # noqa: E402
+
+
+@pytest.mark.parametrize("n_rooms, loops", [(1, 0), (2, 0), (5, 0), (4, 1), (8, 2), (16, 4)])
+def test_rooms_and_corridors_are_valid_with_one_hole_per_loop(n_rooms, loops):
+    for seed in range(6):
+        env = rooms_and_corridors(n_rooms, loops=loops, seed=seed)  # validated by Environment.from_coords
+        assert len(env.holes) == loops
+        assert env.to_shapely().is_valid
+        # one convex room per cell: the free space has about n_rooms "blobs" (area well above the corridors')
+        rooms_area = n_rooms * math.pi * (0.85 * 2) ** 2 * 0.5
+        assert float(env.area) > rooms_area * 0.8
+
+
+def test_rooms_and_corridors_reproducible_and_named():
+    a, b = rooms_and_corridors(6, loops=1, seed=4), rooms_and_corridors(6, loops=1, seed=4)
+    assert a == b and a != rooms_and_corridors(6, loops=1, seed=5)
+    assert a.name == "rooms_and_corridors(n_rooms=6, loops=1, room_size=4, spacing=10, corridor_width=1, seed=4)"
+    assert all((x * 1000).denominator == 1 for p in a.exact_vertices for x in p)  # exact 3-place decimals
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [({"n_rooms": 0}, r"^expected n_rooms >= 1, got n_rooms=0$"),
+     ({"n_rooms": 5, "loops": 2}, r"^expected loops <= n_rooms // 2 - 1 = 1 \(a loop needs a ring of rooms\), got loops=2$"),
+     ({"n_rooms": 3, "spacing": 5}, r"^expected spacing >= 1\.6 \* room_size = 6\.4, got spacing=5$"),
+     ({"n_rooms": 3, "corridor_width": 2}, r"^expected corridor_width < room_size / 3 = 1\.33333, got corridor_width=2$"),
+     ({"n_rooms": 3, "room_vertices": (2, 5)}, r"^expected 3 <= lo <= hi in room_vertices, got room_vertices=\(2, 5\)$")],
+)
+def test_rooms_and_corridors_bad_arguments_are_named(kwargs, message):
+    with pytest.raises(InputError, match=message):
+        rooms_and_corridors(seed=0, **kwargs)
+
+
+# ---------------------------------------------------------------------- rectilinear floor plans
+@pytest.mark.parametrize("n_rooms, pillars", [(1, 0), (2, 1), (4, 0), (6, 3), (12, 2)])
+def test_rectilinear_floor_plans_are_valid_rectilinear_and_integer(n_rooms, pillars):
+    for seed in range(6):
+        env = rectilinear_floor_plan(n_rooms, pillars=pillars, seed=seed)
+        assert len(env.holes) == pillars
+        for k in range(env.n_edges):
+            e = env.edge(k)
+            assert e.a[0] == e.b[0] or e.a[1] == e.b[1], f"edge {k} is not axis-parallel"
+            assert all(c.denominator == 1 for c in (*e.a, *e.b))
+        width = height = math.ceil(2.5 * 4 * math.sqrt(n_rooms)) + 1
+        xs = [p[0] for p in env.outer]
+        ys = [p[1] for p in env.outer]
+        assert (min(xs), max(xs), min(ys), max(ys)) == (0, width, 0, height)
+        # n_rooms − 1 walls, 1 thick, across rooms at least 4 wide, each with one door 2 wide; unit pillars
+        assert env.area <= width * height - pillars - 2 * (n_rooms - 1)
+        assert (env.area == width * height) == (n_rooms == 1 and pillars == 0)
+
+
+def test_rectilinear_floor_plan_gives_up_with_a_clear_error():
+    with pytest.raises(InvalidEnvironment, match=r"^no rectilinear floor plan with n_rooms=9 in a 9 x 9 building in 3 attempts "
+                                                 r"\(last: a 9 x 9 building holds only \d rooms of width >= 4\)"):
+        rectilinear_floor_plan(9, width=9, height=9, seed=0, max_attempts=3)
+    with pytest.raises(InputError, match=r"^expected min_room >= 4, got min_room=3$"):
+        rectilinear_floor_plan(3, seed=0, min_room=3)
+
+
+def test_generate_dispatches_by_name():
+    assert generate("rectilinear", n_rooms=3, seed=2) == rectilinear_floor_plan(3, seed=2)
+    assert generate("holes", n=10, n_holes=1, seed=2) == star_polygon_with_holes(10, 1, seed=2)
+    with pytest.raises(InputError, match=r"^generator 'star': got an unexpected keyword argument 'rooms'$"):
+        generate("star", n=10, irregularity=0.1, spikiness=0.1, rooms=3, seed=0)

@@ -1,0 +1,362 @@
+"""Search over sets of possible positions (private): the engine of funnels and localisation.
+
+A *state* is the exact set of positions the robot may occupy: a tuple of boundary pieces (edge, t0, t1). A
+stage applies one heading interval [θ − ε, θ + ε] (each piece measured from its own edge) and the state becomes
+the lifted transition f(S, Θ) (:func:`~solverplan.bounce.transitions.transition_set`). The search does not
+restrict stages to whole segments of P′, so it can use contraction: a piece shrinks by the contraction
+coefficient of each transition (Def. 11) until it fits through a gap no segment fits through.
+
+**Search.** Breadth-first by bounces, on floats, with
+
+- *candidates*: a grid of ``n_headings`` nominal headings θ over (ε, π − ε) plus the headings from each piece's
+  midpoint towards the goal set; a candidate is kept when, for every piece, its four corner rays (piece ends ×
+  cone ends) land on one edge other than the source, away from vertices, and no vertex lies inside the convex
+  hull of the piece and the corner hits (the swept region; DESIGN §6). Then the image of the piece is the
+  interval spanned by the corner hits, the same test the exact checker makes;
+- *dominance*: a state whose position set contains a set already reached (with no more bounces) is dropped:
+  every strategy from the larger set works from the smaller one;
+- *beam*: per bounce at most ``beam`` states survive (at most ``per_edge`` per edge of their first piece), the
+  ones with the fewest pieces and the shortest total length first (or by the caller's ``rank``).
+
+A state inside the goal is replayed **exactly**: the interval of every stage becomes rational directions just
+outside it (:func:`~solverplan.plan._results.heading_cone`; every heading of the float interval is in the cone), each piece is pushed through
+:func:`~solverplan.bounce.transitions.transition_set`, and the exact final set must lie in the goal. Only replayed
+strategies are returned. The search is a heuristic (the heading grid and the beam): it proves what it returns,
+never that nothing exists.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Callable, Sequence
+
+import numpy as np
+
+from solverplan.bounce.interval import Interval
+from solverplan.bounce.partition import Partition
+from solverplan.bounce.transitions import transition_set
+from solverplan.environment import BoundaryPiece, Environment
+from solverplan.errors import InputError
+from solverplan.geometry.raycast import cast_from_boundary
+from solverplan.plan._results import SAFE_END_MARGIN, PositionStage, heading_cone
+
+__all__ = ["PositionSearch", "SearchOutcome", "search_positions", "merge_pieces", "replay"]
+
+logger = logging.getLogger(__name__)
+
+Pieces = tuple[tuple[int, float, float], ...]
+
+
+@dataclass(frozen=True)
+class SearchOutcome:
+    """What the search found: exact ``stages`` (None if nothing), and statistics."""
+
+    stages: tuple[PositionStage, ...] | None
+    expanded: int
+    layers: int
+    replay_failures: int
+    reason: str
+
+
+@dataclass
+class _Node:
+    pieces: Pieces
+    parent: int
+    interval: tuple[float, float] | None
+    depth: int
+
+
+def merge_pieces(items: Sequence[tuple[int, float, float]], tol: float = 0.0) -> Pieces:
+    """Sorted union of float pieces, merging overlaps on the same edge (and gaps up to ``tol``)."""
+    by_edge: dict[int, list[list[float]]] = {}
+    for e, a, b in sorted(items):
+        runs = by_edge.setdefault(int(e), [])
+        if runs and a <= runs[-1][1] + tol:
+            runs[-1][1] = max(runs[-1][1], b)
+        else:
+            runs.append([a, b])
+    return tuple((e, a, b) for e in sorted(by_edge) for a, b in by_edge[e])
+
+
+def merge_exact(items: Sequence[BoundaryPiece]) -> tuple[BoundaryPiece, ...]:
+    """Sorted union of exact pieces (overlapping or touching pieces of one edge merged)."""
+    by_edge: dict[int, list[list[Fraction]]] = {}
+    for p in sorted(items, key=lambda q: (q.edge, q.t0, q.t1)):
+        runs = by_edge.setdefault(p.edge, [])
+        if runs and p.t0 <= runs[-1][1]:
+            runs[-1][1] = max(runs[-1][1], p.t1)
+        else:
+            runs.append([p.t0, p.t1])
+    return tuple(BoundaryPiece(e, a, b) for e in sorted(by_edge) for a, b in by_edge[e])
+
+
+class PositionSearch:
+    """The float machinery: corner rays and swept-hull tests for many (piece, heading) pairs at once."""
+
+    def __init__(self, env: Environment, tolerance: float, *, n_headings: int = 240) -> None:
+        self.env = env
+        self.eps = float(tolerance)
+        lo, hi = self.eps + SAFE_END_MARGIN, math.pi - self.eps - SAFE_END_MARGIN
+        if not lo < hi:
+            raise InputError(f"tolerance {tolerance!r} leaves no heading interval inside (0, π)")
+        self.grid = np.linspace(lo, hi, n_headings)
+        self.verts = np.asarray(env.vertices, dtype=float)
+        self.scale = float(np.max(np.abs(self.verts))) + 1.0
+        self.lengths = np.asarray(env.edge_lengths, dtype=float)
+
+    def images(self, edges: np.ndarray, a: np.ndarray, b: np.ndarray, theta: np.ndarray):
+        """For pieces (edges, a, b) and nominal headings theta (same length m): (ok, target, lo, hi)."""
+        m = len(edges)
+        eps = self.eps
+        # piece ends pulled in a little so that rays never start at a vertex (a filter: the replay is exact)
+        pull = 1e-6 * (b - a)
+        ta, tb = a + pull, b - pull
+        E = np.repeat(edges, 4)
+        T = np.stack([ta, ta, tb, tb], axis=1).reshape(-1)
+        H = np.stack([theta - eps, theta + eps, theta - eps, theta + eps], axis=1).reshape(-1)
+        hits = cast_from_boundary(self.env, E, T, H)
+        he = hits.edge.reshape(m, 4)
+        ht = hits.t.reshape(m, 4)
+        hx, hy = hits.x.reshape(m, 4), hits.y.reshape(m, 4)
+        flagged = (hits.vertex >= 0).reshape(m, 4)
+        ok = (he == he[:, :1]).all(axis=1) & ~flagged.any(axis=1) & (he[:, 0] != edges)
+        # the hull of the piece ends and the corner hits must hold no vertex of P
+        P = self.env.points_at(edges, ta)
+        Q = self.env.points_at(edges, tb)
+        lo_k = np.argmin(ht, axis=1)
+        hi_k = np.argmax(ht, axis=1)
+        rows = np.arange(m)
+        H1 = np.stack([hx[rows, lo_k], hy[rows, lo_k]], axis=1)
+        H2 = np.stack([hx[rows, hi_k], hy[rows, hi_k]], axis=1)
+        inside = np.zeros(m, dtype=bool)
+        for A, B, C in ((P, Q, H1), (P, Q, H2), (P, H1, H2), (Q, H1, H2)):
+            inside |= self._any_vertex_inside(A, B, C)
+        ok &= ~inside
+        lo = ht.min(axis=1)
+        hi = ht.max(axis=1)
+        return ok, he[:, 0], lo, hi
+
+    def _any_vertex_inside(self, A: np.ndarray, B: np.ndarray, C: np.ndarray) -> np.ndarray:
+        """Does some vertex of P lie strictly inside triangle ABC (with a relative margin)? Vectorised."""
+        V = self.verts
+        tol = 1e-9 * self.scale * self.scale
+
+        def side(p, q):
+            d = q - p
+            return d[:, None, 0] * (V[None, :, 1] - p[:, None, 1]) - d[:, None, 1] * (V[None, :, 0] - p[:, None, 0])
+
+        s1, s2, s3 = side(A, B), side(B, C), side(C, A)
+        pos = (s1 > tol) & (s2 > tol) & (s3 > tol)
+        neg = (s1 < -tol) & (s2 < -tol) & (s3 < -tol)
+        return (pos | neg).any(axis=1)
+
+    def aim(self, edges: np.ndarray, a: np.ndarray, b: np.ndarray, goal_points: np.ndarray) -> np.ndarray:
+        """Nominal headings from each piece's midpoint towards each goal point: shape (pieces, points)."""
+        mid = self.env.points_at(edges, (a + b) / 2)
+        e = self.env.edge_end[edges] - self.env.edge_start[edges]
+        d = goal_points[None, :, :] - mid[:, None, :]
+        cross = e[:, None, 0] * d[..., 1] - e[:, None, 1] * d[..., 0]
+        dot = e[:, None, 0] * d[..., 0] + e[:, None, 1] * d[..., 1]
+        return np.arctan2(cross, dot)
+
+
+def search_positions(
+    env: Environment,
+    part: Partition,
+    start: Sequence[BoundaryPiece],
+    is_goal: Callable[[Pieces], bool],
+    is_goal_exact: Callable[[tuple[BoundaryPiece, ...]], bool],
+    *,
+    tolerance: float,
+    max_bounces: int,
+    goal_points: np.ndarray | None = None,
+    n_headings: int = 240,
+    beam: int = 400,
+    per_edge: int = 40,
+    max_replays: int = 20,
+    rank: Callable[[Pieces, float], tuple] | None = None,
+) -> SearchOutcome:
+    """Breadth-first search with dominance and a beam (module docstring) for a state satisfying ``is_goal``
+    (floats), confirmed by ``is_goal_exact`` on the exact replay."""
+    ps = PositionSearch(env, tolerance, n_headings=n_headings)
+    first = merge_pieces([(p.edge, float(p.t0), float(p.t1)) for p in start])
+    nodes = [_Node(first, -1, None, 0)]
+    seen: dict[int, list[tuple[float, float]]] = {}  # single-piece states reached, per edge (for dominance)
+    seen_multi: list[Pieces] = []
+    _remember(seen, seen_multi, first)
+    layer = [0]
+    expanded = 0
+    replays = 0
+    failures = 0
+    if is_goal(first):
+        stages = replay(env, part, start, [], is_goal_exact)
+        if stages is not None:
+            return SearchOutcome(stages, 0, 0, 0, "the start set already lies in the goal")
+    for depth in range(1, max_bounces + 1):
+        if not layer:
+            break
+        # flatten the layer's pieces × candidate headings
+        owners, pe, pa, pb = [], [], [], []
+        for i in layer:
+            for e, a, b in nodes[i].pieces:
+                owners.append(i)
+                pe.append(e)
+                pa.append(a)
+                pb.append(b)
+        owners_a = np.array(owners)
+        pe_a, pa_a, pb_a = np.array(pe, dtype=np.int64), np.array(pa), np.array(pb)
+        # candidate headings per state: the grid, plus aims at the goal from single-piece states
+        cand_state, cand_theta = [], []
+        K = len(ps.grid)
+        for i in layer:
+            cand_state.append(np.full(K, i))
+            cand_theta.append(ps.grid)
+        if goal_points is not None and len(goal_points):
+            single = [i for i in layer if len(nodes[i].pieces) == 1]
+            if single:
+                e = np.array([nodes[i].pieces[0][0] for i in single])
+                a = np.array([nodes[i].pieces[0][1] for i in single])
+                b = np.array([nodes[i].pieces[0][2] for i in single])
+                aims = ps.aim(e, a, b, goal_points)
+                lo, hi = ps.grid[0], ps.grid[-1]
+                for row, i in enumerate(single):
+                    th = aims[row]
+                    th = th[(th > lo) & (th < hi)]
+                    cand_state.append(np.full(len(th), i))
+                    cand_theta.append(th)
+        cs = np.concatenate(cand_state)
+        ct = np.concatenate(cand_theta)
+        # one row per (candidate, piece of its state)
+        piece_rows_of: dict[int, np.ndarray] = {}
+        for i in layer:
+            piece_rows_of[i] = np.flatnonzero(owners_a == i)
+        rep_c, rep_p = [], []
+        for c_index, i in enumerate(cs.tolist()):
+            pr = piece_rows_of[i]
+            rep_c.append(np.full(len(pr), c_index))
+            rep_p.append(pr)
+        rc = np.concatenate(rep_c)
+        rp = np.concatenate(rep_p)
+        ok, tgt, lo_t, hi_t = ps.images(pe_a[rp], pa_a[rp], pb_a[rp], ct[rc])
+        expanded += len(cs)
+        good = np.ones(len(cs), dtype=bool)
+        np.logical_and.at(good, rc, ok)
+        # new states
+        new: list[tuple[float, Pieces, int, tuple[float, float]]] = []
+        order = np.argsort(rc, kind="stable")
+        bounds = np.searchsorted(rc[order], np.arange(len(cs) + 1))
+        for c_index in np.flatnonzero(good).tolist():
+            rows = order[bounds[c_index]:bounds[c_index + 1]]
+            pieces = merge_pieces([(int(tgt[r]), float(lo_t[r]), float(hi_t[r])) for r in rows])
+            length = sum((b - a) * ps.lengths[e] for e, a, b in pieces)
+            theta = float(ct[c_index])
+            new.append((length, pieces, int(cs[c_index]), (theta - ps.eps, theta + ps.eps)))
+        new.sort(key=(lambda x: rank(x[1], x[0])) if rank is not None else (lambda x: (len(x[1]), x[0])))
+        # goals first: replay exactly
+        next_layer: list[int] = []
+        per: dict[int, int] = {}
+        for length, pieces, parent, interval in new:
+            if is_goal(pieces) and replays < max_replays:
+                nodes.append(_Node(pieces, parent, interval, depth))
+                replays += 1
+                path = _path(nodes, len(nodes) - 1)
+                stages = replay(env, part, start, path, is_goal_exact)
+                if stages is not None:
+                    return SearchOutcome(stages, expanded, depth, failures,
+                                         f"found after expanding {expanded} (state, heading) pairs")
+                failures += 1
+                continue
+            if _dominated(seen, seen_multi, pieces):
+                continue
+            key = pieces[0][0]
+            if per.get(key, 0) >= per_edge or len(next_layer) >= beam:
+                continue
+            per[key] = per.get(key, 0) + 1
+            nodes.append(_Node(pieces, parent, interval, depth))
+            _remember(seen, seen_multi, pieces)
+            next_layer.append(len(nodes) - 1)
+        logger.info("position search: bounce %d, %d candidates, %d kept", depth, len(new), len(next_layer))
+        layer = next_layer
+    reason = (f"no strategy found within {max_bounces} bounces (heuristic search: a grid of {n_headings} headings, "
+              f"beam {beam}; {expanded} (state, heading) pairs expanded, {failures} exact replays failed)")
+    return SearchOutcome(None, expanded, max_bounces, failures, reason)
+
+
+def _path(nodes: list[_Node], i: int) -> list[tuple[float, float]]:
+    out = []
+    while nodes[i].parent >= 0:
+        out.append(nodes[i].interval)
+        i = nodes[i].parent
+    return out[::-1]
+
+
+def _remember(seen, seen_multi, pieces: Pieces) -> None:
+    if len(pieces) == 1:
+        e, a, b = pieces[0]
+        seen.setdefault(e, []).append((a, b))
+    else:
+        seen_multi.append(pieces)
+
+
+def _contains(big: Pieces, small: Pieces, tol: float = 1e-12) -> bool:
+    for e, a, b in small:
+        if not any(E == e and A <= a + tol and b <= B + tol for E, A, B in big):
+            return False
+    return True
+
+
+def _dominated(seen, seen_multi, pieces: Pieces, tol: float = 1e-12) -> bool:
+    """Does ``pieces`` contain a position set already reached?"""
+    for e, a, b in pieces:
+        for c, d in seen.get(e, ()):
+            if a <= c + tol and d <= b + tol:
+                return True
+    for other in seen_multi:
+        if _contains(pieces, other, tol):
+            return True
+    return False
+
+
+def replay(env: Environment, part: Partition, start: Sequence[BoundaryPiece], path: Sequence[tuple[float, float]],
+           is_goal_exact: Callable[[tuple[BoundaryPiece, ...]], bool]) -> tuple[PositionStage, ...] | None:
+    """The exact strategy of the heading intervals ``path`` from ``start``, or None when a stage splits a piece
+    (or leaves its swept region unclean) or the exact final set misses the goal."""
+    current = merge_exact(start)
+    stages = []
+    for lo, hi in path:
+        interval = Interval(lo, hi)
+        images, cones, targets = [], [], []
+        for piece in current:
+            edge = env.edge(piece.edge)
+            vec = (edge.b[0] - edge.a[0], edge.b[1] - edge.a[1])
+            cone = heading_cone(vec, interval, outside=True)
+            try:
+                image = transition_set(env, piece, cone)
+            except InputError:
+                return None
+            if len(image) != 1 or image[0].edge == piece.edge:
+                return None
+            images.append(image[0])
+            cones.append(cone)
+            targets.append(image[0].edge)
+        positions = merge_exact(images)
+        stages.append(PositionStage(
+            from_segments=_segments(part, current), to_segments=_segments(part, positions), interval=interval,
+            positions=positions, sources=current, cones=tuple(cones), target_edges=tuple(targets)))
+        current = positions
+    if not is_goal_exact(current):
+        return None
+    return tuple(stages)
+
+
+def _segments(part: Partition, pieces: Sequence[BoundaryPiece]) -> tuple[int, ...]:
+    out = set()
+    for p in pieces:
+        for s in part.edge_segments[p.edge]:
+            seg = part.segments[s]
+            if min(seg.t1, p.t1) > max(seg.t0, p.t0) or (p.t0 == p.t1 and seg.t0 <= p.t0 <= seg.t1):
+                out.add(s)
+    return tuple(sorted(out))

@@ -1,0 +1,373 @@
+"""A planning query over the safe BVG as a graph of belief states (private: used by :mod:`.search`).
+
+Belief states
+-------------
+A *belief* is the set of P′ segments the robot may be on (sorted tuple of segment ids). The start
+belief is every segment that the start set S overlaps in a piece of positive length: a piece covering
+part of a segment counts as that whole segment (a plan that works from every point of the segment
+works from the piece; this is conservative, never wrong). Positions exactly on a partition point
+are limits of both neighbouring segments and have measure zero; like the paper we do not treat them
+separately (the certificate checker covers them by closure).
+
+A *stage* from belief B executes one heading interval I (radians, measured from the wall the robot
+is on) that is admissible from **every** segment of B: for each source i ∈ B there is a target j_i
+with I inside one admissible interval of the arc i → j_i. The next belief is {j_i : i ∈ B}. For a
+fixed source the admissible intervals of all its targets are pairwise disjoint (two targets cannot
+both receive the whole open segment at one heading), so for a heading θ the target of every source
+is determined; the intervals that work from all of B are therefore the cells of the arrangement of
+the sources' interval lists, and :meth:`Problem.options` lists each cell once by merging the sorted
+lists source by source (the intersection of two sorted lists of disjoint intervals is again one). A
+cell's interval (the intersection of one interval per source) is the widest interval for that
+choice of targets; any sub-interval has the same targets. |B′| ≤ |B|: beliefs never grow.
+
+Admissible intervals
+--------------------
+The safe set of an arc (exact, :mod:`solverplan.bounce.safe`) is a union of closed intervals whose
+ends may be the open ends 0 or π (paper Cor. 1). A plan's headings must lie in the open (0, π) and
+we want the plan to be sound although planning runs in floats. So every safe interval [l, h] gives
+the admissible interval
+
+    [max(l + μ, δ), min(h − μ, π − δ)]      (kept when its width is > 0)
+
+with μ = ``safe_margin`` (default 10⁻⁹ rad, ≫ the 10⁻¹⁵ float error of the exact ends: the plan's
+intervals lie strictly inside the exact safe sets) and δ = ``heading_margin`` (default 10⁻³ rad: no
+heading closer than δ to the wall — a robot cannot execute a grazing heading, and a ray nearly along
+the wall ends next to a vertex). All optimality claims are over plans whose intervals lie in
+admissible intervals. Safe singletons (the parallel case of Prop. 2) have no admissible part: an
+exact heading is not an interval a robot can execute.
+
+Goal
+----
+A belief is at the goal when the robot is sure to be in the goal set G. Segments lying wholly in G
+(pieces of G are merged per edge first) are *goal segments*: landing anywhere on them is enough. A
+segment G covers only in part is usable by the **last** stage only: from source i = (a, b) onto the
+piece [g₀, g₁] of target j, the landing point of every robot position is inside the piece iff both
+corner landings are (the landing point is affine in the position for a fixed heading), i.e. iff
+θ ∈ [ang(g₀ − b), ang(g₁ − a)] (Prop. 2's cone with the piece's ends; ang measured from b − a; an
+end of the piece at the shared corner imposes nothing). The admissible interval of i → j is cut to
+that cone (shrunk by μ) — the *goal intervals* of i. Intermediate stages always land on whole
+segments (the next stage must work from every point of them).
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+from typing import NamedTuple
+
+import numpy as np
+
+from solverplan.bounce.bvg import SafeBVG
+from solverplan.environment import BoundarySet
+
+__all__ = ["Option", "Problem", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "merged_pieces", "belief_of"]
+
+DEFAULT_HEADING_MARGIN = 1e-3
+"""δ (radians): plans never use headings within δ of the wall (0 or π)."""
+
+DEFAULT_SAFE_MARGIN = 1e-9
+"""μ (radians): admissible intervals stay μ inside the exact safe sets (floats → sound plans)."""
+
+Belief = tuple[int, ...]
+
+
+class Option(NamedTuple):
+    """One way to leave a belief: the widest interval [lo, hi] for one choice of targets, the next
+    belief and the (source, target) pair of every source."""
+
+    lo: float
+    hi: float
+    next: Belief
+    moves: tuple[tuple[int, int], ...]
+
+    @property
+    def width(self) -> float:
+        return self.hi - self.lo
+
+
+def merged_pieces(bset: BoundarySet) -> dict[int, list[tuple[Fraction, Fraction]]]:
+    """The pieces of a boundary set merged per edge (overlapping or touching pieces joined), exact."""
+    by_edge: dict[int, list[tuple[Fraction, Fraction]]] = {}
+    for p in bset.pieces:
+        by_edge.setdefault(p.edge, []).append((Fraction(p.t0), Fraction(p.t1)))
+    out = {}
+    for edge, items in by_edge.items():
+        items.sort()
+        merged: list[list[Fraction]] = []
+        for lo, hi in items:
+            if merged and lo <= merged[-1][1]:
+                merged[-1][1] = max(merged[-1][1], hi)
+            else:
+                merged.append([lo, hi])
+        out[edge] = [(lo, hi) for lo, hi in merged]
+    return out
+
+
+def belief_of(graph: SafeBVG, bset: BoundarySet) -> Belief:
+    """The segments a boundary set overlaps in pieces of positive length (sorted)."""
+    part = graph.partition
+    segs = set()
+    for edge, pieces in merged_pieces(bset).items():
+        for k in part.edge_segments[edge]:
+            s = part.segments[k]
+            if any(s.t0 < q and p < s.t1 for p, q in pieces):
+                segs.add(k)
+    return tuple(sorted(segs))
+
+
+def _angle(e: tuple[float, float], w: tuple[float, float]) -> float:
+    """CCW angle of w from e, in (−π, π]."""
+    return math.atan2(e[0] * w[1] - e[1] * w[0], e[0] * w[0] + e[1] * w[1])
+
+
+class Problem:
+    """The belief-state graph of one query (start set, goal set) over a safe BVG."""
+
+    def __init__(
+        self,
+        graph: SafeBVG,
+        start: BoundarySet,
+        goal: BoundarySet,
+        *,
+        heading_margin: float = DEFAULT_HEADING_MARGIN,
+        safe_margin: float = DEFAULT_SAFE_MARGIN,
+    ) -> None:
+        self.graph = graph
+        self.partition = graph.partition
+        self.env = self.partition.env
+        self.start_set = start
+        self.goal_set = goal
+        self.heading_margin = float(heading_margin)
+        self.safe_margin = float(safe_margin)
+        self._build_intervals()
+        self.start_belief: Belief = belief_of(graph, start)
+        self._goal_pieces = merged_pieces(goal)
+        whole, partial = set(), {}
+        for edge, pieces in self._goal_pieces.items():
+            for k in self.partition.edge_segments[edge]:
+                s = self.partition.segments[k]
+                if any(p <= s.t0 and s.t1 <= q for p, q in pieces):
+                    whole.add(k)
+                    continue
+                parts = [(max(p, s.t0), min(q, s.t1)) for p, q in pieces if s.t0 < q and p < s.t1]
+                if parts:
+                    partial[k] = parts
+        self.goal_whole = frozenset(whole)
+        self.goal_partial = partial
+        start_pieces = merged_pieces(start)
+        self.start_in_goal = all(
+            any(p <= lo and hi <= q for p, q in self._goal_pieces.get(edge, ()))
+            for edge, items in start_pieces.items() for lo, hi in items
+        )
+        self._options: dict[Belief, list[Option]] = {}
+        self._goal_options: dict[Belief, list[Option]] = {}
+        self._goal_lists: dict[int, tuple[list[float], list[float], list[int]]] = {}
+        self.options_built = 0
+
+    # ------------------------------------------------------------------ admissible intervals
+    def _build_intervals(self) -> None:
+        g = self.graph
+        n = g.n_segments
+        arc_of = np.repeat(np.arange(g.n_arcs), g.n_intervals)
+        src = g.source[arc_of]
+        tgt = g.target[arc_of]
+        lo = np.maximum(np.asarray(g.set_lo, dtype=float) + self.safe_margin, self.heading_margin)
+        hi = np.minimum(np.asarray(g.set_hi, dtype=float) - self.safe_margin, math.pi - self.heading_margin)
+        keep = hi > lo
+        src, tgt, lo, hi = src[keep], tgt[keep], lo[keep], hi[keep]
+        order = np.lexsort((lo, src))
+        src, tgt, lo, hi = src[order], tgt[order], lo[order], hi[order]
+        off = np.searchsorted(src, np.arange(n + 1))
+        self._off = off.tolist()
+        self._lo = lo.tolist()
+        self._hi = hi.tolist()
+        self._tgt = tgt.tolist()
+        self.n_admissible = int(len(lo))
+
+    def intervals(self, source: int) -> tuple[list[float], list[float], list[int]]:
+        """The admissible intervals of ``source`` (sorted, disjoint): lows, highs, targets."""
+        a, b = self._off[source], self._off[source + 1]
+        return self._lo[a:b], self._hi[a:b], self._tgt[a:b]
+
+    def goal_intervals(self, source: int) -> tuple[list[float], list[float], list[int]]:
+        """The intervals of ``source`` whose every landing point lies in the goal set (sorted, disjoint)."""
+        cached = self._goal_lists.get(source)
+        if cached is not None:
+            return cached
+        los, his, tgts = self.intervals(source)
+        items = []
+        seg = self.partition.segments[source]
+        e = (float(seg.b[0] - seg.a[0]), float(seg.b[1] - seg.a[1]))
+        for lo, hi, j in zip(los, his, tgts):
+            if j in self.goal_whole:
+                items.append((lo, hi, j))
+                continue
+            pieces = self.goal_partial.get(j)
+            if not pieces:
+                continue
+            tseg = self.partition.segments[j]
+            for t0, t1 in pieces:
+                g0 = _point_on(tseg, t0)
+                g1 = _point_on(tseg, t1)
+                cone_lo = 0.0 if g0 == seg.b else _angle(e, (float(g0[0] - seg.b[0]), float(g0[1] - seg.b[1]))) + self.safe_margin
+                cone_hi = math.pi if g1 == seg.a else _angle(e, (float(g1[0] - seg.a[0]), float(g1[1] - seg.a[1]))) - self.safe_margin
+                l2, h2 = max(lo, cone_lo), min(hi, cone_hi)
+                if h2 > l2:
+                    items.append((l2, h2, j))
+        items.sort()
+        out = ([x[0] for x in items], [x[1] for x in items], [x[2] for x in items])
+        self._goal_lists[source] = out
+        return out
+
+    # ------------------------------------------------------------------ options
+    def options(self, belief: Belief) -> list[Option]:
+        """Every way to leave ``belief`` (one per choice of targets), widest interval each."""
+        cached = self._options.get(belief)
+        if cached is None:
+            cached = self._combine(belief, [self.intervals(s) for s in belief])
+            self._options[belief] = cached
+            self.options_built += len(cached)
+        return cached
+
+    def goal_options(self, belief: Belief) -> list[Option]:
+        """The options of ``belief`` that land in the goal set from every source (last stages)."""
+        cached = self._goal_options.get(belief)
+        if cached is None:
+            cached = self._combine(belief, [self.goal_intervals(s) for s in belief])
+            self._goal_options[belief] = cached
+        return cached
+
+    @staticmethod
+    def _combine(belief: Belief, lists: list[tuple[list[float], list[float], list[int]]]) -> list[Option]:
+        """Intersect the sources' sorted disjoint interval lists, folding source by source (a merge: the
+        intersection of two sorted lists of disjoint intervals is again sorted and disjoint)."""
+        if len(belief) == 1:
+            (s,) = belief
+            los, his, tgts = lists[0]
+            return [Option(lo, hi, (j,), ((s, j),)) for lo, hi, j in zip(los, his, tgts)]
+        if any(not item[0] for item in lists):
+            return []
+        los, his, tgts = lists[0]
+        cells = list(zip(los, his, [(j,) for j in tgts]))
+        for los, his, tgts in lists[1:]:
+            merged = []
+            i = j = 0
+            n_cells, n_list = len(cells), len(los)
+            while i < n_cells and j < n_list:
+                c_lo, c_hi, c_t = cells[i]
+                l_j, h_j = los[j], his[j]
+                if h_j <= c_lo:
+                    j += 1
+                    continue
+                if c_hi <= l_j:
+                    i += 1
+                    continue
+                lo = c_lo if c_lo > l_j else l_j
+                hi = c_hi if c_hi < h_j else h_j
+                if hi > lo:
+                    merged.append((lo, hi, c_t + (tgts[j],)))
+                if c_hi < h_j:
+                    i += 1
+                else:
+                    j += 1
+            if not merged:
+                return []
+            cells = merged
+        if len(belief) == 2:
+            s0, s1 = belief
+            return [Option(lo, hi, (a,) if a == b else ((a, b) if a < b else (b, a)), ((s0, a), (s1, b)))
+                    for lo, hi, (a, b) in cells]
+        return [Option(lo, hi, tuple(sorted(set(t))), tuple(zip(belief, t))) for lo, hi, t in cells]
+
+    # ------------------------------------------------------------------ bounds from single segments
+    @property
+    def singleton_bounds(self) -> tuple[list[float], list[float]]:
+        """For every segment s: the fewest stages d(s) of any plan from {s} (∞ if none) and the largest
+        min width h(s) of any plan from {s} (0 if none).
+
+        A plan from a belief B works from every segment of B, so it is a plan from each {s}, s ∈ B:
+        **d(B) ≥ max_{s∈B} d(s) and W(B) ≤ min_{s∈B} h(s)**. The searches use these as admissible bounds
+        (A*-style pruning) when beliefs have several segments. Computed backwards from the goal over the
+        segment graph: breadth-first for d, max-min Dijkstra for h.
+        """
+        cached = getattr(self, "_singleton", None)
+        if cached is None:
+            cached = self._singleton = self._backward()
+        return cached
+
+    def _backward(self) -> tuple[list[float], list[float]]:
+        import heapq
+
+        n = self.graph.n_segments
+        src_of = np.repeat(np.arange(n), np.diff(self._off))
+        tgt = np.asarray(self._tgt, dtype=np.int64)
+        width = np.asarray(self._hi) - np.asarray(self._lo)
+        order = np.argsort(tgt, kind="stable")
+        pred_src = src_of[order].tolist()
+        pred_w = width[order].tolist()
+        pred_off = np.searchsorted(tgt[order], np.arange(n + 1)).tolist()
+        goal_targets = sorted(self.goal_whole | set(self.goal_partial))
+        first = np.unique(src_of[np.isin(tgt, goal_targets)]).tolist() if goal_targets else []
+        dist = [math.inf] * n
+        best = [0.0] * n
+        heap = []
+        level = []
+        for s in first:
+            los, his, _ = self.goal_intervals(s)
+            if los:
+                dist[s] = 1
+                level.append(s)
+                best[s] = max(h - l for l, h in zip(los, his))
+                heap.append((-best[s], s))
+        d = 1
+        while level:
+            nxt = []
+            for j in level:
+                for k in range(pred_off[j], pred_off[j + 1]):
+                    i = pred_src[k]
+                    if dist[i] == math.inf:
+                        dist[i] = d + 1
+                        nxt.append(i)
+            level = nxt
+            d += 1
+        heapq.heapify(heap)
+        done = [False] * n
+        while heap:
+            neg, j = heapq.heappop(heap)
+            if done[j] or -neg < best[j]:
+                continue
+            done[j] = True
+            v = -neg
+            for k in range(pred_off[j], pred_off[j + 1]):
+                i = pred_src[k]
+                w = pred_w[k] if pred_w[k] < v else v
+                if w > best[i]:
+                    best[i] = w
+                    heapq.heappush(heap, (-w, i))
+        return dist, best
+
+    def belief_bounds(self, belief: Belief) -> tuple[float, float]:
+        """(lower bound on the stages, upper bound on the min width) of any plan from ``belief``."""
+        dist, best = self.singleton_bounds
+        return max(dist[s] for s in belief), min(best[s] for s in belief)
+
+    # ------------------------------------------------------------------ facts for reasons
+    def goal_has_incoming(self) -> bool:
+        """Is there any source segment with a goal interval (so that some last stage exists)?"""
+        targets = set(self.goal_whole) | set(self.goal_partial)
+        if not targets:
+            return False
+        g = self.graph
+        tgt_arr = np.asarray(self._tgt)
+        if np.isin(tgt_arr, sorted(self.goal_whole)).any():
+            return True
+        candidates = np.unique(np.repeat(np.arange(g.n_segments), np.diff(self._off))[np.isin(tgt_arr, sorted(self.goal_partial))])
+        return any(self.goal_intervals(int(s))[0] for s in candidates)
+
+
+def _point_on(seg, t: Fraction):
+    """The exact point of parameter t (on the segment's edge) — t within [seg.t0, seg.t1]."""
+    if seg.t1 == seg.t0:  # pragma: no cover - segments have positive length
+        return seg.a
+    lam = (t - seg.t0) / (seg.t1 - seg.t0)
+    return (seg.a[0] + lam * (seg.b[0] - seg.a[0]), seg.a[1] + lam * (seg.b[1] - seg.a[1]))

@@ -1,0 +1,174 @@
+"""Localisation (paper §8.4): an open-loop strategy after which the robot's possible positions, from anywhere on
+the boundary (or a given start set S), lie in **one interval shorter than ε**.
+
+The robot senses nothing but its bounces, so the strategy is a fixed sequence of heading intervals (each 2·tolerance
+wide, measured from the wall the robot is on). The set of possible positions is tracked exactly
+(:mod:`solverplan.plan._positions`): from the whole boundary it starts as one piece per edge; a stage maps each
+piece onto one edge (its whole image must land there), pieces landing on one edge are merged, and contracting
+transitions (Def. 11, Lemma 2: small headings into corners) shrink them and the gaps between them. The beam search
+ranks states by how many edges they still occupy, then by their spread, and stops at the first state that lies on
+one edge within an interval shorter than ε; that strategy is replayed exactly and returned as a funnel whose goal
+is that interval (certifiable like any funnel).
+
+**Symmetry.** If a rotation T ≠ id maps the environment onto itself (edges to edges, directions kept) and the
+start set onto itself, no strategy localises: headings are measured from the wall the robot is on, so f(T S, Θ) =
+T f(S, Θ) and every position set stays T-invariant; a T-invariant set meets T(e) ≠ e whenever it meets e, so it is
+never one interval of one edge. :func:`localize` checks this exactly first and answers ``impossible`` with the
+rotation (the square, the regular hexagon, ``narrow_door``'s half-turn).
+
+Limits: a stage must carry each piece whole onto a single edge, so starts whose pieces must split (edges next to
+reflex vertices, from the whole boundary of a non-convex room) are not localised by this search; give a start set
+S instead. The search is heuristic: not finding is not a proof.
+
+>>> from solverplan.environment import Environment
+>>> tri = Environment.from_coords([[0, 0], [10, 0], [3, 7]], name="triangle")
+>>> loc = localize(tri, 0.05, start="e0", tolerance=0.002)
+>>> loc.status, loc.goal.pieces[0].edge == loc.stages[-1].positions[0].edge
+('found', True)
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
+from solverplan.bounce.partition import partition
+from solverplan.environment import BoundaryPiece, BoundarySet, Environment
+from solverplan.errors import InputError
+from solverplan.plan._positions import search_positions
+from solverplan.plan.funnel import DEFAULT_FUNNEL_TOLERANCE, Funnel
+from solverplan.plan.result import Optimality
+
+__all__ = ["localize", "rotational_symmetry"]
+
+
+def rotational_symmetry(env: Environment, start: BoundarySet | None = None):
+    """A rotation T ≠ id (exact) mapping every directed edge of ``env`` onto a directed edge and ``start`` onto
+    itself: ``((cos, sin), k)`` with T(edge 0) = edge k, or None. T maps edge 0 onto some edge k of equal length;
+    its matrix [[c, −s], [s, c]] is rational (c, s = dot and cross of the edge vectors over the squared length)."""
+    verts = env.exact_vertices
+    nxt = env.next_vertex
+    edges = {(verts[i], verts[int(nxt[i])]): i for i in range(env.n_edges)}
+    a0, b0 = verts[0], verts[int(nxt[0])]
+    e0 = (b0[0] - a0[0], b0[1] - a0[1])
+    n2 = e0[0] ** 2 + e0[1] ** 2
+    for k in range(1, env.n_edges):
+        ak, bk = verts[k], verts[int(nxt[k])]
+        ek = (bk[0] - ak[0], bk[1] - ak[1])
+        if ek[0] ** 2 + ek[1] ** 2 != n2:
+            continue
+        c = (e0[0] * ek[0] + e0[1] * ek[1]) / n2
+        s = (e0[0] * ek[1] - e0[1] * ek[0]) / n2
+        if c == 1 and s == 0:
+            continue
+        tx, ty = ak[0] - (c * a0[0] - s * a0[1]), ak[1] - (s * a0[0] + c * a0[1])
+
+        def T(p):
+            return (c * p[0] - s * p[1] + tx, s * p[0] + c * p[1] + ty)
+
+        image = {}
+        for (p, q), i in edges.items():
+            j = edges.get((T(p), T(q)))
+            if j is None:
+                break
+            image[i] = j
+        else:
+            if start is None or _invariant(start, image):
+                return (c, s), k
+    return None
+
+
+def _invariant(start: BoundarySet, image: dict[int, int]) -> bool:
+    """Is the start set mapped onto itself (a piece t ∈ [t0, t1] of edge i goes to the same t-range of image[i])?"""
+    def union(items):
+        by: dict[int, list] = {}
+        for e, a, b in sorted(items):
+            if by.get(e) and a <= by[e][-1][1]:
+                by[e][-1][1] = max(by[e][-1][1], b)
+            else:
+                by.setdefault(e, []).append([a, b])
+        return {e: [tuple(r) for r in v] for e, v in by.items()}
+
+    pieces = [(p.edge, p.t0, p.t1) for p in start.pieces]
+    return union(pieces) == union((image[e], a, b) for e, a, b in pieces)
+
+
+def localize(
+    env: Environment,
+    epsilon: float,
+    *,
+    start: str | BoundarySet | None = None,
+    tolerance: float | None = None,
+    max_bounces: int = 40,
+    n_headings: int = 240,
+    beam: int = 400,
+    graph: SafeBVG | None = None,
+) -> Funnel:
+    """A localisation strategy: after its stages every start in ``start`` (default: the whole boundary) is inside
+    one interval of one edge shorter than ``epsilon`` (arc length). Returns a :class:`~solverplan.plan.funnel.Funnel`
+    of kind ``localize`` whose goal is that interval (``found``), or ``not-found`` with the search's bounds.
+
+    Raises
+    ------
+    InputError
+        ε not a positive length, a bad start set, a tolerance outside (0, π/2).
+    """
+    if isinstance(epsilon, bool) or not isinstance(epsilon, (int, float)) or not (math.isfinite(epsilon) and epsilon > 0):
+        raise InputError(f"epsilon {epsilon!r} must be a positive length")
+    eps = DEFAULT_FUNNEL_TOLERANCE if tolerance is None else float(tolerance)
+    if not (0 < eps < math.pi / 2):
+        raise InputError(f"tolerance {tolerance!r} must be a heading half-width in (0, π/2) radians")
+    if start is None:
+        start_set = BoundarySet(tuple(BoundaryPiece(e, Fraction(0), Fraction(1)) for e in range(env.n_edges)))
+    elif isinstance(start, str):
+        start_set = env.boundary_set(start)
+    elif isinstance(start, BoundarySet):
+        start_set = start
+    else:
+        raise InputError(f"start set {start!r}: expected a boundary set such as 'e3:0.25:0.75,e4'")
+    g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
+    part = g.partition
+    symmetry = rotational_symmetry(env, start_set)
+    if symmetry is not None:
+        (a, b), shift = symmetry
+        return Funnel(env, "impossible",
+                      f"the rotation by atan2({b}, {a}) = {math.atan2(float(b), float(a)):.6g} rad maps the environment and "
+                      f"the start set onto themselves (edge e0 to e{shift}), so every position set stays invariant under it "
+                      "and never lies on one edge: no open-loop strategy localises",
+                      start_set, None, eps, kind="localize", epsilon=float(epsilon),
+                      optimality=Optimality("symmetry", True, None, algorithm="exact rotational symmetry"), partition=part)
+    lengths = env.edge_lengths
+    limit = float(epsilon)
+
+    def spread(pieces) -> float:
+        return (max(b for _, _, b in pieces) - min(a for _, a, _ in pieces)) * float(lengths[pieces[0][0]])
+
+    def done(pieces) -> bool:
+        return len({e for e, _, _ in pieces}) == 1 and spread(pieces) < limit * (1 - 1e-9)
+
+    def done_exact(pieces) -> bool:
+        if len({p.edge for p in pieces}) != 1:
+            return False
+        lo, hi = min(p.t0 for p in pieces), max(p.t1 for p in pieces)
+        return float(hi - lo) * float(lengths[pieces[0].edge]) < limit
+
+    def rank(pieces, length):
+        edges = {e for e, _, _ in pieces}
+        hull = sum(spread(tuple(p for p in pieces if p[0] == e)) for e in edges)
+        return (len(edges), hull)
+
+    outcome = search_positions(env, part, start_set.pieces, done, done_exact, tolerance=eps, max_bounces=max_bounces,
+                               n_headings=n_headings, beam=beam, rank=rank)
+    stats = {"expanded": outcome.expanded, "bounces_searched": outcome.layers, "replay_failures": outcome.replay_failures}
+    if outcome.stages is None:
+        return Funnel(env, "not-found", outcome.reason, start_set, None, eps, kind="localize", epsilon=limit, stats=stats,
+                      optimality=Optimality("search", False, None, algorithm="beam search over position sets"),
+                      partition=part)
+    final = outcome.stages[-1].positions if outcome.stages else start_set.pieces
+    goal = BoundarySet((BoundaryPiece(final[0].edge, min(p.t0 for p in final), max(p.t1 for p in final)),))
+    return Funnel(env, "found", "", start_set, goal, eps, outcome.stages, kind="localize", epsilon=limit, stats=stats,
+                  optimality=Optimality("search", False, None,
+                                        algorithm=f"breadth-first beam search over position sets ({n_headings} headings, "
+                                                  f"beam {beam}): fewest bounces not proved"),
+                  partition=part)

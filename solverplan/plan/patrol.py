@@ -1,0 +1,785 @@
+"""Patrolling (paper Def. 15, §7.2) with optimally contracting cycles (§8.3): a strategy that brings the robot
+from any point of a start set S into a **stable** cycle visiting a required sequence of edges E = (e_1 … e_k) in
+order, forever.
+
+**The search space.** Stages are arcs of the safe bounce visibility graph (every point of the source segment
+lands inside the target segment for every heading of the stage's interval), with the interval of each arc
+chosen for the required tolerance ε (the half-width of every heading interval) at the *contracting end* of its
+safe interval (:mod:`solverplan.plan._choices`: the worst case of C over the interval is a closed form). The
+sequence automaton is multiplied in: a product node (s, q, h) says the robot is on segment s, its last required
+visit was e_q, and it has made h bounces since (h ≤ H, the allowed *intermediate bounces* between consecutive
+required visits, ``max_between``). Landing on e_{q+1} advances q and resets h. Every cycle of this product is a
+patrol cycle (h cannot return without an advance, so a cycle visits all of E, in order, a whole number of
+times), and every patrol cycle with at most H intermediate bounces between required visits is a cycle of it.
+Without ``max_between`` the smallest H that admits a cycle is used (H = 0: the robot bounces only on the listed
+edges).
+
+**Objectives** (DESIGN §6; weights w = log of the worst-case contraction coefficient of the arc, Def. 11–12):
+
+- ``contraction`` (a): for a required tolerance ε, the cycle through E *once* (one period) with the smallest
+  worst-case contraction Π C_k. With h in the state the one-period product is a DAG, so dynamic programming over
+  it is exact: the answer is optimal among all one-period patrols of the class (``dag-exhausted``). A second
+  DP without the bound on h (H = number of segments, enough when no within-layer cycle contracts: shortest
+  walks are then simple) bounds all classes; if a cycle between two required visits contracts, repeating it
+  drives the per-period contraction to 0 and the bound is 0 — reported as the gap.
+- ``tolerance`` (b): the largest ε for which some patrol cycle contracts (worst case < 1): a negative cycle of
+  w(ε). w is increasing in ε and arcs only disappear as ε grows, so feasibility is monotone and bisection
+  with negative-cycle detection (Bellman–Ford) brackets ε* (the bracket is the bound; ``bisection``).
+- ``rate`` (c): the smallest worst-case contraction *per bounce*, exp of the minimum mean cycle of the product —
+  solved both as the LP max λ s.t. π_v − π_u ≤ w_uv − λ (cvxpy; duality proves it) and by Karp's algorithm, and
+  the two must agree. The min mean cycle of the product *without* the bound on h (cycles between two required
+  visits allowed) is a lower bound over every class; the gap to it is reported.
+
+Every answer reports the cycle's stages and intervals, its worst-case contraction (exact, from rational
+directions inside the intervals), the exact affine return map of the nominal headings (interval midpoints,
+exact directions :class:`~solverplan.bounce.dynamics.ExactHeading`), its fixed point and orbit, and the cycles
+needed to shrink the position set below a length ε (Cor. 4 for the nominal heading; and for the set-valued map
+of the whole intervals, whose positions converge to an attractor of positive width).
+
+The problem is NP-hard in general (the paper reduces it to TSP); here it is polynomial *per class H*, and H is
+the stated bound of every claim.
+
+>>> from solverplan.environment import Environment
+>>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
+>>> p = patrol(square, "e0,e1,e2,e3", tolerance=0.05, objective="contraction")
+>>> p.status, [s.from_edge for s in p.cycle], p.max_between
+('found', [0, 1, 2, 3], 0)
+>>> round(p.contraction, 6) == round(math.tan(0.1 + 1e-6) ** 4, 6)    # tan(2ε) per bounce (right angles)
+True
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Literal, Sequence
+
+import numpy as np
+
+from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
+from solverplan.bounce.dynamics import ExactHeading, cycles_to_epsilon
+from solverplan.bounce.interval import Interval
+from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.transitions import affine_map
+from solverplan.environment import BoundarySet, Environment
+from solverplan.errors import InputError, InvalidBoundarySet, SolverFailed
+from solverplan.exact import ExactPoint, format_number
+from solverplan.plan._choices import ArcChoices, arc_choices, max_tolerance
+from solverplan.plan._entry import belief_search
+from solverplan.plan._graphs import (
+    KARP_MAX_NODES,
+    cycle_arcs_only,
+    find_negative_cycle,
+    karp_min_mean_cycle,
+    lp_min_mean_cycle,
+)
+from solverplan.plan._results import heading_cone
+from solverplan.plan.result import Optimality, Stage
+
+__all__ = ["Objective", "DEFAULT_TOLERANCE", "PatrolStage", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
+
+logger = logging.getLogger(__name__)
+
+Objective = Literal["contraction", "tolerance", "rate"]
+OBJECTIVES = ("contraction", "tolerance", "rate")
+
+DEFAULT_TOLERANCE = 0.01
+"""Radians: the heading tolerance ε (half-width of every interval) used by objectives ``contraction`` and
+``rate`` when none is given."""
+
+MAX_BETWEEN_SEARCHED = 3
+"""Without ``max_between``, the classes H = 0, 1, … up to this many intermediate bounces are tried in turn."""
+
+_EPS_FLOOR = 1e-7  # smallest tolerance bisection considers (radians)
+_AGREE = 1e-6  # LP and Karp values must agree to this (absolute, in log C per bounce)
+
+
+# ---------------------------------------------------------------------- results
+@dataclass(frozen=True, slots=True)
+class PatrolStage:
+    """One bounce of the cycle: from segment ``from_segment`` (on edge ``from_edge``) with any heading of
+    ``interval`` onto segment ``to_segment``. ``worst`` is the worst-case coefficient C over the interval
+    (arc length, Def. 11; exact from the rational end directions), ``nominal`` the nominal heading (the
+    midpoint) whose exact direction ``direction`` gives the affine map t ↦ ``alpha`` t + ``beta``."""
+
+    from_segment: int
+    to_segment: int
+    from_edge: int
+    to_edge: int
+    interval: Interval
+    transition: str
+    phi: float
+    worst: float
+    nominal: float
+    direction: ExactPoint
+    alpha: Fraction
+    beta: Fraction
+
+    def to_json(self) -> dict:
+        return {
+            "from_segments": [self.from_segment],
+            "to_segments": [self.to_segment],
+            "interval": [self.interval.lo, self.interval.hi],
+            "from_edge": self.from_edge,
+            "to_edge": self.to_edge,
+            "transition": self.transition,
+            "phi": self.phi,
+            "contraction": self.worst,
+            "nominal": self.nominal,
+            "direction": [format_number(self.direction[0]), format_number(self.direction[1])],
+            "map": {"alpha": format_number(self.alpha), "beta": format_number(self.beta)},
+        }
+
+
+@dataclass(frozen=True, slots=True)
+class PatrolPoint:
+    """A contact point of the nominal cycle: edge, exact t and point."""
+
+    edge: int
+    segment: int
+    t: Fraction
+    point: ExactPoint
+
+    def to_json(self) -> dict:
+        return {"edge": self.edge, "segment": self.segment, "t": float(self.t), "t_exact": format_number(self.t),
+                "point": [float(self.point[0]), float(self.point[1])]}
+
+
+@dataclass(frozen=True)
+class Patrol:
+    """A patrol strategy (CONTRACT: cycle answer) or the reason there is none.
+
+    Attributes
+    ----------
+    status, reason
+        ``found`` or ``infeasible`` (proved within the class searched), and why.
+    visit, objective, tolerance, max_between
+        The query: required edges in order, objective, heading tolerance ε (radians, half-width; for
+        ``tolerance`` the best found) and the class H of intermediate bounces.
+    entry, cycle
+        Stages from the start set into the cycle (safe-BVG plan over beliefs), and the cycle's stages.
+    contraction, contraction_exact
+        Worst case of Π C_k over the cycle's intervals (rational directions inside them), float and exact.
+    rate
+        contraction ** (1 / len(cycle)): the worst-case contraction per bounce.
+    periods
+        How many times the cycle passes through E.
+    nominal_alpha, nominal_beta, points
+        The exact return map t ↦ α t + β of the nominal headings on the first stage's edge, and the orbit of
+        its fixed point t* = β / (1 − α) (one contact point per stage).
+    attractor
+        Width (arc length) of the set of positions on the first segment the whole intervals converge to.
+    epsilon, cycles_to_epsilon, cycles_to_epsilon_nominal
+        With a length ``epsilon``: cycles until the position set (the whole first segment at the start) is at
+        most ε wide — for the set-valued map of the intervals (None if its attractor is wider), and by
+        Cor. 4 for the nominal heading.
+    optimality, scope
+        How the objective's optimum is established, with its bound, and over which class of patrols it holds.
+    solvers
+        Values of the different solvers (LP, Karp, DP, bisection bracket) for the record.
+    """
+
+    env: Environment
+    status: str
+    reason: str
+    visit: tuple[int, ...]
+    objective: str
+    tolerance: float | None
+    max_between: int | None
+    start: BoundarySet | None = None
+    entry: tuple[Stage, ...] = ()
+    cycle: tuple[PatrolStage, ...] = ()
+    contraction: float | None = None
+    contraction_exact: Fraction | None = None
+    rate: float | None = None
+    periods: int = 0
+    nominal_alpha: Fraction | None = None
+    nominal_beta: Fraction | None = None
+    points: tuple[PatrolPoint, ...] = ()
+    attractor: float | None = None
+    epsilon: float | None = None
+    cycles_to_epsilon: int | None = None
+    cycles_to_epsilon_nominal: int | None = None
+    optimality: Optimality = field(default_factory=lambda: Optimality("none", False, None))
+    scope: str = ""
+    solvers: dict = field(default_factory=dict)
+    partition: Partition | None = field(default=None, repr=False)
+
+    @property
+    def found(self) -> bool:
+        return self.status == "found"
+
+    @property
+    def segments(self) -> tuple[int, ...]:
+        """The cycle's segments in order (the source of each stage)."""
+        return tuple(s.from_segment for s in self.cycle)
+
+    @property
+    def fixed_point(self) -> PatrolPoint:
+        return self.points[0]
+
+    def rollout_spec(self):
+        """``(stages, targets, repeat_from)`` for :class:`solverplan.simulate.StagePolicy`: every heading
+        interval in order (entry, then the cycle, which repeats), and the segments each stage must land on."""
+        part = self.partition
+        intervals = [s.interval for s in self.entry] + [s.interval for s in self.cycle]
+        targets = [tuple(part.segments[t] for t in s.to_segments) for s in self.entry]
+        targets += [(part.segments[s.to_segment],) for s in self.cycle]
+        return tuple(intervals), tuple(targets), len(self.entry)
+
+    def to_json(self) -> dict:
+        out: dict = {
+            "status": self.status,
+            "reason": self.reason,
+            "environment": self.env.name,
+            "visit": [f"e{e}" for e in self.visit],
+            "objective": self.objective,
+            "tolerance": self.tolerance,
+            "max_between": self.max_between,
+            "start": None if self.start is None else str(self.start),
+            "entry": [s.to_json() for s in self.entry],
+            "cycle": [s.to_json() for s in self.cycle],
+            "bounces": len(self.cycle),
+            "periods": self.periods,
+            "contraction": self.contraction,
+            "contraction_exact": None if self.contraction_exact is None else format_number(self.contraction_exact),
+            "rate": self.rate,
+            "return_map": None if self.nominal_alpha is None else {
+                "edge": self.cycle[0].from_edge,
+                "alpha": format_number(self.nominal_alpha),
+                "beta": format_number(self.nominal_beta),
+                "nominal_contraction": float(abs(self.nominal_alpha)),
+            },
+            "fixed_point": [p.to_json() for p in self.points],
+            "attractor_width": self.attractor,
+            "optimality": self.optimality.to_json(),
+            "optimality_scope": self.scope,
+            "solvers": self.solvers,
+        }
+        if self.epsilon is not None:
+            out["epsilon"] = self.epsilon
+            out["cycles_to_epsilon"] = self.cycles_to_epsilon
+            out["cycles_to_epsilon_nominal"] = self.cycles_to_epsilon_nominal
+        return out
+
+    def to_text(self, *, width: int = 100) -> str:
+        seq = " → ".join(f"e{e}" for e in self.visit)
+        lines = [f"patrol of {seq} in {self.env.name or 'the environment'} (objective {self.objective}): {self.status}"]
+        if self.reason:
+            lines.append(f"reason: {self.reason}")
+        if self.tolerance is not None:
+            lines.append(f"tolerance ε = {self.tolerance:.6g} rad; intermediate bounces ≤ {self.max_between}")
+        for k, s in enumerate(self.entry):
+            lines.append(f"  entry {k}: {list(s.from_segments)} → {list(s.to_segments)}  θ ∈ [{s.interval.lo:.6f}, {s.interval.hi:.6f}]")
+        for k, s in enumerate(self.cycle):
+            lines.append(f"  cycle {k}: seg {s.from_segment} (e{s.from_edge}) → seg {s.to_segment} (e{s.to_edge})  "
+                         f"θ ∈ [{s.interval.lo:.6f}, {s.interval.hi:.6f}]  C ≤ {s.worst:.4g}")
+        if self.contraction is not None:
+            lines.append(f"worst-case contraction per cycle {self.contraction:.6g}, per bounce {self.rate:.6g} "
+                         f"({len(self.cycle)} bounces, {self.periods} pass(es) of the sequence)")
+        for p in self.points:
+            lines.append(f"  fixed point e{p.edge}: t = {float(p.t):.12g} at ({float(p.point[0]):.9g}, {float(p.point[1]):.9g})")
+        if self.attractor is not None:
+            lines.append(f"positions converge to a set {self.attractor:.3g} wide (intervals' spread)")
+        if self.epsilon is not None:
+            lines.append(f"cycles to ε = {self.epsilon:g}: {self.cycles_to_epsilon} (intervals), "
+                         f"{self.cycles_to_epsilon_nominal} (nominal heading, Cor. 4)")
+        o = self.optimality
+        lines.append(f"optimality: {o.method}, proved {o.proved}, bound {o.bound}" + (f"; {self.scope}" if self.scope else ""))
+        return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------------- input
+def parse_visit(env: Environment, visit: str | Sequence[int]) -> tuple[int, ...]:
+    """The required edge sequence: ``"e2,e5,e9"`` or edge ids. Whole edges only."""
+    if isinstance(visit, str):
+        pieces = env.boundary_set(visit).pieces
+        for p in pieces:
+            if p.t0 != 0 or p.t1 != 1:
+                raise InvalidBoundarySet(f"patrol edges are whole edges: {p} is part of an edge")
+        edges = tuple(p.edge for p in pieces)
+    else:
+        edges = []
+        for e in visit:
+            if isinstance(e, bool) or not isinstance(e, (int, np.integer)):
+                raise InputError(f"patrol edge {e!r} is not an edge id")
+            env._check_edge_id(int(e))
+            edges.append(int(e))
+        edges = tuple(edges)
+    if not edges:
+        raise InputError("a patrol needs at least one edge to visit")
+    return edges
+
+
+def _start_set(env: Environment, start) -> BoundarySet | None:
+    if start is None:
+        return None
+    if isinstance(start, str):
+        return env.boundary_set(start)
+    if isinstance(start, BoundarySet):
+        return start
+    raise InputError(f"start set {start!r}: expected a boundary set such as 'e3:0.25:0.75,e4'")
+
+
+def start_segments(part: Partition, start: BoundarySet) -> frozenset[int]:
+    """The segments of P′ a start set overlaps with positive length."""
+    out = set()
+    for piece in start.pieces:
+        for s in part.edge_segments[piece.edge]:
+            seg = part.segments[s]
+            if min(seg.t1, piece.t1) > max(seg.t0, piece.t0):
+                out.add(s)
+    return frozenset(out)
+
+
+# ---------------------------------------------------------------------- the product graph
+@dataclass(frozen=True)
+class _Product:
+    """Arcs of the product of the safe BVG (at one tolerance) with the sequence automaton."""
+
+    n_nodes: int
+    src: np.ndarray
+    dst: np.ndarray
+    w: np.ndarray
+    choice: np.ndarray  # row of ArcChoices
+    advance: np.ndarray  # bool: lands on the next required edge
+
+
+def _product(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: int | None,
+             allowed: frozenset[int] | None) -> _Product:
+    """Nodes (s, q, h) (h ∈ 0..H; ``H=None``: no h, within-layer cycles allowed: node (s, q))."""
+    N, k = len(part.segments), len(visit)
+    seg_edge = np.asarray(part.seg_edge, dtype=np.int64)
+    rows = np.arange(len(choices.arc))
+    if allowed is not None:
+        mask = np.isin(choices.source, list(allowed)) & np.isin(choices.target, list(allowed))
+        rows = rows[mask]
+    s, t = choices.source[rows], choices.target[rows]
+    hs = [0] if H is None else list(range(H + 1))
+    nh = len(hs)
+    src, dst, ch, adv = [], [], [], []
+    for q in range(k):
+        nxt = (q + 1) % k
+        lands = seg_edge[t] == visit[nxt]
+        for h in hs:
+            here = (q * nh + h) * N + s
+            # advancing arcs
+            src.append(here[lands])
+            dst.append((nxt * nh + 0) * N + t[lands])
+            ch.append(rows[lands])
+            adv.append(np.ones(int(lands.sum()), dtype=bool))
+            stay = ~lands
+            if H is None:
+                src.append(here[stay])
+                dst.append((q * nh + 0) * N + t[stay])
+            elif h < H:
+                src.append(here[stay])
+                dst.append((q * nh + h + 1) * N + t[stay])
+            else:
+                continue
+            ch.append(rows[stay])
+            adv.append(np.zeros(int(stay.sum()), dtype=bool))
+    src_a = np.concatenate(src) if src else np.zeros(0, dtype=np.int64)
+    dst_a = np.concatenate(dst) if dst else np.zeros(0, dtype=np.int64)
+    ch_a = np.concatenate(ch) if ch else np.zeros(0, dtype=np.int64)
+    adv_a = np.concatenate(adv) if adv else np.zeros(0, dtype=bool)
+    n = k * nh * N
+    keep = cycle_arcs_only(n, src_a, dst_a)
+    return _Product(n, src_a[keep], dst_a[keep], choices.weight[ch_a[keep]], ch_a[keep], adv_a[keep])
+
+
+def _compact(prod: _Product) -> tuple[int, np.ndarray, np.ndarray]:
+    """Renumber the nodes that carry arcs: (n, src, dst)."""
+    used, inverse = np.unique(np.concatenate([prod.src, prod.dst]), return_inverse=True)
+    m = len(prod.src)
+    return len(used), inverse[:m], inverse[m:]
+
+
+# ---------------------------------------------------------------------- one-period DP (objective a)
+def _period_dp(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: int,
+               allowed: frozenset[int] | None) -> tuple[float, list[int]] | None:
+    """Minimum total weight of a walk from a segment of e_1 through e_2, …, e_k back to the same segment with at
+    most H intermediate bounces between required visits: (weight, rows of ``choices`` in order), or None."""
+    N, k = len(part.segments), len(visit)
+    seg_edge = np.asarray(part.seg_edge, dtype=np.int64)
+    rows = np.arange(len(choices.arc))
+    if allowed is not None:
+        rows = rows[np.isin(choices.source, list(allowed)) & np.isin(choices.target, list(allowed))]
+    s, t, w = choices.source[rows], choices.target[rows], choices.weight[rows]
+    anchors = [a for a in part.edge_segments[visit[0]] if allowed is None or a in allowed]
+    if not anchors or len(rows) == 0:
+        return None
+    A = len(anchors)
+    layers = (k + 1) * (H + 1)
+    dist = np.full((layers, A, N), np.inf)
+    pred = np.full((layers, A, N, 2), -1, dtype=np.int64)  # (previous layer, row)
+    for i, a in enumerate(anchors):
+        dist[0, i, a] = 0.0
+    for j in range(k):
+        lands = seg_edge[t] == visit[(j + 1) % k]
+        for h in range(H + 1):
+            L = j * (H + 1) + h
+            cand = dist[L][:, s] + w[None, :]  # (A, arcs)
+            targets = []
+            if lands.any():
+                targets.append(((j + 1) * (H + 1), lands))
+            if h < H and (~lands).any():
+                targets.append((L + 1, ~lands))
+            for L2, m in targets:
+                c = cand[:, m]
+                tt = t[m]
+                rr = rows[m]
+                for i in range(A):
+                    order = np.lexsort((c[i], tt))
+                    tt_o, c_o = tt[order], c[i][order]
+                    first = np.concatenate([[True], tt_o[1:] != tt_o[:-1]])
+                    nodes, best, arc_rows = tt_o[first], c_o[first], rr[order][first]
+                    better = best < dist[L2, i, nodes]
+                    dist[L2, i, nodes[better]] = best[better]
+                    pred[L2, i, nodes[better], 0] = L
+                    pred[L2, i, nodes[better], 1] = arc_rows[better]
+    end = k * (H + 1)
+    best_val, best_i = math.inf, -1
+    for i, a in enumerate(anchors):
+        if dist[end, i, a] < best_val:
+            best_val, best_i = float(dist[end, i, a]), i
+    if best_i < 0:
+        return None
+    path = []
+    L, node = end, anchors[best_i]
+    while L != 0:
+        L_prev, r = (int(x) for x in pred[L, best_i, node])
+        if r < 0:  # pragma: no cover - every finite label has a predecessor
+            raise SolverFailed("broken predecessor chain in the one-period dynamic programme")
+        path.append(r)
+        node = int(choices.source[r])
+        L = L_prev
+    path.reverse()
+    return best_val, path
+
+
+# ---------------------------------------------------------------------- the solver
+def patrol(
+    env: Environment,
+    visit: str | Sequence[int],
+    *,
+    start: str | BoundarySet | None = None,
+    objective: Objective = "contraction",
+    tolerance: float | None = None,
+    max_between: int | None = None,
+    epsilon: float | None = None,
+    solver: str | None = None,
+    graph: SafeBVG | None = None,
+) -> Patrol:
+    """A patrol cycle visiting ``visit`` in order, optimal for ``objective`` (module docstring).
+
+    Parameters
+    ----------
+    env
+        The environment.
+    visit
+        The required edges in order (``"e2,e5,e9"`` or ids), visited cyclically.
+    start
+        Start set S (``"e3:0.25:0.75,e4"``); the strategy then first brings every point of S into the cycle
+        (a safe-BVG plan over beliefs with intervals at least 2ε wide). None: the cycle alone.
+    objective
+        ``contraction`` (a), ``tolerance`` (b) or ``rate`` (c).
+    tolerance
+        ε, radians: half the width of every heading interval (default :data:`DEFAULT_TOLERANCE`; ignored by
+        ``tolerance``, which maximises it).
+    max_between
+        H: intermediate bounces allowed between consecutive required visits (default: the smallest H ≤
+        :data:`MAX_BETWEEN_SEARCHED` with a patrol cycle).
+    epsilon
+        A length: also report the cycles needed to shrink the position set below it.
+    solver
+        cvxpy solver for the LP of ``rate`` (default Clarabel).
+    graph
+        A precomputed safe BVG of ``env`` (saves its construction).
+
+    Raises
+    ------
+    InputError
+        Unknown edges, a bad start set, tolerance outside (0, π/2), negative max_between, unknown objective.
+    SolverFailed
+        The LP and Karp disagree, or a solver breaks down.
+    """
+    if objective not in OBJECTIVES:
+        raise InputError(f"unknown patrol objective {objective!r}: use {', '.join(OBJECTIVES)}")
+    edges = parse_visit(env, visit)
+    start_set = _start_set(env, start)
+    if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < float(tolerance) < math.pi / 2):
+        raise InputError(f"tolerance {tolerance!r} must be a heading half-width in (0, π/2) radians")
+    if max_between is not None and (isinstance(max_between, bool) or not isinstance(max_between, int) or max_between < 0):
+        raise InputError(f"max_between must be a non-negative integer, got {max_between!r}")
+    if epsilon is not None and not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon > 0):
+        raise InputError(f"epsilon {epsilon!r} must be a positive length")
+    g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
+    part = g.partition
+    eps = float(tolerance) if tolerance is not None else DEFAULT_TOLERANCE
+    start_segs = start_segments(part, start_set) if start_set is not None else None
+    classes = [max_between] if max_between is not None else list(range(MAX_BETWEEN_SEARCHED + 1))
+    base = dict(env=env, visit=edges, objective=objective, start=start_set)
+
+    if objective == "tolerance":
+        return _objective_tolerance(env, part, g, edges, classes, start_segs, epsilon, base)
+
+    choices = arc_choices(g, eps)
+    allowed = _allowed(g, choices, start_segs, eps)
+    if allowed is not None and not allowed:
+        return Patrol(status="infeasible", tolerance=eps, max_between=classes[-1], partition=part,
+                      reason=f"no safe plan with tolerance {eps:g} leaves the start set {start_set} at all", **base)
+    for H in classes:
+        if objective == "contraction":
+            found = _period_dp(part, choices, edges, H, allowed)
+            if found is None:
+                continue
+            value, rows = found
+            bound, gap_note = _period_bound(part, choices, edges, allowed, value)
+            opt = (Optimality("dag-exhausted", True, math.exp(value), algorithm=f"one-period DP, H = {H}",
+                              gap=None if bound is None else math.exp(value) - bound),
+                   f"optimal among one-period patrols with at most {H} intermediate bounces between required visits"
+                   + (f"; {gap_note}" if gap_note else ""))
+            solvers = {"dp_log_contraction": value}
+            periods = 1
+        else:
+            prod = _product(part, choices, edges, H, allowed)
+            if len(prod.src) == 0:
+                continue
+            value, cyc, solvers = _min_mean(prod, solver)
+            rows = [int(prod.choice[a]) for a in cyc]
+            periods = int(prod.advance[cyc].sum()) // len(edges)
+            loose = _product(part, choices, edges, None, allowed)
+            lb = _min_mean(loose, solver, karp=False)[0] if len(loose.src) else value
+            gap = math.exp(value) - math.exp(lb)
+            opt = (Optimality("lp-duality", True, math.exp(value), algorithm=f"LP + Karp, H = {H}", gap=max(gap, 0.0)),
+                   f"optimal per bounce among patrol cycles with at most {H} intermediate bounces between required "
+                   f"visits (LP and Karp agree); over all patrol cycles the per-bounce contraction is ≥ {math.exp(lb):.6g}")
+        return _answer(env, part, g, choices, rows, eps, H, start_segs, epsilon, opt, solvers, base, periods)
+    return Patrol(status="infeasible", tolerance=eps, max_between=classes[-1], partition=part,
+                  reason=(f"no patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with intervals "
+                          f"{2 * eps:g} rad wide and at most {classes[-1]} intermediate bounces between required visits "
+                          "(every such walk of the safe BVG was searched)"
+                          + ("" if start_segs is None else f", among the segments reachable from {start_set}")),
+                  optimality=Optimality("dag-exhausted", True, None), scope="infeasible within the class", **base)
+
+
+def _allowed(g: SafeBVG, choices: ArcChoices, start_segs: frozenset[int] | None, eps: float) -> frozenset[int] | None:
+    """Segments a safe plan from the start set can reach with certainty (singleton beliefs, then arcs)."""
+    if start_segs is None:
+        return None
+    _, reached = belief_search(g, start_segs, eps, max_stages=24)
+    seeds = {next(iter(b)) for b in reached if len(b) == 1}
+    out = set(seeds)
+    adj: dict[int, list[int]] = {}
+    for s, t in zip(choices.source.tolist(), choices.target.tolist()):
+        adj.setdefault(s, []).append(t)
+    stack = list(seeds)
+    while stack:
+        u = stack.pop()
+        for v in adj.get(u, ()):
+            if v not in out:
+                out.add(v)
+                stack.append(v)
+    return frozenset(out)
+
+
+def _period_bound(part, choices, edges, allowed, value) -> tuple[float | None, str]:
+    """Lower bound on the one-period contraction over every class (any number of intermediate bounces)."""
+    loose = _product(part, choices, edges, None, allowed)
+    within = ~loose.advance
+    if within.any():
+        n, src, dst = loose.n_nodes, loose.src[within], loose.dst[within]
+        if find_negative_cycle(n, src, dst, loose.w[within]) is not None:
+            return 0.0, ("a contracting cycle between two required visits exists, so with more intermediate bounces "
+                         "the per-period contraction can be made arbitrarily small (bound 0)")
+    N = len(part.segments)
+    if N * len(edges) * N > 200000:
+        return None, "no bound over larger classes computed (too many segments)"
+    deep = _period_dp(part, choices, edges, N, allowed)
+    if deep is None:  # pragma: no cover - the deeper class contains the found walk
+        return None, ""
+    return math.exp(deep[0]), (f"over every class (any number of intermediate bounces) the optimum is "
+                               f"{math.exp(deep[0]):.6g}")
+
+
+def _min_mean(prod: _Product, solver: str | None, *, karp: bool = True) -> tuple[float, list[int], dict]:
+    n, src, dst = _compact(prod)
+    lp_value, lp_cycle, lp_solver = lp_min_mean_cycle(n, src, dst, prod.w, solver=solver)
+    solvers: dict = {"lp": lp_value, "lp_solver": lp_solver}
+    value, cycle = lp_value, lp_cycle
+    if karp and n <= KARP_MAX_NODES:
+        k_value, k_cycle = karp_min_mean_cycle(n, src, dst, prod.w)
+        solvers["karp"] = k_value
+        if abs(k_value - lp_value) > _AGREE * (1 + abs(k_value)):
+            raise SolverFailed(f"the minimum-mean-cycle LP ({lp_solver}: {lp_value!r}) and Karp's algorithm "
+                               f"({k_value!r}) disagree")
+        value, cycle = k_value, k_cycle  # Karp's value is exact up to rounding; its cycle is tight
+    elif karp:
+        solvers["karp"] = None
+        solvers["karp_skipped"] = f"{n} nodes > {KARP_MAX_NODES}"
+    # the cycle's own mean (the reported value is the cycle's, never better than the solvers')
+    mean = float(np.mean(prod.w[cycle]))
+    solvers["cycle_mean"] = mean
+    return mean, cycle, solvers
+
+
+def _objective_tolerance(env, part, g, edges, classes, start_segs, epsilon, base) -> Patrol:
+    """(b): bisection on ε with negative-cycle detection."""
+    top = max_tolerance(g)
+
+    def feasible(eps: float, H: int):
+        ch = arc_choices(g, eps)
+        allowed = _allowed(g, ch, start_segs, eps)
+        if allowed is not None and not allowed:
+            return None
+        prod = _product(part, ch, edges, H, allowed)
+        if len(prod.src) == 0:
+            return None
+        cyc = find_negative_cycle(prod.n_nodes, prod.src, prod.dst, prod.w)
+        if cyc is None:
+            return None
+        return ch, [int(prod.choice[a]) for a in cyc], int(prod.advance[cyc].sum()) // len(edges)
+
+    for H in classes:
+        lo_hit = feasible(_EPS_FLOOR, H)
+        if lo_hit is None:
+            continue
+        lo, hi = _EPS_FLOOR, top
+        best = lo_hit
+        if feasible(hi, H) is not None:  # pragma: no cover - only with a whole-interval contracting cycle
+            lo, best = hi, feasible(hi, H)
+        else:
+            for _ in range(60):
+                if hi - lo <= 1e-9 * max(1.0, hi):
+                    break
+                mid = (lo + hi) / 2
+                hit = feasible(mid, H)
+                if hit is None:
+                    hi = mid
+                else:
+                    lo, best = mid, hit
+        ch, rows, periods = best
+        opt = (Optimality("bisection", True, hi, algorithm=f"bisection with Bellman-Ford, H = {H}", gap=hi - lo),
+               f"largest tolerance with a contracting patrol cycle (at most {H} intermediate bounces between required "
+               f"visits): ε* ∈ [{lo:.12g}, {hi:.12g}]")
+        return _answer(env, part, g, ch, rows, lo, H, start_segs, epsilon, opt, {"bracket": [lo, hi]}, base, periods)
+    return Patrol(status="infeasible", tolerance=None, max_between=classes[-1], partition=part,
+                  reason=(f"no contracting patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with at most "
+                          f"{classes[-1]} intermediate bounces between required visits, even with tolerance {_EPS_FLOOR:g}"),
+                  optimality=Optimality("bisection", True, None), scope="infeasible within the class", **base)
+
+
+# ---------------------------------------------------------------------- building the answer
+def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: int, start_segs, epsilon,
+            opt: tuple[Optimality, str], solvers: dict, base: dict, periods: int = 1) -> Patrol:
+    edges = base["visit"]
+    segs = [int(choices.source[r]) for r in rows]
+    # entry: a belief plan from the start set to some segment of the cycle; rotate the cycle to begin there
+    entry: tuple[Stage, ...] = ()
+    rotate = 0
+    if start_segs is not None:
+        targets = set(segs)
+        plan, _ = belief_search(g, start_segs, eps, goal=lambda b: len(b) == 1 and next(iter(b)) in targets,
+                                max_stages=24)
+        if plan is None:  # pragma: no cover - the cycle was chosen among reachable segments
+            raise SolverFailed("the patrol cycle lies among reachable segments, yet no entry plan was found")
+        entry = tuple(Stage(tuple(sorted(st.sources)), tuple(sorted(st.targets)), st.interval, moves=st.moves)
+                      for st in plan)
+        landing = next(iter(plan[-1].targets)) if plan else next(iter(start_segs))
+        rotate = segs.index(landing)
+    else:
+        # begin with a bounce leaving a segment of the first required edge when there is one
+        for k, s in enumerate(segs):
+            if int(part.seg_edge[s]) == edges[0]:
+                rotate = k
+                break
+    rows = rows[rotate:] + rows[:rotate]
+    stages = [_stage(env, part, g, choices, r) for r in rows]
+    worst_exact = Fraction(1)
+    alpha, beta = Fraction(1), Fraction(0)
+    for st in stages:
+        worst_exact *= _worst_exact(env, st)
+        alpha, beta = st.alpha * alpha, st.alpha * beta + st.beta
+    if alpha == 1:  # pragma: no cover - a contracting cycle has |α| < 1
+        raise SolverFailed("the nominal return map has slope 1: no fixed point")
+    t_star = beta / (1 - alpha)
+    points = []
+    t = t_star
+    for st in stages:
+        points.append(PatrolPoint(st.from_edge, st.from_segment, t, env.exact_point_at(st.from_edge, t)))
+        t = st.alpha * t + st.beta
+    contraction = float(worst_exact)
+    status = "found" if contraction < 1 else "not-contracting"
+    reason = ("" if status == "found" else
+              "the best patrol cycle of the class does not contract in the worst case: it is not stable")
+    first = part.segments[stages[0].from_segment]
+    seg_len = float(first.t1 - first.t0) * float(env.edge_lengths[first.edge])
+    attractor, counts = _set_valued(env, stages, first, epsilon)
+    nominal_cycles = None
+    if epsilon is not None and 0 < abs(alpha) < 1:
+        nominal_cycles = cycles_to_epsilon(abs(alpha), Fraction(seg_len), Fraction(epsilon))
+    return Patrol(
+        status=status, reason=reason, tolerance=eps, max_between=H, entry=entry, cycle=tuple(stages),
+        contraction=contraction, contraction_exact=worst_exact,
+        rate=contraction ** (1 / len(stages)) if contraction > 0 else 0.0,
+        periods=max(periods, 1), nominal_alpha=alpha, nominal_beta=beta, points=tuple(points),
+        attractor=attractor, epsilon=epsilon, cycles_to_epsilon=counts, cycles_to_epsilon_nominal=nominal_cycles,
+        optimality=opt[0], scope=opt[1], solvers=solvers, partition=part, **base)
+
+
+def _stage(env: Environment, part: Partition, g: SafeBVG, choices: ArcChoices, r: int) -> PatrolStage:
+    a = int(choices.arc[r])
+    s, t = int(choices.source[r]), int(choices.target[r])
+    e_from, e_to = int(part.seg_edge[s]), int(part.seg_edge[t])
+    interval = Interval(float(choices.lo[r]), float(choices.hi[r]))
+    nominal = interval.midpoint
+    edge = env.edge(e_from)
+    vec = (edge.b[0] - edge.a[0], edge.b[1] - edge.a[1])
+    direction = ExactHeading.from_float(nominal).direction(vec)
+    m = affine_map(env, e_from, direction, e_to)
+    side = int(g.transition[a])
+    return PatrolStage(s, t, e_from, e_to, interval, "right" if side > 0 else "left" if side < 0 else "parallel",
+                       float(g.phi[a]), float(choices.worst[r]), nominal, direction, m.alpha, m.beta)
+
+
+def _worst_exact(env: Environment, st: PatrolStage) -> Fraction:
+    """max |α| over the exact cone inside the stage's interval (the end directions: the checker's argument)."""
+    edge = env.edge(st.from_edge)
+    vec = (edge.b[0] - edge.a[0], edge.b[1] - edge.a[1])
+    d_lo, d_hi = heading_cone(vec, st.interval)
+    return max(abs(affine_map(env, st.from_edge, d, st.to_edge).alpha) for d in (d_lo, d_hi))
+
+
+def _set_valued(env: Environment, stages: Sequence[PatrolStage], first, epsilon: float | None,
+                max_cycles: int = 100000) -> tuple[float, int | None]:
+    """Iterate the set of positions on the first segment through the cycle with the whole intervals (floats):
+    the image of [a, b] is spanned by the four corner maps (monotone in t and in the heading). Returns the
+    attractor's width (arc length) and the cycles until the set is at most ``epsilon`` wide (None if never)."""
+    maps = []
+    for st in stages:
+        edge = env.edge(st.from_edge)
+        vec = (edge.b[0] - edge.a[0], edge.b[1] - edge.a[1])
+        ends = []
+        for theta in (st.interval.lo, st.interval.hi):
+            d = ExactHeading.from_float(theta).direction(vec)
+            m = affine_map(env, st.from_edge, d, st.to_edge)
+            ends.append((float(m.alpha), float(m.beta)))
+        maps.append(ends)
+    length = float(env.edge_lengths[first.edge])
+    a, b = float(first.t0), float(first.t1)
+    count = None
+    widths = []
+    for cycle in range(max_cycles):
+        w = (b - a) * length
+        widths.append(w)
+        if epsilon is not None and count is None and w <= epsilon:
+            count = cycle
+        if cycle > 2 and abs(widths[-1] - widths[-2]) <= 1e-15 * max(1.0, length) and (epsilon is None or count is not None or w > epsilon):
+            break
+        for ends in maps:
+            vals = [al * x + be for al, be in ends for x in (a, b)]
+            a, b = min(vals), max(vals)
+    return widths[-1], count

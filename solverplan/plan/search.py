@@ -1,0 +1,424 @@
+"""Optimal plans for bouncing robots (paper §7.1, Def. 14, Algorithm 2, and the open questions of §8.3).
+
+One public function per query: :func:`find_plan` (objectives ``fewest``, ``tolerance``, ``sum``,
+``constant``) and :func:`pareto_front` (bounces ↔ tolerance). Both search the **belief-state graph**
+of the safe bounce visibility graph (:mod:`solverplan.plan._problem`): when the start set spans
+several segments the robot does not know which one it is on, so every stage is one heading interval
+admissible from every segment it may be on (conformant planning). Headings are radians in (0, π),
+measured counter-clockwise from the wall the robot is on.
+
+Objectives and why the answers are optimal
+------------------------------------------
+``fewest``
+    Fewest bounces: breadth-first search over beliefs (the paper's BFS, generalised to sets). Among
+    the plans with the fewest bounces, the most tolerant one (layered max-min labels up to that depth).
+``tolerance``
+    The narrowest interval as wide as possible (the robot's required precision is half of it):
+    a bottleneck path. Without a budget, Dijkstra with max-min labels gives the optimum W*, and a BFS
+    over the options of width ≥ W* the fewest bounces among the plans achieving it. With
+    ``max_bounces`` K, label setting with labels (bounces, width) and Pareto dominance gives the whole
+    front (:func:`pareto_front`) and its best point within K. ``method="milp"`` solves the budgeted
+    problem as a MILP with HiGHS instead (a cross-check).
+``sum``
+    The sum of the widths as large as possible within K bounces (paper §8.3's wording; needs K: each
+    extra stage adds width): dynamic programming over (belief, bounces). ``method="lp"`` solves it as an
+    LP over path flows in the time-expanded network with clarabel and reports the duality gap.
+``constant``
+    Paper Algorithm 2: one interval used at every stage. Labels are running intersections with ⊇
+    dominance; the answer is the widest constant interval (fewest bounces among the widest).
+
+Every plan interval lies in an *admissible* interval: the exact safe set shrunk by μ =
+``safe_margin`` and kept δ = ``heading_margin`` away from the wall (see :mod:`solverplan.plan._problem`);
+optimality is over such plans. Partial segments: a start piece covering part of a segment counts as
+the whole segment; the goal is reached on segments lying wholly in the goal set, or — in the last
+stage only — on the part of a segment the goal set covers, with the interval cut so that every
+landing point is inside it.
+
+A proven "infeasible" is an answer (``status="infeasible"`` with a ``reason``), never an exception.
+
+A room whose ceiling is wider than its floor: one bounce, every heading in [ang(c − b), ang(d − a)]
+(paper Prop. 2) takes the whole floor to the ceiling. In a square the same shot is the single heading
+π/2 (parallel walls, Prop. 2's singleton): not an interval a robot can execute, so it takes two.
+
+>>> from solverplan.environment import Environment
+>>> room = Environment.from_coords([[0, 0], [4, 0], [6, 3], [-2, 3]], name="room")
+>>> plan = find_plan(room, "e0", "e2", objective="fewest")
+>>> plan.bounces, plan.stages[0].moves, round(plan.stages[0].interval.lo, 6), round(plan.min_width, 6)
+(1, ((0, 2),), 0.982794, 1.176005)
+>>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
+>>> plan = find_plan(square, "e0", "e2", objective="tolerance")
+>>> plan.bounces, [s.moves for s in plan.stages], plan.optimality.method, plan.optimality.proved
+(2, [((0, 1),), ((1, 2),)], 'search-exhausted', True)
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
+from solverplan.bounce.interval import Interval
+from solverplan.environment import BoundarySet, Environment
+from solverplan.errors import InputError
+from solverplan.plan import _search
+from solverplan.plan._problem import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Problem
+from solverplan.plan.result import (OBJECTIVES, Optimality, ParetoFront, ParetoPoint, Plan, Stage, Status,
+                                    environment_record)
+
+__all__ = ["find_plan", "pareto_front", "planning_problem", "environment_record", "METHODS",
+           "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN"]
+
+logger = logging.getLogger(__name__)
+
+METHODS: dict[str, tuple[str, ...]] = {
+    "fewest": ("auto", "bfs"),
+    "tolerance": ("auto", "label", "milp"),
+    "sum": ("auto", "dp", "lp"),
+    "constant": ("auto", "label"),
+}
+"""The methods each objective accepts (``auto`` picks the first after it)."""
+
+_GAP_PROVED = 1e-7  # an LP/MILP answer counts as proved optimal when its gap is below this (radians)
+
+
+# ---------------------------------------------------------------------- inputs
+def _boundary(env: Environment, value: str | BoundarySet, what: str) -> BoundarySet:
+    if isinstance(value, BoundarySet):
+        for p in value.pieces:
+            env._check_edge_id(p.edge)
+        if not value.pieces:
+            raise InputError(f"the {what} set is empty")
+        return value
+    if isinstance(value, str):
+        return env.boundary_set(value)
+    raise InputError(f"{what} set must be a boundary-set string like 'e3:0.25:0.75,e4', got {value!r}")
+
+
+def _check_budget(max_bounces: object) -> int | None:
+    if max_bounces is None:
+        return None
+    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or max_bounces < 1:
+        raise InputError(f"max_bounces must be a positive integer, got {max_bounces!r}")
+    return int(max_bounces)
+
+
+def _check_margins(heading_margin: float, safe_margin: float) -> None:
+    if not (isinstance(heading_margin, (int, float)) and 0 < heading_margin < math.pi / 4):
+        raise InputError(f"heading_margin must be in (0, π/4) radians, got {heading_margin!r}")
+    if not (isinstance(safe_margin, (int, float)) and 0 <= safe_margin < 0.1):
+        raise InputError(f"safe_margin must be in [0, 0.1) radians, got {safe_margin!r}")
+
+
+def planning_problem(
+    env: Environment,
+    start: str | BoundarySet,
+    goal: str | BoundarySet,
+    *,
+    graph: SafeBVG | None = None,
+    heading_margin: float = DEFAULT_HEADING_MARGIN,
+    safe_margin: float = DEFAULT_SAFE_MARGIN,
+) -> Problem:
+    """The belief-state graph of a query (for tests, benchmarks and the other planners of the package)."""
+    if not isinstance(env, Environment):
+        raise InputError(f"expected an Environment, got {type(env).__name__}")
+    _check_margins(heading_margin, safe_margin)
+    start_set = _boundary(env, start, "start")
+    goal_set = _boundary(env, goal, "goal")
+    if graph is None:
+        graph = safe_bounce_visibility_graph(env)
+    elif graph.partition.env != env:
+        raise InputError("the safe BVG given was built for another environment")
+    return Problem(graph, start_set, goal_set, heading_margin=heading_margin, safe_margin=safe_margin)
+
+
+# ---------------------------------------------------------------------- results
+def _stages(problem: Problem, path: _search.Path, constant: tuple[float, float] | None = None) -> tuple[Stage, ...]:
+    out = []
+    for belief, o in _search.walk(problem, path):
+        lo, hi = constant if constant is not None else (o.lo, o.hi)
+        out.append(Stage(belief, o.next, Interval(lo, hi), o.moves))
+    return tuple(out)
+
+
+def _common(problem: Problem, max_bounces: int | None) -> dict:
+    return {
+        "start": str(problem.start_set),
+        "goal": str(problem.goal_set),
+        "max_bounces": max_bounces,
+        "environment": environment_record(problem.env, problem.partition.n_segments),
+        "margins": {"heading": problem.heading_margin, "safe": problem.safe_margin},
+    }
+
+
+def _precheck(problem: Problem, objective: str, max_bounces: int | None) -> str | None:
+    """A reason why no plan can exist, found without searching (None if the search must decide)."""
+    if not problem.goal_has_incoming():
+        segs = sorted(problem.goal_whole | set(problem.goal_partial))
+        which = f"segment {segs[0]}" if len(segs) == 1 else f"segments {', '.join(map(str, segs))}"
+        return f"goal segments have no incoming safe arc ({which} of P′)"
+    for s in problem.start_belief:
+        if not problem.intervals(s)[0]:
+            seg = problem.partition.segments[s]
+            return f"start segment {s} (on e{seg.edge}) has no admissible outgoing interval"
+    b = problem.start_belief
+    if len(b) > 1 and not problem.options(b) and not problem.goal_options(b):
+        return (f"no heading interval is admissible from every start segment at once (segments "
+                f"{', '.join(map(str, b))}): a belief-state plan cannot even begin")
+    return None
+
+
+def _exhausted(objective: str, max_bounces: int | None, beliefs: int, cut: bool) -> str:
+    if objective == "constant":
+        budget = f" with ≤ {max_bounces} bounces" if max_bounces is not None else ""
+        return f"no constant interval survives: exhausted every running intersection{budget} ({beliefs} beliefs reached)"
+    if max_bounces is not None and cut:
+        return f"exhausted all plans with ≤ {max_bounces} bounces ({beliefs} beliefs reached): none reaches the goal"
+    if beliefs == 1:
+        return "exhausted the only reachable belief: no plan reaches the goal"
+    return f"exhausted all {beliefs} reachable beliefs: no plan reaches the goal"
+
+
+# ---------------------------------------------------------------------- the public queries
+def find_plan(
+    env: Environment,
+    start: str | BoundarySet,
+    goal: str | BoundarySet,
+    *,
+    objective: str = "fewest",
+    max_bounces: int | None = None,
+    method: str = "auto",
+    graph: SafeBVG | None = None,
+    heading_margin: float = DEFAULT_HEADING_MARGIN,
+    safe_margin: float = DEFAULT_SAFE_MARGIN,
+) -> Plan:
+    """The optimal plan from ``start`` to ``goal`` for ``objective``, or a proof that there is none.
+
+    Parameters
+    ----------
+    env
+        The environment.
+    start, goal
+        Boundary sets (``"e3:0.25:0.75,e4"`` or :class:`~solverplan.environment.BoundarySet`); they may
+        span several edges and segments, on holes too.
+    objective
+        ``fewest``, ``tolerance``, ``sum`` or ``constant`` (module docstring).
+    max_bounces
+        The bounce budget K (stages ≤ K); required for ``sum``.
+    method
+        ``auto`` or one of :data:`METHODS` for the objective: ``bfs``; ``label`` / ``milp``; ``dp`` /
+        ``lp``; ``label``.
+    graph
+        A prebuilt safe BVG of ``env`` (built when not given).
+    heading_margin, safe_margin
+        δ and μ of the admissible intervals (radians; :mod:`solverplan.plan._problem`).
+
+    Returns
+    -------
+    Plan
+        ``status`` found (stages, widths, ``optimality`` with method, proof and bound) or infeasible
+        (``reason``; ``optimality.proved`` says the search was exhaustive).
+
+    Raises
+    ------
+    InputError
+        Bad sets (unknown edge, malformed piece), unknown objective or method, a bad budget, ``sum``
+        without a budget, ``milp`` without a budget.
+    """
+    if objective not in OBJECTIVES:
+        raise InputError(f"unknown objective {objective!r}: use {', '.join(OBJECTIVES)}")
+    allowed = METHODS[objective]
+    if method not in allowed:
+        raise InputError(f"unknown method {method!r} for objective {objective!r}: use {', '.join(allowed)}")
+    k_max = _check_budget(max_bounces)
+    if objective == "sum" and k_max is None:
+        raise InputError("objective 'sum' needs max_bounces (--max-bounces K): every extra stage adds width")
+    if method == "milp" and k_max is None:
+        raise InputError("method 'milp' needs max_bounces (--max-bounces K): it works on the time-expanded network")
+    if method == "auto":
+        method = allowed[1]
+    t0 = time.perf_counter()
+    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin)
+    common = _common(problem, k_max)
+    t1 = time.perf_counter()
+    plan = _solve(problem, objective, k_max, method, common)
+    t2 = time.perf_counter()
+    stats = dict(plan.stats)
+    stats.update({"seconds_setup": round(t1 - t0, 6), "seconds_search": round(t2 - t1, 6),
+                  "start_segments": list(problem.start_belief), "goal_segments": sorted(problem.goal_whole),
+                  "partial_goal_segments": sorted(problem.goal_partial), "options_built": problem.options_built,
+                  "admissible_intervals": problem.n_admissible})
+    logger.info("%s plan: %s in %.3f s", objective, plan.status.value, t2 - t1)
+    return plan.with_(stats=stats)
+
+
+def _found(problem: Problem, objective: str, path: _search.Path, optimality: Optimality, common: dict,
+           stats: dict, constant: tuple[float, float] | None = None) -> Plan:
+    return Plan(Status.FOUND, objective, _stages(problem, path, constant), optimality, stats=stats, **common)
+
+
+def _solve(problem: Problem, objective: str, k_max: int | None, method: str, common: dict) -> Plan:
+    if problem.start_in_goal and objective != "sum":
+        bound = {"fewest": 0.0, "tolerance": math.pi, "constant": math.pi}[objective]
+        opt = Optimality("search-exhausted", True, bound, algorithm="the start set lies in the goal set")
+        return Plan(Status.FOUND, objective, (), opt, **common)
+    reason = _precheck(problem, objective, k_max)
+    if reason is not None:
+        if not (objective == "sum" and problem.start_in_goal):
+            return Plan.infeasible(objective, reason, Optimality("search-exhausted", True, None, algorithm="precheck"), **common)
+
+    if objective == "fewest":
+        return _fewest(problem, k_max, common)
+
+    if objective == "tolerance":
+        if method == "milp":
+            from solverplan.plan._lp import tolerance_milp
+
+            value, path, stats = tolerance_milp(problem, k_max)  # type: ignore[arg-type]
+            if path is None:
+                reason = _exhausted(objective, k_max, stats.get("nodes", 0), True)
+                return Plan.infeasible(objective, reason, Optimality("milp", True, None, "MILP (HiGHS) over path flows"),
+                                       **common, stats=stats)
+            opt = Optimality("milp", stats["gap"] <= _GAP_PROVED, stats["bound"],
+                             "MILP (HiGHS) over path flows in the time-expanded network", gap=stats["gap"])
+            return _found(problem, objective, path, opt, common, stats)
+        if k_max is None:
+            best, stats = _search.bottleneck(problem)
+            if best <= 0.0:
+                reason = _exhausted(objective, None, stats["beliefs"], False)
+                return Plan.infeasible(objective, reason, Optimality("search-exhausted", True, None, "max-min Dijkstra"),
+                                       **common, stats=stats)
+            path, bstats = _search.bfs(problem, threshold=best - _search.WIDTH_EPS)
+            if path is None:  # pragma: no cover - W* is attained by some plan
+                raise AssertionError("no plan attains the bottleneck value")
+            algorithm = "max-min Dijkstra over beliefs (W*), then BFS over options of width ≥ W* (fewest bounces)"
+            return _found(problem, objective, path, Optimality("search-exhausted", True, best, algorithm), common,
+                          {**stats, "bfs_beliefs": bstats["beliefs"]})
+        front = _search.layered_front(problem, k_max)
+        algorithm = f"Pareto label setting (bounces, min width) up to {k_max} bounces"
+        if not front.points:
+            reason = _exhausted(objective, k_max, front.beliefs, not front.exhausted or front.budget_pruned)
+            return Plan.infeasible(objective, reason, Optimality("search-exhausted", True, None, algorithm), **common,
+                                   stats={"beliefs": front.beliefs})
+        k, w, path = front.points[-1]
+        return _found(problem, objective, path, Optimality("search-exhausted", True, w, algorithm), common,
+                      {"beliefs": front.beliefs, "front": [[p[0], p[1]] for p in front.points]})
+
+    if objective == "sum":
+        assert k_max is not None
+        if method == "lp":
+            from solverplan.plan._lp import sum_lp
+
+            value, path, stats = sum_lp(problem, k_max)
+            opt_method, algorithm = "lp-duality", "LP over path flows in the time-expanded network (clarabel)"
+        else:
+            value, path, stats = _search.max_sum(problem, k_max)
+            opt_method, algorithm = "search-exhausted", f"dynamic programming over (belief, bounces ≤ {k_max})"
+        if problem.start_in_goal and (value is None or value <= 0.0):
+            return Plan(Status.FOUND, objective, (), Optimality(opt_method, True, 0.0, algorithm), **common)
+        if path is None:
+            reason = reason or _exhausted(objective, k_max, stats.get("states", 0), True)
+            return Plan.infeasible(objective, reason, Optimality(opt_method, True, None, algorithm), **common, stats=stats)
+        if method == "lp":
+            opt = Optimality(opt_method, stats["gap"] <= _GAP_PROVED * k_max, stats["bound"], algorithm, gap=stats["gap"])
+        else:
+            opt = Optimality(opt_method, True, value, algorithm)
+        return _found(problem, objective, path, opt, common, stats)
+
+    # constant
+    interval, path, stats = _search.widest_constant(problem, k_max)
+    algorithm = "Algorithm 2 labels (belief, running intersection) with ⊇ dominance"
+    if path is None:
+        reason = _exhausted(objective, k_max, stats["beliefs"], stats["cut_by_budget"])
+        return Plan.infeasible(objective, reason, Optimality("search-exhausted", True, None, algorithm), **common, stats=stats)
+    assert interval is not None
+    return _found(problem, objective, path, Optimality("search-exhausted", True, interval[1] - interval[0], algorithm),
+                  common, stats, constant=interval)
+
+
+def _fewest(problem: Problem, k_max: int | None, common: dict) -> Plan:
+    """Fewest bounces; among those plans the most tolerant.
+
+    One start segment: the layered label search in order of bounces (a BFS whose labels also carry the
+    best min width) stops at the first layer with a plan. Several start segments: A* over beliefs with
+    the single-segment bound h(b) = max_{s∈b} d(s) finds the fewest stages L (:func:`._search.fewest_stages`),
+    then one layered search within the budget L, pruned by k + h(b) ≤ L, picks the most tolerant plan.
+    """
+    algorithm = "belief-state BFS (layered labels); ties: the most tolerant of the fewest-bounce plans"
+    start = problem.start_belief
+    if len(start) == 1:
+        front = _search.layered_front(problem, k_max, stop_at_first=True)
+        stats = {"beliefs": front.beliefs}
+        if not front.points:
+            cut = not front.exhausted or front.budget_pruned
+            reason = _exhausted("fewest", k_max, front.beliefs, cut)
+            return Plan.infeasible("fewest", reason, Optimality("search-exhausted", True, None, algorithm), **common,
+                                   stats=stats)
+    else:
+        algorithm = ("belief-state A* with single-segment bounds (fewest stages L), then layered labels within L "
+                     "(the most tolerant of the fewest-bounce plans)")
+        dist, _ = problem.singleton_bounds
+        lone = [s for s in start if dist[s] == math.inf]
+        if lone:
+            seg = problem.partition.segments[lone[0]]
+            reason = (f"start segment {lone[0]} (on e{seg.edge}) has no plan to the goal even on its own, so no plan "
+                      f"works from the whole start set")
+            return Plan.infeasible("fewest", reason, Optimality("search-exhausted", True, None, algorithm), **common)
+        fewest, astats = _search.fewest_stages(problem, k_max)
+        if fewest is None:
+            reason = _exhausted("fewest", k_max, astats["beliefs"], astats["cut_by_budget"])
+            return Plan.infeasible("fewest", reason, Optimality("search-exhausted", True, None, algorithm), **common,
+                                   stats=astats)
+        front = _search.layered_front(problem, fewest, stop_at_first=True)
+        stats = {"beliefs": front.beliefs, "a_star_beliefs": astats["beliefs"]}
+        if not front.points or front.points[0][0] != fewest:  # pragma: no cover - A* and the labels agree
+            raise AssertionError("the layered search did not find the A* optimum")
+    k, _, path = front.points[0]
+    return _found(problem, "fewest", path, Optimality("search-exhausted", True, float(k), algorithm), common, stats)
+
+
+def pareto_front(
+    env: Environment,
+    start: str | BoundarySet,
+    goal: str | BoundarySet,
+    *,
+    max_bounces: int | None = None,
+    graph: SafeBVG | None = None,
+    heading_margin: float = DEFAULT_HEADING_MARGIN,
+    safe_margin: float = DEFAULT_SAFE_MARGIN,
+) -> ParetoFront:
+    """The Pareto front bounces ↔ tolerance: for each bounce count b at which the best achievable min
+    width strictly improves, the most tolerant plan with ≤ b bounces (within ``max_bounces`` if given;
+    without it the front is complete: no plan of any length beats its last point).
+
+    >>> from solverplan.environment import Environment
+    >>> ell = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]])
+    >>> front = pareto_front(ell, "e5", "e0:0:0.3")
+    >>> [(p.bounces, round(p.min_width, 4)) for p in front.points]
+    [(1, 0.2905), (3, 0.4626)]
+    """
+    k_max = _check_budget(max_bounces)
+    t0 = time.perf_counter()
+    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin)
+    common = _common(problem, k_max)
+    algorithm = "Pareto label setting (bounces, min width)" + (f" up to {k_max} bounces" if k_max else " to a fixed point")
+    if problem.start_in_goal:
+        plan = Plan(Status.FOUND, "tolerance", (), Optimality("search-exhausted", True, math.pi, algorithm), **common)
+        return ParetoFront((ParetoPoint(0, math.pi, plan),), Optimality("search-exhausted", True, math.pi, algorithm),
+                           common["start"], common["goal"], k_max, environment=common["environment"])
+    reason = _precheck(problem, "tolerance", k_max)
+    points: list[ParetoPoint] = []
+    beliefs = 0
+    if reason is None:
+        front = _search.layered_front(problem, k_max)
+        beliefs = front.beliefs
+        for k, w, path in front.points:
+            opt = Optimality("search-exhausted", True, w, f"{algorithm}: the best plan with ≤ {k} bounces")
+            plan = _found(problem, "tolerance", path, opt, {**common, "max_bounces": k}, {})
+            points.append(ParetoPoint(k, w, plan))
+        if not points:
+            reason = _exhausted("tolerance", k_max, front.beliefs, not front.exhausted or front.budget_pruned)
+    best = points[-1].min_width if points else None
+    stats = {"seconds": round(time.perf_counter() - t0, 6), "beliefs": beliefs}
+    return ParetoFront(tuple(points), Optimality("search-exhausted", True, best, algorithm), common["start"], common["goal"],
+                       k_max, reason=reason, environment=common["environment"], stats=stats)

@@ -1,0 +1,100 @@
+"""Brute-force enumeration of every plan with at most K stages (the reference for the optimality tests).
+
+Independent of :mod:`solverplan.plan`'s searches: the admissible intervals are rebuilt from the safe BVG's
+arrays with the documented formula, a stage from a belief is every choice of one admissible interval per
+source (a recursive product, intersecting as it goes), and every sequence of stages is enumerated.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from solverplan.bounce.bvg import SafeBVG
+from solverplan.plan import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN
+
+EPS = 1e-9
+
+
+def admissible(graph: SafeBVG, delta: float = DEFAULT_HEADING_MARGIN, mu: float = DEFAULT_SAFE_MARGIN):
+    out: dict[int, list[tuple[float, float, int]]] = {s: [] for s in range(graph.n_segments)}
+    for k in range(graph.n_arcs):
+        i, j = int(graph.source[k]), int(graph.target[k])
+        for r in range(int(graph.set_offsets[k]), int(graph.set_offsets[k + 1])):
+            lo = max(float(graph.set_lo[r]) + mu, delta)
+            hi = min(float(graph.set_hi[r]) - mu, math.pi - delta)
+            if hi > lo:
+                out[i].append((lo, hi, j))
+    return out
+
+
+def start_segments(graph: SafeBVG, pieces: list[tuple[int, Fraction, Fraction]]) -> tuple[int, ...]:
+    segs = graph.partition.segments
+    return tuple(sorted({s.id for s in segs for e, a, b in pieces if s.edge == e and s.t0 < b and a < s.t1}))
+
+
+@dataclass
+class Enumeration:
+    plans: list[list[tuple[float, float]]] = field(default_factory=list)
+
+    def fewest(self) -> int | None:
+        return min((len(p) for p in self.plans), default=None)
+
+    def best_min_width(self, k: int) -> float:
+        return max((min(h - l for l, h in p) for p in self.plans if len(p) <= k), default=0.0)
+
+    def front(self, K: int) -> list[tuple[int, float]]:
+        out, best = [], 0.0
+        for k in range(1, K + 1):
+            w = self.best_min_width(k)
+            if w > best + EPS:
+                out.append((k, w))
+                best = w
+        return out
+
+    def best_sum(self) -> float | None:
+        return max((sum(h - l for l, h in p) for p in self.plans), default=None)
+
+    def best_constant(self) -> float:
+        best = 0.0
+        for p in self.plans:
+            w = min(h for _, h in p) - max(l for l, _ in p)
+            best = max(best, w)
+        return best
+
+
+def enumerate_plans(adm, start: tuple[int, ...], goal: set[int], K: int) -> Enumeration:
+    cache: dict[tuple[int, ...], list[tuple[float, float, tuple[int, ...]]]] = {}
+
+    def stages_from(belief):
+        if belief in cache:
+            return cache[belief]
+        found = []
+
+        def rec(idx, lo, hi, targets):
+            if idx == len(belief):
+                found.append((lo, hi, tuple(sorted(set(targets)))))
+                return
+            for l, h, j in adm[belief[idx]]:
+                a, b = max(lo, l), min(hi, h)
+                if b > a:
+                    rec(idx + 1, a, b, targets + [j])
+
+        rec(0, -math.inf, math.inf, [])
+        cache[belief] = found
+        return found
+
+    result = Enumeration()
+
+    def walk(belief, stages):
+        if len(stages) == K:
+            return
+        for lo, hi, nxt in stages_from(belief):
+            extended = stages + [(lo, hi)]
+            if set(nxt) <= goal:
+                result.plans.append(extended)
+            walk(nxt, extended)
+
+    walk(start, [])
+    return result

@@ -1,0 +1,312 @@
+"""Optimality of the planners against brute force, infeasibility reasons, belief-state plans, the Pareto front."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import math
+from fractions import Fraction
+
+import pytest
+from hypothesis import event, given, settings
+from hypothesis import strategies as st
+
+from solverplan.bounce.bvg import safe_bounce_visibility_graph
+from solverplan.environment import Environment, load_environment
+from solverplan.errors import InputError, InvalidBoundarySet
+from solverplan.plan import find_plan, pareto_front, planning_problem
+from tests.plan.brute import EPS, admissible, enumerate_plans, start_segments
+from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
+
+K = 3
+SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
+
+MODELS = Path(__file__).resolve().parents[2] / "models"
+
+
+@st.composite
+def queries(draw):
+    """A small environment, a start set of one or two pieces (on different edges) and a goal edge."""
+    env = draw(st.one_of(convex_polygons(max_coord=20), simple_polygons(3, 7, 30), polygons_with_holes(5, 1, 40)))
+    n = env.n_edges
+    edges = draw(st.lists(st.integers(0, n - 1), min_size=2, max_size=3, unique=True))
+    goal_edge = edges[-1]
+    pieces = []
+    for e in edges[:-1][: draw(st.integers(1, 2))]:
+        a = draw(st.sampled_from([Fraction(0), Fraction(1, 4), Fraction(1, 2)]))
+        b = draw(st.sampled_from([Fraction(3, 4), Fraction(1)]))
+        pieces.append((e, a, b))
+    return env, pieces, goal_edge
+
+
+def _spec(pieces) -> str:
+    return ",".join(f"e{e}:{a.numerator}/{a.denominator}:{b.numerator}/{b.denominator}" for e, a, b in pieces)
+
+
+@settings(max_examples=60)
+@given(queries())
+def test_planners_are_optimal_against_brute_force_enumeration(query):
+    """fewest, tolerance (with budget and the whole Pareto front), sum and constant, all ≤ K stages."""
+    env, pieces, goal_edge = query
+    graph = safe_bounce_visibility_graph(env)
+    start = start_segments(graph, pieces)
+    goal = set(graph.partition.edge_segments[goal_edge])
+    brute = enumerate_plans(admissible(graph), start, goal, K)
+    S, G = _spec(pieces), f"e{goal_edge}"
+    event(f"start segments: {min(len(start), 3)}{'+' if len(start) >= 3 else ''}")
+    event(f"plans with ≤ {K} stages: {'none' if not brute.plans else 'some'}")
+    event(f"Pareto points: {len(brute.front(K))}")
+
+    fewest = find_plan(env, S, G, objective="fewest", graph=graph)
+    if brute.fewest() is not None:
+        assert fewest.found and fewest.bounces == brute.fewest()
+        assert fewest.optimality.proved and fewest.optimality.bound == brute.fewest()
+        assert abs(fewest.min_width - brute.best_min_width(brute.fewest())) <= EPS  # ties: the most tolerant
+    else:
+        assert not fewest.found or fewest.bounces > K
+
+    tolerance = find_plan(env, S, G, objective="tolerance", max_bounces=K, graph=graph)
+    front = pareto_front(env, S, G, max_bounces=K, graph=graph)
+    expected = brute.front(K)
+    assert [(p.bounces, pytest.approx(p.min_width, abs=EPS)) for p in front.points] == expected
+    if expected:
+        assert tolerance.found
+        assert (tolerance.bounces, tolerance.min_width) == (expected[-1][0], pytest.approx(expected[-1][1], abs=EPS))
+    else:
+        assert not tolerance.found and tolerance.optimality.proved and tolerance.reason
+
+    total = find_plan(env, S, G, objective="sum", max_bounces=K, graph=graph)
+    if brute.best_sum() is None:
+        assert not total.found
+    else:
+        assert total.sum_width == pytest.approx(brute.best_sum(), abs=EPS)
+
+    constant = find_plan(env, S, G, objective="constant", max_bounces=K, graph=graph)
+    if brute.best_constant() > EPS:
+        assert constant.found and constant.min_width == pytest.approx(brute.best_constant(), abs=EPS)
+        assert len({s.interval for s in constant.stages}) == 1
+    else:
+        assert not constant.found and constant.optimality.proved and constant.reason
+
+
+@settings(max_examples=40)
+@given(queries())
+def test_unbudgeted_tolerance_is_the_limit_of_the_pareto_front(query):
+    """The max-min Dijkstra's W* equals the last point of the complete front; the plan has its fewest bounces."""
+    env, pieces, goal_edge = query
+    graph = safe_bounce_visibility_graph(env)
+    S, G = _spec(pieces), f"e{goal_edge}"
+    plan = find_plan(env, S, G, objective="tolerance", graph=graph)
+    front = pareto_front(env, S, G, graph=graph)
+    if not front.points:
+        assert not plan.found
+        return
+    last = front.points[-1]
+    assert plan.found and plan.min_width == pytest.approx(last.min_width, abs=EPS)
+    assert plan.bounces == last.bounces
+    assert plan.optimality.bound == pytest.approx(last.min_width, abs=EPS)
+
+
+@settings(max_examples=12)
+@given(queries())
+def test_lp_and_milp_agree_with_the_label_searches(query):
+    """sum: LP over path flows (clarabel, duality gap) = DP; tolerance: MILP (HiGHS) = Pareto labels."""
+    env, pieces, goal_edge = query
+    graph = safe_bounce_visibility_graph(env)
+    S, G = _spec(pieces), f"e{goal_edge}"
+    dp = find_plan(env, S, G, objective="sum", max_bounces=K, graph=graph)
+    lp = find_plan(env, S, G, objective="sum", max_bounces=K, method="lp", graph=graph)
+    assert dp.found == lp.found
+    if dp.found:
+        assert lp.sum_width == pytest.approx(dp.sum_width, abs=1e-7)
+        assert lp.optimality.method == "lp-duality" and lp.optimality.proved
+        assert 0 <= lp.optimality.gap <= 1e-6 and lp.optimality.bound >= lp.sum_width
+    label = find_plan(env, S, G, objective="tolerance", max_bounces=K, graph=graph)
+    milp = find_plan(env, S, G, objective="tolerance", max_bounces=K, method="milp", graph=graph)
+    assert label.found == milp.found
+    if label.found:
+        assert milp.min_width == pytest.approx(label.min_width, abs=1e-9)
+        assert milp.optimality.method == "milp" and milp.optimality.proved
+
+
+# ---------------------------------------------------------------------- shipped models
+@pytest.fixture(scope="module")
+def two_rooms():
+    env = load_environment(MODELS / "two_rooms.json")
+    return env, safe_bounce_visibility_graph(env)
+
+
+def test_two_rooms_pareto_front_is_monotone_and_ends_at_the_max_tolerance_plan(two_rooms):
+    env, graph = two_rooms
+    front = pareto_front(env, "e0:0.2:0.8", "e4:0.5:1", graph=graph)
+    bounces = [p.bounces for p in front.points]
+    widths = [p.min_width for p in front.points]
+    assert bounces == sorted(set(bounces)) and all(b > a for a, b in zip(widths, widths[1:]))
+    assert front.optimality.proved
+    best = find_plan(env, "e0:0.2:0.8", "e4:0.5:1", objective="tolerance", graph=graph)
+    assert (best.bounces, best.min_width) == (front.points[-1].bounces, pytest.approx(front.points[-1].min_width))
+    fewest = find_plan(env, "e0:0.2:0.8", "e4:0.5:1", objective="fewest", graph=graph)
+    assert fewest.bounces == front.points[0].bounces
+    for point in front.points:  # each point's plan is the most tolerant with that many bounces
+        budgeted = find_plan(env, "e0:0.2:0.8", "e4:0.5:1", objective="tolerance", max_bounces=point.bounces, graph=graph)
+        assert budgeted.min_width == pytest.approx(point.min_width) and budgeted.bounces == point.bounces
+        assert point.plan.min_width == pytest.approx(point.min_width)
+
+
+def test_belief_state_plan_from_a_start_spanning_segments(two_rooms):
+    """e0:0.2:0.8 covers segments 2–5 of e0: one interval must work from all four (conformant plan)."""
+    env, graph = two_rooms
+    plan = find_plan(env, "e0:0.2:0.8", "e4:0.5:1", graph=graph)
+    first = plan.stages[0]
+    assert first.from_segments == (2, 3, 4, 5)
+    assert sorted(i for i, _ in first.moves) == [2, 3, 4, 5]
+    assert set(first.to_segments) == {j for _, j in first.moves}
+    for stage, nxt in zip(plan.stages, plan.stages[1:]):
+        assert nxt.from_segments == stage.to_segments
+    for stage in plan.stages:  # the interval is inside an admissible interval of every move's arc
+        for i, j in stage.moves:
+            assert any(s.lo < stage.interval.lo and stage.interval.hi < s.hi for s in graph.safe_set(i, j).intervals)
+
+
+def test_belief_spanning_the_outer_ring_and_a_hole():
+    env = load_environment(MODELS / "one_hole.json")  # edges 0-3: outer ring; 4-7: the hole
+    plan = find_plan(env, "e1,e5", "e3", objective="tolerance")
+    problem = planning_problem(env, "e1,e5", "e3")
+    rings = {problem.partition.ring_of_segment(s) for s in plan.stages[0].from_segments}
+    assert plan.found and rings == {0, 1} and plan.stages[0].from_segments == problem.start_belief
+
+
+def test_a_goal_inside_one_segment_is_reached_by_cutting_the_last_interval(two_rooms):
+    """e0:0.6:0.8 lies inside segment 5 (e0, t in [0.4, 1]): the last stage lands there, inside the piece."""
+    env, graph = two_rooms
+    problem = planning_problem(env, "e5", "e0:0.6:0.8", graph=graph)
+    assert problem.goal_whole == frozenset() and list(problem.goal_partial) == [5]
+    plan = find_plan(env, "e5", "e0:0.6:0.8", objective="fewest", graph=graph)
+    assert plan.found and plan.stages[-1].to_segments == (5,)
+    last = plan.stages[-1]
+    (source, _), = last.moves
+    # the last interval is inside the cone of Prop. 2 with the piece's ends: [ang(g0 − b), ang(g1 − a)]
+    seg = graph.partition.segments[source]
+    e = (float(seg.b[0] - seg.a[0]), float(seg.b[1] - seg.a[1]))
+    g0, g1 = env.point_at(0, 0.6), env.point_at(0, 0.8)
+
+    def ang(w):
+        return math.atan2(e[0] * w[1] - e[1] * w[0], e[0] * w[0] + e[1] * w[1])
+
+    assert ang((g0[0] - float(seg.b[0]), g0[1] - float(seg.b[1]))) < last.interval.lo
+    assert last.interval.hi < ang((g1[0] - float(seg.a[0]), g1[1] - float(seg.a[1])))
+
+
+def test_start_inside_the_goal_is_a_plan_with_no_stages():
+    plan = find_plan(SQUARE, "e1:0.25:0.5", "e1:0:0.75,e2")
+    assert plan.found and plan.bounces == 0 and plan.stages == () and plan.optimality.bound == 0
+    assert plan.to_json()["stages"] == []
+
+
+def test_square_floor_to_ceiling_needs_two_bounces():
+    """Prop. 2's parallel case is a single heading, not an executable interval (note 000, trap 1 for the rest)."""
+    plan = find_plan(SQUARE, "e0", "e2", objective="fewest")
+    assert plan.bounces == 2 and [s.moves for s in plan.stages] in ([((0, 1),), ((1, 2),)], [((0, 3),), ((3, 2),)])
+
+
+# ---------------------------------------------------------------------- infeasible answers
+def test_infeasible_goal_without_incoming_safe_arc(two_rooms):
+    env, graph = two_rooms  # segment 24 (e5, t in [9/10, 14/15]) has no incoming safe arc (paper Prop. 5)
+    plan = find_plan(env, "e0", "e5:9/10:14/15", graph=graph)
+    assert plan.status == "infeasible"
+    assert plan.reason == "goal segments have no incoming safe arc (segment 24 of P′)"
+    assert plan.optimality.proved and plan.bounces is None and plan.min_width is None
+
+
+def test_infeasible_within_the_budget(two_rooms):
+    env, graph = two_rooms
+    plan = find_plan(env, "e0", "e4", objective="fewest", max_bounces=2, graph=graph)
+    assert plan.status == "infeasible" and plan.reason.startswith("exhausted all plans with ≤ 2 bounces")
+    assert find_plan(env, "e0", "e4", objective="fewest", max_bounces=3, graph=graph).bounces == 3
+
+
+def test_infeasible_constant_strategy_is_proved(two_rooms):
+    env, graph = two_rooms
+    plan = find_plan(env, "e17,e0", "e4:0.25:1", objective="constant", graph=graph)
+    assert plan.status == "infeasible" and plan.reason.startswith("no constant interval survives")
+    assert find_plan(env, "e17,e0", "e4:0.25:1", objective="fewest", graph=graph).found
+
+
+def test_infeasible_after_exhausting_every_reachable_belief():
+    env = load_environment(MODELS / "narrow_door.json")
+    plan = find_plan(env, "e9:0.1:0.75", "e5:0:0.6", objective="tolerance")
+    assert plan.status == "infeasible"
+    assert plan.reason.startswith("exhausted all ") and plan.reason.endswith("reachable beliefs: no plan reaches the goal")
+
+
+def test_infeasible_when_no_interval_works_from_every_start_segment(two_rooms):
+    env, graph = two_rooms
+    plan = find_plan(env, "e1,e6", "e14", graph=graph, heading_margin=0.5)
+    assert plan.reason == ("no heading interval is admissible from every start segment at once (segments 6, 27, 28, 29): "
+                           "a belief-state plan cannot even begin")
+    square = find_plan(SQUARE, "e0,e1,e2,e3", "e1")  # every common interval turns the whole boundary into itself
+    assert square.reason == "exhausted the only reachable belief: no plan reaches the goal"
+
+
+# ---------------------------------------------------------------------- bad input
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"objective": "fastest"}, r"^unknown objective 'fastest': use fewest, tolerance, sum, constant$"),
+        ({"objective": "sum"}, r"^objective 'sum' needs max_bounces \(--max-bounces K\): every extra stage adds width$"),
+        ({"objective": "fewest", "method": "lp"}, r"^unknown method 'lp' for objective 'fewest': use auto, bfs$"),
+        ({"max_bounces": 0}, r"^max_bounces must be a positive integer, got 0$"),
+        ({"objective": "tolerance", "method": "milp"}, r"^method 'milp' needs max_bounces"),
+    ],
+)
+def test_bad_arguments_are_input_errors(kwargs, message):
+    with pytest.raises(InputError, match=message):
+        find_plan(SQUARE, "e0", "e2", **kwargs)
+
+
+def test_bad_boundary_sets_are_reported():
+    with pytest.raises(InvalidBoundarySet, match=r"^unknown edge e9: edges are e0..e3$"):
+        find_plan(SQUARE, "e9", "e2")
+    with pytest.raises(InvalidBoundarySet, match="malformed"):
+        find_plan(SQUARE, "e0", "edge two")
+
+
+def test_heading_margin_bounds_every_interval():
+    plan = find_plan(SQUARE, "e0", "e1", objective="tolerance", heading_margin=0.05)
+    assert plan.stages[0].interval.lo == pytest.approx(0.05) and plan.to_json()["margins"]["heading"] == 0.05
+    assert all(0.05 <= s.interval.lo and s.interval.hi <= math.pi - 0.05 for s in plan.stages)
+
+
+@st.composite
+def interval_lists(draw):
+    """2–4 sources, each a sorted list of disjoint intervals with targets."""
+    lists = []
+    for _ in range(draw(st.integers(2, 4))):
+        cuts = sorted(draw(st.lists(st.integers(1, 60), min_size=0, max_size=10, unique=True)))
+        los, his, tgts = [], [], []
+        for a, b in zip(cuts[::2], cuts[1::2]):
+            los.append(a / 20)
+            his.append(b / 20)
+            tgts.append(draw(st.integers(0, 5)))
+        lists.append((los, his, tgts))
+    return lists
+
+
+@given(interval_lists())
+def test_options_are_exactly_the_cells_where_every_source_has_an_interval(lists):
+    """Problem._combine (a merge) against the product of one interval per source (brute force)."""
+    import itertools
+
+    from solverplan.plan._problem import Problem
+
+    belief = tuple(range(10, 10 + len(lists)))
+    got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
+    expected = []
+    for combo in itertools.product(*[range(len(l[0])) for l in lists]):
+        lo = max(lists[q][0][k] for q, k in enumerate(combo))
+        hi = min(lists[q][1][k] for q, k in enumerate(combo))
+        if hi > lo:
+            expected.append((lo, hi, tuple((belief[q], lists[q][2][k]) for q, k in enumerate(combo))))
+    assert got == sorted(expected)
+    for o in Problem._combine(belief, lists):
+        assert o.next == tuple(sorted({j for _, j in o.moves}))
