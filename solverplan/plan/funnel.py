@@ -35,7 +35,7 @@ from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan._positions import search_positions
 from solverplan.plan._results import PositionStage, piece_json
-from solverplan.plan.result import Optimality
+from solverplan.plan.result import Optimality, environment_record
 
 __all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "safe_plan_exists"]
 
@@ -94,7 +94,7 @@ class Funnel:
         out: dict = {
             "status": self.status,
             "reason": self.reason,
-            "environment": self.env.name,
+            "environment": environment_record(self.env),
             "kind": self.kind,
             "start": str(self.start),
             "goal": None if self.goal is None else str(self.goal),

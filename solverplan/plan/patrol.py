@@ -76,7 +76,7 @@ from solverplan.plan._graphs import (
     lp_min_mean_cycle,
 )
 from solverplan.plan._results import heading_cone
-from solverplan.plan.result import Optimality, Stage
+from solverplan.plan.result import Optimality, Stage, environment_record
 
 __all__ = ["Objective", "DEFAULT_TOLERANCE", "PatrolStage", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
 
@@ -233,7 +233,7 @@ class Patrol:
         out: dict = {
             "status": self.status,
             "reason": self.reason,
-            "environment": self.env.name,
+            "environment": environment_record(self.env),
             "visit": [f"e{e}" for e in self.visit],
             "objective": self.objective,
             "tolerance": self.tolerance,
