@@ -35,7 +35,7 @@ from typer.core import TyperGroup
 
 from solverplan._io import atomic_write_text
 from solverplan.describe import describe_environment
-from solverplan.environment import load_environment
+from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, SolverplanError
 
 __all__ = ["app", "main", "exit_codes", "emit", "OutputFormat", "EnvFormat"]
@@ -245,6 +245,19 @@ def _root(
     """Planning with proofs for minimal bouncing robots in polygonal environments."""
 
 
+def _load(env: Path, env_format: EnvFormat | None) -> Environment:
+    """The environment named on the command line (format from the extension unless given)."""
+    return load_environment(env, env_format.value if env_format else None)
+
+
+def _check_picture(picture: Path | None) -> None:
+    """Reject a --picture path with an unknown extension before any work is done."""
+    if picture is not None:
+        from solverplan.render import figure_format
+
+        figure_format(picture)
+
+
 @app.command()
 def info(
     env: EnvArg,
@@ -255,7 +268,7 @@ def info(
 ) -> None:
     """Describe an environment: vertices, rings, edges (id, ring, end points, length), reflex vertices, area, perimeter."""
     with exit_codes(verbose):
-        environment = load_environment(env, env_format.value if env_format else None)
+        environment = _load(env, env_format)
         logger.info("loaded %r: %d vertices, %d holes", environment.name, environment.n_vertices, len(environment.holes))
         emit(describe_environment(environment), fmt, out)
 
@@ -272,7 +285,7 @@ def partition_command(
     from solverplan.bounce.partition import partition as partition_boundary
 
     with exit_codes(verbose):
-        environment = load_environment(env, env_format.value if env_format else None)
+        environment = _load(env, env_format)
         emit(partition_boundary(environment), fmt, out)
 
 
@@ -316,7 +329,7 @@ def graph_command(
     from solverplan.bounce.bvg import safe_bounce_visibility_graph
 
     with exit_codes(verbose):
-        environment = load_environment(env, env_format.value if env_format else None)
+        environment = _load(env, env_format)
         graph = safe_bounce_visibility_graph(environment)
         logger.info("safe BVG: %d segments, %d arcs, %d safe (%.3f s)", graph.n_segments, graph.n_arcs, graph.n_safe_arcs,
                     graph.stats.get("seconds_total", 0.0))
@@ -389,7 +402,7 @@ def render(
         bounce_rule = parse_rule(rule)
         if show_cycle != (cycle_theta is not None):
             raise InputError("--cycle and --theta go together: --cycle draws the limit cycle of the heading --theta")
-        environment = load_environment(env, env_format.value if env_format else None)
+        environment = _load(env, env_format)
         if start is not None:
             environment.boundary_set(start)  # a bad start set is reported before drawing
         cycle = initial = title = None
@@ -507,7 +520,7 @@ def cycle_command(
     from solverplan.bounce.cycles import constant_controller, limit_cycle
 
     with exit_codes(verbose):
-        environment = load_environment(env, env_format.value if env_format else None)
+        environment = _load(env, env_format)
         if theta.strip().lower() == "auto":
             if edges is not None or cycle_start is not None or method is not CycleMethod.AUTO:
                 raise InputError("--theta auto searches for one heading for every start: drop --edges, --start and --method")
@@ -570,11 +583,8 @@ def patrol_command(
     from solverplan.plan.patrol import patrol
 
     with exit_codes(verbose):
-        if picture is not None:
-            from solverplan.render import figure_format
-
-            figure_format(picture)
-        environment = load_environment(env, env_format.value if env_format else None)
+        _check_picture(picture)
+        environment = _load(env, env_format)
         result = patrol(environment, visit, start=start, objective=objective.value, tolerance=tolerance,
                         max_between=max_between, epsilon=epsilon)
         if result.found:
@@ -603,11 +613,8 @@ def funnel_command(
     from solverplan.plan.funnel import funnel
 
     with exit_codes(verbose):
-        if picture is not None:
-            from solverplan.render import figure_format
-
-            figure_format(picture)
-        environment = load_environment(env, env_format.value if env_format else None)
+        _check_picture(picture)
+        environment = _load(env, env_format)
         result = funnel(environment, start, goal, tolerance=tolerance, max_bounces=max_bounces)
         if result.found:
             _write_extras(result, certificate, picture, "funnel")
@@ -638,11 +645,8 @@ def localize_command(
     from solverplan.plan.localize import localize
 
     with exit_codes(verbose):
-        if picture is not None:
-            from solverplan.render import figure_format
-
-            figure_format(picture)
-        environment = load_environment(env, env_format.value if env_format else None)
+        _check_picture(picture)
+        environment = _load(env, env_format)
         result = localize(environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces)
         if result.found:
             _write_extras(result, certificate, picture, "localize")
@@ -722,7 +726,7 @@ def plan_command(
     from solverplan.plan import find_plan, pareto_front
 
     with exit_codes(verbose):
-        environment = load_environment(env, env_format.value if env_format else None)
+        environment = _load(env, env_format)
         if pareto:
             if objective not in (None, PlanObjective.TOLERANCE) or method != "auto":
                 raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
@@ -782,7 +786,7 @@ def simulate_command(
     from solverplan.simulate import simulate_plan
 
     with exit_codes(verbose):
-        environment = load_environment(env, env_format.value if env_format else None)
+        environment = _load(env, env_format)
         plan = load_plan(plan_file)
         runs = simulate_plan(environment, plan, trials=trials, seed=seed, sampling=sampling.value, ties=ties.value)
         emit(runs, fmt, out)
@@ -837,7 +841,7 @@ def verify_command(
         if (start is not None or goal is not None) and env is None:
             raise InputError("--from and --to name edges of an environment: give it with --env")
         certificate = load_certificate(cert)
-        environment = load_environment(env, env_format.value if env_format else None) if env is not None else None
+        environment = _load(env, env_format) if env is not None else None
         query = {}
         if environment is not None:
             query["expected_rings"] = environment.rings
