@@ -344,8 +344,9 @@ def run_study(
                     if progress:
                         progress(reused + len(new), len(tasks))
             except KeyboardInterrupt:
+                saved = store.saved_count() if store else reused + len(new)
                 raise StudyInterrupted(
-                    f"study {study.name} interrupted after {reused + len(new)} of {len(tasks)} rows"
+                    f"study {study.name} interrupted after {saved} of {len(tasks)} rows"
                     + (f"; its rows are in {paths['rows']}: run it again to finish" if paths else "")
                 ) from None
             finally:

@@ -150,6 +150,17 @@ class RowStore:
         if key is not None:
             self.rows[key] = row
 
+    def saved_count(self) -> int:
+        """Rows whose line is complete on disk (what a re-run will reuse).
+
+        Read back from the file rather than counted in memory: an interrupt can land between a row's
+        write and its bookkeeping, and the file is what the next run sees.
+        """
+        if self._handle is not None:
+            self._handle.flush()
+        lines = self.path.read_text(encoding="utf-8").split("\n")[1:]  # after the header
+        return sum(1 for line in lines[:-1] if line.strip())  # the last piece has no newline: incomplete
+
     def close(self) -> None:
         if self._handle is not None:
             self._handle.close()
