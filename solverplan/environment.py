@@ -121,6 +121,29 @@ class BoundarySet:
         """The distinct edges touched, in the order given."""
         return tuple(dict.fromkeys(piece.edge for piece in self.pieces))
 
+    def merged(self) -> BoundarySet:
+        """The same set of points, exact: overlapping or touching pieces of one edge joined, sorted by (edge, t).
+
+        >>> BoundarySet((BoundaryPiece(2, Fraction(1, 2), Fraction(1)), BoundaryPiece(2, Fraction(0), Fraction(1, 2)),
+        ...              BoundaryPiece(0, Fraction(0), Fraction(1, 4)))).merged()  # doctest: +NORMALIZE_WHITESPACE
+        BoundarySet(pieces=(BoundaryPiece(edge=0, t0=Fraction(0, 1), t1=Fraction(1, 4)),
+                            BoundaryPiece(edge=2, t0=Fraction(0, 1), t1=Fraction(1, 1))))
+        """
+        runs: list[list] = []  # [edge, t0, t1]
+        for piece in sorted(self.pieces, key=lambda q: (q.edge, q.t0, q.t1)):
+            if runs and runs[-1][0] == piece.edge and piece.t0 <= runs[-1][2]:
+                runs[-1][2] = max(runs[-1][2], piece.t1)
+            else:
+                runs.append([piece.edge, Fraction(piece.t0), Fraction(piece.t1)])
+        return BoundarySet(tuple(BoundaryPiece(e, a, b) for e, a, b in runs))
+
+    def by_edge(self) -> dict[int, list[tuple[Fraction, Fraction]]]:
+        """The :meth:`merged` pieces grouped per edge: ``{edge: [(t0, t1), ...]}`` in increasing t."""
+        out: dict[int, list[tuple[Fraction, Fraction]]] = {}
+        for piece in self.merged().pieces:
+            out.setdefault(piece.edge, []).append((piece.t0, piece.t1))
+        return out
+
 
 _PIECE = re.compile(r"^e(\d+)(?::([^:]+):([^:]+))?$")
 

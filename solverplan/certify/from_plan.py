@@ -76,18 +76,8 @@ def plan_certificate(env: Environment, plan: Plan, *, partition: Partition | Non
 
 def _partial_goal_segments(env: Environment, part: Partition, goal: str) -> set[int]:
     """Segments the goal set covers only in part (for plans read back without their stats)."""
-    pieces: dict[int, list[tuple[Fraction, Fraction]]] = {}
-    for p in env.boundary_set(goal).pieces:
-        pieces.setdefault(p.edge, []).append((Fraction(p.t0), Fraction(p.t1)))
     out = set()
-    for edge, items in pieces.items():
-        items.sort()
-        merged: list[list[Fraction]] = []
-        for lo, hi in items:
-            if merged and lo <= merged[-1][1]:
-                merged[-1][1] = max(merged[-1][1], hi)
-            else:
-                merged.append([lo, hi])
+    for edge, merged in env.boundary_set(goal).by_edge().items():
         for k in part.edge_segments[edge]:
             s = part.segments[k]
             if not any(lo <= s.t0 and s.t1 <= hi for lo, hi in merged) and any(s.t0 < hi and lo < s.t1 for lo, hi in merged):

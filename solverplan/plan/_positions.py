@@ -30,7 +30,6 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from fractions import Fraction
 from typing import Callable, Sequence
 
 import numpy as np
@@ -38,7 +37,7 @@ import numpy as np
 from solverplan.bounce.interval import Interval
 from solverplan.bounce.partition import Partition
 from solverplan.bounce.transitions import transition_set
-from solverplan.environment import BoundaryPiece, Environment
+from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import cast_from_boundary
 from solverplan.plan._results import SAFE_END_MARGIN, PositionStage, heading_cone
@@ -83,14 +82,7 @@ def merge_pieces(items: Sequence[tuple[int, float, float]], tol: float = 0.0) ->
 
 def merge_exact(items: Sequence[BoundaryPiece]) -> tuple[BoundaryPiece, ...]:
     """Sorted union of exact pieces (overlapping or touching pieces of one edge merged)."""
-    by_edge: dict[int, list[list[Fraction]]] = {}
-    for p in sorted(items, key=lambda q: (q.edge, q.t0, q.t1)):
-        runs = by_edge.setdefault(p.edge, [])
-        if runs and p.t0 <= runs[-1][1]:
-            runs[-1][1] = max(runs[-1][1], p.t1)
-        else:
-            runs.append([p.t0, p.t1])
-    return tuple(BoundaryPiece(e, a, b) for e in sorted(by_edge) for a, b in by_edge[e])
+    return BoundarySet(tuple(items)).merged().pieces
 
 
 class PositionSearch:

@@ -87,20 +87,7 @@ class Option(NamedTuple):
 
 def merged_pieces(bset: BoundarySet) -> dict[int, list[tuple[Fraction, Fraction]]]:
     """The pieces of a boundary set merged per edge (overlapping or touching pieces joined), exact."""
-    by_edge: dict[int, list[tuple[Fraction, Fraction]]] = {}
-    for p in bset.pieces:
-        by_edge.setdefault(p.edge, []).append((Fraction(p.t0), Fraction(p.t1)))
-    out = {}
-    for edge, items in by_edge.items():
-        items.sort()
-        merged: list[list[Fraction]] = []
-        for lo, hi in items:
-            if merged and lo <= merged[-1][1]:
-                merged[-1][1] = max(merged[-1][1], hi)
-            else:
-                merged.append([lo, hi])
-        out[edge] = [(lo, hi) for lo, hi in merged]
-    return out
+    return bset.by_edge()
 
 
 def belief_of(graph: SafeBVG, bset: BoundarySet) -> Belief:
