@@ -369,6 +369,25 @@ def draw_edge_directions(
     return [_arrow(ax, spots[i], dirs[i], color=color, size=size, gid=f"edge-arrow-{i}") for i in range(env.n_edges)]
 
 
+def _offset_label(ax: Axes, text: str, anchor, offset, *, size: float, color, gid: str, **style) -> Annotation:
+    """A label centred ``offset`` points away from the data point ``anchor`` (placed by :class:`LabelPlacer`)."""
+    label = ax.annotate(
+        text,
+        xy=(float(anchor[0]), float(anchor[1])),
+        xytext=(float(offset[0]), float(offset[1])),
+        textcoords="offset points",
+        ha="center",
+        va="center",
+        fontsize=size,
+        color=color,
+        zorder=4,
+        annotation_clip=False,
+        **style,
+    )
+    label.set_gid(gid)
+    return label
+
+
 def draw_edge_ids(
     ax: Axes,
     env: Environment,
@@ -402,20 +421,8 @@ def draw_edge_ids(
         ]
         chosen = placer.place(candidates, half)
         anchor, offset = candidates[chosen]
-        label = ax.annotate(
-            text,
-            xy=(float(anchor[0]), float(anchor[1])),
-            xytext=(float(offset[0]), float(offset[1])),
-            textcoords="offset points",
-            ha="center",
-            va="center",
-            fontsize=size,
-            color=color,
-            zorder=4,
-            annotation_clip=False,
-            bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8),
-        )
-        label.set_gid(f"edge-id-{i}")
+        label = _offset_label(ax, text, anchor, offset, size=size, color=color, gid=f"edge-id-{i}",
+                              bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8))
         labels.append(label)
         if arrows:
             _arrow(ax, anchor, dirs[i], color=color, size=ARROW_SIZE, gid=f"edge-arrow-{i}")
@@ -458,19 +465,7 @@ def draw_vertex_ids(
             candidates.extend((anchor, direction * base * stretch) for stretch in (1.0, 2.0, 3.0))
         chosen = placer.place(candidates, half)
         _, offset = candidates[chosen]
-        label = ax.annotate(
-            text,
-            xy=(float(anchor[0]), float(anchor[1])),
-            xytext=(float(offset[0]), float(offset[1])),
-            textcoords="offset points",
-            ha="center",
-            va="center",
-            fontsize=size,
-            color=color,
-            zorder=4,
-            annotation_clip=False,
-        )
-        label.set_gid(f"vertex-id-{i}")
+        label = _offset_label(ax, text, anchor, offset, size=size, color=color, gid=f"vertex-id-{i}")
         labels.append(label)
     return labels
 
@@ -555,20 +550,8 @@ def draw_partition(
             for f in (0.5, 0.35, 0.65, 0.2, 0.8)
         ]
         anchor, offset = candidates[placer.place(candidates, half)]
-        label = ax.annotate(
-            text,
-            xy=(float(anchor[0]), float(anchor[1])),
-            xytext=(float(offset[0]), float(offset[1])),
-            textcoords="offset points",
-            ha="center",
-            va="center",
-            fontsize=size,
-            color=colour_of[k],
-            fontweight="bold",
-            zorder=4,
-            annotation_clip=False,
-        )
-        label.set_gid(f"segment-id-{k}")
+        label = _offset_label(ax, text, anchor, offset, size=size, color=colour_of[k], gid=f"segment-id-{k}",
+                              fontweight="bold")
         artists.append(label)
     return artists
 
