@@ -40,7 +40,7 @@ from typing import Any, Iterable, Literal, Protocol, Sequence, runtime_checkable
 
 import numpy as np
 
-from solverplan.bounce.interval import Interval, heading_interval
+from solverplan.interval import Interval, heading_interval
 from solverplan.bounce.rules import (
     HEADING_MARGIN,
     SAMPLINGS,

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from solverplan import cli
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.rules import Fixed, FixedInterval, MonotoneFixed, Relative, Specular
 from solverplan.bounce.transitions import affine_map
 from solverplan.environment import Environment, load_environment

@@ -1,7 +1,7 @@
 """The main paper (Nilles et al.): bounce rules, partition, safe intervals, the bounce visibility graph,
 transitions, contraction and limit cycles."""
 
-from solverplan.bounce.interval import Interval, heading_interval
+from solverplan.interval import Interval, heading_interval
 from solverplan.bounce.partition import InsertedPoint, Partition, PartitionSegment, partition
 from solverplan.bounce.rules import BounceRule, Fixed, FixedInterval, MonotoneFixed, Relative, Specular, parse_rule
 from solverplan.bounce.bvg import SafeBVG, bounce_visibility_graph, safe_bounce_visibility_graph

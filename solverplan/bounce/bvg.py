@@ -58,7 +58,7 @@ import numpy as np
 from solverplan._arrays import ragged_arange
 from solverplan.bounce import _sweep
 from solverplan.bounce._sweep import MARK_PI, MARK_ZERO, ExactPoints, Sweeps, _ninf, build_sweeps
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.partition import Partition, partition as make_partition
 from solverplan.bounce.safe import Direction, SafeInterval, SafeSet
 from solverplan.environment import Environment

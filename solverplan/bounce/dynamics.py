@@ -47,7 +47,7 @@ from typing import Iterable, Literal, Sequence, Union
 
 import numpy as np
 
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, format_number, to_fraction

@@ -68,7 +68,7 @@ from typing import TYPE_CHECKING, ClassVar, Literal, Protocol, Sequence, runtime
 
 import numpy as np
 
-from solverplan.bounce.interval import Interval, heading_interval
+from solverplan.interval import Interval, heading_interval
 from solverplan.errors import InputError, InvalidBoundarySet
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -103,7 +103,7 @@ from typing import TYPE_CHECKING, Literal, Sequence
 
 import numpy as np
 
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_point
 

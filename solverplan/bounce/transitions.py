@@ -39,7 +39,7 @@ from typing import Sequence, Union
 
 import numpy as np
 
-from solverplan.bounce.interval import Interval, heading_interval
+from solverplan.interval import Interval, heading_interval
 from solverplan.bounce.rules import check_edges, check_headings
 from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, InvalidBoundarySet

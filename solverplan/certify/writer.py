@@ -1,6 +1,6 @@
 """Certificates from floating-point planner output (DESIGN §6).
 
-Planners work in floats: a stage is a heading :class:`~solverplan.bounce.interval.Interval` (radians,
+Planners work in floats: a stage is a heading :class:`~solverplan.interval.Interval` (radians,
 measured from the source edge) and the moves it makes (source segment or exact sub-interval → target
 segment). :func:`build_certificate` turns that into a :class:`~solverplan.certify.schema.Certificate`
 that :func:`~solverplan.certify.check.check_certificate` can verify exactly:
@@ -45,7 +45,7 @@ from pathlib import Path
 from typing import Literal, Sequence, Union
 
 from solverplan._io import atomic_write_text
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.partition import Partition
 from solverplan.certify.check import affine_coefficients, heading_enclosure, line_hit
 from solverplan.certify.schema import (

@@ -18,7 +18,7 @@ from typing import Callable, Iterable
 import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.plan._results import SAFE_END_MARGIN
 
 __all__ = ["BeliefStage", "belief_successors", "belief_search"]

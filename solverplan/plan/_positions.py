@@ -34,7 +34,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.partition import Partition
 from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment

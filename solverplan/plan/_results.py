@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.environment import BoundaryPiece
 from solverplan.exact import ExactPoint, format_number
 

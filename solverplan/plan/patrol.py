@@ -60,7 +60,7 @@ import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.dynamics import ExactHeading, cycles_to_epsilon
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.partition import Partition, partition
 from solverplan.bounce.transitions import affine_map
 from solverplan.environment import BoundarySet, Environment

@@ -29,7 +29,7 @@ from enum import StrEnum
 from pathlib import Path
 from typing import Any, Literal
 
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.environment import Environment
 from solverplan.errors import InputError, MalformedFile
 from solverplan.exact import format_number

@@ -58,7 +58,7 @@ import math
 import time
 
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan import _search

@@ -20,7 +20,7 @@ from typer.testing import CliRunner
 import solverplan.bounce._sweep as sweep_module
 from solverplan import cli
 from solverplan.bounce.bvg import SafeBVG, bounce_visibility_graph, safe_bounce_visibility_graph
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.partition import partition
 from solverplan.bounce.safe import safe_set
 from solverplan.environment import Environment, load_environment

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from solverplan.bounce.interval import Interval, heading_interval
+from solverplan.interval import Interval, heading_interval
 from solverplan.errors import InvalidBoundarySet
 
 ends = st.floats(0.0, math.pi, allow_nan=False)

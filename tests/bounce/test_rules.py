@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.rules import (
     HEADING_MARGIN,
     BounceRule,

@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 import proofs.safe_set_structure as structure
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.partition import partition
 from solverplan.bounce.safe import (
     SafeSet,

@@ -12,7 +12,7 @@ import pytest
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.transitions import (
     AffineMap,
     affine_map,

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import assume, example, given
 from hypothesis import strategies as st
 
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.bounce.partition import partition
 from solverplan.certify.check import check_certificate, compare_angle, heading_vector
 from solverplan.certify.schema import load_certificate

@@ -11,7 +11,7 @@ from fractions import Fraction
 import pytest
 
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
-from solverplan.bounce.interval import Interval
+from solverplan.interval import Interval
 from solverplan.certify.check import check_certificate
 from solverplan.certify.from_plan import plan_certificate
 from solverplan.environment import load_environment

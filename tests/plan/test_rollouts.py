@@ -68,7 +68,7 @@ def test_every_point_of_the_pareto_front_succeeds_in_every_rollout():
 
 def test_simulation_rejects_a_plan_with_a_widened_interval():
     """The simulator is a real check: widening the narrowest stage of the fewest plan makes rollouts fail."""
-    from solverplan.bounce.interval import Interval
+    from solverplan.interval import Interval
 
     env, graph = _model("two_rooms")
     plan = find_plan(env, "e0", "e4", graph=graph)

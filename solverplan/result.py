@@ -1,0 +1,415 @@
+"""The result protocol shared by every planner and robot model.
+
+Every answer solverplan gives — a plan, a Pareto front, a patrol, a funnel, a localisation strategy, a limit
+cycle, a constant controller — is a frozen dataclass with the same five things:
+
+- ``status``: a :class:`Status`, in one of three groups (:class:`StatusGroup`): *answered* (there is an
+  answer to use), *proven infeasible* (there is provably none, within the stated scope: an answer too, exit
+  code 0) and *search incomplete* (a bounded or heuristic search found nothing: not a proof);
+- ``optimality``: an :class:`Optimality` — how the answer's optimality (or the infeasibility) was
+  established (:class:`Method`), whether it is ``proved``, the ``bound`` any strategy of the ``scope``
+  could reach, the ``gap`` between the answer and that bound, and the ``limits`` that were hit (a hit
+  limit always makes ``proved`` false);
+- ``stats``: a :class:`Stats` record (times, counts; recorded, never asserted);
+- ``environment``: the :class:`EnvironmentRecord` of the environment the answer was made in;
+- ``to_json()`` and ``to_text()``: the only places the answer becomes a dict or a table.
+
+Stages of every strategy are one type, :class:`Stage`: a heading interval executed from a set of possible
+segments, with what the strategy knows about it (per-source moves, exact positions, an exact affine map).
+
+>>> Status.FOUND.group, Status.NOT_FOUND.group, Status.INFEASIBLE.proven_infeasible
+(<StatusGroup.ANSWERED: 'answered'>, <StatusGroup.INCOMPLETE: 'incomplete'>, True)
+>>> opt = Optimality("search-exhausted", True, 0.5, scope="plans over admissible intervals")
+>>> opt.method, opt.to_json()["gap"]
+(<Method.SEARCH_EXHAUSTED: 'search-exhausted'>, None)
+>>> Optimality(Method.SEARCH_EXHAUSTED, True, None, limits=("max_beliefs=20000",))
+Traceback (most recent call last):
+...
+ValueError: an optimality claim cannot be proved when a limit was hit (max_beliefs=20000)
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import dataclass, field, replace
+from enum import StrEnum
+from fractions import Fraction
+from typing import Any, Mapping, Protocol, runtime_checkable
+
+from solverplan.environment import BoundaryPiece, Environment
+from solverplan.exact import ExactPoint, format_number
+from solverplan.interval import Interval
+
+__all__ = [
+    "Status",
+    "StatusGroup",
+    "ANSWERED",
+    "PROVEN_INFEASIBLE",
+    "INCOMPLETE",
+    "Method",
+    "Optimality",
+    "Stats",
+    "EnvironmentRecord",
+    "AffineStep",
+    "Stage",
+    "Result",
+    "piece_json",
+]
+
+
+# ---------------------------------------------------------------------- statuses
+class StatusGroup(StrEnum):
+    """The three kinds of answer (cvxpy's ``SOLUTION_PRESENT`` / ``INFEASIBLE`` split, with a third kind
+    for bounded searches that prove nothing when they fail)."""
+
+    ANSWERED = "answered"  #: there is an answer to execute
+    PROVEN_INFEASIBLE = "proven-infeasible"  #: provably none exists within the optimality scope
+    INCOMPLETE = "incomplete"  #: a bounded or heuristic search found nothing: not a proof
+
+
+class Status(StrEnum):
+    """What an answer is; the same enum on every result. :attr:`group` says which kind it is."""
+
+    FOUND = "found"  #: a strategy (plan, cycle, funnel, controller) that is sound
+    INFEASIBLE = "infeasible"  #: proven: no strategy of the scope exists
+    NOT_CONTRACTING = "not-contracting"  #: proven: the best (or the given) cycle exists but does not contract
+    EDGE_ORDER_BROKEN = "edge-order-broken"  #: proven: the fixed point's orbit leaves the required edge order
+    NOT_REALISED = "not-realised"  #: proven: the heading does not carry the orbit along the required edges
+    VERTEX = "vertex"  #: proven: the orbit runs into a vertex (outside the model)
+    NOT_FOUND = "not-found"  #: a bounded search found nothing (its limits are in ``optimality.limits``)
+
+    @property
+    def group(self) -> StatusGroup:
+        if self in ANSWERED:
+            return StatusGroup.ANSWERED
+        if self in PROVEN_INFEASIBLE:
+            return StatusGroup.PROVEN_INFEASIBLE
+        return StatusGroup.INCOMPLETE
+
+    @property
+    def answered(self) -> bool:
+        """True when there is a strategy to execute."""
+        return self in ANSWERED
+
+    @property
+    def proven_infeasible(self) -> bool:
+        """True when it is proved that no strategy of the scope exists."""
+        return self in PROVEN_INFEASIBLE
+
+    @property
+    def incomplete(self) -> bool:
+        """True when a bounded search found nothing (nothing is proved)."""
+        return self in INCOMPLETE
+
+
+ANSWERED: frozenset[Status] = frozenset({Status.FOUND})
+PROVEN_INFEASIBLE: frozenset[Status] = frozenset(
+    {Status.INFEASIBLE, Status.NOT_CONTRACTING, Status.EDGE_ORDER_BROKEN, Status.NOT_REALISED, Status.VERTEX})
+INCOMPLETE: frozenset[Status] = frozenset({Status.NOT_FOUND})
+
+
+# ---------------------------------------------------------------------- optimality
+class Method(StrEnum):
+    """How an optimality (or infeasibility) claim was established."""
+
+    SEARCH_EXHAUSTED = "search-exhausted"  #: an exhaustive search (BFS, label setting, DP) over a finite graph
+    LP_DUALITY = "lp-duality"  #: an LP solved to optimality; its duality gap is ``gap``
+    MILP = "milp"  #: a MILP solved to optimality; the solver's absolute gap is ``gap``
+    BISECTION = "bisection"  #: bisection on a monotone feasibility question; the bracket width is ``gap``
+    EXACT_CHECK = "exact-check"  #: the object itself was verified in exact arithmetic (no optimisation)
+    SYMMETRY = "symmetry"  #: an exact symmetry argument (localisation impossible)
+    HEURISTIC = "heuristic"  #: a bounded search: it proves what it returns, never optimality or absence
+    NONE = "none"  #: nothing is claimed
+
+
+@dataclass(frozen=True, slots=True)
+class Optimality:
+    """How optimality was established, and how far it goes.
+
+    Attributes
+    ----------
+    method
+        A :class:`Method` (strings are accepted and converted).
+    proved
+        The claim holds for every strategy of ``scope``. Never true when a limit was hit.
+    bound
+        The best value any strategy of ``scope`` could reach, in the objective's units (bounces, radians of
+        width, contraction); equal to the answer's value when proved; ``None`` when there is none.
+    scope
+        The class of strategies the claim is about, in words (e.g. "plans whose intervals lie in the
+        admissible intervals of the safe BVG").
+    gap
+        ``|value − bound|`` for the answer's value and ``bound``, **both over** ``scope``: 0 (up to the
+        solver's tolerance) when proved, ``None`` when not measured. Bounds over wider classes are reported
+        elsewhere (never as this gap).
+    algorithm
+        Which search or solver ran, in words.
+    limits
+        The caps of a bounded search that were hit (``"max_beliefs=20000"``): the search is incomplete.
+    """
+
+    method: Method
+    proved: bool
+    bound: float | None
+    scope: str = ""
+    gap: float | None = None
+    algorithm: str = ""
+    limits: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.method, Method):
+            try:
+                object.__setattr__(self, "method", Method(self.method))
+            except ValueError:
+                raise ValueError(f"unknown optimality method {self.method!r}: use "
+                                 f"{', '.join(m.value for m in Method)}") from None
+        object.__setattr__(self, "limits", tuple(self.limits))
+        if self.proved and self.limits:
+            raise ValueError(f"an optimality claim cannot be proved when a limit was hit ({', '.join(self.limits)})")
+
+    def to_json(self) -> dict:
+        out: dict[str, Any] = {"method": self.method.value, "proved": self.proved, "bound": _finite(self.bound),
+                               "scope": self.scope, "gap": _finite(self.gap)}
+        if self.algorithm:
+            out["algorithm"] = self.algorithm
+        if self.limits:
+            out["limits"] = list(self.limits)
+        return out
+
+    def to_text(self) -> str:
+        """One line: ``search-exhausted (BFS), proved, bound 3; scope …``."""
+        algorithm = f" ({self.algorithm})" if self.algorithm else ""
+        proof = "proved" if self.proved else "not proved"
+        bound = "" if self.bound is None else f", bound {self.bound:.10g}"
+        gap = "" if self.gap is None else f", gap {self.gap:.3g}"
+        limits = f", limits hit: {', '.join(self.limits)}" if self.limits else ""
+        scope = f"; {self.scope}" if self.scope else ""
+        return f"{self.method.value}{algorithm}, {proof}{bound}{gap}{limits}{scope}"
+
+    @classmethod
+    def from_json(cls, data: object, where: str = "optimality") -> Optimality:
+        """Read :meth:`to_json`'s output back; raises :class:`ValueError` naming ``where`` on bad input."""
+        if not isinstance(data, dict):
+            raise ValueError(f"{where}: expected an object with method, proved, bound")
+        method, proved = data.get("method"), data.get("proved")
+        if not isinstance(method, str) or not isinstance(proved, bool):
+            raise ValueError(f"{where}: method must be a string and proved a boolean")
+        numbers = {}
+        for key in ("bound", "gap"):
+            value = data.get(key)
+            if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))):
+                raise ValueError(f"{where}.{key}: expected a number or null, got {value!r}")
+            numbers[key] = None if value is None else float(value)
+        limits = data.get("limits", [])
+        if not isinstance(limits, list) or not all(isinstance(x, str) for x in limits):
+            raise ValueError(f"{where}.limits: expected a list of strings")
+        scope, algorithm = data.get("scope", ""), data.get("algorithm", "")
+        if not isinstance(scope, str) or not isinstance(algorithm, str):
+            raise ValueError(f"{where}: scope and algorithm must be strings")
+        try:
+            return cls(method, proved and not limits, numbers["bound"], scope=scope, gap=numbers["gap"],
+                       algorithm=algorithm, limits=tuple(limits))
+        except ValueError as exc:
+            raise ValueError(f"{where}: {exc}") from None
+
+
+# ---------------------------------------------------------------------- stats
+@dataclass(frozen=True)
+class Stats:
+    """What a solve cost (recorded for benchmarks and curious users, never asserted).
+
+    ``seconds_setup`` / ``seconds_search``: wall time building the search structures and searching;
+    ``expanded``: states (beliefs, position sets, product nodes) expanded; ``counts``: further named
+    numbers of the engine that ran (flattened into the JSON).
+    """
+
+    seconds_setup: float | None = None
+    seconds_search: float | None = None
+    expanded: int | None = None
+    counts: Mapping[str, Any] = field(default_factory=dict)
+
+    def with_(self, **changes: Any) -> Stats:
+        """A copy with fields changed; unknown names go into ``counts``."""
+        known = {k: v for k, v in changes.items() if k in ("seconds_setup", "seconds_search", "expanded")}
+        extra = {k: v for k, v in changes.items() if k not in known}
+        return replace(self, **known, counts={**self.counts, **extra})
+
+    def to_json(self) -> dict:
+        out: dict[str, Any] = {k: v for k, v in (("seconds_setup", self.seconds_setup),
+                                                  ("seconds_search", self.seconds_search),
+                                                  ("expanded", self.expanded)) if v is not None}
+        out.update(self.counts)
+        return out
+
+    def __bool__(self) -> bool:
+        return bool(self.to_json())
+
+
+# ---------------------------------------------------------------------- environment
+@dataclass(frozen=True, slots=True)
+class EnvironmentRecord:
+    """Identifies the environment an answer was made in: its name and the SHA-256 of its exact normalised
+    rings (so it does not depend on the name or the file format); ``n_segments``: the size of its partition
+    P′ when the answer refers to segment ids."""
+
+    name: str
+    sha256: str
+    n_segments: int | None = None
+
+    @classmethod
+    def of(cls, env: Environment, n_segments: int | None = None) -> EnvironmentRecord:
+        rings = [[[format_number(x), format_number(y)] for x, y in ring] for ring in env.rings]
+        digest = hashlib.sha256(json.dumps(rings, separators=(",", ":")).encode()).hexdigest()
+        return cls(env.name, digest, n_segments)
+
+    def matches(self, env: Environment) -> bool:
+        """Is ``env`` (exactly) the environment recorded?"""
+        return self.sha256 == EnvironmentRecord.of(env).sha256
+
+    def to_json(self) -> dict:
+        out: dict[str, Any] = {"name": self.name, "sha256": self.sha256}
+        if self.n_segments is not None:
+            out["n_segments"] = self.n_segments
+        return out
+
+    @classmethod
+    def from_json(cls, data: object, where: str = "environment") -> EnvironmentRecord | None:
+        """``None`` for a missing record (``{}`` or null); raises :class:`ValueError` on a malformed one."""
+        if data is None or data == {}:
+            return None
+        if not isinstance(data, dict) or not isinstance(data.get("sha256"), str):
+            raise ValueError(f"{where}: expected an object with name and sha256")
+        n = data.get("n_segments")
+        if n is not None and (isinstance(n, bool) or not isinstance(n, int)):
+            raise ValueError(f"{where}.n_segments: expected an integer, got {n!r}")
+        return cls(str(data.get("name", "")), data["sha256"], n)
+
+
+# ---------------------------------------------------------------------- stages
+def piece_json(piece: BoundaryPiece) -> dict:
+    """A boundary piece as JSON: edge, float t0/t1 and their exact text."""
+    return {"edge": piece.edge, "t0": float(piece.t0), "t1": float(piece.t1),
+            "t0_exact": format_number(piece.t0), "t1_exact": format_number(piece.t1)}
+
+
+@dataclass(frozen=True, slots=True)
+class AffineStep:
+    """The exact motion of one bounce under a nominal heading: leave ``from_edge`` along the exact direction
+    ``direction`` (a rational world vector whose heading is ``heading``, radians), land on ``to_edge``; the
+    landing parameter is t ↦ ``alpha`` t + ``beta`` (boundary parameters t ∈ [0, 1], rational).
+    ``contraction``: the worst-case contraction coefficient C over the stage's interval (arc length, Def. 11;
+    for a single heading, C of that heading); ``transition`` (``left``, ``right``, ``parallel``) and ``phi``
+    (radians) when the stage is an arc of the safe BVG."""
+
+    from_edge: int
+    to_edge: int
+    heading: float
+    direction: ExactPoint
+    alpha: Fraction
+    beta: Fraction
+    contraction: float
+    transition: str = ""
+    phi: float | None = None
+
+    def to_json(self) -> dict:
+        out: dict[str, Any] = {"from_edge": self.from_edge, "to_edge": self.to_edge}
+        if self.transition:
+            out["transition"] = self.transition
+        if self.phi is not None:
+            out["phi"] = self.phi
+        out["contraction"] = self.contraction
+        out["nominal"] = self.heading
+        out["direction"] = [format_number(self.direction[0]), format_number(self.direction[1])]
+        out["map"] = {"alpha": format_number(self.alpha), "beta": format_number(self.beta)}
+        return out
+
+
+@dataclass(frozen=True, slots=True)
+class Stage:
+    """One bounce of a strategy: the heading interval ``interval`` (radians, CCW from the wall the robot is
+    on, inside (0, π); a singleton for a constant heading) executed from any of ``from_segments`` (the
+    segments of P′ the robot may be on), landing on ``to_segments`` (sorted).
+
+    What the strategy knows besides, when it knows it:
+
+    ``moves``
+        For each possible source segment, the segment it lands on (belief plans).
+    ``positions``
+        The exact pieces of boundary the robot may be on after the stage (funnels, localisation);
+        ``sources``, ``cones`` and ``target_edges`` are the exact pieces before it, the exact world-frame
+        cone (d_lo, d_hi) each was pushed through, and the edge each landed on.
+    ``affine``
+        The exact affine map of the stage's nominal heading (cycles and patrols), :class:`AffineStep`.
+    """
+
+    from_segments: tuple[int, ...]
+    to_segments: tuple[int, ...]
+    interval: Interval
+    moves: tuple[tuple[int, int], ...] = ()
+    positions: tuple[BoundaryPiece, ...] = ()
+    sources: tuple[BoundaryPiece, ...] = ()
+    cones: tuple[tuple[ExactPoint, ExactPoint], ...] = ()
+    target_edges: tuple[int, ...] = ()
+    affine: AffineStep | None = None
+
+    @property
+    def width(self) -> float:
+        """The interval's width (radians)."""
+        return self.interval.width
+
+    @property
+    def from_segment(self) -> int:
+        """The source segment of a stage with one source (cycles and patrols)."""
+        return self.from_segments[0]
+
+    @property
+    def to_segment(self) -> int:
+        """The target segment of a stage with one target (cycles and patrols)."""
+        return self.to_segments[0]
+
+    def to_json(self) -> dict:
+        out: dict[str, Any] = {
+            "from_segments": list(self.from_segments),
+            "to_segments": list(self.to_segments),
+            "interval": [self.interval.lo, self.interval.hi],
+            "width": self.interval.width,
+        }
+        if self.moves:
+            out["moves"] = [[i, j] for i, j in self.moves]
+        if self.positions:
+            out["positions"] = [piece_json(p) for p in self.positions]
+        if self.affine is not None:
+            out.update(self.affine.to_json())
+        return out
+
+
+# ---------------------------------------------------------------------- the protocol
+@runtime_checkable
+class Result(Protocol):
+    """What every answer has (module docstring)."""
+
+    @property
+    def status(self) -> Status: ...
+
+    @property
+    def optimality(self) -> Optimality: ...
+
+    @property
+    def stats(self) -> Stats: ...
+
+    @property
+    def environment(self) -> EnvironmentRecord | None: ...
+
+    def to_json(self) -> dict: ...
+
+    def to_text(self, *, width: int = 100) -> str: ...
+
+
+def _finite(x: float | None) -> float | None:
+    """JSON has no infinities or NaN: those become null."""
+    if x is None:
+        return None
+    x = float(x)
+    return x if math.isfinite(x) else None
