@@ -24,7 +24,11 @@ from typing import ClassVar, Iterable
 
 from solverplan.errors import InvalidBoundarySet
 
-__all__ = ["Interval", "heading_interval"]
+__all__ = ["Interval", "heading_interval", "DEFAULT_HEADING_MARGIN"]
+
+DEFAULT_HEADING_MARGIN = 1e-3
+"""Radians: no strategy leaves within this of a wall (every planned interval lies in [δ, π − δ]): a robot
+cannot execute a grazing heading, and a ray nearly along a wall ends next to a vertex."""
 
 
 @dataclass(frozen=True, slots=True)

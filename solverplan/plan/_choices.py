@@ -1,7 +1,8 @@
 """Per-arc interval choices of the safe BVG for a required tolerance (private; DESIGN §6).
 
 For a tolerance ε (radians, the half-width of the heading interval the robot is allowed), each arc of the safe
-bounce visibility graph may use any sub-interval of width 2ε of one of its safe intervals. The contraction
+bounce visibility graph may use any sub-interval of width 2ε of one of its admissible intervals (its safe
+intervals cut by the one margin policy of every planner, :mod:`solverplan.plan.margins`). The contraction
 coefficient C(θ, φ) is increasing in θ for a right transition and decreasing for a left one (Lemma 2,
 proofs/contraction_monotonicity.py), so the worst case over [θ, θ + 2ε] is at its expanding end and the best
 such interval sits at the **contracting end** of the safe interval: [lo, lo + 2ε] (right), [hi − 2ε, hi] (left).
@@ -18,7 +19,7 @@ import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.bounce.dynamics import contraction_coefficient
-from solverplan.plan._results import SAFE_END_MARGIN
+from solverplan.plan.margins import Margins, admissible_intervals
 
 __all__ = ["ArcChoices", "arc_choices", "max_tolerance"]
 
@@ -42,24 +43,21 @@ class ArcChoices:
         return {(int(s), int(t)): k for k, (s, t) in enumerate(zip(self.source.tolist(), self.target.tolist()))}
 
 
-def _pieces(g: SafeBVG):
-    counts = np.asarray(g.n_intervals, dtype=np.int64)
-    arc_of = np.repeat(np.arange(g.n_arcs), counts)
-    lo = np.asarray(g.set_lo, dtype=float) + SAFE_END_MARGIN
-    hi = np.asarray(g.set_hi, dtype=float) - SAFE_END_MARGIN
-    return arc_of, lo, hi
+def _pieces(g: SafeBVG, margins: Margins):
+    adm = admissible_intervals(g, margins)
+    return adm.arc, adm.lo, adm.hi
 
 
-def max_tolerance(g: SafeBVG) -> float:
-    """The largest ε any single arc allows (half its widest usable safe interval)."""
-    _, lo, hi = _pieces(g)
+def max_tolerance(g: SafeBVG, margins: Margins) -> float:
+    """The largest ε any single arc allows (half its widest admissible interval)."""
+    _, lo, hi = _pieces(g, margins)
     return float(np.max((hi - lo) / 2)) if len(lo) else 0.0
 
 
-def arc_choices(g: SafeBVG, tolerance: float) -> ArcChoices:
-    """Every arc with a safe interval at least 2ε wide, its best 2ε interval and worst-case coefficient."""
+def arc_choices(g: SafeBVG, tolerance: float, margins: Margins) -> ArcChoices:
+    """Every arc with an admissible interval at least 2ε wide, its best 2ε interval and worst-case coefficient."""
     eps = float(tolerance)
-    arc_of, lo, hi = _pieces(g)
+    arc_of, lo, hi = _pieces(g, margins)
     ok = hi - lo >= 2 * eps
     arc_of, lo, hi = arc_of[ok], lo[ok], hi[ok]
     side = np.asarray(g.transition, dtype=np.int64)[arc_of]

@@ -8,11 +8,13 @@ coefficient of each transition (Def. 11) until it fits through a gap no segment 
 
 **Search.** Breadth-first by bounces, on floats, with
 
-- *candidates*: a grid of ``n_headings`` nominal headings θ over (ε, π − ε) plus the headings from each piece's
-  midpoint towards the goal set; a candidate is kept when, for every piece, its four corner rays (piece ends ×
-  cone ends) land on one edge other than the source, away from vertices, and no vertex lies inside the convex
-  hull of the piece and the corner hits (the swept region; DESIGN §6). Then the image of the piece is the
-  interval spanned by the corner hits, the same test the exact checker makes;
+- *candidates*: a grid of ``n_headings`` nominal headings θ over [δ + ε, π − δ − ε] (δ the heading margin of
+  :mod:`solverplan.plan.margins`) plus the headings from each piece's midpoint towards the goal set; a candidate
+  is kept when, for every piece, its four corner rays (piece ends × cone ends) land on one edge other than the
+  source, at least the corner clearance κ from that edge's ends (but the corner it shares with the source edge),
+  and no vertex of P other than the ends of the two edges lies inside the convex hull of the piece and the corner
+  hits (the swept region) or within κ of it. Then the image of the piece is the interval spanned by the corner
+  hits, the same test the exact checker makes, and every landing replays in floating point too;
 - *dominance*: a state whose position set contains a set already reached (with no more bounces) is dropped:
   every strategy from the larger set works from the smaller one;
 - *beam*: per bounce at most ``beam`` states survive (at most ``per_edge`` per edge of their first piece), the
@@ -40,7 +42,8 @@ from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import cast_from_boundary
-from solverplan.plan._results import SAFE_END_MARGIN, PositionStage, heading_cone
+from solverplan.plan._results import PositionStage, heading_cone
+from solverplan.plan.margins import Margins
 
 __all__ = ["PositionSearch", "SearchOutcome", "search_positions", "merge_pieces", "replay"]
 
@@ -88,12 +91,16 @@ def merge_exact(items: Sequence[BoundaryPiece]) -> tuple[BoundaryPiece, ...]:
 class PositionSearch:
     """The float machinery: corner rays and swept-hull tests for many (piece, heading) pairs at once."""
 
-    def __init__(self, env: Environment, tolerance: float, *, n_headings: int = 240) -> None:
+    def __init__(self, env: Environment, tolerance: float, *, n_headings: int = 240,
+                 margins: Margins | None = None) -> None:
         self.env = env
         self.eps = float(tolerance)
-        lo, hi = self.eps + SAFE_END_MARGIN, math.pi - self.eps - SAFE_END_MARGIN
+        self.margins = margins if margins is not None else Margins.for_environment(env)
+        delta = self.margins.heading_margin
+        lo, hi = self.eps + delta, math.pi - self.eps - delta
         if not lo < hi:
-            raise InputError(f"tolerance {tolerance!r} leaves no heading interval inside (0, π)")
+            raise InputError(f"tolerance {tolerance!r} leaves no heading interval inside [{delta:g}, π − {delta:g}] "
+                             "(the heading margin)")
         self.grid = np.linspace(lo, hi, n_headings)
         self.verts = np.asarray(env.vertices, dtype=float)
         self.scale = float(np.max(np.abs(self.verts))) + 1.0
@@ -115,6 +122,8 @@ class PositionSearch:
         hx, hy = hits.x.reshape(m, 4), hits.y.reshape(m, 4)
         flagged = (hits.vertex >= 0).reshape(m, 4)
         ok = (he == he[:, :1]).all(axis=1) & ~flagged.any(axis=1) & (he[:, 0] != edges)
+        target = he[:, 0]
+        ok &= self._clear_of_ends(edges, target, ht)
         # the hull of the piece ends and the corner hits must hold no vertex of P
         P = self.env.points_at(edges, ta)
         Q = self.env.points_at(edges, tb)
@@ -124,8 +133,10 @@ class PositionSearch:
         H1 = np.stack([hx[rows, lo_k], hy[rows, lo_k]], axis=1)
         H2 = np.stack([hx[rows, hi_k], hy[rows, hi_k]], axis=1)
         inside = np.zeros(m, dtype=bool)
+        exempt = self._edge_ends(edges) | self._edge_ends(target)
         for A, B, C in ((P, Q, H1), (P, Q, H2), (P, H1, H2), (Q, H1, H2)):
             inside |= self._any_vertex_inside(A, B, C)
+            inside |= self._any_vertex_near(A, B, C, exempt)
         ok &= ~inside
         lo = ht.min(axis=1)
         hi = ht.max(axis=1)
@@ -144,6 +155,45 @@ class PositionSearch:
         pos = (s1 > tol) & (s2 > tol) & (s3 > tol)
         neg = (s1 < -tol) & (s2 < -tol) & (s3 < -tol)
         return (pos | neg).any(axis=1)
+
+    def _edge_ends(self, edges: np.ndarray) -> np.ndarray:
+        """(rows, vertices) mask: the vertex is an end of the row's edge (floats of one exact point are equal)."""
+        V = self.verts
+        start, end = self.env.edge_start[edges], self.env.edge_end[edges]
+        return (np.all(V[None, :, :] == start[:, None, :], axis=2) | np.all(V[None, :, :] == end[:, None, :], axis=2))
+
+    def _clear_of_ends(self, source: np.ndarray, target: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Do the corner hits ``t`` (rows × 4, on ``target``) stay κ from the target's ends, but the end shared
+        with the source edge?"""
+        kappa = self.margins.corner_clearance
+        if kappa <= 0:
+            return np.ones(len(target), dtype=bool)
+        room = kappa / self.lengths[target]
+        env = self.env
+        shared_lo = np.all(env.edge_start[target] == env.edge_end[source], axis=1)
+        shared_hi = np.all(env.edge_end[target] == env.edge_start[source], axis=1)
+        low_ok = shared_lo | (t.min(axis=1) >= room)
+        high_ok = shared_hi | (t.max(axis=1) <= 1 - room)
+        return low_ok & high_ok
+
+    def _any_vertex_near(self, A: np.ndarray, B: np.ndarray, C: np.ndarray, exempt: np.ndarray) -> np.ndarray:
+        """Does some vertex not in ``exempt`` lie within κ of the sides of triangle ABC (the inside is
+        :meth:`_any_vertex_inside`'s)? Point-to-segment distances, vectorised over rows × vertices."""
+        kappa = self.margins.corner_clearance
+        if kappa <= 0:
+            return np.zeros(len(A), dtype=bool)
+        V = self.verts[None, :, :]
+
+        def close_to(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+            d = (q - p)[:, None, :]
+            w = V - p[:, None, :]
+            dd = np.maximum((d * d).sum(axis=2), 1e-300)
+            lam = np.clip((w * d).sum(axis=2) / dd, 0.0, 1.0)
+            gap = w - lam[:, :, None] * d
+            return (gap * gap).sum(axis=2) < kappa * kappa
+
+        near = close_to(A, B) | close_to(B, C) | close_to(C, A)
+        return (near & ~exempt).any(axis=1)
 
     def aim(self, edges: np.ndarray, a: np.ndarray, b: np.ndarray, goal_points: np.ndarray) -> np.ndarray:
         """Nominal headings from each piece's midpoint towards each goal point: shape (pieces, points)."""
@@ -170,10 +220,12 @@ def search_positions(
     per_edge: int = 40,
     max_replays: int = 20,
     rank: Callable[[Pieces, float], tuple] | None = None,
+    margins: Margins | None = None,
 ) -> SearchOutcome:
     """Breadth-first search with dominance and a beam (module docstring) for a state satisfying ``is_goal``
-    (floats), confirmed by ``is_goal_exact`` on the exact replay."""
-    ps = PositionSearch(env, tolerance, n_headings=n_headings)
+    (floats), confirmed by ``is_goal_exact`` on the exact replay; ``margins``: the margin policy (default for
+    ``env``)."""
+    ps = PositionSearch(env, tolerance, n_headings=n_headings, margins=margins)
     first = merge_pieces([(p.edge, float(p.t0), float(p.t1)) for p in start])
     nodes = [_Node(first, -1, None, 0)]
     seen: dict[int, list[tuple[float, float]]] = {}  # single-piece states reached, per edge (for dominance)

@@ -23,18 +23,12 @@ choice of targets; any sub-interval has the same targets. |B′| ≤ |B|: belief
 Admissible intervals
 --------------------
 The safe set of an arc (exact, :mod:`solverplan.bounce.safe`) is a union of closed intervals whose
-ends may be the open ends 0 or π (paper Cor. 1). A plan's headings must lie in the open (0, π) and
-we want the plan to be sound although planning runs in floats. So every safe interval [l, h] gives
-the admissible interval
-
-    [max(l + μ, δ), min(h − μ, π − δ)]      (kept when its width is > 0)
-
-with μ = ``safe_margin`` (default 10⁻⁹ rad, ≫ the 10⁻¹⁵ float error of the exact ends: the plan's
-intervals lie strictly inside the exact safe sets) and δ = ``heading_margin`` (default 10⁻³ rad: no
-heading closer than δ to the wall — a robot cannot execute a grazing heading, and a ray nearly along
-the wall ends next to a vertex). All optimality claims are over plans whose intervals lie in
-admissible intervals. Safe singletons (the parallel case of Prop. 2) have no admissible part: an
-exact heading is not an interval a robot can execute.
+ends may be the open ends 0 or π (paper Cor. 1). Plans use only the *admissible* part of each safe
+interval: the part kept by the one margin policy of every planner (:mod:`solverplan.plan.margins`:
+δ = ``heading_margin`` from the walls, μ = ``safe_margin`` inside the exact safe set, and the corner
+clearance κ: no landing point within κ of a segment end other than the corner shared with the source).
+All optimality claims are over plans whose intervals lie in admissible intervals. Safe singletons (the
+parallel case of Prop. 2) have no admissible part: an exact heading is not an interval a robot can execute.
 
 Goal
 ----
@@ -59,14 +53,9 @@ import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.environment import BoundarySet
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins, admissible_intervals
 
 __all__ = ["Option", "Problem", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "merged_pieces", "belief_of"]
-
-DEFAULT_HEADING_MARGIN = 1e-3
-"""δ (radians): plans never use headings within δ of the wall (0 or π)."""
-
-DEFAULT_SAFE_MARGIN = 1e-9
-"""μ (radians): admissible intervals stay μ inside the exact safe sets (floats → sound plans)."""
 
 Belief = tuple[int, ...]
 
@@ -114,21 +103,22 @@ class Problem:
         self,
         graph: SafeBVG,
         start: BoundarySet,
-        goal: BoundarySet,
+        goal: BoundarySet | None,
         *,
-        heading_margin: float = DEFAULT_HEADING_MARGIN,
-        safe_margin: float = DEFAULT_SAFE_MARGIN,
+        margins: Margins | None = None,
     ) -> None:
+        """``goal=None``: a problem without a goal (reachability sweeps: no goal options)."""
         self.graph = graph
         self.partition = graph.partition
         self.env = self.partition.env
         self.start_set = start
         self.goal_set = goal
-        self.heading_margin = float(heading_margin)
-        self.safe_margin = float(safe_margin)
+        self.margins = margins if margins is not None else Margins.for_environment(self.env)
+        self.heading_margin = self.margins.heading_margin
+        self.safe_margin = self.margins.safe_margin
         self._build_intervals()
         self.start_belief: Belief = belief_of(graph, start)
-        self._goal_pieces = merged_pieces(goal)
+        self._goal_pieces = merged_pieces(goal) if goal is not None else {}
         whole, partial = set(), {}
         for edge, pieces in self._goal_pieces.items():
             for k in self.partition.edge_segments[edge]:
@@ -153,15 +143,9 @@ class Problem:
 
     # ------------------------------------------------------------------ admissible intervals
     def _build_intervals(self) -> None:
-        g = self.graph
-        n = g.n_segments
-        arc_of = np.repeat(np.arange(g.n_arcs), g.n_intervals)
-        src = g.source[arc_of]
-        tgt = g.target[arc_of]
-        lo = np.maximum(np.asarray(g.set_lo, dtype=float) + self.safe_margin, self.heading_margin)
-        hi = np.minimum(np.asarray(g.set_hi, dtype=float) - self.safe_margin, math.pi - self.heading_margin)
-        keep = hi > lo
-        src, tgt, lo, hi = src[keep], tgt[keep], lo[keep], hi[keep]
+        n = self.graph.n_segments
+        adm = admissible_intervals(self.graph, self.margins)
+        src, tgt, lo, hi = adm.source, adm.target, adm.lo, adm.hi
         order = np.lexsort((lo, src))
         src, tgt, lo, hi = src[order], tgt[order], lo[order], hi[order]
         off = np.searchsorted(src, np.arange(n + 1))
@@ -194,8 +178,9 @@ class Problem:
                 continue
             tseg = self.partition.segments[j]
             for t0, t1 in pieces:
-                g0 = _point_on(tseg, t0)
-                g1 = _point_on(tseg, t1)
+                g0, g1 = _pulled_in(tseg, t0, t1, self.margins.corner_clearance, seg)
+                if g0 is None:
+                    continue
                 cone_lo = 0.0 if g0 == seg.b else _angle(e, (float(g0[0] - seg.b[0]), float(g0[1] - seg.b[1]))) + self.safe_margin
                 cone_hi = math.pi if g1 == seg.a else _angle(e, (float(g1[0] - seg.a[0]), float(g1[1] - seg.a[1]))) - self.safe_margin
                 l2, h2 = max(lo, cone_lo), min(hi, cone_hi)
@@ -350,6 +335,24 @@ class Problem:
             return True
         candidates = np.unique(np.repeat(np.arange(g.n_segments), np.diff(self._off))[np.isin(tgt_arr, sorted(self.goal_partial))])
         return any(self.goal_intervals(int(s))[0] for s in candidates)
+
+
+def _pulled_in(tseg, t0: Fraction, t1: Fraction, kappa: float, source):
+    """The ends of the goal piece [t0, t1] of target segment ``tseg``, each moved κ inwards (floats) unless it is
+    the corner the target shares with ``source`` (exempt, see :mod:`solverplan.plan.margins`); ``(None, None)``
+    when the piece is shorter than the clearance needs."""
+    g0, g1 = _point_on(tseg, t0), _point_on(tseg, t1)
+    if kappa <= 0:
+        return g0, g1
+    x0, y0, x1, y1 = float(g0[0]), float(g0[1]), float(g1[0]), float(g1[1])
+    length = math.hypot(x1 - x0, y1 - y0)
+    pull0, pull1 = g0 != source.b, g1 != source.a
+    if length <= kappa * (pull0 + pull1):
+        return None, None
+    ux, uy = (x1 - x0) / length, (y1 - y0) / length
+    p0 = (x0 + kappa * ux, y0 + kappa * uy) if pull0 else g0
+    p1 = (x1 - kappa * ux, y1 - kappa * uy) if pull1 else g1
+    return p0, p1
 
 
 def _point_on(seg, t: Fraction):

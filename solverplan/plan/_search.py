@@ -10,10 +10,11 @@ from __future__ import annotations
 import heapq
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 from solverplan.plan._problem import Belief, Option, Problem
 
-__all__ = ["Path", "Front", "WIDTH_EPS", "bfs", "fewest_stages", "bottleneck", "layered_front", "max_sum",
+__all__ = ["Path", "Front", "WIDTH_EPS", "bfs", "reachable", "fewest_stages", "bottleneck", "layered_front", "max_sum",
            "widest_constant", "walk"]
 
 INF = math.inf
@@ -57,8 +58,10 @@ def _widest(options: list[Option], threshold: float = 0.0) -> Option | None:
 
 
 # ---------------------------------------------------------------------- fewest bounces (BFS)
-def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = None) -> tuple[Path | None, dict]:
-    """Breadth-first search over beliefs using only options of width ≥ ``threshold``.
+def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = None,
+        accept: Callable[[Belief], bool] | None = None) -> tuple[Path | None, dict]:
+    """Breadth-first search over beliefs using only options of width ≥ ``threshold``; with ``accept``, only
+    goal options whose next belief it accepts end a plan (patrol entries must end on one known segment).
 
     Returns a plan with the fewest stages (the widest last stage among the goal options of the
     first belief found at that depth), or None once every belief reachable within ``max_bounces``
@@ -75,7 +78,10 @@ def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = N
             return None, {"beliefs": len(parent), "depth": depth, "cut_by_budget": True}
         best: tuple[float, Belief, Option] | None = None
         for b in level:
-            g = _widest(problem.goal_options(b), threshold)
+            goals = problem.goal_options(b)
+            if accept is not None:
+                goals = [o for o in goals if accept(o.next)]
+            g = _widest(goals, threshold)
             if g is not None and (best is None or g.hi - g.lo > best[0]):
                 best = (g.hi - g.lo, b, g)
         if best is not None:
@@ -101,6 +107,26 @@ def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = N
         level = nxt
         depth += 1
     return None, {"beliefs": len(parent), "depth": depth, "cut_by_budget": False}
+
+
+def reachable(problem: Problem, *, threshold: float = 0.0, max_beliefs: int | None = None) -> tuple[dict[Belief, int], bool]:
+    """Every belief reachable from the start belief with options of width ≥ ``threshold``, with its depth
+    (fewest stages), by breadth-first search. Returns ``(depth, exhausted)``: ``exhausted`` is False when the
+    search stopped at ``max_beliefs`` beliefs (then the set is a subset and proves nothing about the rest)."""
+    depth: dict[Belief, int] = {problem.start_belief: 0}
+    level = [problem.start_belief]
+    while level:
+        nxt = []
+        for b in level:
+            for o in problem.options(b):
+                if o.hi - o.lo < threshold or o.next in depth:
+                    continue
+                if max_beliefs is not None and len(depth) >= max_beliefs:
+                    return depth, False
+                depth[o.next] = depth[b] + 1
+                nxt.append(o.next)
+        level = nxt
+    return depth, True
 
 
 def fewest_stages(problem: Problem, max_bounces: int | None = None) -> tuple[int | None, dict]:

@@ -44,7 +44,7 @@ the stated bound of every claim.
 >>> p = patrol(square, "e0,e1,e2,e3", tolerance=0.05, objective="contraction")
 >>> p.status, [s.from_edge for s in p.cycle], p.max_between
 ('found', [0, 1, 2, 3], 0)
->>> round(p.contraction, 6) == round(math.tan(0.1 + 1e-6) ** 4, 6)    # tan(2ε) per bounce (right angles)
+>>> round(p.contraction, 6) == round(math.tan(0.001 + 0.1) ** 4, 6)    # tan(δ + 2ε) per bounce (right angles)
 True
 """
 
@@ -63,11 +63,13 @@ from solverplan.bounce.dynamics import ExactHeading, cycles_to_epsilon
 from solverplan.interval import Interval
 from solverplan.bounce.partition import Partition, partition
 from solverplan.bounce.transitions import affine_map
-from solverplan.environment import BoundarySet, Environment
+from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet, SolverFailed
 from solverplan.exact import ExactPoint, format_number
+from solverplan.plan import _search
 from solverplan.plan._choices import ArcChoices, arc_choices, max_tolerance
-from solverplan.plan._entry import belief_search
+from solverplan.plan._problem import Problem
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan._graphs import (
     KARP_MAX_NODES,
     cycle_arcs_only,
@@ -323,15 +325,40 @@ def _start_set(env: Environment, start) -> BoundarySet | None:
     raise InputError(f"start set {start!r}: expected a boundary set such as 'e3:0.25:0.75,e4'")
 
 
-def start_segments(part: Partition, start: BoundarySet) -> frozenset[int]:
-    """The segments of P′ a start set overlaps with positive length."""
-    out = set()
-    for piece in start.pieces:
-        for s in part.edge_segments[piece.edge]:
-            seg = part.segments[s]
-            if min(seg.t1, piece.t1) > max(seg.t0, piece.t0):
-                out.add(s)
-    return frozenset(out)
+class _Entry:
+    """Entry plans from the start set into a patrol cycle, by the planners' own engine: the belief-state problem
+    of the safe BVG (:class:`~solverplan.plan._problem.Problem`, under the query's margins) and its exhaustive
+    breadth-first searches. An entry stage is one option of the problem at least 2ε wide; an entry ends on *one*
+    known segment of the cycle (the cycle's stages depend on the segment)."""
+
+    def __init__(self, graph: SafeBVG, start: BoundarySet, margins: Margins) -> None:
+        self.graph, self.start, self.margins = graph, start, margins
+        self.problem = Problem(graph, start, None, margins=margins)
+        self.start_belief = self.problem.start_belief
+        self._singletons: dict[float, frozenset[int]] = {}
+
+    def singletons(self, eps: float) -> frozenset[int]:
+        """The segments some entry reaches with certainty (singleton beliefs), every belief reachable with
+        stages ≥ 2ε wide searched (exhaustive: beliefs never grow, so the sweep is finite)."""
+        if eps not in self._singletons:
+            depth, _ = _search.reachable(self.problem, threshold=2 * eps)
+            self._singletons[eps] = frozenset(b[0] for b in depth if len(b) == 1)
+        return self._singletons[eps]
+
+    def plan(self, targets: set[int], eps: float) -> tuple[tuple[Stage, ...], int] | None:
+        """The fewest-stage entry onto one segment of ``targets`` with stages ≥ 2ε wide, and that segment."""
+        if len(self.start_belief) == 1 and self.start_belief[0] in targets:
+            return (), self.start_belief[0]
+        part = self.graph.partition
+        goal = BoundarySet(tuple(BoundaryPiece(part.segments[s].edge, part.segments[s].t0, part.segments[s].t1)
+                                 for s in sorted(targets)))
+        problem = Problem(self.graph, self.start, goal, margins=self.margins)
+        path, _ = _search.bfs(problem, threshold=2 * eps, accept=lambda b: len(b) == 1)
+        if path is None:
+            return None
+        stages = tuple(Stage(from_segments=belief, to_segments=o.next, interval=Interval(o.lo, o.hi), moves=o.moves)
+                       for belief, o in _search.walk(problem, path))
+        return stages, stages[-1].to_segments[0]
 
 
 # ---------------------------------------------------------------------- the product graph
@@ -472,6 +499,9 @@ def patrol(
     epsilon: float | None = None,
     solver: str | None = None,
     graph: SafeBVG | None = None,
+    heading_margin: float = DEFAULT_HEADING_MARGIN,
+    safe_margin: float = DEFAULT_SAFE_MARGIN,
+    corner_clearance: float | None = None,
 ) -> Patrol:
     """A patrol cycle visiting ``visit`` in order, optimal for ``objective`` (module docstring).
 
@@ -498,6 +528,9 @@ def patrol(
         cvxpy solver for the LP of ``rate`` (default Clarabel).
     graph
         A precomputed safe BVG of ``env`` (saves its construction).
+    heading_margin, safe_margin, corner_clearance
+        The margin policy of every planner (:mod:`solverplan.plan.margins`): no interval within δ of a wall,
+        μ inside the exact safe sets, no landing within κ of a segment end.
 
     Raises
     ------
@@ -519,15 +552,17 @@ def patrol(
     g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
     part = g.partition
     eps = float(tolerance) if tolerance is not None else DEFAULT_TOLERANCE
-    start_segs = start_segments(part, start_set) if start_set is not None else None
+    margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+                                      corner_clearance=corner_clearance)
+    entry = _Entry(g, start_set, margins) if start_set is not None else None
     classes = [max_between] if max_between is not None else list(range(MAX_BETWEEN_SEARCHED + 1))
     base = dict(env=env, visit=edges, objective=objective, start=start_set)
 
     if objective == "tolerance":
-        return _objective_tolerance(env, part, g, edges, classes, start_segs, epsilon, base)
+        return _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base)
 
-    choices = arc_choices(g, eps)
-    allowed = _allowed(g, choices, start_segs, eps)
+    choices = arc_choices(g, eps, margins)
+    allowed = _allowed(choices, entry, eps)
     if allowed is not None and not allowed:
         return Patrol(status="infeasible", tolerance=eps, max_between=classes[-1], partition=part,
                       reason=f"no safe plan with tolerance {eps:g} leaves the start set {start_set} at all", **base)
@@ -557,21 +592,20 @@ def patrol(
             opt = (Optimality("lp-duality", True, math.exp(value), algorithm=f"LP + Karp, H = {H}", gap=max(gap, 0.0)),
                    f"optimal per bounce among patrol cycles with at most {H} intermediate bounces between required "
                    f"visits (LP and Karp agree); over all patrol cycles the per-bounce contraction is ≥ {math.exp(lb):.6g}")
-        return _answer(env, part, g, choices, rows, eps, H, start_segs, epsilon, opt, solvers, base, periods)
+        return _answer(env, part, g, choices, rows, eps, H, entry, epsilon, opt, solvers, base, periods)
     return Patrol(status="infeasible", tolerance=eps, max_between=classes[-1], partition=part,
                   reason=(f"no patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with intervals "
                           f"{2 * eps:g} rad wide and at most {classes[-1]} intermediate bounces between required visits "
                           "(every such walk of the safe BVG was searched)"
-                          + ("" if start_segs is None else f", among the segments reachable from {start_set}")),
+                          + ("" if entry is None else f", among the segments reachable from {start_set}")),
                   optimality=Optimality("dag-exhausted", True, None), scope="infeasible within the class", **base)
 
 
-def _allowed(g: SafeBVG, choices: ArcChoices, start_segs: frozenset[int] | None, eps: float) -> frozenset[int] | None:
+def _allowed(choices: ArcChoices, entry: _Entry | None, eps: float) -> frozenset[int] | None:
     """Segments a safe plan from the start set can reach with certainty (singleton beliefs, then arcs)."""
-    if start_segs is None:
+    if entry is None:
         return None
-    _, reached = belief_search(g, start_segs, eps, max_stages=24)
-    seeds = {next(iter(b)) for b in reached if len(b) == 1}
+    seeds = set(entry.singletons(eps))
     out = set(seeds)
     adj: dict[int, list[int]] = {}
     for s, t in zip(choices.source.tolist(), choices.target.tolist()):
@@ -626,13 +660,13 @@ def _min_mean(prod: _Product, solver: str | None, *, karp: bool = True) -> tuple
     return mean, cycle, solvers
 
 
-def _objective_tolerance(env, part, g, edges, classes, start_segs, epsilon, base) -> Patrol:
+def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base) -> Patrol:
     """(b): bisection on ε with negative-cycle detection."""
-    top = max_tolerance(g)
+    top = max_tolerance(g, margins)
 
     def feasible(eps: float, H: int):
-        ch = arc_choices(g, eps)
-        allowed = _allowed(g, ch, start_segs, eps)
+        ch = arc_choices(g, eps, margins)
+        allowed = _allowed(ch, entry, eps)
         if allowed is not None and not allowed:
             return None
         prod = _product(part, ch, edges, H, allowed)
@@ -665,7 +699,7 @@ def _objective_tolerance(env, part, g, edges, classes, start_segs, epsilon, base
         opt = (Optimality("bisection", True, hi, algorithm=f"bisection with Bellman-Ford, H = {H}", gap=hi - lo),
                f"largest tolerance with a contracting patrol cycle (at most {H} intermediate bounces between required "
                f"visits): ε* ∈ [{lo:.12g}, {hi:.12g}]")
-        return _answer(env, part, g, ch, rows, lo, H, start_segs, epsilon, opt, {"bracket": [lo, hi]}, base, periods)
+        return _answer(env, part, g, ch, rows, lo, H, entry, epsilon, opt, {"bracket": [lo, hi]}, base, periods)
     return Patrol(status="infeasible", tolerance=None, max_between=classes[-1], partition=part,
                   reason=(f"no contracting patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with at most "
                           f"{classes[-1]} intermediate bounces between required visits, even with tolerance {_EPS_FLOOR:g}"),
@@ -673,22 +707,18 @@ def _objective_tolerance(env, part, g, edges, classes, start_segs, epsilon, base
 
 
 # ---------------------------------------------------------------------- building the answer
-def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: int, start_segs, epsilon,
+def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: int, entry: _Entry | None, epsilon,
             opt: tuple[Optimality, str], solvers: dict, base: dict, periods: int = 1) -> Patrol:
     edges = base["visit"]
     segs = [int(choices.source[r]) for r in rows]
     # entry: a belief plan from the start set to some segment of the cycle; rotate the cycle to begin there
-    entry: tuple[Stage, ...] = ()
+    entry_stages: tuple[Stage, ...] = ()
     rotate = 0
-    if start_segs is not None:
-        targets = set(segs)
-        plan, _ = belief_search(g, start_segs, eps, goal=lambda b: len(b) == 1 and next(iter(b)) in targets,
-                                max_stages=24)
-        if plan is None:  # pragma: no cover - the cycle was chosen among reachable segments
+    if entry is not None:
+        found = entry.plan(set(segs), eps)
+        if found is None:  # pragma: no cover - the cycle was chosen among reachable segments
             raise SolverFailed("the patrol cycle lies among reachable segments, yet no entry plan was found")
-        entry = tuple(Stage(tuple(sorted(st.sources)), tuple(sorted(st.targets)), st.interval, moves=st.moves)
-                      for st in plan)
-        landing = next(iter(plan[-1].targets)) if plan else next(iter(start_segs))
+        entry_stages, landing = found
         rotate = segs.index(landing)
     else:
         # begin with a bounce leaving a segment of the first required edge when there is one
@@ -722,7 +752,7 @@ def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: i
     if epsilon is not None and 0 < abs(alpha) < 1:
         nominal_cycles = cycles_to_epsilon(abs(alpha), Fraction(seg_len), Fraction(epsilon))
     return Patrol(
-        status=status, reason=reason, tolerance=eps, max_between=H, entry=entry, cycle=tuple(stages),
+        status=status, reason=reason, tolerance=eps, max_between=H, entry=entry_stages, cycle=tuple(stages),
         contraction=contraction, contraction_exact=worst_exact,
         rate=contraction ** (1 / len(stages)) if contraction > 0 else 0.0,
         periods=max(periods, 1), nominal_alpha=alpha, nominal_beta=beta, points=tuple(points),

@@ -44,7 +44,7 @@ A room whose ceiling is wider than its floor: one bounce, every heading in [ang(
 >>> room = Environment.from_coords([[0, 0], [4, 0], [6, 3], [-2, 3]], name="room")
 >>> plan = find_plan(room, "e0", "e2", objective="fewest")
 >>> plan.bounces, plan.stages[0].moves, round(plan.stages[0].interval.lo, 6), round(plan.min_width, 6)
-(1, ((0, 2),), 0.982794, 1.176005)
+(1, ((0, 2),), 0.982796, 1.176001)
 >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 >>> plan = find_plan(square, "e0", "e2", objective="tolerance")
 >>> plan.bounces, [s.moves for s in plan.stages], plan.optimality.method, plan.optimality.proved
@@ -62,7 +62,8 @@ from solverplan.interval import Interval
 from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan import _search
-from solverplan.plan._problem import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Problem
+from solverplan.plan._problem import Problem
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan.result import (OBJECTIVES, Optimality, ParetoFront, ParetoPoint, Plan, Stage, Status,
                                     environment_record)
 
@@ -103,13 +104,6 @@ def _check_budget(max_bounces: object) -> int | None:
     return int(max_bounces)
 
 
-def _check_margins(heading_margin: float, safe_margin: float) -> None:
-    if not (isinstance(heading_margin, (int, float)) and 0 < heading_margin < math.pi / 4):
-        raise InputError(f"heading_margin must be in (0, π/4) radians, got {heading_margin!r}")
-    if not (isinstance(safe_margin, (int, float)) and 0 <= safe_margin < 0.1):
-        raise InputError(f"safe_margin must be in [0, 0.1) radians, got {safe_margin!r}")
-
-
 def planning_problem(
     env: Environment,
     start: str | BoundarySet,
@@ -118,18 +112,20 @@ def planning_problem(
     graph: SafeBVG | None = None,
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
+    corner_clearance: float | None = None,
 ) -> Problem:
     """The belief-state graph of a query (for tests, benchmarks and the other planners of the package)."""
     if not isinstance(env, Environment):
         raise InputError(f"expected an Environment, got {type(env).__name__}")
-    _check_margins(heading_margin, safe_margin)
+    margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+                                      corner_clearance=corner_clearance)
     start_set = _boundary(env, start, "start")
     goal_set = _boundary(env, goal, "goal")
     if graph is None:
         graph = safe_bounce_visibility_graph(env)
     elif graph.partition.env != env:
         raise InputError("the safe BVG given was built for another environment")
-    return Problem(graph, start_set, goal_set, heading_margin=heading_margin, safe_margin=safe_margin)
+    return Problem(graph, start_set, goal_set, margins=margins)
 
 
 # ---------------------------------------------------------------------- results
@@ -147,7 +143,7 @@ def _common(problem: Problem, max_bounces: int | None) -> dict:
         "goal": str(problem.goal_set),
         "max_bounces": max_bounces,
         "environment": environment_record(problem.env, problem.partition.n_segments),
-        "margins": {"heading": problem.heading_margin, "safe": problem.safe_margin},
+        "margins": problem.margins.to_json(),
     }
 
 
@@ -191,6 +187,7 @@ def find_plan(
     graph: SafeBVG | None = None,
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
+    corner_clearance: float | None = None,
 ) -> Plan:
     """The optimal plan from ``start`` to ``goal`` for ``objective``, or a proof that there is none.
 
@@ -210,8 +207,9 @@ def find_plan(
         ``lp``; ``label``.
     graph
         A prebuilt safe BVG of ``env`` (built when not given).
-    heading_margin, safe_margin
-        δ and μ of the admissible intervals (radians; :mod:`solverplan.plan._problem`).
+    heading_margin, safe_margin, corner_clearance
+        δ and μ (radians) and κ (a length; default 10⁻⁶ of the environment's diagonal) of the one margin
+        policy of every planner (:mod:`solverplan.plan.margins`).
 
     Returns
     -------
@@ -238,7 +236,8 @@ def find_plan(
     if method == "auto":
         method = allowed[1]
     t0 = time.perf_counter()
-    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin)
+    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin,
+                               corner_clearance=corner_clearance)
     common = _common(problem, k_max)
     t1 = time.perf_counter()
     plan = _solve(problem, objective, k_max, method, common)
@@ -386,6 +385,7 @@ def pareto_front(
     graph: SafeBVG | None = None,
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
+    corner_clearance: float | None = None,
 ) -> ParetoFront:
     """The Pareto front bounces ↔ tolerance: for each bounce count b at which the best achievable min
     width strictly improves, the most tolerant plan with ≤ b bounces (within ``max_bounces`` if given;
@@ -399,7 +399,8 @@ def pareto_front(
     """
     k_max = _check_budget(max_bounces)
     t0 = time.perf_counter()
-    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin)
+    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin,
+                               corner_clearance=corner_clearance)
     common = _common(problem, k_max)
     algorithm = "Pareto label setting (bounces, min width)" + (f" up to {k_max} bounces" if k_max else " to a fixed point")
     if problem.start_in_goal:

@@ -12,18 +12,46 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from solverplan.bounce.bvg import SafeBVG
-from solverplan.plan import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN
+from solverplan.plan.margins import CORNER_CLEARANCE_FRACTION, DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN
 
 EPS = 1e-9
 
 
-def admissible(graph: SafeBVG, delta: float = DEFAULT_HEADING_MARGIN, mu: float = DEFAULT_SAFE_MARGIN):
+def _clearance_cone(graph: SafeBVG, i: int, j: int, kappa: float) -> tuple[float, float]:
+    """Headings whose landings from every point of segment i stay κ away from the ends of segment j (except the
+    end j shares with i): Prop. 2's cone towards the target pulled in by κ, computed point by point."""
+    src, dst = graph.partition.segments[i], graph.partition.segments[j]
+    ax, ay, bx, by = (float(v) for v in (*src.a, *src.b))
+    cx, cy, dx, dy = (float(v) for v in (*dst.a, *dst.b))
+    length = math.hypot(dx - cx, dy - cy)
+    ux, uy = (dx - cx) / length, (dy - cy) / length
+    base = math.atan2(by - ay, bx - ax)
+
+    def heading_to(px, py, qx, qy):  # CCW angle of q − p from the source direction, in (−π, π]
+        angle = math.atan2(qy - py, qx - px) - base
+        return math.atan2(math.sin(angle), math.cos(angle))
+
+    low = 0.0 if dst.a == src.b else heading_to(bx, by, cx + kappa * ux, cy + kappa * uy)
+    high = math.pi if dst.b == src.a else heading_to(ax, ay, dx - kappa * ux, dy - kappa * uy)
+    if length <= kappa * ((dst.a != src.b) + (dst.b != src.a)):
+        return 1.0, 0.0  # empty
+    return low, high
+
+
+def admissible(graph: SafeBVG, delta: float = DEFAULT_HEADING_MARGIN, mu: float = DEFAULT_SAFE_MARGIN,
+               kappa: float | None = None):
+    """The admissible intervals of every source: safe intervals cut by the margin policy (δ, μ, κ)."""
+    xmin, ymin, xmax, ymax = graph.partition.env.bounds
+    diagonal = math.hypot(xmax - xmin, ymax - ymin)
+    kappa = CORNER_CLEARANCE_FRACTION * diagonal if kappa is None else kappa
+    end = max(mu, kappa / diagonal)
     out: dict[int, list[tuple[float, float, int]]] = {s: [] for s in range(graph.n_segments)}
     for k in range(graph.n_arcs):
         i, j = int(graph.source[k]), int(graph.target[k])
+        low, high = _clearance_cone(graph, i, j, kappa)
         for r in range(int(graph.set_offsets[k]), int(graph.set_offsets[k + 1])):
-            lo = max(float(graph.set_lo[r]) + mu, delta)
-            hi = min(float(graph.set_hi[r]) - mu, math.pi - delta)
+            lo = max(float(graph.set_lo[r]) + end, delta, low + mu)
+            hi = min(float(graph.set_hi[r]) - end, math.pi - delta, high - mu)
             if hi > lo:
                 out[i].append((lo, hi, j))
     return out

@@ -25,7 +25,7 @@ from solverplan.environment import load_environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.plan._choices import arc_choices
 from solverplan.plan._graphs import find_negative_cycle, karp_min_mean_cycle, lp_min_mean_cycle
-from solverplan.plan._results import SAFE_END_MARGIN
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan.patrol import patrol
 from solverplan.simulate import StagePolicy, simulate_policy
 
@@ -56,7 +56,7 @@ def test_theorem1_patrol_over_all_edges_is_the_constant_heading_limit_cycle(name
     thetas = {s.nominal for s in p.cycle}
     assert len(thetas) == 1  # one constant heading
     theta = thetas.pop()
-    assert theta == pytest.approx(SAFE_END_MARGIN + eps, abs=1e-12)
+    assert theta == pytest.approx(DEFAULT_HEADING_MARGIN + eps, abs=1e-12)  # [δ, δ + 2ε]: δ off the wall
     cycle = limit_cycle(env, theta)
     assert cycle.found and cycle.edges == tuple(range(env.n_edges))
     assert [q.t for q in cycle.points] == [q.t for q in p.points]  # the same exact fixed point orbit
@@ -77,7 +77,7 @@ def test_objective_rate_is_at_least_as_contracting_as_every_constant_heading(nam
     nominal_rate = float(abs(p.nominal_alpha)) ** (1 / n)
     top = lemma3_max_heading(env)
     checked = 0
-    for theta in np.linspace(eps + SAFE_END_MARGIN, top - eps, 40):
+    for theta in np.linspace(eps + DEFAULT_HEADING_MARGIN, top - eps, 40):
         worst = np.prod([contraction_coefficient(theta + eps, f, "right") for f in corners]) ** (1 / n)
         assert worst >= p.rate * (1 - 1e-9)
         cycle = limit_cycle(env, float(theta))
@@ -142,7 +142,7 @@ def test_objective_contraction_is_the_best_one_period_walk_by_brute_force():
     eps = 0.02
     p = patrol(env, "e0,e2,e4", objective="contraction", tolerance=eps, max_between=1)
     assert p.found and p.optimality.method == "dag-exhausted"
-    ch = arc_choices(safe_bounce_visibility_graph(partition(env)), eps)
+    ch = arc_choices(safe_bounce_visibility_graph(partition(env)), eps, Margins.for_environment(env))
     part = partition(env)
     out: dict[int, list[tuple[int, float]]] = {}
     for s, t, w in zip(ch.source.tolist(), ch.target.tolist(), ch.weight.tolist()):
@@ -169,13 +169,14 @@ def test_objective_contraction_is_the_best_one_period_walk_by_brute_force():
 
 def test_objective_tolerance_finds_the_widest_contracting_intervals_of_the_square():
     """Square: arcs e_i → e_{i+1} have safe interval (0, π/4] and C(θ) = tan θ; the widest interval that still
-    contracts is all of it (C(π/4 − μ) < 1), so ε* = π/8 − μ."""
+    contracts is all of it that the margins leave, [δ, π/4 − max(μ, κ/D)], so ε* is half of that."""
     env = env_of("square")
     p = patrol(env, "e0,e1,e2,e3", objective="tolerance")
     assert p.found and p.optimality.method == "bisection"
     lo, hi = p.solvers["bracket"]
     assert hi - lo < 1e-8
-    assert p.tolerance == pytest.approx(math.pi / 8 - SAFE_END_MARGIN, abs=1e-7)
+    margins = Margins.for_environment(env)
+    assert p.tolerance == pytest.approx((math.pi / 4 - margins.end_margin - margins.heading_margin) / 2, abs=1e-8)
     assert p.contraction < 1
     check = patrol(env, "e0,e1,e2,e3", objective="contraction", tolerance=hi + 1e-6)
     assert check.status == "infeasible"

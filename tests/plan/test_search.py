@@ -125,7 +125,9 @@ def test_lp_and_milp_agree_with_the_label_searches(query):
     milp = find_plan(env, S, G, objective="tolerance", max_bounces=K, method="milp", graph=graph)
     assert label.found == milp.found
     if label.found:
-        assert milp.min_width == pytest.approx(label.min_width, abs=1e-9)
+        # HiGHS decides big-M constraints to its feasibility tolerance (~1e-7): near-ties between paths whose
+        # widths differ by less than that may be broken the wrong way
+        assert milp.min_width == pytest.approx(label.min_width, abs=1e-6)
         assert milp.optimality.method == "milp" and milp.optimality.proved
 
 

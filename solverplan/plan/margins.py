@@ -1,0 +1,174 @@
+"""One margin policy for every planner: how far every strategy keeps from walls, interval ends and corners.
+
+Planning runs in floating point and answers must replay both in exact arithmetic (certificates) and in plain
+floating-point rollouts (a robot's own controller, :mod:`solverplan.simulate`). An answer that is exactly sound
+but drives the robot within 10⁻⁹ of a corner, or leaves a wall at 10⁻⁶ rad, is sound only on paper: a float
+ray cast cannot call which side of the corner it lands. So every planner (plans, patrols, funnels,
+localisation) builds its heading intervals under the same three margins:
+
+``heading_margin`` δ (radians, default :data:`DEFAULT_HEADING_MARGIN` = 0.001)
+    No stage leaves within δ of the wall it is on: every interval lies in [δ, π − δ].
+``safe_margin`` μ (radians, default :data:`DEFAULT_SAFE_MARGIN` = 10⁻⁹)
+    Every interval lies at least μ inside the exact safe set it was taken from (the float ends of the exact
+    safe sets are off by ~10⁻¹⁵).
+``corner_clearance`` κ (a length, default :func:`default_corner_clearance`: 10⁻⁶ × the diagonal of the
+environment's bounding box)
+    No contact point of any stage's possible positions comes within κ of a segment end (a vertex of P or an
+    inserted point of P′, where the next stage would not know its segment) — except the end a stage's target
+    shares with its source, where positions near the corner come from positions near it and the map contracts
+    towards it (paper Cor. 1's corners). For arcs of the safe BVG from source (a, b) to target (c, d) this is
+    Prop. 2's cone with the target pulled in by κ: θ ≥ ang(c′ − b), θ ≤ ang(d′ − a). Interval ends that come
+    from an obstruction (a vertex the corner rays touch) are moved κ / D radians inwards (D the diagonal), so
+    that no ray of an interval end passes nearer than that angle to the touching ray.
+
+**Known limit.** The exemption at shared corners is sound one stage at a time, but a strategy whose consecutive
+stages both use arcs into the same corner (a ping-pong between the two segments at a vertex) multiplies the
+distance to that corner by the contraction coefficient of each (≈ δ at the heading margin), and can bring
+robots within floating-point reach of the vertex. Such answers remain exactly sound (their certificates verify
+and exact replays succeed); excluding them needs one stage of history in the search state.
+
+>>> from solverplan.environment import Environment
+>>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])
+>>> m = Margins.for_environment(square)
+>>> m.heading_margin, round(m.corner_clearance / math.hypot(4, 4), 12), m.end_margin == 1e-6
+(0.001, 1e-06, True)
+>>> Margins.for_environment(square, heading_margin=0.0)
+Traceback (most recent call last):
+...
+solverplan.errors.InputError: heading_margin must be in (0, π/4) radians, got 0.0
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from solverplan.bounce.bvg import SafeBVG
+from solverplan.environment import Environment
+from solverplan.errors import InputError
+from solverplan.interval import DEFAULT_HEADING_MARGIN
+
+__all__ = ["DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "CORNER_CLEARANCE_FRACTION", "Margins",
+           "default_corner_clearance", "AdmissibleIntervals", "admissible_intervals"]
+
+DEFAULT_SAFE_MARGIN = 1e-9
+"""μ (radians): intervals stay μ inside the exact safe sets (floats → sound plans)."""
+
+CORNER_CLEARANCE_FRACTION = 1e-6
+"""κ / D of the default corner clearance: 10⁻⁶ of the bounding-box diagonal D (10 µm in a 10 m room) — ten
+orders of magnitude above double rounding (10⁻¹⁶ D), far below any robot's precision."""
+
+
+def _diagonal(env: Environment) -> float:
+    xmin, ymin, xmax, ymax = (float(v) for v in env.bounds)
+    return math.hypot(xmax - xmin, ymax - ymin)
+
+
+def default_corner_clearance(env: Environment) -> float:
+    """The default κ (length units of ``env``): :data:`CORNER_CLEARANCE_FRACTION` × the bounding-box diagonal."""
+    return CORNER_CLEARANCE_FRACTION * _diagonal(env)
+
+
+@dataclass(frozen=True, slots=True)
+class Margins:
+    """The margins of one query (module docstring): δ and μ in radians, κ in length units; ``end_margin`` =
+    max(μ, κ / D) radians is what interval ends move inwards."""
+
+    heading_margin: float
+    safe_margin: float
+    corner_clearance: float
+    diagonal: float
+
+    @classmethod
+    def for_environment(cls, env: Environment, *, heading_margin: float = DEFAULT_HEADING_MARGIN,
+                        safe_margin: float = DEFAULT_SAFE_MARGIN, corner_clearance: float | None = None) -> Margins:
+        """Validated margins for ``env`` (``corner_clearance=None``: :func:`default_corner_clearance`)."""
+        if isinstance(heading_margin, bool) or not (isinstance(heading_margin, (int, float))
+                                                    and 0 < heading_margin < math.pi / 4):
+            raise InputError(f"heading_margin must be in (0, π/4) radians, got {heading_margin!r}")
+        if isinstance(safe_margin, bool) or not (isinstance(safe_margin, (int, float)) and 0 <= safe_margin < 0.1):
+            raise InputError(f"safe_margin must be in [0, 0.1) radians, got {safe_margin!r}")
+        diagonal = _diagonal(env)
+        if corner_clearance is None:
+            kappa = CORNER_CLEARANCE_FRACTION * diagonal
+        elif isinstance(corner_clearance, bool) or not (isinstance(corner_clearance, (int, float))
+                                                        and math.isfinite(corner_clearance)
+                                                        and 0 <= corner_clearance < 0.01 * diagonal):
+            raise InputError(f"corner_clearance must be a length in [0, {0.01 * diagonal:.6g}) (1% of the "
+                             f"environment's diagonal), got {corner_clearance!r}")
+        else:
+            kappa = float(corner_clearance)
+        return cls(float(heading_margin), float(safe_margin), kappa, diagonal)
+
+    @property
+    def end_margin(self) -> float:
+        """Radians every interval end moves inside its exact safe set: max(μ, κ / D)."""
+        return max(self.safe_margin, self.corner_clearance / self.diagonal if self.diagonal > 0 else 0.0)
+
+    def to_json(self) -> dict:
+        return {"heading": self.heading_margin, "safe": self.safe_margin, "corner_clearance": self.corner_clearance}
+
+
+@dataclass(frozen=True)
+class AdmissibleIntervals:
+    """The intervals a strategy may use on the arcs of a safe BVG, one row per (arc, safe interval) that keeps
+    a positive width: ``arc`` (row of the graph), ``source``, ``target`` (segments), ``lo``/``hi`` (radians)."""
+
+    arc: np.ndarray
+    source: np.ndarray
+    target: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.lo)
+
+
+def _angle_from(ex: np.ndarray, ey: np.ndarray, wx: np.ndarray, wy: np.ndarray) -> np.ndarray:
+    """CCW angle of w from e, in (−π, π] (vectorised)."""
+    return np.arctan2(ex * wy - ey * wx, ex * wx + ey * wy)
+
+
+def admissible_intervals(graph: SafeBVG, margins: Margins) -> AdmissibleIntervals:
+    """Every safe interval of ``graph`` cut by ``margins`` (module docstring); rows of zero width dropped.
+
+    >>> from solverplan.environment import Environment
+    >>> from solverplan.bounce.bvg import safe_bounce_visibility_graph
+    >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])
+    >>> g = safe_bounce_visibility_graph(square)
+    >>> adm = admissible_intervals(g, Margins.for_environment(square))
+    >>> bool(adm.lo.min() >= 0.001 and adm.hi.max() <= math.pi - 0.001), len(adm)   # e0 → e2 is a singleton
+    (True, 8)
+    """
+    counts = np.asarray(graph.n_intervals, dtype=np.int64)
+    arc = np.repeat(np.arange(graph.n_arcs), counts)
+    src = np.asarray(graph.source, dtype=np.int64)[arc]
+    tgt = np.asarray(graph.target, dtype=np.int64)[arc]
+    mu = margins.end_margin
+    lo = np.maximum(np.asarray(graph.set_lo, dtype=float) + mu, margins.heading_margin)
+    hi = np.minimum(np.asarray(graph.set_hi, dtype=float) - mu, math.pi - margins.heading_margin)
+    kappa = margins.corner_clearance
+    if kappa > 0 and len(arc):
+        part = graph.partition
+        a = np.array([[float(s.a[0]), float(s.a[1])] for s in part.segments])
+        b = np.array([[float(s.b[0]), float(s.b[1])] for s in part.segments])
+        A, B, C, D = a[src], b[src], a[tgt], b[tgt]
+        length = np.hypot(*(D - C).T)
+        u = (D - C) / np.where(length > 0, length, 1.0)[:, None]
+        # the end shared with the source is exempt (Cor. 1's corners); floats of one exact point are equal
+        shared_c = np.all(C == B, axis=1)
+        shared_d = np.all(D == A, axis=1)
+        c_in = C + kappa * u
+        d_in = D - kappa * u
+        ex, ey = (B - A).T
+        cone_lo = np.where(shared_c, 0.0, _angle_from(ex, ey, c_in[:, 0] - B[:, 0], c_in[:, 1] - B[:, 1]))
+        cone_hi = np.where(shared_d, math.pi, _angle_from(ex, ey, d_in[:, 0] - A[:, 0], d_in[:, 1] - A[:, 1]))
+        # a target too short for the clearance at both (unshared) ends cannot be used at all
+        needed = kappa * ((~shared_c).astype(float) + (~shared_d).astype(float))
+        lo = np.maximum(lo, cone_lo + margins.safe_margin)
+        hi = np.minimum(hi, cone_hi - margins.safe_margin)
+        hi = np.where(length > needed, hi, -np.inf)
+    keep = hi > lo
+    return AdmissibleIntervals(arc[keep], src[keep], tgt[keep], lo[keep], hi[keep])
