@@ -19,7 +19,7 @@ import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.bounce.dynamics import contraction_coefficient
-from solverplan.plan.margins import Margins, admissible_intervals
+from solverplan.plan.margins import Margins, admissible_intervals, corner_arcs
 
 __all__ = ["ArcChoices", "arc_choices", "max_tolerance"]
 
@@ -27,7 +27,8 @@ __all__ = ["ArcChoices", "arc_choices", "max_tolerance"]
 @dataclass(frozen=True)
 class ArcChoices:
     """The usable arcs at one tolerance: ``arc`` (row of the safe BVG), the chosen interval ``lo``/``hi``,
-    the worst-case coefficient ``worst`` (arc length, Def. 11) and ``weight`` = log worst."""
+    the worst-case coefficient ``worst`` (arc length, Def. 11), ``weight`` = log worst, and the corner the arc runs
+    into (``dive``: end of the source, ``arrival``: end of the target; 0 for none — :func:`corner_arcs`)."""
 
     tolerance: float
     arc: np.ndarray
@@ -37,6 +38,8 @@ class ArcChoices:
     hi: np.ndarray
     worst: np.ndarray
     weight: np.ndarray
+    dive: np.ndarray
+    arrival: np.ndarray
 
     def index(self) -> dict[tuple[int, int], int]:
         """(source, target) → row of these arrays."""
@@ -76,13 +79,18 @@ def arc_choices(g: SafeBVG, tolerance: float, margins: Margins) -> ArcChoices:
     first = order[np.concatenate([[True], arc_of[order][1:] != arc_of[order][:-1]])] if len(order) else order
     first = first[np.isfinite(worst[first])]
     a = arc_of[first]
+    source = np.asarray(g.source, dtype=np.int64)[a]
+    target = np.asarray(g.target, dtype=np.int64)[a]
+    dive, arrival = corner_arcs(g.partition, source, target)
     return ArcChoices(
         tolerance=eps,
         arc=a,
-        source=np.asarray(g.source, dtype=np.int64)[a],
-        target=np.asarray(g.target, dtype=np.int64)[a],
+        source=source,
+        target=target,
         lo=c_lo[first],
         hi=c_hi[first],
         worst=worst[first],
         weight=np.log(worst[first]),
+        dive=dive,
+        arrival=arrival,
     )

@@ -2,7 +2,8 @@
 
 Belief states
 -------------
-A *belief* is the set of P′ segments the robot may be on (sorted tuple of segment ids). The start
+A *belief* is the set of P′ segments the robot may be on (sorted tuple of elements: segment ids, tagged when
+the robot arrived near one of the segment's corners, see :meth:`Problem.segment`). The start
 belief is every segment that the start set S overlaps in a piece of positive length: a piece covering
 part of a segment counts as that whole segment (a plan that works from every point of the segment
 works from the piece; this is conservative, never wrong). Positions exactly on a partition point
@@ -47,13 +48,14 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import NamedTuple
+from typing import Callable, NamedTuple, Sequence
 
 import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.environment import BoundarySet
-from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins, admissible_intervals
+from solverplan.plan.margins import (DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins, admissible_intervals,
+                                     corner_arcs)
 
 __all__ = ["Option", "Problem", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "merged_pieces", "belief_of"]
 
@@ -143,22 +145,52 @@ class Problem:
 
     # ------------------------------------------------------------------ admissible intervals
     def _build_intervals(self) -> None:
-        n = self.graph.n_segments
+        n = self.n_segments = self.graph.n_segments
         adm = admissible_intervals(self.graph, self.margins)
         src, tgt, lo, hi = adm.source, adm.target, adm.lo, adm.hi
         order = np.lexsort((lo, src))
         src, tgt, lo, hi = src[order], tgt[order], lo[order], hi[order]
         off = np.searchsorted(src, np.arange(n + 1))
+        dive, arrival = corner_arcs(self.partition, src, tgt)
         self._off = off.tolist()
         self._lo = lo.tolist()
         self._hi = hi.tolist()
         self._tgt = tgt.tolist()
+        self._dive = dive.tolist()
+        self._tgt_code = (tgt + n * arrival).tolist()
+        self._restricted: dict[int, tuple[list[float], list[float], list[int]]] = {}
         self.n_admissible = int(len(lo))
 
+    # ------------------------------------------------------------------ belief elements
+    def segment(self, code: int) -> int:
+        """The segment of a belief element. Elements are segment ids, plus ``n_segments`` × k where the bits of k
+        say the robot may have arrived by an arc into the segment's start (1) or end (2) corner: positions near
+        that corner, from which a second arc into the same corner is not admissible (the corner ping-pong of
+        :mod:`solverplan.plan.margins`)."""
+        return code % self.n_segments
+
+    def segments(self, belief: Belief) -> tuple[int, ...]:
+        """The segments of a belief (sorted, distinct)."""
+        return tuple(sorted({c % self.n_segments for c in belief}))
+
+    def moves(self, moves: tuple[tuple[int, int], ...]) -> tuple[tuple[int, int], ...]:
+        """An option's (source, target) moves as segment ids (distinct)."""
+        n = self.n_segments
+        return tuple(dict.fromkeys((i % n, j % n) for i, j in moves))
+
     def intervals(self, source: int) -> tuple[list[float], list[float], list[int]]:
-        """The admissible intervals of ``source`` (sorted, disjoint): lows, highs, targets."""
-        a, b = self._off[source], self._off[source + 1]
-        return self._lo[a:b], self._hi[a:b], self._tgt[a:b]
+        """The admissible intervals of belief element ``source`` (sorted, disjoint): lows, highs, target
+        elements. An element that arrived near a corner has no interval of an arc into that corner."""
+        s, k = source % self.n_segments, source // self.n_segments
+        a, b = self._off[s], self._off[s + 1]
+        if k == 0:
+            return self._lo[a:b], self._hi[a:b], self._tgt_code[a:b]
+        cached = self._restricted.get(source)
+        if cached is None:
+            rows = [r for r in range(a, b) if not self._dive[r] & k]
+            cached = ([self._lo[r] for r in rows], [self._hi[r] for r in rows], [self._tgt_code[r] for r in rows])
+            self._restricted[source] = cached
+        return cached
 
     def goal_intervals(self, source: int) -> tuple[list[float], list[float], list[int]]:
         """The intervals of ``source`` whose every landing point lies in the goal set (sorted, disjoint)."""
@@ -167,16 +199,16 @@ class Problem:
             return cached
         los, his, tgts = self.intervals(source)
         items = []
-        seg = self.partition.segments[source]
+        seg = self.partition.segments[source % self.n_segments]
         e = (float(seg.b[0] - seg.a[0]), float(seg.b[1] - seg.a[1]))
         for lo, hi, j in zip(los, his, tgts):
-            if j in self.goal_whole:
+            if j % self.n_segments in self.goal_whole:
                 items.append((lo, hi, j))
                 continue
-            pieces = self.goal_partial.get(j)
+            pieces = self.goal_partial.get(j % self.n_segments)
             if not pieces:
                 continue
-            tseg = self.partition.segments[j]
+            tseg = self.partition.segments[j % self.n_segments]
             for t0, t1 in pieces:
                 g0, g1 = _pulled_in(tseg, t0, t1, self.margins.corner_clearance, seg)
                 if g0 is None:
@@ -196,7 +228,7 @@ class Problem:
         """Every way to leave ``belief`` (one per choice of targets), widest interval each."""
         cached = self._options.get(belief)
         if cached is None:
-            cached = self._combine(belief, [self.intervals(s) for s in belief])
+            cached = self._combine(belief, [self.intervals(s) for s in belief], self._merged)
             self._options[belief] = cached
             self.options_built += len(cached)
         return cached
@@ -205,14 +237,27 @@ class Problem:
         """The options of ``belief`` that land in the goal set from every source (last stages)."""
         cached = self._goal_options.get(belief)
         if cached is None:
-            cached = self._combine(belief, [self.goal_intervals(s) for s in belief])
+            cached = self._combine(belief, [self.goal_intervals(s) for s in belief], self._merged)
             self._goal_options[belief] = cached
         return cached
 
+    def _merged(self, targets) -> Belief:
+        """The next belief of a choice of target elements: one element per segment, the corner tags of its
+        copies joined (a robot that may be near either corner takes no arc into either)."""
+        n = self.n_segments
+        if all(c < n for c in targets):
+            return tuple(sorted(set(targets)))
+        tags: dict[int, int] = {}
+        for c in targets:
+            tags[c % n] = tags.get(c % n, 0) | (c // n)
+        return tuple(sorted(seg + n * tag for seg, tag in tags.items()))
+
     @staticmethod
-    def _combine(belief: Belief, lists: list[tuple[list[float], list[float], list[int]]]) -> list[Option]:
+    def _combine(belief: Belief, lists: list[tuple[list[float], list[float], list[int]]],
+                 join: Callable[[Sequence[int]], Belief] = lambda t: tuple(sorted(set(t)))) -> list[Option]:
         """Intersect the sources' sorted disjoint interval lists, folding source by source (a merge: the
-        intersection of two sorted lists of disjoint intervals is again sorted and disjoint)."""
+        intersection of two sorted lists of disjoint intervals is again sorted and disjoint); ``join`` makes
+        the next belief of the targets chosen."""
         if len(belief) == 1:
             (s,) = belief
             los, his, tgts = lists[0]
@@ -247,9 +292,8 @@ class Problem:
             cells = merged
         if len(belief) == 2:
             s0, s1 = belief
-            return [Option(lo, hi, (a,) if a == b else ((a, b) if a < b else (b, a)), ((s0, a), (s1, b)))
-                    for lo, hi, (a, b) in cells]
-        return [Option(lo, hi, tuple(sorted(set(t))), tuple(zip(belief, t))) for lo, hi, t in cells]
+            return [Option(lo, hi, join((a, b)), ((s0, a), (s1, b))) for lo, hi, (a, b) in cells]
+        return [Option(lo, hi, join(t), tuple(zip(belief, t))) for lo, hi, t in cells]
 
     # ------------------------------------------------------------------ bounds from single segments
     @property
@@ -321,7 +365,8 @@ class Problem:
     def belief_bounds(self, belief: Belief) -> tuple[float, float]:
         """(lower bound on the stages, upper bound on the min width) of any plan from ``belief``."""
         dist, best = self.singleton_bounds
-        return max(dist[s] for s in belief), min(best[s] for s in belief)
+        n = self.n_segments
+        return max(dist[s % n] for s in belief), min(best[s % n] for s in belief)
 
     # ------------------------------------------------------------------ facts for reasons
     def goal_has_incoming(self) -> bool:

@@ -139,10 +139,9 @@ def fewest_stages(problem: Problem, max_bounces: int | None = None) -> tuple[int
     when f exceeds the budget.
     """
     start = problem.start_belief
-    dist, _ = problem.singleton_bounds
 
     def h(b: Belief) -> float:
-        return max(dist[s] for s in b)
+        return problem.belief_bounds(b)[0]
 
     depth: dict[Belief, int] = {start: 0}
     heap = [(h(start), 0, start)]

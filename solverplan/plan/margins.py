@@ -11,7 +11,7 @@ localisation) builds its heading intervals under the same three margins:
 ``safe_margin`` μ (radians, default :data:`DEFAULT_SAFE_MARGIN` = 10⁻⁹)
     Every interval lies at least μ inside the exact safe set it was taken from (the float ends of the exact
     safe sets are off by ~10⁻¹⁵).
-``corner_clearance`` κ (a length, default :func:`default_corner_clearance`: 10⁻⁶ × the diagonal of the
+``corner_clearance`` κ (a length, default :func:`default_corner_clearance`: 10⁻⁴ × the diagonal of the
 environment's bounding box)
     No contact point of any stage's possible positions comes within κ of a segment end (a vertex of P or an
     inserted point of P′, where the next stage would not know its segment) — except the end a stage's target
@@ -21,17 +21,19 @@ environment's bounding box)
     from an obstruction (a vertex the corner rays touch) are moved κ / D radians inwards (D the diagonal), so
     that no ray of an interval end passes nearer than that angle to the touching ray.
 
-**Known limit.** The exemption at shared corners is sound one stage at a time, but a strategy whose consecutive
-stages both use arcs into the same corner (a ping-pong between the two segments at a vertex) multiplies the
-distance to that corner by the contraction coefficient of each (≈ δ at the heading margin), and can bring
-robots within floating-point reach of the vertex. Such answers remain exactly sound (their certificates verify
-and exact replays succeed); excluding them needs one stage of history in the search state.
+**No corner ping-pong.** The exemption at shared corners is sound one stage at a time, but two consecutive
+stages into the same corner (back and forth between the two segments at a vertex) multiply the distance to it
+by the contraction coefficient of each (≈ δ at the heading margin), and repeated they drive robots into the
+vertex. So every planner remembers, for each possible segment, whether the robot arrived by an arc into one
+of its corners (:func:`corner_arcs`), and never takes a second arc into that corner next. Then every contact
+point stays at least C_min·κ ≥ sin(δ)·κ from every vertex it did not start near (C_min the smallest contraction
+coefficient of an admissible heading): 10⁻⁷ D with the defaults, a hundred times the float caster's tolerance.
 
 >>> from solverplan.environment import Environment
 >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])
 >>> m = Margins.for_environment(square)
->>> m.heading_margin, round(m.corner_clearance / math.hypot(4, 4), 12), m.end_margin == 1e-6
-(0.001, 1e-06, True)
+>>> m.heading_margin, round(m.corner_clearance / math.hypot(4, 4), 12), round(m.end_margin, 12)
+(0.001, 0.0001, 0.0001)
 >>> Margins.for_environment(square, heading_margin=0.0)
 Traceback (most recent call last):
 ...
@@ -51,14 +53,15 @@ from solverplan.errors import InputError
 from solverplan.interval import DEFAULT_HEADING_MARGIN
 
 __all__ = ["DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "CORNER_CLEARANCE_FRACTION", "Margins",
-           "default_corner_clearance", "AdmissibleIntervals", "admissible_intervals"]
+           "default_corner_clearance", "AdmissibleIntervals", "admissible_intervals", "corner_arcs"]
 
 DEFAULT_SAFE_MARGIN = 1e-9
 """μ (radians): intervals stay μ inside the exact safe sets (floats → sound plans)."""
 
-CORNER_CLEARANCE_FRACTION = 1e-6
-"""κ / D of the default corner clearance: 10⁻⁶ of the bounding-box diagonal D (10 µm in a 10 m room) — ten
-orders of magnitude above double rounding (10⁻¹⁶ D), far below any robot's precision."""
+CORNER_CLEARANCE_FRACTION = 1e-4
+"""κ / D of the default corner clearance: 10⁻⁴ of the bounding-box diagonal D (1 mm in a 10 m room). One arc into
+a corner at the heading margin shrinks distances to it by ≈ δ = 10⁻³, so contact points stay ≥ 10⁻⁷ D from
+vertices: far above double rounding (10⁻¹⁶ D) and the float caster's tie tolerance (10⁻⁹ D)."""
 
 
 def _diagonal(env: Environment) -> float:
@@ -124,6 +127,21 @@ class AdmissibleIntervals:
 
     def __len__(self) -> int:
         return len(self.lo)
+
+
+def corner_arcs(partition, source: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For arcs source → target of P′ segments: ``dive``, the end of the source the arc runs into when the two
+    segments share it (1: the source's start a, 2: its end b, 0: no shared corner), and ``arrival``, the end of
+    the target the robot then arrives near (1: its start, 2: its end, 0: none). Positions near a shared corner
+    land near it (paper Cor. 1's arcs); a robot that arrived near a segment's corner takes no arc into that
+    corner next (module docstring)."""
+    ends = np.array([[float(x) for x in (*seg.a, *seg.b)] for seg in partition.segments]).reshape(-1, 4)
+    source, target = np.asarray(source, dtype=np.int64), np.asarray(target, dtype=np.int64)
+    into_b = np.all(ends[source, 2:] == ends[target, :2], axis=1)  # i → i+1 (floats of one exact point are equal)
+    into_a = np.all(ends[source, :2] == ends[target, 2:], axis=1)  # i → i−1
+    dive = np.where(into_a, 1, np.where(into_b, 2, 0))
+    arrival = np.where(into_b, 1, np.where(into_a, 2, 0))
+    return dive, arrival
 
 
 def _angle_from(ex: np.ndarray, ey: np.ndarray, wx: np.ndarray, wy: np.ndarray) -> np.ndarray:

@@ -342,21 +342,32 @@ class _Entry:
         stages ≥ 2ε wide searched (exhaustive: beliefs never grow, so the sweep is finite)."""
         if eps not in self._singletons:
             depth, _ = _search.reachable(self.problem, threshold=2 * eps)
-            self._singletons[eps] = frozenset(b[0] for b in depth if len(b) == 1)
+            self._singletons[eps] = frozenset(self.problem.segment(b[0]) for b in depth if len(b) == 1)
         return self._singletons[eps]
 
-    def plan(self, targets: set[int], eps: float) -> tuple[tuple[Stage, ...], int] | None:
-        """The fewest-stage entry onto one segment of ``targets`` with stages ≥ 2ε wide, and that segment."""
+    def plan(self, targets: dict[int, int], eps: float) -> tuple[tuple[Stage, ...], int] | None:
+        """The fewest-stage entry onto one segment of ``targets`` with stages ≥ 2ε wide, and that segment.
+        ``targets`` maps each cycle segment to the corner the cycle's arc from it runs into (0 for none): an entry
+        that arrives near that corner is not accepted (no corner ping-pong across the junction)."""
         if len(self.start_belief) == 1 and self.start_belief[0] in targets:
             return (), self.start_belief[0]
         part = self.graph.partition
         goal = BoundarySet(tuple(BoundaryPiece(part.segments[s].edge, part.segments[s].t0, part.segments[s].t1)
                                  for s in sorted(targets)))
         problem = Problem(self.graph, self.start, goal, margins=self.margins)
-        path, _ = _search.bfs(problem, threshold=2 * eps, accept=lambda b: len(b) == 1)
+        n = problem.n_segments
+
+        def accept(belief) -> bool:
+            if len(belief) != 1:
+                return False
+            tag = belief[0] // n
+            return not tag & targets.get(belief[0] % n, 0)
+
+        path, _ = _search.bfs(problem, threshold=2 * eps, accept=accept)
         if path is None:
             return None
-        stages = tuple(Stage(from_segments=belief, to_segments=o.next, interval=Interval(o.lo, o.hi), moves=o.moves)
+        stages = tuple(Stage(from_segments=problem.segments(belief), to_segments=problem.segments(o.next),
+                             interval=Interval(o.lo, o.hi), moves=problem.moves(o.moves))
                        for belief, o in _search.walk(problem, path))
         return stages, stages[-1].to_segments[0]
 
@@ -374,36 +385,53 @@ class _Product:
     advance: np.ndarray  # bool: lands on the next required edge
 
 
+def _tagged(choices: ArcChoices, rows: np.ndarray, N: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The arcs ``rows`` between tagged segments c = s + N·k (k: the corner of s the robot arrived near, 0 for
+    none): (source code, target code, row), without an arc into the corner the robot just arrived at (the
+    corner ping-pong of :mod:`solverplan.plan.margins`)."""
+    src, dst, out = [], [], []
+    s, t = choices.source[rows], choices.target[rows]
+    land = t + N * choices.arrival[rows]
+    for k in range(4):  # bits of k: arrived near the start (1) / end (2) corner
+        ok = (choices.dive[rows] & k) == 0
+        src.append(s[ok] + N * k)
+        dst.append(land[ok])
+        out.append(rows[ok])
+    return np.concatenate(src), np.concatenate(dst), np.concatenate(out)
+
+
 def _product(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: int | None,
              allowed: frozenset[int] | None) -> _Product:
-    """Nodes (s, q, h) (h ∈ 0..H; ``H=None``: no h, within-layer cycles allowed: node (s, q))."""
+    """Nodes (c, q, h) over tagged segments c (:func:`_tagged`), h ∈ 0..H; ``H=None``: no h, within-layer cycles
+    allowed: node (c, q)."""
     N, k = len(part.segments), len(visit)
     seg_edge = np.asarray(part.seg_edge, dtype=np.int64)
     rows = np.arange(len(choices.arc))
     if allowed is not None:
         mask = np.isin(choices.source, list(allowed)) & np.isin(choices.target, list(allowed))
         rows = rows[mask]
-    s, t = choices.source[rows], choices.target[rows]
+    s, t, rows = _tagged(choices, rows, N)
+    M = 4 * N
     hs = [0] if H is None else list(range(H + 1))
     nh = len(hs)
     src, dst, ch, adv = [], [], [], []
     for q in range(k):
         nxt = (q + 1) % k
-        lands = seg_edge[t] == visit[nxt]
+        lands = seg_edge[t % N] == visit[nxt]
         for h in hs:
-            here = (q * nh + h) * N + s
+            here = (q * nh + h) * M + s
             # advancing arcs
             src.append(here[lands])
-            dst.append((nxt * nh + 0) * N + t[lands])
+            dst.append((nxt * nh + 0) * M + t[lands])
             ch.append(rows[lands])
             adv.append(np.ones(int(lands.sum()), dtype=bool))
             stay = ~lands
             if H is None:
                 src.append(here[stay])
-                dst.append((q * nh + 0) * N + t[stay])
+                dst.append((q * nh + 0) * M + t[stay])
             elif h < H:
                 src.append(here[stay])
-                dst.append((q * nh + h + 1) * N + t[stay])
+                dst.append((q * nh + h + 1) * M + t[stay])
             else:
                 continue
             ch.append(rows[stay])
@@ -412,7 +440,7 @@ def _product(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: in
     dst_a = np.concatenate(dst) if dst else np.zeros(0, dtype=np.int64)
     ch_a = np.concatenate(ch) if ch else np.zeros(0, dtype=np.int64)
     adv_a = np.concatenate(adv) if adv else np.zeros(0, dtype=bool)
-    n = k * nh * N
+    n = k * nh * M
     keep = cycle_arcs_only(n, src_a, dst_a)
     return _Product(n, src_a[keep], dst_a[keep], choices.weight[ch_a[keep]], ch_a[keep], adv_a[keep])
 
@@ -434,18 +462,24 @@ def _period_dp(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: 
     rows = np.arange(len(choices.arc))
     if allowed is not None:
         rows = rows[np.isin(choices.source, list(allowed)) & np.isin(choices.target, list(allowed))]
-    s, t, w = choices.source[rows], choices.target[rows], choices.weight[rows]
-    anchors = [a for a in part.edge_segments[visit[0]] if allowed is None or a in allowed]
-    if not anchors or len(rows) == 0:
+    if len(rows) == 0:
+        return None
+    # tagged segments (the corner the robot arrived near: no arc into it next); a period starts and ends at
+    # the same tagged anchor, so that it can be repeated
+    s, t, rows = _tagged(choices, rows, N)
+    w = choices.weight[rows]
+    M = 4 * N
+    anchors = [a + N * tag for a in part.edge_segments[visit[0]] if allowed is None or a in allowed for tag in range(4)]
+    if not anchors:
         return None
     A = len(anchors)
     layers = (k + 1) * (H + 1)
-    dist = np.full((layers, A, N), np.inf)
-    pred = np.full((layers, A, N, 2), -1, dtype=np.int64)  # (previous layer, row)
+    dist = np.full((layers, A, M), np.inf)
+    pred = np.full((layers, A, M, 2), -1, dtype=np.int64)  # (previous layer, tagged arc)
     for i, a in enumerate(anchors):
         dist[0, i, a] = 0.0
     for j in range(k):
-        lands = seg_edge[t] == visit[(j + 1) % k]
+        lands = seg_edge[t % N] == visit[(j + 1) % k]
         for h in range(H + 1):
             L = j * (H + 1) + h
             cand = dist[L][:, s] + w[None, :]  # (A, arcs)
@@ -457,7 +491,7 @@ def _period_dp(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: 
             for L2, m in targets:
                 c = cand[:, m]
                 tt = t[m]
-                rr = rows[m]
+                rr = np.flatnonzero(m)  # index into the tagged arcs (its source code and row)
                 for i in range(A):
                     order = np.lexsort((c[i], tt))
                     tt_o, c_o = tt[order], c[i][order]
@@ -477,11 +511,11 @@ def _period_dp(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: 
     path = []
     L, node = end, anchors[best_i]
     while L != 0:
-        L_prev, r = (int(x) for x in pred[L, best_i, node])
-        if r < 0:  # pragma: no cover - every finite label has a predecessor
+        L_prev, p = (int(x) for x in pred[L, best_i, node])
+        if p < 0:  # pragma: no cover - every finite label has a predecessor
             raise SolverFailed("broken predecessor chain in the one-period dynamic programme")
-        path.append(r)
-        node = int(choices.source[r])
+        path.append(int(rows[p]))
+        node = int(s[p])
         L = L_prev
     path.reverse()
     return best_val, path
@@ -715,7 +749,7 @@ def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: i
     entry_stages: tuple[Stage, ...] = ()
     rotate = 0
     if entry is not None:
-        found = entry.plan(set(segs), eps)
+        found = entry.plan({int(choices.source[r]): int(choices.dive[r]) for r in reversed(rows)}, eps)  # first visit wins
         if found is None:  # pragma: no cover - the cycle was chosen among reachable segments
             raise SolverFailed("the patrol cycle lies among reachable segments, yet no entry plan was found")
         entry_stages, landing = found

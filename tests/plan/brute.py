@@ -38,9 +38,20 @@ def _clearance_cone(graph: SafeBVG, i: int, j: int, kappa: float) -> tuple[float
     return low, high
 
 
+def _corner(graph: SafeBVG, i: int, j: int) -> tuple[int, int]:
+    """(end of i, end of j) of the vertex segments i and j share — 1 start, 2 end — or (0, 0)."""
+    a, b = graph.partition.segments[i], graph.partition.segments[j]
+    if a.b == b.a:
+        return 2, 1
+    if a.a == b.b:
+        return 1, 2
+    return 0, 0
+
+
 def admissible(graph: SafeBVG, delta: float = DEFAULT_HEADING_MARGIN, mu: float = DEFAULT_SAFE_MARGIN,
                kappa: float | None = None):
-    """The admissible intervals of every source: safe intervals cut by the margin policy (δ, μ, κ)."""
+    """The admissible intervals of every source: safe intervals cut by the margin policy (δ, μ, κ), each with
+    the corner it runs into (``dive``: the source's end, ``arrival``: the target's end; 0 for none)."""
     xmin, ymin, xmax, ymax = graph.partition.env.bounds
     diagonal = math.hypot(xmax - xmin, ymax - ymin)
     kappa = CORNER_CLEARANCE_FRACTION * diagonal if kappa is None else kappa
@@ -49,11 +60,12 @@ def admissible(graph: SafeBVG, delta: float = DEFAULT_HEADING_MARGIN, mu: float 
     for k in range(graph.n_arcs):
         i, j = int(graph.source[k]), int(graph.target[k])
         low, high = _clearance_cone(graph, i, j, kappa)
+        dive, arrival = _corner(graph, i, j)
         for r in range(int(graph.set_offsets[k]), int(graph.set_offsets[k + 1])):
             lo = max(float(graph.set_lo[r]) + end, delta, low + mu)
             hi = min(float(graph.set_hi[r]) - end, math.pi - delta, high - mu)
             if hi > lo:
-                out[i].append((lo, hi, j))
+                out[i].append((lo, hi, j, dive, arrival))
     return out
 
 
@@ -93,7 +105,9 @@ class Enumeration:
 
 
 def enumerate_plans(adm, start: tuple[int, ...], goal: set[int], K: int) -> Enumeration:
-    cache: dict[tuple[int, ...], list[tuple[float, float, tuple[int, ...]]]] = {}
+    """Every plan of ≤ K stages. A belief is a set of (segment, corners): the corners (bits 1 start, 2 end) the
+    robot may have just arrived near, into which no arc is taken next (no corner ping-pong)."""
+    cache: dict = {}
 
     def stages_from(belief):
         if belief in cache:
@@ -102,12 +116,18 @@ def enumerate_plans(adm, start: tuple[int, ...], goal: set[int], K: int) -> Enum
 
         def rec(idx, lo, hi, targets):
             if idx == len(belief):
-                found.append((lo, hi, tuple(sorted(set(targets)))))
+                joined: dict[int, int] = {}
+                for j, tag in targets:
+                    joined[j] = joined.get(j, 0) | tag
+                found.append((lo, hi, tuple(sorted(joined.items()))))
                 return
-            for l, h, j in adm[belief[idx]]:
+            segment, near = belief[idx]
+            for l, h, j, dive, arrival in adm[segment]:
+                if dive & near:
+                    continue
                 a, b = max(lo, l), min(hi, h)
                 if b > a:
-                    rec(idx + 1, a, b, targets + [j])
+                    rec(idx + 1, a, b, targets + [(j, arrival)])
 
         rec(0, -math.inf, math.inf, [])
         cache[belief] = found
@@ -120,9 +140,9 @@ def enumerate_plans(adm, start: tuple[int, ...], goal: set[int], K: int) -> Enum
             return
         for lo, hi, nxt in stages_from(belief):
             extended = stages + [(lo, hi)]
-            if set(nxt) <= goal:
+            if {j for j, _ in nxt} <= goal:
                 result.plans.append(extended)
             walk(nxt, extended)
 
-    walk(start, [])
+    walk(tuple((s, 0) for s in start), [])
     return result
