@@ -24,7 +24,10 @@ from typing import ClassVar, Iterable
 
 from solverplan.errors import InvalidBoundarySet
 
-__all__ = ["Interval", "heading_interval"]
+__all__ = ["Interval", "heading_interval", "DEFAULT_HEADING_MARGIN"]
+
+DEFAULT_HEADING_MARGIN = 1e-3
+"""Radians: no strategy leaves within this of a wall (searches over headings stay in [δ, π − δ])."""
 
 
 @dataclass(frozen=True, slots=True)
