@@ -46,6 +46,8 @@ DEFAULT_CONTROLLER_TANGENTS: tuple[str, ...] = (
 """Tangents of the headings :func:`constant_controller` tries, in order: small headings first (the robot
 runs close to the walls, where Prop. 4's proof looks for contraction), then their mirror images (θ near π)."""
 
+_ALGORITHM = "exact enclosure of f_θ^k(∂P) on a 2⁻⁹⁶ grid inside verified basins"
+
 
 @dataclass(frozen=True)
 class ConstantController:
@@ -292,24 +294,23 @@ def constant_controller(
         tried.append((heading.spec(), proof.outcome))
         logger.info("constant controller %s: %s", heading.spec(), proof.outcome)
         if proof.proved:
+            claim = ("every start on the boundary (rays through vertices excepted) converges to one of the "
+                     f"{len(proof.cores)} verified cycle(s) of this heading")
             cycles = tuple(
                 _build(env, cmap, core, method="iterate", theta=heading.theta, scope="every-start", rotate=True, part=part,
-                       algorithm="exact enclosure of f_θ^k(∂P) on a 2⁻⁹⁶ grid inside verified basins",
+                       algorithm=_ALGORITHM, claim=claim,
                        reason=f"every start converges to one of the {len(proof.cores)} verified cycle(s) of this heading "
                               f"(exact enclosure of all orbits inside their basins after {proof.steps} bounces)")
                 .with_epsilon(epsilon)
                 for core in proof.cores
             )
-            optimality = Optimality(Method.EXACT_CHECK, True, None,
-                                    scope="every start on the boundary (rays through vertices excepted) converges to "
-                                          "one of the cycles under this constant heading",
-                                    algorithm="exact enclosure of f_θ^k(∂P) on a 2⁻⁹⁶ grid inside verified basins")
+            optimality = Optimality(Method.EXACT_CHECK, True, None, scope=claim, algorithm=_ALGORITHM)
             return ConstantController(env, heading, cycles, proof.steps, tuple(tried), Status.FOUND, optimality,
                                       stats(), record, margin)
         if proof.limit is not None and proof.limit not in limits:
             limits.append(proof.limit)
-    optimality = Optimality(Method.HEURISTIC, False, None, limits=tuple(limits),
-                            scope="one constant heading among the candidates tan θ ∈ {"
-                                  + ", ".join(specs) + "} driving every start into a verified cycle",
-                            algorithm="exact enclosure of f_θ^k(∂P) on a 2⁻⁹⁶ grid inside verified basins")
+    candidates = ", ".join(spec for spec, outcome in tried if not outcome.startswith("skipped"))
+    optimality = Optimality(Method.HEURISTIC, False, None, limits=tuple(limits), algorithm=_ALGORITHM,
+                            scope=f"one constant heading among the candidates {candidates} (outside heading_margin = "
+                                  f"{margin:g} rad of the walls) driving every start into a verified cycle")
     return ConstantController(env, None, (), None, tuple(tried), Status.NOT_FOUND, optimality, stats(), record, margin)

@@ -328,7 +328,7 @@ def _stage(env: Environment, cmap: ConstantMap, m: AffineMap, theta: float, part
 
 
 def _optimality(status: Status, scope: str, edges: Sequence[int], *, algorithm: str, start=None,
-                limits: tuple[str, ...] = ()) -> Optimality:
+                limits: tuple[str, ...] = (), claim: str | None = None) -> Optimality:
     """What the answer proves, for :attr:`LimitCycle.optimality` (nothing is optimised: the cycle, or
     its failure, is checked in exact arithmetic; a bounded iteration that ran out proves nothing)."""
     where = "" if start is None else f"e{start[0]}:{format_number(start[1])}"
@@ -340,21 +340,22 @@ def _optimality(status: Status, scope: str, edges: Sequence[int], *, algorithm: 
             return Optimality(Method.EXACT_CHECK, False, None, algorithm=algorithm, limits=limits,
                               scope=f"the start {where} converges to the cycle (not proved within the bounce budget; "
                                     f"{_SCOPES['basin']}: verified exactly)")
-        text = _SCOPES[scope]
+        text = claim or _SCOPES[scope]
         if scope == "start+basin":
             text = text.replace("the start", f"the start {where}")
         return Optimality(Method.EXACT_CHECK, True, None, scope=text, algorithm=algorithm)
     seq = edge_sequence_text(edges) if edges else "the edge sequence examined"
     return Optimality(Method.EXACT_CHECK, True, None, algorithm=algorithm,
-                      scope=f"the periodic orbit along {seq} at this exact heading")
+                      scope=f"the cycle along {seq} at this exact heading")
 
 
 def _build(env: Environment, cmap: ConstantMap, core: CycleCore, *, method: str, theta: float, scope: str,
            reason: str, rotate: bool, algorithm: str, entry: tuple[Stage, ...] = (), start=None, lemma3=None,
            theorem1_d=None, part: Partition | None = None, whole_edges: bool = False,
-           limits: tuple[str, ...] = (), counts: dict | None = None) -> LimitCycle:
-    """The :class:`LimitCycle` of a checked core, rotated to start at its smallest contact when ``rotate``
-    (package-internal: :mod:`solverplan.bounce.controller` builds its cycles with it too)."""
+           limits: tuple[str, ...] = (), counts: dict | None = None, claim: str | None = None) -> LimitCycle:
+    """The :class:`LimitCycle` of a checked core, rotated to start at its smallest contact when ``rotate``;
+    ``claim`` replaces the words of what a found cycle proves (package-internal:
+    :mod:`solverplan.bounce.controller` builds its cycles with it too)."""
     m = len(core.edges)
     r = rotation(core) if (rotate and core.orbit) else 0
     edges = core.edges[r:] + core.edges[:r]
@@ -381,7 +382,7 @@ def _build(env: Environment, cmap: ConstantMap, core: CycleCore, *, method: str,
             pts.append(CyclePoint(edges[k], tk, env.exact_point_at(edges[k], tk), basin))
         points = tuple(pts)
     scope = scope if core.status is Status.FOUND else "none"
-    optimality = _optimality(core.status, scope, edges, algorithm=algorithm, start=start, limits=limits)
+    optimality = _optimality(core.status, scope, edges, algorithm=algorithm, start=start, limits=limits, claim=claim)
     return LimitCycle(
         env=env, status=core.status, reason=reason, method=method, heading=cmap.heading, theta=theta,
         edges=edges if m else (), stages=stages, entry=entry, points=points, contraction_exact=c_exact,

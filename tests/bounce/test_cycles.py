@@ -261,3 +261,101 @@ def _segment(env, seg_id):
     from solverplan.bounce.partition import partition
 
     return partition(env).segments[seg_id]
+
+
+# ---------------------------------------------------------------------- the result protocol
+def test_a_verified_cycle_follows_the_result_protocol():
+    from solverplan.result import AffineStep, EnvironmentRecord, Result, Stage
+
+    cycle = limit_cycle(SQUARE, "tan:1/2")
+    assert isinstance(cycle, Result) and cycle.status.answered
+    assert cycle.optimality.method is Method.EXACT_CHECK and cycle.optimality.proved and not cycle.optimality.limits
+    assert cycle.optimality.scope.startswith("every start on the boundary converges")
+    assert cycle.environment == EnvironmentRecord.of(SQUARE, cycle.environment.n_segments) and cycle.environment.matches(SQUARE)
+    for stage in cycle.stages:
+        assert isinstance(stage, Stage) and isinstance(stage.affine, AffineStep)
+        assert stage.interval.lo == stage.interval.hi == cycle.theta == stage.affine.heading
+    # the stages' exact maps compose to the return map whose |α| is the contraction (Def. 12)
+    alpha = Fraction(1)
+    for stage in cycle.stages:
+        alpha *= stage.affine.alpha
+    assert abs(alpha) == cycle.contraction_exact == Fraction(1, 16)
+    answer = cycle.to_json()
+    assert answer["environment"] == {"name": "square", "sha256": cycle.environment.sha256,
+                                     "n_segments": cycle.environment.n_segments}
+    assert answer["method"] == "theorem1" and answer["optimality"]["method"] == "exact-check"
+    assert answer["optimality"]["proved"] is True and answer["cycle"][0]["nominal"] == cycle.theta
+    assert "seconds_search" in answer["stats"]
+    assert "optimality: exact-check" in cycle.to_text()
+
+
+def test_iterate_records_its_work_and_what_the_entry_proves():
+    env = load_environment(MODELS / "two_holes.json")
+    cycle = limit_cycle(env, 0.2)  # iterate from e0:1/2
+    assert cycle.method == "iterate" and cycle.scope == "start+basin"
+    assert cycle.optimality.proved and "the start e0:0.5" in cycle.optimality.scope
+    counts = cycle.stats.counts
+    assert counts["bounces_simulated"] >= 1 and counts["entry_bounces"] >= 1
+    assert len(cycle.entry) >= counts["entry_bounces"]  # the proved bounces, then the walk to the first contact
+
+
+def test_a_bounded_iteration_that_finds_nothing_proves_nothing():
+    cycle = limit_cycle(SQUARE, "tan:1/2", method="iterate", max_bounces=3)
+    assert cycle.status is Status.NOT_FOUND and cycle.status.incomplete and not cycle.points
+    assert cycle.optimality.method is Method.HEURISTIC and not cycle.optimality.proved
+    assert cycle.optimality.limits == ("max_bounces=3",)
+    assert cycle.to_json()["status"] == "not-found" and cycle.to_json()["optimality"]["limits"] == ["max_bounces=3"]
+
+
+def test_a_proved_failure_is_proven_infeasible_for_the_sequence_examined():
+    repels = limit_cycle(SQUARE, "tan:2")
+    assert repels.status.proven_infeasible and repels.optimality.proved
+    assert repels.optimality.method is Method.EXACT_CHECK and "e0 → e1 → e2 → e3 → e0" in repels.optimality.scope
+    skip = limit_cycle(SQUARE, "tan:1/3", edges=[0, 2])
+    assert skip.status is Status.NOT_REALISED and skip.status.proven_infeasible and "e0 → e2 → e0" in skip.optimality.scope
+
+
+def test_an_entry_cut_short_by_the_budget_is_not_proved():
+    from solverplan.bounce._cycle_core import basins_grid, cycle_along, prove_entry
+    from solverplan.bounce.constant_map import ConstantMap
+    from solverplan.bounce.cycles import _optimality
+
+    cmap = ConstantMap(SQUARE, ExactHeading.from_tangent("1/2"))
+    core = cycle_along(SQUARE, cmap, (0, 1, 2, 3), Status.NOT_REALISED)
+    basins = basins_grid(core.edges, core.orbit, core.radii)
+    outside = Fraction(19, 20)  # the basin around t* = 1/3 on e0 is (0, 2/3)
+    assert prove_entry(cmap, 0, outside, basins, 0).budget_hit
+    entered = prove_entry(cmap, 0, outside, basins, 20)
+    assert entered.steps is not None and not entered.budget_hit
+    claim = _optimality(Status.FOUND, "basin", core.edges, algorithm="", start=(0, outside), limits=("max_bounces=0",))
+    assert not claim.proved and claim.limits == ("max_bounces=0",) and "e0:0.95" in claim.scope
+
+
+def test_a_given_heading_inside_the_margin_is_used_as_asked():
+    cycle = limit_cycle(SQUARE, 0.0005)  # the user asked for it: the planners' margin does not apply
+    assert cycle.found and cycle.theta == 0.0005
+
+
+def test_the_constant_controller_skips_headings_inside_the_margin():
+    from solverplan.interval import DEFAULT_HEADING_MARGIN
+
+    room = Environment.from_coords([[0, 0], [12, 0], [12, 9], [0, 9]], [[[4, 3], [4, 5], [7, 6], [8, 3]]])
+    ctrl = constant_controller(room, tangents=["1/10000", "-1/10000", "1/4"])
+    assert ctrl.proved and ctrl.heading.spec() == "tan:0.25" and ctrl.heading_margin == DEFAULT_HEADING_MARGIN
+    assert [o.startswith("skipped") for _, o in ctrl.tried] == [True, True, False]
+    assert ctrl.stats.counts["headings_tried"] == 1
+    with pytest.raises(InputError, match="every candidate heading is within heading_margin"):
+        constant_controller(room, tangents=["1/10000"])
+    for bad in (-0.1, 1.0, float("nan"), True):
+        with pytest.raises(InputError, match="heading_margin must be in"):
+            constant_controller(room, heading_margin=bad)
+
+
+def test_a_controller_search_that_fails_is_incomplete_with_its_limits():
+    corridor = Environment.from_coords([[0, 0], [50, 0], [50, 2], [0, 2]], name="corridor")
+    ctrl = constant_controller(corridor, tangents=["1/4"], max_steps=50)
+    assert ctrl.status is Status.NOT_FOUND and ctrl.status.incomplete and not ctrl.proved
+    assert ctrl.optimality.method is Method.HEURISTIC and ctrl.optimality.limits == ("max_steps=50",)
+    answer = ctrl.to_json()
+    assert answer["status"] == "not-found" and answer["proved"] is False and answer["environment"]["name"] == "corridor"
+    assert "limits hit: max_steps=50" in ctrl.to_text()
