@@ -140,14 +140,14 @@ class LimitCycle:
         |α| of the exact return map (= Π C_k, Def. 12), and as a float.
     scope
         What is proved to converge: ``every-start`` (Theorem 1 with Lemma 3's edge order, or
-        :func:`constant_controller`'s proof), ``start+basin`` (``start`` provably enters the basins, iterate
+        :func:`~solverplan.bounce.controller.constant_controller`'s proof), ``start+basin`` (``start`` provably enters the basins, iterate
         mode), ``basin`` (the certified basins only), or ``none`` (no stable cycle).
     start
         (edge, t) the iteration started from (iterate mode).
     lemma3
         Lemma 3's range when the environment is strictly convex, else None.
     theorem1_d
-        Theorem 1's d_FP by DESIGN's float formula, on edge ``edges[0]`` (theorem1 method, for comparison).
+        Theorem 1's d_FP by its float formula (:func:`~solverplan.bounce.dynamics.theorem1_fixed_point`), on edge ``edges[0]`` (theorem1 method, for comparison).
     epsilon, cycles_to_epsilon, epsilon_width
         Cor. 4 (tight) when ``epsilon`` was given: cycles until a position set of width ``epsilon_width`` on
         ``edges[0]`` (the whole edge for ``every-start``, else the basin; arc length) is at most ε wide.
@@ -478,7 +478,9 @@ def limit_cycle(
     Returns
     -------
     LimitCycle
-        ``status`` says whether a stable cycle was found; never raises for a heading that merely fails.
+        ``status`` says whether a stable cycle was found (``optimality`` what is proved about it, ``stats``
+        what it cost); never raises for a heading that merely fails. A heading close to a wall is used as
+        asked (the planners' heading margin is for searches over headings).
 
     Raises
     ------
@@ -645,13 +647,14 @@ def _iterate(env: Environment, cmap: ConstantMap, value: float, start: tuple[int
     found = prove_entry(cmap, e0, t0, basins_grid(core.edges, core.orbit, core.radii), max_bounces)
     entry: tuple[Stage, ...] = ()
     limits: tuple[str, ...] = ()
-    if found.steps is not None:
+    if found.steps is not None and found.phase is not None:
         # walk on from the basin reached to the rotated cycle's first contact
-        extra = (r - found.phase) % len(core.edges)
+        phase = found.phase
+        extra = (r - phase) % len(core.edges)
         stages = [_stage(env, cmap, mk, value, part, mid, False) for mk, mid in found.steps]
-        t = core.orbit[found.phase]
+        t = core.orbit[phase]
         for j in range(extra):
-            mk = core.maps[(found.phase + j) % len(core.maps)]
+            mk = core.maps[(phase + j) % len(core.maps)]
             stages.append(_stage(env, cmap, mk, value, part, t, False))
             t = mk(t)
         entry = tuple(stages)
