@@ -510,6 +510,11 @@ def cycle_command(
         typer.Option("--start", metavar="eK:T", help="Iterate: the start point (default e0:0.5).", show_default=False),
     ] = None,
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Iterate: bounce budget.")] = 20000,
+    heading_margin: Annotated[
+        float | None,
+        typer.Option("--heading-margin", metavar="D", help="With --theta auto: try no heading within D radians of a wall "
+                     "(default 0.001; a heading given with --theta is used as asked).", show_default=False),
+    ] = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,
@@ -517,15 +522,20 @@ def cycle_command(
 ) -> None:
     """The limit cycle of a constant heading (paper §6.1, Theorem 1, Prop. 4), verified in exact arithmetic:
     contact points, exact contraction, fixed points, basins; status says if and why there is none."""
-    from solverplan.bounce.cycles import constant_controller, limit_cycle
+    from solverplan.bounce.controller import constant_controller
+    from solverplan.bounce.cycles import limit_cycle
+    from solverplan.interval import DEFAULT_HEADING_MARGIN
 
     with exit_codes(verbose):
         environment = _load(env, env_format)
         if theta.strip().lower() == "auto":
             if edges is not None or cycle_start is not None or method is not CycleMethod.AUTO:
                 raise InputError("--theta auto searches for one heading for every start: drop --edges, --start and --method")
-            emit(constant_controller(environment, epsilon=epsilon), fmt, out)
+            margin = DEFAULT_HEADING_MARGIN if heading_margin is None else heading_margin
+            emit(constant_controller(environment, epsilon=epsilon, heading_margin=margin), fmt, out)
             return
+        if heading_margin is not None:
+            raise InputError("--heading-margin goes with --theta auto: a heading given with --theta is used as asked")
         result = limit_cycle(environment, theta, edges=edges, method=method.value, start=cycle_start, epsilon=epsilon,
                              max_bounces=max_bounces)
         emit(result, fmt, out)

@@ -78,3 +78,32 @@ def test_render_cycle_draws_the_cycle_on_top(tmp_path):
     assert 'id="limit-cycle"' in svg and 'id="limit-cycle-points"' in svg and 'id="trajectories"' in svg
     result = run("render", MODELS / "one_hole.json", "--cycle", "-o", tmp_path / "x.png")
     assert result.exit_code == 2 and "--cycle and --theta go together" in result.stderr
+
+
+def test_cycle_answer_carries_the_result_protocol():
+    answer = json.loads(run("cycle", MODELS / "two_holes.json", "--theta", "0.2").stdout)
+    assert answer["method"] == "iterate" and answer["scope"] == "start+basin"
+    assert answer["environment"]["name"] == "two_holes" and len(answer["environment"]["sha256"]) == 64
+    assert answer["optimality"]["method"] == "exact-check" and answer["optimality"]["proved"] is True
+    assert answer["stats"]["bounces_simulated"] >= 1
+    stage = answer["entry"][0]
+    assert stage["interval"] == [0.2, 0.2] and stage["nominal"] == 0.2 and set(stage["map"]) == {"alpha", "beta"}
+    text = run("cycle", MODELS / "two_holes.json", "--theta", "0.2", "--format", "text").stdout
+    assert "guarantee: start+basin" in text and "optimality: exact-check" in text and "entry: 5 bounces from e0:0.5" in text
+
+
+def test_cycle_budget_without_a_period_is_not_found():
+    result = run("cycle", MODELS / "square.json", "--theta", "tan:1/2", "--method", "iterate", "--max-bounces", "3")
+    assert result.exit_code == 0
+    answer = json.loads(result.stdout)
+    assert answer["status"] == "not-found" and answer["optimality"]["limits"] == ["max_bounces=3"]
+    assert answer["optimality"]["proved"] is False and answer["fixed_point"] == []
+
+
+def test_cycle_auto_heading_margin():
+    answer = json.loads(run("cycle", MODELS / "square.json", "--theta", "auto", "--heading-margin", "0.25").stdout)
+    assert answer["heading_margin"] == 0.25 and answer["status"] == "found"
+    assert answer["tried"][0]["theta_exact"] == "tan:0.25" and answer["tried"][0]["outcome"].startswith("skipped")
+    assert 0.25 <= answer["theta"] <= math.pi - 0.25
+    result = run("cycle", MODELS / "square.json", "--theta", "0.3", "--heading-margin", "0.01")
+    assert result.exit_code == 2 and "--heading-margin goes with --theta auto" in result.stderr

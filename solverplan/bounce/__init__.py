@@ -1,5 +1,7 @@
 """The main paper (Nilles et al.): bounce rules, partition, safe intervals, the bounce visibility graph,
-transitions, contraction and limit cycles."""
+transitions, contraction and limit cycles (the constant map f_θ in :mod:`~solverplan.bounce.constant_map`,
+its cycles in :mod:`~solverplan.bounce.cycles`, Prop. 4's constant controller in
+:mod:`~solverplan.bounce.controller`)."""
 
 from solverplan.interval import Interval, heading_interval
 from solverplan.bounce.partition import InsertedPoint, Partition, PartitionSegment, partition
@@ -10,7 +12,9 @@ from solverplan.bounce.transitions import AffineMap, affine_map, exact_transitio
 from solverplan.bounce.dynamics import (ExactHeading, composite_contraction, contraction_coefficient, cycles_to_epsilon,
                                         distance_bound, is_contracting, lemma3_max_heading, lemma3_range, parse_heading,
                                         theorem1_fixed_point, worst_case_contraction)
-from solverplan.bounce.cycles import CycleStatus, LimitCycle, constant_controller, limit_cycle
+from solverplan.bounce.constant_map import ConstantMap
+from solverplan.bounce.cycles import CyclePoint, LimitCycle, limit_cycle, limit_cycles
+from solverplan.bounce.controller import DEFAULT_CONTROLLER_TANGENTS, ConstantController, constant_controller
 
 __all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment", "partition",
            "BounceRule", "Fixed", "FixedInterval", "MonotoneFixed", "Relative", "Specular", "parse_rule",
@@ -18,4 +22,5 @@ __all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "Partit
            "AffineMap", "affine_map", "exact_transition", "transition", "transition_set",
            "ExactHeading", "composite_contraction", "contraction_coefficient", "cycles_to_epsilon", "distance_bound",
            "is_contracting", "lemma3_max_heading", "lemma3_range", "parse_heading", "theorem1_fixed_point",
-           "worst_case_contraction", "CycleStatus", "LimitCycle", "constant_controller", "limit_cycle"]
+           "worst_case_contraction", "ConstantMap", "CyclePoint", "LimitCycle", "limit_cycle", "limit_cycles",
+           "ConstantController", "constant_controller", "DEFAULT_CONTROLLER_TANGENTS"]
