@@ -47,7 +47,8 @@ from typing import Literal, Sequence, Union
 from solverplan._io import atomic_write_text
 from solverplan.interval import Interval
 from solverplan.bounce.partition import Partition
-from solverplan.certify.check import affine_coefficients, heading_enclosure, line_hit
+from solverplan.certify.exact2d import affine_coefficients, line_hit
+from solverplan.certify.rational_atan import heading_enclosure
 from solverplan.certify.schema import (
     Certificate,
     Claims,

@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from solverplan.interval import Interval
 from solverplan.bounce.partition import partition
-from solverplan.certify.check import check_certificate, compare_angle, heading_vector
+from solverplan.certify.check import check_certificate
+from solverplan.certify.rational_atan import compare_angle, heading_vector
 from solverplan.certify.schema import load_certificate
 from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_certificate, rational_direction, write_certificate
 from solverplan.environment import Environment, load_environment
