@@ -11,6 +11,7 @@ from solverplan.bounce.dynamics import (ExactHeading, composite_contraction, con
                                         distance_bound, is_contracting, lemma3_max_heading, lemma3_range, parse_heading,
                                         theorem1_fixed_point, worst_case_contraction)
 from solverplan.bounce.cycles import CycleStatus, LimitCycle, constant_controller, limit_cycle
+from solverplan.bounce.cones import heading_cone, heading_direction
 
 __all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment", "partition",
            "BounceRule", "Fixed", "FixedInterval", "MonotoneFixed", "Relative", "Specular", "parse_rule",
@@ -18,4 +19,5 @@ __all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "Partit
            "AffineMap", "affine_map", "exact_transition", "transition", "transition_set",
            "ExactHeading", "composite_contraction", "contraction_coefficient", "cycles_to_epsilon", "distance_bound",
            "is_contracting", "lemma3_max_heading", "lemma3_range", "parse_heading", "theorem1_fixed_point",
-           "worst_case_contraction", "CycleStatus", "LimitCycle", "constant_controller", "limit_cycle"]
+           "worst_case_contraction", "CycleStatus", "LimitCycle", "constant_controller", "limit_cycle",
+           "heading_cone", "heading_direction"]

@@ -390,10 +390,10 @@ class _Checker:
                 if max(ej.a[1], ej.b[1]) < y_lo or min(ej.a[1], ej.b[1]) > y_hi:
                     continue
                 if nxt[i] == j or nxt[j] == i:
-                    first, second = (ei, ej) if nxt[i] == j else (ej, ei)
-                    v = first.b  # the shared vertex: they may meet only there
-                    if orient(first.a, v, second.b) == 0 and dot(sub(first.a, v), sub(second.b, v)) > 0:
-                        self.fail("environment", f"edges {first.id} and {second.id} fold back onto each other at {_pt(v)}")
+                    e_in, e_out = (ei, ej) if nxt[i] == j else (ej, ei)
+                    v = e_in.b  # the shared vertex: they may meet only there
+                    if orient(e_in.a, v, e_out.b) == 0 and dot(sub(e_in.a, v), sub(e_out.b, v)) > 0:
+                        self.fail("environment", f"edges {e_in.id} and {e_out.id} fold back onto each other at {_pt(v)}")
                         return False
                     continue
                 if segments_meet(ei.a, ei.b, ej.a, ej.b):
