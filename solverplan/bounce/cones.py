@@ -48,7 +48,7 @@ _COT_REL_ERROR = 2.0**-49
 """Bound on the relative error of cos(θ)/sin(θ) in floats (a few ulps: cos, sin and the division)."""
 
 
-def heading_cone(edge_vector: Sequence[object], interval: Interval, *, margin: float = DEFAULT_CONE_MARGIN,
+def heading_cone(edge_vector: Sequence[Fraction | int], interval: Interval, *, margin: float = DEFAULT_CONE_MARGIN,
                  outside: bool = False) -> tuple[ExactPoint, ExactPoint]:
     """Exact world directions ``(d_lo, d_hi)`` for the two ends of a float heading interval from an edge.
 
@@ -91,7 +91,7 @@ def heading_cone(edge_vector: Sequence[object], interval: Interval, *, margin: f
     return heading_direction(edge_vector, lo, lo + m), heading_direction(edge_vector, hi - m, hi)
 
 
-def heading_direction(edge_vector: Sequence[object], lo: float, hi: float) -> ExactPoint:
+def heading_direction(edge_vector: Sequence[Fraction | int], lo: float, hi: float) -> ExactPoint:
     """The simplest exact direction whose heading from ``edge_vector`` lies in [lo, hi] (radians, in (0, π)).
 
     "Simplest" is the rational cotangent of smallest denominator in the window; the result is the
@@ -115,9 +115,9 @@ def _cot_error(u: Fraction) -> Fraction:
     return abs(u) * Fraction(_COT_REL_ERROR)
 
 
-def _turn(edge_vector: Sequence[object], u: Fraction) -> ExactPoint:
+def _turn(edge_vector: Sequence[Fraction | int], u: Fraction) -> ExactPoint:
     """u·E + E⊥, scaled to coprime integers (a positive multiple: the heading is unchanged)."""
-    ex, ey = Fraction(edge_vector[0]), Fraction(edge_vector[1])  # type: ignore[arg-type]
+    ex, ey = Fraction(edge_vector[0]), Fraction(edge_vector[1])
     x, y = u * ex - ey, u * ey + ex
     den = math.lcm(x.denominator, y.denominator)
     xi, yi = int(x * den), int(y * den)

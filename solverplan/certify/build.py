@@ -41,7 +41,7 @@ import math
 import os
 from fractions import Fraction
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Literal
 
 from solverplan._io import atomic_write_text
 from solverplan.bounce.partition import Partition, partition as make_partition
@@ -158,7 +158,7 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certif
     partial = set(plan.stats.get("partial_goal_segments", ())) if plan.stats else set()
     if not plan.stats and plan.goal:
         partial = _partial_goal_segments(env, part, plan.goal)
-    targets = "image" if set(plan.stages[-1].to_segments) & partial else "segment"
+    targets: Literal["image", "segment"] = "image" if set(plan.stages[-1].to_segments) & partial else "segment"
     opt = plan.optimality
     proved = opt.proved
     value = {"tolerance": plan.min_width, "constant": plan.min_width, "sum": plan.sum_width}.get(plan.objective)

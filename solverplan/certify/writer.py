@@ -356,7 +356,7 @@ def _union_pieces(items) -> tuple[Piece, ...]:
     by_edge: dict[int, list[tuple[Fraction, Fraction]]] = {}
     for edge, (lo, hi) in items:
         by_edge.setdefault(edge, []).append((lo, hi))
-    pieces = []
+    pieces: list[Piece] = []
     for edge in sorted(by_edge):
         merged: list[list[Fraction]] = []
         for lo, hi in sorted(by_edge[edge]):
@@ -374,7 +374,7 @@ def _pieces(env: Environment, part: Partition, value: object, what: str) -> tupl
     if isinstance(value, BoundarySet):
         return tuple(Piece(p.edge, p.t0, p.t1) for p in value.pieces)
     out = []
-    for item in value:  # type: ignore[union-attr]
+    for item in value:  # type: ignore[attr-defined]
         if isinstance(item, BoundaryPiece):
             out.append(Piece(item.edge, item.t0, item.t1))
         else:
