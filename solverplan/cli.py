@@ -598,7 +598,7 @@ def patrol_command(
         result = patrol(environment, visit, start=start, objective=objective.value, tolerance=tolerance,
                         max_between=max_between, epsilon=epsilon)
         if result.found:
-            _write_extras(result, certificate, picture, "patrol")
+            _write_extras(result, certificate, picture)
         emit(result, fmt, out)
 
 
@@ -627,7 +627,7 @@ def funnel_command(
         environment = _load(env, env_format)
         result = funnel(environment, start, goal, tolerance=tolerance, max_bounces=max_bounces)
         if result.found:
-            _write_extras(result, certificate, picture, "funnel")
+            _write_extras(result, certificate, picture)
         emit(result, fmt, out)
 
 
@@ -659,25 +659,35 @@ def localize_command(
         environment = _load(env, env_format)
         result = localize(environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces)
         if result.found:
-            _write_extras(result, certificate, picture, "localize")
+            _write_extras(result, certificate, picture)
         emit(result, fmt, out)
 
 
-def _write_extras(result: Any, certificate: Path | None, picture: Path | None, kind: str) -> None:
+def _write_extras(result: Any, certificate: Path | None, picture: Path | None) -> None:
     """The --certificate and --picture files of a contraction answer (patrol, funnel, localize)."""
     if certificate is not None:
-        from solverplan.certify.contraction import funnel_certificate, patrol_certificate
-        from solverplan.certify.writer import write_certificate
-
-        cert = patrol_certificate(result) if kind == "patrol" else funnel_certificate(result)
-        try:
-            write_certificate(cert, certificate)
-        except OSError as exc:
-            raise InputError(f"{certificate}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+        _write_certificate_file(result, certificate)
     if picture is not None:
         from solverplan.render import render_answer, save_figure
 
         save_figure(render_answer(result), picture)
+
+
+def _write_certificate_file(answer: Any, path: Path, env: Any = None) -> None:
+    """--certificate: the answer's certificate, checked exactly, then written (a warning, and no file, for an
+    answer with nothing to certify; exit 1 if the check fails)."""
+    from solverplan.certify.build import NothingToCertify, certificate, write_certificate
+
+    try:
+        cert = certificate(answer, env=env)
+    except NothingToCertify as exc:
+        sys.stderr.write(f"warning: no certificate written to {path}: {exc.why}\n")
+        return
+    try:
+        write_certificate(cert, path)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+    logger.info("wrote certificate %s (verified)", path)
 
 
 class PlanObjective(StrEnum):
@@ -741,36 +751,12 @@ def plan_command(
             if objective not in (None, PlanObjective.TOLERANCE) or method != "auto":
                 raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
             answer: Any = pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin)
-            best = answer.best()
-            chosen = best.plan if best is not None else None
         else:
-            answer = chosen = find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
-                                        max_bounces=max_bounces, method=method, heading_margin=heading_margin)
+            answer = find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
+                               max_bounces=max_bounces, method=method, heading_margin=heading_margin)
         if certificate is not None:
-            _write_plan_certificate(environment, chosen, certificate)
+            _write_certificate_file(answer, certificate, environment)
         emit(answer, fmt, out)
-
-
-def _write_plan_certificate(environment: Any, plan: Any, path: Path) -> None:
-    """Check the plan's certificate exactly, then write it (nothing is written for an infeasible answer)."""
-    if plan is None or not plan.found or not plan.stages:
-        why = "the answer is infeasible" if plan is None or not plan.found else "the plan has no stages"
-        sys.stderr.write(f"warning: no certificate written to {path}: {why} (certificates certify plans)\n")
-        return
-    from solverplan.certify.check import check_certificate
-    from solverplan.certify.from_plan import plan_certificate
-    from solverplan.certify.writer import write_certificate
-    from solverplan.errors import SolverFailed
-
-    cert = plan_certificate(environment, plan)
-    report = check_certificate(cert)
-    if not report.valid:
-        raise SolverFailed(f"the plan's certificate does not verify: {report.failures[0]}")
-    try:
-        write_certificate(cert, path)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
-    logger.info("wrote certificate %s (verified)", path)
 
 
 @app.command(name="simulate")

@@ -145,3 +145,45 @@ def test_installed_script_verifies(tmp_path):
     assert ok.returncode == 0 and json.loads(ok.stdout)["valid"] is True
     bad = subprocess.run([str(script), "verify", str(write(tmp_path, "b.json", cases.l_shape_around_the_corner()))], capture_output=True, text=True)
     assert bad.returncode == 1 and bad.stderr.count("\n") == 1 and "stages[0].moves[0].swept" in bad.stderr
+
+
+# ---------------------------------------------------------------------- --certificate of the planning commands
+def test_plan_certificate_that_fails_the_check_exits_1_and_writes_nothing(tmp_path, monkeypatch):
+    """The check before the write: a certificate the exact checker refuses is not written (exit 1, one line)."""
+    from dataclasses import replace
+
+    from solverplan.certify import build
+
+    real = build.certificate
+
+    def inflated(answer, **kwargs):
+        cert = real(answer, **kwargs)
+        return replace(cert, claims=replace(cert.claims, bounces=cert.claims.bounces + 1))
+
+    monkeypatch.setattr(build, "certificate", inflated)
+    cert = tmp_path / "plan.cert.json"
+    result = run("plan", MODELS / "two_rooms.json", "--from", "e0", "--to", "e4", "--certificate", cert)
+    assert_one_line_error(result, 1, "error: the plan's certificate does not verify: claims.bounces: claims ")
+    assert not cert.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_plan_certificate_is_written_and_verifies_against_the_query(tmp_path):
+    cert = tmp_path / "plan.cert.json"
+    model = MODELS / "two_rooms.json"
+    result = run("plan", model, "--from", "e0:0.2:0.8", "--to", "e4:0.5:1", "--objective", "tolerance", "--certificate", cert)
+    assert result.exit_code == 0, result.stderr
+    assert json.loads(result.stdout)["status"] == "found"
+    checked = run("verify", cert, "--env", model, "--from", "e0:0.2:0.8", "--to", "e4:0.5:1")
+    assert checked.exit_code == 0 and json.loads(checked.stdout)["valid"] is True
+
+
+def test_pareto_certificate_is_of_the_most_tolerant_plan(tmp_path):
+    cert = tmp_path / "front.cert.json"
+    result = run("plan", MODELS / "two_rooms.json", "--from", "e0", "--to", "e4", "--pareto", "--certificate", cert)
+    assert result.exit_code == 0, result.stderr
+    front = json.loads(result.stdout)
+    widest = max(point["min_width"] for point in front["points"])
+    report = json.loads(run("verify", cert).stdout)
+    assert report["valid"] and report["kind"] == "plan"
+    written = json.loads(cert.read_text())
+    assert abs(float(written["claims"]["min_width"]) - widest) < 1e-9

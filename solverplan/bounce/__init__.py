@@ -15,6 +15,7 @@ from solverplan.bounce.dynamics import (ExactHeading, composite_contraction, con
 from solverplan.bounce.constant_map import ConstantMap
 from solverplan.bounce.cycles import CyclePoint, LimitCycle, limit_cycle, limit_cycles
 from solverplan.bounce.controller import DEFAULT_CONTROLLER_TANGENTS, ConstantController, constant_controller
+from solverplan.bounce.cones import heading_cone, heading_direction
 
 __all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment", "partition",
            "BounceRule", "Fixed", "FixedInterval", "MonotoneFixed", "Relative", "Specular", "parse_rule",
@@ -23,4 +24,5 @@ __all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "Partit
            "ExactHeading", "composite_contraction", "contraction_coefficient", "cycles_to_epsilon", "distance_bound",
            "is_contracting", "lemma3_max_heading", "lemma3_range", "parse_heading", "theorem1_fixed_point",
            "worst_case_contraction", "ConstantMap", "CyclePoint", "LimitCycle", "limit_cycle", "limit_cycles",
-           "ConstantController", "constant_controller", "DEFAULT_CONTROLLER_TANGENTS"]
+           "ConstantController", "constant_controller", "DEFAULT_CONTROLLER_TANGENTS",
+           "heading_cone", "heading_direction"]

@@ -1,8 +1,10 @@
-"""Certificates: the format (:mod:`.schema`), the independent exact checker (:mod:`.check`) and the
-writer that turns floating-point planner output into certificates (:mod:`.writer`).
+"""Certificates: the format (:mod:`.schema`), the independent exact checker (:mod:`.check`, with its
+exact predicates :mod:`.exact2d` and rigorous angles :mod:`.rational_atan`), the writer that turns
+floating-point planner output into certificates (:mod:`.writer`) and the one call from a planner's
+answer to a checked certificate file (:mod:`.build`: :func:`certificate`, :func:`write_certificate`).
 
 The schema and the checker import only the standard library, so importing this package does not load
-the planner or numpy; the writer's names are loaded on first use.
+the planner or numpy; the names of the writer and of :mod:`.build` are loaded on first use.
 """
 
 from solverplan.certify.check import CheckReport, Failure, check_certificate
@@ -31,15 +33,28 @@ __all__ = [
     "StageSpec",
     "CycleSpec",
     "build_certificate",
+    "certificate",
     "write_certificate",
+    "NothingToCertify",
+    "CertificateRejected",
 ]
 
-_WRITER = {"MoveSpec", "StageSpec", "CycleSpec", "build_certificate", "write_certificate"}
+_LAZY = {
+    "MoveSpec": "writer",
+    "StageSpec": "writer",
+    "CycleSpec": "writer",
+    "build_certificate": "writer",
+    "certificate": "build",
+    "write_certificate": "build",
+    "NothingToCertify": "build",
+    "CertificateRejected": "build",
+}
+"""Names whose modules load the planner (and numpy): imported on first use."""
 
 
 def __getattr__(name: str):
-    if name in _WRITER:
-        from solverplan.certify import writer
+    if name in _LAZY:
+        import importlib
 
-        return getattr(writer, name)
+        return getattr(importlib.import_module(f"solverplan.certify.{_LAZY[name]}"), name)
     raise AttributeError(f"module 'solverplan.certify' has no attribute {name!r}")

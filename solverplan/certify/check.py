@@ -1,8 +1,9 @@
-"""The independent exact checker of certificates (DESIGN §6, "Exact certificate checks").
+"""The independent exact checker of certificates: claims in, failures out.
 
 This module re-derives every claim of a :class:`~solverplan.certify.schema.Certificate` in rational
-arithmetic. It imports only the standard library (``fractions``, ``dataclasses``, ``typing``) and
-:mod:`solverplan.certify.schema`; it uses no floats, no planner, no graph builder and no geometry
+arithmetic. It and its two helpers, :mod:`~solverplan.certify.exact2d` (exact predicates) and
+:mod:`~solverplan.certify.rational_atan` (rigorous angles), import only the standard library and
+:mod:`solverplan.certify.schema`; they use no floats, no planner, no graph builder and no geometry
 kernel of solverplan, so a bug there cannot hide a bug here (``tests/certify/test_check.py`` keeps
 it so with an ``ast`` test).
 
@@ -75,7 +76,7 @@ What is checked
    meets L) and the numerator cross(E_s, d(λ)) is positive (every direction leaves e into the free
    space). A linear-fractional function with a non-vanishing denominator is monotone on an interval,
    so |α| over the cone is largest at d_lo or d_hi — the exact, trigonometry-free form of the
-   monotonicity of the contraction coefficient C(θ, φ) (DESIGN §3, Lemma 2). Choices at different
+   monotonicity of the contraction coefficient C(θ, φ) (paper, Lemma 2). Choices at different
    bounces are independent and |α| of a composition is the product, so the worst case of the cycle
    is the product of the per-stage worst cases.
 8. **Optimality.** The bound of a search or LP is not re-derived here (that would mean re-running the
@@ -83,26 +84,15 @@ What is checked
 
 Exactness
 ---------
-Everything above is rational arithmetic on the certificate's numbers (``fractions.Fraction``), except
-the angles of 5. Those are decided with rigorous rational enclosures of atan: the alternating series
-Σ (−1)^k w^(2k+1) / (2k+1) for |w| ≤ 1/16 lies between consecutive partial sums (its terms decrease
-in size), the argument is reduced exactly by atan x = π/2 − atan(1/x) (x > 1) and
-atan x = atan c + atan((x − c)/(1 + c x)) with c = k/8 nearest to x; atan(k/8) and π (Machin's
-formula) are themselves enclosed by series; arguments with huge denominators are rounded outward to
-dyadic rationals (atan is increasing). A comparison of an angle with a rational number is refined
-(64, 128, … bits) until the enclosure excludes the number. It always terminates: the heading of a
-rational vector that is not along the positive x-axis is transcendental (Lindemann–Weierstrass), so
-it never equals a rational; differences of two headings are reduced to the heading of one rational
-vector (the "quotient" of the two), so the same holds, and the one exact tie (angle 0, identical
-directions) is decided by a cross product.
+Everything above is rational arithmetic on the certificate's numbers (``fractions.Fraction``) with
+the exact predicates of :mod:`solverplan.certify.exact2d`, except the angles of 5. Those are decided
+with the rigorous rational arctangent enclosures of :mod:`solverplan.certify.rational_atan`, refined
+until each comparison is decided (it always is: see that module).
 
 >>> from solverplan.certify.schema import Certificate, EXAMPLE
 >>> report = check_certificate(Certificate.from_json(EXAMPLE))
 >>> report.valid, dict(report.checked)["corner_rays"]
 (True, 4)
->>> lo, hi = atan_enclosure(Fraction(1))
->>> Fraction(7853981633974483, 10**16) < lo <= hi < Fraction(7853981633974484, 10**16)   # π/4 = 0.78539816339744830961...
-True
 """
 
 from __future__ import annotations
@@ -111,370 +101,49 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Iterable, Sequence
 
-from solverplan.certify.schema import (
-    Certificate,
-    CycleClaim,
-    Move,
-    Piece,
-    Point,
-    SegmentRecord,
-    Stage,
-    number_text,
-    point_text,
+from solverplan.certify.exact2d import (
+    affine_coefficients,
+    along,
+    clip_segment,
+    convex_hull,
+    cross,
+    dot,
+    inside_ring,
+    line_hit,
+    orient,
+    segments_meet,
+    signed_area2,
+    sub,
+    uncovered,
+    union,
 )
+from solverplan.certify.rational_atan import (
+    MAX_BITS,
+    Undecided,
+    angle_enclosure,
+    compare_angle,
+    difference_vector,
+    heading_vector,
+)
+from solverplan.certify.schema import Certificate, CycleClaim, Move, Piece, Point, SegmentRecord, Stage, number_text
 
-__all__ = [
-    "Failure",
-    "CheckReport",
-    "check_certificate",
-    "atan_enclosure",
-    "pi_enclosure",
-    "angle_enclosure",
-    "heading_vector",
-    "heading_enclosure",
-    "compare_angle",
-    "line_hit",
-    "affine_coefficients",
-    "WIDTH_SLACK",
-    "MAX_BITS",
-]
+__all__ = ["Failure", "CheckReport", "check_certificate", "WIDTH_SLACK"]
 
 WIDTH_SLACK = Fraction(1, 10**9)
 """How far below the exact value a claimed width (or inside the cone a claimed interval end) may be."""
 
-MAX_BITS = 1 << 14
-"""Largest precision (bits) tried when deciding an angle comparison; never reached in practice."""
-
 _ZERO = Fraction(0)
 _ONE = Fraction(1)
-
-
-class Undecided(ArithmeticError):
-    """An angle comparison could not be decided within :data:`MAX_BITS` bits."""
-
-
-# ======================================================================= vectors
-def _sub(u: Point, v: Point) -> Point:
-    return (u[0] - v[0], u[1] - v[1])
-
-
-def _cross(u: Point, v: Point) -> Fraction:
-    return u[0] * v[1] - u[1] * v[0]
-
-
-def _dot(u: Point, v: Point) -> Fraction:
-    return u[0] * v[0] + u[1] * v[1]
-
-
-def _along(a: Point, e: Point, t: Fraction) -> Point:
-    return (a[0] + t * e[0], a[1] + t * e[1])
-
-
-def _orient(a: Point, b: Point, c: Point) -> int:
-    det = _cross(_sub(b, a), _sub(c, a))
-    return (det > 0) - (det < 0)
-
-
-def _sign(x: Fraction) -> int:
-    return (x > 0) - (x < 0)
-
-
-# ======================================================================= rigorous atan
-_ATAN_CACHE: dict[tuple[str, int, int], tuple[Fraction, Fraction]] = {}
-
-
-def _series(w: Fraction, bits: int) -> tuple[Fraction, Fraction]:
-    """Enclosure of atan(w) for |w| ≤ 1/2 from the alternating series; width ≤ 2^-bits.
-
-    Its terms w^(2k+1)/(2k+1) shrink in size, so atan(w) lies between consecutive partial sums
-    (Leibniz); we stop once the next term is at most 2^-bits.
-    """
-    if w == 0:
-        return (_ZERO, _ZERO)
-    eps = Fraction(1, 1 << bits)
-    w2 = w * w
-    power = w
-    total = _ZERO
-    k = 0
-    while True:
-        term = power / (2 * k + 1)
-        signed = term if k % 2 == 0 else -term
-        if abs(term) <= eps:
-            nxt = total + signed
-            return (min(total, nxt), max(total, nxt))
-        total += signed
-        power *= w2
-        k += 1
-
-
-def _small(w: Fraction, bits: int) -> tuple[Fraction, Fraction]:
-    """atan(w) for |w| ≤ 1/16; w with a large denominator is first rounded outward to a dyadic rational."""
-    scale = 1 << (bits + 2)
-    if w.denominator > scale:
-        lo_w = Fraction((w.numerator * scale) // w.denominator, scale)
-        hi_w = Fraction(-((-w.numerator * scale) // w.denominator), scale)
-        return (_series(lo_w, bits + 1)[0], _series(hi_w, bits + 1)[1])
-    return _series(w, bits + 1)
-
-
-def pi_enclosure(bits: int = 64) -> tuple[Fraction, Fraction]:
-    """lo ≤ π ≤ hi with hi − lo ≤ 2^-bits (Machin: π = 16 atan(1/5) − 4 atan(1/239)).
-
-    >>> lo, hi = pi_enclosure(64)
-    >>> lo < Fraction(355, 113) and hi - lo <= Fraction(1, 2**64)
-    True
-    """
-    key = ("pi", 0, bits)
-    if key not in _ATAN_CACHE:
-        a_lo, a_hi = _series(Fraction(1, 5), bits + 6)
-        b_lo, b_hi = _series(Fraction(1, 239), bits + 6)
-        _ATAN_CACHE[key] = (16 * a_lo - 4 * b_hi, 16 * a_hi - 4 * b_lo)
-    return _ATAN_CACHE[key]
-
-
-def _atan_eighth(k: int, bits: int) -> tuple[Fraction, Fraction]:
-    """atan(k/8) for k = 0..8: series for k ≤ 4, atan(1/2) + atan(2(k − 4)/(16 + k)) for 5..7, π/4 for 8."""
-    key = ("eighth", k, bits)
-    if key not in _ATAN_CACHE:
-        if k == 0:
-            value = (_ZERO, _ZERO)
-        elif k <= 4:
-            value = _series(Fraction(k, 8), bits + 1)
-        elif k < 8:
-            h_lo, h_hi = _series(Fraction(1, 2), bits + 2)
-            r_lo, r_hi = _series(Fraction(2 * (k - 4), 16 + k), bits + 2)
-            value = (h_lo + r_lo, h_hi + r_hi)
-        else:
-            p_lo, p_hi = pi_enclosure(bits + 1)
-            value = (p_lo / 4, p_hi / 4)
-        _ATAN_CACHE[key] = value
-    return _ATAN_CACHE[key]
-
-
-def atan_enclosure(x: Fraction | int, bits: int = 64) -> tuple[Fraction, Fraction]:
-    """Rational lo ≤ atan(x) ≤ hi, with hi − lo ≤ 2^(2 − bits) (about 2e-19 at the default 64 bits).
-
-    Exact argument reduction: atan is odd; atan x = π/2 − atan(1/x) for x > 1; for 0 < x ≤ 1,
-    atan x = atan c + atan w with c = k/8 the nearest eighth and w = (x − c)/(1 + c x), |w| ≤ 1/16.
-
-    >>> lo, hi = atan_enclosure(Fraction(1, 3))
-    >>> Fraction(3217505543966421, 10**16) < lo <= hi < Fraction(3217505543966422, 10**16)   # 0.32175055439664219340...
-    True
-    >>> hi - lo < Fraction(1, 10**18)
-    True
-    """
-    x = Fraction(x)
-    if x < 0:
-        lo, hi = atan_enclosure(-x, bits)
-        return (-hi, -lo)
-    if x == 0:
-        return (_ZERO, _ZERO)
-    if x > 1:
-        lo, hi = atan_enclosure(1 / x, bits + 1)
-        p_lo, p_hi = pi_enclosure(bits + 1)
-        return (p_lo / 2 - hi, p_hi / 2 - lo)
-    k = (16 * x.numerator + x.denominator) // (2 * x.denominator)  # round(8x), 0..8
-    c = Fraction(k, 8)
-    w = (x - c) / (1 + c * x)
-    c_lo, c_hi = _atan_eighth(k, bits + 1)
-    w_lo, w_hi = _small(w, bits + 1)
-    return (c_lo + w_lo, c_hi + w_hi)
-
-
-def angle_enclosure(v: Point, bits: int = 64) -> tuple[Fraction, Fraction]:
-    """Enclosure of the angle of the non-zero vector v = (x, y), in (−π, π] (atan2(y, x)).
-
-    For y ≠ 0: atan2(y, x) = ±π/2 − atan(x / y) (sign of y); (x, 0) gives 0 or π.
-
-    >>> angle_enclosure((Fraction(1), Fraction(0)))
-    (Fraction(0, 1), Fraction(0, 1))
-    """
-    x, y = Fraction(v[0]), Fraction(v[1])
-    if y == 0:
-        if x > 0:
-            return (_ZERO, _ZERO)
-        if x < 0:
-            return pi_enclosure(bits)
-        raise ValueError("the zero vector has no angle")
-    a_lo, a_hi = atan_enclosure(x / y, bits + 1)
-    p_lo, p_hi = pi_enclosure(bits + 1)
-    if y > 0:
-        return (p_lo / 2 - a_hi, p_hi / 2 - a_lo)
-    return (-p_hi / 2 - a_hi, -p_lo / 2 - a_lo)
-
-
-def heading_vector(edge_vector: Point, d: Point) -> Point:
-    """The direction d in the frame of an edge: (dot(E, d), cross(E, d)); its angle is the heading θ
-    of d measured counter-clockwise from E (DESIGN §2), exactly as a rational vector."""
-    return (_dot(edge_vector, d), _cross(edge_vector, d))
-
-
-def heading_enclosure(edge_vector: Point, d: Point, bits: int = 64) -> tuple[Fraction, Fraction]:
-    """Enclosure of the heading (radians, CCW from the directed edge) of direction d."""
-    return angle_enclosure(heading_vector(edge_vector, d), bits)
-
-
-def compare_angle(v: Point, r: Fraction) -> int:
-    """Exact sign of angle(v) − r for a non-zero rational vector v and a rational r.
-
-    Refines the enclosure from 64 bits, doubling, until it excludes r; the only possible tie (angle 0,
-    v along +x) is decided exactly. Raises :class:`Undecided` beyond :data:`MAX_BITS`.
-    """
-    r = Fraction(r)
-    if v[1] == 0 and v[0] > 0:
-        return _sign(-r)
-    bits = 64
-    while True:
-        lo, hi = angle_enclosure(v, bits)
-        if lo > r:
-            return 1
-        if hi < r:
-            return -1
-        if bits >= MAX_BITS:
-            raise Undecided(f"the angle of {point_text(v)} is within 2^-{bits} of {number_text(r)}")
-        bits *= 2
-
-
-def _difference_vector(w_from: Point, w_to: Point) -> Point:
-    """A rational vector whose angle is angle(w_to) − angle(w_from), for angles in (0, π)."""
-    return (_dot(w_from, w_to), _cross(w_from, w_to))
-
-
-# ======================================================================= rays and maps
-def line_hit(origin: Point, d: Point, c: Point, e: Point) -> tuple[Fraction, Fraction] | None:
-    """Where the line origin + s·d meets the line c + τ·e: ``(s, τ)`` exactly, ``None`` if parallel.
-
-    From origin + s d = c + τ e: s = cross(c − origin, e) / cross(d, e), τ = cross(origin − c, d) / cross(e, d).
-    """
-    den = _cross(e, d)
-    if den == 0:
-        return None
-    s = _cross(_sub(c, origin), e) / -den
-    tau = _cross(_sub(origin, c), d) / den
-    return (s, tau)
-
-
-def affine_coefficients(a: Point, e_s: Point, c: Point, e_t: Point, d: Point) -> tuple[Fraction, Fraction]:
-    """(α, β) of the exact map t ↦ α t + β from the source edge a + t·e_s to the target line c + τ·e_t
-    along the direction d (DESIGN §3): α = cross(e_s, d)/cross(e_t, d), β = cross(a − c, d)/cross(e_t, d)."""
-    den = _cross(e_t, d)
-    if den == 0:
-        raise ZeroDivisionError("direction parallel to the target edge")
-    return (_cross(e_s, d) / den, _cross(_sub(a, c), d) / den)
-
-
-# ======================================================================= small exact geometry
-def _convex_hull(points: Iterable[Point]) -> list[Point]:
-    """Counter-clockwise convex hull, collinear points dropped (Andrew's monotone chain, exact)."""
-    pts = sorted(set(points))
-    if len(pts) < 3:
-        return pts
-
-    def chain(seq: Sequence[Point]) -> list[Point]:
-        out: list[Point] = []
-        for p in seq:
-            while len(out) >= 2 and _cross(_sub(out[-1], out[-2]), _sub(p, out[-2])) <= 0:
-                out.pop()
-            out.append(p)
-        return out
-
-    lower, upper = chain(pts), chain(pts[::-1])
-    return lower[:-1] + upper[:-1]
-
-
-def _clip(a: Point, b: Point, hull: Sequence[Point]) -> tuple[Fraction, Fraction] | None:
-    """Parameters [λ0, λ1] ⊂ [0, 1] of the part of the closed segment a + λ(b − a) inside the closed
-    convex polygon ``hull`` (counter-clockwise), or ``None`` if they do not meet (Liang–Barsky, exact)."""
-    lo, hi = _ZERO, _ONE
-    m = len(hull)
-    for i in range(m):
-        h0, h1 = hull[i], hull[(i + 1) % m]
-        edge = _sub(h1, h0)
-        f0 = _cross(edge, _sub(a, h0))
-        f1 = _cross(edge, _sub(b, h0))
-        if f0 < 0 and f1 < 0:
-            return None
-        if f0 >= 0 and f1 >= 0:
-            continue
-        lam = f0 / (f0 - f1)
-        if f0 < 0:
-            lo = max(lo, lam)
-        else:
-            hi = min(hi, lam)
-        if lo > hi:
-            return None
-    return (lo, hi)
-
-
-def _on_closed_segment(p: Point, a: Point, b: Point) -> bool:
-    return (
-        _orient(a, b, p) == 0
-        and min(a[0], b[0]) <= p[0] <= max(a[0], b[0])
-        and min(a[1], b[1]) <= p[1] <= max(a[1], b[1])
-    )
-
-
-def _segments_meet(a: Point, b: Point, c: Point, d: Point) -> bool:
-    """Do the closed segments ab and cd share a point? (exact)"""
-    o1, o2 = _orient(a, b, c), _orient(a, b, d)
-    o3, o4 = _orient(c, d, a), _orient(c, d, b)
-    if o1 * o2 < 0 and o3 * o4 < 0:
-        return True
-    return (
-        (o1 == 0 and _on_closed_segment(c, a, b))
-        or (o2 == 0 and _on_closed_segment(d, a, b))
-        or (o3 == 0 and _on_closed_segment(a, c, d))
-        or (o4 == 0 and _on_closed_segment(b, c, d))
-    )
-
-
-def _inside_ring(p: Point, ring: Sequence[Point]) -> bool:
-    """Is p strictly inside the simple ring? (p is known not to lie on it; crossing number, exact)"""
-    inside = False
-    n = len(ring)
-    for i in range(n):
-        a, b = ring[i], ring[(i + 1) % n]
-        if (a[1] > p[1]) != (b[1] > p[1]):
-            side = _orient(a, b, p)
-            if (b[1] > a[1] and side > 0) or (b[1] < a[1] and side < 0):
-                inside = not inside
-    return inside
-
-
-def _signed_area2(ring: Sequence[Point]) -> Fraction:
-    return sum((_cross(ring[i], ring[(i + 1) % len(ring)]) for i in range(len(ring))), _ZERO)
-
-
-def _uncovered(lo: Fraction, hi: Fraction, covers: Iterable[tuple[Fraction, Fraction]]) -> tuple[Fraction, Fraction] | None:
-    """The first part of [lo, hi] not covered by the union of the closed intervals, or ``None``."""
-    current = lo
-    for p, q in sorted(covers):
-        if current >= hi:
-            return None
-        if p > current:
-            return (current, min(p, hi))
-        current = max(current, q)
-    return None if current >= hi else (current, hi)
-
-
-def _union(intervals: Iterable[tuple[Fraction, Fraction]]) -> list[tuple[Fraction, Fraction]]:
-    merged: list[tuple[Fraction, Fraction]] = []
-    for p, q in sorted(intervals):
-        if merged and p <= merged[-1][1]:
-            merged[-1] = (merged[-1][0], max(merged[-1][1], q))
-        else:
-            merged.append((p, q))
-    return merged
 
 
 # ======================================================================= message formatting
 def _approx(x: Fraction, digits: int = 6) -> str:
     """A decimal approximation of x (integer arithmetic), for messages."""
     scaled = round(Fraction(x) * 10**digits)
-    sign = "-" if scaled < 0 else ""
+    minus = "-" if scaled < 0 else ""
     text = str(abs(scaled)).rjust(digits + 1, "0")
     whole, frac = text[:-digits], text[-digits:].rstrip("0")
-    return f"{sign}{whole}.{frac}" if frac else f"{sign}{whole}"
+    return f"{minus}{whole}.{frac}" if frac else f"{minus}{whole}"
 
 
 def _num(x: Fraction | int) -> str:
@@ -552,7 +221,7 @@ class _Edge:
 
     @property
     def vector(self) -> Point:
-        return _sub(self.b, self.a)
+        return sub(self.b, self.a)
 
 
 @dataclass
@@ -676,14 +345,8 @@ class _Checker:
                     return
 
     def check_query(self, where: str, mine: Sequence[Piece], expected: Query) -> None:
-        def union(pieces: Iterable[tuple[int, Fraction, Fraction]]) -> dict[int, list[tuple[Fraction, Fraction]]]:
-            by_edge: dict[int, list[tuple[Fraction, Fraction]]] = {}
-            for edge, a, b in pieces:
-                by_edge.setdefault(int(edge), []).append((Fraction(a), Fraction(b)))
-            return {e: _union(v) for e, v in by_edge.items()}
-
-        have = union((p.edge, p.t0, p.t1) for p in mine)
-        want = union(expected)
+        have = _merged((p.edge, p.t0, p.t1) for p in mine)
+        want = _merged(expected)
         if have != want:
             self.fail(where, f"is {self._pieces_text(have)}, but the query's {where} set is {self._pieces_text(want)}")
 
@@ -700,7 +363,7 @@ class _Checker:
                     self.fail(where, f"repeats vertex {i} {_pt(ring[i])}")
                     break
             else:
-                area2 = _signed_area2(ring)
+                area2 = signed_area2(ring)
                 if r == 0 and area2 <= 0:
                     self.fail(where, f"the outer ring must be counter-clockwise (free space on the left); its signed area is {_num(area2 / 2)}")
                 elif r > 0 and area2 >= 0:
@@ -727,22 +390,22 @@ class _Checker:
                 if max(ej.a[1], ej.b[1]) < y_lo or min(ej.a[1], ej.b[1]) > y_hi:
                     continue
                 if nxt[i] == j or nxt[j] == i:
-                    first, second = (ei, ej) if nxt[i] == j else (ej, ei)
-                    v = first.b  # the shared vertex: they may meet only there
-                    if _orient(first.a, v, second.b) == 0 and _dot(_sub(first.a, v), _sub(second.b, v)) > 0:
-                        self.fail("environment", f"edges {first.id} and {second.id} fold back onto each other at {_pt(v)}")
+                    e_in, e_out = (ei, ej) if nxt[i] == j else (ej, ei)
+                    v = e_in.b  # the shared vertex: they may meet only there
+                    if orient(e_in.a, v, e_out.b) == 0 and dot(sub(e_in.a, v), sub(e_out.b, v)) > 0:
+                        self.fail("environment", f"edges {e_in.id} and {e_out.id} fold back onto each other at {_pt(v)}")
                         return False
                     continue
-                if _segments_meet(ei.a, ei.b, ej.a, ej.b):
+                if segments_meet(ei.a, ei.b, ej.a, ej.b):
                     lo, hi = sorted((i, j))
                     self.fail("environment", f"edge {lo} meets edge {hi}: the boundary is not simple")
                     return False
         for h in range(1, len(rings)):
-            if not _inside_ring(rings[h][0], rings[0]):
+            if not inside_ring(rings[h][0], rings[0]):
                 self.fail(f"environment.rings[{h}]", "the hole lies outside the outer ring")
                 return False
             for g in range(1, len(rings)):
-                if g != h and _inside_ring(rings[h][0], rings[g]):
+                if g != h and inside_ring(rings[h][0], rings[g]):
                     self.fail(f"environment.rings[{h}]", f"the hole lies inside hole ring {g}")
                     return False
         self.edges = edges
@@ -751,7 +414,7 @@ class _Checker:
     # ------------------------------------------------------------------ records
     def point_at(self, edge: int, t: Fraction) -> Point:
         e = self.edges[edge]
-        return _along(e.a, e.vector, t)
+        return along(e.a, e.vector, t)
 
     def check_segments(self) -> None:
         n = len(self.edges)
@@ -835,16 +498,16 @@ class _Checker:
             if vec[0] == 0 and vec[1] == 0:
                 self.fail(f"{path}.{name}", "is the zero vector, not a direction")
                 cone_ok = False
-            elif _cross(e_vec, vec) <= 0:
+            elif cross(e_vec, vec) <= 0:
                 self.fail(
                     f"{path}.{name}",
                     f"{_pt(vec)} points into the wall: it does not leave edge {move.edge} (along {_pt(e_vec)}) into the "
-                    f"free space on its left (cross(edge, d) = {_num(_cross(e_vec, vec))} ≤ 0)",
+                    f"free space on its left (cross(edge, d) = {_num(cross(e_vec, vec))} ≤ 0)",
                 )
                 cone_ok = False
         if not cone_ok:
             return None
-        if _cross(move.d_lo, move.d_hi) < 0:
+        if cross(move.d_lo, move.d_hi) < 0:
             self.fail(f"{path}.d_hi", f"{_pt(move.d_hi)} lies clockwise of d_lo {_pt(move.d_lo)}: the cone must turn counter-clockwise from d_lo to d_hi")
             return None
         result = _MoveResult(move, e_vec, heading_vector(e_vec, move.d_lo), heading_vector(e_vec, move.d_hi))
@@ -867,7 +530,7 @@ class _Checker:
                     corners_ok = False
                     continue
                 s, tau = hit
-                point = _along(c_pt, t_vec, tau)
+                point = along(c_pt, t_vec, tau)
                 if s < 0 or (s == 0 and not vertex):
                     self.fail(f"{path}.{name}", f"{where} meets the line of edge {move.target_edge} behind its start, at {_pt(point)}")
                     corners_ok = False
@@ -904,7 +567,7 @@ class _Checker:
         return result
 
     def check_swept(self, path: str, move: Move, points: Sequence[Point], allowed: set[Point], target_range: tuple[Fraction, Fraction]) -> bool:
-        hull = _convex_hull(points)
+        hull = convex_hull(points)
         if len(hull) < 3:
             self.fail(f"{path}.swept", "the swept region is degenerate (its corners are collinear)")
             return False
@@ -917,7 +580,7 @@ class _Checker:
             a, b = edge.a, edge.b
             if max(a[0], b[0]) < x_lo or min(a[0], b[0]) > x_hi or max(a[1], b[1]) < y_lo or min(a[1], b[1]) > y_hi:
                 continue  # bounding boxes apart (exact)
-            clip = _clip(a, b, hull)
+            clip = clip_segment(a, b, hull)
             if clip is None:
                 continue
             l0, l1 = clip
@@ -927,9 +590,9 @@ class _Checker:
             elif edge.id == move.target_edge:
                 if target_range[0] <= l0 and l1 <= target_range[1]:
                     continue
-            elif l0 == l1 and _along(a, edge.vector, l0) in allowed:
+            elif l0 == l1 and along(a, edge.vector, l0) in allowed:
                 continue  # a neighbour of the source edge touching it at a vertex end of the source
-            x0, x1 = _along(a, edge.vector, l0), _along(a, edge.vector, l1)
+            x0, x1 = along(a, edge.vector, l0), along(a, edge.vector, l1)
             if l0 == l1:
                 what = f"vertex {_pt(x0)} of edge {edge.id}" if l0 in (0, 1) else f"edge {edge.id} at {_pt(x0)}"
                 self.fail(f"{path}.swept", f"{what} lies in the swept region (the hull of the source and the corner hits)")
@@ -956,7 +619,7 @@ class _Checker:
         diffs: list[Point] = []
         for m, rm in enumerate(moves):
             for j, rj in enumerate(moves):
-                v = _difference_vector(rj.w_lo, rm.w_hi)
+                v = difference_vector(rj.w_lo, rm.w_hi)
                 if v[1] < 0:
                     self.fail(
                         f"stages[{k}]",
@@ -969,14 +632,14 @@ class _Checker:
             for j, rj in enumerate(moves):
                 if j == m:
                     continue
-                if self._compare(_difference_vector(rj.w_lo, rm.w_lo), -WIDTH_SLACK, f"stages[{k}].moves[{m}].d_lo") == -1:
+                if self._compare(difference_vector(rj.w_lo, rm.w_lo), -WIDTH_SLACK, f"stages[{k}].moves[{m}].d_lo") == -1:
                     self.fail(
                         f"stages[{k}].moves[{m}].d_lo",
                         f"the cone starts at heading {_heading(rm.w_lo)}, more than 1e-9 before the stage's common cone "
                         f"(moves[{j}] starts at {_heading(rj.w_lo)}): a move's cone must be the stage's action interval",
                     )
                     break
-                if self._compare(_difference_vector(rj.w_hi, rm.w_hi), WIDTH_SLACK, f"stages[{k}].moves[{m}].d_hi") == 1:
+                if self._compare(difference_vector(rj.w_hi, rm.w_hi), WIDTH_SLACK, f"stages[{k}].moves[{m}].d_hi") == 1:
                     self.fail(
                         f"stages[{k}].moves[{m}].d_hi",
                         f"the cone ends at heading {_heading(rm.w_hi)}, more than 1e-9 after the stage's common cone "
@@ -1011,7 +674,7 @@ class _Checker:
             if not (0 <= piece.edge < len(self.edges) and piece.t0 < piece.t1):
                 continue
             self.counts["links"] += 1
-            gap = _uncovered(piece.t0, piece.t1, sources0.get(piece.edge, []))
+            gap = uncovered(piece.t0, piece.t1, sources0.get(piece.edge, []))
             if gap is not None:
                 self.fail("stages[0].moves", f"no move leaves t in ({_num(gap[0])}, {_num(gap[1])}) of edge {piece.edge}, part of start[{i}]")
         links = [(k, k + 1) for k in range(len(stages) - 1)]
@@ -1022,7 +685,7 @@ class _Checker:
             for m, move in enumerate(stages[k_from].moves):
                 self.counts["links"] += 1
                 c, d = move.target
-                gap = _uncovered(c, d, sources.get(move.target_edge, []))
+                gap = uncovered(c, d, sources.get(move.target_edge, []))
                 if gap is not None:
                     wrap = " (the cycle returns to its first stage)" if k_to <= k_from else ""
                     self.fail(
@@ -1038,7 +701,7 @@ class _Checker:
             for m, move in enumerate(stages[last].moves):
                 self.counts["links"] += 1
                 c, d = move.target
-                gap = _uncovered(c, d, goal.get(move.target_edge, []))
+                gap = uncovered(c, d, goal.get(move.target_edge, []))
                 if gap is not None:
                     self.fail(
                         f"stages[{last}].moves[{m}].target",
@@ -1095,15 +758,8 @@ class _Checker:
         self.check_pieces(stage.positions, where)
         if len(self.failures) > before or any(r is None or r.image is None for r in results):
             return
-        exact: dict[int, list[tuple[Fraction, Fraction]]] = {}
-        for r in results:
-            assert r is not None and r.image is not None
-            exact.setdefault(r.move.target_edge, []).append(r.image)
-        claimed: dict[int, list[tuple[Fraction, Fraction]]] = {}
-        for piece in stage.positions:
-            claimed.setdefault(piece.edge, []).append((piece.t0, piece.t1))
-        exact_u = {e: _union(v) for e, v in exact.items()}
-        claimed_u = {e: _union(v) for e, v in claimed.items()}
+        exact_u = _merged((r.move.target_edge, *r.image) for r in results)  # type: ignore[union-attr, misc]
+        claimed_u = _merged((piece.edge, piece.t0, piece.t1) for piece in stage.positions)
         if exact_u != claimed_u:
             self.fail(where, f"claims {self._pieces_text(claimed_u)}, but the exact image of the stage is {self._pieces_text(exact_u)}")
 
@@ -1235,7 +891,7 @@ class _Checker:
             move = stages[i].moves[0]
             src, tgt = self.edges[move.edge], self.edges[move.target_edge]
             d = cycle.nominal[idx]
-            if not (_cross(src.vector, d) > 0 and _cross(move.d_lo, d) >= 0 and _cross(d, move.d_hi) >= 0):
+            if not (cross(src.vector, d) > 0 and cross(move.d_lo, d) >= 0 and cross(d, move.d_hi) >= 0):
                 self.fail(f"cycle.nominal[{idx}]", f"{_pt(d)} is not inside the cone {_pt(move.d_lo)} → {_pt(move.d_hi)} of stages[{i}].moves[0]")
                 return
             a_k, b_k = affine_coefficients(src.a, src.vector, tgt.a, tgt.vector, d)
@@ -1264,6 +920,14 @@ class _Checker:
             visited = [stages[i].moves[0].edge for i in cycle.stages]
             if not any(_is_subsequence(cycle.visits, visited[s:] + visited[:s]) for s in range(len(visited))):
                 self.fail("cycle.visits", f"the cycle bounces on edges {visited} (cyclically), which does not visit {list(cycle.visits)} in that order")
+
+
+def _merged(pieces: Iterable[tuple[int, Fraction, Fraction]]) -> dict[int, list[tuple[Fraction, Fraction]]]:
+    """(edge, t0, t1) pieces as the union of their intervals on each edge (numbers read exactly)."""
+    by_edge: dict[int, list[tuple[Fraction, Fraction]]] = {}
+    for edge, a, b in pieces:
+        by_edge.setdefault(int(edge), []).append((Fraction(a), Fraction(b)))
+    return {e: union(v) for e, v in by_edge.items()}
 
 
 def _is_subsequence(needle: Sequence[int], haystack: Sequence[int]) -> bool:

@@ -1,17 +1,15 @@
-"""Certificates from floating-point planner output (DESIGN §6).
+"""Certificates from floating-point planner output.
 
 Planners work in floats: a stage is a heading :class:`~solverplan.interval.Interval` (radians,
 measured from the source edge) and the moves it makes (source segment or exact sub-interval → target
 segment). :func:`build_certificate` turns that into a :class:`~solverplan.certify.schema.Certificate`
 that :func:`~solverplan.certify.check.check_certificate` can verify exactly:
 
-- **Directions.** For each move, the interval is shrunk by a tiny ``margin`` (10⁻⁹ rad, or a quarter of
-  the width if that is smaller) and each end θ becomes a rational direction *in the frame of the
-  move's source edge*: there a heading θ is the direction (cot θ, 1), and we take the simplest
-  rational u (smallest denominator, by continued fractions — the exact-interval cousin of
-  :meth:`fractions.Fraction.limit_denominator`) within half the margin of cot θ. It is rotated back
-  exactly: d = u·E + E⊥ with E the edge vector and E⊥ = E turned by +90° — E and E⊥ have the same
-  length, so the heading of d is exactly acot(u) — and scaled to a primitive integer vector.
+- **Directions.** For each move, each end of the interval becomes an exact direction *in the frame
+  of the move's source edge*, chosen inside the interval within ``margin`` (10⁻⁹ rad, or a quarter of
+  the width if that is smaller) of the float end, with the simplest rational cotangent there
+  (:func:`solverplan.bounce.cones.heading_cone`, inside: the exact cone never claims more than the
+  float interval), and scaled to a primitive integer vector.
 - **Per-move cones.** A robot executes one heading measured from the edge it is on; for moves whose
   source edges differ, the same heading is a different world direction. So each move carries its own
   world-frame cone (d_lo, d_hi), all built from the one stage interval, and the stage's action
@@ -31,7 +29,7 @@ that :func:`~solverplan.certify.check.check_certificate` can verify exactly:
 ...                          [StageSpec(Interval(0.1, 0.7), (MoveSpec(source=0, target=1),))],
 ...                          start="e0", goal="e1")
 >>> cert.stages[0].moves[0].d_lo, cert.stages[0].moves[0].d_hi
-((Fraction(44521, 1), Fraction(4467, 1)), (Fraction(27880, 1), Fraction(23483, 1)))
+((Fraction(74401, 1), Fraction(7465, 1)), (Fraction(25293, 1), Fraction(21304, 1)))
 >>> check_certificate(cert).valid
 True
 """
@@ -41,13 +39,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from fractions import Fraction
-from pathlib import Path
 from typing import Literal, Sequence, Union
 
-from solverplan._io import atomic_write_text
 from solverplan.interval import Interval
+from solverplan.bounce.cones import heading_cone, heading_direction
 from solverplan.bounce.partition import Partition
-from solverplan.certify.check import affine_coefficients, heading_enclosure, line_hit
+from solverplan.certify.exact2d import affine_coefficients, line_hit
+from solverplan.certify.rational_atan import heading_enclosure
 from solverplan.certify.schema import (
     Certificate,
     Claims,
@@ -59,13 +57,12 @@ from solverplan.certify.schema import (
     Point,
     SegmentRecord,
     Stage,
-    dumps_certificate,
 )
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import to_fraction
 
-__all__ = ["MoveSpec", "StageSpec", "CycleSpec", "build_certificate", "write_certificate", "rational_direction", "DECIMALS"]
+__all__ = ["MoveSpec", "StageSpec", "CycleSpec", "build_certificate", "DECIMALS"]
 
 DECIMALS = 16
 """Decimal places of the claimed intervals and widths (rounded inwards / downwards)."""
@@ -118,10 +115,6 @@ class CycleSpec:
 
 
 # ---------------------------------------------------------------------- directions
-def _perp(e: Point) -> Point:
-    return (-e[1], e[0])
-
-
 def _primitive(v: tuple[Fraction, Fraction]) -> Point:
     """The positive multiple of v with coprime integer coordinates."""
     den = math.lcm(v[0].denominator, v[1].denominator)
@@ -130,53 +123,13 @@ def _primitive(v: tuple[Fraction, Fraction]) -> Point:
     return (Fraction(x // g), Fraction(y // g))
 
 
-def _simplest_between(a: Fraction, b: Fraction) -> Fraction:
-    """The rational with the smallest denominator in [a, b] (a ≤ b), by continued fractions."""
-    if a <= 0 <= b:
-        return Fraction(0)
-    if b < 0:
-        return -_simplest_between(-b, -a)
-    whole = math.floor(a)
-    if whole == a:
-        return Fraction(whole)
-    if whole + 1 <= b:
-        return Fraction(whole + 1)
-    return whole + 1 / _simplest_between(1 / (b - whole), 1 / (a - whole))
-
-
-def rational_direction(edge_vector: Point, theta: float, *, tol: float = 2.5e-10) -> Point:
-    """A rational world direction whose heading from ``edge_vector`` is within ``tol`` of ``theta``.
-
-    In the edge's frame a heading θ is the direction (cot θ, 1); we take the simplest rational u
-    (smallest denominator) in [cot(θ + tol), cot(θ − tol)] and rotate back exactly,
-    d = u·E + E⊥ (E⊥ is E turned by +90°, of the same length, so the heading of d is exactly
-    acot(u)), then scale d to a primitive integer vector.
-
-    >>> rational_direction((Fraction(1), Fraction(0)), math.pi / 2)
-    (Fraction(0, 1), Fraction(1, 1))
-    >>> rational_direction((Fraction(10), Fraction(0)), 1.0, tol=1e-3)
-    (Fraction(9, 1), Fraction(14, 1))
-    """
-    if not 0.0 < theta < math.pi:
-        raise InputError(f"heading {theta!r} is not inside (0, π)")
-    tol = min(tol, theta / 2, (math.pi - theta) / 2)
-    u_lo = Fraction(1 / math.tan(theta + tol)) if theta + tol != math.pi / 2 else Fraction(0)
-    u_hi = Fraction(1 / math.tan(theta - tol)) if theta - tol != math.pi / 2 else Fraction(0)
-    u = _simplest_between(min(u_lo, u_hi), max(u_lo, u_hi))
-    e = (Fraction(edge_vector[0]), Fraction(edge_vector[1]))
-    n = _perp(e)
-    return _primitive((u * e[0] + n[0], u * e[1] + n[1]))
-
-
 def _cone(edge_vector: Point, interval: Interval, margin: float) -> tuple[Point, Point]:
     if interval.is_empty:
         raise InputError("a stage's heading interval is empty: there is nothing to certify")
     lo, hi = float(interval.lo), float(interval.hi)
     if not 0.0 < lo <= hi < math.pi:
         raise InputError(f"heading interval [{lo!r}, {hi!r}] is not inside (0, π)")
-    delta = min(margin, (hi - lo) / 4)
-    tol = max(delta / 2, 1e-15)
-    return rational_direction(edge_vector, lo + delta, tol=tol), rational_direction(edge_vector, hi - delta, tol=tol)
+    return heading_cone(edge_vector, interval, margin=margin)
 
 
 # ---------------------------------------------------------------------- decimals
@@ -312,11 +265,6 @@ def build_certificate(
     )
 
 
-def write_certificate(cert: Certificate, path: str | Path) -> None:
-    """Write ``cert`` as JSON to ``path`` atomically (whole or not at all)."""
-    atomic_write_text(Path(path), dumps_certificate(cert))
-
-
 # ---------------------------------------------------------------------- helpers
 def _segment(part: Partition, index: object, what: str):
     if isinstance(index, bool) or not isinstance(index, int) or not 0 <= index < len(part.segments):
@@ -408,7 +356,7 @@ def _union_pieces(items) -> tuple[Piece, ...]:
     by_edge: dict[int, list[tuple[Fraction, Fraction]]] = {}
     for edge, (lo, hi) in items:
         by_edge.setdefault(edge, []).append((lo, hi))
-    pieces = []
+    pieces: list[Piece] = []
     for edge in sorted(by_edge):
         merged: list[list[Fraction]] = []
         for lo, hi in sorted(by_edge[edge]):
@@ -426,7 +374,7 @@ def _pieces(env: Environment, part: Partition, value: object, what: str) -> tupl
     if isinstance(value, BoundarySet):
         return tuple(Piece(p.edge, p.t0, p.t1) for p in value.pieces)
     out = []
-    for item in value:  # type: ignore[union-attr]
+    for item in value:  # type: ignore[attr-defined]
         if isinstance(item, BoundaryPiece):
             out.append(Piece(item.edge, item.t0, item.t1))
         else:
@@ -460,7 +408,7 @@ def _cycle_claim(env: Environment, specs: Sequence[StageSpec], stages: Sequence[
         a, e = _edge_vector(env, move.edge)
         c, f = _edge_vector(env, move.target_edge)
         theta = cycle.headings[idx] if cycle.headings is not None else specs[k].interval.midpoint
-        d = rational_direction(e, theta, tol=1e-12)
+        d = heading_direction(e, theta - 1e-12, theta + 1e-12)
         if not _inside_cone(e, move.d_lo, move.d_hi, d):
             d = _primitive((move.d_lo[0] + move.d_hi[0], move.d_lo[1] + move.d_hi[1]))
         nominal.append(d)

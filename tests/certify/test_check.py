@@ -13,16 +13,10 @@ import mpmath
 import pytest
 
 from solverplan.bounce.partition import partition
-from solverplan.certify import check
-from solverplan.certify.check import (
-    affine_coefficients,
-    angle_enclosure,
-    atan_enclosure,
-    check_certificate,
-    compare_angle,
-    heading_enclosure,
-    pi_enclosure,
-)
+from solverplan.certify import check, exact2d, rational_atan
+from solverplan.certify.check import check_certificate
+from solverplan.certify.exact2d import affine_coefficients
+from solverplan.certify.rational_atan import angle_enclosure, atan_enclosure, compare_angle, heading_enclosure, pi_enclosure
 from solverplan.certify.schema import Certificate, json_value
 from solverplan.environment import load_environment
 from tests.certify import cases
@@ -49,16 +43,26 @@ def assert_fails(data: dict, claim: str, fragment: str, *, first: bool = True):
 
 
 # ---------------------------------------------------------------------- independence
-def test_checker_imports_nothing_but_stdlib_and_schema():
-    tree = ast.parse(Path(check.__file__).read_text())
+CHECKER_MODULES = [check, exact2d, rational_atan]
+"""The independent checker: it must share no code with the planner (only each other and the schema)."""
+
+
+def _imports(module) -> set[str]:
+    tree = ast.parse(Path(module.__file__).read_text())
     names = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
-    names |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
-    assert names <= {"__future__", "fractions", "dataclasses", "json", "typing", "solverplan.certify.schema"}
+    return names | {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
 
 
-def test_checker_uses_no_floats():
+@pytest.mark.parametrize("module", CHECKER_MODULES, ids=lambda m: m.__name__)
+def test_checker_imports_nothing_but_stdlib_and_schema(module):
+    checker = {m.__name__ for m in CHECKER_MODULES}
+    assert _imports(module) <= {"__future__", "fractions", "dataclasses", "json", "typing", "solverplan.certify.schema"} | checker
+
+
+@pytest.mark.parametrize("module", CHECKER_MODULES, ids=lambda m: m.__name__)
+def test_checker_uses_no_floats(module):
     """No float literal, no float() and no math module: every number in the checker is a Fraction or an int."""
-    tree = ast.parse(Path(check.__file__).read_text())
+    tree = ast.parse(Path(module.__file__).read_text())
     floats = [n.lineno for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, float)]
     calls = [n.lineno for n in ast.walk(tree) if isinstance(n, ast.Name) and n.id in ("float", "math")]
     assert not floats and not calls, (floats, calls)

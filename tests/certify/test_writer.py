@@ -12,9 +12,12 @@ from hypothesis import strategies as st
 
 from solverplan.interval import Interval
 from solverplan.bounce.partition import partition
-from solverplan.certify.check import check_certificate, compare_angle, heading_vector
+from solverplan.certify.check import check_certificate
+from solverplan.certify.rational_atan import compare_angle, heading_vector
 from solverplan.certify.schema import load_certificate
-from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_certificate, rational_direction, write_certificate
+from solverplan.bounce.cones import heading_direction
+from solverplan.certify.build import write_certificate
+from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_certificate
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from tests.certify.cases import MODELS
@@ -38,8 +41,8 @@ def assert_valid(cert, **kwargs):
 # ---------------------------------------------------------------------- directions
 @pytest.mark.parametrize("theta", [1e-6, 0.1, 1.0, math.pi / 2, 2.5, math.pi - 1e-6])
 @pytest.mark.parametrize("edge", [(Fraction(1), Fraction(0)), (Fraction(-3), Fraction(7, 2)), (Fraction(0), Fraction(-10))])
-def test_rational_direction_has_the_heading_asked_for(theta, edge):
-    d = rational_direction(edge, theta, tol=1e-10)
+def test_heading_direction_has_the_heading_asked_for(theta, edge):
+    d = heading_direction(edge, theta - 1e-10, theta + 1e-10)
     assert all(x.denominator == 1 for x in d) and math.gcd(int(d[0]), int(d[1])) == 1  # primitive integers
     w = heading_vector(edge, d)
     assert compare_angle(w, Fraction(theta) - Fraction(1, 10**10) - Fraction(1, 10**15)) == 1

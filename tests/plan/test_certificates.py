@@ -13,9 +13,8 @@ import pytest
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.certify.check import check_certificate
-from solverplan.certify.from_plan import plan_certificate
+from solverplan.certify.build import NothingToCertify, certificate
 from solverplan.environment import load_environment
-from solverplan.errors import InputError
 from solverplan.plan import find_plan, pareto_front
 
 MODELS = Path(__file__).resolve().parents[2] / "models"
@@ -37,7 +36,7 @@ def test_two_rooms_plans_have_valid_certificates(two_rooms, objective, budget):
     env, graph = two_rooms
     start, goal = "e0:0.2:0.8", "e4:0.5:1"
     plan = find_plan(env, start, goal, objective=objective, max_bounces=budget, graph=graph)
-    cert = plan_certificate(env, plan, partition=graph.partition)
+    cert = certificate(plan, env=env, partition=graph.partition)
     report = check_certificate(cert, expected_rings=env.rings, expected_start=_expected(env, start),
                                expected_goal=_expected(env, goal))
     assert report.valid, [str(f) for f in report.failures]
@@ -51,7 +50,7 @@ def test_two_rooms_plans_have_valid_certificates(two_rooms, objective, budget):
 def test_goal_inside_a_segment_is_certified_with_exact_images(two_rooms):
     env, graph = two_rooms
     plan = find_plan(env, "e5", "e0:0.6:0.8", graph=graph)
-    cert = plan_certificate(env, plan, partition=graph.partition)
+    cert = certificate(plan, env=env, partition=graph.partition)
     (move,) = cert.stages[-1].moves
     assert Fraction(6, 10) < move.target[0] < move.target[1] < Fraction(8, 10)  # the image, inside the goal piece
     assert check_certificate(cert).valid
@@ -60,7 +59,7 @@ def test_goal_inside_a_segment_is_certified_with_exact_images(two_rooms):
 def test_every_pareto_point_is_certified(two_rooms):
     env, graph = two_rooms
     for point in pareto_front(env, "e0", "e4", graph=graph).points:
-        report = check_certificate(plan_certificate(env, point.plan, partition=graph.partition))
+        report = check_certificate(certificate(point.plan, env=env, partition=graph.partition))
         assert report.valid, (point.bounces, [str(f) for f in report.failures])
 
 
@@ -70,7 +69,7 @@ def test_plans_on_holes_and_degenerate_models_are_certified():
         env = load_environment(MODELS / f"{model}.json")
         for objective in ("fewest", "tolerance"):
             plan = find_plan(env, start, goal, objective=objective)
-            report = check_certificate(plan_certificate(env, plan))
+            report = check_certificate(certificate(plan, env=env))
             assert report.valid, (model, objective, [str(f) for f in report.failures])
 
 
@@ -81,15 +80,15 @@ def test_a_widened_interval_is_caught_by_the_checker(two_rooms):
     stage = plan.stages[k]
     wide = replace(stage, interval=Interval(stage.interval.lo - 0.05, stage.interval.hi + 0.05))
     bad = plan.with_(stages=plan.stages[:k] + (wide,) + plan.stages[k + 1:])
-    report = check_certificate(plan_certificate(env, bad, partition=graph.partition))
+    report = check_certificate(certificate(bad, env=env, partition=graph.partition))
     assert not report.valid and any(f"stages[{k}]" in str(f) for f in report.failures)
 
 
 def test_nothing_to_certify_for_infeasible_or_empty_plans(two_rooms):
     env, graph = two_rooms
     infeasible = find_plan(env, "e0", "e4", max_bounces=2, graph=graph)
-    with pytest.raises(InputError, match="the checker certifies plans, not infeasibility"):
-        plan_certificate(env, infeasible)
+    with pytest.raises(NothingToCertify, match="the checker certifies plans, not infeasibility"):
+        certificate(infeasible, env=env)
     empty = find_plan(env, "e0:0.1:0.2", "e0", graph=graph)
-    with pytest.raises(InputError, match="there is nothing to certify"):
-        plan_certificate(env, empty)
+    with pytest.raises(NothingToCertify, match="there is nothing to certify"):
+        certificate(empty, env=env)

@@ -16,7 +16,7 @@ from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.bounce.partition import partition
 from solverplan.bounce.transitions import transition_set
 from solverplan.certify.check import check_certificate
-from solverplan.certify.contraction import funnel_certificate
+from solverplan.certify.build import certificate
 from solverplan.certify.schema import Certificate
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
@@ -71,7 +71,7 @@ def test_a_funnel_passes_the_narrow_door_and_its_certificate_verifies(door, door
     widths = f.widths
     assert widths[0] == 10 and widths[-1] < 0.2
     assert min(widths) < 0.2  # shrunk below the doorway's width before passing it
-    cert = funnel_certificate(f)
+    cert = certificate(f)
     report = check_certificate(cert, expected_rings=env.rings, expected_start=[(0, Fraction(0), Fraction(1))],
                                expected_goal=[(4, Fraction(0), Fraction(1))])
     assert report.valid, report.failures
@@ -102,7 +102,7 @@ def test_ten_thousand_rollouts_of_the_door_funnel_all_reach_the_goal(door_funnel
 
 
 def test_tampered_funnel_certificates_fail(door_funnel):
-    data = funnel_certificate(door_funnel).to_json()
+    data = certificate(door_funnel).to_json()
     cases = []
     bad = json.loads(json.dumps(data))
     bad["stages"][1]["positions"][0]["t1"] = "1/2"
@@ -134,7 +134,7 @@ def test_funnel_into_a_short_goal_of_the_square_uses_contraction():
     square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
     f = funnel(square, "e0", "e2:0.45:0.55", tolerance=0.005)
     assert f.found and f.safe_plan is False and f.widths[-1] < 0.4
-    assert check_certificate(funnel_certificate(f)).valid
+    assert check_certificate(certificate(f)).valid
 
 
 def test_funnel_not_found_is_an_answer_and_bad_input_raises(door):
@@ -146,7 +146,7 @@ def test_funnel_not_found_is_an_answer_and_bad_input_raises(door):
     with pytest.raises(InputError, match="tolerance"):
         funnel(env, "e0", "e4", tolerance=0)
     with pytest.raises(InputError, match="there is no strategy to certify"):
-        funnel_certificate(f)
+        certificate(f)
 
 
 def test_cli_funnel_writes_a_certificate_that_verifies(tmp_path):

@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 
 from solverplan import cli
 from solverplan.certify.check import check_certificate
-from solverplan.certify.contraction import funnel_certificate
+from solverplan.certify.build import certificate
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from solverplan.plan.localize import localize, rotational_symmetry
@@ -39,7 +39,7 @@ def test_triangle_is_localised_from_the_whole_boundary(triangle_localised):
     hull = (max(p.t1 for p in final) - min(p.t0 for p in final)) * env.edge_lengths[final[0].edge]
     assert float(hull) < 0.05
     assert loc.widths[0] == pytest.approx(env.perimeter)
-    report = check_certificate(funnel_certificate(loc), expected_rings=env.rings)
+    report = check_certificate(certificate(loc), expected_rings=env.rings)
     assert report.valid, report.failures
 
 
@@ -72,7 +72,7 @@ def test_a_start_set_breaks_the_symmetry():
     env = model("narrow_door")
     loc = localize(env, 0.05, start="e0")
     assert loc.status == "found"
-    assert check_certificate(funnel_certificate(loc)).valid
+    assert check_certificate(certificate(loc)).valid
 
 
 def test_localize_rejects_bad_input():

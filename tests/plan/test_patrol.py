@@ -19,7 +19,7 @@ from solverplan.bounce.cycles import limit_cycle
 from solverplan.bounce.dynamics import contraction_coefficient, interior_angles, lemma3_max_heading
 from solverplan.bounce.partition import partition
 from solverplan.certify.check import check_certificate
-from solverplan.certify.contraction import patrol_certificate
+from solverplan.certify.build import certificate
 from solverplan.certify.schema import Certificate
 from solverplan.environment import load_environment
 from solverplan.errors import InputError, InvalidBoundarySet
@@ -193,7 +193,7 @@ def test_patrol_certificates_verify_and_tampered_ones_fail(name, visit, start, o
     env = env_of(name)
     p = patrol(env, visit, start=start, objective=objective, tolerance=0.02)
     assert p.found
-    cert = patrol_certificate(p)
+    cert = certificate(p)
     report = check_certificate(cert, expected_rings=env.rings)
     assert report.valid, report.failures
     assert cert.cycle.contraction < 1 and cert.cycle.visits == p.visit

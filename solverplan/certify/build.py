@@ -1,0 +1,252 @@
+"""Certificates of planner answers, as one call: :func:`certificate` and :func:`write_certificate`.
+
+:func:`certificate` turns an answer of the planner into a :class:`~solverplan.certify.schema.Certificate`
+by its type (it reads the answers only through their public attributes, all of them in this module):
+
+- a **plan** (:class:`~solverplan.plan.Plan`) is a ``plan`` certificate: one stage per plan stage (its
+  heading interval), one move per possible source segment (source → the segment it lands on). The plan's
+  start and goal sets become the certificate's; its objective and optimality become the claims (the bound
+  as the exact value of its float). A last stage landing on a segment the goal covers only in part claims
+  the exact **images** of its moves (so that they can be checked to lie in the goal), every other the
+  target segments. A plan does not carry its environment: pass ``env``;
+- a **Pareto front** is the certificate of its most tolerant plan;
+- a **patrol** (:class:`~solverplan.plan.patrol.Patrol`) is a ``cycle`` certificate: the entry stages
+  (belief stages of the safe BVG: one move per possible segment), then the cycle's stages, one move each
+  from its whole source segment; the cycle block claims the exact return map of the nominal headings, its
+  fixed point, the worst-case contraction (< 1) and the visits;
+- a **funnel** or a **localisation** strategy (:class:`~solverplan.plan.funnel.Funnel`) is a ``funnel``
+  certificate: every stage moves exact position pieces with the *exact cones the planner used*, so the
+  images the checker recomputes are the positions the planner tracked, and each stage claims them.
+
+An answer with nothing to certify (an infeasible plan, a patrol or funnel not found) raises
+:class:`NothingToCertify`: the checker certifies answers, not proofs that there is none.
+
+:func:`write_certificate` checks a certificate with the independent exact checker first and writes it
+only if every claim holds (atomically: whole or not at all); otherwise it raises
+:class:`CertificateRejected`, naming the first failed claim, and writes nothing.
+
+>>> from solverplan.environment import Environment
+>>> from solverplan.plan import find_plan
+>>> square = Environment.from_coords([[0, 0], [10, 0], [10, 10], [0, 10]], name="square")
+>>> cert = certificate(find_plan(square, "e0", "e2"), env=square)
+>>> cert.kind, cert.claims.bounces, check_certificate(cert).valid
+('plan', 2, True)
+
+Then ``write_certificate(cert, "square.cert.json")`` checks it again and writes it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from fractions import Fraction
+from pathlib import Path
+from typing import Any, Callable, Literal
+
+from solverplan._io import atomic_write_text
+from solverplan.bounce.partition import Partition, partition as make_partition
+from solverplan.certify.check import CheckReport, Failure, check_certificate
+from solverplan.certify.schema import Certificate, Optimality as ClaimedOptimality, dumps_certificate
+from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_certificate
+from solverplan.environment import BoundaryPiece, Environment
+from solverplan.errors import InputError, SolverplanError
+from solverplan.plan.funnel import Funnel
+from solverplan.plan.patrol import Patrol
+from solverplan.plan.result import ParetoFront, Plan
+
+__all__ = ["certificate", "write_certificate", "NothingToCertify", "CertificateRejected"]
+
+_PLAN_MARGIN = 2e-10
+"""Radians: the window next to each end of a plan interval in which its exact end is chosen (inside the
+interval). The planner's intervals already lie 10⁻⁹ rad inside the exact safe sets, so a tiny margin
+suffices; it is kept small so that a proved optimality bound stays within the checker's 10⁻⁹ of the
+certified width (the certified width is the plan's minus at most 2·margin, plus the 10⁻¹⁶ of rounding)."""
+
+_PROVED_SLACK = 3e-10
+"""A plan claims proved optimality in its certificate only if its bound exceeds its value by at most this
+much per stage: the checker allows 10⁻⁹ (per stage for sums) between a proved bound and the certified
+value, and the certified widths are up to 4·10⁻¹⁰ below the plan's."""
+
+
+class NothingToCertify(InputError):
+    """The answer has nothing a certificate could claim: an infeasible plan, a plan without stages, a
+    patrol or funnel that was not found. ``why`` is the reason in a few words, for warnings
+    (``"the answer is infeasible (certificates certify plans)"``)."""
+
+    def __init__(self, message: str, *, why: str) -> None:
+        super().__init__(message)
+        self.why = why
+
+
+class CertificateRejected(SolverplanError):
+    """The exact checker refused a certificate that was about to be written: ``failure`` is the first
+    claim that does not hold, ``report`` the whole verdict. Nothing was written."""
+
+    def __init__(self, cert: Certificate, report: CheckReport) -> None:
+        self.report = report
+        self.failure: Failure = report.failures[0]
+        super().__init__(f"the {cert.kind}'s certificate does not verify: {self.failure}")
+
+
+# ---------------------------------------------------------------------- the two calls
+def certificate(result: Any, *, env: Environment | None = None, partition: Partition | None = None) -> Certificate:
+    """The certificate of a planner's answer (see the module docstring for what each kind claims).
+
+    Parameters
+    ----------
+    result
+        A :class:`~solverplan.plan.Plan`, :class:`~solverplan.plan.ParetoFront` (its most tolerant plan),
+        :class:`~solverplan.plan.patrol.Patrol` or :class:`~solverplan.plan.funnel.Funnel` (funnels and
+        localisation strategies).
+    env
+        The environment of a plan (plans record only its name and hash; required for plans and fronts).
+        Answers that carry their environment need none; if given, it must have the same rings.
+    partition
+        The partition P′ of ``env`` the answer's segment ids refer to (default: the answer's own, or
+        :func:`~solverplan.bounce.partition.partition` of ``env``).
+
+    Raises
+    ------
+    NothingToCertify
+        The answer is infeasible / not found, or a plan has no stages.
+    InputError
+        ``env`` is not the answer's environment.
+    TypeError
+        ``result`` is not an answer that has certificates, or a plan without ``env``.
+    """
+    for cls in type(result).__mro__:
+        build = _BUILDERS.get(cls)
+        if build is not None:
+            return build(result, env, partition)
+    raise TypeError(f"cannot certify a {type(result).__name__}: certificates are made of plans, Pareto fronts, "
+                    f"patrols, funnels and localisation strategies")
+
+
+def write_certificate(cert: Certificate, path: str | os.PathLike[str], *, check: bool = True) -> None:
+    """Write ``cert`` as JSON to ``path`` — after checking it exactly, unless ``check=False``.
+
+    The file is written atomically (whole or not at all; a previous file at ``path`` stays intact on failure).
+
+    Raises
+    ------
+    CertificateRejected
+        ``check`` and a claim of ``cert`` does not hold (the message names the first); nothing is written.
+    OSError
+        The file cannot be written.
+    """
+    if check:
+        report = check_certificate(cert)
+        if not report.valid:
+            raise CertificateRejected(cert, report)
+    atomic_write_text(Path(path), dumps_certificate(cert))
+
+
+# ---------------------------------------------------------------------- plans
+def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certificate:
+    if env is None:
+        raise TypeError("a plan does not carry its environment: call certificate(plan, env=...)")
+    if not plan.found:
+        raise NothingToCertify(f"the plan is infeasible ({plan.reason}): the checker certifies plans, not infeasibility",
+                               why="the answer is infeasible (certificates certify plans)")
+    if not plan.stages:
+        raise NothingToCertify("the plan has no stages (its start set lies in its goal set): there is nothing to certify",
+                               why="the plan has no stages (certificates certify plans)")
+    part = part if part is not None else make_partition(env)
+    plan.check_environment(env, len(part.segments))
+    stages = [StageSpec(stage.interval, tuple(MoveSpec(source=i, target=j) for i, j in stage.moves))
+              for stage in plan.stages]
+    partial = set(plan.stats.get("partial_goal_segments", ())) if plan.stats else set()
+    if not plan.stats and plan.goal:
+        partial = _partial_goal_segments(env, part, plan.goal)
+    targets: Literal["image", "segment"] = "image" if set(plan.stages[-1].to_segments) & partial else "segment"
+    opt = plan.optimality
+    proved = opt.proved
+    value = {"tolerance": plan.min_width, "constant": plan.min_width, "sum": plan.sum_width}.get(plan.objective)
+    if proved and opt.bound is not None and value is not None and opt.bound - value > _PROVED_SLACK * len(plan.stages):
+        proved = False  # an LP/MILP bound with a visible gap: claim the bound, not optimality
+    claimed = ClaimedOptimality(method=opt.method, proved=proved, bound=None if opt.bound is None else Fraction(opt.bound))
+    start = plan.start if plan.start else list(plan.stages[0].from_segments)
+    goal = plan.goal if plan.goal else list(plan.stages[-1].to_segments)
+    return build_certificate(env, part, stages, start=start, goal=goal, kind="plan", objective=plan.objective,
+                             optimality=claimed, targets=targets, margin=_PLAN_MARGIN)
+
+
+def _pareto(front: ParetoFront, env: Environment | None, part: Partition | None) -> Certificate:
+    best = front.best()
+    if best is None:
+        raise NothingToCertify(f"the Pareto front is empty ({front.reason}): there is no plan to certify",
+                               why="the answer is infeasible (certificates certify plans)")
+    return _plan(best.plan, env, part)
+
+
+def _partial_goal_segments(env: Environment, part: Partition, goal: str) -> set[int]:
+    """Segments the goal set covers only in part (for plans read back without their stats)."""
+    out = set()
+    for edge, merged in env.boundary_set(goal).by_edge().items():
+        for k in part.edge_segments[edge]:
+            s = part.segments[k]
+            if not any(lo <= s.t0 and s.t1 <= hi for lo, hi in merged) and any(s.t0 < hi and lo < s.t1 for lo, hi in merged):
+                out.add(k)
+    return out
+
+
+# ---------------------------------------------------------------------- contraction answers
+def _patrol(result: Patrol, env: Environment | None, part: Partition | None) -> Certificate:
+    if not result.found:
+        raise NothingToCertify(f"the patrol has status {result.status!r}: there is no cycle to certify",
+                               why=f"the patrol has status {result.status!r}")
+    env, part = _own_environment(result, env, part)
+    stages: list[StageSpec] = []
+    for st in result.entry:
+        stages.append(StageSpec(st.interval, tuple(MoveSpec(source=s, target=t) for s, t in st.moves)))
+    for cs in result.cycle:
+        stages.append(StageSpec(cs.interval, (MoveSpec(source=cs.from_segment, target=cs.to_segment),)))
+    start = result.start if result.start is not None else [result.cycle[0].from_segment]
+    return build_certificate(
+        env, part, stages, start=start, kind="cycle",
+        cycle=CycleSpec(len(result.entry), headings=tuple(cs.nominal for cs in result.cycle), visits=result.visit),
+        objective=f"patrol-{result.objective}", optimality=_contraction_optimality(result.optimality),
+    )
+
+
+def _funnel(result: Funnel, env: Environment | None, part: Partition | None) -> Certificate:
+    """Funnels and localisation strategies: each stage's moves leave the exact position pieces with the
+    planner's exact cones."""
+    if not result.found:
+        raise NothingToCertify(f"the answer has status {result.status!r}: there is no strategy to certify",
+                               why=f"the {result.kind} has status {result.status!r}")
+    env, part = _own_environment(result, env, part)
+    stages: list[StageSpec] = []
+    for st in result.stages:
+        if st.sources is None or st.cones is None:
+            raise InputError("a funnel stage without exact sources and cones cannot be certified")
+        moves = tuple(MoveSpec(source=BoundaryPiece(piece.edge, piece.t0, piece.t1), target_edge=target, directions=cone)
+                      for piece, cone, target in zip(st.sources, st.cones, st.target_edges))
+        stages.append(StageSpec(st.interval, moves))
+    return build_certificate(env, part, stages, start=result.start, goal=result.goal, kind="funnel",
+                             objective=f"{result.kind}-fewest", optimality=_contraction_optimality(result.optimality))
+
+
+def _own_environment(result: Any, env: Environment | None, part: Partition | None) -> tuple[Environment, Partition]:
+    """The environment and partition an answer carries (``env``, if given, must be the same)."""
+    own = result.env
+    if env is not None and env.rings != own.rings:
+        raise InputError(f"the answer was made in another environment ({own.name!r}), not in {env.name!r}")
+    if part is None:
+        part = result.partition if result.partition is not None else make_partition(own)
+    return own, part
+
+
+def _contraction_optimality(opt: Any) -> ClaimedOptimality | None:
+    if opt is None or opt.method == "none" or opt.bound is None or not math.isfinite(opt.bound):
+        return None
+    return ClaimedOptimality(opt.method, bool(opt.proved), Fraction(opt.bound))
+
+
+_BUILDERS: dict[type, Callable[[Any, Environment | None, Partition | None], Certificate]] = {
+    Plan: _plan,
+    ParetoFront: _pareto,
+    Patrol: _patrol,
+    Funnel: _funnel,  # funnels, and localisation strategies (funnels of kind "localize")
+}
+"""How each type of answer becomes a certificate; :func:`certificate` looks the answer's classes up in order."""
