@@ -1,1 +1,121 @@
-"""solverplan."""
+"""solverplan: planning with proofs for minimal bouncing robots.
+
+Robots that drive straight until they hit a wall and then turn by a bounce rule: give solverplan a floor plan
+and it answers with the most robust plan that exists, a certificate an independent checker verifies in exact
+rational arithmetic, and a picture. Every answer follows one result protocol (:mod:`solverplan.result`):
+a ``status`` (:class:`Status`), an ``optimality`` claim with its bound and scope, ``stats``, the
+``environment`` it was made in, ``to_json()`` and ``to_text()``.
+
+>>> import solverplan as sp
+>>> env = sp.load_environment("two_rooms")                 # a shipped model, or a path to a JSON/GeoJSON/WKT file
+>>> plan = sp.find_plan(env, "e0:0.2:0.8", "e4:0.5:1", objective="tolerance")
+>>> plan.status, plan.status.group.value, plan.optimality.proved
+(<Status.FOUND: 'found'>, 'answered', True)
+>>> report = sp.check_certificate(sp.certificate(plan, env=env))   # exact rational arithmetic, stdlib only
+>>> report.valid
+True
+>>> runs = sp.simulate_plan(env, plan, trials=1000, seed=1, sampling="endpoints")
+>>> runs.success_rate
+1.0
+
+Headings are radians in (0, π), measured counter-clockwise from the wall the robot is on; boundary sets are
+strings such as ``"e3:0.25:0.75,e4"`` (edge 3 from t = 0.25 to 0.75, and all of edge 4). The command line
+(``solverplan --help``) answers the same questions; ``docs/contract.md`` describes files, answers and exit codes.
+
+Names are loaded on first use, so ``import solverplan`` stays cheap (the planners' solvers load when needed).
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+__version__ = "0.1.0"
+
+# public name → module that defines it (loaded on first attribute access)
+_EXPORTS: dict[str, str] = {
+    # environments and boundary sets
+    "Environment": "solverplan.environment",
+    "BoundarySet": "solverplan.environment",
+    "BoundaryPiece": "solverplan.environment",
+    "load_environment": "solverplan.environment",
+    "Interval": "solverplan.interval",
+    "models": "solverplan.models",
+    # model structures of the main paper
+    "partition": "solverplan.bounce.partition",
+    "bounce_visibility_graph": "solverplan.bounce.bvg",
+    "safe_bounce_visibility_graph": "solverplan.bounce.bvg",
+    "limit_cycle": "solverplan.bounce.cycles",
+    "constant_controller": "solverplan.bounce.controller",
+    # planners
+    "find_plan": "solverplan.plan.search",
+    "pareto_front": "solverplan.plan.search",
+    "patrol": "solverplan.plan.patrol",
+    "funnel": "solverplan.plan.funnel",
+    "localize": "solverplan.plan.localize",
+    "load_plan": "solverplan.plan.result",
+    # the result protocol
+    "Status": "solverplan.result",
+    "StatusGroup": "solverplan.result",
+    "Method": "solverplan.result",
+    "Optimality": "solverplan.result",
+    "Stats": "solverplan.result",
+    "Stage": "solverplan.result",
+    "Plan": "solverplan.plan.result",
+    "ParetoFront": "solverplan.plan.result",
+    "Patrol": "solverplan.plan.patrol",
+    "Funnel": "solverplan.plan.funnel",
+    "LimitCycle": "solverplan.bounce.cycles",
+    # ground truth and proofs
+    "simulate_plan": "solverplan.simulate",
+    "simulate_rule": "solverplan.simulate",
+    "certificate": "solverplan.certify.build",
+    "write_certificate": "solverplan.certify.build",
+    "check_certificate": "solverplan.certify.check",
+    "load_certificate": "solverplan.certify.schema",
+    # errors
+    "SolverplanError": "solverplan.errors",
+    "InputError": "solverplan.errors",
+    "InvalidEnvironment": "solverplan.errors",
+    "InvalidBoundarySet": "solverplan.errors",
+    "MalformedFile": "solverplan.errors",
+    "SolverFailed": "solverplan.errors",
+}
+
+__all__ = sorted(_EXPORTS)
+
+if TYPE_CHECKING:  # what type checkers and readers see; at run time the names load lazily
+    from solverplan import models
+    from solverplan.bounce.bvg import bounce_visibility_graph, safe_bounce_visibility_graph
+    from solverplan.bounce.controller import constant_controller
+    from solverplan.bounce.cycles import LimitCycle, limit_cycle
+    from solverplan.bounce.partition import partition
+    from solverplan.certify.build import certificate, write_certificate
+    from solverplan.certify.check import check_certificate
+    from solverplan.certify.schema import load_certificate
+    from solverplan.environment import BoundaryPiece, BoundarySet, Environment, load_environment
+    from solverplan.errors import (InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile, SolverFailed,
+                                   SolverplanError)
+    from solverplan.interval import Interval
+    from solverplan.plan.funnel import Funnel, funnel
+    from solverplan.plan.localize import localize
+    from solverplan.plan.patrol import Patrol, patrol
+    from solverplan.plan.result import ParetoFront, Plan, load_plan
+    from solverplan.plan.search import find_plan, pareto_front
+    from solverplan.result import Method, Optimality, Stage, Stats, Status, StatusGroup
+    from solverplan.simulate import simulate_plan, simulate_rule
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'solverplan' has no attribute {name!r}")
+    value = importlib.import_module(module)
+    if name != module.rsplit(".", 1)[-1] or not hasattr(value, name):
+        value = getattr(value, name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from solverplan import cli
-from solverplan.bounce import Partition, partition
+from solverplan.bounce.partition import Partition, partition
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from solverplan.exact import orient, point_in_ring, to_fraction
