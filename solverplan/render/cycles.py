@@ -1,5 +1,6 @@
 """Limit cycles of a constant heading (paper §6.1, Fig. 9): a bold closed path with arrows and contact points.
 
+>>> from solverplan.environment import Environment
 >>> from solverplan.bounce.cycles import limit_cycle
 >>> from solverplan.render import render_environment
 >>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]])
@@ -15,7 +16,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 from matplotlib.axes import Axes
 
-from solverplan.environment import Environment  # noqa: F401 (doctest)
 from solverplan.render.figure import ARROW_SIZE, CYCLE_COLOR, CYCLE_POINT_COLOR, _arrow
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -28,7 +28,7 @@ from matplotlib.path import Path as MplPath
 from matplotlib.text import Annotation
 
 from solverplan.environment import Environment
-from solverplan.render.figure import ARROW_SIZE, BOUNDARY_COLOR, EDGE_ID_COLOR, FREE_SPACE_COLOR, REFLEX_COLOR, _arrow, new_figure
+from solverplan.render.figure import ARROW_SIZE, BOUNDARY_COLOR, EDGE_ID_COLOR, FREE_SPACE_COLOR, REFLEX_COLOR, _arrow, _figure_of, new_figure
 from solverplan.render.labels import LabelPlacer, _edge_label_params, _unit, draw_edge_ids, draw_vertex_ids
 
 __all__ = ["draw_free_space", "draw_boundary", "draw_edge_directions", "draw_reflex_vertices", "render_environment"]
@@ -115,7 +115,7 @@ def render_environment(
     if ax is None:
         fig, ax = new_figure(env, title=title if title is not None else env.name)
     else:
-        fig = ax.get_figure()
+        fig = _figure_of(ax)
         if title:
             ax.set_title(title, fontsize=11)
     draw_free_space(ax, env)
@@ -128,4 +128,4 @@ def render_environment(
             draw_edge_ids(ax, env, placer=placer)
         if vertex_ids:
             draw_vertex_ids(ax, env, placer=placer)
-    return fig  # type: ignore[return-value]
+    return fig

@@ -14,7 +14,7 @@ import io
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import Literal, cast
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -82,6 +82,11 @@ def new_figure(env: Environment, *, width: float | None = None, title: str | Non
     return fig, ax
 
 
+def _figure_of(ax: Axes) -> Figure:
+    """The figure holding ``ax`` (the figures here are never sub-figures)."""
+    return cast(Figure, ax.get_figure())
+
+
 def _style_axes(ax: Axes, title: str | None) -> None:
     ax.set_aspect("equal", adjustable="box")
     ax.tick_params(labelsize=7, colors="#777777")
@@ -125,7 +130,7 @@ def _ink_alpha(
         return 0.8
     ax.apply_aspect()
     x0, x1 = ax.get_xlim()
-    width_points = ax.get_position().width * ax.get_figure().get_figwidth() * 72.0
+    width_points = ax.get_position().width * _figure_of(ax).get_figwidth() * 72.0
     line_width = linewidth / (width_points / abs(x1 - x0))  # in data units
     ink = float(np.hypot(*(segments[:, 1] - segments[:, 0]).T).sum()) * line_width
     coverage = ink / max(float(env.area), 1e-300)

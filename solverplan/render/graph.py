@@ -1,5 +1,6 @@
 """The bounce visibility graph of P′ (paper §5): its arcs as a light shade, its safe arcs as landing rays.
 
+>>> from solverplan.environment import Environment
 >>> from solverplan.bounce.bvg import safe_bounce_visibility_graph
 >>> from solverplan.render import render_environment
 >>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]])
@@ -18,7 +19,6 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 
-from solverplan.environment import Environment  # noqa: F401 (doctest)
 from solverplan.geometry.raycast import cast_from_boundary
 from solverplan.render.figure import GRAPH_COLOR, SAFE_ARC_COLOR, _ink_alpha
 

@@ -22,7 +22,7 @@ from matplotlib.axes import Axes
 from matplotlib.text import Annotation
 
 from solverplan.environment import Environment
-from solverplan.render.figure import ARROW_SIZE, EDGE_ID_COLOR, VERTEX_ID_COLOR, _arrow
+from solverplan.render.figure import ARROW_SIZE, EDGE_ID_COLOR, VERTEX_ID_COLOR, _arrow, _figure_of
 
 __all__ = ["LabelPlacer", "draw_edge_ids", "draw_vertex_ids"]
 
@@ -127,7 +127,7 @@ class LabelPlacer:
         import shapely
 
         ax.apply_aspect()
-        figure = ax.get_figure()
+        figure = _figure_of(ax)
         width_points = ax.get_position().width * figure.get_figwidth() * 72.0
         x0, x1 = ax.get_xlim()
         self.points_per_unit = width_points / abs(x1 - x0)
@@ -287,7 +287,7 @@ def draw_vertex_ids(
         text = f"v{i}"
         half = _label_half_size(text, size, pad=0.5)  # no box behind vertex labels
         anchor = env.vertices[i]
-        candidates = []
+        candidates: list[tuple[np.ndarray, np.ndarray]] = []
         for turn, stretches in ((0, (1.0, 1.6, 2.4)), (25, (1.0, 1.6)), (-25, (1.0, 1.6)), (60, (1.0,)), (-60, (1.0,)),
                                 (100, (1.0,)), (-100, (1.0,)), (145, (1.0,)), (-145, (1.0,)), (180, (1.0,))):
             direction = _rotate(outward[i], turn)

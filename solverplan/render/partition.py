@@ -1,5 +1,6 @@
 """The partition P′ of the boundary (paper Algorithm 1, Figs. 3–4): coloured segments, inserted points, ids.
 
+>>> from solverplan.environment import Environment
 >>> from solverplan.bounce.partition import partition
 >>> from solverplan.render import render_environment
 >>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]], [[[1, 1], [2, 1], [2, 2], [1, 2]]])
@@ -16,7 +17,6 @@ from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 
 from solverplan.bounce.partition import Partition
-from solverplan.environment import Environment  # noqa: F401 (doctest)
 from solverplan.render.figure import INSERTED_COLOR, PARTITION_COLORS
 from solverplan.render.labels import (
     LabelPlacer,

@@ -4,6 +4,7 @@ The cone of a move i → j is the region swept by the rays leaving source segmen
 heading interval: the convex hull of the segment and the first wall hits of its four corner rays
 (segment ends × interval ends), cast by the geometry kernel (:func:`solverplan.geometry.cast_from_boundary`).
 
+>>> from solverplan.environment import Environment
 >>> from solverplan.bounce.partition import partition
 >>> from solverplan.plan import find_plan
 >>> from solverplan.render import render_environment
@@ -23,7 +24,6 @@ from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 
 from solverplan.bounce.partition import Partition
-from solverplan.environment import Environment  # noqa: F401 (doctest)
 from solverplan.render._swept import swept_regions
 from solverplan.render.figure import PLAN_GOAL_COLOR, PLAN_STAGE_COLORS, PLAN_START_COLOR, _piece_lines
 from solverplan.render.labels import _left_normals

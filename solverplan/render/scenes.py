@@ -48,7 +48,7 @@ __all__ = ["scene"]
 logger = logging.getLogger(__name__)
 
 # The rollouts of a plan are drawn dark and thin over the coloured cones, so both stay readable.
-_PLAN_TRAJECTORY_STYLE = {"color": "#2b2b2b", "linewidth": 0.4, "alpha": 0.3}
+_PLAN_TRAJECTORY_COLOR, _PLAN_TRAJECTORY_WIDTH, _PLAN_TRAJECTORY_ALPHA = "#2b2b2b", 0.4, 0.3
 
 
 def scene(
@@ -113,7 +113,7 @@ def scene(
     """
     from solverplan.bounce.rules import Fixed, parse_rule
 
-    bounce_rule = parse_rule(rule) if isinstance(rule, str) else rule
+    bounce_rule: Any = parse_rule(rule) if isinstance(rule, str) else rule
     if start is not None:
         env.boundary_set(start)  # a bad start set is reported before anything is drawn
     if plan is not None and (cycle is not None or start is not None or answer is not None):
@@ -133,12 +133,12 @@ def scene(
     figure = render_environment(env, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex,
                                 title=title if title is not None or limit is None else limit.title())
     ax = figure.axes[0]
-    boundary = None
-    if partition or graph or safe_arcs or plan is not None:
-        from solverplan.bounce.partition import partition as partition_boundary
+    from solverplan.bounce.partition import Partition, partition as partition_boundary
 
+    boundary: Partition | None = None
+    if partition or graph or safe_arcs or plan is not None:
         boundary = partition_boundary(env)
-    if graph or safe_arcs:
+    if boundary is not None and (graph or safe_arcs):
         from solverplan.bounce.bvg import safe_bounce_visibility_graph
 
         bvg = safe_bounce_visibility_graph(boundary)
@@ -146,10 +146,10 @@ def scene(
             draw_graph(ax, bvg)
         if safe_arcs:
             draw_safe_arcs(ax, bvg)
-    if partition:
+    if boundary is not None and partition:
         draw_partition(ax, boundary)
     runs = None
-    if plan is not None:
+    if plan is not None and boundary is not None:
         plan.check_environment(env, boundary.n_segments)
         draw_plan(ax, boundary, plan)
         if trajectories and plan.found and plan.stages:
@@ -157,7 +157,8 @@ def scene(
 
             runs = simulate_plan(env, plan, trials=trajectories, seed=seed, record="all", partition=boundary)
             logger.info("simulated %s", runs.to_text().strip().replace("\n", "; "))
-            draw_trajectories(ax, runs, **_PLAN_TRAJECTORY_STYLE)
+            draw_trajectories(ax, runs, color=_PLAN_TRAJECTORY_COLOR, linewidth=_PLAN_TRAJECTORY_WIDTH,
+                              alpha=_PLAN_TRAJECTORY_ALPHA)
     elif trajectories:
         from solverplan.simulate import simulate_rule
 

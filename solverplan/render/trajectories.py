@@ -1,5 +1,6 @@
 """Simulated trajectories (:mod:`solverplan.simulate` rollouts): thin paths, start dots, flagged stops.
 
+>>> from solverplan.environment import Environment
 >>> from solverplan.bounce.rules import Specular
 >>> from solverplan.render import render_environment
 >>> from solverplan.simulate import simulate_rule
@@ -18,7 +19,6 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 
-from solverplan.environment import Environment  # noqa: F401 (doctest)
 from solverplan.errors import InputError
 from solverplan.render.figure import TRAJECTORY_COLOR, TRAJECTORY_FLAG_COLOR, TRAJECTORY_START_COLOR, _ink_alpha
 
