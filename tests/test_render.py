@@ -320,3 +320,18 @@ def test_cli_render_writes_the_scene(tmp_path):
     env = load_environment(model)
     expected = figure_bytes(scene(env, cycle="tan:1/3", trajectories=4, edge_ids=True), "svg")
     assert out.read_bytes() == expected
+
+
+def test_render_package_exports_every_public_name_and_no_name_hides_a_submodule():
+    import pkgutil
+
+    import solverplan.render as render
+
+    submodules = {m.name for m in pkgutil.iter_modules(render.__path__)}
+    assert {"figure", "labels", "environment", "partition", "graph", "trajectories", "cycles", "plans", "answers",
+            "heatmaps", "scenes"} <= submodules
+    assert not submodules & set(render.__all__)
+    for name in submodules - {"_swept"}:
+        module = __import__(f"solverplan.render.{name}", fromlist=["__all__"])
+        assert set(module.__all__) <= set(render.__all__), name
+        assert all(getattr(render, n) is getattr(module, n) for n in module.__all__)
