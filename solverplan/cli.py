@@ -393,7 +393,7 @@ def render(
     verbose: VerboseOpt = 0,
 ) -> None:
     """Draw an environment to a PNG or SVG file; prints {"written": FILE, ...}."""
-    from solverplan.render import figure_format, render_environment, save_figure
+    from solverplan.render import figure_format, save_figure, scene
 
     with exit_codes(verbose):
         figure_format(out)  # a bad extension is reported before any work
@@ -405,70 +405,16 @@ def render(
         environment = _load(env, env_format)
         if start is not None:
             environment.boundary_set(start)  # a bad start set is reported before drawing
-        cycle = initial = title = None
         plan = None
         if plan_file is not None:
             from solverplan.plan import load_plan
-            from solverplan.render import plan_title
 
             if show_cycle or start is not None:
                 raise InputError("--plan draws a plan and its own trajectories: drop --cycle and --from")
             plan = load_plan(plan_file)
-            title = plan_title(plan)
-        if show_cycle:
-            from solverplan.bounce.cycles import limit_cycle
-            from solverplan.bounce.rules import Fixed
-
-            cycle = limit_cycle(environment, cycle_theta)
-            bounce_rule, initial = Fixed(cycle.heading.theta), [cycle.heading.theta]
-            title = cycle.title()
-        figure = render_environment(environment, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex, title=title)
-        if show_partition or show_graph or safe_arcs:
-            from solverplan.bounce.partition import partition as partition_boundary
-            from solverplan.render import draw_partition
-
-            boundary = partition_boundary(environment)
-            if show_graph or safe_arcs:
-                from solverplan.bounce.bvg import safe_bounce_visibility_graph
-                from solverplan.render import draw_graph, draw_safe_arcs
-
-                graph = safe_bounce_visibility_graph(boundary)
-                if show_graph:
-                    draw_graph(figure.axes[0], graph)
-                if safe_arcs:
-                    draw_safe_arcs(figure.axes[0], graph)
-            if show_partition:
-                draw_partition(figure.axes[0], boundary)
-        if plan is not None:
-            from solverplan.bounce.partition import partition as partition_boundary
-            from solverplan.render import draw_plan
-
-            boundary = partition_boundary(environment)
-            plan.check_environment(environment, boundary.n_segments)
-            draw_plan(figure.axes[0], boundary, plan)
-            if trajectories and plan.found and plan.stages:
-                from solverplan.render import draw_trajectories
-                from solverplan.simulate import simulate_plan
-
-                runs = simulate_plan(environment, plan, trials=trajectories, seed=seed, record="all", partition=boundary)
-                logger.info("simulated %s", runs.to_text().strip().replace("\n", "; "))
-                draw_trajectories(figure.axes[0], runs, color="#2b2b2b", linewidth=0.4, alpha=0.3)
-        elif trajectories:
-            from solverplan.render import draw_trajectories
-            from solverplan.simulate import simulate_rule
-
-            runs = simulate_rule(environment, bounce_rule, start, bounces=bounces, trials=trajectories, seed=seed, initial=initial)
-            logger.info("simulated %s", runs.to_text().strip().replace("\n", "; "))
-            draw_trajectories(figure.axes[0], runs)
-        if cycle is not None:
-            from solverplan.bounce.cycles import limit_cycles
-            from solverplan.render import draw_cycle
-
-            ends = list(zip(runs.final_edge.tolist(), runs.final_t.tolist())) if trajectories else []
-            cycles = limit_cycles(environment, cycle.heading, ends)  # every cycle the trajectories reach
-            for each in cycles:
-                draw_cycle(figure.axes[0], each)
-            figure.axes[0].set_title(cycles[0].title(others=len(cycles) - 1), fontsize=11)
+        figure = scene(environment, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex, partition=show_partition,
+                       graph=show_graph, safe_arcs=safe_arcs, plan=plan, cycle=cycle_theta, trajectories=trajectories,
+                       rule=bounce_rule, start=start, bounces=bounces, seed=seed)
         emit(save_figure(figure, out), fmt, None)
 
 

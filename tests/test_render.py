@@ -1,4 +1,4 @@
-"""render.py: the environment layers, label placement, and PNG/SVG output."""
+"""solverplan.render: the environment layers, label placement, PNG/SVG output, and whole scenes."""
 
 from __future__ import annotations
 
@@ -10,15 +10,19 @@ import pytest
 import shapely
 from matplotlib.figure import Figure
 
-from solverplan.environment import Environment
+from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from solverplan.render import (
+    answer_title,
     draw_edge_directions,
     figure_bytes,
     figure_format,
     new_figure,
+    plan_title,
+    render_answer,
     render_environment,
     save_figure,
+    scene,
 )
 
 PILLAR = Environment.from_coords(
@@ -171,3 +175,163 @@ def test_unknown_picture_format_is_input_error_and_writes_nothing(tmp_path, name
 def test_unwritable_path_is_input_error(tmp_path):
     with pytest.raises(InputError, match="cannot write"):
         save_figure(render_environment(PILLAR), tmp_path / "missing" / "p.png")
+
+
+# ---------------------------------------------------------------------------------------------
+# scene(): whole pictures, as `solverplan render` draws them
+# ---------------------------------------------------------------------------------------------
+BOX = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]], name="box")
+
+
+def gids(fig) -> set[str]:
+    return {a.get_gid() for a in fig.axes[0].get_children() if a.get_gid()}
+
+
+def test_scene_of_a_bare_environment_draws_only_the_environment_layers():
+    fig = scene(PILLAR)
+    ax = fig.axes[0]
+    assert ax.get_title() == "pillar"
+    assert {"free-space", "boundary", "reflex-vertices"} <= gids(fig)
+    assert not any(g.startswith(("partition", "bvg", "safe-arcs", "plan-", "trajector", "limit-cycle", "edge-id"))
+                   for g in gids(fig))
+    assert scene(PILLAR, reflex=False, title="mine").axes[0].get_title() == "mine"
+    assert "reflex-vertices" not in gids(scene(PILLAR, reflex=False))
+
+
+def test_scene_stacks_graph_and_safe_arcs_under_the_partition():
+    from solverplan.bounce.partition import partition
+
+    fig = scene(PILLAR, partition=True, graph=True, safe_arcs=True, edge_ids=True)
+    ax = fig.axes[0]
+    (arcs,) = by_gid(ax.collections, "bvg-arcs")
+    (safe,) = by_gid(ax.collections, "safe-arcs")
+    (segments,) = by_gid(ax.collections, "partition-segments")
+    assert arcs.get_zorder() < safe.get_zorder() < segments.get_zorder()
+    n = partition(PILLAR).n_segments
+    assert len(segments.get_segments()) == n and len(by_gid(ax.texts, "segment-id-")) == n
+    assert len(by_gid(ax.texts, "edge-id-")) == PILLAR.n_edges
+
+
+def test_scene_of_a_plan_draws_its_cones_on_the_target_segments_and_its_rollouts():
+    from solverplan.bounce.partition import partition
+    from solverplan.bounce.transitions import transition_set
+    from solverplan.plan import find_plan
+
+    plan = find_plan(PILLAR, "e0", "e3")
+    assert plan.found
+    fig = scene(PILLAR, plan=plan, trajectories=20, seed=2)
+    ax = fig.axes[0]
+    assert ax.get_title() == plan_title(plan)
+    assert {"plan-start", "plan-goal", "plan-legend", "trajectories"} <= gids(fig)
+    (paths,) = by_gid(ax.collections, "trajectories")
+    assert len(paths.get_segments()) == 20 * plan.bounces
+    p = partition(PILLAR)
+    free = PILLAR.to_shapely().buffer(1e-9)
+    for k, stage in enumerate(plan.stages):
+        assert len(by_gid(ax.collections, f"plan-targets-{k}")) == 1
+        for i, j in stage.moves:
+            (cone,) = by_gid(ax.patches, f"plan-cone-{k}-{i}")
+            polygon = shapely.Polygon(cone.get_xy())
+            # the swept region lies in the free space, holds the source segment and reaches the target segment
+            assert free.contains(polygon)
+            source = shapely.LineString([p.seg_start[i], p.seg_end[i]])
+            target = shapely.LineString([p.seg_start[j], p.seg_end[j]])
+            assert polygon.buffer(1e-9).contains(source)
+            assert polygon.intersection(target.buffer(1e-9)).area > 0
+            # and it holds the exact landing set of the move: every point the stage's rays reach
+            segment = p.segments[i]
+            for piece in transition_set(PILLAR, (segment.edge, segment.t0, segment.t1), stage.interval):
+                ends = PILLAR.points_at(np.array([piece.edge] * 2), np.array([float(piece.t0), float(piece.t1)]))
+                assert polygon.buffer(1e-6).contains(shapely.LineString(ends))
+
+
+def test_scene_of_a_cycle_draws_the_cycle_over_rollouts_of_its_constant_heading():
+    fig = scene(BOX, cycle="tan:1/3", trajectories=4, seed=0)
+    ax = fig.axes[0]
+    assert ax.get_title().startswith("box: constant heading θ = 0.3218, limit cycle e0 → e1 → e2 → e3 → e0")
+    (line,) = by_gid(ax.lines, "limit-cycle")
+    assert len(line.get_xydata()) == 5  # four contacts, closed
+    assert len(by_gid(ax.texts, "limit-cycle-arrow-")) == 4
+    (paths,) = by_gid(ax.collections, "trajectories")
+    assert len(paths.get_segments()) == 4 * 20  # the default 20 bounces per rollout
+    assert line.get_zorder() > paths.get_zorder()
+
+
+def test_scene_of_a_funnel_answer_has_its_title_and_swept_regions_holding_the_positions():
+    from solverplan.plan.funnel import funnel
+
+    answer = funnel(BOX, "e0", "e2:0.4:0.6")
+    assert answer.found
+    fig = scene(BOX, answer=answer)
+    ax = fig.axes[0]
+    assert ax.get_title() == answer_title(answer) and ax.get_title().startswith("box: funnel e0 → e2:0.4:0.6\n")
+    assert {"funnel-start", "funnel-goal"} <= gids(fig)
+    for k, stage in enumerate(answer.stages):
+        regions = shapely.union_all([shapely.Polygon(patch.get_xy()) for patch in by_gid(ax.patches, f"funnel-swept-{k}")])
+        for piece in stage.positions:  # the positions after a stage are where its rays land: on the regions' rims
+            a, b = BOX.points_at(np.array([piece.edge] * 2), np.array([float(piece.t0), float(piece.t1)]))
+            assert regions.buffer(1e-6).contains(shapely.LineString([a, b]))
+
+
+def test_scene_draws_what_render_answer_draws():
+    from solverplan.plan.funnel import funnel
+
+    answer = funnel(BOX, "e0", "e2:0.4:0.6")
+    assert figure_bytes(scene(BOX, answer=answer, edge_ids=True), "svg") == figure_bytes(render_answer(answer), "svg")
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"rule": "bouncy"}, "unknown bounce rule 'bouncy'"),
+        ({"start": "e9"}, "e9"),
+        ({"plan": "PLAN", "cycle": 0.3}, "a plan draws its own trajectories"),
+        ({"plan": "PLAN", "start": "e0"}, "a plan draws its own trajectories"),
+        ({"cycle": 0.3, "answer": object()}, "either a limit cycle or an answer"),
+    ],
+)
+def test_scene_rejects_bad_or_conflicting_options(options, message):
+    from solverplan.plan import find_plan
+
+    if options.get("plan") == "PLAN":
+        options = {**options, "plan": find_plan(BOX, "e0", "e2")}
+    with pytest.raises(InputError, match=re.escape(message)):
+        scene(BOX, **options)
+
+
+def test_scene_rejects_a_plan_made_in_another_environment():
+    from solverplan.plan import find_plan
+
+    with pytest.raises(InputError, match="another environment"):
+        scene(PILLAR, plan=find_plan(BOX, "e0", "e2"))
+
+
+def test_cli_render_writes_the_scene(tmp_path):
+    from typer.testing import CliRunner
+
+    from solverplan import cli
+
+    out = tmp_path / "cycle.svg"
+    model = tmp_path / "box.json"
+    model.write_text('{"name": "box", "outer": [[0, 0], [4, 0], [4, 3], [0, 3]]}')
+    result = CliRunner().invoke(cli.app, ["render", str(model), "--cycle", "--theta", "tan:1/3", "--trajectories", "4",
+                                          "--edge-ids", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    env = load_environment(model)
+    expected = figure_bytes(scene(env, cycle="tan:1/3", trajectories=4, edge_ids=True), "svg")
+    assert out.read_bytes() == expected
+
+
+def test_render_package_exports_every_public_name_and_no_name_hides_a_submodule():
+    import pkgutil
+
+    import solverplan.render as render
+
+    submodules = {m.name for m in pkgutil.iter_modules(render.__path__)}
+    assert {"figure", "labels", "environment", "partition", "graph", "trajectories", "cycles", "plans", "answers",
+            "heatmaps", "scenes"} <= submodules
+    assert not submodules & set(render.__all__)
+    for name in submodules - {"_swept"}:
+        module = __import__(f"solverplan.render.{name}", fromlist=["__all__"])
+        assert set(module.__all__) <= set(render.__all__), name
+        assert all(getattr(render, n) is getattr(module, n) for n in module.__all__)

@@ -1,0 +1,67 @@
+"""Pictures: environments, partitions, graphs, trajectories, cycles, plans, answers and study heatmaps.
+
+All plotting in solverplan lives in this package, one module per layer: :mod:`~solverplan.render.figure`
+(figures, palette, PNG/SVG output), :mod:`~solverplan.render.labels` (label placement, edge and vertex
+ids), :mod:`~solverplan.render.environment`, :mod:`~solverplan.render.partition`,
+:mod:`~solverplan.render.graph`, :mod:`~solverplan.render.trajectories`, :mod:`~solverplan.render.cycles`,
+:mod:`~solverplan.render.plans`, :mod:`~solverplan.render.answers`, :mod:`~solverplan.render.heatmaps`,
+and :mod:`~solverplan.render.scenes`, whose :func:`scene` stacks the layers into a whole picture (what
+``solverplan render`` draws). Each ``draw_*`` layer takes an Axes and returns the artists it added; every
+artist has a ``gid`` that becomes its ``id`` in SVG output.
+
+>>> from solverplan.environment import Environment
+>>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]], name="box")
+>>> fig = scene(env, partition=True, edge_ids=True)
+>>> fig.axes[0].get_title(), len([t for t in fig.axes[0].texts if t.get_gid().startswith("edge-id-")])
+('box', 4)
+"""
+
+from solverplan.render.answers import answer_title, draw_answer, draw_patrol, draw_position_sets, render_answer
+from solverplan.render.cycles import draw_cycle
+from solverplan.render.environment import (
+    draw_boundary,
+    draw_edge_directions,
+    draw_free_space,
+    draw_reflex_vertices,
+    render_environment,
+)
+from solverplan.render.figure import FigureFormat, SavedFigure, figure_bytes, figure_format, new_figure, save_figure
+from solverplan.render.graph import draw_graph, draw_safe_arcs
+from solverplan.render.heatmaps import draw_heatmap, render_heatmaps
+from solverplan.render.labels import LabelPlacer, draw_edge_ids, draw_vertex_ids
+from solverplan.render.partition import draw_partition
+from solverplan.render.plans import draw_plan, plan_title
+from solverplan.render.scenes import scene
+from solverplan.render.trajectories import draw_trajectories
+
+__all__ = [
+    "FigureFormat",
+    "new_figure",
+    "draw_free_space",
+    "draw_boundary",
+    "draw_edge_directions",
+    "draw_edge_ids",
+    "draw_vertex_ids",
+    "LabelPlacer",
+    "draw_reflex_vertices",
+    "draw_partition",
+    "draw_graph",
+    "draw_safe_arcs",
+    "draw_trajectories",
+    "draw_cycle",
+    "draw_plan",
+    "plan_title",
+    "draw_patrol",
+    "draw_position_sets",
+    "draw_answer",
+    "answer_title",
+    "render_answer",
+    "render_environment",
+    "scene",
+    "figure_format",
+    "figure_bytes",
+    "save_figure",
+    "SavedFigure",
+    "draw_heatmap",
+    "render_heatmaps",
+]
