@@ -802,11 +802,11 @@ def prove_command(
     out: OutOpt = None,
     verbose: VerboseOpt = 0,
 ) -> None:
-    """Run the symbolic proofs in proofs/ (sympy): a table of results (proof, status, seconds); exit 1 if any fails."""
+    """Run the symbolic proofs of solverplan.proofs (sympy): a table of results (proof, status, seconds); exit 1 if any fails."""
     with exit_codes(verbose):
-        import proofs  # packaged beside solverplan (pyproject), imported only by this command
+        from solverplan.proofs import prove_all  # sympy-heavy: imported only by this command
 
-        report = proofs.prove_all(only or None)
+        report = prove_all(only or None)
         emit(report, fmt, out)
     if not report.passed:
         raise typer.Exit(1)

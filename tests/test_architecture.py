@@ -29,6 +29,7 @@ LAYERS = {
     "explore": 4,
     "reflection": 4,
     "plan": 5,
+    "proofs": 5,  # sympy proofs; one checks the exact safe set of bounce (4); only the CLI imports them
     "simulate": 6,
     "studies": 7,  # studies run simulations (simulate, 6) and feed render (7, via plain arrays)
     "certify": 6,

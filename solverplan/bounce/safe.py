@@ -80,7 +80,7 @@ holes: if two headings reach p₁, p₂ ∈ e_j, a boundary point hit in between
 x p₁ p₂, and its ring cannot leave that triangle (its sides are free, or open pieces of e_j, or the
 point x on the open e_i), so it is a hole. Hence **without holes A_a(j) ∩ A_b(j) is one interval**
 and so is the safe set; with holes it can be several: a hole strictly above the middle of e_i
-blocks the heading π/2 but not π/4 or 3π/4 (``proofs/safe_set_structure.py`` and the tests build
+blocks the heading π/2 but not π/4 or 3π/4 (``solverplan.proofs.safe_set_structure`` and the tests build
 this room). DESIGN §3's "the exact set of safe headings is an interval" holds for polygons without
 holes only; :class:`SafeSet` keeps every interval and :attr:`SafeSet.interval` the widest.
 

@@ -155,7 +155,7 @@ def test_lemma3_outside_the_range_the_edge_order_breaks_rectangle():
 def test_lemma3_outside_the_range_a_step_expands_contraction_binds():
     """Designed example 2 (per-step contraction binds at v1): just above the bound the edge order still holds
     but the step e0 → e1 expands — measured in simulation — while the whole cycle still contracts (Def. 12:
-    Lemma 3's per-step condition is sufficient, not necessary; proofs/lemma3_convex_order.py)."""
+    Lemma 3's per-step condition is sufficient, not necessary; solverplan.proofs.lemma3_convex_order)."""
     r = lemma3_range(CONTRACTION_BINDS)
     assert r.contraction_vertex == 1 and r.contraction_bound < r.order_bound
     theta = r.bound + 0.01
@@ -287,7 +287,7 @@ def test_exact_headings_parse_and_rotate_every_edge_by_the_same_angle():
 @given(env=polygons_with_holes(), edge=st.integers(0, 60), target=st.integers(0, 60))
 @settings(max_examples=FEW)
 def test_transition_angle_agrees_with_the_affine_map_slope(env, edge, target):
-    """In arc length the affine map's slope is ±C (proofs/affine_transition.py): |α|·ℓ_j/ℓ_i = C(θ, φ)."""
+    """In arc length the affine map's slope is ±C (solverplan.proofs.affine_transition): |α|·ℓ_j/ℓ_i = C(θ, φ)."""
     from solverplan.bounce.transitions import affine_map
 
     i, j = edge % env.n_edges, target % env.n_edges

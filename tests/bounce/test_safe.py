@@ -16,7 +16,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-import proofs.safe_set_structure as structure
+import solverplan.proofs.safe_set_structure as structure
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.bounce.partition import partition

@@ -36,8 +36,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import is_zero, sin_positive_on_open_0_pi, text, transition_triangle
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import is_zero, sin_positive_on_open_0_pi, text, transition_triangle
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove", "hit_parameter_world"]
 

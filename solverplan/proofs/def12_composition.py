@@ -10,7 +10,7 @@ to its distance from the corner, δ = σ_k (x − X_k) (X_k the corner's coordin
 σ_k = ±1 the side), multiplies it by C_k (Lemma 2: |VQ| = C·|VP|), and places the hit at
 y = Y_k + ρ_k C_k δ on the target (Y_k, ρ_k = ±1 likewise). The target coordinate of step k is the source
 coordinate of step k + 1. C_k is the ratio derived from the transition's triangle
-(:func:`proofs._common.transition_triangle`), right and left steps alternating.
+(:func:`solverplan.proofs._common.transition_triangle`), right and left steps alternating.
 
 Derivation. For m = 2..5: compose the maps symbolically; (1) F'' = 0: the composite is affine;
 (2) F' = Π_k σ_k ρ_k C_k (the chain rule, checked on the composed expression); (3) with σ_k² = ρ_k² = 1,
@@ -28,8 +28,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import is_zero, text, transition_triangle
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import is_zero, text, transition_triangle
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove"]
 

@@ -10,11 +10,11 @@ direction). Measured from V, a start at distance d lands at distance C·d with
 and on its domain C < 1 iff θ < π/2 − φ/2 (right), resp. θ > π/2 + φ/2 (left).
 
 Setting. The triangle P V Q (robot, corner, hit) in the frame of the source line (x-axis, free space
-above, V at the origin), built and solved in coordinates by :func:`proofs._common.transition_triangle`.
+above, V at the origin), built and solved in coordinates by :func:`solverplan.proofs._common.transition_triangle`.
 Its angles are ∠P = θ (right) or π − θ (left), ∠V = φ, ∠Q = π − ∠P − ∠V. The domain is exactly
 "the triangle is non-degenerate": the three angles are positive (the ray meets the target half-line
 beyond V, ahead of the robot). Signs on the domain are decided by writing θ, φ and π through the three
-positive triangle angles (:class:`proofs._common.AngleDomain`).
+positive triangle angles (:class:`solverplan.proofs._common.AngleDomain`).
 
 Derivation. (1) Law of sines: |VQ| / |VP| = sin ∠P / sin ∠Q, which is DESIGN's C. (2) The same ratio
 from solving the triangle in coordinates (P + s·w = r·e), and |PQ| / |VP| = sin ∠V / sin ∠Q. (3) On the
@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import (
+from solverplan.proofs._common import (
     TransitionTriangle,
     cos_sign_on_open_0_pi,
     is_zero,
@@ -43,7 +43,7 @@ from proofs._common import (
     text,
     transition_triangle,
 )
-from proofs._core import ProofResult, Step
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove", "design_coefficient", "design_threshold"]
 

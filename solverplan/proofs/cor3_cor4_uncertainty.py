@@ -44,8 +44,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import is_zero, text
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import is_zero, text
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove", "cycles_tight", "cycles_design"]
 

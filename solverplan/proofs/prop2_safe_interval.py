@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._core import ProofResult, Step
+from solverplan.proofs._core import ProofResult, Step
 
 
 def prove() -> ProofResult:

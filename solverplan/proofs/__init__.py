@@ -6,6 +6,6 @@ it held. An erratum (where a seed paper's text disagrees with what the proof yie
 module docstring. ``solverplan prove`` runs them all; the test suite runs them too.
 """
 
-from proofs._core import ProofReport, ProofResult, Step, all_proofs, prove_all, run_all
+from solverplan.proofs._core import ProofReport, ProofResult, Step, all_proofs, prove_all, run_all
 
 __all__ = ["ProofReport", "ProofResult", "Step", "all_proofs", "prove_all", "run_all"]

@@ -6,9 +6,9 @@ Statement. On its domain, C(θ, φ) is strictly increasing in θ for a right tra
 domain the worst (largest) C is at θ_hi for a right transition and at θ_lo for a left one, the best at
 the other end; and 1/C = cos φ ± cot θ · sin φ is affine in u = cot θ.
 
-Setting. C is the ratio derived from the transition's triangle (:func:`proofs._common.transition_triangle`,
+Setting. C is the ratio derived from the transition's triangle (:func:`solverplan.proofs._common.transition_triangle`,
 the same object Lemma 2 checks), not retyped. Domains are written through positive triangle angles
-(:class:`proofs._common.AngleDomain`): for one heading, the triangle's three angles; for two headings
+(:class:`solverplan.proofs._common.AngleDomain`): for one heading, the triangle's three angles; for two headings
 θ₁ < θ₂, θ₂ = θ₁ + δ with δ > 0 and both triangles non-degenerate.
 
 Derivation. (1) Differentiate log C and compare with cot θ − cot(θ ± φ). (2) cot a − cot b =
@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import AngleDomain, is_zero, text, transition_triangle
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import AngleDomain, is_zero, text, transition_triangle
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove"]
 

@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._core import ProofResult, Step
+from solverplan.proofs._core import ProofResult, Step
 
 ERRATUM = (
     "DESIGN §3 says the exact set of safe headings of any two segments is an interval; that holds only "
