@@ -21,7 +21,7 @@ from solverplan.geometry import raycast
 from solverplan.simulate import simulate_rule
 from solverplan.studies import star_polygon
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
 
 
 def timed_run(env, rule, trials: int, bounces: int, repeat: int) -> tuple[float, float, dict]:

@@ -40,6 +40,7 @@ from typing import Iterable, Literal, Sequence
 import numpy as np
 
 from solverplan._io import atomic_write_text
+from solverplan._shipped import model_file, model_names
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
 from solverplan.exact import (
     ExactPoint,
@@ -828,20 +829,60 @@ def _format_of(path: Path, fmt: str | None) -> FileFormat:
         ) from None
 
 
-def load_environment(path: str | Path, fmt: FileFormat | None = None) -> Environment:
-    """Read an environment file (format from the extension unless ``fmt`` is given).
+def _no_such_file(path: str) -> str:
+    """The one-line error for a path that is neither a file nor a shipped model (listing the models for a bare name)."""
+    if "/" in path or "\\" in path:
+        return f"{path}: no such file, nor a shipped model"
+    return f"{path}: no such file, nor a shipped model (they are {', '.join(model_names())})"
 
-    The name defaults to the file's stem when the file gives none.
+
+def load_environment(path: str | Path, fmt: FileFormat | None = None) -> Environment:
+    """Read an environment file, or a shipped model by name.
+
+    Parameters
+    ----------
+    path
+        An environment file (``.json``, ``.geojson`` or ``.wkt``), or the name of a shipped model
+        (``"two_rooms"`` or ``"two_rooms.json"``; see :func:`solverplan.models.names`). An existing
+        file wins over a model of the same name.
+    fmt
+        The file's format, when its extension does not say (``"json"``, ``"geojson"`` or ``"wkt"``).
+        Shipped models are JSON whatever ``fmt`` says.
+
+    Returns
+    -------
+    Environment
+        Named by the file when it gives a name, else by the file's stem.
+
+    Raises
+    ------
+    MalformedFile
+        If the path is neither a file nor a shipped model's name, cannot be read, or is not a valid
+        environment file.
+
+    >>> load_environment("l_shape").name
+    'l_shape'
+    >>> load_environment("no/such/file.json")
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.MalformedFile: no/such/file.json: no such file, nor a shipped model
     """
-    path = Path(path)
-    kind = _format_of(path, fmt)
+    if fmt:
+        _format_of(Path(path), fmt)  # an unknown format is an error even for a shipped model
+    file = Path(path)
+    if not file.exists():
+        shipped = model_file(str(path))
+        if shipped is None:
+            raise MalformedFile(_no_such_file(str(path)))
+        file, fmt = shipped, "json"
+    kind = _format_of(file, fmt)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise MalformedFile(f"{path}: no such file") from None
+        text = file.read_text(encoding="utf-8")
+    except FileNotFoundError:  # removed since the check above
+        raise MalformedFile(_no_such_file(str(path))) from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
-    return parse_environment(text, kind, default_name=path.stem, source=str(path))
+        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None
+    return parse_environment(text, kind, default_name=file.stem, source=str(file))
 
 
 def save_environment(env: Environment, path: str | Path, fmt: FileFormat | None = None) -> None:

@@ -18,11 +18,13 @@ LAYERS = {
     "errors": 0,
     "_io": 0,
     "_arrays": 0,
+    "_shipped": 0,  # where the shipped model files are: environment accepts a model's name
     "interval": 1,
     "exact": 1,
     "environment": 2,
     "result": 3,
     "geometry": 3,
+    "models": 3,  # the shipped environments by name: they load through environment (2)
     "bounce": 4,
     "rectilinear": 4,
     "wallfollow": 4,

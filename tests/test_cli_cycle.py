@@ -15,7 +15,7 @@ from solverplan.environment import load_environment
 from solverplan.simulate import simulate_rule
 
 runner = CliRunner()
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
 
 
 def run(*args: object):

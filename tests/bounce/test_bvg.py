@@ -29,7 +29,7 @@ from solverplan.geometry.visibility import segments_see_each_other
 from solverplan.studies.generators import worst_case_polygon
 from tests.strategies import polygons_with_holes, simple_polygons
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 SQUARE = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]], name="square")
 ELL = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], name="L")
 

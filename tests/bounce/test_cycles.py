@@ -23,7 +23,7 @@ from solverplan.simulate import simulate_rule
 from tests.strategies import convex_polygons, polygons_with_holes
 
 PI = math.pi
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 FEW = max(8, settings.default.max_examples // 5)
 

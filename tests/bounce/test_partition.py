@@ -27,7 +27,7 @@ from solverplan.exact import orient, point_in_ring, to_fraction
 from solverplan.geometry.visibility import visibility_polygon
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 # the module (the package re-exports the function of the same name)
 partition_module = importlib.import_module("solverplan.bounce.partition")
 
@@ -65,7 +65,7 @@ def test_convex_polygons_have_no_inserted_points(env):
 
 
 def test_l_shape_inserted_points_by_hand():
-    """models/l_shape: the reflex vertex r = (4, 4) sees (0, 10) and (10, 0) beside its obstacle wedge.
+    """The shipped model l_shape: the reflex vertex r = (4, 4) sees (0, 10) and (10, 0) beside its obstacle wedge.
 
     - extension of (10, 4) → (4, 4): hits the left wall (0,10) → (0,0) at (0, 4), t = 3/5;
     - extension of (4, 10) → (4, 4): hits the floor at (4, 0), t = 2/5;
@@ -113,7 +113,7 @@ def test_note000_trap3_holes_get_inserted_points_like_the_outer_ring():
     r = vertex_of(env, (14, 10))
     assert {v for q in p.inserted for rr, v in q.sources if rr == r} >= {None}
     assert inserted_set(p) == reference_inserted(env)
-    # models/one_hole: a convex hole in a convex room; all its rays land on the outer ring
+    # the shipped model one_hole: a convex hole in a convex room; all its rays land on the outer ring
     p = partition(model("one_hole"))
     assert len(p.inserted) == 14
     assert {int(p.env.ring_of[q.edge]) for q in p.inserted} == {0}

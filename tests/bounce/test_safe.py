@@ -36,7 +36,7 @@ from solverplan.geometry.visibility import is_entirely_visible
 from solverplan.studies.generators import star_polygon_with_holes
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 SQUARE = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]], name="square")
 # a wide room with a small hole right above the middle of the floor piece (−1, 0)–(1, 0)
 HOLE_ROOM = Environment.from_coords(

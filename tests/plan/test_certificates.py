@@ -18,7 +18,7 @@ from solverplan.environment import load_environment
 from solverplan.errors import InputError
 from solverplan.plan import find_plan, pareto_front
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 
 
 @pytest.fixture(scope="module")

@@ -29,7 +29,7 @@ from solverplan.plan._results import SAFE_END_MARGIN
 from solverplan.plan.patrol import patrol
 from solverplan.simulate import StagePolicy, simulate_policy
 
-MODELS = Path(__file__).resolve().parent.parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"
 CONVEX = ["square", "triangle", "hexagon", "irregular_convex"]
 runner = CliRunner()
 

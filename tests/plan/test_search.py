@@ -21,7 +21,7 @@ from tests.strategies import convex_polygons, polygons_with_holes, simple_polygo
 K = 3
 SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 
 
 @st.composite
