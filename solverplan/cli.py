@@ -1,4 +1,4 @@
-"""The ``solverplan`` command: a thin shell over the public API (CONTRACT.md, "Commands").
+"""The ``solverplan`` command: a thin shell over the public API (docs/contract.md).
 
 Every command parses its arguments, calls the library, and emits the answer's ``to_json()``
 (default) or ``to_text()`` (``--format text``) on stdout, or writes it atomically to ``-o FILE``.
@@ -140,7 +140,7 @@ def _stderr_logging(verbose: int) -> Iterator[None]:
 
 @contextlib.contextmanager
 def exit_codes(verbose: int = 0) -> Iterator[None]:
-    """Run a command body, mapping errors to CONTRACT exit codes with one line on stderr.
+    """Run a command body, mapping errors to the exit codes of docs/contract.md with one line on stderr.
 
     :class:`InputError` → 2; any other :class:`SolverplanError` → 1; anything unexpected → 1 with
     ``internal error: ...`` (and the traceback before it when ``verbose``). Also sets up ``-v`` logging.
@@ -198,7 +198,7 @@ class _Shell(TyperGroup):
 app = typer.Typer(
     name="solverplan",
     cls=_Shell,
-    help="Planning with proofs for minimal bouncing robots. Answers are JSON on stdout (see CONTRACT.md).",
+    help="Planning with proofs for minimal bouncing robots. Answers are JSON on stdout (see docs/contract.md).",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
@@ -321,7 +321,7 @@ def graph_command(
         typer.Option("--heading", metavar="THETA", help="Only the arcs whose safe set holds heading THETA (radians, in (0, π)); implies --safe.", show_default=False),
     ] = None,
     env_format: EnvFormatOpt = None,
-    fmt: Annotated[GraphFormat, typer.Option("--format", help="JSON (CONTRACT), text, GraphML or Graphviz DOT.")] = GraphFormat.JSON,
+    fmt: Annotated[GraphFormat, typer.Option("--format", help="JSON (docs/contract.md), text, GraphML or Graphviz DOT.")] = GraphFormat.JSON,
     out: OutOpt = None,
     verbose: VerboseOpt = 0,
 ) -> None:

@@ -3,9 +3,9 @@
 An :class:`Environment` is a polygon with holes, stored with **exact** rational coordinates
 (decimals in files are read exactly) beside float arrays for fast numerics. It is always
 valid and normalised: the outer ring is counter-clockwise, holes are clockwise, so the free
-space lies on the **left** of every directed edge (DESIGN §2).
+space lies on the **left** of every directed edge.
 
-Edge numbering (CONTRACT.md): the outer ring's edges are ``0 .. n0−1``, edge ``i`` going from
+Edge numbering (docs/contract.md): the outer ring's edges are ``0 .. n0−1``, edge ``i`` going from
 vertex ``i`` to the next vertex of its ring; each hole's edges continue the numbering in file
 order. Vertex ``i`` is the first vertex of edge ``i``. A boundary point is ``(edge, t)`` with the
 boundary parameter t ∈ [0, 1] along the directed edge; its perimeter position ("arc length") is
@@ -110,7 +110,7 @@ class BoundaryPiece:
 
 @dataclass(frozen=True, slots=True)
 class BoundarySet:
-    """A union of boundary pieces (start sets, goal sets, patrol edges); see CONTRACT.md."""
+    """A union of boundary pieces (start sets, goal sets, patrol edges); see docs/contract.md."""
 
     pieces: tuple[BoundaryPiece, ...]
 
@@ -442,7 +442,7 @@ class Environment:
         return i, float(t[i])
 
     def boundary_set(self, spec: str) -> BoundarySet:
-        """Parse a boundary set such as ``e3``, ``e3:0.25:0.75`` or ``e3:0.5:1,e4`` (CONTRACT.md).
+        """Parse a boundary set such as ``e3``, ``e3:0.25:0.75`` or ``e3:0.5:1,e4`` (docs/contract.md).
 
         >>> Environment.from_coords([[0, 0], [1, 0], [0, 1]]).boundary_set("e7")
         Traceback (most recent call last):
@@ -488,7 +488,7 @@ class Environment:
         )
 
     def to_dict(self) -> dict:
-        """JSON-ready dict per CONTRACT (numbers exact where they are terminating decimals)."""
+        """JSON-ready dict as in docs/contract.md (numbers exact where they are terminating decimals)."""
         data: dict = {"name": self.name, "outer": [_json_point(p) for p in self.outer]}
         if self.holes:
             data["holes"] = [[_json_point(p) for p in hole] for hole in self.holes]

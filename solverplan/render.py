@@ -12,7 +12,7 @@ A picture is a stack of layers. Each layer is a ``draw_*`` function that takes a
 
 Conventions match the rest of the package: free space on the left of every directed edge; edge
 ``i`` goes from vertex ``i`` to the next vertex of its ring; labels are ``e3`` / ``v3`` like the
-boundary-set syntax (CONTRACT.md).
+boundary-set syntax (docs/contract.md).
 
 >>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]], [[[1, 1], [2, 1], [2, 2], [1, 2]]])
 >>> fig = render_environment(env, edge_ids=True)
@@ -1079,7 +1079,7 @@ def render_heatmaps(heatmaps, *, title: str | None = None, columns: int | None =
     return fig  # type: ignore[return-value]
 
 
-# ---------------------------------------------------------------------- contraction answers (issue 6)
+# ---------------------------------------------------------------------- contraction answers (patrols, funnels)
 PATROL_EDGE_COLOR = "#7b3294"  # the edges a patrol must visit
 CONE_COLOR = "#2c7fb8"  # the heading interval of a stage, as a fan of rays
 FUNNEL_START_COLOR = "#1b7837"

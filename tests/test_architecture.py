@@ -1,4 +1,4 @@
-"""Data flows one way (DESIGN §4): each layer imports only from layers to its left.
+"""Data flows one way: each layer imports only from layers to its left.
 
 environment → geometry kernel → model structures (bounce, rectilinear, …) → planners →
 results (simulate, studies, certificates) → renderings / descriptions → CLI.
@@ -80,7 +80,7 @@ def test_modules_import_only_from_layers_to_their_left(path, part):
 
 
 def test_library_modules_never_print():
-    """stdout belongs to the CLI (STYLE §7.3): a stray print corrupts JSON output."""
+    """stdout belongs to the CLI (answers are JSON on stdout): a stray print corrupts JSON output."""
     for path, part in _modules():
         if part in ("cli", "__main__"):
             continue

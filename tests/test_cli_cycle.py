@@ -1,4 +1,4 @@
-"""`solverplan cycle` (the cycle answer of CONTRACT.md) and `solverplan render --cycle`."""
+"""`solverplan cycle` (the cycle answer of docs/contract.md) and `solverplan render --cycle`."""
 
 from __future__ import annotations
 

@@ -317,7 +317,7 @@ class LimitCycle:
     lemma3
         Lemma 3's range when the environment is strictly convex, else None.
     theorem1_d
-        Theorem 1's d_FP by DESIGN's float formula, on edge ``edges[0]`` (theorem1 method, for comparison).
+        Theorem 1's d_FP by its float closed form, on edge ``edges[0]`` (theorem1 method, for comparison).
     epsilon, cycles_to_epsilon, epsilon_width
         Cor. 4 (tight) when ``epsilon`` was given: cycles until a position set of width ``epsilon_width`` on
         ``edges[0]`` (the whole edge for ``every-start``, else the basin; arc length) is at most ε wide.
@@ -392,7 +392,7 @@ class LimitCycle:
         return f"{head}, periodic orbit {seq}{more}\n{self.status.value} (contraction {self.contraction:.3g}): not a stable cycle"
 
     def to_json(self) -> dict:
-        """The CONTRACT's cycle answer (plus the exact details)."""
+        """The cycle answer of docs/contract.md (plus the exact details)."""
         pc = self.point_cycles or (None,) * len(self.points)
         out: dict = {
             "status": self.status.value,

@@ -1,7 +1,7 @@
 """Dynamics of fixed-heading bounces (paper §6): contraction coefficients, Lemma 3's range, Theorem 1's
 fixed point, Corollaries 3 and 4 — and exact headings.
 
-Conventions (DESIGN §2, §3): a heading θ ∈ (0, π) is radians CCW from the directed edge the robot
+Conventions: a heading θ ∈ (0, π) is radians CCW from the directed edge the robot
 leaves (π/2 = inward normal). A transition from segment e_i to e_j is a *right* transition when the
 corner V where their supporting lines meet lies ahead of the robot (consecutive edges of a convex
 polygon), a *left* one when V lies behind; φ is the interior angle of the triangle (robot, V, hit) at
@@ -33,7 +33,7 @@ True
 >>> fp = theorem1_fixed_point(square, ExactHeading.from_tangent(Fraction(1, 2)))
 >>> fp.t_exact, round(fp.d, 12)             # tan θ / (1 + tan θ) = 1/3
 (Fraction(1, 3), 0.333333333333)
->>> cycles_to_epsilon(Fraction(9, 10), 1, Fraction(1, 1000))   # tight Cor. 4 (DESIGN's factor 2 gives 73)
+>>> cycles_to_epsilon(Fraction(9, 10), 1, Fraction(1, 1000))   # tight Cor. 4 (the paper's factor 2 gives 73)
 66
 """
 
@@ -506,7 +506,7 @@ def lemma3_max_heading(env: Environment) -> float:
     The two bounds are those of solverplan.proofs.lemma3_convex_order: the angle bound is exactly the edge-order
     condition (for the open edges θ equal to it still works), and the per-step contraction bound is
     sufficient, not necessary — Theorem 1 needs only Π C_k < 1 (Def. 12). φ_i runs over all interior
-    angles (the seed's φ_{i−1,i} and DESIGN's φ_i index the same set). See :func:`lemma3_range`.
+    angles (the paper's φ_{i−1,i} and the φ_i here index the same set). See :func:`lemma3_range`.
 
     Raises
     ------
@@ -522,7 +522,7 @@ def lemma3_max_heading(env: Environment) -> float:
 @dataclass(frozen=True, slots=True)
 class Theorem1FixedPoint:
     """Theorem 1's fixed point on edge e_edge: ``d`` the distance from the edge's first vertex (float, by
-    DESIGN's formula), ``t`` = d / ℓ, and ``t_exact`` the same by composing the exact rational affine
+    Theorem 1's closed form), ``t`` = d / ℓ, and ``t_exact`` the same by composing the exact rational affine
     maps of the n transitions (only for an :class:`ExactHeading`), ``contraction`` = Π C_k (float) and
     ``contraction_exact`` = |α| of the exact return map."""
 
@@ -602,7 +602,7 @@ def cycles_to_epsilon(contraction: object, width: object, epsilon: object) -> in
 
         k = max(0, ⌈log(ε / w) / log C⌉)
 
-    (solverplan.proofs.cor3_cor4_uncertainty: the set's width is exactly C^k·w; DESIGN's ⌈log(ε/(2ℓ))/log C⌉ is
+    (solverplan.proofs.cor3_cor4_uncertainty: the set's width is exactly C^k·w; the paper's ⌈log(ε/(2ℓ))/log C⌉ is
     sufficient, not tight). ``width`` and ``epsilon`` in the same unit (arc length, or the boundary
     parameter t of one edge); all-exact inputs (ints, Fractions) are decided exactly, floats are checked
     against C^k·w after the logarithms so a ratio that is an exact power does not round up a cycle.

@@ -1,4 +1,4 @@
-"""The independent exact checker of certificates (DESIGN §6, "Exact certificate checks").
+"""The independent exact checker of certificates.
 
 This module re-derives every claim of a :class:`~solverplan.certify.schema.Certificate` in rational
 arithmetic. It imports only the standard library (``fractions``, ``dataclasses``, ``typing``) and
@@ -75,7 +75,7 @@ What is checked
    meets L) and the numerator cross(E_s, d(λ)) is positive (every direction leaves e into the free
    space). A linear-fractional function with a non-vanishing denominator is monotone on an interval,
    so |α| over the cone is largest at d_lo or d_hi — the exact, trigonometry-free form of the
-   monotonicity of the contraction coefficient C(θ, φ) (DESIGN §3, Lemma 2). Choices at different
+   monotonicity of the contraction coefficient C(θ, φ) (Lemma 2). Choices at different
    bounces are independent and |α| of a composition is the product, so the worst case of the cycle
    is the product of the per-stage worst cases.
 8. **Optimality.** The bound of a search or LP is not re-derived here (that would mean re-running the
@@ -305,7 +305,7 @@ def angle_enclosure(v: Point, bits: int = 64) -> tuple[Fraction, Fraction]:
 
 def heading_vector(edge_vector: Point, d: Point) -> Point:
     """The direction d in the frame of an edge: (dot(E, d), cross(E, d)); its angle is the heading θ
-    of d measured counter-clockwise from E (DESIGN §2), exactly as a rational vector."""
+    of d measured counter-clockwise from E, exactly as a rational vector."""
     return (_dot(edge_vector, d), _cross(edge_vector, d))
 
 
@@ -356,7 +356,7 @@ def line_hit(origin: Point, d: Point, c: Point, e: Point) -> tuple[Fraction, Fra
 
 def affine_coefficients(a: Point, e_s: Point, c: Point, e_t: Point, d: Point) -> tuple[Fraction, Fraction]:
     """(α, β) of the exact map t ↦ α t + β from the source edge a + t·e_s to the target line c + τ·e_t
-    along the direction d (DESIGN §3): α = cross(e_s, d)/cross(e_t, d), β = cross(a − c, d)/cross(e_t, d)."""
+    along the direction d: α = cross(e_s, d)/cross(e_t, d), β = cross(a − c, d)/cross(e_t, d)."""
     den = _cross(e_t, d)
     if den == 0:
         raise ZeroDivisionError("direction parallel to the target edge")

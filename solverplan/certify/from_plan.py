@@ -14,8 +14,7 @@ intervals already lie μ = 10⁻⁹ rad inside the exact safe sets, so a tiny ma
 at 2·10⁻¹⁰ so that a proved optimality bound stays within the checker's 10⁻⁹ of the certified width
 (the certified width is the plan's width minus about 2 × (margin + rounding)).
 
-Written by the planner's side (issue 5, items 1–2) for ``solverplan plan --certificate``; the writer and the
-checker are untouched.
+Used by ``solverplan plan --certificate``; the writer and the checker know nothing of plans.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ Every exact number is written as a JSON integer or a string: ``"3/7"`` or an exa
 at their decimal text (``0.1`` is 1/10, never the binary float near it); Python floats handed to
 :meth:`Certificate.from_json` are refused, since their binary value is not what anybody wrote.
 
-Conventions (DESIGN §2, CONTRACT.md)
+Conventions (as in docs/contract.md)
 ------------------------------------
 - ``environment.rings``: outer ring counter-clockwise, holes clockwise (free space on the left of
   every directed edge); edge ``i`` goes from vertex ``i`` to the next vertex of its ring, the outer

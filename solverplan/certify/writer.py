@@ -1,4 +1,4 @@
-"""Certificates from floating-point planner output (DESIGN §6).
+"""Certificates from floating-point planner output.
 
 Planners work in floats: a stage is a heading :class:`~solverplan.interval.Interval` (radians,
 measured from the source edge) and the moves it makes (source segment or exact sub-interval → target

@@ -1,4 +1,4 @@
-"""Per-arc interval choices of the safe BVG for a required tolerance (private; DESIGN §6).
+"""Per-arc interval choices of the safe BVG for a required tolerance (private).
 
 For a tolerance ε (radians, the half-width of the heading interval the robot is allowed), each arc of the safe
 bounce visibility graph may use any sub-interval of width 2ε of one of its safe intervals. The contraction

@@ -3,7 +3,7 @@
 A *belief* is the set of segments of P′ the robot may be on. One stage is one heading interval executed
 whatever the segment: it is usable from belief B when, for every heading in it, every segment of B has a safe
 arc to some target (then every point of every segment of B lands inside one known segment), and the next
-belief is the set of those targets (DESIGN §6, "fewest bounces … over sets of possible segments"). For a belief
+belief is the set of those targets ("fewest bounces … over sets of possible segments"). For a belief
 the candidate intervals come from one sweep over the ends of its segments' safe intervals: between two
 consecutive ends the map segment → target is constant; maximal runs with the same map that cover every segment
 are the candidates, kept when at least 2ε wide. Breadth-first search over beliefs gives the fewest stages.

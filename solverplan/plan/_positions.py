@@ -11,7 +11,7 @@ coefficient of each transition (Def. 11) until it fits through a gap no segment 
 - *candidates*: a grid of ``n_headings`` nominal headings θ over (ε, π − ε) plus the headings from each piece's
   midpoint towards the goal set; a candidate is kept when, for every piece, its four corner rays (piece ends ×
   cone ends) land on one edge other than the source, away from vertices, and no vertex lies inside the convex
-  hull of the piece and the corner hits (the swept region; DESIGN §6). Then the image of the piece is the
+  hull of the piece and the corner hits (the swept region). Then the image of the piece is the
   interval spanned by the corner hits, the same test the exact checker makes;
 - *dominance*: a state whose position set contains a set already reached (with no more bounces) is dropped:
   every strategy from the larger set works from the smaller one;

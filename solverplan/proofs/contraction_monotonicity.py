@@ -1,4 +1,4 @@
-"""Monotonicity of the contraction coefficient in the heading (DESIGN §3, used by §6's planners).
+"""Monotonicity of the contraction coefficient in the heading (used by the planners).
 
 Statement. On its domain, C(θ, φ) is strictly increasing in θ for a right transition
 (C = sin θ / sin(θ + φ), 0 < θ < π − φ) and strictly decreasing for a left one (C = sin θ / sin(θ − φ),
@@ -16,9 +16,9 @@ sin(b − a) / (sin a sin b) gives d/dθ log C = ± sin φ / (sin θ sin(θ ± �
 positive on the domain, so the sign is + (right) or − (left). (4) Without calculus: the two-point
 difference C(θ₂) − C(θ₁) = ± sin φ sin(θ₂ − θ₁) / (sin(θ₁ ± φ) sin(θ₂ ± φ)), every factor positive for
 θ₁ < θ₂ in the domain — so the extreme values over an interval are at its ends, worst at the stated end.
-(5) 1/C expands to cos φ ± u sin φ, so "C ≤ c" is a linear condition on u (DESIGN §6).
+(5) 1/C expands to cos φ ± u sin φ, so "C ≤ c" is a linear condition on u.
 
-Errata. None: DESIGN §3's derivative and direction of monotonicity are confirmed.
+Errata. None: the library's derivative and direction of monotonicity are confirmed.
 """
 
 from __future__ import annotations

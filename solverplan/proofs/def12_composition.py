@@ -1,4 +1,4 @@
-"""Def. 12 (seed 000 §6): the contraction coefficient of a sequence of transitions is the product.
+"""Def. 12 (paper §6): the contraction coefficient of a sequence of transitions is the product.
 
 Statement. For transitions f₀, …, f_{m−1} with fixed headings (each right or left, coefficient
 C_k = C(θ_k, φ_k) from Lemma 2), the composite F = f_{m−1} ∘ … ∘ f₀ satisfies
@@ -18,7 +18,7 @@ Derivation. For m = 2..5: compose the maps symbolically; (1) F'' = 0: the compos
 (4) each C_k > 0 on its domain (three positive sines), so |F'| = Π C_k. (5) An example where a single
 step expands and the product still contracts, in exact arithmetic.
 
-Errata. The seed says "as f is a linear mapping, the contraction coefficient of a composition … can be
+Errata. The paper says "as f is a linear mapping, the contraction coefficient of a composition … can be
 determined by multiplying". The transition is *affine*, not linear (d′ = C·(ℓ − d) has an offset); the
 product rule holds because only the slopes multiply under composition and the offsets drop out of
 differences. The conclusion (Def. 12, and "C(F) tells us the exact ratio") is right.

@@ -223,7 +223,7 @@ def test_theorem1_simulated_trajectory_converges_to_d_fp(env, frac, t, edge):
 @settings(max_examples=FEW)
 def test_cor4_count_is_an_upper_bound_within_one_of_the_observed(env, frac, exponent):
     """Starts spread over all of e0; the observed cycles until their spread is ≤ ε versus the tight Cor. 4 count
-    for the whole edge (and DESIGN's factor-2 count, which is never smaller)."""
+    for the whole edge (and the paper's factor-2 count, which is never smaller)."""
     theta = _fraction_of_range(env, frac)
     fp = theorem1_fixed_point(env, theta)
     n, length = env.n_edges, float(env.edge_lengths[0])
@@ -254,10 +254,10 @@ def test_cor3_distance_to_the_fixed_point_after_k_cycles(env, frac, t, k):
 
 
 def test_cor4_tight_count_exact_and_edge_cases():
-    assert cycles_to_epsilon(Fraction(9, 10), 1, Fraction(1, 1000)) == 66  # DESIGN's factor 2 gives 73
+    assert cycles_to_epsilon(Fraction(9, 10), 1, Fraction(1, 1000)) == 66  # the paper's factor 2 gives 73
     assert cycles_to_epsilon(Fraction(1, 2), 1, Fraction(1, 4)) == 2  # an exact power: not rounded up to 3
     assert cycles_to_epsilon(0.5, 1.0, 0.25) == 2
-    assert cycles_to_epsilon(0.9, 1.0, 100.0) == 0  # DESIGN's formula is negative here (−37 for ε = 100ℓ)
+    assert cycles_to_epsilon(0.9, 1.0, 100.0) == 0  # the paper's formula is negative here (−37 for ε = 100ℓ)
     with pytest.raises(InputError, match=r"^contraction 1 is not < 1: the position set never shrinks$"):
         cycles_to_epsilon(1, 1, Fraction(1, 2))
     with pytest.raises(InputError, match=r"^epsilon -1.0 must be positive$"):

@@ -135,7 +135,7 @@ def test_prop2_closed_form_on_convex_polygons(env):
 
 
 def test_cor1_adjacent_segments_have_safe_intervals_both_ways():
-    """Note 000 trap 1: a plain square has safe arcs between all adjacent sides, in both directions."""
+    """Cor. 1: a plain square has safe arcs between all adjacent sides, in both directions."""
     edges = edges_of(SQUARE)
     for i in range(4):
         nxt, prv = edges[(i + 1) % 4], edges[(i - 1) % 4]
@@ -214,7 +214,7 @@ def test_def8_phi_of_adjacent_segments_is_the_interior_angle(env):
 # the exact safe set beyond Prop. 2
 # ---------------------------------------------------------------------------------------------
 def test_safe_set_with_a_hole_is_two_intervals():
-    """The lead's counterexample: with holes the safe set is not an interval (DESIGN §3 erratum)."""
+    """A counterexample: with holes the safe set is not an interval (the paper's statement holds without holes only)."""
     floor, ceiling = ((-1, 0), (1, 0)), ((12, 8), (-12, 8))
     found = safe_set(HOLE_ROOM, floor, ceiling)
     assert len(found) == 2
@@ -280,7 +280,7 @@ def test_safe_bvg_equals_the_exact_reference_on_every_pair(env):
 @pytest.mark.parametrize("name", ["degenerate", "comb", "two_holes"])
 def test_safe_bvg_equals_the_exact_reference_on_models(name):
     """The degenerate model (collinear vertices, parallel edges, hole vertices on lines through outer
-    edges: note 000 trap 4) and two others, every pair against the exact reference."""
+    edges: exact ties) and two others, every pair against the exact reference."""
     env = load_environment(MODELS / f"{name}.json")
     p = partition(env)
     g = safe_bounce_visibility_graph(p)

@@ -1,4 +1,4 @@
-"""Plans become certificates that the independent exact checker accepts (issue 5 acceptance), with their
+"""Plans become certificates that the independent exact checker accepts, with their
 optimality claims; a certificate of a plan whose interval was widened past the safe set is rejected."""
 
 from __future__ import annotations
