@@ -207,7 +207,9 @@ app = typer.Typer(
 EnvArg = Annotated[
     Path,
     typer.Argument(
-        metavar="ENV", help="Environment file: .json, .geojson or .wkt (or say which with --env-format).", show_default=False
+        metavar="ENV",
+        help="Environment file: .json, .geojson or .wkt (or say which with --env-format), or a shipped model's name (two_rooms, square, ...).",
+        show_default=False,
     ),
 ]
 EnvFormatOpt = Annotated[
@@ -818,7 +820,7 @@ def verify_command(
     cert: Annotated[Path, typer.Argument(metavar="CERT.json", help="The certificate file to check.", show_default=False)],
     env: Annotated[
         Path | None,
-        typer.Option("--env", metavar="ENV", help="Also require the certificate's environment to be exactly this environment file.", show_default=False),
+        typer.Option("--env", metavar="ENV", help="Also require the certificate's environment to be exactly this environment file (or shipped model).", show_default=False),
     ] = None,
     start: Annotated[
         str | None,
