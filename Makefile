@@ -17,7 +17,8 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 
 # The demo query: from the middle of the left room's floor to the right half of the right room's floor,
 # across the corridor (the start spans four segments of P′: one plan must work from all of them).
-DEMO_ENV := models/two_rooms.json
+# two_rooms is a shipped model: every command takes a model's name where it expects an environment file.
+DEMO_ENV := two_rooms
 DEMO_QUERY := --from e0:0.2:0.8 --to e4:0.5:1
 
 demo: $(VENV)/.installed

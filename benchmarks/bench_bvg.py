@@ -5,7 +5,7 @@ markdown table (family, n, segments of P′, BVG arcs, safe arcs, seconds for th
 for the safe BVG, total) for
 
 - random star polygons ``star_polygon(n, 0.2, 0.3, seed=1)`` (the paper's §7.3 family at the
-  issue's parameters), n = 10, 20, 40, 80, 160, 320, 640, 1000 — stopping early when one size takes
+  paper's parameters), n = 10, 20, 40, 80, 160, 320, 640, 1000 — stopping early when one size takes
   longer than ``--budget`` seconds;
 - the paper's worst case ``worst_case_polygon(t)`` (n = 4t + 2, §4.0.1), t = 2, 4, 8, 16, 24, 32;
 

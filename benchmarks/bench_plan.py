@@ -1,4 +1,4 @@
-"""Planning queries on large safe BVGs (issue 5: "queries on a 1,000-node safe BVG answer in well under a second").
+"""Planning queries on large safe BVGs (target: queries on a 1,000-node safe BVG answer in well under a second).
 
 Run ``python benchmarks/bench_plan.py`` from the repository root (package installed). For random star
 polygons ``star_polygon(n, 0.2, 0.3, seed=1)`` (the paper's §7.3 family) of growing size, the safe BVG is

@@ -3,7 +3,7 @@
 Run ``python benchmarks/bench_simulate.py`` from the repository root (package installed): it prints a
 markdown table (model, edges, rule, rollouts, bounces, seconds, bounces/s, share of the time spent in
 the batch caster) for shipped models and a generated 1,000-edge star polygon. Results are recorded in
-``benchmarks/README.md``. The issue-3 target: 10⁴ rollouts × 50 bounces on a 20-vertex polygon well
+``benchmarks/README.md``. The target: 10⁴ rollouts × 50 bounces on a 20-vertex polygon well
 under a second.
 """
 
@@ -21,7 +21,7 @@ from solverplan.geometry import raycast
 from solverplan.simulate import simulate_rule
 from solverplan.studies import star_polygon
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
 
 
 def timed_run(env, rule, trials: int, bounces: int, repeat: int) -> tuple[float, float, dict]:

@@ -9,7 +9,7 @@ markdown tables, recorded in ``benchmarks/README.md`` ("Studies"):
 2. **The paper's grid** (5 × 5 cells × 10 star polygons, n = 20) for ``reachability`` and
    ``connectivity``, and the same grid at n = 40 (rows ~4× dearer): wall time of :func:`run_study` from a cold start (the pool is created inside
    the timing), with 1 worker (in process) and with 2 worker processes, best of ``--repeat``; the
-   speed-up is t(1) / t(2); "first row" is when the first row arrived (the pool's start-up). The issue-7 target: the full grid in under 60 s on 2 cores.
+   speed-up is t(1) / t(2); "first row" is when the first row arrived (the pool's start-up). The target: the full grid in under 60 s on 2 cores.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The ``solverplan`` command: a thin shell over the public API (CONTRACT.md, "Commands").
+"""The ``solverplan`` command: a thin shell over the public API (docs/contract.md).
 
 Every command parses its arguments, calls the library, and emits the answer's ``to_json()``
 (default) or ``to_text()`` (``--format text``) on stdout, or writes it atomically to ``-o FILE``.
@@ -140,7 +140,7 @@ def _stderr_logging(verbose: int) -> Iterator[None]:
 
 @contextlib.contextmanager
 def exit_codes(verbose: int = 0) -> Iterator[None]:
-    """Run a command body, mapping errors to CONTRACT exit codes with one line on stderr.
+    """Run a command body, mapping errors to the exit codes of docs/contract.md with one line on stderr.
 
     :class:`InputError` → 2; any other :class:`SolverplanError` → 1; anything unexpected → 1 with
     ``internal error: ...`` (and the traceback before it when ``verbose``). Also sets up ``-v`` logging.
@@ -198,7 +198,7 @@ class _Shell(TyperGroup):
 app = typer.Typer(
     name="solverplan",
     cls=_Shell,
-    help="Planning with proofs for minimal bouncing robots. Answers are JSON on stdout (see CONTRACT.md).",
+    help="Planning with proofs for minimal bouncing robots. Answers are JSON on stdout (see docs/contract.md).",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
@@ -207,7 +207,9 @@ app = typer.Typer(
 EnvArg = Annotated[
     Path,
     typer.Argument(
-        metavar="ENV", help="Environment file: .json, .geojson or .wkt (or say which with --env-format).", show_default=False
+        metavar="ENV",
+        help="Environment file: .json, .geojson or .wkt (or say which with --env-format), or a shipped model's name (two_rooms, square, ...).",
+        show_default=False,
     ),
 ]
 EnvFormatOpt = Annotated[
@@ -321,7 +323,7 @@ def graph_command(
         typer.Option("--heading", metavar="THETA", help="Only the arcs whose safe set holds heading THETA (radians, in (0, π)); implies --safe.", show_default=False),
     ] = None,
     env_format: EnvFormatOpt = None,
-    fmt: Annotated[GraphFormat, typer.Option("--format", help="JSON (CONTRACT), text, GraphML or Graphviz DOT.")] = GraphFormat.JSON,
+    fmt: Annotated[GraphFormat, typer.Option("--format", help="JSON (docs/contract.md), text, GraphML or Graphviz DOT.")] = GraphFormat.JSON,
     out: OutOpt = None,
     verbose: VerboseOpt = 0,
 ) -> None:
@@ -744,11 +746,11 @@ def prove_command(
     out: OutOpt = None,
     verbose: VerboseOpt = 0,
 ) -> None:
-    """Run the symbolic proofs in proofs/ (sympy): a table of results (proof, status, seconds); exit 1 if any fails."""
+    """Run the symbolic proofs of solverplan.proofs (sympy): a table of results (proof, status, seconds); exit 1 if any fails."""
     with exit_codes(verbose):
-        import proofs  # packaged beside solverplan (pyproject), imported only by this command
+        from solverplan.proofs import prove_all  # sympy-heavy: imported only by this command
 
-        report = proofs.prove_all(only or None)
+        report = prove_all(only or None)
         emit(report, fmt, out)
     if not report.passed:
         raise typer.Exit(1)
@@ -760,7 +762,7 @@ def verify_command(
     cert: Annotated[Path, typer.Argument(metavar="CERT.json", help="The certificate file to check.", show_default=False)],
     env: Annotated[
         Path | None,
-        typer.Option("--env", metavar="ENV", help="Also require the certificate's environment to be exactly this environment file.", show_default=False),
+        typer.Option("--env", metavar="ENV", help="Also require the certificate's environment to be exactly this environment file (or shipped model).", show_default=False),
     ] = None,
     start: Annotated[
         str | None,

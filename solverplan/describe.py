@@ -1,4 +1,4 @@
-"""A description of an environment: what ``solverplan info`` answers (CONTRACT.md, "Commands").
+"""A description of an environment: what ``solverplan info`` answers (docs/contract.md).
 
 :func:`describe_environment` gathers the facts — vertices in global numbering, rings, directed
 edges, reflex vertices, exact area, perimeter, and notes on how the input was normalised — into
@@ -125,7 +125,7 @@ class EnvironmentInfo:
     notes: tuple[str, ...]
 
     def to_json(self) -> dict:
-        """The answer as a JSON-ready dict (CONTRACT.md field names)."""
+        """The answer as a JSON-ready dict (field names of docs/contract.md)."""
         return {
             "name": self.name,
             "n_vertices": len(self.points),

@@ -3,9 +3,9 @@
 An :class:`Environment` is a polygon with holes, stored with **exact** rational coordinates
 (decimals in files are read exactly) beside float arrays for fast numerics. It is always
 valid and normalised: the outer ring is counter-clockwise, holes are clockwise, so the free
-space lies on the **left** of every directed edge (DESIGN §2).
+space lies on the **left** of every directed edge.
 
-Edge numbering (CONTRACT.md): the outer ring's edges are ``0 .. n0−1``, edge ``i`` going from
+Edge numbering (docs/contract.md): the outer ring's edges are ``0 .. n0−1``, edge ``i`` going from
 vertex ``i`` to the next vertex of its ring; each hole's edges continue the numbering in file
 order. Vertex ``i`` is the first vertex of edge ``i``. A boundary point is ``(edge, t)`` with the
 boundary parameter t ∈ [0, 1] along the directed edge; its perimeter position ("arc length") is
@@ -40,6 +40,7 @@ from typing import Iterable, Literal, Sequence
 import numpy as np
 
 from solverplan._io import atomic_write_text
+from solverplan._shipped import model_file, model_names
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
 from solverplan.exact import (
     ExactPoint,
@@ -109,7 +110,7 @@ class BoundaryPiece:
 
 @dataclass(frozen=True, slots=True)
 class BoundarySet:
-    """A union of boundary pieces (start sets, goal sets, patrol edges); see CONTRACT.md."""
+    """A union of boundary pieces (start sets, goal sets, patrol edges); see docs/contract.md."""
 
     pieces: tuple[BoundaryPiece, ...]
 
@@ -441,7 +442,7 @@ class Environment:
         return i, float(t[i])
 
     def boundary_set(self, spec: str) -> BoundarySet:
-        """Parse a boundary set such as ``e3``, ``e3:0.25:0.75`` or ``e3:0.5:1,e4`` (CONTRACT.md).
+        """Parse a boundary set such as ``e3``, ``e3:0.25:0.75`` or ``e3:0.5:1,e4`` (docs/contract.md).
 
         >>> Environment.from_coords([[0, 0], [1, 0], [0, 1]]).boundary_set("e7")
         Traceback (most recent call last):
@@ -487,7 +488,7 @@ class Environment:
         )
 
     def to_dict(self) -> dict:
-        """JSON-ready dict per CONTRACT (numbers exact where they are terminating decimals)."""
+        """JSON-ready dict as in docs/contract.md (numbers exact where they are terminating decimals)."""
         data: dict = {"name": self.name, "outer": [_json_point(p) for p in self.outer]}
         if self.holes:
             data["holes"] = [[_json_point(p) for p in hole] for hole in self.holes]
@@ -828,20 +829,60 @@ def _format_of(path: Path, fmt: str | None) -> FileFormat:
         ) from None
 
 
-def load_environment(path: str | Path, fmt: FileFormat | None = None) -> Environment:
-    """Read an environment file (format from the extension unless ``fmt`` is given).
+def _no_such_file(path: str) -> str:
+    """The one-line error for a path that is neither a file nor a shipped model (listing the models for a bare name)."""
+    if "/" in path or "\\" in path:
+        return f"{path}: no such file, nor a shipped model"
+    return f"{path}: no such file, nor a shipped model (they are {', '.join(model_names())})"
 
-    The name defaults to the file's stem when the file gives none.
+
+def load_environment(path: str | Path, fmt: FileFormat | None = None) -> Environment:
+    """Read an environment file, or a shipped model by name.
+
+    Parameters
+    ----------
+    path
+        An environment file (``.json``, ``.geojson`` or ``.wkt``), or the name of a shipped model
+        (``"two_rooms"`` or ``"two_rooms.json"``; see :func:`solverplan.models.names`). An existing
+        file wins over a model of the same name.
+    fmt
+        The file's format, when its extension does not say (``"json"``, ``"geojson"`` or ``"wkt"``).
+        Shipped models are JSON whatever ``fmt`` says.
+
+    Returns
+    -------
+    Environment
+        Named by the file when it gives a name, else by the file's stem.
+
+    Raises
+    ------
+    MalformedFile
+        If the path is neither a file nor a shipped model's name, cannot be read, or is not a valid
+        environment file.
+
+    >>> load_environment("l_shape").name
+    'l_shape'
+    >>> load_environment("no/such/file.json")
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.MalformedFile: no/such/file.json: no such file, nor a shipped model
     """
-    path = Path(path)
-    kind = _format_of(path, fmt)
+    if fmt:
+        _format_of(Path(path), fmt)  # an unknown format is an error even for a shipped model
+    file = Path(path)
+    if not file.exists():
+        shipped = model_file(str(path))
+        if shipped is None:
+            raise MalformedFile(_no_such_file(str(path)))
+        file, fmt = shipped, "json"
+    kind = _format_of(file, fmt)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise MalformedFile(f"{path}: no such file") from None
+        text = file.read_text(encoding="utf-8")
+    except FileNotFoundError:  # removed since the check above
+        raise MalformedFile(_no_such_file(str(path))) from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
-    return parse_environment(text, kind, default_name=path.stem, source=str(path))
+        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None
+    return parse_environment(text, kind, default_name=file.stem, source=str(file))
 
 
 def save_environment(env: Environment, path: str | Path, fmt: FileFormat | None = None) -> None:

@@ -2,7 +2,7 @@
 
 One base class; every bad-input error is also a :class:`ValueError`, so callers
 need not know our names. The CLI maps :class:`InputError` to exit code 2 and any
-other :class:`SolverplanError` to exit code 1 (see CONTRACT.md, "Exit codes").
+other :class:`SolverplanError` to exit code 1 (see docs/contract.md, "Exit codes").
 
 Messages are one sentence naming what is wrong, where, and the offending value,
 e.g. ``outer ring self-intersects: edge 0 crosses edge 2 at (1, 1)``. Tests pin

@@ -3,7 +3,7 @@
 Safe actions, bounce rules and plans are intervals of headings θ ∈ (0, π) measured CCW from the
 directed source edge. An :class:`Interval` is never reversed: a constructor call with lo > hi
 raises, and an empty intersection is :data:`Interval.EMPTY`, whose width is 0 and which contains
-nothing (paper note 000, trap 2: a reversed interval must never pass for a non-empty one).
+nothing (a reversed interval whose width is taken with abs() would pass for a non-empty one).
 
 >>> a, b = Interval(0.5, 1.5), Interval(1.0, 2.0)
 >>> a & b
@@ -105,7 +105,7 @@ class Interval:
         return result
 
     def to_json(self) -> list[float] | None:
-        """``[lo, hi]``, or ``None`` for the empty interval (CONTRACT: ``safe: [lo, hi] or null``)."""
+        """``[lo, hi]``, or ``None`` for the empty interval (``safe: [lo, hi] or null`` in docs/contract.md)."""
         return None if self.is_empty else [self.lo, self.hi]
 
     def __repr__(self) -> str:

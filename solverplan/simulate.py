@@ -16,9 +16,9 @@ Randomness comes from one :class:`numpy.random.Generator`; the seed is recorded 
 Policies (:class:`Policy`) map the current contacts to headings and test for termination:
 
 - :class:`RulePolicy` — a bounce rule (:mod:`solverplan.bounce.rules`) after an initial heading;
-- :class:`StagePolicy` — an open-loop sequence of heading intervals (a plan, issue 5), with the
+- :class:`StagePolicy` — an open-loop sequence of heading intervals (a plan), with the
   allowed landing set of each stage, a goal set, and an optional repeating tail (limit cycles,
-  patrols, funnels: issues 4 and 6).
+  patrols, funnels).
 
 >>> from solverplan.environment import Environment
 >>> from solverplan.bounce.rules import Fixed
@@ -26,7 +26,7 @@ Policies (:class:`Policy`) map the current contacts to headings and test for ter
 >>> runs = simulate_rule(square, Fixed(0.5), "e0", bounces=40, trials=100, seed=1, initial=[0.5])
 >>> runs.outcome_counts(), runs.seed
 ({'ok': 100, 'goal': 0, 'failed': 0, 'vertex': 0, 'tie': 0}, 1)
->>> fixed_point = math.tan(0.5) / (1 + math.tan(0.5))     # the period-4 limit cycle (DESIGN §3, Thm. 1)
+>>> fixed_point = math.tan(0.5) / (1 + math.tan(0.5))     # the period-4 limit cycle (Thm. 1)
 >>> bool(np.all(np.abs(runs.final_t - fixed_point) < 1e-9)), sorted(set(runs.final_edge.tolist()))
 (True, [0])
 """
@@ -692,7 +692,7 @@ def simulate_rule(
     return simulate_policy(env, policy, starts, bounces=bounces, trials=trials, seed=seed, ties=ties, record=record)
 
 
-# ---------------------------------------------------------------------- plans (issue 5)
+# ---------------------------------------------------------------------- plans
 def plan_policy(env: Environment, plan: Any, *, sampling: Sampling = "uniform", partition: Any = None) -> tuple[StagePolicy, BoundarySet]:
     """The :class:`StagePolicy` that executes a :class:`~solverplan.plan.Plan`, and its start set.
 

@@ -2,7 +2,7 @@
 
 Profiles (select with HYPOTHESIS_PROFILE or pytest --hypothesis-profile):
 - ``ci`` (default): derandomized, no deadline — reproducible, never flaky;
-- ``thorough``: 10× the examples, for local runs before resolving an issue.
+- ``thorough``: 10× the examples, for local runs before a change lands.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ settings.register_profile(
 )
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
 
 
 @pytest.fixture

@@ -1,4 +1,4 @@
-"""`solverplan cycle` (the cycle answer of CONTRACT.md) and `solverplan render --cycle`."""
+"""`solverplan cycle` (the cycle answer of docs/contract.md) and `solverplan render --cycle`."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from solverplan.environment import load_environment
 from solverplan.simulate import simulate_rule
 
 runner = CliRunner()
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
 
 
 def run(*args: object):

@@ -1,7 +1,7 @@
-"""`solverplan prove`: runs the symbolic proofs in proofs/, JSON or a text table, exit 1 if any fails.
+"""`solverplan prove`: runs the symbolic proofs of solverplan.proofs, JSON or a text table, exit 1 if any fails.
 
 The full run happens once (module fixture); the other tests select proofs with ``--only`` or replace
-the discovered proofs with fakes (``proofs._core.all_proofs``) to see a failure reach the exit code.
+the discovered proofs with fakes (``solverplan.proofs._core.all_proofs``) to see a failure reach the exit code.
 """
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ import json
 import pytest
 from typer.testing import CliRunner
 
-import proofs
-import proofs._core
-from proofs import ProofResult, Step
+import solverplan.proofs as proofs
+import solverplan.proofs._core
+from solverplan.proofs import ProofResult, Step
 from solverplan import cli
 
 runner = CliRunner()

@@ -137,7 +137,7 @@ def test_json_decimals_are_read_exactly_not_as_binary_floats(tmp_path):
 
 
 def test_installed_script_verifies(tmp_path):
-    """One end-to-end run of the real console script (CONTRACT exit codes)."""
+    """One end-to-end run of the real console script (the exit codes of docs/contract.md)."""
     script = Path(sys.executable).with_name("solverplan")
     if not script.exists():
         pytest.skip("console script not installed in this environment")

@@ -225,7 +225,7 @@ def test_malformed_files_get_one_clear_message(tmp_path, name, text, message):
 
 
 def test_missing_file_is_input_error(tmp_path):
-    with pytest.raises(InputError, match=r"nothere\.json: no such file$"):
+    with pytest.raises(InputError, match=r"nothere\.json: no such file, nor a shipped model$"):
         load_environment(tmp_path / "nothere.json")
 
 

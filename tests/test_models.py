@@ -1,8 +1,8 @@
-"""The shipped models: every file loads, the README table is right, each model has the properties it is for."""
+"""The shipped models: every file loads, by path and by name, the README table is right, each model has the
+properties it is for."""
 
 from __future__ import annotations
 
-import importlib.util
 import itertools
 import json
 from decimal import Decimal
@@ -12,11 +12,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solverplan.environment import Environment, load_environment
+from solverplan import models
+from solverplan.cli import app
+from solverplan.environment import Environment, load_environment, save_environment
+from solverplan.errors import InputError, MalformedFile
 from solverplan.exact import orient
 from solverplan.studies import star_polygon, worst_case_polygon
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(models.__file__).resolve().parent
 FILES = sorted(MODELS.glob("*.json"))
 
 
@@ -42,13 +45,6 @@ def pieces_after_erosion(env: Environment, distance: float) -> list:
     return list(getattr(eroded, "geoms", [eroded]))
 
 
-def make_table_module():
-    spec = importlib.util.spec_from_file_location("make_table", MODELS / "make_table.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 # ---------------------------------------------------------------------- every file
 def test_at_least_fourteen_models():
     assert len(FILES) >= 14
@@ -66,10 +62,79 @@ def test_model_loads_normalised_with_its_name_and_exact_short_coordinates(path):
 
 
 def test_readme_table_matches_the_files():
-    make_table = make_table_module()
+    from solverplan.models import make_table
+
     readme = (MODELS / "README.md").read_text(encoding="utf-8")
-    assert make_table.embedded_table(readme) == make_table.table(), "run: python models/make_table.py --write"
+    assert make_table.embedded_table(readme) == make_table.table(), "run: python -m solverplan.models.make_table --write"
     assert set(make_table.PURPOSES) == {path.stem for path in FILES}
+
+
+# ---------------------------------------------------------------------- models by name
+def test_names_are_the_file_stems_and_path_and_load_agree():
+    assert models.names() == sorted(path.stem for path in FILES)
+    assert {"square", "two_rooms", "one_hole"} <= set(models.names())
+    assert models.path("two_rooms") == models.path("two_rooms.json") == MODELS / "two_rooms.json"
+    assert models.load("one_hole") == load_environment(MODELS / "one_hole.json")
+    assert models.load("one_hole").name == "one_hole"
+
+
+@pytest.mark.parametrize("name", ["two_room", "", "solverplan/models/square.json", "../models/square"])
+def test_an_unknown_model_name_is_one_line_listing_the_known_names(name):
+    with pytest.raises(InputError) as info:
+        models.path(name)
+    message = str(info.value)
+    assert "\n" not in message and message.startswith(f"unknown model {name!r}")
+    assert message.endswith(", ".join(models.names()))
+
+
+@pytest.mark.parametrize("name", ["two_rooms", "two_rooms.json"])
+def test_load_environment_takes_a_model_name_with_or_without_the_extension(name, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # no such file here: the name means the shipped model
+    env = load_environment(name)
+    assert env == models.load("two_rooms") and env.name == "two_rooms"
+    # a format given for a file does not apply to the model (shipped models are JSON); a bad one is still an error
+    assert load_environment(name, "wkt") == env
+    with pytest.raises(MalformedFile, match="unknown format 'svg'"):
+        load_environment(name, "svg")
+
+
+def test_an_existing_file_wins_over_a_model_of_the_same_name(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    save_environment(Environment.from_coords([[0, 0], [3, 0], [0, 4]], name="mine"), tmp_path / "square.json")
+    assert load_environment("square.json").name == "mine"
+    assert load_environment("square").n_vertices == 4  # no file "square" (no extension): the model
+    (tmp_path / "square").write_text((tmp_path / "square.json").read_text())
+    assert load_environment("square", "json").name == "mine"
+
+
+def test_neither_a_file_nor_a_model_is_one_line_no_such_file(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(MalformedFile) as bare:
+        load_environment("two_roms")
+    assert str(bare.value) == f"two_roms: no such file, nor a shipped model (they are {', '.join(models.names())})"
+    with pytest.raises(MalformedFile) as nested:
+        load_environment(Path("data") / "two_rooms.json")  # a directory part: a file, never a model
+    assert str(nested.value) == "data/two_rooms.json: no such file, nor a shipped model"
+
+
+def test_every_environment_argument_of_the_cli_takes_a_model_name(tmp_path, monkeypatch):
+    from typer.testing import CliRunner
+
+    monkeypatch.chdir(tmp_path)
+    runner = CliRunner()
+    info = runner.invoke(app, ["info", "two_rooms"])
+    assert info.exit_code == 0 and json.loads(info.stdout)["name"] == "two_rooms"
+    plan = runner.invoke(
+        app, ["plan", "two_rooms", "--from", "e0:0.2:0.8", "--to", "e4:0.5:1", "-o", "plan.json", "--certificate", "cert.json"]
+    )
+    assert plan.exit_code == 0, plan.output
+    verify = runner.invoke(app, ["verify", "cert.json", "--env", "two_rooms.json", "--from", "e0:0.2:0.8", "--to", "e4:0.5:1"])
+    assert verify.exit_code == 0 and json.loads(verify.stdout)["valid"] is True
+    missing = runner.invoke(app, ["info", "two_roms"])
+    assert missing.exit_code == 2
+    assert missing.stderr.strip().splitlines() == [
+        f"error: two_roms: no such file, nor a shipped model (they are {', '.join(models.names())})"
+    ]
 
 
 # ---------------------------------------------------------------------- each model's purpose
@@ -143,7 +208,7 @@ def test_spiral_is_rectilinear_with_a_single_reflex_chain():
 def test_star_is_the_generator_output_with_its_seed():
     env = model("star")
     generated = star_polygon(20, 0.3, 0.3, radius=10, seed=7)
-    assert env == generated, "numpy's Generator stream changed, or the generator did: regenerate models/star.json"
+    assert env == generated, "numpy's Generator stream changed, or the generator did: regenerate solverplan/models/star.json"
     origin = (Fraction(0), Fraction(0))
     ring = env.outer
     assert all(orient(origin, ring[i], ring[(i + 1) % 20]) > 0 for i in range(20))  # star-shaped about 0

@@ -1,12 +1,12 @@
-"""Every symbolic proof in proofs/ passes (the "lemmas in CI" half of the product)."""
+"""Every symbolic proof in solverplan.proofs passes (the "lemmas in CI" half of the product)."""
 
 import pytest
 import sympy as sp
 
-import proofs.cor3_cor4_uncertainty as cor34
-import proofs.lemma2_contraction as lemma2
-import proofs.theorem1_fixed_point as theorem1
-from proofs import all_proofs, run_all
+import solverplan.proofs.cor3_cor4_uncertainty as cor34
+import solverplan.proofs.lemma2_contraction as lemma2
+import solverplan.proofs.theorem1_fixed_point as theorem1
+from solverplan.proofs import all_proofs, run_all
 
 
 def test_there_are_proofs_to_run():

@@ -137,7 +137,7 @@ def test_specular_square_period_four_billiard_orbit():
 
 
 def test_thm1_fixed_rule_in_a_square_converges_to_the_period_four_limit_cycle():
-    """Hand-derived: d' = (ℓ − d) tan θ (DESIGN §3 with φ = π/2), so t* = tan θ / (1 + tan θ) on every edge."""
+    """Hand-derived: d' = (ℓ − d) tan θ (Lemma 2 with φ = π/2), so t* = tan θ / (1 + tan θ) on every edge."""
     theta = 0.5
     fixed_point = math.tan(theta) / (1 + math.tan(theta))
     runs = simulate_rule(SQUARE, Fixed(theta), "e0", bounces=120, trials=300, seed=5, initial=Interval(0.2, 0.7))

@@ -2,8 +2,8 @@
 
 - :func:`bounce_visibility_graph` — the directed edge-visibility graph of P′: an arc i → j for every
   two segments whose **open** segments see each other (some point of one sees some point of the
-  other through the interior of the free space; paper Def. 5, note 000 trap 5 — not "an end point is
-  visible"). Visibility is symmetric, so the arc set is; never a self-loop, never an arc between two
+  other through the interior of the free space; paper Def. 5 — not "an end point is
+  visible", which over-approximates). Visibility is symmetric, so the arc set is; never a self-loop, never an arc between two
   segments of one edge (collinear), none between the two segments at a reflex or flat vertex.
 - :func:`safe_bounce_visibility_graph` — the same arcs, each labelled with the **exact set of safe
   headings** (Def. 7: every point of the open e_i reaches the open e_j), its widest interval, the
@@ -155,7 +155,7 @@ class SafeBVG:
     >>> from solverplan.environment import Environment
     >>> square = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]])
     >>> g = safe_bounce_visibility_graph(square)
-    >>> g.n_arcs, g.n_safe_arcs          # every ordered pair of sides, all safe (note 000 trap 1)
+    >>> g.n_arcs, g.n_safe_arcs          # every ordered pair of sides, all safe (Cor. 1: adjacent sides too)
     (12, 12)
     >>> g.safe_set(0, 1).interval        # bottom → right side: Cor. 1, (0, π/4]
     Interval(lo=0.0, hi=0.7853981633974483)
@@ -342,7 +342,7 @@ class SafeBVG:
         return out
 
     def to_json(self, *, safe: bool | None = None) -> dict:
-        """CONTRACT ``solverplan graph``: ``{"arcs": [{"from", "to", "safe": [lo, hi] or null, "transition"}]}``,
+        """The answer of ``solverplan graph`` (docs/contract.md): ``{"arcs": [{"from", "to", "safe": [lo, hi] or null, "transition"}]}``,
         plus ``phi`` and ``safe_set`` (every safe interval; more than one only with holes), and counts.
         With ``safe=False`` (the plain BVG; the default after ``select(safe=False)``) arcs carry only
         ``from``, ``to``, ``transition``."""

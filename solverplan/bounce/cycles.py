@@ -531,7 +531,7 @@ def limit_cycle(
 def _keeps_edge_order(env: Environment, cmap: ConstantMap, clockwise: bool) -> int | None:
     """Exact Lemma 3 edge-order test: None if from every open edge e_i every ray reaches the open next edge
     (CCW: θ ≤ ∠v_{i+2} v_i v_{i+1}, i.e. d_i is not counter-clockwise of v_{i+2} − v_i; CW, the mirror image:
-    d_i is not clockwise of v_{i−1} − v_{i+1}; proofs/lemma3_convex_order.py), else the first edge i where it fails."""
+    d_i is not clockwise of v_{i−1} − v_{i+1}; solverplan.proofs.lemma3_convex_order), else the first edge i where it fails."""
     verts = env.exact_vertices
     n = env.n_edges
     for i in range(n):

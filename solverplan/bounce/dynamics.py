@@ -1,7 +1,7 @@
 """Dynamics of fixed-heading bounces (paper §6): contraction coefficients, Lemma 3's range, Theorem 1's
 fixed point, Corollaries 3 and 4 — and exact headings.
 
-Conventions (DESIGN §2, §3): a heading θ ∈ (0, π) is radians CCW from the directed edge the robot
+Conventions: a heading θ ∈ (0, π) is radians CCW from the directed edge the robot
 leaves (π/2 = inward normal). A transition from segment e_i to e_j is a *right* transition when the
 corner V where their supporting lines meet lies ahead of the robot (consecutive edges of a convex
 polygon), a *left* one when V lies behind; φ is the interior angle of the triangle (robot, V, hit) at
@@ -10,7 +10,7 @@ V. Distances are measured along the boundary from V (Def. 11, Lemma 2):
     right:  C(θ, φ) = sin θ / sin(θ + φ)   on 0 < θ < π − φ,   C < 1  ⇔  θ < π/2 − φ/2
     left:   C(θ, φ) = sin θ / sin(θ − φ)   on φ < θ < π,       C < 1  ⇔  θ > π/2 + φ/2
 
-C is increasing in θ for right transitions and decreasing for left ones (proofs/contraction_monotonicity.py),
+C is increasing in θ for right transitions and decreasing for left ones (solverplan.proofs.contraction_monotonicity),
 so over an action interval the worst case is at θ_hi (right) or θ_lo (left). Parallel source and target
 (opposite walls) are the right transition with φ = 0: C = 1.
 
@@ -33,7 +33,7 @@ True
 >>> fp = theorem1_fixed_point(square, ExactHeading.from_tangent(Fraction(1, 2)))
 >>> fp.t_exact, round(fp.d, 12)             # tan θ / (1 + tan θ) = 1/3
 (Fraction(1, 3), 0.333333333333)
->>> cycles_to_epsilon(Fraction(9, 10), 1, Fraction(1, 1000))   # tight Cor. 4 (DESIGN's factor 2 gives 73)
+>>> cycles_to_epsilon(Fraction(9, 10), 1, Fraction(1, 1000))   # tight Cor. 4 (the paper's factor 2 gives 73)
 66
 """
 
@@ -292,7 +292,7 @@ def is_contracting(theta, phi, side: Side | Sequence[str] = "right"):
 
 def worst_case_contraction(interval: Interval | Sequence[float], phi: float, side: Side = "right") -> float:
     """The largest C(θ, φ) over θ in an action interval: at θ_hi for a right transition, θ_lo for a left
-    one (C is monotone: proofs/contraction_monotonicity.py). NaN if that end is outside the domain.
+    one (C is monotone: solverplan.proofs.contraction_monotonicity). NaN if that end is outside the domain.
 
     >>> worst_case_contraction((0.3, 0.5), math.pi / 2) == contraction_coefficient(0.5, math.pi / 2)
     True
@@ -409,7 +409,7 @@ class Lemma3Range:
     """Lemma 3's admissible headings for a convex polygon, and what binds them.
 
     Counter-clockwise (the paper's statement): θ ∈ (0, bound), with ``order_bound`` = min_i ∠v_{i+2} v_i v_{i+1}
-    (every start of e_i reaches e_{i+1}: the CCW edge order, proofs/lemma3_convex_order.py) and
+    (every start of e_i reaches e_{i+1}: the CCW edge order, solverplan.proofs.lemma3_convex_order) and
     ``contraction_bound`` = min_i (π/2 − φ_i/2) (every step contracts, Lemma 2); ``bound`` is the smaller.
     ``clockwise`` (the mirror image, θ > π/2): θ ∈ (π − bound, π), the order angles being ∠v_{i−1} v_{i+1} v_i
     (every start of e_i reaches e_{i−1}) and the steps left transitions (Lemma 2: contract iff θ > π/2 + φ/2).
@@ -503,10 +503,10 @@ def lemma3_max_heading(env: Environment) -> float:
     0 < θ < min_i min(π/2 − φ_i/2, ∠v_{i+2} v_i v_{i+1}) visits the edges in CCW order forever from any
     start, every step contracting, so the trajectory converges to Theorem 1's period-n limit cycle.
 
-    The two bounds are those of proofs/lemma3_convex_order.py: the angle bound is exactly the edge-order
+    The two bounds are those of solverplan.proofs.lemma3_convex_order: the angle bound is exactly the edge-order
     condition (for the open edges θ equal to it still works), and the per-step contraction bound is
     sufficient, not necessary — Theorem 1 needs only Π C_k < 1 (Def. 12). φ_i runs over all interior
-    angles (the seed's φ_{i−1,i} and DESIGN's φ_i index the same set). See :func:`lemma3_range`.
+    angles (the paper's φ_{i−1,i} and the φ_i here index the same set). See :func:`lemma3_range`.
 
     Raises
     ------
@@ -522,7 +522,7 @@ def lemma3_max_heading(env: Environment) -> float:
 @dataclass(frozen=True, slots=True)
 class Theorem1FixedPoint:
     """Theorem 1's fixed point on edge e_edge: ``d`` the distance from the edge's first vertex (float, by
-    DESIGN's formula), ``t`` = d / ℓ, and ``t_exact`` the same by composing the exact rational affine
+    Theorem 1's closed form), ``t`` = d / ℓ, and ``t_exact`` the same by composing the exact rational affine
     maps of the n transitions (only for an :class:`ExactHeading`), ``contraction`` = Π C_k (float) and
     ``contraction_exact`` = |α| of the exact return map."""
 
@@ -602,7 +602,7 @@ def cycles_to_epsilon(contraction: object, width: object, epsilon: object) -> in
 
         k = max(0, ⌈log(ε / w) / log C⌉)
 
-    (proofs/cor3_cor4_uncertainty.py: the set's width is exactly C^k·w; DESIGN's ⌈log(ε/(2ℓ))/log C⌉ is
+    (solverplan.proofs.cor3_cor4_uncertainty: the set's width is exactly C^k·w; the paper's ⌈log(ε/(2ℓ))/log C⌉ is
     sufficient, not tight). ``width`` and ``epsilon`` in the same unit (arc length, or the boundary
     parameter t of one edge); all-exact inputs (ints, Fractions) are decided exactly, floats are checked
     against C^k·w after the logarithms so a ratio that is an exact power does not round up a cycle.

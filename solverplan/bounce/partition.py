@@ -7,7 +7,7 @@ inserts its **first hit beyond r** into ∂P; the two edges incident to r are ex
 (v = the previous or the next vertex of r). The boundary cut at the original vertices and at every
 inserted point is P′; its pieces are the :class:`PartitionSegment` s, numbered in boundary order.
 
-Definitions used here (DESIGN §3, decided exactly):
+Definitions used here (decided exactly):
 
 - *v is seen from r* when the **closed** segment rv lies in the closed free space (grazing a vertex
   and running along an edge count). Counting the grazing pairs changes nothing: if rv passes through
@@ -288,7 +288,7 @@ class Partition:
 
     # ------------------------------------------------------------------ output
     def to_json(self) -> dict:
-        """CONTRACT ``solverplan partition``: ``vertices`` per ring, ``segments``, plus ``inserted`` with provenance."""
+        """The answer of ``solverplan partition`` (docs/contract.md): ``vertices`` per ring, ``segments``, plus ``inserted`` with provenance."""
         return {
             "name": self.env.name,
             "n_segments": len(self.segments),

@@ -1,8 +1,7 @@
 """Bounce rules (paper §3, Def. 1–2, Fig. 2): how the robot leaves a wall it has just hit.
 
 A bounce rule maps the contact — the edge hit and the incoming direction of travel — to an
-outgoing heading θ ∈ (0, π), radians CCW from the directed edge hit (π/2 = straight into the room,
-DESIGN §2). A *non-deterministic* rule returns an interval of headings (Def. 2); every rule here has
+outgoing heading θ ∈ (0, π), radians CCW from the directed edge hit (π/2 = straight into the room). A *non-deterministic* rule returns an interval of headings (Def. 2); every rule here has
 an ``epsilon``: it may execute any heading in [b − ε, b + ε] around its nominal heading b (clipped
 to (0, π)), and ``epsilon = 0`` is the deterministic rule.
 

@@ -80,8 +80,8 @@ holes: if two headings reach p₁, p₂ ∈ e_j, a boundary point hit in between
 x p₁ p₂, and its ring cannot leave that triangle (its sides are free, or open pieces of e_j, or the
 point x on the open e_i), so it is a hole. Hence **without holes A_a(j) ∩ A_b(j) is one interval**
 and so is the safe set; with holes it can be several: a hole strictly above the middle of e_i
-blocks the heading π/2 but not π/4 or 3π/4 (``proofs/safe_set_structure.py`` and the tests build
-this room). DESIGN §3's "the exact set of safe headings is an interval" holds for polygons without
+blocks the heading π/2 but not π/4 or 3π/4 (``solverplan.proofs.safe_set_structure`` and the tests build
+this room). The statement "the exact set of safe headings is an interval" holds for polygons without
 holes only; :class:`SafeSet` keeps every interval and :attr:`SafeSet.interval` the widest.
 
 >>> square = ((0, 0), (4, 0)), ((4, 4), (0, 4))      # floor → ceiling of a 4 × 4 room
@@ -322,7 +322,7 @@ class SafeSet:
     """The exact set of safe headings from one segment to another: sorted, disjoint closed intervals.
 
     Without holes this is at most one interval; with holes it can be several (module docstring, (4)).
-    :attr:`interval` is the widest one (CONTRACT's ``safe``), :meth:`to_json` lists them all.
+    :attr:`interval` is the widest one (``safe`` in the graph answer), :meth:`to_json` lists them all.
     """
 
     intervals: tuple[SafeInterval, ...] = ()
@@ -351,7 +351,7 @@ class SafeSet:
         return len(self.intervals)
 
     def to_json(self) -> list[list[float]]:
-        """``[[lo, hi], ...]`` in radians (CONTRACT: ``safe_set``)."""
+        """``[[lo, hi], ...]`` in radians (``safe_set`` in the graph answer)."""
         return [[piece.lo, piece.hi] for piece in self.intervals]
 
 
@@ -457,7 +457,7 @@ def transition_angle(src: object, dst: object) -> float:
     """φ_ij (radians, in [0, π)): the interior angle at the meeting point X of the supporting lines,
     between the ray from X towards src and the ray from X towards dst (the part of dst's line above
     src's line). For adjacent segments it is the interior angle of P′ at the shared vertex; 0 for
-    parallel lines. With it the contraction coefficient of DESIGN §3 is sin θ / sin(θ + φ) for a right
+    parallel lines. With it the contraction coefficient of Lemma 2 is sin θ / sin(θ + φ) for a right
     transition and sin θ / sin(θ − φ) for a left one.
 
     >>> round(transition_angle(((0, 0), (4, 0)), ((4, 0), (1, 3))), 12) == round(math.pi / 4, 12)

@@ -4,12 +4,12 @@ the lifted, set-valued transition f(S, Θ) with exact end points.
 A boundary point is ``(edge, t)``, t ∈ [0, 1] along the directed edge; a heading θ ∈ (0, π) is
 radians CCW from the directed edge (π/2 = inward normal); an *exact direction* is a vector of
 rationals (any length). The transition f(s, θ) is the first boundary point hit by the ray leaving
-s at heading θ (DESIGN §2).
+s at heading θ.
 
 - :func:`transition` — floats, vectorised over many (edge, t, θ) through the batch caster.
 - :func:`exact_transition` — one ray, exact rationals, a :class:`~solverplan.geometry.RayHit`.
 - :func:`affine_map` — for a fixed exact direction, t ↦ α t + β onto one target edge's line, with
-  rational α, β (DESIGN §3, §6): composes into exact return maps with exact fixed points.
+  rational α, β: composes into exact return maps with exact fixed points.
 - :func:`transition_set` — f(S, Θ) for a boundary piece S and a heading interval Θ: the exact set of
   boundary pieces reached (see its docstring for the proof that its split points are complete).
 
@@ -202,7 +202,7 @@ def exact_transition(
 @dataclass(frozen=True, slots=True)
 class AffineMap:
     """t' = alpha · t + beta, exactly: boundary parameter on ``source`` → on ``target``, for rays of one
-    fixed ``direction`` (DESIGN §3, §6).
+    fixed ``direction``.
 
     It is the map onto the *line* of the target edge: it equals the transition wherever the first
     hit of the ray is on the target edge (see :meth:`domain` for where the line is met within the
@@ -261,7 +261,7 @@ def affine_map(env: Environment, edge: int, direction: Sequence[object] | float,
 
     With p(t) = a + t (b − a) on the source edge, the ray p(t) + s d meets the line c + τ (e − c) of
     the target edge at τ = cross(p(t) − c, d) / cross(e − c, d) — affine in t, with rational
-    coefficients for rational vertices and a rational direction (DESIGN §3, §6).
+    coefficients for rational vertices and a rational direction.
 
     Raises
     ------
@@ -399,7 +399,7 @@ def _meets_open_polygon(ring: Sequence[ExactPoint], u: ExactPoint, w: ExactPoint
 
 
 def _clean_fast_path(env, frame, edge, t0, t1, d_lo, d_hi) -> list[BoundaryPiece] | None:
-    """The common case (DESIGN §2, §6): every corner ray lands inside one edge j and the convex hull
+    """The common case: every corner ray lands inside one edge j and the convex hull
     of the source piece and the corner hits holds no vertex and meets no other edge in its interior.
     Then the swept region is that hull, every ray of the family lands on j, and the image is the
     interval spanned by the corner images. Returns None when the case does not apply."""
@@ -615,7 +615,7 @@ def transition_set(env: Environment, piece: BoundaryPiece | tuple, headings: Hea
         of first hits of the rays of the family that touch no vertex (the paper ignores trajectories
         through vertices). Pieces on consecutive edges meeting at a vertex are listed per edge.
 
-    **Fast path** (DESIGN §2, §6). If the four corner rays (piece ends × cone ends) hit one edge j away
+    **Fast path**. If the four corner rays (piece ends × cone ends) hit one edge j away
     from vertices and the convex hull H of the piece and the four hits contains no vertex and meets no
     other edge in its interior, the answer is the interval of j spanned by the four corner hits. Proof:
     in the source frame (x = t along the edge, y along the inward normal of the same length, a direction

@@ -24,7 +24,7 @@ Why the float answers can be trusted when not ``uncertain``: the float tolerance
 of the expressions it guards, so a vertex farther than the tolerance from a ray is on the same side
 of it in floats and exactly, and an edge crossed away from its end points is crossed exactly too.
 
-Conventions (DESIGN §2): free space is on the left of every directed edge; a boundary point is
+Conventions: free space is on the left of every directed edge; a boundary point is
 ``(edge, t)``, t ∈ [0, 1) along the edge; a vertex hit is reported on the edge that starts at the
 vertex, with t = 0. Headings θ ∈ (0, π) are radians CCW from the directed edge (π/2 = inward normal).
 

@@ -414,7 +414,7 @@ def segments_see_each_other(env: Environment, seg_a: Segment, seg_b: Segment) ->
 
     True iff there are p in the open segment a and q in the open segment b such that the open
     segment pq lies in the interior of the free space. Lines that only graze a vertex or run along
-    an edge do not count (note 000, traps 4 and 5): the end points of a and b themselves are never
+    an edge do not count (exact predicates decide every tie; no epsilon): the end points of a and b themselves are never
     used. Segments are pieces of one edge each (end point pairs or
     :class:`~solverplan.environment.BoundaryPiece`); orientation does not matter.
 
@@ -776,7 +776,7 @@ class VisibilityPiece:
 
     kind
         ``"edge"`` — a whole polygon edge ``edge``; ``"partial"`` — part of edge ``edge``;
-        ``"constructed"`` — a window (seed 001): it lies on the ray from the viewpoint through the
+        ``"constructed"`` — a window (Ghosh et al., "Online algorithms with discrete visibility"): it lies on the ray from the viewpoint through the
         reflex vertex ``reflex_vertex`` = u, which is one end of the piece, and runs from u to the
         first boundary point u′ beyond u on that ray. Ring order may run u → u′ (going outward) or
         u′ → u (coming back); ``reflex_vertex`` says which end is u.
@@ -828,7 +828,7 @@ def visibility_polygon(env: Environment, p: Sequence[object]) -> VisibilityPolyg
     without its zero-width "antennas": where the rays from p pass exactly between two obstacles
     (grazing a vertex of each from opposite sides) the segment beyond is seen by :func:`sees` but is
     not part of the region. It is star-shaped from p, given as a CCW ring with one labelled piece
-    per side: whole edges, partial edges and constructed edges (windows u → u′, seed 001). Rays
+    per side: whole edges, partial edges and constructed edges (windows u → u′). Rays
     through several vertices are cut at each of them, so a window always runs from a reflex vertex
     to the first boundary point beyond it. When p is on the boundary the ring passes through p and
     the two sides at p are (parts of) the edges at p.

@@ -6,7 +6,7 @@
 - :func:`patrol` (Def. 15: contracting patrol cycles), :func:`funnel` and :func:`localize` (position-set
   plans that use contraction, paper §6.2, §8.4);
 - :class:`Plan`, :class:`Stage`, :class:`ParetoFront`, :class:`Optimality` — the results
-  (CONTRACT.md's plan JSON via ``to_json()``); :func:`load_plan` / :func:`parse_plan` read plans back.
+  (the plan JSON of docs/contract.md via ``to_json()``); :func:`load_plan` / :func:`parse_plan` read plans back.
 """
 
 from solverplan.plan.result import (

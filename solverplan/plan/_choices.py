@@ -1,10 +1,10 @@
-"""Per-arc interval choices of the safe BVG for a required tolerance (private; DESIGN §6).
+"""Per-arc interval choices of the safe BVG for a required tolerance (private).
 
 For a tolerance ε (radians, the half-width of the heading interval the robot is allowed), each arc of the safe
 bounce visibility graph may use any sub-interval of width 2ε of one of its admissible intervals (its safe
 intervals cut by the one margin policy of every planner, :mod:`solverplan.plan.margins`). The contraction
 coefficient C(θ, φ) is increasing in θ for a right transition and decreasing for a left one (Lemma 2,
-proofs/contraction_monotonicity.py), so the worst case over [θ, θ + 2ε] is at its expanding end and the best
+solverplan.proofs.contraction_monotonicity), so the worst case over [θ, θ + 2ε] is at its expanding end and the best
 such interval sits at the **contracting end** of the safe interval: [lo, lo + 2ε] (right), [hi − 2ε, hi] (left).
 Parallel walls have C ≡ 1; their interval is centred. The arc's weight is log of that worst case — a closed form
 in ε, increasing in ε (wider intervals reach further towards the expanding end), which is what makes the

@@ -4,7 +4,7 @@ linear programming (cvxpy), negative-cycle detection (Bellman–Ford), strongly 
 Graphs are given as arrays: ``n`` nodes ``0..n-1`` and arcs ``src[k] → dst[k]`` with float weights ``w[k]``.
 Cycles are returned as lists of arc indices in travel order.
 
-Minimum mean cycle (DESIGN §6). λ* = min over cycles C of w(C)/|C|.
+Minimum mean cycle. λ* = min over cycles C of w(C)/|C|.
 
 - **Karp** (1978): with D_k(v) the least weight of a walk of exactly k arcs ending at v (starting anywhere,
   D_0 = 0), λ* = min_v max_{0≤k<n} (D_n(v) − D_k(v)) / (n − k), over the v with D_n(v) finite.
@@ -123,7 +123,7 @@ def karp_min_mean_cycle(n: int, src: np.ndarray, dst: np.ndarray, w: np.ndarray)
 
 def lp_min_mean_cycle(n: int, src: np.ndarray, dst: np.ndarray, w: np.ndarray, *,
                       solver: str | None = None) -> tuple[float, list[int], str]:
-    """λ* by the LP (DESIGN §6) in cvxpy, a cycle from the support of the optimal dual, and the solver name.
+    """λ* by the LP of the minimum mean cycle in cvxpy, a cycle from the support of the optimal dual, and the solver name.
 
     Raises :class:`SolverFailed` when the solver does not report an optimal solution.
     """

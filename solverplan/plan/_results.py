@@ -2,7 +2,7 @@
 
 Plain plan stages and optimality claims are :class:`solverplan.plan.result.Stage` and
 :class:`solverplan.plan.result.Optimality`; a :class:`PositionStage` is a stage of a funnel or localisation
-strategy: a plan stage in the CONTRACT's sense (``from_segments``, ``to_segments``, ``interval``) that also
+strategy: a plan stage in the sense of docs/contract.md (``from_segments``, ``to_segments``, ``interval``) that also
 carries the exact ``positions`` after it and the exact cones (rational world directions) it was computed with.
 """
 

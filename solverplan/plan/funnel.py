@@ -45,7 +45,7 @@ DEFAULT_FUNNEL_TOLERANCE = 0.005
 
 @dataclass(frozen=True)
 class Funnel:
-    """A funnel or localisation strategy (CONTRACT: a plan whose stages carry ``positions``), or why there is none.
+    """A funnel or localisation strategy (docs/contract.md: a plan whose stages carry ``positions``), or why there is none.
 
     ``stages`` are :class:`~solverplan.plan._results.PositionStage` s: interval, exact source pieces and cones,
     exact positions after the stage. ``widths``: arc length of the position set before the first stage and after

@@ -14,7 +14,7 @@ times), and every patrol cycle with at most H intermediate bounces between requi
 Without ``max_between`` the smallest H that admits a cycle is used (H = 0: the robot bounces only on the listed
 edges).
 
-**Objectives** (DESIGN §6; weights w = log of the worst-case contraction coefficient of the arc, Def. 11–12):
+**Objectives** (weights w = log of the worst-case contraction coefficient of the arc, Def. 11–12):
 
 - ``contraction`` (a): for a required tolerance ε, the cycle through E *once* (one period) with the smallest
   worst-case contraction Π C_k. With h in the state the one-period product is a DAG, so dynamic programming over
@@ -151,7 +151,7 @@ class PatrolPoint:
 
 @dataclass(frozen=True)
 class Patrol:
-    """A patrol strategy (CONTRACT: cycle answer) or the reason there is none.
+    """A patrol strategy (the cycle answer of docs/contract.md) or the reason there is none.
 
     Attributes
     ----------

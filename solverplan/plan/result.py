@@ -1,10 +1,10 @@
-"""What the planners return: :class:`Plan` (CONTRACT.md, "A plan"), :class:`ParetoFront`, and how
+"""What the planners return: :class:`Plan` (docs/contract.md, "A plan"), :class:`ParetoFront`, and how
 optimality was established (:class:`Optimality`).
 
 Results are frozen dataclasses; :meth:`Plan.to_json` is the only place a plan becomes a dict, and
 :func:`parse_plan` / :func:`load_plan` read one back (for ``solverplan simulate`` and ``render --plan``).
 
-A plan's JSON is CONTRACT's ``{"status", "objective", "bounces", "min_width", "tolerance", "stages":
+A plan's JSON is docs/contract.md's ``{"status", "objective", "bounces", "min_width", "tolerance", "stages":
 [{"from_segments", "to_segments", "interval"}], "optimality": {"method", "proved", "bound"}, "reason"}``
 plus, for its readers: per stage the ``moves`` ([source, target] segment pairs, one per source: where the
 robot lands from each possible segment) and ``width``; the query (``start``, ``goal``, ``max_bounces``),
@@ -148,7 +148,7 @@ class Stage:
 
 @dataclass(frozen=True)
 class Plan:
-    """A plan (CONTRACT.md): heading intervals, one per bounce, that take the robot from every point of
+    """A plan (docs/contract.md): heading intervals, one per bounce, that take the robot from every point of
     the start set to the goal set whatever headings inside the intervals it executes — or a proof
     that there is none (``status == "infeasible"`` with a ``reason``).
 
@@ -223,7 +223,7 @@ class Plan:
 
     # ------------------------------------------------------------------ output
     def to_json(self) -> dict:
-        """CONTRACT's plan, then the extra fields described in the module docstring."""
+        """The plan of docs/contract.md, then the extra fields described in the module docstring."""
         out: dict[str, Any] = {
             "status": self.status.value,
             "objective": self.objective,
@@ -373,7 +373,7 @@ def _number(value: object, where: str) -> float:
 
 
 def parse_plan(data: object, source: str = "plan") -> Plan:
-    """A :class:`Plan` from its JSON (:meth:`Plan.to_json`, or a hand-written CONTRACT plan).
+    """A :class:`Plan` from its JSON (:meth:`Plan.to_json`, or a hand-written plan in the format of docs/contract.md).
 
     Checks the shape and that every interval lies inside (0, π) with lo ≤ hi; segment ids are checked
     against an environment by the readers (:func:`solverplan.simulate.simulate_plan`). Raises

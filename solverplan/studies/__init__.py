@@ -1,4 +1,4 @@
-"""Studies: random environments, reachability/connectivity sweeps, batch execution (seed 000 §7.3–7.4, §8.1–8.2).
+"""Studies: random environments, reachability/connectivity sweeps, batch execution (the paper's §7.3–7.4, §8.1–8.2).
 
 - :mod:`~solverplan.studies.generators` — seeded generators that always return valid, exact
   environments: random star polygons (the paper's §7.3 family, irregularity scaled properly), star

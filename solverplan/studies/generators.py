@@ -95,7 +95,7 @@ def _star_points(
     """Float vertices (n, 2) of a random star polygon around the origin, at increasing angles.
 
     Angle steps are uniform in [2π/n·(1 − irregularity), 2π/n·(1 + irregularity)] — the
-    irregularity is *scaled* by the mean step (note 000, trap 7), so steps are never negative —
+    irregularity is *scaled* by the mean step, so steps are never negative —
     then normalised to sum to 2π; radii are Gaussian(radius, spikiness·radius) clipped to
     [0, 2·radius].
     """
@@ -135,7 +135,7 @@ def star_polygon(
         Number of vertices (≥ 3); the result has exactly ``n`` vertices (collinear ones are kept).
     irregularity
         In [0, 1]: spread of the angle steps, as a fraction of the mean step 2π/n
-        (0 gives equal steps). Scaled, unlike the implementation criticised in note 000, trap 7.
+        (0 gives equal steps). Scaled (unscaled, up to a third of the polygons self-intersect at the paper's parameters).
     spikiness
         In [0, 1]: standard deviation of the radii as a fraction of ``radius`` (0 gives a
         polygon inscribed in a circle).
@@ -678,7 +678,7 @@ def rectilinear_floor_plan(
     pillars: int = 0,
     max_attempts: int = 50,
 ) -> Environment:
-    """A rectangular building cut into ``n_rooms`` rooms by walls with one door each (seed 002's setting).
+    """A rectangular building cut into ``n_rooms`` rooms by walls with one door each (the setting of Çağırıcı, Bahoo and LaValle, "Bouncing robots in rectilinear polygons").
 
     A width × height rectangle is split recursively (binary space partition): the room to split is
     drawn with probability proportional to its area, the cut runs across its longer side when it can
@@ -820,7 +820,7 @@ def generate(kind: str, *, seed: Seed, **params: object) -> Environment:
 
 @dataclass(frozen=True)
 class GeneratedEnvironment:
-    """A generated environment as a CLI answer: its JSON is the environment file itself (CONTRACT)."""
+    """A generated environment as a CLI answer: its JSON is the environment file itself (docs/contract.md)."""
 
     env: Environment
 

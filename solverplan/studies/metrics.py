@@ -16,7 +16,7 @@ one environment to a flat dict of numbers, one per declared column::
 deterministic metrics ignore it. A metric must be a pure function of its arguments: a row is
 recomputed identically from its parameters and seed on any machine, in any process.
 
-The paper's metrics (seed 000, §7.3–7.4) are computed on the **safe bounce visibility graph**
+The paper's metrics (§7.3–7.4) are computed on the **safe bounce visibility graph**
 (:func:`solverplan.bounce.bvg.safe_bounce_visibility_graph`), nodes = the segments of P′, an arc
 i → j when the arc of the BVG has at least one safe heading:
 
@@ -24,7 +24,7 @@ i → j when the arc of the BVG has at least one safe heading:
   safe arc**) / (perimeter of P, holes included); also the count of such segments, and
   ``unreachable_nonadjacent``, the same share when the arcs between neighbouring segments of P′
   (sharing an end point) are ignored — what an implementation that drops Cor. 1's adjacent arcs
-  (note 000, trap 1) would report (a diagnostic: in star polygons it changes the share very little).
+  would report (a diagnostic: in star polygons it changes the share very little).
 - :class:`Connectivity` (Fig. 16): numbers of strongly (``scc``) and weakly (``wcc``) connected
   components of the safe BVG (every segment is a node, so a segment without safe arcs is a component
   of its own), and the share of the perimeter in the largest strongly connected component.

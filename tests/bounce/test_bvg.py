@@ -29,7 +29,7 @@ from solverplan.geometry.visibility import segments_see_each_other
 from solverplan.studies.generators import worst_case_polygon
 from tests.strategies import polygons_with_holes, simple_polygons
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 SQUARE = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]], name="square")
 ELL = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], name="L")
 
@@ -61,17 +61,17 @@ def arcs_of(g: SafeBVG) -> set[tuple[int, int]]:
 # ---------------------------------------------------------------------------------------------
 # acceptance and small cases
 # ---------------------------------------------------------------------------------------------
-def test_issue3_square_has_four_segments_and_safe_arcs_both_ways():
+def test_square_has_four_segments_and_safe_arcs_both_ways():
     g = safe_bounce_visibility_graph(SQUARE)
     assert g.n_segments == 4
     assert arcs_of(g) == {(i, j) for i in range(4) for j in range(4) if i != j}
-    assert g.n_safe_arcs == 12  # note 000 trap 1: the adjacent sides too, in both directions
+    assert g.n_safe_arcs == 12  # Cor. 1: the adjacent sides too, in both directions
     assert g.transitions[g.arc_index(0, 1)] == "right" and g.transitions[g.arc_index(1, 0)] == "left"
     assert g.transitions[g.arc_index(0, 2)] == "parallel" and g.phi[g.arc_index(0, 2)] == 0.0
     assert g.phi[g.arc_index(0, 1)] == pytest.approx(math.pi / 2)
 
 
-def test_note000_trap5_arcs_need_open_segments_to_see_each_other():
+def test_arcs_need_open_segments_to_see_each_other_not_just_an_end_point():
     """In an L, the right wall's lower part and the top of the left arm see each other only along
     the line grazing the reflex vertex: no arc, although an end point of each is visible from the other."""
     p = partition(ELL)
@@ -150,7 +150,7 @@ def test_def5_arcs_equal_the_exact_reference_without_holes(env):
 @pytest.mark.parametrize("name", ["degenerate", "l_shape", "comb"])
 def test_def5_arcs_equal_the_exact_reference_on_models(name):
     """The degenerate model: collinear vertices, parallel edges, inserted points on lines through
-    vertices — the exact ties of note 000 trap 4."""
+    vertices — exact ties, decided without epsilons."""
     check_arcs_against_reference(model(name))
 
 

@@ -25,7 +25,7 @@ from solverplan.simulate import simulate_rule
 from tests.strategies import convex_polygons, polygons_with_holes
 
 PI = math.pi
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 FEW = max(8, settings.default.max_examples // 5)
 
@@ -59,7 +59,7 @@ def test_theorem1_cycle_is_where_the_simulated_trajectory_converges(env, frac, t
     n = env.n_edges
     assert cycle.edges == tuple(range(n))
     _verify_orbit_by_exact_casts(cycle)
-    # the exact fixed point agrees with DESIGN's float formula (Theorem 1)
+    # the exact fixed point agrees with Theorem 1's float closed form
     assert float(cycle.points[0].t) * env.edge_lengths[0] == pytest.approx(theorem1_fixed_point(env, theta).d, rel=1e-9)
     # the simulated trajectory visits the edges in CCW order and converges to the contact points
     k = cycles_to_epsilon(cycle.contraction, 1.0, 1e-12 * min(float(p.t) for p in cycle.points)) + 1

@@ -155,7 +155,7 @@ def test_lemma3_outside_the_range_the_edge_order_breaks_rectangle():
 def test_lemma3_outside_the_range_a_step_expands_contraction_binds():
     """Designed example 2 (per-step contraction binds at v1): just above the bound the edge order still holds
     but the step e0 → e1 expands — measured in simulation — while the whole cycle still contracts (Def. 12:
-    Lemma 3's per-step condition is sufficient, not necessary; proofs/lemma3_convex_order.py)."""
+    Lemma 3's per-step condition is sufficient, not necessary; solverplan.proofs.lemma3_convex_order)."""
     r = lemma3_range(CONTRACTION_BINDS)
     assert r.contraction_vertex == 1 and r.contraction_bound < r.order_bound
     theta = r.bound + 0.01
@@ -223,7 +223,7 @@ def test_theorem1_simulated_trajectory_converges_to_d_fp(env, frac, t, edge):
 @settings(max_examples=FEW)
 def test_cor4_count_is_an_upper_bound_within_one_of_the_observed(env, frac, exponent):
     """Starts spread over all of e0; the observed cycles until their spread is ≤ ε versus the tight Cor. 4 count
-    for the whole edge (and DESIGN's factor-2 count, which is never smaller)."""
+    for the whole edge (and the paper's factor-2 count, which is never smaller)."""
     theta = _fraction_of_range(env, frac)
     fp = theorem1_fixed_point(env, theta)
     n, length = env.n_edges, float(env.edge_lengths[0])
@@ -254,10 +254,10 @@ def test_cor3_distance_to_the_fixed_point_after_k_cycles(env, frac, t, k):
 
 
 def test_cor4_tight_count_exact_and_edge_cases():
-    assert cycles_to_epsilon(Fraction(9, 10), 1, Fraction(1, 1000)) == 66  # DESIGN's factor 2 gives 73
+    assert cycles_to_epsilon(Fraction(9, 10), 1, Fraction(1, 1000)) == 66  # the paper's factor 2 gives 73
     assert cycles_to_epsilon(Fraction(1, 2), 1, Fraction(1, 4)) == 2  # an exact power: not rounded up to 3
     assert cycles_to_epsilon(0.5, 1.0, 0.25) == 2
-    assert cycles_to_epsilon(0.9, 1.0, 100.0) == 0  # DESIGN's formula is negative here (−37 for ε = 100ℓ)
+    assert cycles_to_epsilon(0.9, 1.0, 100.0) == 0  # the paper's formula is negative here (−37 for ε = 100ℓ)
     with pytest.raises(InputError, match=r"^contraction 1 is not < 1: the position set never shrinks$"):
         cycles_to_epsilon(1, 1, Fraction(1, 2))
     with pytest.raises(InputError, match=r"^epsilon -1.0 must be positive$"):
@@ -287,7 +287,7 @@ def test_exact_headings_parse_and_rotate_every_edge_by_the_same_angle():
 @given(env=polygons_with_holes(), edge=st.integers(0, 60), target=st.integers(0, 60))
 @settings(max_examples=FEW)
 def test_transition_angle_agrees_with_the_affine_map_slope(env, edge, target):
-    """In arc length the affine map's slope is ±C (proofs/affine_transition.py): |α|·ℓ_j/ℓ_i = C(θ, φ)."""
+    """In arc length the affine map's slope is ±C (solverplan.proofs.affine_transition): |α|·ℓ_j/ℓ_i = C(θ, φ)."""
     from solverplan.bounce.transitions import affine_map
 
     i, j = edge % env.n_edges, target % env.n_edges

@@ -1,4 +1,4 @@
-"""Interval: a real type with an empty state (note 000, trap 2)."""
+"""Interval: a real type with an empty state (an empty intersection never passes for a reversed, non-empty one)."""
 
 import math
 
@@ -18,7 +18,7 @@ def intervals(draw):
     return draw(st.sampled_from([Interval(lo, hi), Interval.EMPTY]))
 
 
-def test_note000_trap2_empty_intersection_is_empty_not_reversed():
+def test_empty_intersection_is_empty_not_reversed():
     meet = Interval(1.0, 1.2) & Interval(1.5, 2.0)
     assert meet is Interval.EMPTY and meet.is_empty and meet.width == 0.0
     assert 1.3 not in meet and meet.to_json() is None

@@ -27,7 +27,7 @@ from solverplan.exact import orient, point_in_ring, to_fraction
 from solverplan.geometry.visibility import visibility_polygon
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 # the module (the package re-exports the function of the same name)
 partition_module = importlib.import_module("solverplan.bounce.partition")
 
@@ -65,7 +65,7 @@ def test_convex_polygons_have_no_inserted_points(env):
 
 
 def test_l_shape_inserted_points_by_hand():
-    """models/l_shape: the reflex vertex r = (4, 4) sees (0, 10) and (10, 0) beside its obstacle wedge.
+    """The shipped model l_shape: the reflex vertex r = (4, 4) sees (0, 10) and (10, 0) beside its obstacle wedge.
 
     - extension of (10, 4) → (4, 4): hits the left wall (0,10) → (0,0) at (0, 4), t = 3/5;
     - extension of (4, 10) → (4, 4): hits the floor at (4, 0), t = 2/5;
@@ -89,7 +89,7 @@ def test_l_shape_inserted_points_by_hand():
     )
 
 
-def test_note000_trap3_holes_get_inserted_points_like_the_outer_ring():
+def test_holes_get_inserted_points_like_the_outer_ring():
     """Rays through a hole's corner land on the outer ring and on another hole; the outer ring's
     reflex vertex shoots too. Hand-computed: from the outer corner (0, 0) the ray grazes hole A's
     corner (6, 4) (it touches A only there) and hits hole B's left side x = 10 at (10, 20/3); from
@@ -113,7 +113,7 @@ def test_note000_trap3_holes_get_inserted_points_like_the_outer_ring():
     r = vertex_of(env, (14, 10))
     assert {v for q in p.inserted for rr, v in q.sources if rr == r} >= {None}
     assert inserted_set(p) == reference_inserted(env)
-    # models/one_hole: a convex hole in a convex room; all its rays land on the outer ring
+    # the shipped model one_hole: a convex hole in a convex room; all its rays land on the outer ring
     p = partition(model("one_hole"))
     assert len(p.inserted) == 14
     assert {int(p.env.ring_of[q.edge]) for q in p.inserted} == {0}
@@ -151,9 +151,9 @@ def test_prop1_worst_case_family_partition_size():
 
 
 # ---------------------------------------------------------------------------------------------
-# degenerate inputs (note 000, trap 4)
+# degenerate inputs: exact ties, never epsilons
 # ---------------------------------------------------------------------------------------------
-def test_note000_trap4_collinear_vertex_at_an_inserted_point_gives_the_same_partition_points():
+def test_degenerate_collinear_vertex_at_an_inserted_point_gives_the_same_partition_points():
     """A flat vertex put exactly where the L's edge extension lands: the same points of P′, once each."""
     with_flat = Environment.from_coords([[0, 0], [10, 0], [10, 4], [4, 4], [4, 10], [0, 10], [0, 4]])
     assert with_flat.n_vertices == 7 and len(with_flat.reflex_vertices) == 1
@@ -166,7 +166,7 @@ def test_note000_trap4_collinear_vertex_at_an_inserted_point_gives_the_same_part
     assert (0, 4) not in {q.point for q in b.inserted}
 
 
-def test_note000_trap4_collinear_vertex_is_a_vertex_like_any_other():
+def test_degenerate_collinear_vertex_is_a_vertex_like_any_other():
     """A flat vertex (5, 0) splits the floor into two original edges; a robot on the ceiling sees
     the edge (5, 0) → (10, 0) vanish behind r = (4, 4) where the line from (5, 0) through r meets the
     ceiling, at (5/2, 10): that point is inserted, besides the flat vertex itself."""
@@ -178,7 +178,7 @@ def test_note000_trap4_collinear_vertex_is_a_vertex_like_any_other():
     assert inserted_set(b) == reference_inserted(with_flat)
 
 
-def test_note000_trap4_ray_landing_on_a_vertex_inserts_nothing():
+def test_degenerate_ray_landing_on_a_vertex_inserts_nothing():
     """The extension of (10, 4) → (4, 4) runs along y = 4 into the convex corner (0, 4) exactly."""
     env = Environment.from_coords([[0, 0], [10, 0], [10, 4], [4, 4], [4, 10], [1, 10], [0, 4]])
     corner = vertex_of(env, (0, 4))
@@ -191,7 +191,7 @@ def test_note000_trap4_ray_landing_on_a_vertex_inserts_nothing():
     assert inserted_set(p) == reference_inserted(env)
 
 
-def test_note000_trap4_two_rays_hitting_the_same_point_are_merged():
+def test_degenerate_two_rays_hitting_the_same_point_are_merged():
     """A protrusion hanging from the ceiling: the extensions at its two lower corners (7, 4) and (3, 4)
     both land on the floor at (5, 0) (t = 1/2)."""
     env = Environment.from_coords(
@@ -207,7 +207,7 @@ def test_note000_trap4_two_rays_hitting_the_same_point_are_merged():
     assert inserted_set(p) == reference_inserted(env)
 
 
-def test_note000_trap4_degenerate_model_matches_the_reference():
+def test_degenerate_model_matches_the_reference():
     env = model("degenerate")
     assert inserted_set(partition(env)) == reference_inserted(env)
 
@@ -299,7 +299,7 @@ def grid_polygons(draw):
 
 @settings(max_examples=60)
 @given(env=grid_polygons())
-def test_note000_trap4_grid_polygons_match_the_reference(env):
+def test_degenerate_grid_polygons_match_the_reference(env):
     assert inserted_set(partition(env)) == reference_inserted(env)
 
 

@@ -16,7 +16,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-import proofs.safe_set_structure as structure
+import solverplan.proofs.safe_set_structure as structure
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.bounce.partition import partition
@@ -36,7 +36,7 @@ from solverplan.geometry.visibility import is_entirely_visible
 from solverplan.studies.generators import star_polygon_with_holes
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 SQUARE = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]], name="square")
 # a wide room with a small hole right above the middle of the floor piece (−1, 0)–(1, 0)
 HOLE_ROOM = Environment.from_coords(
@@ -135,7 +135,7 @@ def test_prop2_closed_form_on_convex_polygons(env):
 
 
 def test_cor1_adjacent_segments_have_safe_intervals_both_ways():
-    """Note 000 trap 1: a plain square has safe arcs between all adjacent sides, in both directions."""
+    """Cor. 1: a plain square has safe arcs between all adjacent sides, in both directions."""
     edges = edges_of(SQUARE)
     for i in range(4):
         nxt, prv = edges[(i + 1) % 4], edges[(i - 1) % 4]
@@ -214,7 +214,7 @@ def test_def8_phi_of_adjacent_segments_is_the_interior_angle(env):
 # the exact safe set beyond Prop. 2
 # ---------------------------------------------------------------------------------------------
 def test_safe_set_with_a_hole_is_two_intervals():
-    """The lead's counterexample: with holes the safe set is not an interval (DESIGN §3 erratum)."""
+    """A counterexample: with holes the safe set is not an interval (the paper's statement holds without holes only)."""
     floor, ceiling = ((-1, 0), (1, 0)), ((12, 8), (-12, 8))
     found = safe_set(HOLE_ROOM, floor, ceiling)
     assert len(found) == 2
@@ -280,7 +280,7 @@ def test_safe_bvg_equals_the_exact_reference_on_every_pair(env):
 @pytest.mark.parametrize("name", ["degenerate", "comb", "two_holes"])
 def test_safe_bvg_equals_the_exact_reference_on_models(name):
     """The degenerate model (collinear vertices, parallel edges, hole vertices on lines through outer
-    edges: note 000 trap 4) and two others, every pair against the exact reference."""
+    edges: exact ties) and two others, every pair against the exact reference."""
     env = load_environment(MODELS / f"{name}.json")
     p = partition(env)
     g = safe_bounce_visibility_graph(p)

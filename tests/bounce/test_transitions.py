@@ -1,4 +1,4 @@
-"""Transitions: float vs exact, the exact affine map (DESIGN §3, §6) vs exact ray casting, and the lifted
+"""Transitions: float vs exact, the exact affine map vs exact ray casting, and the lifted
 transition f(S, Θ) vs sampled and exact rays (sound: every ray lands in a reported piece; tight: points
 just inside every reported end point are reached, checked with exact point-to-point visibility)."""
 

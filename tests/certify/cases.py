@@ -16,7 +16,7 @@ import mpmath
 
 from solverplan.certify.schema import SCHEMA, VERSION, json_value
 
-MODELS = Path(__file__).resolve().parent.parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"
 
 mpmath.mp.dps = 60
 

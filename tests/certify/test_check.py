@@ -134,7 +134,7 @@ def test_report_json_and_text():
     assert report.to_text().startswith("certificate (plan): VALID\nchecked exactly: 1 stages")
 
 
-# ---------------------------------------------------------------------- tampering: the brief's list
+# ---------------------------------------------------------------------- tampering: one claim at a time
 def test_nudged_corner_direction_misses_the_target():
     data = tampered(cases.square_up(), "stages.0.moves.0.d_hi", [-1, 2])
     report = assert_fails(data, "stages[0].moves[0].d_hi", "outside segment 2")

@@ -381,7 +381,7 @@ def test_float_shadow_filter_never_blocks_a_visible_position(case, s):
         assert not any(ref_sees(env, p, lerp(b0, b1, t), strict=True) for t in ts)
 
 
-def test_note000_trap5_grazing_lines_do_not_make_segments_visible():
+def test_grazing_lines_do_not_make_segments_visible():
     # L: the right side of the lower arm and the top of the upper arm meet only the diagonal
     # through the closed ends (4, 0), (2, 2), (0, 4)
     assert sees(ELL, (4, 0), (0, 4))

@@ -1,4 +1,4 @@
-"""Plans become certificates that the independent exact checker accepts (issue 5 acceptance), with their
+"""Plans become certificates that the independent exact checker accepts, with their
 optimality claims; a certificate of a plan whose interval was widened past the safe set is rejected."""
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from solverplan.certify.build import NothingToCertify, certificate
 from solverplan.environment import load_environment
 from solverplan.plan import find_plan, pareto_front
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 
 
 @pytest.fixture(scope="module")

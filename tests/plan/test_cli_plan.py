@@ -12,7 +12,7 @@ from solverplan import cli
 from solverplan.certify.check import check_certificate
 from solverplan.certify.schema import load_certificate
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 TWO_ROOMS = MODELS / "two_rooms.json"
 runner = CliRunner()
 

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from pathlib import Path
 
 import numpy as np
 from hypothesis import given, settings
@@ -25,7 +24,6 @@ from solverplan.plan import find_plan
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN
 from solverplan.simulate import StagePolicy, simulate_plan, simulate_policy
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
 NAMES = ["square", "triangle", "hexagon", "irregular_convex", "l_shape", "two_rooms", "one_hole", "narrow_door"]
 TRIALS = 2000
 
@@ -34,7 +32,7 @@ _CACHE: dict[str, tuple] = {}
 
 def _model(name: str):
     if name not in _CACHE:
-        env = load_environment(MODELS / f"{name}.json")
+        env = load_environment(name)  # a shipped model
         _CACHE[name] = (env, safe_bounce_visibility_graph(env))
     return _CACHE[name]
 

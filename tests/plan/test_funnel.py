@@ -25,7 +25,7 @@ from solverplan.plan._positions import _dominated, merge_pieces
 from solverplan.plan.funnel import funnel, safe_plan_exists
 from solverplan.simulate import StagePolicy, simulate_policy
 
-MODELS = Path(__file__).resolve().parent.parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"
 runner = CliRunner()
 
 

@@ -17,7 +17,7 @@ from solverplan.errors import InputError
 from solverplan.plan.localize import localize, rotational_symmetry
 from solverplan.simulate import StagePolicy, simulate_policy
 
-MODELS = Path(__file__).resolve().parent.parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"
 runner = CliRunner()
 
 

@@ -29,7 +29,7 @@ from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan.patrol import patrol
 from solverplan.simulate import StagePolicy, simulate_policy
 
-MODELS = Path(__file__).resolve().parent.parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"
 CONVEX = ["square", "triangle", "hexagon", "irregular_convex"]
 runner = CliRunner()
 

@@ -1,4 +1,4 @@
-"""Plan results: CONTRACT JSON, text, reading plans back."""
+"""Plan results: the JSON of docs/contract.md, text, reading plans back."""
 
 from __future__ import annotations
 

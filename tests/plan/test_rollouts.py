@@ -16,7 +16,7 @@ from solverplan.environment import load_environment
 from solverplan.plan import find_plan, pareto_front
 from solverplan.simulate import simulate_plan
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 TRIALS = 10_000
 
 QUERIES = [

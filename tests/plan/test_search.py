@@ -21,7 +21,7 @@ from tests.strategies import convex_polygons, polygons_with_holes, simple_polygo
 K = 3
 SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 
-MODELS = Path(__file__).resolve().parents[2] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 
 
 @st.composite
@@ -206,7 +206,7 @@ def test_start_inside_the_goal_is_a_plan_with_no_stages():
 
 
 def test_square_floor_to_ceiling_needs_two_bounces():
-    """Prop. 2's parallel case is a single heading, not an executable interval (note 000, trap 1 for the rest)."""
+    """Prop. 2's parallel case is a single heading, not an executable interval (Cor. 1 gives the rest)."""
     plan = find_plan(SQUARE, "e0", "e2", objective="fewest")
     assert plan.bounces == 2 and [s.moves for s in plan.stages] in ([((0, 1),), ((1, 2),)], [((0, 3),), ((3, 2),)])
 

@@ -134,7 +134,7 @@ def test_star_polygon_name_records_parameters_and_seed():
     )
 
 
-def test_note000_trap7_irregularity_is_scaled_so_angles_increase():
+def test_irregularity_is_scaled_so_angles_increase():
     """With the irregularity scaled by the mean step, the angle steps are positive: the polygon winds
     once around the origin, every edge turning left about it (star-shaped), even at irregularity 1."""
     for seed in range(20):

@@ -3,7 +3,7 @@
 Nothing here asserts a result: the helpers *build* derived objects (the triangle of a left or right
 transition solved in coordinates) and *check* facts with sympy (the sign of sin and cos on (0, π) by
 ``solveset``; positivity of an angle by the assumption system). The proof modules turn the checks
-into :class:`~proofs._core.Step` records.
+into :class:`~solverplan.proofs._core.Step` records.
 
 The angle domain. A transition from a source segment to a target segment is a triangle P V Q: P the
 robot on the source, V the corner where the two supporting lines meet, Q the hit on the target. The

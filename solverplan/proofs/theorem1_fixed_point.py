@@ -1,4 +1,4 @@
-"""Theorem 1 (seed 000 §6.1): the return map of a convex n-gon under a constant rule, and its fixed point.
+"""Theorem 1 (paper §6.1): the return map of a convex n-gon under a constant rule, and its fixed point.
 
 Statement. In a convex polygon with edges e₀, …, e_{n−1} (CCW, lengths ℓ_k), under the constant rule
 b = θ in Lemma 3's range, let d be the distance from the clockwise vertex v_k of the current edge and
@@ -7,16 +7,16 @@ d_{k+1} = C_k (ℓ_k − d_k), and the return map to e₀ is
 
     F(d) = A + (−1)^n (Π_{k=0}^{n−1} C_k) d,   A = Σ_{j=0}^{n−1} (−1)^{n−1−j} ℓ_j Π_{k=j}^{n−1} C_k,
 
-with the fixed point d_FP = A / (1 − (−1)^n Π_k C_k) (DESIGN §3, seed Eq. (1)).
+with the fixed point d_FP = A / (1 − (−1)^n Π_k C_k) (the paper's Eq. (1)).
 
 Setting. The one-step map is Lemma 2's right transition at the shared vertex v_{k+1}: the robot is
 ℓ_k − d_k from the corner and lands C_k (ℓ_k − d_k) from it, which is the distance from the clockwise
 vertex of e_{k+1}. Symbols C_k, ℓ_k are positive; n is a positive integer symbol for the induction.
 
 Derivation. (1) For n = 3..8, compose the n maps and compare the expanded constant and slope with
-DESIGN's A and (−1)^n Π C_k. (2) For the same n, solve F(d) = d and compare with d_FP. (3) Induction for
+the library's A and (−1)^n Π C_k. (2) For the same n, solve F(d) = d and compare with d_FP. (3) Induction for
 general n: if the composite after n steps is a generic a + b·d, one more step gives
-C_n ℓ_n − C_n a − C_n b·d; DESIGN's closed forms satisfy exactly these recurrences — the slope because
+C_n ℓ_n − C_n a − C_n b·d; the library's closed forms satisfy exactly these recurrences — the slope because
 Π_{k<n+1} = (Π_{k<n})·C_n, the constant because A_{n+1} splits into its j = n term C_n ℓ_n plus, term
 by term, −C_n times A_n's terms. The two range-splitting rules used (peel the last term of a Σ or Π with
 a symbolic upper limit) are checked for concrete lengths 1..6, and the base case n = 1 directly.
@@ -25,7 +25,7 @@ a symbolic upper limit) are checked for concrete lengths 1..6, and the base case
 sin θ = 5/13, cos θ = 12/13 (all edge lengths and directions rational, so everything is rational): the
 ray-cast return map, each hit inside the next edge, equals Theorem 1's with C_k = sin θ / sin(θ + φ_k).
 
-Errata. None: DESIGN §3's A, slope and d_FP, and the seed's Eq. (1) (garbled in the extracted text but
+Errata. None: the library's A, slope and d_FP, and the paper's Eq. (1) (hard to read in the text but
 the same formula), agree with the derivation; C_{n−1} uses the angle φ_{n−1,0} at v₀ (indices mod n).
 """
 
@@ -33,8 +33,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import is_zero, text
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import is_zero, text
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove", "return_map", "design_constant", "design_fixed_point"]
 
@@ -47,13 +47,13 @@ def return_map(cs: list[sp.Expr], ells: list[sp.Expr], d: sp.Expr) -> sp.Expr:
 
 
 def design_constant(cs: list[sp.Expr], ells: list[sp.Expr]) -> sp.Expr:
-    """DESIGN §3's A = Σ_j (−1)^{n−1−j} ℓ_j Π_{k=j}^{n−1} C_k."""
+    """The library's A = Σ_j (−1)^{n−1−j} ℓ_j Π_{k=j}^{n−1} C_k."""
     n = len(cs)
     return sp.Add(*[(-1) ** (n - 1 - j) * ells[j] * sp.Mul(*cs[j:]) for j in range(n)])
 
 
 def design_fixed_point(cs: list[sp.Expr], ells: list[sp.Expr]) -> sp.Expr:
-    """DESIGN §3's d_FP = A / (1 − (−1)^n Π C_k)."""
+    """The library's d_FP = A / (1 − (−1)^n Π C_k)."""
     return design_constant(cs, ells) / (1 - (-1) ** len(cs) * sp.Mul(*cs))
 
 
@@ -77,7 +77,7 @@ def _symbolic_n_steps() -> list[Step]:
         (solved,) = sp.solve(sp.Eq(f, d), d)
         fixed_ok.append(is_zero(sp.together(solved - design_fixed_point(cs, ells))))
     steps.append(Step(
-        "n = 3..8: composing d ↦ C_k(ℓ_k − d) gives F(d) = A + (−1)^n (Π C_k) d with DESIGN's A",
+        "n = 3..8: composing d ↦ C_k(ℓ_k − d) gives F(d) = A + (−1)^n (Π C_k) d with the library's A",
         all(maps_ok),
         "per n: " + ", ".join(f"{n}: {'ok' if ok else 'MISMATCH'}" for n, ok in zip(range(3, 9), maps_ok)),
     ))
@@ -107,7 +107,7 @@ def _induction_steps() -> list[Step]:
     def summand(m: sp.Expr) -> sp.Expr:
         return (-1) ** (m - 1 - j) * ell[j] * product(j, m - 1)
 
-    def constant(m: sp.Expr) -> sp.Sum:  # DESIGN's A_m with a symbolic number of edges m
+    def constant(m: sp.Expr) -> sp.Sum:  # the library's A_m with a symbolic number of edges m
         return sp.Sum(summand(m), (j, 0, m - 1))
 
     def slope(m: sp.Expr) -> sp.Expr:
@@ -150,7 +150,7 @@ def _induction_steps() -> list[Step]:
     same_range = rest.limits == constant(n).limits
     termwise = is_zero(sp.powsimp(sp.expand(rest_summand + big_c[n] * summand(n)), force=True))
     steps.append(Step(
-        "induction: DESIGN's A satisfies A_{n+1} = C_n ℓ_n − C_n A_n — the j = n term of A_{n+1} is C_n ℓ_n and, "
+        "induction: the library's A satisfies A_{n+1} = C_n ℓ_n − C_n A_n — the j = n term of A_{n+1} is C_n ℓ_n and, "
         "over j = 0..n−1, each term of A_{n+1} is −C_n times the matching term of A_n",
         is_zero(last - big_c[n] * ell[n]) and same_range and termwise,
         f"last term {text(last)}; term_(n+1)(j) + C_n·term_n(j) = {text(sp.simplify(rest_summand + big_c[n] * summand(n)))}",

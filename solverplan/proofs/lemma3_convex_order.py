@@ -1,4 +1,4 @@
-"""Lemma 3 (seed 000 §6.1): in a convex polygon a small constant heading visits the edges in CCW order.
+"""Lemma 3 (paper §6.1): in a convex polygon a small constant heading visits the edges in CCW order.
 
 Statement. Let P be a strictly convex polygon, CCW, edges e_i = v_i → v_{i+1}. If
 0 < θ < min_i ∠v_{i+2} v_i v_{i+1}, the ray at heading θ (CCW from e_i) from any point of the open edge
@@ -29,7 +29,7 @@ Errata / remarks (no formula errors).
 - The strict bound is not sharp: for the *open* edge, θ = min_i ∠v_{i+2} v_i v_{i+1} also works (the binding
   start x → 0 is a vertex, which is never a robot position). For θ above it, the starts with
   0 < x ≤ min(L, q_x − u q_y) miss e_{i+1}.
-- The seed's Lemma 3 range also requires θ < π/2 − φ/2 at every vertex (each step contracts). Theorem 1
+- The paper's Lemma 3 range also requires θ < π/2 − φ/2 at every vertex (each step contracts). Theorem 1
   needs only Π_k C_k < 1, which can hold when some steps expand (Def. 12); the per-step bound is sufficient,
   not necessary.
 """
@@ -38,8 +38,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import is_zero, text
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import is_zero, text
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove"]
 

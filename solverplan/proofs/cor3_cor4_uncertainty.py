@@ -1,4 +1,4 @@
-"""Corollaries 3 and 4 (seed 000 §6.2): convergence to the limit cycle and the cycles needed for ε.
+"""Corollaries 3 and 4 (paper §6.2): convergence to the limit cycle and the cycles needed for ε.
 
 Statement. Let a cycle of fixed-heading transitions return to edge e_i = [0, ℓ_i] with return map F
 (affine, slope b = ±C, 0 < C < 1, Def. 12) mapping the edge into itself, fixed point x*.
@@ -7,7 +7,7 @@ has width exactly C^k w after k cycles, so it is at most ε after
 
     k = max(0, ⌈log(ε / w) / log C⌉) ≤ max(0, ⌈log(ε / ℓ_i) / log C⌉)     cycles (the fewest that work).
 
-DESIGN §3 and the seed give k = ⌈log(ε / (2ℓ_i)) / log C⌉: a valid but conservative count (see errata).
+The paper gives k = ⌈log(ε / (2ℓ_i)) / log C⌉: a valid but conservative count (see errata).
 
 Setting. F(x) = a + b·x with symbols a, b; where |b| < 1 matters, b = ±C with C = 1/(1 + q), q > 0 (so
 0 < C < 1 is built in). Positions x₀, x* ∈ [0, ℓ] are written through nonnegative gaps to the ends.
@@ -18,22 +18,22 @@ F^k(x) − x* = b^k (x − x*): composed for k = 1..6 and the induction step for
 points of [0, ℓ] are at most ℓ apart; Cor. 3 follows (with equality in its first half). (4) An interval
 [lo, hi] maps onto the interval with ends F(lo), F(hi), of width C·w; after k cycles C^k·w (k = 1..6 and
 symbolic k). (5) Solving C^k w = ε gives k* = log(ε/w)/log C, and C^k w decreases in k (log C < 0), so
-the fewest cycles is ⌈k*⌉ (0 if k* ≤ 0). (6) DESIGN's count is what Cor. 3's ball gives: the positions lie
+the fewest cycles is ⌈k*⌉ (0 if k* ≤ 0). (6) The paper's count is what Cor. 3's ball gives: the positions lie
 in [x* − C^k ℓ, x* + C^k ℓ], of width 2C^k ℓ; solving 2C^k ℓ = ε gives log(ε/(2ℓ))/log C. It exceeds k* by
 log(2ℓ/w)/log(1/C) ≥ log 2/log(1/C) > 0. (7) Exact numbers: C = 9/10, w = ℓ, ε = ℓ/1000 needs 66 cycles
-(C^66 ≤ 1/1000 < C^65), DESIGN says 73; and for ε = 100ℓ DESIGN's ceiling is −37. (8) Scope: with an
+(C^66 ≤ 1/1000 < C^65), the paper's count says 73; and for ε = 100ℓ the paper's ceiling is −37. (8) Scope: with an
 interval of headings there are several return maps; two with different fixed points keep the position
 set at least (1 − C)|x*₁ − x*₂| wide forever, so Cor. 4 is about one fixed heading per stage.
 
 Errata.
-- Cor. 4 (seed) / DESIGN §3: k = ⌈log(ε/(2ℓ_i))/log C⌉ is sufficient but not tight. The factor 2 comes
+- Cor. 4 (the paper): k = ⌈log(ε/(2ℓ_i))/log C⌉ is sufficient but not tight. The factor 2 comes
   from bounding the width of the position set by the diameter 2C^kℓ_i of Cor. 3's ball around x*; the
   width is in fact exactly C^k·w ≤ C^k ℓ_i (the image of an interval under an affine map). The fewest
   cycles is ⌈log(ε/w)/log C⌉ for a start interval of width w (⌈log(ε/ℓ_i)/log C⌉ for the whole edge); the
-  seed's count overshoots by up to ⌈log 2 / |log C|⌉ cycles — more than one whenever C > 1/2 (C = 9/10,
+  paper's count overshoots by up to ⌈log 2 / |log C|⌉ cycles — more than one whenever C > 1/2 (C = 9/10,
   ε = ℓ/1000: 73 instead of 66). A test that expects the count "within one iteration of the observed"
   must use the tight count.
-- The seed's proof says "we must have C^k ℓ_i = ε/2": that is a sufficient condition, not a necessary one.
+- The paper's proof says "we must have C^k ℓ_i = ε/2": that is a sufficient condition, not a necessary one.
 - The formula can be ≤ 0 (ε ≥ 2ℓ_i): it is −37 for C = 9/10, ε = 100ℓ_i. The count is max(0, ⌈·⌉).
 - Cor. 3 "must be less than C^k ℓ_i": it is ≤ (and |F^k(x₀) − x*| = C^k |x₀ − x*| exactly).
 - Both corollaries hold for a fixed heading per stage (a deterministic return map). With heading intervals
@@ -44,8 +44,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import is_zero, text
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import is_zero, text
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove", "cycles_tight", "cycles_design"]
 
@@ -56,7 +56,7 @@ def cycles_tight(contraction: sp.Expr, width: sp.Expr, epsilon: sp.Expr) -> sp.E
 
 
 def cycles_design(contraction: sp.Expr, edge_length: sp.Expr, epsilon: sp.Expr) -> sp.Expr:
-    """DESIGN §3 / seed Cor. 4: ⌈log(ε / (2ℓ_i)) / log C⌉ (no clamp)."""
+    """The paper's Cor. 4: ⌈log(ε / (2ℓ_i)) / log C⌉ (no clamp)."""
     return sp.ceiling(sp.log(epsilon / (2 * edge_length)) / sp.log(contraction))
 
 
@@ -133,7 +133,7 @@ def prove() -> ProofResult:
     claimed_excess = sp.log(2 * (1 + m)) / sp.log(1 / c)
     excess_positive = (sp.log(2 * (1 + m)) / sp.log(1 + q)).is_positive  # with C = 1/(1 + q)
     steps.append(Step(
-        "Cor. 4 (DESIGN's count): the factor 2 is Cor. 3's ball — solving 2·C^k·ℓ = ε gives DESIGN's "
+        "Cor. 4 (the paper's count): the factor 2 is Cor. 3's ball — solving 2·C^k·ℓ = ε gives the paper's "
         "log(ε/(2ℓ))/log C, which exceeds the tight k* by log(2ℓ/w)/log(1/C) > 0 for w ≤ ℓ: sufficient, not tight",
         is_zero(k_ball - design)
         and is_zero(sp.expand_log(excess - claimed_excess, force=True))
@@ -146,15 +146,15 @@ def prove() -> ProofResult:
     exact_minimal = c_num**tight <= eps_num < c_num ** (tight - 1)
     steps.append(Step(
         "example C = 9/10, w = ℓ, ε = ℓ/1000: the tight count is 66 (C^66 ≤ 1/1000 < C^65, exact rationals), "
-        "DESIGN's formula gives 73",
+        "the paper's formula gives 73",
         tight == 66 and design_count == 73 and bool(exact_minimal),
-        f"tight {tight}, DESIGN {design_count}",
+        f"tight {tight}, paper {design_count}",
     ))
     negative = cycles_design(c_num, 1, sp.Integer(100))
     steps.append(Step(
-        "example C = 9/10, ε = 100ℓ: DESIGN's ceiling is negative (−37), so the count needs max(0, ·)",
+        "example C = 9/10, ε = 100ℓ: the paper's ceiling is negative (−37), so the count needs max(0, ·)",
         negative == -37 and cycles_tight(c_num, 1, sp.Integer(100)) == 0,
-        f"DESIGN {negative}",
+        f"paper {negative}",
     ))
     a1, a2 = sp.symbols("a_1 a_2", real=True)
     x1, x2 = a1 / (1 - b), a2 / (1 - b)
@@ -166,11 +166,11 @@ def prove() -> ProofResult:
         is_zero(sp.together(orbit1 - orbit2 - (x1 - x2) * (1 - b**k))),
     ))
     errata = (
-        "Cor. 4 (seed) / DESIGN §3: k = ⌈log(ε/(2ℓ_i))/log C⌉ is sufficient but not tight: the position set's width "
+        "Cor. 4 (the paper): k = ⌈log(ε/(2ℓ_i))/log C⌉ is sufficient but not tight: the position set's width "
         "after k cycles is exactly C^k·w (w ≤ ℓ_i its initial width), so the fewest cycles is ⌈log(ε/w)/log C⌉ "
         "(⌈log(ε/ℓ_i)/log C⌉ for a whole edge). The factor 2 bounds the width by the diameter of Cor. 3's ball and "
         "costs up to ⌈log 2/|log C|⌉ extra cycles, more than one when C > 1/2 (C = 9/10, ε = ℓ/1000: 73 vs 66).",
-        "Cor. 4 proof (seed): 'we must have C^k ℓ_i = ε/2' is sufficient, not necessary.",
+        "Cor. 4 proof (paper): 'we must have C^k ℓ_i = ε/2' is sufficient, not necessary.",
         "Cor. 4: the formula is ≤ 0 when ε ≥ 2ℓ_i (−37 for C = 9/10, ε = 100ℓ_i); the count is max(0, ⌈·⌉).",
         "Cor. 3: 'less than C^k ℓ_i' should read 'at most'; in fact |F^k(x0) − x_FP| = C^k |x0 − x_FP| exactly.",
         "Cor. 3/4 hold for one fixed heading per stage; with heading intervals the position set stays at least "

@@ -1,4 +1,4 @@
-"""DESIGN §3/§6: a fixed-heading transition is affine in the boundary parameter, linear-fractional in cot θ.
+"""A fixed-heading transition is affine in the boundary parameter, linear-fractional in cot θ.
 
 Statement. In the frame of the source segment (x along it, free space y > 0) write the heading by
 u = cot θ (direction ∝ (u, 1), u decreasing in θ). A ray from (x, 0) meets the line n·p = h at
@@ -27,17 +27,17 @@ denominator are polynomials over ℤ in the coordinates; (6) it agrees with (3) 
 (a = 0, b = (L, 0), x = tL, w = (u, 1)); (7) in Lemma 2's right-transition triangle the arclength slope
 (ℓ_j/ℓ_i)·dτ/dt is −C(θ, φ); (8) a rational example gives rational α, β.
 
-Errata. None: DESIGN §6's x′, y′ and the form of τ are confirmed. Precision: τ is monotone in u only on
+Errata. None: the library's x′, y′ and the form of τ are confirmed. Precision: τ is monotone in u only on
 each side of the parallel direction u = −n_y/n_x (where the denominator vanishes); within a safe interval
-the ray always hits the target line ahead, so the denominator is sign-definite there, as DESIGN says.
+the ray always hits the target line ahead, so the denominator is sign-definite there, as the library assumes.
 """
 
 from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import is_zero, sin_positive_on_open_0_pi, text, transition_triangle
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import is_zero, sin_positive_on_open_0_pi, text, transition_triangle
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove", "hit_parameter_world"]
 
@@ -73,7 +73,7 @@ def prove() -> ProofResult:
     x_hit, y_hit = x + u * s_hit, s_hit
     denominator = nx * u + ny
     steps.append(Step(
-        "solving n·((x, 0) + s(u, 1)) = h: x′ = (n_y x + h u)/(n_x u + n_y), y′ = (h − n_x x)/(n_x u + n_y) (DESIGN §6)",
+        "solving n·((x, 0) + s(u, 1)) = h: x′ = (n_y x + h u)/(n_x u + n_y), y′ = (h − n_x x)/(n_x u + n_y)",
         is_zero(sp.together(x_hit - (ny * x + h * u) / denominator))
         and is_zero(sp.together(y_hit - (h - nx * x) / denominator)),
         f"s = {text(s_hit)}",
@@ -165,4 +165,4 @@ def prove() -> ProofResult:
         and alpha_q * sp.Rational(5, 4) == -sp.Rational(25, 33),  # ℓ₁/ℓ₀ = 5/4; Theorem 1's C₀ = 25/33
         f"τ(t) = {alpha_q}·t + {beta_q}; arclength slope {alpha_q * sp.Rational(5, 4)} = −C₀ of Theorem 1's example",
     ))
-    return ProofResult("DESIGN §6 (a fixed-heading transition is affine; linear-fractional in cot θ)", tuple(steps))
+    return ProofResult("a fixed-heading transition is affine; linear-fractional in cot θ", tuple(steps))

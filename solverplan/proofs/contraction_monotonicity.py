@@ -1,4 +1,4 @@
-"""Monotonicity of the contraction coefficient in the heading (DESIGN §3, used by §6's planners).
+"""Monotonicity of the contraction coefficient in the heading (used by the planners).
 
 Statement. On its domain, C(θ, φ) is strictly increasing in θ for a right transition
 (C = sin θ / sin(θ + φ), 0 < θ < π − φ) and strictly decreasing for a left one (C = sin θ / sin(θ − φ),
@@ -6,9 +6,9 @@ Statement. On its domain, C(θ, φ) is strictly increasing in θ for a right tra
 domain the worst (largest) C is at θ_hi for a right transition and at θ_lo for a left one, the best at
 the other end; and 1/C = cos φ ± cot θ · sin φ is affine in u = cot θ.
 
-Setting. C is the ratio derived from the transition's triangle (:func:`proofs._common.transition_triangle`,
+Setting. C is the ratio derived from the transition's triangle (:func:`solverplan.proofs._common.transition_triangle`,
 the same object Lemma 2 checks), not retyped. Domains are written through positive triangle angles
-(:class:`proofs._common.AngleDomain`): for one heading, the triangle's three angles; for two headings
+(:class:`solverplan.proofs._common.AngleDomain`): for one heading, the triangle's three angles; for two headings
 θ₁ < θ₂, θ₂ = θ₁ + δ with δ > 0 and both triangles non-degenerate.
 
 Derivation. (1) Differentiate log C and compare with cot θ − cot(θ ± φ). (2) cot a − cot b =
@@ -16,17 +16,17 @@ sin(b − a) / (sin a sin b) gives d/dθ log C = ± sin φ / (sin θ sin(θ ± �
 positive on the domain, so the sign is + (right) or − (left). (4) Without calculus: the two-point
 difference C(θ₂) − C(θ₁) = ± sin φ sin(θ₂ − θ₁) / (sin(θ₁ ± φ) sin(θ₂ ± φ)), every factor positive for
 θ₁ < θ₂ in the domain — so the extreme values over an interval are at its ends, worst at the stated end.
-(5) 1/C expands to cos φ ± u sin φ, so "C ≤ c" is a linear condition on u (DESIGN §6).
+(5) 1/C expands to cos φ ± u sin φ, so "C ≤ c" is a linear condition on u.
 
-Errata. None: DESIGN §3's derivative and direction of monotonicity are confirmed.
+Errata. None: the library's derivative and direction of monotonicity are confirmed.
 """
 
 from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import AngleDomain, is_zero, text, transition_triangle
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import AngleDomain, is_zero, text, transition_triangle
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove"]
 

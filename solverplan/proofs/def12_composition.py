@@ -1,4 +1,4 @@
-"""Def. 12 (seed 000 §6): the contraction coefficient of a sequence of transitions is the product.
+"""Def. 12 (paper §6): the contraction coefficient of a sequence of transitions is the product.
 
 Statement. For transitions f₀, …, f_{m−1} with fixed headings (each right or left, coefficient
 C_k = C(θ_k, φ_k) from Lemma 2), the composite F = f_{m−1} ∘ … ∘ f₀ satisfies
@@ -10,7 +10,7 @@ to its distance from the corner, δ = σ_k (x − X_k) (X_k the corner's coordin
 σ_k = ±1 the side), multiplies it by C_k (Lemma 2: |VQ| = C·|VP|), and places the hit at
 y = Y_k + ρ_k C_k δ on the target (Y_k, ρ_k = ±1 likewise). The target coordinate of step k is the source
 coordinate of step k + 1. C_k is the ratio derived from the transition's triangle
-(:func:`proofs._common.transition_triangle`), right and left steps alternating.
+(:func:`solverplan.proofs._common.transition_triangle`), right and left steps alternating.
 
 Derivation. For m = 2..5: compose the maps symbolically; (1) F'' = 0: the composite is affine;
 (2) F' = Π_k σ_k ρ_k C_k (the chain rule, checked on the composed expression); (3) with σ_k² = ρ_k² = 1,
@@ -18,7 +18,7 @@ Derivation. For m = 2..5: compose the maps symbolically; (1) F'' = 0: the compos
 (4) each C_k > 0 on its domain (three positive sines), so |F'| = Π C_k. (5) An example where a single
 step expands and the product still contracts, in exact arithmetic.
 
-Errata. The seed says "as f is a linear mapping, the contraction coefficient of a composition … can be
+Errata. The paper says "as f is a linear mapping, the contraction coefficient of a composition … can be
 determined by multiplying". The transition is *affine*, not linear (d′ = C·(ℓ − d) has an offset); the
 product rule holds because only the slopes multiply under composition and the offsets drop out of
 differences. The conclusion (Def. 12, and "C(F) tells us the exact ratio") is right.
@@ -28,8 +28,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import is_zero, text, transition_triangle
-from proofs._core import ProofResult, Step
+from solverplan.proofs._common import is_zero, text, transition_triangle
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove"]
 

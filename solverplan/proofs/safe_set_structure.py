@@ -1,4 +1,4 @@
-"""The structure of the exact safe set of any two segments (seed 000 §5, generalising Prop. 2).
+"""The structure of the exact safe set of any two segments (paper §5, generalising Prop. 2).
 
 Setting (as in :mod:`solverplan.bounce.safe`, whose module docstring holds the full written proof).
 Source e_i = (a, b), target e_j = (c, d), free space on the left of both; a heading θ ∈ (0, π) is
@@ -40,10 +40,10 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._core import ProofResult, Step
+from solverplan.proofs._core import ProofResult, Step
 
 ERRATUM = (
-    "DESIGN §3 says the exact set of safe headings of any two segments is an interval; that holds only "
+    "One might expect that the exact set of safe headings of any two segments is an interval; that holds only "
     "for environments without holes. With holes it is a finite union of closed intervals: a hole strictly "
     "above the middle of e_i blocks θ = π/2 but not π/4 or 3π/4 (step 6). The safe BVG keeps every interval "
     "(safe_set) and reports the widest as `safe`."

@@ -1,4 +1,4 @@
-"""Lemma 2 and Def. 11 (seed 000 §6): the contraction coefficient of a transition and when it is < 1.
+"""Lemma 2 and Def. 11 (paper §6): the contraction coefficient of a transition and when it is < 1.
 
 Statement. Let a transition go from a source segment to a target segment whose supporting lines meet at
 the corner V with interior angle φ ∈ (0, π), the robot leaving at heading θ (CCW from the source's
@@ -10,32 +10,32 @@ direction). Measured from V, a start at distance d lands at distance C·d with
 and on its domain C < 1 iff θ < π/2 − φ/2 (right), resp. θ > π/2 + φ/2 (left).
 
 Setting. The triangle P V Q (robot, corner, hit) in the frame of the source line (x-axis, free space
-above, V at the origin), built and solved in coordinates by :func:`proofs._common.transition_triangle`.
+above, V at the origin), built and solved in coordinates by :func:`solverplan.proofs._common.transition_triangle`.
 Its angles are ∠P = θ (right) or π − θ (left), ∠V = φ, ∠Q = π − ∠P − ∠V. The domain is exactly
 "the triangle is non-degenerate": the three angles are positive (the ray meets the target half-line
 beyond V, ahead of the robot). Signs on the domain are decided by writing θ, φ and π through the three
-positive triangle angles (:class:`proofs._common.AngleDomain`).
+positive triangle angles (:class:`solverplan.proofs._common.AngleDomain`).
 
-Derivation. (1) Law of sines: |VQ| / |VP| = sin ∠P / sin ∠Q, which is DESIGN's C. (2) The same ratio
+Derivation. (1) Law of sines: |VQ| / |VP| = sin ∠P / sin ∠Q, which is the library's C. (2) The same ratio
 from solving the triangle in coordinates (P + s·w = r·e), and |PQ| / |VP| = sin ∠V / sin ∠Q. (3) On the
 domain all three sines are positive, so C > 0 and the hit is ahead of the robot. (4) Multiplying by the
 positive denominator, C < 1 iff sin(θ ± φ) − sin θ > 0. (5) Sum to product:
 sin(θ + φ) − sin θ = 2 cos(θ + φ/2) sin(φ/2), sin(θ − φ) − sin θ = −2 cos(θ − φ/2) sin(φ/2).
 (6) sin(φ/2) > 0, and w = θ ± φ/2 lies in (0, π) on the domain. (7) On (0, π), cos w > 0 iff w < π/2
-and cos w < 0 iff w > π/2 (sympy ``solveset``). (8) Solving w = π/2 for θ gives DESIGN's threshold, and
+and cos w < 0 iff w > π/2 (sympy ``solveset``). (8) Solving w = π/2 for θ gives the library's threshold, and
 w increases with θ, so the inequality keeps its direction. (9) The threshold lies strictly inside the
 domain (both contracting and expanding headings exist: Cor. 2). (10) Independently: C = 1 exactly at
 the threshold, for every φ.
 
-Errata. None in the formulas: DESIGN §3 and the seed's Lemma 2 / Def. 11 agree with the derivation. The
-absolute values in the seed's Def. 11 (|sin θ / sin(θ ± φ)|) are redundant on the domain, where C > 0.
+Errata. None in the formulas: the library and the paper's Lemma 2 / Def. 11 agree with the derivation. The
+absolute values in the paper's Def. 11 (|sin θ / sin(θ ± φ)|) are redundant on the domain, where C > 0.
 """
 
 from __future__ import annotations
 
 import sympy as sp
 
-from proofs._common import (
+from solverplan.proofs._common import (
     TransitionTriangle,
     cos_sign_on_open_0_pi,
     is_zero,
@@ -43,18 +43,18 @@ from proofs._common import (
     text,
     transition_triangle,
 )
-from proofs._core import ProofResult, Step
+from solverplan.proofs._core import ProofResult, Step
 
 __all__ = ["prove", "design_coefficient", "design_threshold"]
 
 
 def design_coefficient(kind: str, theta: sp.Expr, phi: sp.Expr) -> sp.Expr:
-    """DESIGN §3's C(θ, φ) for a right or left transition (the formula under test)."""
+    """The library's C(θ, φ) for a right or left transition (the formula under test)."""
     return sp.sin(theta) / sp.sin(theta + phi if kind == "right" else theta - phi)
 
 
 def design_threshold(kind: str, phi: sp.Expr) -> sp.Expr:
-    """DESIGN §3's contraction threshold: θ < π/2 − φ/2 (right) or θ > π/2 + φ/2 (left)."""
+    """The library's contraction threshold: θ < π/2 − φ/2 (right) or θ > π/2 + φ/2 (left)."""
     return sp.pi / 2 - phi / 2 if kind == "right" else sp.pi / 2 + phi / 2
 
 
@@ -69,7 +69,7 @@ def _case(kind: str) -> list[Step]:
 
     law_of_sines = sp.sin(tri.angle_p) / sp.sin(tri.angle_q)
     steps.append(Step(
-        f"{name}: law of sines |VQ|/|VP| = sin∠P / sin∠Q equals DESIGN's C = sin θ / sin(θ {'+' if sign > 0 else '−'} φ)",
+        f"{name}: law of sines |VQ|/|VP| = sin∠P / sin∠Q equals the library's C = sin θ / sin(θ {'+' if sign > 0 else '−'} φ)",
         is_zero(law_of_sines - c),
         f"sin∠P/sin∠Q = {text(sp.simplify(law_of_sines))}",
     ))
@@ -117,7 +117,7 @@ def _case(kind: str) -> list[Step]:
     (solved,) = sp.solve(sp.Eq(w, sp.pi / 2), theta)
     threshold = design_threshold(kind, phi)
     steps.append(Step(
-        f"{name}: w = π/2 solved for θ gives DESIGN's threshold θ* = {text(threshold)}, and dw/dθ = 1 > 0 keeps "
+        f"{name}: w = π/2 solved for θ gives the library's threshold θ* = {text(threshold)}, and dw/dθ = 1 > 0 keeps "
         f"the inequality's direction: C < 1 iff θ {'<' if sign > 0 else '>'} {text(threshold)}",
         is_zero(solved - threshold) and sp.diff(w, theta).is_positive is True,
         f"θ* = {text(solved)}",

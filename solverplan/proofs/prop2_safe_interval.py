@@ -1,4 +1,4 @@
-"""Paper Prop. 2 (Nilles et al., seed 000 §5): the safe interval between entirely visible segments.
+"""Paper Prop. 2 (Nilles et al., §5): the safe interval between entirely visible segments.
 
 Setting. Source e_i = (a, b) with a = (0, 0), b = (L, 0), L > 0, free space above (y > 0); target
 e_j = (c, d) with c, d strictly above the x-axis, oriented with the free space on its left, i.e. seen
@@ -7,7 +7,7 @@ from e_i the target runs from c (right) to d (left). A ray from s = (x, 0), 0 < 
 visible pair nothing blocks it, so it lands on e_j iff ang(c − s) ≤ θ ≤ ang(d − s).
 
 Claim. The headings safe from *every* s of e_i form [θ_lo, θ_hi] with θ_lo = ang(c − b),
-θ_hi = ang(d − a) (DESIGN §3), empty when θ_lo > θ_hi, a singleton when c − b ∥ d − a.
+θ_hi = ang(d − a), empty when θ_lo > θ_hi, a singleton when c − b ∥ d − a.
 
 Derivation checked here:
 1. ang(p − s) = atan2(p_y, p_x − x) is strictly increasing in x for p above the axis
@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from proofs._core import ProofResult, Step
+from solverplan.proofs._core import ProofResult, Step
 
 
 def prove() -> ProofResult:

@@ -56,14 +56,14 @@ class ProofResult:
 
 
 def all_proofs() -> dict[str, Callable[[], ProofResult]]:
-    """Every ``proofs.<module>.prove`` by module name (modules starting with ``_`` are helpers)."""
-    import proofs
+    """Every ``solverplan.proofs.<module>.prove`` by module name (modules starting with ``_`` are helpers)."""
+    import solverplan.proofs as package
 
     found = {}
-    for info in sorted(pkgutil.iter_modules(proofs.__path__), key=lambda m: m.name):
+    for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda m: m.name):
         if info.name.startswith("_"):
             continue
-        module = importlib.import_module(f"proofs.{info.name}")
+        module = importlib.import_module(f"{package.__name__}.{info.name}")
         prove = getattr(module, "prove", None)
         if callable(prove):
             found[info.name] = prove
@@ -136,7 +136,7 @@ class ProofReport:
             console.print(_bullets([s.claim + (f" [{s.detail}]" if s.detail else "") for s in p.failed_steps] or ["(no steps)"]))
         errata = [f"{p.module}: {e}" for p in self.proofs for e in p.errata]
         if errata:
-            console.print("\nerrata recorded by the proofs (DESIGN / seed text vs what the proof yields)")
+            console.print("\nerrata recorded by the proofs (the paper's text vs what the proof yields)")
             console.print(_bullets(errata))
         return "".join(line.rstrip() + "\n" for line in buffer.getvalue().splitlines())
 
