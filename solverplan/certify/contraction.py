@@ -45,7 +45,7 @@ def patrol_certificate(result) -> Certificate:
     start = result.start if result.start is not None else [result.cycle[0].from_segment]
     return build_certificate(
         result.env, part, stages, start=start, kind="cycle",
-        cycle=CycleSpec(len(result.entry), headings=tuple(s.nominal for s in result.cycle), visits=result.visit),
+        cycle=CycleSpec(len(result.entry), headings=tuple(s.affine.heading for s in result.cycle), visits=result.visit),
         objective=f"patrol-{result.objective}", optimality=_optimality(result.optimality),
     )
 

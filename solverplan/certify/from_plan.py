@@ -54,7 +54,7 @@ def plan_certificate(env: Environment, plan: Plan, *, partition: Partition | Non
     part = partition if partition is not None else make_partition(env)
     stages = [StageSpec(stage.interval, tuple(MoveSpec(source=i, target=j) for i, j in stage.moves))
               for stage in plan.stages]
-    partial = set(plan.stats.get("partial_goal_segments", ())) if plan.stats else set()
+    partial = set(plan.stats.counts.get("partial_goal_segments", ())) if plan.stats else set()
     if not plan.stats and plan.goal:
         partial = _partial_goal_segments(env, part, plan.goal)
     targets = "image" if set(plan.stages[-1].to_segments) & partial else "segment"
