@@ -84,6 +84,8 @@ def search_optimality(outcome: SearchOutcome, *, max_bounces: int, n_headings: i
 
 
 def search_stats(outcome: SearchOutcome, seconds: float) -> Stats:
+    """The :class:`~solverplan.result.Stats` of a search over position sets: its wall time (seconds), the
+    (state, heading) pairs it expanded, the bounces it searched and the exact replays that failed."""
     return Stats(seconds_search=round(seconds, 6), expanded=outcome.expanded,
                  counts={"bounces_searched": outcome.layers, "replay_failures": outcome.replay_failures})
 
