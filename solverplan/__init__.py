@@ -111,7 +111,7 @@ def __getattr__(name: str) -> Any:
     if module is None:
         raise AttributeError(f"module 'solverplan' has no attribute {name!r}")
     value = importlib.import_module(module)
-    if name != module.rsplit(".", 1)[-1] or not hasattr(value, name):
+    if module != f"solverplan.{name}":  # a name defined in the module (not the module itself: ``models``)
         value = getattr(value, name)
     globals()[name] = value  # later look-ups skip this function
     return value

@@ -14,7 +14,8 @@ by its type (it reads the answers only through their public attributes, all of t
   (belief stages of the safe BVG: one move per possible segment), then the cycle's stages, one move each
   from its whole source segment; the cycle block claims the exact return map of the nominal headings, its
   fixed point, the worst-case contraction (< 1) and the visits;
-- a **funnel** or a **localisation** strategy (:class:`~solverplan.plan.funnel.Funnel`) is a ``funnel``
+- a **funnel** or a **localisation** strategy (:class:`~solverplan.plan.funnel.Funnel`,
+  :class:`~solverplan.plan.localize.Localization`) is a ``funnel``
   certificate: every stage moves exact position pieces with the *exact cones the planner used*, so the
   images the checker recomputes are the positions the planner tracked, and each stage claims them.
 
@@ -50,7 +51,7 @@ from solverplan.certify.schema import Certificate, Optimality as ClaimedOptimali
 from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_certificate
 from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, SolverplanError
-from solverplan.plan.funnel import Funnel
+from solverplan.plan._results import PositionStrategy
 from solverplan.plan.patrol import Patrol
 from solverplan.plan.result import ParetoFront, Plan
 
@@ -155,7 +156,7 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certif
     plan.check_environment(env, len(part.segments))
     stages = [StageSpec(stage.interval, tuple(MoveSpec(source=i, target=j) for i, j in stage.moves))
               for stage in plan.stages]
-    partial = set(plan.stats.get("partial_goal_segments", ())) if plan.stats else set()
+    partial = set(plan.stats.counts.get("partial_goal_segments", ())) if plan.stats else set()
     if not plan.stats and plan.goal:
         partial = _partial_goal_segments(env, part, plan.goal)
     targets: Literal["image", "segment"] = "image" if set(plan.stages[-1].to_segments) & partial else "segment"
@@ -204,12 +205,12 @@ def _patrol(result: Patrol, env: Environment | None, part: Partition | None) -> 
     start = result.start if result.start is not None else [result.cycle[0].from_segment]
     return build_certificate(
         env, part, stages, start=start, kind="cycle",
-        cycle=CycleSpec(len(result.entry), headings=tuple(cs.nominal for cs in result.cycle), visits=result.visit),
+        cycle=CycleSpec(len(result.entry), headings=tuple(cs.affine.heading for cs in result.cycle), visits=result.visit),
         objective=f"patrol-{result.objective}", optimality=_contraction_optimality(result.optimality),
     )
 
 
-def _funnel(result: Funnel, env: Environment | None, part: Partition | None) -> Certificate:
+def _funnel(result: PositionStrategy, env: Environment | None, part: Partition | None) -> Certificate:
     """Funnels and localisation strategies: each stage's moves leave the exact position pieces with the
     planner's exact cones."""
     if not result.found:
@@ -247,6 +248,6 @@ _BUILDERS: dict[type, Callable[[Any, Environment | None, Partition | None], Cert
     Plan: _plan,
     ParetoFront: _pareto,
     Patrol: _patrol,
-    Funnel: _funnel,  # funnels, and localisation strategies (funnels of kind "localize")
+    PositionStrategy: _funnel,  # funnels and localisation strategies (both track exact position sets)
 }
 """How each type of answer becomes a certificate; :func:`certificate` looks the answer's classes up in order."""

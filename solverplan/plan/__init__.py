@@ -5,29 +5,27 @@
 - :func:`pareto_front` — the bounces ↔ tolerance front;
 - :func:`patrol` (Def. 15: contracting patrol cycles), :func:`funnel` and :func:`localize` (position-set
   plans that use contraction, paper §6.2, §8.4);
-- :class:`Plan`, :class:`Stage`, :class:`ParetoFront`, :class:`Optimality` — the results
-  (the plan JSON of docs/contract.md via ``to_json()``); :func:`load_plan` / :func:`parse_plan` read plans back.
+- :class:`Plan`, :class:`ParetoFront`, :class:`Patrol`, :class:`Funnel`, :class:`Localization` — the results,
+  on the shared protocol of :mod:`solverplan.result` (``status``, ``optimality``, ``stats``, ``environment``,
+  ``to_json()``, ``to_text()``; the plan JSON of ``docs/contract.md``); :func:`load_plan` / :func:`parse_plan`
+  read plans back.
 """
 
 from solverplan.plan.result import (
     OBJECTIVES,
-    Optimality,
     ParetoFront,
     ParetoPoint,
     Plan,
-    Stage,
-    Status,
     load_plan,
     parse_plan,
 )
 from solverplan.plan.funnel import Funnel, funnel
-from solverplan.plan.localize import localize
+from solverplan.plan.localize import Localization, localize
 from solverplan.plan.patrol import Patrol, patrol
 from solverplan.plan.search import (
     DEFAULT_HEADING_MARGIN,
     DEFAULT_SAFE_MARGIN,
     METHODS,
-    environment_record,
     find_plan,
     pareto_front,
     planning_problem,
@@ -36,6 +34,7 @@ from solverplan.plan.search import (
 __all__ = [
     "Funnel",
     "funnel",
+    "Localization",
     "localize",
     "Patrol",
     "patrol",
@@ -43,13 +42,9 @@ __all__ = [
     "METHODS",
     "DEFAULT_HEADING_MARGIN",
     "DEFAULT_SAFE_MARGIN",
-    "Optimality",
     "ParetoFront",
     "ParetoPoint",
     "Plan",
-    "Stage",
-    "Status",
-    "environment_record",
     "find_plan",
     "load_plan",
     "parse_plan",

@@ -42,7 +42,8 @@ from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import cast_from_boundary
-from solverplan.plan._results import PositionStage, heading_cone
+from solverplan.plan._results import heading_cone
+from solverplan.result import Stage
 from solverplan.plan.margins import Margins
 
 __all__ = ["PositionSearch", "SearchOutcome", "search_positions", "merge_pieces", "replay"]
@@ -56,7 +57,7 @@ Pieces = tuple[tuple[int, float, float], ...]
 class SearchOutcome:
     """What the search found: exact ``stages`` (None if nothing), and statistics."""
 
-    stages: tuple[PositionStage, ...] | None
+    stages: tuple[Stage, ...] | None
     expanded: int
     layers: int
     replay_failures: int
@@ -365,7 +366,7 @@ def _dominated(seen, seen_multi, pieces: Pieces, tol: float = 1e-12) -> bool:
 
 
 def replay(env: Environment, part: Partition, start: Sequence[BoundaryPiece], path: Sequence[tuple[float, float]],
-           is_goal_exact: Callable[[tuple[BoundaryPiece, ...]], bool]) -> tuple[PositionStage, ...] | None:
+           is_goal_exact: Callable[[tuple[BoundaryPiece, ...]], bool]) -> tuple[Stage, ...] | None:
     """The exact strategy of the heading intervals ``path`` from ``start``, or None when a stage splits a piece
     (or leaves its swept region unclean) or the exact final set misses the goal."""
     current = merge_exact(start)
@@ -387,7 +388,7 @@ def replay(env: Environment, part: Partition, start: Sequence[BoundaryPiece], pa
             cones.append(cone)
             targets.append(image[0].edge)
         positions = merge_exact(images)
-        stages.append(PositionStage(
+        stages.append(Stage(
             from_segments=_segments(part, current), to_segments=_segments(part, positions), interval=interval,
             positions=positions, sources=current, cones=tuple(cones), target_edges=tuple(targets)))
         current = positions

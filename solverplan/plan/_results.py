@@ -1,61 +1,141 @@
 """Result building blocks shared by patrol, funnel and localisation answers (private).
 
-Plain plan stages and optimality claims are :class:`solverplan.plan.result.Stage` and
-:class:`solverplan.plan.result.Optimality`; a :class:`PositionStage` is a stage of a funnel or localisation
-strategy: a plan stage in the sense of docs/contract.md (``from_segments``, ``to_segments``, ``interval``) that also
-carries the exact ``positions`` after it and the exact cones (rational world directions) it was computed with.
+Stages and optimality claims are the shared :class:`solverplan.result.Stage` and
+:class:`solverplan.result.Optimality`. :class:`PositionStrategy` is what funnels and localisation strategies
+have in common: stages that carry the exact ``positions`` after them, the exact source pieces, and the exact
+cones (rational world directions) they were computed with; :func:`heading_cone` makes those cones.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
 
 from solverplan.bounce.cones import heading_cone
+from solverplan.bounce.partition import Partition
+from solverplan.environment import BoundarySet, Environment
 from solverplan.interval import Interval
-from solverplan.environment import BoundaryPiece
-from solverplan.exact import ExactPoint, format_number
+from solverplan.result import EnvironmentRecord, Optimality, Stage, Stats, Status, piece_json
 
-__all__ = ["PositionStage", "SAFE_END_MARGIN", "piece_json", "heading_cone", "finite"]
-
-SAFE_END_MARGIN = 1e-6
-"""Radians kept away from both ends of every safe interval: its open ends (0 or π, Cor. 1's intervals at convex
-corners), so that every interval a planner returns lies strictly inside (0, π), and its closed ends, where
-corner rays land exactly on a vertex of the target (floating-point rollouts would graze it)."""
+__all__ = ["PositionStrategy", "heading_cone"]
 
 
-def finite(x: float | None):
-    if x is None:
-        return None
-    return x if math.isfinite(x) else None
+@dataclass(frozen=True, kw_only=True)
+class PositionStrategy:
+    """An open-loop strategy over exact position sets (a funnel or a localisation strategy), or why there is none.
 
-
-def piece_json(piece: BoundaryPiece) -> dict:
-    """A boundary piece as JSON: edge, float t0/t1 and their exact text."""
-    return {"edge": piece.edge, "t0": float(piece.t0), "t1": float(piece.t1),
-            "t0_exact": format_number(piece.t0), "t1_exact": format_number(piece.t1)}
-
-
-@dataclass(frozen=True, slots=True)
-class PositionStage:
-    """One stage of a funnel or localisation strategy: from the exact position pieces ``sources`` (on
-    ``from_segments``), one heading interval (radians, CCW from the edge the robot is on), each source piece
-    with its exact world-frame cone ``cones[i]`` = (d_lo, d_hi) inside the interval, landing on
-    ``target_edges[i]``; ``positions``: the exact pieces the robot may be on afterwards (on ``to_segments``).
+    Attributes
+    ----------
+    status, reason
+        A :class:`~solverplan.result.Status` and why (empty when found).
+    optimality
+        How the answer was found (a heuristic search: never proved optimal; a capped search that found nothing
+        lists its caps in ``limits``).
+    environment
+        The :class:`~solverplan.result.EnvironmentRecord` of the environment.
+    start, goal
+        The start set and the goal set every start ends in (for localisation: the final interval, ``None``
+        when there is none).
+    tolerance
+        ε, radians: every heading interval is 2ε wide.
+    stages
+        :class:`~solverplan.result.Stage` s with ``positions`` (the exact pieces the robot may be on after the
+        stage), ``sources`` (before it), ``cones`` (the exact world-frame directions (d_lo, d_hi) each source
+        was pushed through) and ``target_edges``.
+    stats
+        Search statistics (recorded, never asserted).
+    partition
+        The partition P′ of the environment (not serialised): for rollouts and certificates.
     """
 
-    from_segments: tuple[int, ...]
-    to_segments: tuple[int, ...]
-    interval: Interval
-    positions: tuple[BoundaryPiece, ...]
-    sources: tuple[BoundaryPiece, ...]
-    cones: tuple[tuple[ExactPoint, ExactPoint], ...]
-    target_edges: tuple[int, ...]
+    kind: ClassVar[str] = ""
+
+    status: Status
+    optimality: Optimality
+    environment: EnvironmentRecord
+    start: BoundarySet
+    tolerance: float
+    partition: Partition = field(repr=False, compare=False)
+    stages: tuple[Stage, ...] = ()
+    goal: BoundarySet | None = None
+    reason: str = ""
+    stats: Stats = field(default_factory=Stats, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "status", Status(self.status))
+
+    @property
+    def env(self) -> Environment:
+        """The environment (of ``partition``)."""
+        return self.partition.env
+
+    @property
+    def found(self) -> bool:
+        return self.status.answered
+
+    @property
+    def bounces(self) -> int:
+        return len(self.stages)
+
+    @property
+    def widths(self) -> list[float]:
+        """Arc length of the position set before the first stage and after each stage."""
+        lengths = self.env.edge_lengths
+        out = [sum(float(p.t1 - p.t0) * float(lengths[p.edge]) for p in self.start.pieces)]
+        out += [sum(float(p.t1 - p.t0) * float(lengths[p.edge]) for p in st.positions) for st in self.stages]
+        return out
+
+    @property
+    def intervals(self) -> tuple[Interval, ...]:
+        return tuple(st.interval for st in self.stages)
+
+    def rollout_spec(self):
+        """``(stages, targets, goal)`` for :class:`solverplan.simulate.StagePolicy`: each stage must land in its
+        exact positions; after the last one the robot must be in the goal (the final positions for localisation)."""
+        targets = tuple(st.positions for st in self.stages)
+        goal = self.goal if self.goal is not None else BoundarySet(self.stages[-1].positions)
+        return self.intervals, targets, goal
 
     def to_json(self) -> dict:
-        return {
-            "from_segments": list(self.from_segments),
-            "to_segments": list(self.to_segments),
-            "interval": [self.interval.lo, self.interval.hi],
-            "positions": [piece_json(p) for p in self.positions],
+        out: dict[str, Any] = {
+            "status": self.status.value,
+            "reason": self.reason,
+            "environment": self.environment.to_json(),
+            "kind": self.kind,
+            "start": str(self.start),
+            "goal": None if self.goal is None else str(self.goal),
+            "tolerance": self.tolerance,
+            "objective": "fewest",
+            "bounces": len(self.stages),
+            "min_width": 2 * self.tolerance if self.stages else None,
+            "stages": [st.to_json() for st in self.stages],
+            "position_widths": self.widths,
+            "final_positions": [piece_json(p) for p in (self.stages[-1].positions if self.stages else ())],
         }
+        out.update(self._extra_json())
+        out["optimality"] = self.optimality.to_json()
+        out["stats"] = self.stats.to_json()
+        return out
+
+    def _extra_json(self) -> dict:
+        return {}
+
+    def _head(self) -> str:
+        return f"{self.kind} in {self.environment.name or 'the environment'} from {self.start}"
+
+    def to_text(self, *, width: int = 100) -> str:
+        lines = [f"{self._head()}: {self.status.value}"]
+        if self.reason:
+            lines.append(f"reason: {self.reason}")
+        lines += self._extra_text()
+        widths = self.widths
+        lines.append(f"start: {self.start} (length {widths[0]:.6g})")
+        for k, st in enumerate(self.stages):
+            where = ", ".join(f"e{p.edge}:[{float(p.t0):.6g}, {float(p.t1):.6g}]" for p in st.positions)
+            lines.append(f"  {k}: θ ∈ [{st.interval.lo:.6f}, {st.interval.hi:.6f}] → {where}  (length {widths[k + 1]:.3g})")
+        lines.append(f"optimality: {self.optimality.to_text()}")
+        return "\n".join(lines) + "\n"
+
+    def _extra_text(self) -> list[str]:
+        return []

@@ -13,29 +13,31 @@ The search (:mod:`solverplan.plan._positions`) is over (position set, bounces) s
 whose positions contain an earlier state's is dropped) and a beam; every heading interval is 2ε wide (ε the
 tolerance). What it returns is exact — replayed in rational arithmetic, with the exact positions after every
 stage — and certifiable (:func:`solverplan.certify.contraction.funnel_certificate`); its fewest-bounces claim is
-heuristic (``optimality.proved`` is false).
+heuristic (``optimality.method`` is ``heuristic``, ``proved`` false; when it finds nothing the status is
+``not-found``, with its caps in ``optimality.limits``).
 
 >>> from solverplan.environment import Environment
 >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 >>> f = funnel(square, "e0", "e2:0.45:0.55", tolerance=0.005)
->>> f.status, len(f.stages) > 1, f.stages[-1].positions[0].edge
+>>> f.status.value, len(f.stages) > 1, f.stages[-1].positions[0].edge
 ('found', True, 2)
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+import time
+from dataclasses import dataclass
 
 import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
-from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.partition import partition
 from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
-from solverplan.plan._positions import search_positions
-from solverplan.plan._results import PositionStage, piece_json
-from solverplan.plan.result import Optimality, environment_record
+from solverplan.plan._positions import SearchOutcome, search_positions
+from solverplan.plan._results import PositionStrategy
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
 
 __all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "safe_plan_exists"]
 
@@ -43,93 +45,49 @@ DEFAULT_FUNNEL_TOLERANCE = 0.005
 """Radians: the half-width of every heading interval of a funnel when none is given."""
 
 
-@dataclass(frozen=True)
-class Funnel:
-    """A funnel or localisation strategy (docs/contract.md: a plan whose stages carry ``positions``), or why there is none.
+@dataclass(frozen=True, kw_only=True)
+class Funnel(PositionStrategy):
+    """A funnel (a plan whose stages carry exact ``positions``, ``docs/contract.md``), or why there is none.
 
-    ``stages`` are :class:`~solverplan.plan._results.PositionStage` s: interval, exact source pieces and cones,
-    exact positions after the stage. ``widths``: arc length of the position set before the first stage and after
-    each stage. ``safe_plan``: whether a plan over whole segments (the safe BVG, any tolerance) exists at all,
-    for comparison. ``kind``: ``funnel`` or ``localize``.
+    Besides :class:`~solverplan.plan._results.PositionStrategy`'s fields: ``safe_plan``, whether a plan over
+    whole segments (the safe BVG, any tolerance) can exist at all, for comparison (``False`` is a proof that
+    none does; ``True`` is only necessary).
     """
 
-    env: Environment
-    status: str
-    reason: str
-    start: BoundarySet
-    goal: BoundarySet | None
-    tolerance: float
-    stages: tuple[PositionStage, ...] = ()
-    kind: str = "funnel"
-    epsilon: float | None = None
+    kind = "funnel"
+
     safe_plan: bool | None = None
-    optimality: Optimality = field(default_factory=lambda: Optimality("none", False, None))
-    stats: dict = field(default_factory=dict)
-    partition: Partition | None = field(default=None, repr=False)
 
-    @property
-    def found(self) -> bool:
-        return self.status == "found"
+    def _extra_json(self) -> dict:
+        return {"safe_plan_exists": self.safe_plan}
 
-    @property
-    def widths(self) -> list[float]:
-        lengths = self.env.edge_lengths
-        out = [sum(float(p.t1 - p.t0) * float(lengths[p.edge]) for p in self.start.pieces)]
-        out += [sum(float(p.t1 - p.t0) * float(lengths[p.edge]) for p in st.positions) for st in self.stages]
-        return out
+    def _head(self) -> str:
+        return f"{super()._head()} to {self.goal}"
 
-    @property
-    def intervals(self):
-        return tuple(st.interval for st in self.stages)
+    def _extra_text(self) -> list[str]:
+        if self.safe_plan is None:
+            return []
+        return [f"plan over whole segments (safe BVG): {'exists' if self.safe_plan else 'none'}"]
 
-    def rollout_spec(self):
-        """``(stages, targets, goal)`` for :class:`solverplan.simulate.StagePolicy`: each stage must land in its
-        exact positions; after the last one the robot must be in the goal (the final positions for localisation)."""
-        targets = tuple(st.positions for st in self.stages)
-        goal = self.goal if self.goal is not None else BoundarySet(self.stages[-1].positions)
-        return self.intervals, targets, goal
 
-    def to_json(self) -> dict:
-        widths = self.widths
-        out: dict = {
-            "status": self.status,
-            "reason": self.reason,
-            "environment": environment_record(self.env),
-            "kind": self.kind,
-            "start": str(self.start),
-            "goal": None if self.goal is None else str(self.goal),
-            "tolerance": self.tolerance,
-            "objective": "fewest",
-            "bounces": len(self.stages),
-            "min_width": 2 * self.tolerance if self.stages else None,
-            "stages": [st.to_json() for st in self.stages],
-            "position_widths": widths,
-            "final_positions": [piece_json(p) for p in (self.stages[-1].positions if self.stages else ())],
-            "safe_plan_exists": self.safe_plan,
-            "optimality": self.optimality.to_json(),
-            "stats": self.stats,
-        }
-        if self.epsilon is not None:
-            out["epsilon"] = self.epsilon
-        return out
+def search_optimality(outcome: SearchOutcome, *, max_bounces: int, n_headings: int, beam: int,
+                      scope: str) -> tuple[Status, Optimality]:
+    """The status and optimality of a beam search over position sets: found (a sound strategy; fewest bounces
+    not proved), or not found within its caps (``limits``: nothing is proved)."""
+    algorithm = f"breadth-first beam search over position sets ({n_headings} headings, beam {beam})"
+    if outcome.stages is None:
+        limits = (f"max_bounces={max_bounces}", f"beam={beam}", f"n_headings={n_headings}")
+        return Status.NOT_FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope, algorithm=algorithm,
+                                            limits=limits)
+    return Status.FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope,
+                                    algorithm=f"{algorithm}: fewest bounces not proved")
 
-    def to_text(self, *, width: int = 100) -> str:
-        head = f"{self.kind} in {self.env.name or 'the environment'} from {self.start}"
-        if self.kind == "localize":
-            head += f" to one interval shorter than {self.epsilon:g}"
-        else:
-            head += f" to {self.goal}"
-        lines = [f"{head}: {self.status}"]
-        if self.reason:
-            lines.append(f"reason: {self.reason}")
-        if self.safe_plan is not None:
-            lines.append(f"plan over whole segments (safe BVG): {'exists' if self.safe_plan else 'none'}")
-        widths = self.widths
-        lines.append(f"start: {self.start} (length {widths[0]:.6g})")
-        for k, st in enumerate(self.stages):
-            where = ", ".join(f"e{p.edge}:[{float(p.t0):.6g}, {float(p.t1):.6g}]" for p in st.positions)
-            lines.append(f"  {k}: θ ∈ [{st.interval.lo:.6f}, {st.interval.hi:.6f}] → {where}  (length {widths[k + 1]:.3g})")
-        return "\n".join(lines) + "\n"
+
+def search_stats(outcome: SearchOutcome, seconds: float) -> Stats:
+    """The :class:`~solverplan.result.Stats` of a search over position sets: its wall time (seconds), the
+    (state, heading) pairs it expanded, the bounces it searched and the exact replays that failed."""
+    return Stats(seconds_search=round(seconds, 6), expanded=outcome.expanded,
+                 counts={"bounces_searched": outcome.layers, "replay_failures": outcome.replay_failures})
 
 
 def _pieces_of(env: Environment, value, what: str) -> BoundarySet:
@@ -201,8 +159,8 @@ def funnel(
     Returns
     -------
     Funnel
-        ``found`` with exact stages, or ``not-found`` with the search's bounds (the search is heuristic: not
-        finding is not a proof).
+        Status ``found`` with exact stages, or ``not-found`` with the search's caps in ``optimality.limits``
+        (the search is heuristic: not finding is not a proof).
     """
     start_set = _pieces_of(env, start, "start")
     goal_set = _pieces_of(env, goal, "goal")
@@ -225,16 +183,14 @@ def funnel(
     for p in goal_set.pieces:
         for s in np.linspace(0.1, 0.9, 5):
             points.append(env.point_at(p.edge, float(p.t0) + s * float(p.t1 - p.t0)))
+    t0 = time.perf_counter()
     outcome = search_positions(env, part, start_set.pieces, inside, inside_exact, tolerance=eps, max_bounces=max_bounces,
                                goal_points=np.array(points), n_headings=n_headings, beam=beam)
+    stats = search_stats(outcome, time.perf_counter() - t0)
     safe = safe_plan_exists(g, start_set, goal_set)
-    stats = {"expanded": outcome.expanded, "bounces_searched": outcome.layers, "replay_failures": outcome.replay_failures}
-    if outcome.stages is None:
-        return Funnel(env, "not-found", outcome.reason, start_set, goal_set, eps, safe_plan=safe, stats=stats,
-                      optimality=Optimality("search", False, None, algorithm="beam search over position sets"),
-                      partition=part)
-    return Funnel(env, "found", "", start_set, goal_set, eps, outcome.stages, safe_plan=safe, stats=stats,
-                  optimality=Optimality("search", False, None,
-                                        algorithm=f"breadth-first beam search over position sets ({n_headings} headings, "
-                                                  f"beam {beam}): fewest bounces not proved"),
-                  partition=part)
+    status, optimality = search_optimality(
+        outcome, max_bounces=max_bounces, n_headings=n_headings, beam=beam,
+        scope=f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces")
+    return Funnel(status=status, optimality=optimality, environment=EnvironmentRecord.of(env, part.n_segments),
+                  start=start_set, goal=goal_set, tolerance=eps, partition=part, stages=outcome.stages or (),
+                  reason="" if outcome.stages is not None else outcome.reason, safe_plan=safe, stats=stats)

@@ -7,29 +7,33 @@ wide, measured from the wall the robot is on). The set of possible positions is 
 piece onto one edge (its whole image must land there), pieces landing on one edge are merged, and contracting
 transitions (Def. 11, Lemma 2: small headings into corners) shrink them and the gaps between them. The beam search
 ranks states by how many edges they still occupy, then by their spread, and stops at the first state that lies on
-one edge within an interval shorter than ε; that strategy is replayed exactly and returned as a funnel whose goal
-is that interval (certifiable like any funnel).
+one edge within an interval shorter than ε; that strategy is replayed exactly and returned as a
+:class:`Localization` whose goal is that interval (certifiable like any funnel).
 
 **Symmetry.** If a rotation T ≠ id maps the environment onto itself (edges to edges, directions kept) and the
 start set onto itself, no strategy localises: headings are measured from the wall the robot is on, so f(T S, Θ) =
 T f(S, Θ) and every position set stays T-invariant; a T-invariant set meets T(e) ≠ e whenever it meets e, so it is
 never one interval of one edge. :func:`localize` checks this exactly first and answers ``impossible`` with the
-rotation (the square, the regular hexagon, ``narrow_door``'s half-turn).
+rotation (status ``infeasible``, method ``symmetry``, proved: the square, the regular hexagon,
+``narrow_door``'s half-turn).
 
 Limits: a stage must carry each piece whole onto a single edge, so starts whose pieces must split (edges next to
 reflex vertices, from the whole boundary of a non-convex room) are not localised by this search; give a start set
-S instead. The search is heuristic: not finding is not a proof.
+S instead. The search is heuristic: not finding is not a proof (status ``not-found``, with the search's caps in
+``optimality.limits``).
 
 >>> from solverplan.environment import Environment
 >>> tri = Environment.from_coords([[0, 0], [10, 0], [3, 7]], name="triangle")
 >>> loc = localize(tri, 0.05, start="e0", tolerance=0.002)
->>> loc.status, loc.goal.pieces[0].edge == loc.stages[-1].positions[0].edge
+>>> loc.status.value, loc.goal.pieces[0].edge == loc.stages[-1].positions[0].edge
 ('found', True)
 """
 
 from __future__ import annotations
 
 import math
+import time
+from dataclasses import dataclass
 from fractions import Fraction
 
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
@@ -37,10 +41,30 @@ from solverplan.bounce.partition import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan._positions import search_positions
-from solverplan.plan.funnel import DEFAULT_FUNNEL_TOLERANCE, Funnel
-from solverplan.plan.result import Optimality
+from solverplan.plan._results import PositionStrategy
+from solverplan.plan.funnel import DEFAULT_FUNNEL_TOLERANCE, search_optimality, search_stats
+from solverplan.result import EnvironmentRecord, Method, Optimality, Status
 
-__all__ = ["localize", "rotational_symmetry"]
+__all__ = ["Localization", "localize", "rotational_symmetry"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Localization(PositionStrategy):
+    """A localisation strategy: after its stages every start of ``start`` lies in ``goal``, one interval of one
+    edge shorter than ``epsilon`` (arc length) — or why there is none (``infeasible`` by symmetry, proved; or
+    ``not-found`` by the capped search, nothing proved). The other fields are
+    :class:`~solverplan.plan._results.PositionStrategy`'s.
+    """
+
+    kind = "localize"
+
+    epsilon: float
+
+    def _extra_json(self) -> dict:
+        return {"epsilon": self.epsilon}
+
+    def _head(self) -> str:
+        return f"{super()._head()} to one interval shorter than {self.epsilon:g}"
 
 
 def rotational_symmetry(env: Environment, start: BoundarySet | None = None):
@@ -104,10 +128,11 @@ def localize(
     n_headings: int = 240,
     beam: int = 400,
     graph: SafeBVG | None = None,
-) -> Funnel:
+) -> Localization:
     """A localisation strategy: after its stages every start in ``start`` (default: the whole boundary) is inside
-    one interval of one edge shorter than ``epsilon`` (arc length). Returns a :class:`~solverplan.plan.funnel.Funnel`
-    of kind ``localize`` whose goal is that interval (``found``), or ``not-found`` with the search's bounds.
+    one interval of one edge shorter than ``epsilon`` (arc length). Returns a :class:`Localization` whose goal is
+    that interval (``found``), ``infeasible`` when a symmetry of the environment and the start set forbids it
+    (proved), or ``not-found`` with the search's caps in ``optimality.limits``.
 
     Raises
     ------
@@ -129,15 +154,18 @@ def localize(
         raise InputError(f"start set {start!r}: expected a boundary set such as 'e3:0.25:0.75,e4'")
     g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
     part = g.partition
+    record = EnvironmentRecord.of(env, part.n_segments)
+    scope = "open-loop strategies from the start set (headings measured from the wall the robot is on)"
     symmetry = rotational_symmetry(env, start_set)
     if symmetry is not None:
         (a, b), shift = symmetry
-        return Funnel(env, "impossible",
-                      f"the rotation by atan2({b}, {a}) = {math.atan2(float(b), float(a)):.6g} rad maps the environment and "
-                      f"the start set onto themselves (edge e0 to e{shift}), so every position set stays invariant under it "
-                      "and never lies on one edge: no open-loop strategy localises",
-                      start_set, None, eps, kind="localize", epsilon=float(epsilon),
-                      optimality=Optimality("symmetry", True, None, algorithm="exact rotational symmetry"), partition=part)
+        reason = (f"the rotation by atan2({b}, {a}) = {math.atan2(float(b), float(a)):.6g} rad maps the environment and "
+                  f"the start set onto themselves (edge e0 to e{shift}), so every position set stays invariant under it "
+                  "and never lies on one edge: no open-loop strategy localises")
+        return Localization(status=Status.INFEASIBLE, reason=reason, environment=record, start=start_set, tolerance=eps,
+                            epsilon=float(epsilon), partition=part,
+                            optimality=Optimality(Method.SYMMETRY, True, None, scope=scope,
+                                                  algorithm="exact rotational symmetry"))
     lengths = env.edge_lengths
     limit = float(epsilon)
 
@@ -158,17 +186,17 @@ def localize(
         hull = sum(spread(tuple(p for p in pieces if p[0] == e)) for e in edges)
         return (len(edges), hull)
 
+    t0 = time.perf_counter()
     outcome = search_positions(env, part, start_set.pieces, done, done_exact, tolerance=eps, max_bounces=max_bounces,
                                n_headings=n_headings, beam=beam, rank=rank)
-    stats = {"expanded": outcome.expanded, "bounces_searched": outcome.layers, "replay_failures": outcome.replay_failures}
-    if outcome.stages is None:
-        return Funnel(env, "not-found", outcome.reason, start_set, None, eps, kind="localize", epsilon=limit, stats=stats,
-                      optimality=Optimality("search", False, None, algorithm="beam search over position sets"),
-                      partition=part)
-    final = outcome.stages[-1].positions if outcome.stages else start_set.pieces
-    goal = BoundarySet((BoundaryPiece(final[0].edge, min(p.t0 for p in final), max(p.t1 for p in final)),))
-    return Funnel(env, "found", "", start_set, goal, eps, outcome.stages, kind="localize", epsilon=limit, stats=stats,
-                  optimality=Optimality("search", False, None,
-                                        algorithm=f"breadth-first beam search over position sets ({n_headings} headings, "
-                                                  f"beam {beam}): fewest bounces not proved"),
-                  partition=part)
+    stats = search_stats(outcome, time.perf_counter() - t0)
+    status, optimality = search_optimality(
+        outcome, max_bounces=max_bounces, n_headings=n_headings, beam=beam,
+        scope=f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces")
+    goal = None
+    if outcome.stages is not None:
+        final = outcome.stages[-1].positions if outcome.stages else start_set.pieces
+        goal = BoundarySet((BoundaryPiece(final[0].edge, min(p.t0 for p in final), max(p.t1 for p in final)),))
+    return Localization(status=status, optimality=optimality, environment=record, start=start_set, goal=goal,
+                        tolerance=eps, epsilon=limit, partition=part, stages=outcome.stages or (),
+                        reason="" if outcome.stages is not None else outcome.reason, stats=stats)

@@ -18,17 +18,23 @@ edges).
 
 - ``contraction`` (a): for a required tolerance ε, the cycle through E *once* (one period) with the smallest
   worst-case contraction Π C_k. With h in the state the one-period product is a DAG, so dynamic programming over
-  it is exact: the answer is optimal among all one-period patrols of the class (``dag-exhausted``). A second
-  DP without the bound on h (H = number of segments, enough when no within-layer cycle contracts: shortest
-  walks are then simple) bounds all classes; if a cycle between two required visits contracts, repeating it
-  drives the per-period contraction to 0 and the bound is 0 — reported as the gap.
+  it is exact: the answer is optimal among all one-period patrols of the class (``search-exhausted``, gap
+  |value − bound| ≈ 0 over that class). A second DP without the bound on h (H = number of segments, enough
+  when no within-layer cycle contracts: shortest walks are then simple) bounds all classes; if a cycle between
+  two required visits contracts, repeating it drives the per-period contraction to 0 and the bound is 0 —
+  reported as ``bound_all_classes`` (a wider class than the claim's scope, so not a gap).
 - ``tolerance`` (b): the largest ε for which some patrol cycle contracts (worst case < 1): a negative cycle of
   w(ε). w is increasing in ε and arcs only disappear as ε grows, so feasibility is monotone and bisection
-  with negative-cycle detection (Bellman–Ford) brackets ε* (the bracket is the bound; ``bisection``).
+  with negative-cycle detection (Bellman–Ford) brackets ε* (``bisection``: the bracket's upper end is the
+  bound, its width the gap).
 - ``rate`` (c): the smallest worst-case contraction *per bounce*, exp of the minimum mean cycle of the product —
   solved both as the LP max λ s.t. π_v − π_u ≤ w_uv − λ (cvxpy; duality proves it) and by Karp's algorithm, and
   the two must agree. The min mean cycle of the product *without* the bound on h (cycles between two required
-  visits allowed) is a lower bound over every class; the gap to it is reported.
+  visits allowed) is a lower bound over every class, reported as ``bound_all_classes``.
+
+A start set S restricts the cycle to the segments a safe plan from S reaches with certainty, found by a
+belief search with caps; when a cap is hit, nothing the answer says is proved (``proved`` false, the caps in
+``optimality.limits``; an answer without a cycle is then ``not-found``, not ``infeasible``).
 
 Every answer reports the cycle's stages and intervals, its worst-case contraction (exact, from rational
 directions inside the intervals), the exact affine return map of the nominal headings (interval midpoints,
@@ -42,7 +48,7 @@ the stated bound of every claim.
 >>> from solverplan.environment import Environment
 >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 >>> p = patrol(square, "e0,e1,e2,e3", tolerance=0.05, objective="contraction")
->>> p.status, [s.from_edge for s in p.cycle], p.max_between
+>>> p.status.value, [s.affine.from_edge for s in p.cycle], p.max_between
 ('found', [0, 1, 2, 3], 0)
 >>> round(p.contraction, 6) == round(math.tan(0.001 + 0.1) ** 4, 6)    # tan(δ + 2ε) per bounce (right angles)
 True
@@ -52,7 +58,8 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, field
+import time
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Literal, Sequence
 
@@ -78,9 +85,9 @@ from solverplan.plan._graphs import (
     lp_min_mean_cycle,
 )
 from solverplan.plan._results import heading_cone
-from solverplan.plan.result import Optimality, Stage, environment_record
+from solverplan.result import AffineStep, EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
-__all__ = ["Objective", "DEFAULT_TOLERANCE", "PatrolStage", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
+__all__ = ["Objective", "DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
 
 logger = logging.getLogger(__name__)
 
@@ -91,6 +98,10 @@ DEFAULT_TOLERANCE = 0.01
 """Radians: the heading tolerance ε (half-width of every interval) used by objectives ``contraction`` and
 ``rate`` when none is given."""
 
+MAX_ENTRY_BELIEFS = 200_000
+"""The reachability sweep from a start set stops after this many beliefs (and says so: the answer is then not
+proved); the sweep is exhaustive below it."""
+
 MAX_BETWEEN_SEARCHED = 3
 """Without ``max_between``, the classes H = 0, 1, … up to this many intermediate bounces are tried in turn."""
 
@@ -99,42 +110,6 @@ _AGREE = 1e-6  # LP and Karp values must agree to this (absolute, in log C per b
 
 
 # ---------------------------------------------------------------------- results
-@dataclass(frozen=True, slots=True)
-class PatrolStage:
-    """One bounce of the cycle: from segment ``from_segment`` (on edge ``from_edge``) with any heading of
-    ``interval`` onto segment ``to_segment``. ``worst`` is the worst-case coefficient C over the interval
-    (arc length, Def. 11; exact from the rational end directions), ``nominal`` the nominal heading (the
-    midpoint) whose exact direction ``direction`` gives the affine map t ↦ ``alpha`` t + ``beta``."""
-
-    from_segment: int
-    to_segment: int
-    from_edge: int
-    to_edge: int
-    interval: Interval
-    transition: str
-    phi: float
-    worst: float
-    nominal: float
-    direction: ExactPoint
-    alpha: Fraction
-    beta: Fraction
-
-    def to_json(self) -> dict:
-        return {
-            "from_segments": [self.from_segment],
-            "to_segments": [self.to_segment],
-            "interval": [self.interval.lo, self.interval.hi],
-            "from_edge": self.from_edge,
-            "to_edge": self.to_edge,
-            "transition": self.transition,
-            "phi": self.phi,
-            "contraction": self.worst,
-            "nominal": self.nominal,
-            "direction": [format_number(self.direction[0]), format_number(self.direction[1])],
-            "map": {"alpha": format_number(self.alpha), "beta": format_number(self.beta)},
-        }
-
-
 @dataclass(frozen=True, slots=True)
 class PatrolPoint:
     """A contact point of the nominal cycle: edge, exact t and point."""
@@ -149,19 +124,37 @@ class PatrolPoint:
                 "point": [float(self.point[0]), float(self.point[1])]}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Patrol:
-    """A patrol strategy (the cycle answer of docs/contract.md) or the reason there is none.
+    """A patrol strategy (``docs/contract.md``: cycle answer) or the reason there is none.
 
     Attributes
     ----------
     status, reason
-        ``found`` or ``infeasible`` (proved within the class searched), and why.
+        A :class:`~solverplan.result.Status`: ``found``; ``not-contracting`` (the best cycle of the class
+        exists but does not contract: proved); ``infeasible`` (no patrol cycle of the class: proved); or
+        ``not-found`` when the search for the segments reachable from the start set hit a cap (its caps are
+        in ``optimality.limits``: nothing is proved) — and why.
+    optimality
+        How the objective's optimum is established (:class:`~solverplan.result.Optimality`): its method,
+        bound and ``scope`` (the class of patrols it holds for: at most ``max_between`` intermediate bounces
+        between required visits; for ``contraction`` one period), with ``gap`` = |value − bound| over that
+        same scope (the bisection bracket's width for ``tolerance``).
+    bound_all_classes, bound_all_classes_note
+        A bound over a *wider* class (any number of intermediate bounces) for ``contraction`` (one-period
+        contraction) and ``rate`` (contraction per bounce), and what it says; ``None`` when none was computed.
+        Not a gap: the answer is optimal only within ``optimality.scope``.
+    environment
+        The :class:`~solverplan.result.EnvironmentRecord` of the environment.
     visit, objective, tolerance, max_between
         The query: required edges in order, objective, heading tolerance ε (radians, half-width; for
         ``tolerance`` the best found) and the class H of intermediate bounces.
     entry, cycle
-        Stages from the start set into the cycle (safe-BVG plan over beliefs), and the cycle's stages.
+        Stages (:class:`~solverplan.result.Stage`) from the start set into the cycle (a safe-BVG plan over
+        beliefs), and the cycle's stages, each with one source and one target segment and its exact affine
+        map ``affine`` (:class:`~solverplan.result.AffineStep`: edges, nominal heading — the interval's
+        midpoint — and its exact direction, the map t ↦ α t + β, the worst-case coefficient C over the
+        interval, the transition and corner angle φ).
     contraction, contraction_exact
         Worst case of Π C_k over the cycle's intervals (rational directions inside them), float and exact.
     rate
@@ -177,14 +170,18 @@ class Patrol:
         With a length ``epsilon``: cycles until the position set (the whole first segment at the start) is at
         most ε wide — for the set-valued map of the intervals (None if its attractor is wider), and by
         Cor. 4 for the nominal heading.
-    optimality, scope
-        How the objective's optimum is established, with its bound, and over which class of patrols it holds.
     solvers
         Values of the different solvers (LP, Karp, DP, bisection bracket) for the record.
+    stats
+        Times (recorded, never asserted).
+    partition
+        The partition P′ (not serialised): for rollouts and certificates; ``env`` is its environment.
     """
 
-    env: Environment
-    status: str
+    status: Status
+    optimality: Optimality
+    environment: EnvironmentRecord
+    partition: Partition = field(repr=False, compare=False)
     reason: str
     visit: tuple[int, ...]
     objective: str
@@ -192,7 +189,7 @@ class Patrol:
     max_between: int | None
     start: BoundarySet | None = None
     entry: tuple[Stage, ...] = ()
-    cycle: tuple[PatrolStage, ...] = ()
+    cycle: tuple[Stage, ...] = ()
     contraction: float | None = None
     contraction_exact: Fraction | None = None
     rate: float | None = None
@@ -204,14 +201,22 @@ class Patrol:
     epsilon: float | None = None
     cycles_to_epsilon: int | None = None
     cycles_to_epsilon_nominal: int | None = None
-    optimality: Optimality = field(default_factory=lambda: Optimality("none", False, None))
-    scope: str = ""
+    bound_all_classes: float | None = None
+    bound_all_classes_note: str = ""
     solvers: dict = field(default_factory=dict)
-    partition: Partition | None = field(default=None, repr=False)
+    stats: Stats = field(default_factory=Stats, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "status", Status(self.status))
+
+    @property
+    def env(self) -> Environment:
+        """The environment (of ``partition``)."""
+        return self.partition.env
 
     @property
     def found(self) -> bool:
-        return self.status == "found"
+        return self.status.answered
 
     @property
     def segments(self) -> tuple[int, ...]:
@@ -227,15 +232,14 @@ class Patrol:
         interval in order (entry, then the cycle, which repeats), and the segments each stage must land on."""
         part = self.partition
         intervals = [s.interval for s in self.entry] + [s.interval for s in self.cycle]
-        targets = [tuple(part.segments[t] for t in s.to_segments) for s in self.entry]
-        targets += [(part.segments[s.to_segment],) for s in self.cycle]
+        targets = [tuple(part.segments[t] for t in s.to_segments) for s in (*self.entry, *self.cycle)]
         return tuple(intervals), tuple(targets), len(self.entry)
 
     def to_json(self) -> dict:
         out: dict = {
-            "status": self.status,
+            "status": self.status.value,
             "reason": self.reason,
-            "environment": environment_record(self.env),
+            "environment": self.environment.to_json(),
             "visit": [f"e{e}" for e in self.visit],
             "objective": self.objective,
             "tolerance": self.tolerance,
@@ -249,7 +253,7 @@ class Patrol:
             "contraction_exact": None if self.contraction_exact is None else format_number(self.contraction_exact),
             "rate": self.rate,
             "return_map": None if self.nominal_alpha is None else {
-                "edge": self.cycle[0].from_edge,
+                "edge": self.cycle[0].affine.from_edge,
                 "alpha": format_number(self.nominal_alpha),
                 "beta": format_number(self.nominal_beta),
                 "nominal_contraction": float(abs(self.nominal_alpha)),
@@ -257,8 +261,10 @@ class Patrol:
             "fixed_point": [p.to_json() for p in self.points],
             "attractor_width": self.attractor,
             "optimality": self.optimality.to_json(),
-            "optimality_scope": self.scope,
+            "bound_all_classes": self.bound_all_classes,
+            "bound_all_classes_note": self.bound_all_classes_note,
             "solvers": self.solvers,
+            "stats": self.stats.to_json(),
         }
         if self.epsilon is not None:
             out["epsilon"] = self.epsilon
@@ -268,7 +274,8 @@ class Patrol:
 
     def to_text(self, *, width: int = 100) -> str:
         seq = " → ".join(f"e{e}" for e in self.visit)
-        lines = [f"patrol of {seq} in {self.env.name or 'the environment'} (objective {self.objective}): {self.status}"]
+        lines = [f"patrol of {seq} in {self.environment.name or 'the environment'} (objective {self.objective}): "
+                 f"{self.status.value}"]
         if self.reason:
             lines.append(f"reason: {self.reason}")
         if self.tolerance is not None:
@@ -276,8 +283,9 @@ class Patrol:
         for k, s in enumerate(self.entry):
             lines.append(f"  entry {k}: {list(s.from_segments)} → {list(s.to_segments)}  θ ∈ [{s.interval.lo:.6f}, {s.interval.hi:.6f}]")
         for k, s in enumerate(self.cycle):
-            lines.append(f"  cycle {k}: seg {s.from_segment} (e{s.from_edge}) → seg {s.to_segment} (e{s.to_edge})  "
-                         f"θ ∈ [{s.interval.lo:.6f}, {s.interval.hi:.6f}]  C ≤ {s.worst:.4g}")
+            a = s.affine
+            lines.append(f"  cycle {k}: seg {s.from_segment} (e{a.from_edge}) → seg {s.to_segment} (e{a.to_edge})  "
+                         f"θ ∈ [{s.interval.lo:.6f}, {s.interval.hi:.6f}]  C ≤ {a.contraction:.4g}")
         if self.contraction is not None:
             lines.append(f"worst-case contraction per cycle {self.contraction:.6g}, per bounce {self.rate:.6g} "
                          f"({len(self.cycle)} bounces, {self.periods} pass(es) of the sequence)")
@@ -288,8 +296,11 @@ class Patrol:
         if self.epsilon is not None:
             lines.append(f"cycles to ε = {self.epsilon:g}: {self.cycles_to_epsilon} (intervals), "
                          f"{self.cycles_to_epsilon_nominal} (nominal heading, Cor. 4)")
-        o = self.optimality
-        lines.append(f"optimality: {o.method}, proved {o.proved}, bound {o.bound}" + (f"; {self.scope}" if self.scope else ""))
+        lines.append(f"optimality: {self.optimality.to_text()}")
+        if self.bound_all_classes is not None or self.bound_all_classes_note:
+            bound = "" if self.bound_all_classes is None else f" {self.bound_all_classes:.6g}"
+            note = f" ({self.bound_all_classes_note})" if self.bound_all_classes_note else ""
+            lines.append(f"bound over all classes:{bound}{note}")
         return "\n".join(lines) + "\n"
 
 
@@ -335,14 +346,16 @@ class _Entry:
         self.graph, self.start, self.margins = graph, start, margins
         self.problem = Problem(graph, start, None, margins=margins)
         self.start_belief = self.problem.start_belief
-        self._singletons: dict[float, frozenset[int]] = {}
+        self._singletons: dict[float, tuple[frozenset[int], tuple[str, ...]]] = {}
 
-    def singletons(self, eps: float) -> frozenset[int]:
+    def singletons(self, eps: float) -> tuple[frozenset[int], tuple[str, ...]]:
         """The segments some entry reaches with certainty (singleton beliefs), every belief reachable with
-        stages ≥ 2ε wide searched (exhaustive: beliefs never grow, so the sweep is finite)."""
+        stages ≥ 2ε wide searched (beliefs never grow, so the sweep is finite), and the cap it hit if it stopped
+        at :data:`MAX_ENTRY_BELIEFS` beliefs (then the set may miss segments: nothing is proved)."""
         if eps not in self._singletons:
-            depth, _ = _search.reachable(self.problem, threshold=2 * eps)
-            self._singletons[eps] = frozenset(self.problem.segment(b[0]) for b in depth if len(b) == 1)
+            depth, exhausted = _search.reachable(self.problem, threshold=2 * eps, max_beliefs=MAX_ENTRY_BELIEFS)
+            found = frozenset(self.problem.segment(b[0]) for b in depth if len(b) == 1)
+            self._singletons[eps] = (found, () if exhausted else (f"max_beliefs={MAX_ENTRY_BELIEFS}",))
         return self._singletons[eps]
 
     def plan(self, targets: dict[int, int], eps: float) -> tuple[tuple[Stage, ...], int] | None:
@@ -583,34 +596,63 @@ def patrol(
         raise InputError(f"max_between must be a non-negative integer, got {max_between!r}")
     if epsilon is not None and not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon > 0):
         raise InputError(f"epsilon {epsilon!r} must be a positive length")
+    t0 = time.perf_counter()
     g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
-    part = g.partition
-    eps = float(tolerance) if tolerance is not None else DEFAULT_TOLERANCE
+    t1 = time.perf_counter()
     margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
                                       corner_clearance=corner_clearance)
+    result = _solve(env, g, edges, objective, tolerance, max_between, start_set, epsilon, solver, margins)
+    stats = Stats(seconds_setup=round(t1 - t0, 6), seconds_search=round(time.perf_counter() - t1, 6))
+    logger.info("patrol (%s): %s in %.3f s", objective, result.status.value, time.perf_counter() - t1)
+    return replace(result, stats=stats)
+
+
+def _scope(H: int, eps: float | None, start_set: BoundarySet | None, *, one_period: bool) -> str:
+    """The class of patrols an answer's optimality claim is about."""
+    what = "one-period patrol cycles" if one_period else "patrol cycles"
+    width = "" if eps is None else f", intervals {2 * eps:g} rad wide at the contracting end of each safe interval"
+    reach = "" if start_set is None else f", on segments a safe plan from {start_set} reaches with certainty"
+    return f"{what} with at most {H} intermediate bounces between consecutive required visits{width}{reach}"
+
+
+def _claim(method: Method, bound: float | None, scope: str, algorithm: str, limits: tuple[str, ...],
+           gap: float | None = None) -> Optimality:
+    """An optimality claim of the class searched: proved unless the reachability search hit a cap."""
+    return Optimality(method, not limits, bound, scope=scope, gap=gap, algorithm=algorithm, limits=limits)
+
+
+def _solve(env, g: SafeBVG, edges, objective, tolerance, max_between, start_set, epsilon, solver,
+           margins: Margins) -> Patrol:
+    part = g.partition
+    eps = float(tolerance) if tolerance is not None else DEFAULT_TOLERANCE
     entry = _Entry(g, start_set, margins) if start_set is not None else None
     classes = [max_between] if max_between is not None else list(range(MAX_BETWEEN_SEARCHED + 1))
-    base = dict(env=env, visit=edges, objective=objective, start=start_set)
+    base = dict(environment=EnvironmentRecord.of(env, part.n_segments), partition=part, visit=edges,
+                objective=objective, start=start_set)
 
     if objective == "tolerance":
         return _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base)
 
     choices = arc_choices(g, eps, margins)
-    allowed = _allowed(choices, entry, eps)
+    allowed, limits = _allowed(choices, entry, eps)
     if allowed is not None and not allowed:
-        return Patrol(status="infeasible", tolerance=eps, max_between=classes[-1], partition=part,
-                      reason=f"no safe plan with tolerance {eps:g} leaves the start set {start_set} at all", **base)
+        status, capped = (Status.NOT_FOUND, _capped(limits)) if limits else (Status.INFEASIBLE, "")
+        return Patrol(status=status, tolerance=eps, max_between=classes[-1],
+                      reason=f"no safe plan with tolerance {eps:g} leaves the start set {start_set} at all{capped}",
+                      optimality=_claim(Method.SEARCH_EXHAUSTED, None, f"safe belief plans from {start_set} with "
+                                        f"intervals {2 * eps:g} rad wide", "breadth-first search over beliefs", limits),
+                      **base)
+    one_period = objective == "contraction"
     for H in classes:
-        if objective == "contraction":
+        scope = _scope(H, eps, start_set, one_period=one_period)
+        if one_period:
             found = _period_dp(part, choices, edges, H, allowed)
             if found is None:
                 continue
             value, rows = found
-            bound, gap_note = _period_bound(part, choices, edges, allowed, value)
-            opt = (Optimality("dag-exhausted", True, math.exp(value), algorithm=f"one-period DP, H = {H}",
-                              gap=None if bound is None else math.exp(value) - bound),
-                   f"optimal among one-period patrols with at most {H} intermediate bounces between required visits"
-                   + (f"; {gap_note}" if gap_note else ""))
+            wider, note = _period_bound(part, choices, edges, allowed, value)
+            opt = _claim(Method.SEARCH_EXHAUSTED, math.exp(value), scope,
+                         f"dynamic programming over the one-period product DAG, H = {H}", limits)
             solvers = {"dp_log_contraction": value}
             periods = 1
         else:
@@ -622,24 +664,39 @@ def patrol(
             periods = int(prod.advance[cyc].sum()) // len(edges)
             loose = _product(part, choices, edges, None, allowed)
             lb = _min_mean(loose, solver, karp=False)[0] if len(loose.src) else value
-            gap = math.exp(value) - math.exp(lb)
-            opt = (Optimality("lp-duality", True, math.exp(value), algorithm=f"LP + Karp, H = {H}", gap=max(gap, 0.0)),
-                   f"optimal per bounce among patrol cycles with at most {H} intermediate bounces between required "
-                   f"visits (LP and Karp agree); over all patrol cycles the per-bounce contraction is ≥ {math.exp(lb):.6g}")
-        return _answer(env, part, g, choices, rows, eps, H, entry, epsilon, opt, solvers, base, periods)
-    return Patrol(status="infeasible", tolerance=eps, max_between=classes[-1], partition=part,
+            wider = math.exp(lb)
+            note = (f"over all patrol cycles (any number of intermediate bounces) the per-bounce contraction is "
+                    f"≥ {wider:.6g} (minimum mean cycle LP)")
+            opt = _claim(Method.LP_DUALITY, math.exp(value), scope,
+                         f"minimum mean cycle: LP (duality) and Karp's algorithm agree, H = {H}", limits)
+        return _answer(env, part, g, choices, rows, eps, H, entry, epsilon, opt, solvers, base, periods,
+                       bound_all_classes=(wider, note))
+    where = "" if entry is None else f", among the segments reachable from {start_set}"
+    status = Status.NOT_FOUND if limits else Status.INFEASIBLE
+    return Patrol(status=status, tolerance=eps, max_between=classes[-1],
                   reason=(f"no patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with intervals "
                           f"{2 * eps:g} rad wide and at most {classes[-1]} intermediate bounces between required visits "
-                          "(every such walk of the safe BVG was searched)"
-                          + ("" if entry is None else f", among the segments reachable from {start_set}")),
-                  optimality=Optimality("dag-exhausted", True, None), scope="infeasible within the class", **base)
+                          f"(every such walk of the safe BVG was searched){where}{_capped(limits)}"),
+                  optimality=_claim(Method.SEARCH_EXHAUSTED, None, _scope(classes[-1], eps, start_set,
+                                                                          one_period=one_period),
+                                    "search of the product of the safe BVG with the sequence automaton", limits),
+                  **base)
 
 
-def _allowed(choices: ArcChoices, entry: _Entry | None, eps: float) -> frozenset[int] | None:
-    """Segments a safe plan from the start set can reach with certainty (singleton beliefs, then arcs)."""
+def _capped(limits: tuple[str, ...]) -> str:
+    if not limits:
+        return ""
+    return (f"; the search for the segments reachable from the start set stopped at its caps ({', '.join(limits)}): "
+            "not a proof")
+
+
+def _allowed(choices: ArcChoices, entry: _Entry | None, eps: float) -> tuple[frozenset[int] | None, tuple[str, ...]]:
+    """Segments a safe plan from the start set can reach with certainty (singleton beliefs, then arcs), and the
+    caps of the belief search that were hit (then the set may miss reachable segments)."""
     if entry is None:
-        return None
-    seeds = set(entry.singletons(eps))
+        return None, ()
+    singletons, limits = entry.singletons(eps)
+    seeds = set(singletons)
     out = set(seeds)
     adj: dict[int, list[int]] = {}
     for s, t in zip(choices.source.tolist(), choices.target.tolist()):
@@ -651,7 +708,7 @@ def _allowed(choices: ArcChoices, entry: _Entry | None, eps: float) -> frozenset
             if v not in out:
                 out.add(v)
                 stack.append(v)
-    return frozenset(out)
+    return frozenset(out), limits
 
 
 def _period_bound(part, choices, edges, allowed, value) -> tuple[float | None, str]:
@@ -662,7 +719,7 @@ def _period_bound(part, choices, edges, allowed, value) -> tuple[float | None, s
         n, src, dst = loose.n_nodes, loose.src[within], loose.dst[within]
         if find_negative_cycle(n, src, dst, loose.w[within]) is not None:
             return 0.0, ("a contracting cycle between two required visits exists, so with more intermediate bounces "
-                         "the per-period contraction can be made arbitrarily small (bound 0)")
+                         "the per-period contraction can be made arbitrarily small")
     N = len(part.segments)
     if N * len(edges) * N > 200000:
         return None, "no bound over larger classes computed (too many segments)"
@@ -697,10 +754,12 @@ def _min_mean(prod: _Product, solver: str | None, *, karp: bool = True) -> tuple
 def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base) -> Patrol:
     """(b): bisection on ε with negative-cycle detection."""
     top = max_tolerance(g, margins)
+    hit_limits: set[str] = set()  # caps the reachability search hit at any ε tried
 
     def feasible(eps: float, H: int):
         ch = arc_choices(g, eps, margins)
-        allowed = _allowed(ch, entry, eps)
+        allowed, limits = _allowed(ch, entry, eps)
+        hit_limits.update(limits)
         if allowed is not None and not allowed:
             return None
         prod = _product(part, ch, edges, H, allowed)
@@ -711,6 +770,7 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
             return None
         return ch, [int(prod.choice[a]) for a in cyc], int(prod.advance[cyc].sum()) // len(edges)
 
+    start_set = base["start"]
     for H in classes:
         lo_hit = feasible(_EPS_FLOOR, H)
         if lo_hit is None:
@@ -730,19 +790,25 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
                 else:
                     lo, best = mid, hit
         ch, rows, periods = best
-        opt = (Optimality("bisection", True, hi, algorithm=f"bisection with Bellman-Ford, H = {H}", gap=hi - lo),
-               f"largest tolerance with a contracting patrol cycle (at most {H} intermediate bounces between required "
-               f"visits): ε* ∈ [{lo:.12g}, {hi:.12g}]")
+        scope = (f"{_scope(H, None, start_set, one_period=False)}, each arc's interval at the contracting end of its "
+                 f"safe interval: the largest tolerance ε with a contracting cycle, ε* ∈ [{lo:.12g}, {hi:.12g}]")
+        opt = _claim(Method.BISECTION, hi, scope, f"bisection with Bellman-Ford negative-cycle detection, H = {H}",
+                     tuple(sorted(hit_limits)))
         return _answer(env, part, g, ch, rows, lo, H, entry, epsilon, opt, {"bracket": [lo, hi]}, base, periods)
-    return Patrol(status="infeasible", tolerance=None, max_between=classes[-1], partition=part,
+    limits = tuple(sorted(hit_limits))
+    return Patrol(status=Status.NOT_FOUND if limits else Status.INFEASIBLE, tolerance=None, max_between=classes[-1],
                   reason=(f"no contracting patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with at most "
-                          f"{classes[-1]} intermediate bounces between required visits, even with tolerance {_EPS_FLOOR:g}"),
-                  optimality=Optimality("bisection", True, None), scope="infeasible within the class", **base)
+                          f"{classes[-1]} intermediate bounces between required visits, even with tolerance "
+                          f"{_EPS_FLOOR:g}{_capped(limits)}"),
+                  optimality=_claim(Method.BISECTION, None, _scope(classes[-1], _EPS_FLOOR, start_set, one_period=False),
+                                    "Bellman-Ford negative-cycle detection at the smallest tolerance", limits),
+                  **base)
 
 
 # ---------------------------------------------------------------------- building the answer
 def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: int, entry: _Entry | None, epsilon,
-            opt: tuple[Optimality, str], solvers: dict, base: dict, periods: int = 1) -> Patrol:
+            opt: Optimality, solvers: dict, base: dict, periods: int = 1,
+            bound_all_classes: tuple[float | None, str] = (None, "")) -> Patrol:
     edges = base["visit"]
     segs = [int(choices.source[r]) for r in rows]
     # entry: a belief plan from the start set to some segment of the cycle; rotate the cycle to begin there
@@ -766,19 +832,24 @@ def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: i
     alpha, beta = Fraction(1), Fraction(0)
     for st in stages:
         worst_exact *= _worst_exact(env, st)
-        alpha, beta = st.alpha * alpha, st.alpha * beta + st.beta
+        alpha, beta = st.affine.alpha * alpha, st.affine.alpha * beta + st.affine.beta
     if alpha == 1:  # pragma: no cover - a contracting cycle has |α| < 1
         raise SolverFailed("the nominal return map has slope 1: no fixed point")
     t_star = beta / (1 - alpha)
     points = []
     t = t_star
     for st in stages:
-        points.append(PatrolPoint(st.from_edge, st.from_segment, t, env.exact_point_at(st.from_edge, t)))
-        t = st.alpha * t + st.beta
+        points.append(PatrolPoint(st.affine.from_edge, st.from_segment, t, env.exact_point_at(st.affine.from_edge, t)))
+        t = st.affine.alpha * t + st.affine.beta
     contraction = float(worst_exact)
-    status = "found" if contraction < 1 else "not-contracting"
-    reason = ("" if status == "found" else
+    rate = contraction ** (1 / len(stages)) if contraction > 0 else 0.0
+    status = Status.FOUND if contraction < 1 else Status.NOT_CONTRACTING
+    reason = ("" if status is Status.FOUND else
               "the best patrol cycle of the class does not contract in the worst case: it is not stable")
+    # gap: the answer's own value (exact worst case; for tolerance the bracket's feasible end) against the bound
+    value = {"contraction": contraction, "rate": rate, "tolerance": eps}[base["objective"]]
+    if opt.bound is not None:
+        opt = replace(opt, gap=abs(value - opt.bound))
     first = part.segments[stages[0].from_segment]
     seg_len = float(first.t1 - first.t0) * float(env.edge_lengths[first.edge])
     attractor, counts = _set_valued(env, stages, first, epsilon)
@@ -787,14 +858,14 @@ def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: i
         nominal_cycles = cycles_to_epsilon(abs(alpha), Fraction(seg_len), Fraction(epsilon))
     return Patrol(
         status=status, reason=reason, tolerance=eps, max_between=H, entry=entry_stages, cycle=tuple(stages),
-        contraction=contraction, contraction_exact=worst_exact,
-        rate=contraction ** (1 / len(stages)) if contraction > 0 else 0.0,
+        contraction=contraction, contraction_exact=worst_exact, rate=rate,
         periods=max(periods, 1), nominal_alpha=alpha, nominal_beta=beta, points=tuple(points),
         attractor=attractor, epsilon=epsilon, cycles_to_epsilon=counts, cycles_to_epsilon_nominal=nominal_cycles,
-        optimality=opt[0], scope=opt[1], solvers=solvers, partition=part, **base)
+        optimality=opt, bound_all_classes=bound_all_classes[0], bound_all_classes_note=bound_all_classes[1],
+        solvers=solvers, **base)
 
 
-def _stage(env: Environment, part: Partition, g: SafeBVG, choices: ArcChoices, r: int) -> PatrolStage:
+def _stage(env: Environment, part: Partition, g: SafeBVG, choices: ArcChoices, r: int) -> Stage:
     a = int(choices.arc[r])
     s, t = int(choices.source[r]), int(choices.target[r])
     e_from, e_to = int(part.seg_edge[s]), int(part.seg_edge[t])
@@ -805,31 +876,33 @@ def _stage(env: Environment, part: Partition, g: SafeBVG, choices: ArcChoices, r
     direction = ExactHeading.from_float(nominal).direction(vec)
     m = affine_map(env, e_from, direction, e_to)
     side = int(g.transition[a])
-    return PatrolStage(s, t, e_from, e_to, interval, "right" if side > 0 else "left" if side < 0 else "parallel",
-                       float(g.phi[a]), float(choices.worst[r]), nominal, direction, m.alpha, m.beta)
+    affine = AffineStep(e_from, e_to, nominal, direction, m.alpha, m.beta, float(choices.worst[r]),
+                        transition="right" if side > 0 else "left" if side < 0 else "parallel", phi=float(g.phi[a]))
+    return Stage((s,), (t,), interval, moves=((s, t),), affine=affine)
 
 
-def _worst_exact(env: Environment, st: PatrolStage) -> Fraction:
+def _worst_exact(env: Environment, st: Stage) -> Fraction:
     """max |α| over the exact cone inside the stage's interval (the end directions: the checker's argument)."""
-    edge = env.edge(st.from_edge)
+    a = st.affine
+    edge = env.edge(a.from_edge)
     vec = (edge.b[0] - edge.a[0], edge.b[1] - edge.a[1])
     d_lo, d_hi = heading_cone(vec, st.interval)
-    return max(abs(affine_map(env, st.from_edge, d, st.to_edge).alpha) for d in (d_lo, d_hi))
+    return max(abs(affine_map(env, a.from_edge, d, a.to_edge).alpha) for d in (d_lo, d_hi))
 
 
-def _set_valued(env: Environment, stages: Sequence[PatrolStage], first, epsilon: float | None,
+def _set_valued(env: Environment, stages: Sequence[Stage], first, epsilon: float | None,
                 max_cycles: int = 100000) -> tuple[float, int | None]:
     """Iterate the set of positions on the first segment through the cycle with the whole intervals (floats):
     the image of [a, b] is spanned by the four corner maps (monotone in t and in the heading). Returns the
     attractor's width (arc length) and the cycles until the set is at most ``epsilon`` wide (None if never)."""
     maps = []
     for st in stages:
-        edge = env.edge(st.from_edge)
+        edge = env.edge(st.affine.from_edge)
         vec = (edge.b[0] - edge.a[0], edge.b[1] - edge.a[1])
         ends = []
         for theta in (st.interval.lo, st.interval.hi):
             d = ExactHeading.from_float(theta).direction(vec)
-            m = affine_map(env, st.from_edge, d, st.to_edge)
+            m = affine_map(env, st.affine.from_edge, d, st.affine.to_edge)
             ends.append((float(m.alpha), float(m.beta)))
         maps.append(ends)
     length = float(env.edge_lengths[first.edge])

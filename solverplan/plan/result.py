@@ -1,160 +1,100 @@
-"""What the planners return: :class:`Plan` (docs/contract.md, "A plan"), :class:`ParetoFront`, and how
-optimality was established (:class:`Optimality`).
+"""What the planners return: :class:`Plan` (``docs/contract.md``, "A plan") and :class:`ParetoFront`, on the
+shared result protocol of :mod:`solverplan.result` (``status``, ``optimality``, ``stats``, ``environment``,
+``to_json()``, ``to_text()``; stages are :class:`solverplan.result.Stage`).
 
 Results are frozen dataclasses; :meth:`Plan.to_json` is the only place a plan becomes a dict, and
 :func:`parse_plan` / :func:`load_plan` read one back (for ``solverplan simulate`` and ``render --plan``).
 
-A plan's JSON is docs/contract.md's ``{"status", "objective", "bounces", "min_width", "tolerance", "stages":
+A plan's JSON is the contract's ``{"status", "objective", "bounces", "min_width", "tolerance", "stages":
 [{"from_segments", "to_segments", "interval"}], "optimality": {"method", "proved", "bound"}, "reason"}``
 plus, for its readers: per stage the ``moves`` ([source, target] segment pairs, one per source: where the
-robot lands from each possible segment) and ``width``; the query (``start``, ``goal``, ``max_bounces``),
-the environment (``environment``: name, SHA-256 of its canonical JSON text, number of P′ segments), the
-heading margins the admissible intervals were built with, ``sum_width`` and ``stats`` (recorded, never
-asserted). Headings are radians in (0, π), measured counter-clockwise from the wall the robot is on.
+robot lands from each possible segment) and ``width``; the optimality's ``scope`` (the class of plans the
+claim is about) and ``gap`` (|value − bound| over that scope); the query (``start``, ``goal``,
+``max_bounces``), the environment (``environment``: name, SHA-256 of its exact normalised rings, number of
+P′ segments), the heading margins the admissible intervals were built with, ``sum_width`` and ``stats``
+(recorded, never asserted). Headings are radians in (0, π), measured counter-clockwise from the wall the
+robot is on.
 
 >>> plan = Plan.infeasible("fewest", "goal segments have no incoming safe arc",
-...                        Optimality("search-exhausted", True, None, algorithm="precheck"))
->>> plan.to_json()["status"], plan.to_json()["reason"], plan.bounces
-('infeasible', 'goal segments have no incoming safe arc', None)
+...                        Optimality(Method.SEARCH_EXHAUSTED, True, None, algorithm="precheck"))
+>>> plan.to_json()["status"], plan.to_json()["reason"], plan.bounces, plan.status.group.value
+('infeasible', 'goal segments have no incoming safe arc', None, 'proven-infeasible')
 """
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import math
 from dataclasses import dataclass, field, replace
-from enum import StrEnum
 from pathlib import Path
 from typing import Any, Literal
 
-from solverplan.interval import Interval
 from solverplan.environment import Environment
 from solverplan.errors import InputError, MalformedFile
-from solverplan.exact import format_number
+from solverplan.interval import Interval
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
 __all__ = [
-    "Status",
     "Objective",
     "OBJECTIVES",
-    "Optimality",
-    "Stage",
     "Plan",
     "ParetoPoint",
     "ParetoFront",
     "parse_plan",
     "load_plan",
-    "environment_record",
+    "read_optimality",
+    "read_environment",
 ]
-
-
-def environment_record(env: Environment, n_segments: int | None = None) -> dict:
-    """``{"name", "sha256", "n_segments"}``: identifies the environment a plan was made in (the digest is
-    over the exact normalised rings, so it does not depend on the name or the file format)."""
-    rings = [[[format_number(x), format_number(y)] for x, y in ring] for ring in env.rings]
-    digest = hashlib.sha256(json.dumps(rings, separators=(",", ":")).encode()).hexdigest()
-    out: dict[str, Any] = {"name": env.name, "sha256": digest}
-    if n_segments is not None:
-        out["n_segments"] = n_segments
-    return out
-
-
-class Status(StrEnum):
-    """A plan was found, or none exists (proven: an answer with exit code 0, never an exception)."""
-
-    FOUND = "found"
-    INFEASIBLE = "infeasible"
 
 
 Objective = Literal["fewest", "tolerance", "sum", "constant"]
 OBJECTIVES: tuple[str, ...] = ("fewest", "tolerance", "sum", "constant")
 
+_OLD_METHODS = {"dag-exhausted": Method.SEARCH_EXHAUSTED, "search": Method.HEURISTIC}
+"""Method spellings of older answers and what they mean now (reading is lenient; constructing is strict)."""
 
-@dataclass(frozen=True, slots=True)
-class Optimality:
-    """How optimality was established.
 
-    ``method``: ``search-exhausted`` (a label-setting / breadth-first search over every belief state
-    that could matter ran to completion), ``lp-duality`` (an LP solved to optimality; ``gap`` is the
-    primal–dual gap) or ``milp`` (a MILP solved to optimality; ``gap`` is the solver's absolute gap).
-    ``proved``: the claim holds for every plan over the admissible intervals (see
-    :func:`solverplan.plan.find_plan`). ``bound``: the best value any plan could reach, in the units the
-    certificate checker expects: bounces for ``fewest``, the narrowest interval's width (radians) for
-    ``tolerance`` and ``constant``, the sum of widths for ``sum``; ``None`` when no plan exists.
-    ``algorithm`` says which search ran.
+def read_optimality(data: object, where: str = "optimality") -> Optimality:
+    """An :class:`~solverplan.result.Optimality` from an answer's JSON, old or new.
+
+    Old files may lack ``scope``, ``gap`` and ``limits``, and may use old method spellings:
+    ``dag-exhausted`` is read as ``search-exhausted``, ``search`` as ``heuristic``; any other unknown
+    spelling becomes ``none`` with ``proved`` false (a claim nobody can say how it was made proves nothing).
+    Raises :class:`~solverplan.errors.MalformedFile` naming ``where`` on a malformed object.
     """
-
-    method: str
-    proved: bool
-    bound: float | None
-    algorithm: str = ""
-    gap: float | None = None
-
-    def to_json(self) -> dict:
-        out: dict[str, Any] = {"method": self.method, "proved": self.proved, "bound": self.bound}
-        if self.algorithm:
-            out["algorithm"] = self.algorithm
-        if self.gap is not None:
-            out["gap"] = self.gap
-        return out
-
-    @classmethod
-    def from_json(cls, data: object, where: str = "optimality") -> Optimality:
-        if not isinstance(data, dict):
-            raise MalformedFile(f"{where}: expected an object with method, proved, bound")
-        method = data.get("method")
-        proved = data.get("proved")
-        bound = data.get("bound")
-        if not isinstance(method, str) or not isinstance(proved, bool):
-            raise MalformedFile(f"{where}: method must be a string and proved a boolean")
-        if bound is not None and (isinstance(bound, bool) or not isinstance(bound, (int, float))):
-            raise MalformedFile(f"{where}.bound: expected a number or null, got {bound!r}")
-        gap = data.get("gap")
-        if gap is not None and (isinstance(gap, bool) or not isinstance(gap, (int, float))):
-            raise MalformedFile(f"{where}.gap: expected a number or null, got {gap!r}")
-        return cls(method, proved, None if bound is None else float(bound), str(data.get("algorithm", "")),
-                   None if gap is None else float(gap))
+    if isinstance(data, dict) and isinstance(data.get("method"), str):
+        method = data["method"]
+        known = {m.value for m in Method}
+        if method not in known:
+            data = {**data, "method": _OLD_METHODS.get(method, Method.NONE).value}
+            if data["method"] == Method.NONE.value:
+                data["proved"] = False
+    try:
+        return Optimality.from_json(data, where)
+    except ValueError as exc:
+        raise MalformedFile(str(exc)) from None
 
 
-@dataclass(frozen=True, slots=True)
-class Stage:
-    """One bounce of a plan.
-
-    ``from_segments``: the P′ segments the robot may be on (its belief); ``interval``: the heading
-    interval it executes (radians, CCW from the wall it is on, inside (0, π)); ``moves``: for each
-    possible source the segment it lands on, whatever heading of ``interval`` it executes;
-    ``to_segments``: the segments it may land on (the next belief), sorted.
-    """
-
-    from_segments: tuple[int, ...]
-    to_segments: tuple[int, ...]
-    interval: Interval
-    moves: tuple[tuple[int, int], ...]
-
-    @property
-    def width(self) -> float:
-        return self.interval.width
-
-    def to_json(self) -> dict:
-        return {
-            "from_segments": list(self.from_segments),
-            "to_segments": list(self.to_segments),
-            "interval": [self.interval.lo, self.interval.hi],
-            "width": self.interval.width,
-            "moves": [[i, j] for i, j in self.moves],
-        }
+def read_environment(data: object, where: str = "environment") -> EnvironmentRecord | None:
+    """The :class:`~solverplan.result.EnvironmentRecord` of an answer's JSON (None when it has none)."""
+    try:
+        return EnvironmentRecord.from_json(data, where)
+    except ValueError as exc:
+        raise MalformedFile(str(exc)) from None
 
 
 @dataclass(frozen=True)
 class Plan:
-    """A plan (docs/contract.md): heading intervals, one per bounce, that take the robot from every point of
-    the start set to the goal set whatever headings inside the intervals it executes — or a proof
-    that there is none (``status == "infeasible"`` with a ``reason``).
+    """A plan (``docs/contract.md``): heading intervals, one per bounce, that take the robot from every point
+    of the start set to the goal set whatever headings inside the intervals it executes — or a proof that
+    there is none (``status`` :attr:`~solverplan.result.Status.INFEASIBLE` with a ``reason``).
 
     ``min_width`` is the narrowest interval's width (radians), ``tolerance`` = min_width / 2 (the
     precision the robot needs), ``sum_width`` the sum of the widths; all ``None`` when infeasible.
-    ``bounces`` is the number of stages (0 when the start set already lies in the goal set).
+    ``bounces`` is the number of stages (0 when the start set already lies in the goal set). ``value``
+    is the objective's value in the units of ``optimality.bound``. ``environment`` is ``None`` for a plan
+    read from a file that does not record it.
     """
 
     status: Status
@@ -165,9 +105,12 @@ class Plan:
     start: str | None = None
     goal: str | None = None
     max_bounces: int | None = None
-    environment: dict = field(default_factory=dict)
+    environment: EnvironmentRecord | None = None
     margins: dict = field(default_factory=dict)
-    stats: dict = field(default_factory=dict, compare=False)
+    stats: Stats = field(default_factory=Stats, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "status", Status(self.status))
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -181,7 +124,7 @@ class Plan:
     # ------------------------------------------------------------------ numbers
     @property
     def found(self) -> bool:
-        return self.status is Status.FOUND
+        return self.status.answered
 
     @property
     def bounces(self) -> int | None:
@@ -205,16 +148,26 @@ class Plan:
         return sum(s.interval.width for s in self.stages) if self.found else None
 
     @property
+    def value(self) -> float | None:
+        """The objective's value in the units of ``optimality.bound``: bounces (``fewest``), the narrowest
+        width (``tolerance``, ``constant``, radians) or the sum of the widths (``sum``, radians)."""
+        if not self.found:
+            return None
+        if self.objective == "fewest":
+            return float(len(self.stages))
+        return self.sum_width if self.objective == "sum" else self.min_width
+
+    @property
     def intervals(self) -> tuple[Interval, ...]:
         return tuple(s.interval for s in self.stages)
 
     def check_environment(self, env: Environment, n_segments: int) -> None:
         """Raise :class:`InputError` unless the plan can be executed in ``env`` (whose partition has
         ``n_segments`` segments): same exact rings when the plan records them, known segment ids."""
-        recorded = self.environment.get("sha256") if self.environment else None
-        if recorded is not None and recorded != environment_record(env)["sha256"]:
-            name = self.environment.get("name", "?")
-            raise InputError(f"the plan was made in another environment ({name!r}, sha256 {recorded[:12]}…), not in {env.name!r}")
+        record = self.environment
+        if record is not None and not record.matches(env):
+            raise InputError(f"the plan was made in another environment ({record.name or '?'!r}, sha256 "
+                             f"{record.sha256[:12]}…), not in {env.name!r}")
         for k, stage in enumerate(self.stages):
             for seg in (*stage.from_segments, *stage.to_segments):
                 if not 0 <= seg < n_segments:
@@ -223,7 +176,7 @@ class Plan:
 
     # ------------------------------------------------------------------ output
     def to_json(self) -> dict:
-        """The plan of docs/contract.md, then the extra fields described in the module docstring."""
+        """The contract's plan, then the extra fields described in the module docstring."""
         out: dict[str, Any] = {
             "status": self.status.value,
             "objective": self.objective,
@@ -239,33 +192,28 @@ class Plan:
         out["start"] = self.start
         out["goal"] = self.goal
         out["max_bounces"] = self.max_bounces
-        if self.environment:
-            out["environment"] = dict(self.environment)
+        if self.environment is not None:
+            out["environment"] = self.environment.to_json()
         if self.margins:
             out["margins"] = dict(self.margins)
         if self.stats:
-            out["stats"] = dict(self.stats)
+            out["stats"] = self.stats.to_json()
         return out
 
     def to_text(self, *, width: int = 100) -> str:
         """A table like the paper's (§7.1.2): stage, from, to, interval, width."""
         buf = io.StringIO()
-        env = self.environment.get("name") or "environment"
+        env = self.environment.name if self.environment is not None and self.environment.name else "environment"
         query = f"from {self.start} to {self.goal}" if self.start else ""
         budget = f", at most {self.max_bounces} bounces" if self.max_bounces is not None else ""
         buf.write(f"{self.objective} plan in {env!r} {query}{budget}\n")
-        opt = self.optimality
-        proof = "proved" if opt.proved else "not proved"
-        bound = "" if opt.bound is None else f", bound {opt.bound:.10g}"
-        gap = "" if opt.gap is None else f", gap {opt.gap:.3g}"
-        algorithm = f" ({opt.algorithm})" if opt.algorithm else ""
         if not self.found:
-            buf.write(f"  infeasible: {self.reason}\n")
-            buf.write(f"  optimality: {opt.method}{algorithm}, {proof}{bound}\n")
+            buf.write(f"  {self.status.value}: {self.reason}\n")
+            buf.write(f"  optimality: {self.optimality.to_text()}\n")
             return buf.getvalue()
         buf.write(f"  bounces {self.bounces}   min width {self.min_width:.6f} rad   tolerance ±{self.tolerance:.6f} rad "
                   f"(±{math.degrees(self.tolerance or 0.0):.4f}°)   sum of widths {self.sum_width:.6f}\n")
-        buf.write(f"  optimality: {opt.method}{algorithm}, {proof}{bound}{gap}\n")
+        buf.write(f"  optimality: {self.optimality.to_text()}\n")
         if not self.stages:
             buf.write("  the start set lies in the goal set: nothing to do\n")
             return buf.getvalue()
@@ -301,7 +249,8 @@ class ParetoPoint:
 class ParetoFront:
     """The Pareto front bounces ↔ tolerance: points with strictly increasing bounces and strictly
     increasing min width. Every plan with b bounces has min width ≤ that of the last point with
-    ≤ b bounces (proved when ``optimality.proved``). Empty (``status`` infeasible) when no plan exists."""
+    ≤ b bounces (proved when ``optimality.proved``). Empty (``status`` infeasible, with a ``reason``) when
+    no plan exists. ``optimality.bound`` is the best min width (radians) of any plan of the scope."""
 
     points: tuple[ParetoPoint, ...]
     optimality: Optimality
@@ -309,11 +258,12 @@ class ParetoFront:
     goal: str | None = None
     max_bounces: int | None = None
     reason: str | None = None
-    environment: dict = field(default_factory=dict)
-    stats: dict = field(default_factory=dict, compare=False)
+    environment: EnvironmentRecord | None = None
+    stats: Stats = field(default_factory=Stats, compare=False)
 
     @property
     def status(self) -> Status:
+        """Found when the front has a point; infeasible (proved by the exhaustive label setting) otherwise."""
         return Status.FOUND if self.points else Status.INFEASIBLE
 
     def best(self, bounces: int | None = None) -> ParetoPoint | None:
@@ -337,25 +287,25 @@ class ParetoFront:
         }
         if not self.points:
             out["reason"] = self.reason
-        if self.environment:
-            out["environment"] = dict(self.environment)
+        if self.environment is not None:
+            out["environment"] = self.environment.to_json()
         if self.stats:
-            out["stats"] = dict(self.stats)
+            out["stats"] = self.stats.to_json()
         return out
 
     def to_text(self, *, width: int = 100) -> str:
         buf = io.StringIO()
-        env = self.environment.get("name") or "environment"
+        env = self.environment.name if self.environment is not None and self.environment.name else "environment"
         budget = f", at most {self.max_bounces} bounces" if self.max_bounces is not None else ""
         buf.write(f"Pareto front bounces ↔ tolerance in {env!r} from {self.start} to {self.goal}{budget}\n")
         if not self.points:
             buf.write(f"  infeasible: {self.reason}\n")
+            buf.write(f"  optimality: {self.optimality.to_text()}\n")
             return buf.getvalue()
         buf.write(f"  {'bounces':>7}  {'min width (rad)':>16}  {'tolerance (rad)':>16}  {'tolerance (°)':>13}\n")
         for p in self.points:
             buf.write(f"  {p.bounces:>7}  {p.min_width:>16.9f}  {p.tolerance:>16.9f}  {math.degrees(p.tolerance):>13.5f}\n")
-        opt = self.optimality
-        buf.write(f"  optimality: {opt.method} ({opt.algorithm}), {'proved' if opt.proved else 'not proved'}\n")
+        buf.write(f"  optimality: {self.optimality.to_text()}\n")
         return buf.getvalue()
 
 
@@ -425,21 +375,19 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
             moves = tuple((int(m[0]), int(m[1])) for m in raw_moves)
             if sorted(i for i, _ in moves) != sorted(frm) or set(j for _, j in moves) != set(to):
                 raise MalformedFile(f"{where}.moves: the pairs must use each from_segment once and reach exactly to_segments")
-        stages.append(Stage(frm, tuple(sorted(set(to))), Interval(lo, hi), moves))
+        stages.append(Stage(frm, tuple(sorted(set(to))), Interval(lo, hi), moves=moves))
     for k in range(1, len(stages)):
         if set(stages[k].from_segments) != set(stages[k - 1].to_segments):
             raise MalformedFile(f"{source}: stages[{k}].from_segments must be stages[{k - 1}].to_segments")
     if status == "found" and data.get("bounces") is not None and data.get("bounces") != len(stages):
         raise MalformedFile(f"{source}: bounces is {data.get('bounces')!r} but there are {len(stages)} stages")
-    optimality = (Optimality.from_json(data["optimality"], f"{source}: optimality") if "optimality" in data
-                  else Optimality("unknown", False, None))
+    optimality = (read_optimality(data["optimality"], f"{source}: optimality") if "optimality" in data
+                  else Optimality(Method.NONE, False, None))
     start, goal = data.get("start"), data.get("goal")
     for name, value in (("start", start), ("goal", goal)):
         if value is not None and not isinstance(value, str):
             raise MalformedFile(f"{source}: {name} must be a boundary-set string like 'e3:0.25:0.75,e4'")
-    environment = data.get("environment") or {}
-    if not isinstance(environment, dict):
-        raise MalformedFile(f"{source}: environment must be an object")
+    environment = read_environment(data.get("environment"), f"{source}: environment")
     max_bounces = data.get("max_bounces")
     return Plan(
         status=Status(status),

@@ -34,7 +34,9 @@ the whole segment; the goal is reached on segments lying wholly in the goal set,
 stage only — on the part of a segment the goal set covers, with the interval cut so that every
 landing point is inside it.
 
-A proven "infeasible" is an answer (``status="infeasible"`` with a ``reason``), never an exception.
+A proven "infeasible" is an answer (``status="infeasible"`` with a ``reason``), never an exception. Every
+optimality claim states its ``scope`` (plans over the admissible intervals, within the budget) and its ``gap``
+(|value − bound| over that scope: 0 for the exhaustive searches, the solver's gap for the LP and the MILP).
 
 A room whose ceiling is wider than its floor: one bounce, every heading in [ang(c − b), ang(d − a)]
 (paper Prop. 2) takes the whole floor to the ceiling. In a square the same shot is the single heading
@@ -47,7 +49,7 @@ A room whose ceiling is wider than its floor: one bounce, every heading in [ang(
 (1, ((0, 2),), 0.982991, 1.175611)
 >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 >>> plan = find_plan(square, "e0", "e2", objective="tolerance")
->>> plan.bounces, [s.moves for s in plan.stages], plan.optimality.method, plan.optimality.proved
+>>> plan.bounces, [s.moves for s in plan.stages], plan.optimality.method.value, plan.optimality.proved
 (2, [((0, 1),), ((1, 2),)], 'search-exhausted', True)
 """
 
@@ -56,6 +58,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from dataclasses import replace
 
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.interval import Interval
@@ -64,11 +67,10 @@ from solverplan.errors import InputError
 from solverplan.plan import _search
 from solverplan.plan._problem import Problem
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
-from solverplan.plan.result import (OBJECTIVES, Optimality, ParetoFront, ParetoPoint, Plan, Stage, Status,
-                                    environment_record)
+from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
-__all__ = ["find_plan", "pareto_front", "planning_problem", "environment_record", "METHODS",
-           "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN"]
+__all__ = ["find_plan", "pareto_front", "planning_problem", "METHODS", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN"]
 
 logger = logging.getLogger(__name__)
 
@@ -133,7 +135,8 @@ def _stages(problem: Problem, path: _search.Path, constant: tuple[float, float] 
     out = []
     for belief, o in _search.walk(problem, path):
         lo, hi = constant if constant is not None else (o.lo, o.hi)
-        out.append(Stage(problem.segments(belief), problem.segments(o.next), Interval(lo, hi), problem.moves(o.moves)))
+        out.append(Stage(problem.segments(belief), problem.segments(o.next), Interval(lo, hi),
+                         moves=problem.moves(o.moves)))
     return tuple(out)
 
 
@@ -142,9 +145,21 @@ def _common(problem: Problem, max_bounces: int | None) -> dict:
         "start": str(problem.start_set),
         "goal": str(problem.goal_set),
         "max_bounces": max_bounces,
-        "environment": environment_record(problem.env, problem.partition.n_segments),
+        "environment": EnvironmentRecord.of(problem.env, problem.partition.n_segments),
         "margins": problem.margins.to_json(),
     }
+
+
+def _scope(problem: Problem, max_bounces: int | None) -> str:
+    """The class of plans every optimality claim of :func:`find_plan` and :func:`pareto_front` is about."""
+    budget = f" with at most {max_bounces} bounces" if max_bounces is not None else ""
+    return (f"plans{budget} whose intervals lie in the admissible intervals of the safe BVG (heading margin "
+            f"{problem.heading_margin:g} rad, safe margin {problem.safe_margin:g} rad)")
+
+
+def _claim(method: Method, proved: bool, bound: float | None, algorithm: str, problem: Problem,
+           max_bounces: int | None, gap: float | None = None) -> Optimality:
+    return Optimality(method, proved, bound, scope=_scope(problem, max_bounces), gap=gap, algorithm=algorithm)
 
 
 def _precheck(problem: Problem, objective: str, max_bounces: int | None) -> str | None:
@@ -242,29 +257,47 @@ def find_plan(
     t1 = time.perf_counter()
     plan = _solve(problem, objective, k_max, method, common)
     t2 = time.perf_counter()
-    stats = dict(plan.stats)
-    stats.update({"seconds_setup": round(t1 - t0, 6), "seconds_search": round(t2 - t1, 6),
-                  "start_segments": list(problem.start_belief), "goal_segments": sorted(problem.goal_whole),
-                  "partial_goal_segments": sorted(problem.goal_partial), "options_built": problem.options_built,
-                  "admissible_intervals": problem.n_admissible})
+    stats = plan.stats.with_(seconds_setup=round(t1 - t0, 6), seconds_search=round(t2 - t1, 6),
+                             start_segments=list(problem.start_belief), goal_segments=sorted(problem.goal_whole),
+                             partial_goal_segments=sorted(problem.goal_partial), options_built=problem.options_built,
+                             admissible_intervals=problem.n_admissible)
     logger.info("%s plan: %s in %.3f s", objective, plan.status.value, t2 - t1)
     return plan.with_(stats=stats)
 
 
 def _found(problem: Problem, objective: str, path: _search.Path, optimality: Optimality, common: dict,
            stats: dict, constant: tuple[float, float] | None = None) -> Plan:
-    return Plan(Status.FOUND, objective, _stages(problem, path, constant), optimality, stats=stats, **common)
+    """A found plan; an optimality claim with a bound but no measured gap gets gap = |value − bound|."""
+    plan = Plan(Status.FOUND, objective, _stages(problem, path, constant), optimality, stats=Stats(counts=stats),
+                **common)
+    return _with_gap(plan)
+
+
+def _with_gap(plan: Plan) -> Plan:
+    opt = plan.optimality
+    if opt.gap is not None or opt.bound is None or plan.value is None:
+        return plan
+    return plan.with_(optimality=replace(opt, gap=abs(plan.value - opt.bound)))
+
+
+def _infeasible(objective: str, reason: str, optimality: Optimality, common: dict, stats: dict | None = None) -> Plan:
+    return Plan.infeasible(objective, reason, optimality, stats=Stats(counts=stats or {}), **common)
 
 
 def _solve(problem: Problem, objective: str, k_max: int | None, method: str, common: dict) -> Plan:
+    exhausted = Method.SEARCH_EXHAUSTED
+
+    def claim(method_: Method, proved: bool, bound: float | None, algorithm: str, gap: float | None = None):
+        return _claim(method_, proved, bound, algorithm, problem, k_max, gap)
+
     if problem.start_in_goal and objective != "sum":
         bound = {"fewest": 0.0, "tolerance": math.pi, "constant": math.pi}[objective]
-        opt = Optimality("search-exhausted", True, bound, algorithm="the start set lies in the goal set")
+        opt = claim(exhausted, True, bound, "the start set lies in the goal set", gap=0.0)
         return Plan(Status.FOUND, objective, (), opt, **common)
     reason = _precheck(problem, objective, k_max)
     if reason is not None:
         if not (objective == "sum" and problem.start_in_goal):
-            return Plan.infeasible(objective, reason, Optimality("search-exhausted", True, None, algorithm="precheck"), **common)
+            return _infeasible(objective, reason, claim(exhausted, True, None, "precheck"), common)
 
     if objective == "fewest":
         return _fewest(problem, k_max, common)
@@ -276,31 +309,30 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
             value, path, stats = tolerance_milp(problem, k_max)  # type: ignore[arg-type]
             if path is None:
                 reason = _exhausted(objective, k_max, stats.get("nodes", 0), True)
-                return Plan.infeasible(objective, reason, Optimality("milp", True, None, "MILP (HiGHS) over path flows"),
-                                       **common, stats=stats)
-            opt = Optimality("milp", stats["gap"] <= _GAP_PROVED, stats["bound"],
-                             "MILP (HiGHS) over path flows in the time-expanded network", gap=stats["gap"])
+                return _infeasible(objective, reason, claim(Method.MILP, True, None, "MILP (HiGHS) over path flows"),
+                                   common, stats)
+            opt = claim(Method.MILP, stats["gap"] <= _GAP_PROVED, stats["bound"],
+                        "MILP (HiGHS) over path flows in the time-expanded network", gap=stats["gap"])
             return _found(problem, objective, path, opt, common, stats)
         if k_max is None:
             best, stats = _search.bottleneck(problem)
             if best <= 0.0:
                 reason = _exhausted(objective, None, stats["beliefs"], False)
-                return Plan.infeasible(objective, reason, Optimality("search-exhausted", True, None, "max-min Dijkstra"),
-                                       **common, stats=stats)
+                return _infeasible(objective, reason, claim(exhausted, True, None, "max-min Dijkstra"), common, stats)
             path, bstats = _search.bfs(problem, threshold=best - _search.WIDTH_EPS)
             if path is None:  # pragma: no cover - W* is attained by some plan
                 raise AssertionError("no plan attains the bottleneck value")
             algorithm = "max-min Dijkstra over beliefs (W*), then BFS over options of width ≥ W* (fewest bounces)"
-            return _found(problem, objective, path, Optimality("search-exhausted", True, best, algorithm), common,
+            return _found(problem, objective, path, claim(exhausted, True, best, algorithm), common,
                           {**stats, "bfs_beliefs": bstats["beliefs"]})
         front = _search.layered_front(problem, k_max)
         algorithm = f"Pareto label setting (bounces, min width) up to {k_max} bounces"
         if not front.points:
             reason = _exhausted(objective, k_max, front.beliefs, not front.exhausted or front.budget_pruned)
-            return Plan.infeasible(objective, reason, Optimality("search-exhausted", True, None, algorithm), **common,
-                                   stats={"beliefs": front.beliefs})
+            return _infeasible(objective, reason, claim(exhausted, True, None, algorithm), common,
+                               {"beliefs": front.beliefs})
         k, w, path = front.points[-1]
-        return _found(problem, objective, path, Optimality("search-exhausted", True, w, algorithm), common,
+        return _found(problem, objective, path, claim(exhausted, True, w, algorithm), common,
                       {"beliefs": front.beliefs, "front": [[p[0], p[1]] for p in front.points]})
 
     if objective == "sum":
@@ -309,19 +341,19 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
             from solverplan.plan._lp import sum_lp
 
             value, path, stats = sum_lp(problem, k_max)
-            opt_method, algorithm = "lp-duality", "LP over path flows in the time-expanded network (clarabel)"
+            opt_method, algorithm = Method.LP_DUALITY, "LP over path flows in the time-expanded network (clarabel)"
         else:
             value, path, stats = _search.max_sum(problem, k_max)
-            opt_method, algorithm = "search-exhausted", f"dynamic programming over (belief, bounces ≤ {k_max})"
+            opt_method, algorithm = exhausted, f"dynamic programming over (belief, bounces ≤ {k_max})"
         if problem.start_in_goal and (value is None or value <= 0.0):
-            return Plan(Status.FOUND, objective, (), Optimality(opt_method, True, 0.0, algorithm), **common)
+            return Plan(Status.FOUND, objective, (), claim(opt_method, True, 0.0, algorithm, gap=0.0), **common)
         if path is None:
             reason = reason or _exhausted(objective, k_max, stats.get("states", 0), True)
-            return Plan.infeasible(objective, reason, Optimality(opt_method, True, None, algorithm), **common, stats=stats)
+            return _infeasible(objective, reason, claim(opt_method, True, None, algorithm), common, stats)
         if method == "lp":
-            opt = Optimality(opt_method, stats["gap"] <= _GAP_PROVED * k_max, stats["bound"], algorithm, gap=stats["gap"])
+            opt = claim(opt_method, stats["gap"] <= _GAP_PROVED * k_max, stats["bound"], algorithm, gap=stats["gap"])
         else:
-            opt = Optimality(opt_method, True, value, algorithm)
+            opt = claim(opt_method, True, value, algorithm)
         return _found(problem, objective, path, opt, common, stats)
 
     # constant
@@ -329,9 +361,9 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
     algorithm = "Algorithm 2 labels (belief, running intersection) with ⊇ dominance"
     if path is None:
         reason = _exhausted(objective, k_max, stats["beliefs"], stats["cut_by_budget"])
-        return Plan.infeasible(objective, reason, Optimality("search-exhausted", True, None, algorithm), **common, stats=stats)
+        return _infeasible(objective, reason, claim(exhausted, True, None, algorithm), common, stats)
     assert interval is not None
-    return _found(problem, objective, path, Optimality("search-exhausted", True, interval[1] - interval[0], algorithm),
+    return _found(problem, objective, path, claim(exhausted, True, interval[1] - interval[0], algorithm),
                   common, stats, constant=interval)
 
 
@@ -343,6 +375,10 @@ def _fewest(problem: Problem, k_max: int | None, common: dict) -> Plan:
     the single-segment bound h(b) = max_{s∈b} d(s) finds the fewest stages L (:func:`._search.fewest_stages`),
     then one layered search within the budget L, pruned by k + h(b) ≤ L, picks the most tolerant plan.
     """
+
+    def claim(bound: float | None, algorithm: str) -> Optimality:
+        return _claim(Method.SEARCH_EXHAUSTED, True, bound, algorithm, problem, k_max)
+
     algorithm = "belief-state BFS (layered labels); ties: the most tolerant of the fewest-bounce plans"
     start = problem.start_belief
     if len(start) == 1:
@@ -351,8 +387,7 @@ def _fewest(problem: Problem, k_max: int | None, common: dict) -> Plan:
         if not front.points:
             cut = not front.exhausted or front.budget_pruned
             reason = _exhausted("fewest", k_max, front.beliefs, cut)
-            return Plan.infeasible("fewest", reason, Optimality("search-exhausted", True, None, algorithm), **common,
-                                   stats=stats)
+            return _infeasible("fewest", reason, claim(None, algorithm), common, stats)
     else:
         algorithm = ("belief-state A* with single-segment bounds (fewest stages L), then layered labels within L "
                      "(the most tolerant of the fewest-bounce plans)")
@@ -362,18 +397,17 @@ def _fewest(problem: Problem, k_max: int | None, common: dict) -> Plan:
             seg = problem.partition.segments[lone[0]]
             reason = (f"start segment {lone[0]} (on e{seg.edge}) has no plan to the goal even on its own, so no plan "
                       f"works from the whole start set")
-            return Plan.infeasible("fewest", reason, Optimality("search-exhausted", True, None, algorithm), **common)
+            return _infeasible("fewest", reason, claim(None, algorithm), common)
         fewest, astats = _search.fewest_stages(problem, k_max)
         if fewest is None:
             reason = _exhausted("fewest", k_max, astats["beliefs"], astats["cut_by_budget"])
-            return Plan.infeasible("fewest", reason, Optimality("search-exhausted", True, None, algorithm), **common,
-                                   stats=astats)
+            return _infeasible("fewest", reason, claim(None, algorithm), common, astats)
         front = _search.layered_front(problem, fewest, stop_at_first=True)
         stats = {"beliefs": front.beliefs, "a_star_beliefs": astats["beliefs"]}
         if not front.points or front.points[0][0] != fewest:  # pragma: no cover - A* and the labels agree
             raise AssertionError("the layered search did not find the A* optimum")
     k, _, path = front.points[0]
-    return _found(problem, "fewest", path, Optimality("search-exhausted", True, float(k), algorithm), common, stats)
+    return _found(problem, "fewest", path, claim(float(k), algorithm), common, stats)
 
 
 def pareto_front(
@@ -403,10 +437,12 @@ def pareto_front(
                                corner_clearance=corner_clearance)
     common = _common(problem, k_max)
     algorithm = "Pareto label setting (bounces, min width)" + (f" up to {k_max} bounces" if k_max else " to a fixed point")
+    exhausted = Method.SEARCH_EXHAUSTED
     if problem.start_in_goal:
-        plan = Plan(Status.FOUND, "tolerance", (), Optimality("search-exhausted", True, math.pi, algorithm), **common)
-        return ParetoFront((ParetoPoint(0, math.pi, plan),), Optimality("search-exhausted", True, math.pi, algorithm),
-                           common["start"], common["goal"], k_max, environment=common["environment"])
+        opt = _claim(exhausted, True, math.pi, algorithm, problem, k_max, gap=0.0)
+        plan = Plan(Status.FOUND, "tolerance", (), opt, **common)
+        return ParetoFront((ParetoPoint(0, math.pi, plan),), opt, common["start"], common["goal"], k_max,
+                           environment=common["environment"])
     reason = _precheck(problem, "tolerance", k_max)
     points: list[ParetoPoint] = []
     beliefs = 0
@@ -414,12 +450,13 @@ def pareto_front(
         front = _search.layered_front(problem, k_max)
         beliefs = front.beliefs
         for k, w, path in front.points:
-            opt = Optimality("search-exhausted", True, w, f"{algorithm}: the best plan with ≤ {k} bounces")
+            opt = _claim(exhausted, True, w, f"{algorithm}: the best plan with ≤ {k} bounces", problem, k)
             plan = _found(problem, "tolerance", path, opt, {**common, "max_bounces": k}, {})
             points.append(ParetoPoint(k, w, plan))
         if not points:
             reason = _exhausted("tolerance", k_max, front.beliefs, not front.exhausted or front.budget_pruned)
     best = points[-1].min_width if points else None
-    stats = {"seconds": round(time.perf_counter() - t0, 6), "beliefs": beliefs}
-    return ParetoFront(tuple(points), Optimality("search-exhausted", True, best, algorithm), common["start"], common["goal"],
-                       k_max, reason=reason, environment=common["environment"], stats=stats)
+    stats = Stats(seconds_search=round(time.perf_counter() - t0, 6), counts={"beliefs": beliefs})
+    opt = _claim(exhausted, True, best, algorithm, problem, k_max, gap=None if best is None else 0.0)
+    return ParetoFront(tuple(points), opt, common["start"], common["goal"], k_max, reason=reason,
+                       environment=common["environment"], stats=stats)

@@ -126,7 +126,7 @@ def draw_plan(
 
 def plan_title(plan: Plan) -> str:
     """A one-line description of a plan for a figure title."""
-    env = plan.environment.get("name", "") if plan.environment else ""
+    env = plan.environment.name if plan.environment is not None else ""
     head = f"{env}: " if env else ""
     if not plan.found:
         return f"{head}{plan.objective} plan from {plan.start} to {plan.goal}: infeasible"

@@ -15,6 +15,7 @@ from solverplan.certify.build import certificate
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from solverplan.plan.localize import localize, rotational_symmetry
+from solverplan.result import Method, Status
 from solverplan.simulate import StagePolicy, simulate_policy
 
 MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"
@@ -60,7 +61,8 @@ def test_symmetric_environments_cannot_be_localised_from_the_whole_boundary(name
     (c, s), k = rotational_symmetry(env)
     assert k == shift and (c, s) != (1, 0) and c * c + s * s == 1
     loc = localize(env, 0.1)
-    assert loc.status == "impossible" and "invariant" in loc.reason and loc.optimality.proved
+    assert loc.status is Status.INFEASIBLE and "invariant" in loc.reason and loc.optimality.proved
+    assert loc.optimality.method is Method.SYMMETRY and not loc.optimality.limits
 
 
 def test_asymmetric_models_have_no_rotational_symmetry():
@@ -92,4 +94,4 @@ def test_cli_localize(tmp_path):
     assert answer["status"] == "found" and answer["kind"] == "localize" and answer["epsilon"] == 0.05
     assert runner.invoke(cli.app, ["verify", str(cert)]).exit_code == 0
     sym = runner.invoke(cli.app, ["localize", str(MODELS / "square.json"), "--epsilon", "0.05"])
-    assert sym.exit_code == 0 and json.loads(sym.stdout)["status"] == "impossible"
+    assert sym.exit_code == 0 and json.loads(sym.stdout)["status"] == "infeasible"

@@ -52,8 +52,8 @@ def test_theorem1_patrol_over_all_edges_is_the_constant_heading_limit_cycle(name
     eps = 0.3 * lemma3_max_heading(env) / 2
     p = patrol(env, all_edges(env), objective=objective, tolerance=eps)
     assert p.status == "found" and p.max_between == 0 and p.periods == 1
-    assert [s.from_edge for s in p.cycle] == list(range(env.n_edges))
-    thetas = {s.nominal for s in p.cycle}
+    assert [s.affine.from_edge for s in p.cycle] == list(range(env.n_edges))
+    thetas = {s.affine.heading for s in p.cycle}
     assert len(thetas) == 1  # one constant heading
     theta = thetas.pop()
     assert theta == pytest.approx(DEFAULT_HEADING_MARGIN + eps, abs=1e-12)  # [δ, δ + 2ε]: δ off the wall
@@ -141,7 +141,8 @@ def test_objective_contraction_is_the_best_one_period_walk_by_brute_force():
     visit = (0, 2, 4)
     eps = 0.02
     p = patrol(env, "e0,e2,e4", objective="contraction", tolerance=eps, max_between=1)
-    assert p.found and p.optimality.method == "dag-exhausted"
+    assert p.found and p.optimality.method == "search-exhausted" and p.optimality.proved
+    assert "one-period" in p.optimality.scope and p.optimality.gap == pytest.approx(0.0, abs=1e-12)
     ch = arc_choices(safe_bounce_visibility_graph(partition(env)), eps, Margins.for_environment(env))
     part = partition(env)
     out: dict[int, list[tuple[int, float]]] = {}

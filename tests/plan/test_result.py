@@ -8,8 +8,9 @@ import math
 import pytest
 
 from solverplan.environment import Environment
-from solverplan.errors import MalformedFile
-from solverplan.plan import Plan, Status, find_plan, load_plan, parse_plan
+from solverplan.errors import InputError, MalformedFile
+from solverplan.plan import Plan, find_plan, load_plan, parse_plan
+from solverplan.result import EnvironmentRecord, Method, Optimality, Status
 
 SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 ELL = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]], name="ell")
@@ -31,7 +32,10 @@ def test_contract_fields_and_numbers():
     assert data["bounces"] == 1 and data["tolerance"] == data["min_width"] / 2
     assert data["stages"][0]["interval"][0] > 0 and data["stages"][0]["interval"][1] < math.pi
     assert data["optimality"] == {"method": "search-exhausted", "proved": True, "bound": data["min_width"],
+                                  "scope": data["optimality"]["scope"], "gap": 0.0,
                                   "algorithm": data["optimality"]["algorithm"]}
+    assert data["optimality"]["scope"].startswith("plans whose intervals lie in the admissible intervals")
+    assert all(stage["width"] == stage["interval"][1] - stage["interval"][0] for stage in data["stages"])
 
 
 def test_text_table():
@@ -74,3 +78,39 @@ def test_infeasible_plan_json_has_a_reason_and_no_numbers():
     assert data["status"] == "infeasible" and data["reason"].startswith("exhausted all plans with ≤ 1 bounces")
     assert data["bounces"] is None and data["min_width"] is None and data["tolerance"] is None
     assert isinstance(plan, Plan) and not plan.found
+
+
+def test_old_plan_files_still_load():
+    """A plan written before the shared result protocol: no scope or gap, an old method spelling, the
+    environment as a plain record; it loads, with the method mapped and the record read."""
+    plan = find_plan(SQUARE, "e0", "e2")
+    data = json.loads(json.dumps(plan.to_json()))
+    old = {key: data[key] for key in ("status", "objective", "bounces", "min_width", "tolerance", "start", "goal")}
+    old["stages"] = [{k: s[k] for k in ("from_segments", "to_segments", "interval")} for s in data["stages"]]
+    old["optimality"] = {"method": "dag-exhausted", "proved": True, "bound": 2}
+    old["environment"] = {"name": "square", "sha256": data["environment"]["sha256"]}
+    back = parse_plan(old)
+    assert back.optimality.method is Method.SEARCH_EXHAUSTED and back.optimality.proved
+    assert back.optimality.scope == "" and back.optimality.gap is None
+    assert back.environment == EnvironmentRecord("square", data["environment"]["sha256"])
+    assert back.intervals == plan.intervals
+    back.check_environment(SQUARE, 4)  # the same rings: no error
+    unknown = parse_plan({**old, "optimality": {"method": "oracle", "proved": True, "bound": 2}})
+    assert unknown.optimality.method is Method.NONE and not unknown.optimality.proved
+    search = parse_plan({**old, "optimality": {"method": "search", "proved": False, "bound": None}})
+    assert search.optimality.method is Method.HEURISTIC
+
+
+def test_a_plan_made_elsewhere_is_refused():
+    plan = find_plan(SQUARE, "e0", "e2")
+    other = Environment.from_coords([[0, 0], [5, 0], [5, 5], [0, 5]], name="big")
+    with pytest.raises(InputError, match="made in another environment"):
+        plan.check_environment(other, 4)
+
+
+def test_constructing_is_strict_about_methods():
+    with pytest.raises(ValueError, match="unknown optimality method 'dag-exhausted'"):
+        Plan.infeasible("fewest", "none", Optimality("dag-exhausted", True, None))
+    with pytest.raises(MalformedFile, match="optimality.limits: expected a list of strings"):
+        parse_plan({"status": "infeasible", "optimality": {"method": "milp", "proved": False, "bound": None,
+                                                             "limits": 3}})
