@@ -503,6 +503,14 @@ PictureOpt = Annotated[
     Path | None,
     typer.Option("--picture", metavar="FIG", help="Also draw the answer to a .png or .svg file.", show_default=False),
 ]
+HeadingMarginOpt = Annotated[
+    float, typer.Option("--heading-margin", metavar="D", help="Keep every heading this far (radians) from the walls (0 and π).")
+]
+CornerClearanceOpt = Annotated[
+    float | None,
+    typer.Option("--corner-clearance", metavar="K", help="Keep every landing point this far (a length) from segment ends, "
+                 "but the corner a stage's segments share (default: 1e-4 of the bounding box's diagonal).", show_default=False),
+]
 
 
 @app.command(name="patrol")
@@ -530,6 +538,8 @@ def patrol_command(
         float | None,
         typer.Option("--epsilon", metavar="X", help="Also report the cycles needed to shrink the position set below the length X.", show_default=False),
     ] = None,
+    heading_margin: HeadingMarginOpt = 1e-3,
+    corner_clearance: CornerClearanceOpt = None,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
@@ -544,7 +554,8 @@ def patrol_command(
         _check_picture(picture)
         environment = _load(env, env_format)
         result = patrol(environment, visit, start=start, objective=objective.value, tolerance=tolerance,
-                        max_between=max_between, epsilon=epsilon)
+                        max_between=max_between, epsilon=epsilon, heading_margin=heading_margin,
+                        corner_clearance=corner_clearance)
         if result.found:
             _write_extras(result, certificate, picture)
         emit(result, fmt, out)
@@ -560,6 +571,8 @@ def funnel_command(
         typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): every interval is 2ε wide (default 0.005).", show_default=False),
     ] = None,
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget of the search.")] = 30,
+    heading_margin: HeadingMarginOpt = 1e-3,
+    corner_clearance: CornerClearanceOpt = None,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
@@ -573,7 +586,8 @@ def funnel_command(
     with exit_codes(verbose):
         _check_picture(picture)
         environment = _load(env, env_format)
-        result = funnel(environment, start, goal, tolerance=tolerance, max_bounces=max_bounces)
+        result = funnel(environment, start, goal, tolerance=tolerance, max_bounces=max_bounces,
+                        heading_margin=heading_margin, corner_clearance=corner_clearance)
         if result.found:
             _write_extras(result, certificate, picture)
         emit(result, fmt, out)
@@ -592,6 +606,8 @@ def localize_command(
         typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): every interval is 2ε wide (default 0.005).", show_default=False),
     ] = None,
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget of the search.")] = 40,
+    heading_margin: HeadingMarginOpt = 1e-3,
+    corner_clearance: CornerClearanceOpt = None,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
@@ -605,7 +621,8 @@ def localize_command(
     with exit_codes(verbose):
         _check_picture(picture)
         environment = _load(env, env_format)
-        result = localize(environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces)
+        result = localize(environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces,
+                          heading_margin=heading_margin, corner_clearance=corner_clearance)
         if result.found:
             _write_extras(result, certificate, picture)
         emit(result, fmt, out)
@@ -682,26 +699,27 @@ def plan_command(
         typer.Option("--certificate", metavar="FILE", help="Also write the plan's certificate (checked before it is written; "
                      "verify it with 'solverplan verify'). With --pareto: of the most tolerant plan.", show_default=False),
     ] = None,
-    heading_margin: Annotated[
-        float, typer.Option("--heading-margin", metavar="D", help="Keep every heading this far (radians) from the walls (0 and π).")
-    ] = 1e-3,
+    heading_margin: HeadingMarginOpt = 1e-3,
+    corner_clearance: CornerClearanceOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,
     verbose: VerboseOpt = 0,
 ) -> None:
     """An optimal plan from one boundary set to another (paper §7–8), or a proof that there is none (exit 0)."""
-    from solverplan.plan import find_plan, pareto_front
+    from solverplan.plan.search import find_plan, pareto_front
 
     with exit_codes(verbose):
         environment = _load(env, env_format)
         if pareto:
             if objective not in (None, PlanObjective.TOLERANCE) or method != "auto":
                 raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
-            answer: Any = pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin)
+            answer: Any = pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin,
+                                       corner_clearance=corner_clearance)
         else:
             answer = find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
-                               max_bounces=max_bounces, method=method, heading_margin=heading_margin)
+                               max_bounces=max_bounces, method=method, heading_margin=heading_margin,
+                               corner_clearance=corner_clearance)
         if certificate is not None:
             _write_certificate_file(answer, certificate, environment)
         emit(answer, fmt, out)

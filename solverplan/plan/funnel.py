@@ -35,6 +35,7 @@ from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.partition import partition
 from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._positions import SearchOutcome, search_positions
 from solverplan.plan._results import PositionStrategy
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
@@ -138,6 +139,8 @@ def funnel(
     n_headings: int = 240,
     beam: int = 400,
     graph: SafeBVG | None = None,
+    heading_margin: float = DEFAULT_HEADING_MARGIN,
+    corner_clearance: float | None = None,
 ) -> Funnel:
     """A funnel from ``start`` to ``goal``: fixed-width heading intervals whose exact position sets shrink by
     contraction until they fit the goal (module docstring).
@@ -153,6 +156,9 @@ def funnel(
     max_bounces, n_headings, beam
         The search's bounds: bounces, headings tried per stage (a uniform grid, plus aims at the goal), states
         kept per bounce.
+    heading_margin, corner_clearance
+        The margin policy of every planner (:mod:`solverplan.plan.margins`): no interval within δ radians of a
+        wall, no landing within κ (a length) of a segment end.
     graph
         A precomputed safe BVG (for the comparison with plans over whole segments).
 
@@ -183,9 +189,10 @@ def funnel(
     for p in goal_set.pieces:
         for s in np.linspace(0.1, 0.9, 5):
             points.append(env.point_at(p.edge, float(p.t0) + s * float(p.t1 - p.t0)))
+    margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
     t0 = time.perf_counter()
     outcome = search_positions(env, part, start_set.pieces, inside, inside_exact, tolerance=eps, max_bounces=max_bounces,
-                               goal_points=np.array(points), n_headings=n_headings, beam=beam)
+                               goal_points=np.array(points), n_headings=n_headings, beam=beam, margins=margins)
     stats = search_stats(outcome, time.perf_counter() - t0)
     safe = safe_plan_exists(g, start_set, goal_set)
     status, optimality = search_optimality(

@@ -40,6 +40,7 @@ from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.partition import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._positions import search_positions
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan.funnel import DEFAULT_FUNNEL_TOLERANCE, search_optimality, search_stats
@@ -128,11 +129,17 @@ def localize(
     n_headings: int = 240,
     beam: int = 400,
     graph: SafeBVG | None = None,
+    heading_margin: float = DEFAULT_HEADING_MARGIN,
+    corner_clearance: float | None = None,
 ) -> Localization:
     """A localisation strategy: after its stages every start in ``start`` (default: the whole boundary) is inside
     one interval of one edge shorter than ``epsilon`` (arc length). Returns a :class:`Localization` whose goal is
     that interval (``found``), ``infeasible`` when a symmetry of the environment and the start set forbids it
     (proved), or ``not-found`` with the search's caps in ``optimality.limits``.
+
+    ``tolerance``, ``max_bounces``, ``n_headings``, ``beam`` and ``graph`` are as for
+    :func:`~solverplan.plan.funnel.funnel`; ``heading_margin`` and ``corner_clearance`` are the margin policy of
+    every planner (:mod:`solverplan.plan.margins`).
 
     Raises
     ------
@@ -186,9 +193,10 @@ def localize(
         hull = sum(spread(tuple(p for p in pieces if p[0] == e)) for e in edges)
         return (len(edges), hull)
 
+    margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
     t0 = time.perf_counter()
     outcome = search_positions(env, part, start_set.pieces, done, done_exact, tolerance=eps, max_bounces=max_bounces,
-                               n_headings=n_headings, beam=beam, rank=rank)
+                               n_headings=n_headings, beam=beam, rank=rank, margins=margins)
     stats = search_stats(outcome, time.perf_counter() - t0)
     status, optimality = search_optimality(
         outcome, max_bounces=max_bounces, n_headings=n_headings, beam=beam,

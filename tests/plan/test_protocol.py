@@ -12,8 +12,10 @@ from pathlib import Path
 import pytest
 
 from solverplan.environment import Environment, load_environment
-from solverplan.plan import (Funnel, Localization, ParetoFront, Patrol, Plan, find_plan, funnel, localize,
-                             pareto_front, patrol)
+from solverplan.plan import Funnel, Localization, ParetoFront, Patrol, Plan, find_plan, pareto_front
+from solverplan.plan.funnel import funnel
+from solverplan.plan.localize import localize
+from solverplan.plan.patrol import patrol
 from solverplan.result import EnvironmentRecord, Method, Optimality, Result, Stage, Stats, Status
 
 patrol_module = importlib.import_module("solverplan.plan.patrol")  # the name `patrol` is the function
