@@ -74,11 +74,11 @@ def test_a_funnel_gives_a_funnel_certificate_and_subclasses_dispatch_like_their_
     assert cert.kind == "funnel" and all(stage.positions for stage in cert.stages)
     assert_valid(cert)
 
-    @dataclass(frozen=True)
+    @dataclass(frozen=True, kw_only=True)
     class Strategy(Funnel):  # a future result class derived from Funnel needs no new entry
         pass
 
-    derived = Strategy(**{f: getattr(square_funnel, f) for f in square_funnel.__dataclass_fields__})
+    derived = Strategy(**{f.name: getattr(square_funnel, f.name) for f in fields(square_funnel)})
     assert certificate(derived) == cert
 
 
