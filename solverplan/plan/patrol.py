@@ -610,9 +610,10 @@ def patrol(
 def _scope(H: int, eps: float | None, start_set: BoundarySet | None, *, one_period: bool) -> str:
     """The class of patrols an answer's optimality claim is about."""
     what = "one-period patrol cycles" if one_period else "patrol cycles"
-    width = "" if eps is None else f", intervals {2 * eps:g} rad wide at the contracting end of each safe interval"
+    width = "" if eps is None else f", intervals {2 * eps:g} rad wide at the contracting end of each admissible interval"
     reach = "" if start_set is None else f", on segments a safe plan from {start_set} reaches with certainty"
-    return f"{what} with at most {H} intermediate bounces between consecutive required visits{width}{reach}"
+    return (f"{what} with at most {H} intermediate bounces between consecutive required visits{width}{reach} "
+            "(within the margin policy: no two consecutive arcs into one corner)")
 
 
 def _claim(method: Method, bound: float | None, scope: str, algorithm: str, limits: tuple[str, ...],

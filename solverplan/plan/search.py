@@ -153,8 +153,10 @@ def _common(problem: Problem, max_bounces: int | None) -> dict:
 def _scope(problem: Problem, max_bounces: int | None) -> str:
     """The class of plans every optimality claim of :func:`find_plan` and :func:`pareto_front` is about."""
     budget = f" with at most {max_bounces} bounces" if max_bounces is not None else ""
+    m = problem.margins
     return (f"plans{budget} whose intervals lie in the admissible intervals of the safe BVG (heading margin "
-            f"{problem.heading_margin:g} rad, safe margin {problem.safe_margin:g} rad)")
+            f"{m.heading_margin:g} rad, safe margin {m.safe_margin:g} rad, corner clearance {m.corner_clearance:.3g}, "
+            "no two consecutive arcs into one corner)")
 
 
 def _claim(method: Method, proved: bool, bound: float | None, algorithm: str, problem: Problem,
