@@ -550,15 +550,10 @@ def patrol_command(
     """A stable patrol cycle visiting edges in order (paper Def. 15), optimal for the objective, from a start set."""
     from solverplan.plan.patrol import patrol
 
-    with exit_codes(verbose):
-        _check_picture(picture)
-        environment = _load(env, env_format)
-        result = patrol(environment, visit, start=start, objective=objective.value, tolerance=tolerance,
-                        max_between=max_between, epsilon=epsilon, heading_margin=heading_margin,
-                        corner_clearance=corner_clearance)
-        if result.found:
-            _write_extras(result, certificate, picture)
-        emit(result, fmt, out)
+    _contraction_answer(env, env_format, lambda environment: patrol(
+        environment, visit, start=start, objective=objective.value, tolerance=tolerance, max_between=max_between,
+        epsilon=epsilon, heading_margin=heading_margin, corner_clearance=corner_clearance),
+        certificate, picture, fmt, out, verbose)
 
 
 @app.command(name="funnel")
@@ -583,14 +578,9 @@ def funnel_command(
     """A funnel (paper Fig. 14): track the exact set of possible positions and use contraction to shrink it into the goal."""
     from solverplan.plan.funnel import funnel
 
-    with exit_codes(verbose):
-        _check_picture(picture)
-        environment = _load(env, env_format)
-        result = funnel(environment, start, goal, tolerance=tolerance, max_bounces=max_bounces,
-                        heading_margin=heading_margin, corner_clearance=corner_clearance)
-        if result.found:
-            _write_extras(result, certificate, picture)
-        emit(result, fmt, out)
+    _contraction_answer(env, env_format, lambda environment: funnel(
+        environment, start, goal, tolerance=tolerance, max_bounces=max_bounces, heading_margin=heading_margin,
+        corner_clearance=corner_clearance), certificate, picture, fmt, out, verbose)
 
 
 @app.command(name="localize")
@@ -618,11 +608,18 @@ def localize_command(
     """Localisation (paper §8.4): an open-loop strategy after which the possible positions lie in one interval shorter than X."""
     from solverplan.plan.localize import localize
 
+    _contraction_answer(env, env_format, lambda environment: localize(
+        environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces,
+        heading_margin=heading_margin, corner_clearance=corner_clearance), certificate, picture, fmt, out, verbose)
+
+
+def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, certificate: Path | None,
+                        picture: Path | None, fmt: OutputFormat, out: Path | None, verbose: int) -> None:
+    """Load the environment, ``solve`` it (patrol, funnel, localize), write the --certificate and --picture of
+    a found answer, emit the answer."""
     with exit_codes(verbose):
         _check_picture(picture)
-        environment = _load(env, env_format)
-        result = localize(environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces,
-                          heading_margin=heading_margin, corner_clearance=corner_clearance)
+        result = solve(_load(env, env_format))
         if result.found:
             _write_extras(result, certificate, picture)
         emit(result, fmt, out)

@@ -18,11 +18,32 @@ from solverplan.environment import BoundarySet, Environment
 from solverplan.interval import Interval
 from solverplan.result import EnvironmentRecord, Optimality, Stage, Stats, Status, piece_json
 
-__all__ = ["PositionStrategy", "heading_cone"]
+__all__ = ["OnPartition", "PositionStrategy", "heading_cone"]
+
+
+class OnPartition:
+    """What the answers computed in a partition P′ share (patrols, funnels, localisation strategies): ``status``
+    read as a :class:`~solverplan.result.Status`, ``env`` from the partition they keep for rollouts and
+    certificates, ``found``. A mixin of frozen dataclasses with fields ``status`` and ``partition``."""
+
+    status: Status
+    partition: Partition
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "status", Status(self.status))
+
+    @property
+    def env(self) -> Environment:
+        """The environment (of ``partition``)."""
+        return self.partition.env
+
+    @property
+    def found(self) -> bool:
+        return self.status.answered
 
 
 @dataclass(frozen=True, kw_only=True)
-class PositionStrategy:
+class PositionStrategy(OnPartition):
     """An open-loop strategy over exact position sets (a funnel or a localisation strategy), or why there is none.
 
     Attributes
@@ -62,17 +83,6 @@ class PositionStrategy:
     reason: str = ""
     stats: Stats = field(default_factory=Stats, compare=False)
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "status", Status(self.status))
-
-    @property
-    def env(self) -> Environment:
-        """The environment (of ``partition``)."""
-        return self.partition.env
-
-    @property
-    def found(self) -> bool:
-        return self.status.answered
 
     @property
     def bounces(self) -> int:

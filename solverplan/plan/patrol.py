@@ -84,7 +84,7 @@ from solverplan.plan._graphs import (
     karp_min_mean_cycle,
     lp_min_mean_cycle,
 )
-from solverplan.plan._results import heading_cone
+from solverplan.plan._results import OnPartition, heading_cone
 from solverplan.result import AffineStep, EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
 __all__ = ["Objective", "DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
@@ -125,7 +125,7 @@ class PatrolPoint:
 
 
 @dataclass(frozen=True, kw_only=True)
-class Patrol:
+class Patrol(OnPartition):
     """A patrol strategy (``docs/contract.md``: cycle answer) or the reason there is none.
 
     Attributes
@@ -206,17 +206,6 @@ class Patrol:
     solvers: dict = field(default_factory=dict)
     stats: Stats = field(default_factory=Stats, compare=False)
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "status", Status(self.status))
-
-    @property
-    def env(self) -> Environment:
-        """The environment (of ``partition``)."""
-        return self.partition.env
-
-    @property
-    def found(self) -> bool:
-        return self.status.answered
 
     @property
     def segments(self) -> tuple[int, ...]:
