@@ -21,6 +21,7 @@ Adding a command::
 from __future__ import annotations
 
 import contextlib
+import gc
 import json
 import logging
 import shutil
@@ -103,7 +104,16 @@ def emit(answer: Answer, fmt: OutputFormat, out: Path | None) -> None:
     unless the global ``--indent N`` or ``--compact`` option says which.
     """
     if fmt is OutputFormat.JSON:
-        text = _json_text(answer.to_json(), _json_indent) + "\n"
+        # A large answer is hundreds of thousands of fresh dicts and lists, none of them in a
+        # reference cycle: without the collector pausing, its repeated full scans of the growing
+        # heap made building a 250,000-arc graph answer ≈ 4× slower.
+        collecting = gc.isenabled()
+        gc.disable()
+        try:
+            text = _json_text(answer.to_json(), _json_indent) + "\n"
+        finally:
+            if collecting:
+                gc.enable()
     else:
         text = answer.to_text(width=_text_width(out))
     if out is None:
