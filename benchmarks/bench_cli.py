@@ -124,7 +124,7 @@ def main() -> None:
             wait_for_load(opts.wait_load, opts.max_wait)
             load = os.getloadavg()[0]
             times = [run([*cli, *args], env) for _ in range(opts.repeat)]
-            described = subprocess.run([*cli, "--compact", "info", str(path)], env=env, check=True, capture_output=True)
+            described = subprocess.run([*cli, "info", str(path)], env=env, check=True, capture_output=True)
             vertices = json.loads(described.stdout)["n_vertices"]
             if label.startswith("graph") and not to_null:
                 graph = json.loads((folder / "g.json").read_text(encoding="utf-8"))
