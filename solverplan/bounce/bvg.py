@@ -51,8 +51,8 @@ import math
 from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cached_property
+from typing import TYPE_CHECKING
 
-import networkx as nx
 import numpy as np
 
 from solverplan._arrays import ragged_arange
@@ -63,6 +63,9 @@ from solverplan.bounce.partition import Partition, partition as make_partition
 from solverplan.bounce.safe import Direction, SafeInterval, SafeSet
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
+
+if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only the conversions below load it
+    import networkx as nx
 
 __all__ = ["SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph"]
 
@@ -321,6 +324,8 @@ class SafeBVG:
         (``"left"``/``"right"``/``"parallel"``), ``phi`` (radians). ``safe_only`` keeps only arcs with
         safe headings (the paper's BVG_safe).
         """
+        import networkx as nx  # here, not at the top: only the conversions load it (~0.1 s)
+
         g = nx.DiGraph(name=f"safe BVG of {self.partition.env.name!r}")
         for s in self.partition.segments:
             g.add_node(s.id, edge=s.edge, t0=float(s.t0), t1=float(s.t1))
@@ -347,24 +352,21 @@ class SafeBVG:
         With ``safe=False`` (the plain BVG; the default after ``select(safe=False)``) arcs carry only
         ``from``, ``to``, ``transition``."""
         safe = self.labelled if safe is None else safe
-        names = self.transitions
-        arcs = []
+        # Built column-wise with zip (no per-arc indexing, one list slice per safe set): this runs
+        # once per `solverplan graph` over up to ~10⁵–10⁶ arcs, where it was the slowest step.
+        names = [_TRANSITIONS[t] for t in self.transition.tolist()]
         src, dst = self.source.tolist(), self.target.tolist()
-        lo, hi, phi = self.lo.tolist(), self.hi.tolist(), self.phi.tolist()
-        off, slo, shi = self.set_offsets.tolist(), self.set_lo.tolist(), self.set_hi.tolist()
-        count = self.n_intervals.tolist()
-        for k in range(self.n_arcs):
-            if not safe:
-                arcs.append({"from": src[k], "to": dst[k], "transition": names[k]})
-                continue
-            arcs.append({
-                "from": src[k],
-                "to": dst[k],
-                "safe": [lo[k], hi[k]] if count[k] else None,
-                "transition": names[k],
-                "phi": phi[k],
-                "safe_set": [[slo[r], shi[r]] for r in range(off[k], off[k + 1])],
-            })
+        if not safe:
+            arcs = [{"from": i, "to": j, "transition": t} for i, j, t in zip(src, dst, names)]
+        else:
+            off = self.set_offsets.tolist()
+            pieces = [[a, b] for a, b in zip(self.set_lo.tolist(), self.set_hi.tolist())]
+            sets = [pieces[a:b] for a, b in zip(off, off[1:])]
+            widest = [[a, b] if c else None for a, b, c in zip(self.lo.tolist(), self.hi.tolist(), self.n_intervals.tolist())]
+            arcs = [
+                {"from": i, "to": j, "safe": w, "transition": t, "phi": f, "safe_set": ss}
+                for i, j, w, t, f, ss in zip(src, dst, widest, names, self.phi.tolist(), sets)
+            ]
         out = {
             "name": self.partition.env.name,
             "n_segments": self.n_segments,
@@ -420,6 +422,8 @@ class SafeBVG:
         """GraphML text: nodes with ``edge``, ``t0``, ``t1``; arcs with ``transition``, ``phi`` and, when
         ``safe``, ``safe_lo``/``safe_hi`` (absent without safe headings) and ``safe_set`` (JSON text)."""
         import json
+
+        import networkx as nx  # here, not at the top: only this conversion needs it
 
         safe = self.labelled if safe is None else safe
         g = nx.DiGraph()
@@ -478,6 +482,8 @@ def bounce_visibility_graph(partition: Partition | Environment) -> nx.DiGraph:
     >>> g.has_edge(0, 1), g.has_edge(3, 4), g.has_edge(2, 3)   # one edge; the reflex corner; a convex one
     (False, False, True)
     """
+    import networkx as nx  # here, not at the top: the safe BVG itself is numpy only
+
     safe = safe_bounce_visibility_graph(partition)
     g = nx.DiGraph(name=f"BVG of {safe.partition.env.name!r}")
     for s in safe.partition.segments:
