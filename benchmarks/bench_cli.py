@@ -111,7 +111,7 @@ def main() -> None:
         folder = Path(tmp)
         env = child_environment(folder / "pycache")
         inputs = make_inputs(folder, cli, env)
-        small = ROOT / "models" / "two_rooms.json"
+        small = ROOT / "solverplan" / "models" / "two_rooms.json"
         cases = [("info", "two_rooms", small, ["info", str(small)], False)]
         for name, path in inputs.items():
             cases.append(("graph --safe -o FILE", name, path, ["graph", str(path), "--safe", "-o", str(folder / "g.json")], False))

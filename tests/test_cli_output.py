@@ -15,7 +15,7 @@ from solverplan import cli
 
 runner = CliRunner()
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
 
 
 def run(*args: object):
