@@ -33,9 +33,10 @@ demo: $(VENV)/.installed
 
 test: $(VENV)/.installed
 	$(BIN)/python -m pytest -q
+	$(BIN)/python -m mypy
 
 bench: $(VENV)/.installed
 	$(BIN)/python benchmarks/bench_raycast.py
 
 clean:
-	rm -rf $(VENV) $(OUT) .pytest_cache .hypothesis
+	rm -rf $(VENV) $(OUT) .pytest_cache .hypothesis .mypy_cache

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 from decimal import Decimal
 from fractions import Fraction
 from functools import cached_property
+from os import PathLike
 from pathlib import Path
 from typing import Iterable, Literal, Sequence
 
@@ -755,7 +756,7 @@ def _parse_geojson(data: object) -> tuple[list, str]:
 _WKT_HEAD = re.compile(r"^\s*POLYGON\s*", re.IGNORECASE)
 
 
-def _parse_wkt(text: str) -> list:
+def _parse_wkt(text: str) -> list[list[list[str]]]:
     match = _WKT_HEAD.match(text)
     if not match:
         head = text.strip().split("(")[0].strip()[:30] or "empty text"
@@ -766,7 +767,7 @@ def _parse_wkt(text: str) -> list:
     if not (body.startswith("(") and body.endswith(")")):
         raise MalformedFile("WKT polygon must be POLYGON ((x y, ...), (...)); unbalanced parentheses")
     inner = body[1:-1].strip()
-    rings = []
+    rings: list[list[list[str]]] = []
     for ring_match in re.finditer(r"\(([^()]*)\)|([^\s,])", inner):
         if ring_match.group(2) is not None:
             raise MalformedFile(f"WKT: unexpected {ring_match.group(2)!r} between rings")
@@ -809,10 +810,10 @@ def format_environment(env: Environment, fmt: FileFormat = "json") -> str:
             text = format_number(x)
             return repr(float(x)) if "/" in text else text
 
-        rings = ", ".join(
+        ring_texts = ", ".join(
             "(" + ", ".join(f"{num(x)} {num(y)}" for x, y in (*ring, ring[0])) + ")" for ring in env.rings
         )
-        return f"POLYGON ({rings})\n"
+        return f"POLYGON ({ring_texts})\n"
     raise MalformedFile(f"unknown format {fmt!r}: use json, geojson or wkt")
 
 
@@ -836,7 +837,7 @@ def _no_such_file(path: str) -> str:
     return f"{path}: no such file, nor a shipped model (they are {', '.join(model_names())})"
 
 
-def load_environment(path: str | Path, fmt: FileFormat | None = None) -> Environment:
+def load_environment(path: str | PathLike[str], fmt: FileFormat | None = None) -> Environment:
     """Read an environment file, or a shipped model by name.
 
     Parameters
@@ -885,7 +886,7 @@ def load_environment(path: str | Path, fmt: FileFormat | None = None) -> Environ
     return parse_environment(text, kind, default_name=file.stem, source=str(file))
 
 
-def save_environment(env: Environment, path: str | Path, fmt: FileFormat | None = None) -> None:
+def save_environment(env: Environment, path: str | PathLike[str], fmt: FileFormat | None = None) -> None:
     """Write ``env`` atomically, format from the extension unless ``fmt`` is given."""
     path = Path(path)
     atomic_write_text(path, format_environment(env, _format_of(path, fmt)))

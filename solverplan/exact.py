@@ -80,7 +80,7 @@ def to_fraction(value: object, *, where: str = "value") -> Fraction:
     if isinstance(value, int):
         return Fraction(value)
     if isinstance(value, Rational):
-        return Fraction(value.numerator, value.denominator)
+        return Fraction(int(value.numerator), int(value.denominator))
     if isinstance(value, np.generic):
         return to_fraction(value.item(), where=where)
     if isinstance(value, float):
@@ -227,8 +227,8 @@ def segment_intersection(
     o1, o2 = orient(a, b, c), orient(a, b, d)
     o3, o4 = orient(c, d, a), orient(c, d, b)
     if o1 == o2 == 0:  # collinear (or degenerate): overlap of 1-D intervals, ordered lexicographically
-        lo1, hi1 = sorted((a, b))
-        lo2, hi2 = sorted((c, d))
+        lo1, hi1 = sorted((tuple(a), tuple(b)))
+        lo2, hi2 = sorted((tuple(c), tuple(d)))
         lo, hi = max(lo1, lo2), min(hi1, hi2)
         if lo > hi:
             return None

@@ -124,6 +124,14 @@ class Method(StrEnum):
     NONE = "none"  #: nothing is claimed
 
 
+def _method(value: str) -> Method:
+    """The :class:`Method` named ``value``; raises :class:`ValueError` listing the known names."""
+    try:
+        return Method(value)
+    except ValueError:
+        raise ValueError(f"unknown optimality method {value!r}: use {', '.join(m.value for m in Method)}") from None
+
+
 @dataclass(frozen=True, slots=True)
 class Optimality:
     """How optimality was established, and how far it goes.
@@ -160,11 +168,7 @@ class Optimality:
 
     def __post_init__(self) -> None:
         if not isinstance(self.method, Method):
-            try:
-                object.__setattr__(self, "method", Method(self.method))
-            except ValueError:
-                raise ValueError(f"unknown optimality method {self.method!r}: use "
-                                 f"{', '.join(m.value for m in Method)}") from None
+            object.__setattr__(self, "method", _method(self.method))
         object.__setattr__(self, "limits", tuple(self.limits))
         if self.proved and self.limits:
             raise ValueError(f"an optimality claim cannot be proved when a limit was hit ({', '.join(self.limits)})")
@@ -209,7 +213,7 @@ class Optimality:
         if not isinstance(scope, str) or not isinstance(algorithm, str):
             raise ValueError(f"{where}: scope and algorithm must be strings")
         try:
-            return cls(method, proved and not limits, numbers["bound"], scope=scope, gap=numbers["gap"],
+            return cls(_method(method), proved and not limits, numbers["bound"], scope=scope, gap=numbers["gap"],
                        algorithm=algorithm, limits=tuple(limits))
         except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None

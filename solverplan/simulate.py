@@ -172,7 +172,7 @@ class RulePolicy:
     """
 
     rule: BounceRule
-    initial: Interval | np.ndarray | None = None
+    initial: Interval | np.ndarray | Sequence[float] | None = None  # a sequence is stored as a float array
     sampling: Sampling = "uniform"
     initial_sampling: Sampling = "uniform"
 
@@ -268,7 +268,7 @@ class StagePolicy:
         for k, interval in enumerate(stages):
             if not isinstance(interval, Interval):
                 try:
-                    lo, hi = interval  # type: ignore[misc]
+                    lo, hi = interval
                 except (TypeError, ValueError):
                     raise InputError(f"stage {k}: expected a heading interval [lo, hi], got {interval!r}") from None
                 interval = Interval(float(lo), float(hi)) if float(lo) <= float(hi) else Interval.EMPTY
@@ -393,7 +393,9 @@ def _generator(seed: int | np.random.Generator | None):
     if isinstance(seed, np.random.Generator):
         return seed, None, seed.bit_generator.state
     if seed is None:
-        seed = int(np.random.SeedSequence().entropy)  # fresh, and recorded so the run can be replayed
+        entropy = np.random.SeedSequence().entropy  # fresh, and recorded so the run can be replayed
+        assert isinstance(entropy, int)  # drawn from the OS when none is given: one integer
+        seed = entropy
     elif isinstance(seed, (bool, float)) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"seed must be a non-negative integer or a numpy Generator, got {seed!r}")
     rng = np.random.default_rng(int(seed))

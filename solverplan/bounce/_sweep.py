@@ -172,6 +172,8 @@ class Sweeps:
 class _Context:
     """Float and exact views of one partition shared by the sweep steps."""
 
+    depth_pairs: int  # set by _hit_edges: (sweep, edge) pairs with at least one sector to test (diagnostic)
+
     def __init__(self, partition) -> None:
         env = partition.env
         self.partition = partition
@@ -238,8 +240,8 @@ def build_sweeps(partition) -> Sweeps:
     special = _special_entries(ctx, origin, frame, lo_lim, hi_lim)
     cols = [np.concatenate([a, b]) for a, b in zip(entries, special)]
     order = np.lexsort((cols[4], cols[0]))  # by sweep, then heading
-    cols = [c[order] for c in cols]
-    sweeps = Sweeps(origin, frame, plus_seg, minus_seg, *cols)
+    sweep, seg, lo_to, hi_to, lo, hi, lo_err, hi_err = (c[order] for c in cols)
+    sweeps = Sweeps(origin, frame, plus_seg, minus_seg, sweep, seg, lo_to, hi_to, lo, hi, lo_err, hi_err)
     if len(ctx.env.rings) > 1:
         _hole_extremes(ctx, sweeps, origin, cls, ang, err)
     sweeps.exact_checks = ctx.exact_checks
@@ -532,7 +534,7 @@ def _exact_sector_hit(ctx: _Context, o: int, frame: int, lo_to: int, hi_to: int)
     nu = abs(u[0]) + abs(u[1])
     nv = abs(v[0]) + abs(v[1])
     d = (Fraction(u[0], nu) + Fraction(v[0], nv), Fraction(u[1], nu) + Fraction(v[1], nv))
-    if d == (0, 0):  # opposite directions (a sector of width π): turn the frame direction by π/2
+    if d[0] == d[1] == 0:  # opposite directions (a sector of width π): turn the frame direction by π/2
         e = ex.direction(o, MARK_ZERO, frame)
         d = (Fraction(-e[1]), Fraction(e[0]))
     x = ctx.partition.segments[o].a

@@ -811,6 +811,9 @@ def _hole_side_table(p: Partition) -> np.ndarray:
 def _subtract_holes(p: Partition, sw: Sweeps, pieces: _Pieces, ends: _Ends, source, target, edge_of) -> _Pieces:
     """Remove, for every hole H strictly left of the lines of e_i and e_j, the open heading interval
     (max ang(v − a), min ang(v − b)) during which all of H lies inside the swept region."""
+    # build_sweeps sets the hole arrays whenever the environment has holes (the only case we are called)
+    assert sw.hole_alpha is not None and sw.hole_alpha_v is not None
+    assert sw.hole_beta is not None and sw.hole_beta_v is not None
     seg_edge = np.asarray(p.seg_edge, dtype=np.int64)
     side = _hole_side_table(p)
     N = len(p.segments)

@@ -46,6 +46,7 @@ from fractions import Fraction
 from typing import Iterable, Literal, Sequence, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from solverplan.interval import Interval
 from solverplan.environment import Environment
@@ -78,7 +79,7 @@ Side = Literal["right", "left"]
 
 
 # ---------------------------------------------------------------------- exact headings
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, init=False)  # __init__ takes any rational pair and stores it primitive
 class ExactHeading:
     """The exact heading θ = atan2(sin, cos) ∈ (0, π) of the rational direction pair (cos, sin).
 
@@ -95,8 +96,8 @@ class ExactHeading:
     cos: int
     sin: int
 
-    def __post_init__(self) -> None:
-        c, s = to_fraction(self.cos, where="heading cos"), to_fraction(self.sin, where="heading sin")
+    def __init__(self, cos: int | Fraction, sin: int | Fraction) -> None:
+        c, s = to_fraction(cos, where="heading cos"), to_fraction(sin, where="heading sin")
         if s <= 0:
             raise InputError(
                 f"exact heading ({format_number(c)}, {format_number(s)}) is not inside (0, π): its sin part must be > 0"
@@ -230,7 +231,7 @@ def _sides(side: object) -> np.ndarray:
     return arr == "right"
 
 
-def _scalar_or_array(value: np.ndarray, *inputs: object):
+def _scalar_or_array(value: np.ndarray, *inputs: ArrayLike):
     if all(np.ndim(x) == 0 for x in inputs):
         return value.item()
     return value
@@ -550,7 +551,7 @@ def theorem1_fixed_point(env: Environment, theta: float | ExactHeading, *, edge:
     InputError
         Non-convex environments; θ outside (0, π) or past a right-transition domain (θ + φ_k ≥ π).
     """
-    from solverplan.bounce.transitions import affine_map
+    from solverplan.bounce.transitions import AffineMap, affine_map
 
     _require_convex(env, "Theorem 1")
     heading = parse_heading(theta) if not isinstance(theta, (float, int)) else _check_theta(theta)
@@ -571,11 +572,12 @@ def theorem1_fixed_point(env: Environment, theta: float | ExactHeading, *, edge:
     d = a_sum / (1 - (-1) ** n * product)
     t_exact = c_exact = None
     if isinstance(heading, ExactHeading):
-        ret = None
+        ret: AffineMap | None = None
         for k, src in enumerate(order):
             e = env.edge(src)
             m = affine_map(env, src, heading.direction((e.b[0] - e.a[0], e.b[1] - e.a[1])), order[(k + 1) % n])
             ret = m if ret is None else ret.then(m)
+        assert ret is not None  # a polygon has at least three edges
         t_exact, c_exact = ret.fixed_point(), ret.contraction
     return Theorem1FixedPoint(int(edge), float(d), float(d / ell[0]), product, t_exact, c_exact)
 

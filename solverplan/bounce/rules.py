@@ -257,7 +257,10 @@ class BounceRule(Protocol):
     (any length; unit vectors are fine). Headings are radians in (0, π), CCW from the edge hit.
     """
 
-    epsilon: float
+    @property
+    def epsilon(self) -> float:
+        """The rule's angular uncertainty, in radians (read-only: the rules are frozen dataclasses)."""
+        ...
 
     def nominal(self, env: Environment, edges: Sequence[int] | np.ndarray, incoming: np.ndarray) -> np.ndarray:
         """The deterministic heading b of each contact."""
@@ -561,4 +564,5 @@ def parse_rule(spec: str, *, epsilon: float = 0.0) -> BounceRule:
         return Fixed(theta, epsilon)
     if name == "monotone":
         return MonotoneFixed(theta, epsilon)
+    # the pattern admits only back|travel (any case), so the lowered text is one of the two literals
     return Relative(theta, epsilon, reference=(reference or "back").lower())  # type: ignore[arg-type]

@@ -160,7 +160,7 @@ def _neg(u: Direction) -> Direction:
 def _segment(seg: object, name: str) -> _Seg:
     """Exact end points (a, b) of a segment given as a point pair or an object with ``.a`` and ``.b``."""
     if hasattr(seg, "a") and hasattr(seg, "b"):
-        first, second = seg.a, seg.b  # type: ignore[attr-defined]
+        first, second = seg.a, seg.b
     else:
         try:
             first, second = seg  # type: ignore[misc]
@@ -270,8 +270,8 @@ def _theta0(src: _Seg, dst: _Seg) -> tuple[_Bound, _Bound] | None:
             elif _dot(e, delta) > 0:
                 return None  # along ê: the open half-plane right of δ misses every heading
     lo, hi = _lower_max(e, lower), _upper_min(e, upper)
-    c = _hcmp(e, lo.direction, hi.direction)
-    if c > 0 or (c == 0 and not (lo.closed and hi.closed)):
+    order = _hcmp(e, lo.direction, hi.direction)
+    if order > 0 or (order == 0 and not (lo.closed and hi.closed)):
         return None
     return lo, hi
 
@@ -520,7 +520,10 @@ def _subtract(e: Direction, lo: _Bound, hi: _Bound, blocked: list[tuple[Directio
     """[lo, hi] minus a union of open intervals; closed pieces (open only where lo/hi were)."""
     from functools import cmp_to_key
 
-    blocked = sorted(blocked, key=cmp_to_key(lambda x, y: _hcmp(e, x[0], y[0])))
+    def by_start(x: tuple[Direction, Direction], y: tuple[Direction, Direction]) -> int:
+        return _hcmp(e, x[0], y[0])
+
+    blocked = sorted(blocked, key=cmp_to_key(by_start))
     pieces: list[tuple[_Bound, _Bound]] = []
     cur = lo
     for blo, bhi in blocked:
@@ -609,7 +612,7 @@ def heading_is_safe(env: Environment, src: object, dst: object, direction: Seque
     """
     s, t = _segment(src, "src"), _segment(dst, "dst")
     u = exact_point(direction, where="direction")
-    if u == (0, 0):
+    if u[0] == u[1] == 0:
         raise InputError("direction (0, 0) is zero: it has no heading")
     return _heading_safe(env, s, t, u)
 

@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Sequence, Union
+from typing import Iterable, Sequence, Union
 
 import numpy as np
 
@@ -72,10 +72,11 @@ def _dot(u: Sequence[Fraction], v: Sequence[Fraction]) -> Fraction:
 
 def _exact_vector(value: object, where: str) -> ExactPoint:
     """A pair of exact numbers; floats are taken at their exact binary value (like the exact caster)."""
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:  # type: ignore[arg-type]
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
         raise InputError(f"{where}: expected a vector (x, y), got {value!r}")
     out = []
-    for c in value:  # type: ignore[union-attr]
+    # a sized non-string of length 2 (list, tuple, array): iterable, though hasattr cannot say so
+    for c in value:  # type: ignore[attr-defined]
         if isinstance(c, (float, np.floating)):
             if not math.isfinite(c):
                 raise InputError(f"{where}: {float(c)!r} is not finite")
@@ -345,12 +346,14 @@ def _cone(env: Environment, edge: int, headings: object) -> tuple[ExactPoint, Ex
             raise InvalidBoundarySet("heading interval is empty")
         interval = heading_interval(headings.lo, headings.hi)
         return exact_direction(env, edge, interval.lo), exact_direction(env, edge, interval.hi)
+    given_lo: object
+    given_hi: object
     try:
-        d_lo, d_hi = headings  # type: ignore[misc]
+        given_lo, given_hi = headings  # type: ignore[misc]  # any pair; a non-pair is reported just below
     except (TypeError, ValueError):
         raise InputError(f"headings must be an Interval or a pair of direction vectors, got {headings!r}") from None
-    d_lo = _direction_from(env, edge, d_lo, "direction d_lo")
-    d_hi = _direction_from(env, edge, d_hi, "direction d_hi")
+    d_lo = _direction_from(env, edge, given_lo, "direction d_lo")
+    d_hi = _direction_from(env, edge, given_hi, "direction d_hi")
     if _cross(d_lo, d_hi) < 0:
         raise InvalidBoundarySet(
             f"direction cone {format_point(d_lo)} .. {format_point(d_hi)} is reversed: d_lo must be clockwise of d_hi"
@@ -363,7 +366,7 @@ def _convex_hull(points: Sequence[ExactPoint]) -> list[ExactPoint]:
     if len(pts) < 3:
         return pts
 
-    def chain(seq):
+    def chain(seq: Iterable[ExactPoint]) -> list[ExactPoint]:
         out: list[ExactPoint] = []
         for p in seq:
             while len(out) >= 2 and orient(out[-2], out[-1], p) <= 0:
@@ -436,6 +439,7 @@ def _clean_fast_path(env, frame, edge, t0, t1, d_lo, d_hi) -> list[BoundaryPiece
 
 
 _INF = float("inf")
+_Origin = Fraction | float  # an exact origin parameter on the source line, or ±inf (a shadow without an end)
 
 
 class _Sweep:
@@ -452,10 +456,10 @@ class _Sweep:
         """W(m): the origins t ∈ [t0, t1] whose cone contains the direction to m = (x, y), y > 0."""
         return max(self.t0, x - y * self.u_max), min(self.t1, x - y * self.u_min)
 
-    def shadows(self, x: Fraction, y: Fraction, skip: set[int]) -> list[tuple[object, object]]:
+    def shadows(self, x: Fraction, y: Fraction, skip: set[int]) -> list[tuple[_Origin, _Origin]]:
         """For each edge k ∉ skip, the origins t on the source line whose segment to m = (x, y) meets
         edge k: the central projection from m of edge k ∩ {0 < Y < y}, as [lo, hi] (±inf allowed)."""
-        out = []
+        out: list[tuple[_Origin, _Origin]] = []
         coords, nxt = self.coords, self.next
         for k in range(len(coords)):
             if k in skip:
@@ -470,7 +474,7 @@ class _Sweep:
                 lam0, lam1 = max(lam0, min(a, b)), min(lam1, max(a, b))
                 if lam0 >= lam1:
                     continue
-            ends = []
+            ends: list[_Origin] = []
             for lam in (lam0, lam1):
                 px, py = xp + lam * (xq - xp), yp + lam * dy
                 if py == y:
@@ -495,7 +499,7 @@ class _Sweep:
         shadows = self.shadows(x, y, skip)
         if lo == hi:
             return not any(a <= lo <= b for a, b in shadows)
-        cur = lo
+        cur: _Origin = lo
         for a, b in sorted(shadows, key=lambda ab: ab[0]):
             if b <= cur:
                 continue
@@ -517,7 +521,7 @@ class _Sweep:
             return False
         prev = [k for k, j in enumerate(self.next) if j == v]
         shadows = self.shadows(x, y, {v, *prev})
-        cur = lo
+        cur: _Origin = lo
         while True:
             best = max((b for a, b in shadows if a < cur), default=None)
             if best is None or best <= cur:

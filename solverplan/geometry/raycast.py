@@ -46,7 +46,7 @@ import functools
 import math
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import TYPE_CHECKING, Literal, Mapping, Sequence
+from typing import TYPE_CHECKING, AbstractSet, Literal, Mapping, Sequence
 
 import numpy as np
 
@@ -113,8 +113,9 @@ def _exact_number(value: object, where: str) -> Fraction:
 
 
 def _exact_pair(xy: object, where: str) -> ExactPoint:
-    if isinstance(xy, (str, bytes)) or not hasattr(xy, "__len__") or len(xy) != 2:  # type: ignore[arg-type]
+    if isinstance(xy, (str, bytes)) or not hasattr(xy, "__len__") or len(xy) != 2:
         raise InputError(f"{where}: expected a pair [x, y], got {xy!r}")
+    # a sized non-string of length 2 (list, tuple, array): indexable, though hasattr cannot say so
     return (_exact_number(xy[0], where), _exact_number(xy[1], where))  # type: ignore[index]
 
 
@@ -382,7 +383,7 @@ def _check_departure(frame: _Frame, edges, origin_q: ExactPoint, direction_q: Ex
 
 
 def _walk(frame: _Frame, contacts: list[_Contact], validated: bool, through_vertices: bool,
-          origin_q: ExactPoint, direction_q: ExactPoint, free_side: set[int] = frozenset()) -> RayHit:
+          origin_q: ExactPoint, direction_q: ExactPoint, free_side: AbstractSet[int] = frozenset()) -> RayHit:
     """Walk the contacts in order along the ray: the first proper crossing, or the first vertex the
     ray cannot pass. Until the origin is known to be in the free space (``validated``), the first
     contact must be reached from the free side. ``free_side``: edges known to face the origin."""
@@ -871,7 +872,7 @@ class RayCaster:
             part = self._march_block(origins[lo:hi], unit[lo:hi], src[lo:hi], pairs)
             for arr, values in zip(out, part):
                 arr[lo:hi] = values
-            if collect is not None:
+            if collect is not None and pairs is not None:  # both or neither
                 collect.extend((r + lo, e, s) for r, e, s in pairs)
         return tuple(out)
 

@@ -736,7 +736,10 @@ def _visible_point(
             x, y = y, x
         shadows.append((x, y))
     # angular order around p inside the cone (less than π wide): x before y iff det(p, x, y) > 0
-    shadows.sort(key=cmp_to_key(lambda s, t: -_sign(_det(p, s[0], t[0]))))
+    def around_p(s: tuple[ExactPoint, ExactPoint], t: tuple[ExactPoint, ExactPoint]) -> int:
+        return -_sign(_det(p, s[0], t[0]))
+
+    shadows.sort(key=cmp_to_key(around_p))
     cur = b0
     for x, y in shadows:
         if _det(p, cur, x) > 0:
@@ -883,9 +886,12 @@ def visibility_polygon(env: Environment, p: Sequence[object]) -> VisibilityPolyg
     if span is not None:
         keys = [k for k in keys if _angle_cmp(span[0], k, span[1]) <= 0]
     ref = span[0] if span is not None else keys[0]
-    keys.sort(key=cmp_to_key(lambda u, w: _angle_cmp(ref, u, w)))
-    for k in keys:
-        groups[k].sort()
+    def from_ref(u: ExactPoint, w: ExactPoint) -> int:
+        return _angle_cmp(ref, u, w)
+
+    keys.sort(key=cmp_to_key(from_ref))
+    for key in keys:
+        groups[key].sort()
     n_keys = len(keys)
     if span is not None and not (_same_direction(keys[0], span[0]) and _same_direction(keys[-1], span[1])):
         raise SolverFailed(f"visibility polygon of {format_point(p)}: the free wedge is not bounded by vertices")

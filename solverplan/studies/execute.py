@@ -309,7 +309,7 @@ def run_study(
     try:
         done_rows = store.open(resume=resume) if store else {}
     except BaseException:
-        if own:
+        if own and client is not None:  # own implies a client
             client.close()
         raise
     todo = [t for t in tasks if t.key not in done_rows]
@@ -356,7 +356,7 @@ def run_study(
     finally:
         if store:
             store.close()
-        if own and client.status not in ("closed", "closing"):  # a client the engine never got to use
+        if own and client is not None and client.status not in ("closed", "closing"):  # a client the engine never got to use
             client.close()
     by_key = dict(done_rows)
     by_key.update({study.key_of(r): r for r in new})

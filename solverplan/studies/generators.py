@@ -22,7 +22,7 @@ import math
 import os
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Literal
+from typing import Callable, Literal
 
 import numpy as np
 
@@ -789,7 +789,7 @@ def rectilinear_floor_plan(
 
 
 # ---------------------------------------------------------------------- by name
-GENERATORS = {
+GENERATORS: dict[str, Callable[..., Environment]] = {
     "star": star_polygon,
     "holes": star_polygon_with_holes,
     "rooms": rooms_and_corridors,
@@ -813,7 +813,7 @@ def generate(kind: str, *, seed: Seed, **params: object) -> Environment:
     except (KeyError, TypeError):
         raise InputError(f"unknown generator {kind!r}: use {', '.join(list(GENERATORS)[:-1])} or {list(GENERATORS)[-1]}") from None
     try:
-        return make(seed=seed, **params)  # type: ignore[operator]
+        return make(seed=seed, **params)
     except TypeError as exc:  # an unknown or missing parameter name
         raise InputError(f"generator {kind!r}: {exc}".replace(f"{make.__name__}() ", "")) from None
 

@@ -61,12 +61,22 @@ __all__ = [
 
 @runtime_checkable
 class Metric(Protocol):
-    """What a study computes per environment (see the module docstring)."""
+    """What a study computes per environment (see the module docstring).
 
-    name: str
-    columns: tuple[str, ...]
-    options: tuple[tuple[str, tuple], ...]
-    panels: tuple[tuple[str, dict], ...]
+    The four attributes are read-only: a metric may give them as class variables or properties.
+    """
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def columns(self) -> tuple[str, ...]: ...
+
+    @property
+    def options(self) -> tuple[tuple[str, tuple], ...]: ...
+
+    @property
+    def panels(self) -> tuple[tuple[str, dict], ...]: ...
 
     def __call__(self, env: Environment, *, seed: int, **options: Any) -> dict: ...
 

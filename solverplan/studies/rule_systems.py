@@ -235,11 +235,11 @@ class RuleReachability:
         object.__setattr__(self, "families", tuple(s.strip().lower() for s in self.families))
 
     @property
-    def options(self) -> tuple[tuple[str, tuple], ...]:  # type: ignore[override]
+    def options(self) -> tuple[tuple[str, tuple], ...]:
         return (("rule", self.families),)
 
     @property
-    def panels(self) -> tuple[tuple[str, dict], ...]:  # type: ignore[override]
+    def panels(self) -> tuple[tuple[str, dict], ...]:
         return tuple((column, {"rule": f}) for column in ("unreachable", "coverage") for f in self.families)
 
     def __call__(self, env: Environment, *, seed: int, rule: str = "any", **options: Any) -> dict:

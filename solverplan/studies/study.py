@@ -105,7 +105,7 @@ def parse_values(text: str, *, name: str = "value") -> tuple:
             raise InputError(f"{name}: START:STOP:COUNT needs COUNT >= 1, got {text!r}")
         if count == 1:
             return (_tidy(start),)
-        values = tuple(_tidy(v) for v in np.linspace(start, stop, count))
+        values: tuple[int | float | str, ...] = tuple(_tidy(v) for v in np.linspace(start, stop, count))
         if all(float(v).is_integer() for v in values) and all(_NUMBER.match(p) and "." not in p for p in parts[:2]):
             values = tuple(int(v) for v in values)
         return values
