@@ -849,7 +849,7 @@ def verify_command(
             raise InputError("--from and --to name edges of an environment: give it with --env")
         certificate = load_certificate(cert)
         environment = _load(env, env_format) if env is not None else None
-        query = {}
+        query: dict[str, Any] = {}
         if environment is not None:
             query["expected_rings"] = environment.rings
             for key, text in (("expected_start", start), ("expected_goal", goal)):

@@ -364,6 +364,13 @@ class Stage:
         return self.interval.width
 
     @property
+    def step(self) -> AffineStep:
+        """``affine``, for stages that have one (cycles and patrols); :class:`ValueError` otherwise."""
+        if self.affine is None:
+            raise ValueError("this stage has no exact affine map (only cycle and patrol stages have one)")
+        return self.affine
+
+    @property
     def from_segment(self) -> int:
         """The source segment of a stage with one source (cycles and patrols)."""
         return self.from_segments[0]

@@ -89,8 +89,9 @@ def cycle_along(env: Environment, cmap: ConstantMap, edges: Sequence[int], broke
         core.reason = f"the return map on e{edges[0]} is the translation t ↦ t + {format_number(ret.beta)}: no periodic orbit"
         return core
     # α = 1, β = 0: the identity — every point is periodic; check one (the iteration's, or the middle)
-    t = ret.fixed_point() if ret.alpha != 1 else (hint if hint is not None else Fraction(1, 2))
-    orbit = [t]
+    fixed = ret.fixed_point()
+    t: Fraction = fixed if fixed is not None else (hint if hint is not None else Fraction(1, 2))
+    orbit: list[Fraction] = [t]
     for k in range(m):
         orbit.append(maps[k](orbit[-1]))
     if orbit[-1] != orbit[0]:  # pragma: no cover - algebra
@@ -125,14 +126,16 @@ def cycle_along(env: Environment, cmap: ConstantMap, edges: Sequence[int], broke
         if piece is None or cmap.pieces(src)[piece].target != dst:  # pragma: no cover - consistency of two exact methods
             raise SolverFailed(f"piece map and ray cast disagree on e{src} at t = {format_number(tk)}")
     # basins: radius around each contact carried along one full cycle inside the pieces
-    radii = []
+    radii: list[Fraction] = []
     for r in range(m):
-        slope, best = Fraction(1), None
+        slope, best = Fraction(1), Fraction(-1)  # -1: no room measured yet (rooms are positive)
         for j in range(m):
             k = (r + j) % m
-            p = cmap.pieces(edges[k])[cmap.locate(edges[k], orbit[k])]
+            index = cmap.locate(edges[k], orbit[k])
+            assert index is not None  # every contact was located strictly inside a piece above
+            p = cmap.pieces(edges[k])[index]
             room = min(orbit[k] - p.lo, p.hi - orbit[k]) / abs(slope)
-            best = room if best is None else min(best, room)
+            best = room if best < 0 else min(best, room)
             slope *= maps[k].alpha
             if slope == 0:
                 break

@@ -29,7 +29,7 @@ of the composed return map, verified by exact ray casts, with exact basins (see
 >>> cycle = limit_cycle(square, "tan:1/2")
 >>> cycle.status.value, cycle.edges, cycle.contraction_exact, [str(p.t) for p in cycle.points]
 ('found', (0, 1, 2, 3), Fraction(1, 16), ['1/3', '1/3', '1/3', '1/3'])
->>> cycle.optimality.method.value, cycle.optimality.proved, cycle.stages[0].affine.alpha
+>>> cycle.optimality.method.value, cycle.optimality.proved, cycle.stages[0].step.alpha
 ('exact-check', True, Fraction(-1, 2))
 >>> limit_cycle(square, "tan:2").status.value        # θ > π/4: the period-4 orbit exists but repels
 'not-contracting'
@@ -42,7 +42,7 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Literal, Sequence
+from typing import Iterable, Literal, Sequence
 
 from solverplan.bounce._cycle_core import (
     CycleCore,
@@ -425,8 +425,10 @@ def _parse_edges(env: Environment, edges: object) -> tuple[int, ...]:
             ids = [int(x[1:]) if x.startswith("e") else int(x) for x in items]
         except ValueError:
             raise InvalidBoundarySet(f"edge sequence {edges!r}: expected e0,e1,... (edge ids)") from None
+    elif isinstance(edges, Iterable):
+        ids = list(edges)
     else:
-        ids = list(edges)  # type: ignore[arg-type]
+        raise InvalidBoundarySet(f"edge sequence {edges!r}: expected e0,e1,... or a sequence of edge ids")
     if len(ids) < 2:
         raise InvalidBoundarySet(f"edge sequence {edges!r}: a cycle needs at least two edges")
     return tuple(int(e) for e in check_edges(env, ids))
@@ -513,8 +515,10 @@ def limit_cycle(
     part = partition(env) if segments else None
     setup = time.perf_counter()
     if method == "theorem1":
+        assert lemma3 is not None  # checked above: theorem1 needs a strictly convex polygon
         result = _theorem1(env, cmap, value, lemma3, part)
     elif method == "edges":
+        assert seq is not None  # checked above: method 'edges' needs the sequence
         core = cycle_along(env, cmap, seq, Status.NOT_REALISED)
         reason = core.reason or (
             "the cycle is verified exactly and attracts every start in its basins; starts elsewhere are not covered"
@@ -601,6 +605,7 @@ def _theorem1(env: Environment, cmap: ConstantMap, value: float, lemma3: Lemma3R
     where = f"({lo:.6g}, {hi:.6g})"
     algorithm = "Theorem 1 and Lemma 3 (exact edge-order test, exact return map and ray casts)"
     if core.status is Status.FOUND and broken_at is None:
+        assert core.ret is not None  # a found cycle has its return map
         if inside:
             reason = f"θ is inside Lemma 3's {sense} range {where}: every start converges (Theorem 1)"
         else:
@@ -614,6 +619,7 @@ def _theorem1(env: Environment, cmap: ConstantMap, value: float, lemma3: Lemma3R
         raise SolverFailed(f"θ = {value!r} is inside Lemma 3's range but the {sense} cycle failed: {core.reason}")
     outside = f"θ is outside Lemma 3's {sense} range {where}: {lemma3.reason_outside(theta)}"
     if core.status is Status.FOUND:
+        assert broken_at is not None  # the found-and-unbroken case returned above
         nxt = (broken_at - 1) % n if clockwise else (broken_at + 1) % n
         reason = (f"{outside}. The {sense} cycle is verified exactly and attracts the starts in its basins, but some "
                   f"starts on e{broken_at} miss e{nxt}: convergence from every start is not guaranteed")

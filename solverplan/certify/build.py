@@ -205,7 +205,7 @@ def _patrol(result: Patrol, env: Environment | None, part: Partition | None) -> 
     start = result.start if result.start is not None else [result.cycle[0].from_segment]
     return build_certificate(
         env, part, stages, start=start, kind="cycle",
-        cycle=CycleSpec(len(result.entry), headings=tuple(cs.affine.heading for cs in result.cycle), visits=result.visit),
+        cycle=CycleSpec(len(result.entry), headings=tuple(cs.step.heading for cs in result.cycle), visits=result.visit),
         objective=f"patrol-{result.objective}", optimality=_contraction_optimality(result.optimality),
     )
 

@@ -238,7 +238,7 @@ def build_certificate(
         if kind == "funnel":
             if any(r.image is None for r in moves):
                 raise InputError(f"stage {k}: a move's corner rays miss its target line, so its image is undefined")
-            positions = _union_pieces((r.target_edge, r.image) for r in moves)  # type: ignore[misc]
+            positions = _union_pieces((r.target_edge, r.image) for r in moves)
         out_stages.append(Stage(tuple(records), interval, positions))
 
     min_width = min(widths)

@@ -68,9 +68,9 @@ def arc_choices(g: SafeBVG, tolerance: float, margins: Margins) -> ArcChoices:
     mid = (lo + hi) / 2
     c_lo = np.where(side > 0, lo, np.where(side < 0, hi - 2 * eps, mid - eps))
     c_hi = c_lo + 2 * eps
-    names = np.where(side < 0, "left", "right")
+    names = ["left" if x < 0 else "right" for x in side.tolist()]
     theta = np.where(side > 0, c_hi, np.where(side < 0, c_lo, mid))
-    worst = np.asarray(contraction_coefficient(theta, np.where(side == 0, 0.0, phi), names), dtype=float)
+    worst: np.ndarray = np.asarray(contraction_coefficient(theta, np.where(side == 0, 0.0, phi), names), dtype=np.float64)
     worst = np.where(side == 0, 1.0, worst)
     bad = ~np.isfinite(worst) | (worst <= 0)
     worst = np.where(bad, np.inf, worst)

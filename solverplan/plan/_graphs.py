@@ -151,7 +151,7 @@ def lp_min_mean_cycle(n: int, src: np.ndarray, dst: np.ndarray, w: np.ndarray, *
     if problem.status != cp.OPTIMAL:
         raise SolverFailed(f"{problem.solver_stats.solver_name} returned {problem.status!r} for the minimum-mean-cycle LP "
                            f"(unbounded means the graph has no cycle); installed solvers: {', '.join(cp.installed_solvers())}")
-    value = float(lam.value)
+    value = float(np.asarray(lam.value))  # solved: the variable has a value
     flow = np.asarray(constraint.dual_value, dtype=float).reshape(-1)
     cycle = _cycle_in_support(n, src, dst, flow)
     if cycle is None:  # pragma: no cover - the dual of an optimal LP always holds a cycle

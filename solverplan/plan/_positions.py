@@ -262,10 +262,9 @@ def search_positions(
         if goal_points is not None and len(goal_points):
             single = [i for i in layer if len(nodes[i].pieces) == 1]
             if single:
-                e = np.array([nodes[i].pieces[0][0] for i in single])
-                a = np.array([nodes[i].pieces[0][1] for i in single])
-                b = np.array([nodes[i].pieces[0][2] for i in single])
-                aims = ps.aim(e, a, b, goal_points)
+                aims = ps.aim(np.array([nodes[i].pieces[0][0] for i in single]),
+                              np.array([nodes[i].pieces[0][1] for i in single]),
+                              np.array([nodes[i].pieces[0][2] for i in single]), goal_points)
                 lo, hi = ps.grid[0], ps.grid[-1]
                 for row, i in enumerate(single):
                     th = aims[row]
@@ -333,7 +332,9 @@ def search_positions(
 def _path(nodes: list[_Node], i: int) -> list[tuple[float, float]]:
     out = []
     while nodes[i].parent >= 0:
-        out.append(nodes[i].interval)
+        interval = nodes[i].interval
+        assert interval is not None  # only the root has no interval, and it has no parent
+        out.append(interval)
         i = nodes[i].parent
     return out[::-1]
 

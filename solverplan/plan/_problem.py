@@ -265,7 +265,7 @@ class Problem:
         if any(not item[0] for item in lists):
             return []
         los, his, tgts = lists[0]
-        cells = list(zip(los, his, [(j,) for j in tgts]))
+        cells: list[tuple[float, float, tuple[int, ...]]] = list(zip(los, his, [(j,) for j in tgts]))
         for los, his, tgts in lists[1:]:
             merged = []
             i = j = 0
@@ -292,7 +292,7 @@ class Problem:
             cells = merged
         if len(belief) == 2:
             s0, s1 = belief
-            return [Option(lo, hi, join((a, b)), ((s0, a), (s1, b))) for lo, hi, (a, b) in cells]
+            return [Option(lo, hi, join(t), ((s0, t[0]), (s1, t[1]))) for lo, hi, t in cells]
         return [Option(lo, hi, join(t), tuple(zip(belief, t))) for lo, hi, t in cells]
 
     # ------------------------------------------------------------------ bounds from single segments

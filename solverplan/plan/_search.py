@@ -328,7 +328,7 @@ def _backtrack(hist, belief: Belief, layer: int) -> Path:
         k, _, parent, option = entry
         if parent is None:
             break
-        path.append(option)  # type: ignore[arg-type]
+        path.append(option)
         b, ell = parent, k - 1
     path.reverse()
     return path

@@ -48,7 +48,7 @@ the stated bound of every claim.
 >>> from solverplan.environment import Environment
 >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 >>> p = patrol(square, "e0,e1,e2,e3", tolerance=0.05, objective="contraction")
->>> p.status.value, [s.affine.from_edge for s in p.cycle], p.max_between
+>>> p.status.value, [s.step.from_edge for s in p.cycle], p.max_between
 ('found', [0, 1, 2, 3], 0)
 >>> round(p.contraction, 6) == round(math.tan(0.001 + 0.1) ** 4, 6)    # tan(δ + 2ε) per bounce (right angles)
 True
@@ -242,9 +242,9 @@ class Patrol(OnPartition):
             "contraction_exact": None if self.contraction_exact is None else format_number(self.contraction_exact),
             "rate": self.rate,
             "return_map": None if self.nominal_alpha is None else {
-                "edge": self.cycle[0].affine.from_edge,
+                "edge": self.cycle[0].step.from_edge,
                 "alpha": format_number(self.nominal_alpha),
-                "beta": format_number(self.nominal_beta),
+                "beta": format_number(self.nominal_beta if self.nominal_beta is not None else 0),
                 "nominal_contraction": float(abs(self.nominal_alpha)),
             },
             "fixed_point": [p.to_json() for p in self.points],
@@ -272,7 +272,7 @@ class Patrol(OnPartition):
         for k, s in enumerate(self.entry):
             lines.append(f"  entry {k}: {list(s.from_segments)} → {list(s.to_segments)}  θ ∈ [{s.interval.lo:.6f}, {s.interval.hi:.6f}]")
         for k, s in enumerate(self.cycle):
-            a = s.affine
+            a = s.step
             lines.append(f"  cycle {k}: seg {s.from_segment} (e{a.from_edge}) → seg {s.to_segment} (e{a.to_edge})  "
                          f"θ ∈ [{s.interval.lo:.6f}, {s.interval.hi:.6f}]  C ≤ {a.contraction:.4g}")
         if self.contraction is not None:
@@ -303,13 +303,13 @@ def parse_visit(env: Environment, visit: str | Sequence[int]) -> tuple[int, ...]
                 raise InvalidBoundarySet(f"patrol edges are whole edges: {p} is part of an edge")
         edges = tuple(p.edge for p in pieces)
     else:
-        edges = []
+        ids: list[int] = []
         for e in visit:
             if isinstance(e, bool) or not isinstance(e, (int, np.integer)):
                 raise InputError(f"patrol edge {e!r} is not an edge id")
             env._check_edge_id(int(e))
-            edges.append(int(e))
-        edges = tuple(edges)
+            ids.append(int(e))
+        edges = tuple(ids)
     if not edges:
         raise InputError("a patrol needs at least one edge to visit")
     return edges
@@ -822,15 +822,15 @@ def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: i
     alpha, beta = Fraction(1), Fraction(0)
     for st in stages:
         worst_exact *= _worst_exact(env, st)
-        alpha, beta = st.affine.alpha * alpha, st.affine.alpha * beta + st.affine.beta
+        alpha, beta = st.step.alpha * alpha, st.step.alpha * beta + st.step.beta
     if alpha == 1:  # pragma: no cover - a contracting cycle has |α| < 1
         raise SolverFailed("the nominal return map has slope 1: no fixed point")
     t_star = beta / (1 - alpha)
     points = []
     t = t_star
     for st in stages:
-        points.append(PatrolPoint(st.affine.from_edge, st.from_segment, t, env.exact_point_at(st.affine.from_edge, t)))
-        t = st.affine.alpha * t + st.affine.beta
+        points.append(PatrolPoint(st.step.from_edge, st.from_segment, t, env.exact_point_at(st.step.from_edge, t)))
+        t = st.step.alpha * t + st.step.beta
     contraction = float(worst_exact)
     rate = contraction ** (1 / len(stages)) if contraction > 0 else 0.0
     status = Status.FOUND if contraction < 1 else Status.NOT_CONTRACTING
@@ -873,7 +873,7 @@ def _stage(env: Environment, part: Partition, g: SafeBVG, choices: ArcChoices, r
 
 def _worst_exact(env: Environment, st: Stage) -> Fraction:
     """max |α| over the exact cone inside the stage's interval (the end directions: the checker's argument)."""
-    a = st.affine
+    a = st.step
     edge = env.edge(a.from_edge)
     vec = (edge.b[0] - edge.a[0], edge.b[1] - edge.a[1])
     d_lo, d_hi = heading_cone(vec, st.interval)
@@ -887,12 +887,12 @@ def _set_valued(env: Environment, stages: Sequence[Stage], first, epsilon: float
     attractor's width (arc length) and the cycles until the set is at most ``epsilon`` wide (None if never)."""
     maps = []
     for st in stages:
-        edge = env.edge(st.affine.from_edge)
+        edge = env.edge(st.step.from_edge)
         vec = (edge.b[0] - edge.a[0], edge.b[1] - edge.a[1])
         ends = []
         for theta in (st.interval.lo, st.interval.hi):
             d = ExactHeading.from_float(theta).direction(vec)
-            m = affine_map(env, st.affine.from_edge, d, st.affine.to_edge)
+            m = affine_map(env, st.step.from_edge, d, st.step.to_edge)
             ends.append((float(m.alpha), float(m.beta)))
         maps.append(ends)
     length = float(env.edge_lengths[first.edge])

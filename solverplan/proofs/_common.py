@@ -58,7 +58,7 @@ def _weierstrass(expr: sp.Expr) -> sp.Expr | None:
     trig = expr.atoms(sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc)
     if not all(isinstance(f, (sp.sin, sp.cos)) and f.args[0].is_Symbol for f in trig):
         return None
-    subs = {}
+    subs: dict[sp.Expr, sp.Expr] = {}
     for f in trig:
         t = sp.Dummy(f"t_{f.args[0]}")
         subs.setdefault(f.args[0], t)

@@ -32,7 +32,7 @@ __all__ = ["prove"]
 
 
 def _case(kind: str) -> list[Step]:
-    tri = transition_triangle(kind)  # type: ignore[arg-type]
+    tri = transition_triangle(kind)
     theta, phi, dom = tri.theta, tri.phi, tri.domain
     sign = 1 if kind == "right" else -1
     c = tri.ratio  # derived from the triangle

@@ -40,7 +40,7 @@ def _chain(m: int) -> Step:
     coefficients, signs, positive = [], [], True
     fx, fy = x, y
     for k, kind in enumerate(kinds):
-        tri = transition_triangle(kind)  # type: ignore[arg-type]
+        tri = transition_triangle(kind)
         theta_k, phi_k = sp.symbols(f"theta_{k} phi_{k}", positive=True)
         c_k = tri.ratio.subs({tri.theta: theta_k, tri.phi: phi_k}, simultaneous=True)
         positive = positive and all(tri.domain.sin_positive(a) for a in (tri.angle_p, tri.angle_q))

@@ -59,7 +59,7 @@ def design_threshold(kind: str, phi: sp.Expr) -> sp.Expr:
 
 
 def _case(kind: str) -> list[Step]:
-    tri: TransitionTriangle = transition_triangle(kind)  # type: ignore[arg-type]
+    tri: TransitionTriangle = transition_triangle(kind)
     theta, phi, dom = tri.theta, tri.phi, tri.domain
     c = design_coefficient(kind, theta, phi)
     sign = 1 if kind == "right" else -1

@@ -61,7 +61,7 @@ def draw_patrol(ax: Axes, patrol, *, linewidth: float = 2.2) -> list:
     if not patrol.points:
         return artists
     for k, (st, p) in enumerate(zip(patrol.cycle, patrol.points)):
-        hits = cast_from_boundary(env, np.array([st.affine.from_edge] * 2), np.array([float(p.t)] * 2),
+        hits = cast_from_boundary(env, np.array([st.step.from_edge] * 2), np.array([float(p.t)] * 2),
                                   np.array([st.interval.lo, st.interval.hi]))
         origin = [float(p.point[0]), float(p.point[1])]
         fan = Polygon([origin, [hits.x[0], hits.y[0]], [hits.x[1], hits.y[1]]], closed=True, facecolor=CONE_COLOR,

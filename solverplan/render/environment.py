@@ -44,7 +44,7 @@ def draw_free_space(ax: Axes, env: Environment, *, color: str = FREE_SPACE_COLOR
         start += len(ring)
         vertices.extend(map(tuple, pts))
         vertices.append(tuple(pts[0]))
-        codes.extend([MplPath.MOVETO] + [MplPath.LINETO] * (len(pts) - 1) + [MplPath.CLOSEPOLY])
+        codes.extend(int(c) for c in [MplPath.MOVETO] + [MplPath.LINETO] * (len(pts) - 1) + [MplPath.CLOSEPOLY])
     patch = PathPatch(MplPath(vertices, codes), facecolor=color, edgecolor="none", zorder=0, gid="free-space")
     ax.add_patch(patch)
     xmin, ymin, xmax, ymax = env.bounds
@@ -57,7 +57,7 @@ def draw_free_space(ax: Axes, env: Environment, *, color: str = FREE_SPACE_COLOR
 def draw_boundary(ax: Axes, env: Environment, *, color: str = BOUNDARY_COLOR, linewidth: float = 1.6) -> LineCollection:
     """Draw every boundary edge as a line segment (one collection, in edge order)."""
     segments = np.stack([env.edge_start, env.edge_end], axis=1)
-    lines = LineCollection(segments, colors=color, linewidths=linewidth, capstyle="round", zorder=2, gid="boundary")
+    lines = LineCollection(list(segments), colors=color, linewidths=linewidth, capstyle="round", zorder=2, gid="boundary")
     ax.add_collection(lines)
     return lines
 

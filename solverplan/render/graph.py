@@ -51,7 +51,7 @@ def draw_graph(
     segments = np.stack([mid[graph.source[once]], mid[graph.target[once]]], axis=1).reshape(-1, 2, 2)
     if alpha is None:
         alpha = _ink_alpha(ax, p.env, segments, linewidth, 0.6)
-    lines = LineCollection(segments, colors=color, linewidths=linewidth, alpha=alpha, zorder=1.2, gid="bvg-arcs")
+    lines = LineCollection(list(segments), colors=color, linewidths=linewidth, alpha=alpha, zorder=1.2, gid="bvg-arcs")
     ax.add_collection(lines)
     return [lines]
 
@@ -86,6 +86,6 @@ def draw_safe_arcs(
         segments = np.stack([start, hits.points[ok]], axis=1).reshape(-1, 2, 2)
     if alpha is None:
         alpha = _ink_alpha(ax, p.env, segments, linewidth, 0.35)
-    lines = LineCollection(segments, colors=color, linewidths=linewidth, alpha=alpha, zorder=1.4, gid="safe-arcs")
+    lines = LineCollection(list(segments), colors=color, linewidths=linewidth, alpha=alpha, zorder=1.4, gid="safe-arcs")
     ax.add_collection(lines)
     return [lines]

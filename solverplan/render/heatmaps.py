@@ -101,4 +101,4 @@ def render_heatmaps(heatmaps, *, title: str | None = None, columns: int | None =
     if title:
         fig.suptitle(title, fontsize=11)
     fig.tight_layout()
-    return fig  # type: ignore[return-value]
+    return fig

@@ -62,7 +62,7 @@ def draw_partition(
         colour_of.extend(ring_colours)
     starts, ends = partition.seg_start, partition.seg_end
     lines = LineCollection(
-        np.stack([starts, ends], axis=1), colors=colour_of, linewidths=3.2, capstyle="butt", zorder=2.5,
+        list(np.stack([starts, ends], axis=1)), colors=colour_of, linewidths=3.2, capstyle="butt", zorder=2.5,
         gid="partition-segments",
     )
     ax.add_collection(lines)

@@ -90,7 +90,7 @@ def draw_plan(
             ax.add_patch(outline)
             artists.extend([patch, outline])
         segs = np.stack([partition.seg_start[list(stage.to_segments)], partition.seg_end[list(stage.to_segments)]], axis=1)
-        lines = LineCollection(segs, colors=colour, linewidths=4.0, capstyle="butt", zorder=3.2, gid=f"plan-targets-{k}")
+        lines = LineCollection(list(segs), colors=colour, linewidths=4.0, capstyle="butt", zorder=3.2, gid=f"plan-targets-{k}")
         ax.add_collection(lines)
         artists.append(lines)
         for s in stage.to_segments[:1]:
@@ -110,7 +110,7 @@ def draw_plan(
                                    (plan.goal, PLAN_GOAL_COLOR, "plan-goal", "goal")):
         if not spec:
             continue
-        lines = LineCollection(_piece_lines(env, env.boundary_set(spec).pieces), colors=colour, linewidths=7.0, alpha=0.55,
+        lines = LineCollection(list(_piece_lines(env, env.boundary_set(spec).pieces)), colors=colour, linewidths=7.0, alpha=0.55,
                                capstyle="butt", zorder=2.9, gid=gid)
         ax.add_collection(lines)
         artists.append(lines)
@@ -119,7 +119,7 @@ def draw_plan(
         box = ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7.5, frameon=False,
                         title="stage: heading interval (rad)", title_fontsize=8, handlelength=1.6, borderaxespad=0.0)
         box.set_gid("plan-legend")
-        box._legend_box.align = "left"
+        box._legend_box.align = "left"  # type: ignore[attr-defined]  # matplotlib has no public way to left-align a legend title
         artists.append(box)
     return artists
 

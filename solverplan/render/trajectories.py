@@ -62,7 +62,7 @@ def draw_trajectories(
     if alpha is None:
         alpha = _ink_alpha(ax, rollouts.env, segments, linewidth, 0.5, lo=0.04, hi=0.8)
     lines = LineCollection(
-        segments, colors=color, linewidths=linewidth, alpha=alpha, capstyle="round", zorder=1.5, gid="trajectories"
+        list(segments), colors=color, linewidths=linewidth, alpha=alpha, capstyle="round", zorder=1.5, gid="trajectories"
     )
     ax.add_collection(lines)
     artists: list = [lines]

@@ -44,7 +44,7 @@ def _verify_orbit_by_exact_casts(cycle):
     m = len(cycle.points)
     for k, p in enumerate(cycle.points):
         nxt = cycle.points[(k + 1) % m]
-        hit = exact_transition(cycle.env, p.edge, p.t, cycle.stages[k].affine.direction)
+        hit = exact_transition(cycle.env, p.edge, p.t, cycle.stages[k].step.direction)
         assert hit.vertex is None and (hit.edge, hit.t) == (nxt.edge, nxt.t)
 
 
@@ -82,7 +82,7 @@ def test_exact_affine_return_map_agrees_with_float_simulation(env, tan, t):
     cycle = limit_cycle(env, heading, method="edges", edges=list(range(env.n_edges)))
     assume(cycle.stages)
     ret = cycle.stages[0]
-    maps = [(s.affine.alpha, s.affine.beta) for s in cycle.stages]
+    maps = [(s.step.alpha, s.step.beta) for s in cycle.stages]
     x = t
     for a, b in maps:
         x = a * x + b
@@ -90,19 +90,19 @@ def test_exact_affine_return_map_agrees_with_float_simulation(env, tan, t):
     legs_ok = True
     y = t
     for k, (a, b) in enumerate(maps):
-        hit = exact_transition(env, cycle.stages[k].affine.from_edge, y, cycle.stages[k].affine.direction)
-        if hit.vertex is not None or hit.edge != cycle.stages[k].affine.to_edge:
+        hit = exact_transition(env, cycle.stages[k].step.from_edge, y, cycle.stages[k].step.direction)
+        if hit.vertex is not None or hit.edge != cycle.stages[k].step.to_edge:
             legs_ok = False
             break
         assert hit.t == a * y + b  # exact cast = exact affine map, leg by leg
         y = hit.t
     assume(legs_ok)
-    runs = _simulate(env, heading.theta, [ret.affine.from_edge], [float(t)], env.n_edges)
+    runs = _simulate(env, heading.theta, [ret.step.from_edge], [float(t)], env.n_edges)
     assert runs.outcome_counts()["ok"] == 1
     assert runs.t[0, -1] == pytest.approx(float(x), abs=1e-12)
     if cycle.found:
         assert float(cycle.contraction_exact) == pytest.approx(
-            np.prod([s.affine.contraction for s in cycle.stages]), rel=1e-9)  # Def. 12: |α| = Π C_k
+            np.prod([s.step.contraction for s in cycle.stages]), rel=1e-9)  # Def. 12: |α| = Π C_k
 
 
 def test_theorem1_on_the_square_is_exact():
@@ -140,7 +140,7 @@ def test_theorem1_beyond_the_per_step_bound_still_attracts_every_start():
     env = Environment.from_coords([[0, 0], [2, 0], [8, 3], [8, 6], [0, 6]], name="contraction-binds")
     cycle = limit_cycle(env, 0.25)  # above π/2 − φ/2 at v1, below the edge-order bound
     assert cycle.found and cycle.scope == "every-start" and "sufficient, not necessary" in cycle.reason
-    assert cycle.stages[0].affine.contraction > 1 > cycle.contraction  # one step expands, the cycle contracts
+    assert cycle.stages[0].step.contraction > 1 > cycle.contraction  # one step expands, the cycle contracts
     runs = _simulate(env, 0.25, np.zeros(5, dtype=int), np.linspace(0.001, 0.999, 5), 5 * 12)
     assert np.allclose(runs.t[:, -1], float(cycle.points[0].t), rtol=1e-9)
 
@@ -169,7 +169,7 @@ def test_prop4_iterated_cycle_is_where_the_simulation_goes(env, tan, start, edge
     assume(bounces <= 3000)
     runs = _simulate(env, heading.theta, [e0], [float(start)], bounces)
     assume(runs.outcome_counts()["ok"] == 1)  # the float simulator may stop a ray it cannot call
-    assert [s.affine.from_edge for s in cycle.entry] == runs.edge[0, :len(cycle.entry)].tolist()
+    assert [s.step.from_edge for s in cycle.entry] == runs.edge[0, :len(cycle.entry)].tolist()
     assert runs.edge[0, -1] == cycle.points[0].edge
     assert runs.t[0, -1] == pytest.approx(float(cycle.points[0].t), rel=1e-9, abs=1e-12)
 
@@ -274,11 +274,11 @@ def test_a_verified_cycle_follows_the_result_protocol():
     assert cycle.environment == EnvironmentRecord.of(SQUARE, cycle.environment.n_segments) and cycle.environment.matches(SQUARE)
     for stage in cycle.stages:
         assert isinstance(stage, Stage) and isinstance(stage.affine, AffineStep)
-        assert stage.interval.lo == stage.interval.hi == cycle.theta == stage.affine.heading
+        assert stage.interval.lo == stage.interval.hi == cycle.theta == stage.step.heading
     # the stages' exact maps compose to the return map whose |α| is the contraction (Def. 12)
     alpha = Fraction(1)
     for stage in cycle.stages:
-        alpha *= stage.affine.alpha
+        alpha *= stage.step.alpha
     assert abs(alpha) == cycle.contraction_exact == Fraction(1, 16)
     answer = cycle.to_json()
     assert answer["environment"] == {"name": "square", "sha256": cycle.environment.sha256,

@@ -52,8 +52,8 @@ def test_theorem1_patrol_over_all_edges_is_the_constant_heading_limit_cycle(name
     eps = 0.3 * lemma3_max_heading(env) / 2
     p = patrol(env, all_edges(env), objective=objective, tolerance=eps)
     assert p.status == "found" and p.max_between == 0 and p.periods == 1
-    assert [s.affine.from_edge for s in p.cycle] == list(range(env.n_edges))
-    thetas = {s.affine.heading for s in p.cycle}
+    assert [s.step.from_edge for s in p.cycle] == list(range(env.n_edges))
+    thetas = {s.step.heading for s in p.cycle}
     assert len(thetas) == 1  # one constant heading
     theta = thetas.pop()
     assert theta == pytest.approx(DEFAULT_HEADING_MARGIN + eps, abs=1e-12)  # [δ, δ + 2ε]: δ off the wall
