@@ -107,13 +107,13 @@ def test_single_failure_has_no_more_suffix(tmp_path):
     "mutate,fragment",
     [
         (lambda d: d.update(schema="something-else"), "not a solverplan certificate: schema is 'something-else'"),
-        (lambda d: d.update(version=2), "certificate version 2 is not supported (this solverplan reads version 1)"),
+        (lambda d: d.update(version=3), "certificate version 3 is not supported (this solverplan reads versions 1 and 2)"),
         (lambda d: d["claims"].update(min_width="abc"), "claims.min_width: 'abc' is not a number"),
         (lambda d: d["claims"].update(tolerance="1/0"), "claims.tolerance: '1/0' divides by zero"),
         (lambda d: d["stages"][0]["moves"][0].update(d_lo=[1]), "stages[0].moves[0].d_lo: expected a pair [x, y], got [1]"),
         (lambda d: d["stages"][0]["moves"][0].pop("target"), "stages[0].moves[0]: missing field 'target'"),
         (lambda d: d["stages"][0]["moves"][0].update(colour="red"), "stages[0].moves[0]: unknown field 'colour'"),
-        (lambda d: d.update(kind="tour"), "kind: 'tour' is not one of plan, cycle, funnel"),
+        (lambda d: d.update(kind="tour"), "kind: 'tour' is not one of plan, cycle, funnel, localize"),
         (lambda d: d.update(stages=[]), "stages: a certificate has at least one stage"),
         (lambda d: d.update(kind="funnel"), "stages[0].positions: a funnel certificate claims the positions after every stage"),
     ],
@@ -187,3 +187,47 @@ def test_pareto_certificate_is_of_the_most_tolerant_plan(tmp_path):
     assert report["valid"] and report["kind"] == "plan"
     written = json.loads(cert.read_text())
     assert abs(float(written["claims"]["min_width"]) - widest) < 1e-9
+
+
+# ---------------------------------------------------------------------- what was certified
+def test_a_cut_start_set_stays_valid_and_the_report_shows_the_small_set(tmp_path):
+    """A certificate whose start set was cut to a tenth is a true statement about a smaller query: valid,
+    and the report names the smaller set (so an unpinned verify does not hide it); pinned, it fails."""
+    ell = MODELS / "l_shape.json"
+    cert = tmp_path / "plan.cert.json"
+    made = run("plan", ell, "--from", "e0", "--to", "e3", "--certificate", cert)
+    assert made.exit_code == 0, made.stderr
+    full = json.loads(run("verify", cert).stdout)
+    assert full["start"] == {"set": "e0", "length": "10", "length_exact": True}
+    data = json.loads(cert.read_text())
+    assert data["start"] == [{"edge": 0, "t0": 0, "t1": 1}]
+    data["start"] = [{"edge": 0, "t0": "0.45", "t1": "0.55"}]  # a tenth of edge 0
+    cut = write(tmp_path, "cut.json", data)
+    result = run("verify", cut)
+    assert result.exit_code == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert report["valid"] is True
+    assert report["start"] == {"set": "e0:0.45:0.55", "length": "1", "length_exact": True}
+    assert report["goal"]["set"] == "e3" and report["environment"]["name"] == "l_shape"
+    text = run("verify", cut, "--format", "text").stdout.splitlines()
+    assert text[0] == "certificate (plan): VALID" and "start: e0:0.45:0.55 (length 1)" in text
+    assert_one_line_error(run("verify", cut, "--env", ell, "--from", "e0", "--to", "e3"), 1,
+                          "start: is e0:[0.45, 0.55], but the query's start set is e0:[0, 1]", stdout_empty=False)
+
+
+def test_the_report_names_the_environment_by_the_hash_of_the_answers(tmp_path):
+    ell = MODELS / "l_shape.json"
+    cert = tmp_path / "plan.cert.json"
+    answer = json.loads(run("plan", ell, "--from", "e0", "--to", "e3", "--certificate", cert).stdout)
+    env = json.loads(run("verify", cert).stdout)["environment"]
+    assert env == {"name": "l_shape", "sha256": answer["environment"]["sha256"], "vertices": 6, "edges": 6, "holes": 0}
+    line = run("verify", cert, "--format", "text").stdout.splitlines()[1]
+    assert line == f"environment: 'l_shape', sha256 {env['sha256']}, 6 vertices, 6 edges, 0 holes"
+
+
+def test_cycle_claims_are_printed(tmp_path):
+    result = run("verify", write(tmp_path, "c.json", cases.square_cycle()), "--format", "text")
+    lines = result.stdout.splitlines()
+    assert "goal: none (a cycle: the cycle is the goal)" in lines
+    cycle = next(line for line in lines if line.startswith("cycle: "))
+    assert "fixed point 1/11" in cycle and "contraction 0.0081 < 1" in cycle and "visits [0, 1, 2, 3]" in cycle

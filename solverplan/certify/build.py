@@ -15,9 +15,10 @@ by its type (it reads the answers only through their public attributes, all of t
   from its whole source segment; the cycle block claims the exact return map of the nominal headings, its
   fixed point, the worst-case contraction (< 1) and the visits;
 - a **funnel** or a **localisation** strategy (:class:`~solverplan.plan.funnel.Funnel`,
-  :class:`~solverplan.plan.localize.Localization`) is a ``funnel``
+  :class:`~solverplan.plan.localize.Localization`) is a ``funnel`` or ``localize``
   certificate: every stage moves exact position pieces with the *exact cones the planner used*, so the
-  images the checker recomputes are the positions the planner tracked, and each stage claims them.
+  images the checker recomputes are the positions the planner tracked, and each stage claims them; a
+  localisation certificate also claims the strategy's ε (the final interval is shorter than it).
 
 An answer with nothing to certify (an infeasible plan, a patrol or funnel not found) raises
 :class:`NothingToCertify`: the checker certifies answers, not proofs that there is none.
@@ -52,6 +53,7 @@ from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_cert
 from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, SolverplanError
 from solverplan.plan._results import PositionStrategy
+from solverplan.plan.localize import Localization
 from solverplan.plan.patrol import Patrol
 from solverplan.plan.result import ParetoFront, Plan
 
@@ -165,7 +167,7 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certif
     value = {"tolerance": plan.min_width, "constant": plan.min_width, "sum": plan.sum_width}.get(plan.objective)
     if proved and opt.bound is not None and value is not None and opt.bound - value > _PROVED_SLACK * len(plan.stages):
         proved = False  # an LP/MILP bound with a visible gap: claim the bound, not optimality
-    claimed = ClaimedOptimality(method=opt.method, proved=proved, bound=None if opt.bound is None else Fraction(opt.bound))
+    claimed = ClaimedOptimality(method=str(opt.method), proved=proved, bound=None if opt.bound is None else Fraction(opt.bound))
     start = plan.start if plan.start else list(plan.stages[0].from_segments)
     goal = plan.goal if plan.goal else list(plan.stages[-1].to_segments)
     return build_certificate(env, part, stages, start=start, goal=goal, kind="plan", objective=plan.objective,
@@ -224,7 +226,10 @@ def _funnel(result: PositionStrategy, env: Environment | None, part: Partition |
         moves = tuple(MoveSpec(source=BoundaryPiece(piece.edge, piece.t0, piece.t1), target_edge=target, directions=cone)
                       for piece, cone, target in zip(st.sources, st.cones, st.target_edges))
         stages.append(StageSpec(st.interval, moves))
-    return build_certificate(env, part, stages, start=result.start, goal=result.goal, kind="funnel",
+    localising = isinstance(result, Localization)
+    return build_certificate(env, part, stages, start=result.start, goal=result.goal,
+                             kind="localize" if localising else "funnel",
+                             epsilon=result.epsilon if localising else None,
                              objective=f"{result.kind}-fewest", optimality=_contraction_optimality(result.optimality))
 
 
@@ -241,7 +246,7 @@ def _own_environment(result: Any, env: Environment | None, part: Partition | Non
 def _contraction_optimality(opt: Any) -> ClaimedOptimality | None:
     if opt is None or opt.method == "none" or opt.bound is None or not math.isfinite(opt.bound):
         return None
-    return ClaimedOptimality(opt.method, bool(opt.proved), Fraction(opt.bound))
+    return ClaimedOptimality(str(opt.method), bool(opt.proved), Fraction(opt.bound))
 
 
 _BUILDERS: dict[type, Callable[[Any, Environment | None, Partition | None], Certificate]] = {

@@ -81,6 +81,20 @@ What is checked
    is the product of the per-stage worst cases.
 8. **Optimality.** The bound of a search or LP is not re-derived here (that would mean re-running the
    planner); its consistency with the checked claims is, and the report lists it as not checked.
+9. **Localisation** (``localize``): the final position set (the last stage's positions) lies on one
+   edge, and the interval from its lowest to its highest parameter is shorter than ``claims.epsilon``
+   in arc length: (t_hi − t_lo)² · |E|² < ε², exactly (no square root). A version-1 localisation
+   certificate has no ε: the report says so and lists the claim as not checked.
+
+What is certified
+-----------------
+The report always states what the certificate speaks about, whether or not the query was pinned with
+``expected_rings`` / ``expected_start`` / ``expected_goal``: the environment (name, SHA-256 of its exact
+rings — the ``environment.sha256`` of the planner's answers —, vertex, edge and hole counts), the start
+and goal sets as boundary-set strings (``e0:0.1:0.9``, merged per edge) with their total arc length, the
+kind and every claim (bounces, widths, tolerance, the cycle's map and contraction, ε, optimality). A
+certificate whose start set was cut down is a true statement about a smaller query: it stays valid,
+and the report shows the smaller set.
 
 Exactness
 ---------
@@ -97,9 +111,11 @@ until each comparison is decided (it always is: see that module).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import hashlib
+import json
+from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Iterable, Sequence
+from typing import Any, Iterable, Sequence
 
 from solverplan.certify.exact2d import (
     affine_coefficients,
@@ -127,7 +143,7 @@ from solverplan.certify.rational_atan import (
 )
 from solverplan.certify.schema import Certificate, CycleClaim, Move, Piece, Point, SegmentRecord, Stage, number_text
 
-__all__ = ["Failure", "CheckReport", "check_certificate", "WIDTH_SLACK"]
+__all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]
 
 WIDTH_SLACK = Fraction(1, 10**9)
 """How far below the exact value a claimed width (or inside the cone a claimed interval end) may be."""
@@ -185,6 +201,8 @@ class CheckReport:
     ``valid`` is true iff there are no ``failures``; ``checked`` counts what was re-derived exactly
     (stages, moves, corner rays, edge-against-region tests, chaining links, angle decisions);
     ``not_checked`` lists claims taken on trust (the optimality bound of a search, for instance).
+    ``version``, ``environment``, ``start``, ``goal`` and ``claims`` state what the certificate speaks
+    about (see :func:`certified`): always, so that a verdict never hides which query it answers.
     """
 
     valid: bool
@@ -192,11 +210,21 @@ class CheckReport:
     checked: tuple[tuple[str, int], ...]
     not_checked: tuple[str, ...]
     kind: str
+    version: int = 0
+    environment: dict[str, Any] = field(default_factory=dict)
+    start: dict[str, Any] | None = None
+    goal: dict[str, Any] | None = None
+    claims: dict[str, Any] = field(default_factory=dict)
 
     def to_json(self) -> dict:
         return {
             "valid": self.valid,
             "kind": self.kind,
+            "version": self.version,
+            "environment": dict(self.environment),
+            "start": self.start,
+            "goal": self.goal,
+            "claims": dict(self.claims),
             "failures": [{"claim": f.claim, "message": f.message} for f in self.failures],
             "checked": dict(self.checked),
             "not_checked": list(self.not_checked),
@@ -204,12 +232,60 @@ class CheckReport:
 
     def to_text(self, *, width: int = 100) -> str:
         counts = ", ".join(f"{value} {name.replace('_', ' ')}" for name, value in self.checked)
-        lines = [f"certificate ({self.kind}): {'VALID' if self.valid else 'INVALID'}", f"checked exactly: {counts}"]
+        lines = [f"certificate ({self.kind}): {'VALID' if self.valid else 'INVALID'}"]
+        env = self.environment
+        if env:
+            name = repr(env["name"]) if env["name"] else "(unnamed)"
+            lines.append(f"environment: {name}, sha256 {env['sha256']}, {env['vertices']} vertices, "
+                         f"{env['edges']} edges, {env['holes']} hole{'' if env['holes'] == 1 else 's'}")
+        lines.append(f"start: {_set_line(self.start)}")
+        lines.append(f"goal: {_set_line(self.goal) if self.goal is not None else 'none (a cycle: the cycle is the goal)'}")
+        for line in _claim_lines(self.claims):
+            lines.append(line)
+        lines.append(f"checked exactly: {counts}")
         for failure in self.failures:
             lines.append(f"FAIL {failure}")
         for item in self.not_checked:
             lines.append(f"not checked: {item}")
         return "\n".join(lines) + "\n"
+
+
+def _set_line(summary: dict[str, Any] | None) -> str:
+    if summary is None:
+        return "none"
+    approx = "" if summary["length_exact"] else "≈ "
+    return f"{summary['set']} (length {approx}{summary['length']})"
+
+
+def _short(text: object) -> str:
+    """An exact number's text, or ≈ its 9-decimal approximation when longer than 18 characters."""
+    text = str(text)
+    return text if len(text) <= 18 else "≈" + _approx(Fraction(text), 9)
+
+
+def _claim_lines(claims: dict[str, Any]) -> list[str]:
+    """The claims of :attr:`CheckReport.claims` as text lines (``claims: bounces 2, min_width …``)."""
+    main = [f"{key} {claims[key] if key == 'objective' else _short(claims[key])}"
+            for key in ("bounces", "min_width", "tolerance", "sum_width", "objective") if key in claims]
+    lines = ["claims: " + ", ".join(main)]
+    if "cycle" in claims:
+        c = claims["cycle"]
+        visits = f", visits {c['visits']}" if "visits" in c else ""
+        lines.append(f"cycle: stages {c['stages']}, return map t -> {_short(c['alpha'])} t + {_short(c['beta'])}, "
+                     f"fixed point {_short(c['fixed_point'])}, contraction {_short(c['contraction'])} < 1{visits}")
+    if "epsilon" in claims:
+        eps = claims["epsilon"]
+        if eps is None:
+            lines.append("epsilon: none (a version-1 localisation certificate carries no ε claim)")
+        else:
+            final = claims.get("final")
+            where = f": the final positions {_set_line(final)} lie in one interval shorter than ε" if final else ""
+            lines.append(f"epsilon: {_short(eps)}{where}")
+    if "optimality" in claims:
+        o = claims["optimality"]
+        bound = "no bound" if o["bound"] is None else f"bound {_short(o['bound'])}"
+        lines.append(f"optimality: {o['method']}, {'proved' if o['proved'] else 'not proved'}, {bound} (consistency only)")
+    return lines
 
 
 @dataclass
@@ -296,12 +372,18 @@ class _Checker:
         self.failures.append(Failure(claim, message))
 
     def report(self) -> CheckReport:
+        summary = certified(self.cert)
         return CheckReport(
             valid=not self.failures,
             failures=tuple(self.failures),
             checked=tuple(self.counts.items()),
             not_checked=tuple(self.not_checked),
             kind=self.cert.kind,
+            version=self.cert.version,
+            environment=summary["environment"],
+            start=summary["start"],
+            goal=summary["goal"],
+            claims=summary["claims"],
         )
 
     # ------------------------------------------------------------------ the run
@@ -328,6 +410,8 @@ class _Checker:
         self.check_claims(widths)
         if cert.cycle is not None:
             self.check_cycle(cert.cycle, results)
+        if cert.kind == "localize":
+            self.check_epsilon()
 
     # ------------------------------------------------------------------ environment
     def check_expected(self, expected: Sequence[Sequence[Point]]) -> None:
@@ -862,6 +946,43 @@ class _Checker:
             elif opt.proved and contraction - bound > WIDTH_SLACK:
                 self.fail("claims.optimality.bound", f"proved optimal, yet the bound {_num(bound)} is below the contraction {_num(contraction)}")
 
+    # ------------------------------------------------------------------ localisation
+    def check_epsilon(self) -> None:
+        """9.: the final positions lie in one interval of one edge shorter than ε (arc length), exactly."""
+        cert = self.cert
+        eps = cert.claims.epsilon
+        if eps is None:
+            if cert.version >= 2:
+                self.fail("claims.epsilon", "a localize certificate must claim ε (the final interval is shorter than it)")
+            else:
+                self.not_checked.append("claims.epsilon: a version-1 localisation certificate carries no ε claim "
+                                        "(only its positions are checked, not that they are localised)")
+            return
+        if eps <= 0:
+            self.fail("claims.epsilon", f"claims ε = {_num(eps)}, not a positive length")
+            return
+        final = cert.stages[-1].positions
+        if final is None:
+            self.fail(f"stages[{len(cert.stages) - 1}].positions", "a localize certificate claims the final positions")
+            return
+        edges = sorted({piece.edge for piece in final})
+        if len(edges) != 1:
+            self.fail("claims.epsilon", f"the final position set lies on edges {', '.join(map(str, edges))}, not in one interval of one edge")
+            return
+        edge = edges[0]
+        if not 0 <= edge < len(self.edges):
+            return  # reported by the positions check
+        lo, hi = min(p.t0 for p in final), max(p.t1 for p in final)
+        v = self.edges[edge].vector
+        squared = (hi - lo) ** 2 * (v[0] ** 2 + v[1] ** 2)
+        if not squared < eps**2:
+            length, exact = _sqrt_text(squared)
+            self.fail(
+                "claims.epsilon",
+                f"claims ε = {_num(eps)}, but the final position set e{edge}:[{_num(lo)}, {_num(hi)}] is "
+                f"{'' if exact else '≈ '}{length} long: not shorter than ε",
+            )
+
     # ------------------------------------------------------------------ cycles
     def check_cycle(self, cycle: CycleClaim, results: Sequence[Sequence[_MoveResult | None]]) -> None:
         stages = self.cert.stages
@@ -920,6 +1041,136 @@ class _Checker:
             visited = [stages[i].moves[0].edge for i in cycle.stages]
             if not any(_is_subsequence(cycle.visits, visited[s:] + visited[:s]) for s in range(len(visited))):
                 self.fail("cycle.visits", f"the cycle bounces on edges {visited} (cyclically), which does not visit {list(cycle.visits)} in that order")
+
+
+# ======================================================================= what is certified
+def certified(cert: Certificate) -> dict[str, Any]:
+    """What ``cert`` speaks about, as JSON data: ``environment`` (name, sha256, vertices, edges, holes),
+    ``start`` and ``goal`` (``{"set", "length", "length_exact"}``: a boundary-set string and its total arc
+    length, exact text or a 9-decimal approximation; ``goal`` is ``None`` for cycles) and ``claims`` (every
+    claim in exact text; ``epsilon`` and the ``final`` positions for localisation; ``None`` for an ε that a
+    version-1 certificate does not carry). Computed from the certificate alone, valid or not.
+
+    The sha256 is that of the planner's answers (``environment.sha256``): SHA-256 of the compact JSON of the
+    rings with every coordinate as exact text (``3``, ``0.25``, ``1/3``).
+    """
+    rings = cert.environment.rings
+    texts = [[[_canonical(x), _canonical(y)] for x, y in ring] for ring in rings]
+    digest = hashlib.sha256(json.dumps(texts, separators=(",", ":")).encode()).hexdigest()
+    n = sum(len(ring) for ring in rings)
+    environment = {"name": cert.environment.name, "sha256": digest, "vertices": n, "edges": n, "holes": max(len(rings) - 1, 0)}
+    squared = _squared_lengths(rings)
+    claims: dict[str, Any] = {"bounces": cert.claims.bounces, "min_width": number_text(cert.claims.min_width),
+                              "tolerance": number_text(cert.claims.tolerance)}
+    if cert.claims.sum_width is not None:
+        claims["sum_width"] = number_text(cert.claims.sum_width)
+    if cert.claims.objective is not None:
+        claims["objective"] = cert.claims.objective
+    if cert.cycle is not None:
+        c = cert.cycle
+        cycle: dict[str, Any] = {"stages": list(c.stages), "alpha": number_text(c.alpha), "beta": number_text(c.beta),
+                                 "fixed_point": number_text(c.fixed_point), "contraction": number_text(c.contraction)}
+        if c.visits is not None:
+            cycle["visits"] = list(c.visits)
+        claims["cycle"] = cycle
+    if cert.kind == "localize":
+        claims["epsilon"] = None if cert.claims.epsilon is None else number_text(cert.claims.epsilon)
+        final = cert.stages[-1].positions
+        if final is not None:
+            claims["final"] = _set_summary(final, squared)
+    if cert.claims.optimality is not None:
+        o = cert.claims.optimality
+        claims["optimality"] = {"method": str(o.method), "proved": o.proved, "bound": None if o.bound is None else number_text(o.bound)}
+    return {
+        "environment": environment,
+        "start": _set_summary(cert.start, squared),
+        "goal": None if cert.goal is None else _set_summary(cert.goal, squared),
+        "claims": claims,
+    }
+
+
+def _canonical(x: Fraction) -> str:
+    """The exact text of the environment hash: an integer, a terminating decimal in full, else ``p/q``."""
+    x = Fraction(x)
+    if x.denominator == 1:
+        return str(x.numerator)
+    den, twos, fives = x.denominator, 0, 0
+    while den % 2 == 0:
+        den //= 2
+        twos += 1
+    while den % 5 == 0:
+        den //= 5
+        fives += 1
+    if den != 1:
+        return f"{x.numerator}/{x.denominator}"
+    digits = max(twos, fives)
+    scaled = x * 10**digits
+    text = str(abs(scaled.numerator)).rjust(digits + 1, "0")
+    return f"{'-' if scaled < 0 else ''}{text[:-digits]}.{text[-digits:]}"
+
+
+def _squared_lengths(rings: Sequence[Sequence[Point]]) -> list[Fraction]:
+    out = []
+    for ring in rings:
+        for i in range(len(ring)):
+            a, b = ring[i], ring[(i + 1) % len(ring)]
+            out.append((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2)
+    return out
+
+
+def _set_summary(pieces: Sequence[Piece], squared: Sequence[Fraction]) -> dict[str, Any]:
+    """A set of pieces as a boundary-set string (merged per edge) and its total arc length."""
+    merged = _merged((p.edge, p.t0, p.t1) for p in pieces)
+    parts, roots, exact_total = [], [], _ZERO
+    exact = True
+    for e in sorted(merged):
+        for a, b in merged[e]:
+            parts.append(f"e{e}" if (a, b) == (_ZERO, _ONE) else f"e{e}:{_canonical(a)}:{_canonical(b)}")
+            if 0 <= e < len(squared):
+                root = _rational_sqrt(squared[e])
+                if root is None:
+                    exact = False
+                    roots.append((b - a) ** 2 * squared[e])
+                else:
+                    exact_total += (b - a) * root
+    if exact:
+        length, is_exact = number_text(exact_total), True
+    else:
+        total = exact_total + sum((_sqrt_fraction(q) for q in roots), _ZERO)
+        length, is_exact = _approx(total, 9), False
+    return {"set": ",".join(parts), "length": length, "length_exact": is_exact}
+
+
+def _isqrt(n: int) -> int:
+    """⌊√n⌋ of an integer n ≥ 0 (Newton's iteration on integers: no floats in the checker)."""
+    if n < 2:
+        return n
+    x = 1 << ((n.bit_length() + 1) // 2)  # ≥ √n
+    while True:
+        y = (x + n // x) // 2
+        if y >= x:
+            return x
+        x = y
+
+
+def _rational_sqrt(q: Fraction) -> Fraction | None:
+    """√q if it is rational, else ``None``."""
+    if q < 0:
+        return None
+    n, d = _isqrt(q.numerator), _isqrt(q.denominator)
+    return Fraction(n, d) if n * n == q.numerator and d * d == q.denominator else None
+
+
+def _sqrt_fraction(q: Fraction, digits: int = 12) -> Fraction:
+    """√q to within 10⁻ᵈⁱᵍⁱᵗˢ (integer square root), for lengths shown in reports."""
+    scale = 10 ** (2 * digits)
+    return Fraction(_isqrt(q.numerator * scale // q.denominator), 10**digits)
+
+
+def _sqrt_text(q: Fraction) -> tuple[str, bool]:
+    """√q as exact text, or as a 9-decimal approximation (and whether it is exact)."""
+    root = _rational_sqrt(q)
+    return (number_text(root), True) if root is not None else (_approx(_sqrt_fraction(q), 9), False)
 
 
 def _merged(pieces: Iterable[tuple[int, Fraction, Fraction]]) -> dict[int, list[tuple[Fraction, Fraction]]]:

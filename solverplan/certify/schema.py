@@ -1,4 +1,4 @@
-"""The certificate format (version 1): frozen dataclasses, and JSON in and out.
+"""The certificate format (version 2; version 1 is still read): frozen dataclasses, and JSON in and out.
 
 A certificate is a self-contained statement that :mod:`solverplan.certify.check` re-derives in exact
 rational arithmetic: the environment, the partition segments it names, the start and goal sets, and
@@ -27,19 +27,28 @@ Conventions
   on, so the stage's action interval is the set of headings common to all its moves' cones, each
   measured from its own source edge; ``interval`` (optional, radians) claims a part of it.
   ``positions`` (funnels) claims the exact set of positions after the stage.
-- ``kind``: ``plan`` (start → goal), ``funnel`` (a plan whose stages carry ``positions``) or
-  ``cycle`` (``stages[cycle.stages[0]:]`` repeat forever; the block claims the exact affine return
-  map of the nominal directions, its fixed point and the worst-case contraction over the cones).
+- ``kind``: ``plan`` (start → goal), ``funnel`` (a plan whose stages carry ``positions``),
+  ``localize`` (a funnel whose final positions lie in one interval of one edge shorter than
+  ``claims.epsilon``, arc length) or ``cycle`` (``stages[cycle.stages[0]:]`` repeat forever; the block
+  claims the exact affine return map of the nominal directions, its fixed point and the worst-case
+  contraction over the cones).
+
+Versions
+--------
+Version 2 (written) added the ``localize`` kind and its ``claims.epsilon``. Version 1 (still read) had
+neither: a localisation strategy was a ``funnel`` whose ``claims.objective`` starts with ``localize``; it
+is read as a ``localize`` certificate without an ε claim (``claims.epsilon`` is ``None``,
+:attr:`Certificate.version` is 1) and written back as version 1, unchanged.
 
 >>> cert = Certificate.from_json(EXAMPLE)
 >>> cert.kind, len(cert.stages), cert.stages[0].moves[0].d_lo
 ('plan', 1, (Fraction(1, 1), Fraction(20, 1)))
 >>> Certificate.from_json(cert.to_json()) == cert
 True
->>> parse_certificate('{"schema": "solverplan-certificate", "version": 2}')
+>>> parse_certificate('{"schema": "solverplan-certificate", "version": 3}')
 Traceback (most recent call last):
 ...
-solverplan.certify.schema.CertificateFormatError: certificate version 2 is not supported (this solverplan reads version 1)
+solverplan.certify.schema.CertificateFormatError: certificate version 3 is not supported (this solverplan reads versions 1 and 2)
 """
 
 from __future__ import annotations
@@ -57,6 +66,7 @@ from solverplan.errors import MalformedFile
 __all__ = [
     "SCHEMA",
     "VERSION",
+    "READ_VERSIONS",
     "KINDS",
     "Point",
     "CertificateFormatError",
@@ -80,16 +90,20 @@ __all__ = [
 ]
 
 SCHEMA = "solverplan-certificate"
-VERSION = 1
-KINDS = ("plan", "cycle", "funnel")
+VERSION = 2
+"""The version this solverplan writes."""
+READ_VERSIONS = (1, 2)
+"""The versions this solverplan reads."""
+KINDS = ("plan", "cycle", "funnel", "localize")
+_KINDS_V1 = ("plan", "cycle", "funnel")
 
-Kind = Literal["plan", "cycle", "funnel"]
+Kind = Literal["plan", "cycle", "funnel", "localize"]
 Point = tuple[Fraction, Fraction]
 """An exact point or direction vector."""
 
 
 class CertificateFormatError(MalformedFile):
-    """The certificate is not a version-1 certificate (wrong schema, bad number, missing field):
+    """The certificate is not a readable certificate (wrong schema or version, bad number, missing field):
     bad input, exit code 2. Messages name the place, e.g. ``stages[1].moves[0].d_lo: 'x' is not a number``."""
 
 
@@ -241,7 +255,9 @@ class Claims:
     """The numbers a certificate claims (all re-derived by the checker).
 
     ``min_width`` is a lower bound on the narrowest stage's angular width (radians), within 1e-9 of
-    it; ``tolerance`` = min_width / 2; ``sum_width`` (optional) a lower bound on the sum of the widths.
+    it; ``tolerance`` = min_width / 2; ``sum_width`` (optional) a lower bound on the sum of the widths;
+    ``epsilon`` (``localize`` certificates of version 2; same unit as the coordinates): the final
+    position set lies in one interval of one edge whose arc length is less than ε.
     """
 
     bounces: int
@@ -250,6 +266,7 @@ class Claims:
     objective: str | None = None
     sum_width: Fraction | None = None
     optimality: Optimality | None = None
+    epsilon: Fraction | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -271,8 +288,9 @@ class CycleClaim:
 
 @dataclass(frozen=True, slots=True)
 class Certificate:
-    """A version-1 certificate; see the module docstring. Build with :mod:`solverplan.certify.writer`
-    or :meth:`from_json`; check with :func:`solverplan.certify.check.check_certificate`."""
+    """A certificate; see the module docstring. Build with :mod:`solverplan.certify.writer` or
+    :meth:`from_json`; check with :func:`solverplan.certify.check.check_certificate`. ``version``: the
+    format version it was read as (and is written as): :data:`VERSION` for new certificates."""
 
     kind: Kind
     environment: EnvironmentRecord
@@ -283,11 +301,14 @@ class Certificate:
     claims: Claims
     cycle: CycleClaim | None = None
     producer: str = ""
+    version: int = VERSION
 
     # ------------------------------------------------------------------ JSON out
     def to_json(self) -> dict:
         """The certificate as JSON data (exact numbers as ints or strings)."""
-        data: dict[str, Any] = {"schema": SCHEMA, "version": VERSION, "kind": self.kind}
+        # version 1 spelled a localisation certificate as a funnel (its objective says localize)
+        kind = "funnel" if self.version == 1 and self.kind == "localize" else self.kind
+        data: dict[str, Any] = {"schema": SCHEMA, "version": self.version, "kind": kind}
         if self.producer:
             data["producer"] = self.producer
         env: dict[str, Any] = {}
@@ -318,6 +339,8 @@ class Certificate:
                 "proved": opt.proved,
                 "bound": None if opt.bound is None else json_value(opt.bound),
             }
+        if self.claims.epsilon is not None:
+            claims["epsilon"] = json_value(self.claims.epsilon)
         data["claims"] = claims
         if self.cycle is not None:
             c = self.cycle
@@ -350,16 +373,17 @@ class Certificate:
         if top.get("schema") != SCHEMA:
             raise CertificateFormatError(f"not a solverplan certificate: schema is {top.get('schema')!r}, expected {SCHEMA!r}")
         version = top.get("version")
-        if version != VERSION or isinstance(version, bool):
-            raise CertificateFormatError(f"certificate version {version} is not supported (this solverplan reads version {VERSION})")
+        if isinstance(version, bool) or version not in READ_VERSIONS:
+            raise CertificateFormatError(f"certificate version {version} is not supported (this solverplan reads versions 1 and 2)")
         _known(
             top,
             {"schema", "version", "kind", "producer", "environment", "segments", "start", "goal", "stages", "claims", "cycle"},
             "certificate",
         )
         kind = _field(top, "kind", "certificate")
-        if kind not in KINDS:
-            raise CertificateFormatError(f"kind: {kind!r} is not one of {', '.join(KINDS)}")
+        kinds = KINDS if version >= 2 else _KINDS_V1
+        if kind not in kinds:
+            raise CertificateFormatError(f"kind: {kind!r} is not one of {', '.join(kinds)}")
         producer = top.get("producer", "")
         if not isinstance(producer, str):
             raise CertificateFormatError(f"producer: expected a string, got {producer!r}")
@@ -374,7 +398,13 @@ class Certificate:
         if not stages_raw:
             raise CertificateFormatError("stages: a certificate has at least one stage")
         stages = tuple(_stage(s, f"stages[{i}]") for i, s in enumerate(stages_raw))
-        claims = _claims(_field(top, "claims", "certificate"))
+        claims = _claims(_field(top, "claims", "certificate"), version)
+        if version == 1 and kind == "funnel" and (claims.objective or "").startswith("localize"):
+            kind = "localize"  # a version-1 localisation strategy: read as what it is, without an ε claim
+        elif kind == "localize" and claims.epsilon is None:
+            raise CertificateFormatError("claims.epsilon: a localize certificate claims ε (the final interval is shorter than it)")
+        elif kind != "localize" and claims.epsilon is not None:
+            raise CertificateFormatError(f"claims.epsilon: only a localize certificate claims ε, not a {kind} certificate")
         cycle_raw = top.get("cycle")
         cycle = None if cycle_raw is None else _cycle(cycle_raw)
         if kind == "cycle":
@@ -387,11 +417,11 @@ class Certificate:
                 raise CertificateFormatError(f"cycle: a {kind} certificate has no cycle block")
             if goal is None or not goal:
                 raise CertificateFormatError(f"goal: a {kind} certificate needs a non-empty goal set")
-        if kind == "funnel":
+        if kind in ("funnel", "localize"):
             for i, stage in enumerate(stages):
                 if stage.positions is None:
-                    raise CertificateFormatError(f"stages[{i}].positions: a funnel certificate claims the positions after every stage")
-        return cls(kind, environment, segments, start, goal, stages, claims, cycle, producer)
+                    raise CertificateFormatError(f"stages[{i}].positions: a {kind} certificate claims the positions after every stage")
+        return cls(kind, environment, segments, start, goal, stages, claims, cycle, producer, version)
 
 
 # ---------------------------------------------------------------------- text in and out
@@ -614,10 +644,12 @@ def _stage(value: object, where: str) -> Stage:
     return Stage(moves, interval, positions)
 
 
-def _claims(value: object) -> Claims:
+def _claims(value: object, version: int = VERSION) -> Claims:
     where = "claims"
     obj = _object(value, where)
-    _known(obj, {"bounces", "min_width", "tolerance", "objective", "sum_width", "optimality"}, where)
+    keys = {"bounces", "min_width", "tolerance", "objective", "sum_width", "optimality"}
+    _known(obj, keys | {"epsilon"} if version >= 2 else keys, where)
+    epsilon_raw = obj.get("epsilon")
     objective = obj.get("objective")
     if objective is not None and not isinstance(objective, str):
         raise CertificateFormatError(f"claims.objective: expected a string, got {objective!r}")
@@ -642,6 +674,7 @@ def _claims(value: object) -> Claims:
         objective=objective,
         sum_width=None if sum_raw is None else parse_number(sum_raw, "claims.sum_width"),
         optimality=optimality,
+        epsilon=None if epsilon_raw is None else parse_number(epsilon_raw, "claims.epsilon"),
     )
 
 

@@ -164,8 +164,9 @@ def build_certificate(
     *,
     start: BoundarySet | str | Sequence[int] | Sequence[BoundaryPiece],
     goal: BoundarySet | str | Sequence[int] | Sequence[BoundaryPiece] | None = None,
-    kind: Literal["plan", "cycle", "funnel"] = "plan",
+    kind: Literal["plan", "cycle", "funnel", "localize"] = "plan",
     cycle: CycleSpec | None = None,
+    epsilon: object = None,
     objective: str | None = None,
     optimality: Optimality | None = None,
     targets: Literal["segment", "image"] | None = None,
@@ -184,7 +185,11 @@ def build_certificate(
         Boundary sets (``"e3:0.25:0.75,e4"``, a :class:`~solverplan.environment.BoundarySet`, boundary
         pieces, or a list of segment ids); a cycle has no goal.
     kind
-        ``plan``, ``funnel`` (stages also claim their exact positions) or ``cycle`` (give ``cycle``).
+        ``plan``, ``funnel`` (stages also claim their exact positions), ``localize`` (a funnel that also
+        claims ``epsilon``) or ``cycle`` (give ``cycle``).
+    epsilon
+        ``localize`` only: the claimed bound on the arc length of the final interval (same unit as the
+        coordinates; read exactly: a float by its shortest text, ``0.05`` is 1/20).
     objective, optimality
         Passed through as claims (the checker checks their consistency, not the search behind them).
     targets
@@ -200,8 +205,16 @@ def build_certificate(
     SolverFailed
         A cycle whose nominal return map has slope exactly 1 (no fixed point: not a contracting cycle).
     """
-    if kind not in ("plan", "cycle", "funnel"):
-        raise InputError(f"unknown certificate kind {kind!r}: use plan, cycle or funnel")
+    if kind not in ("plan", "cycle", "funnel", "localize"):
+        raise InputError(f"unknown certificate kind {kind!r}: use plan, cycle, funnel or localize")
+    if (kind == "localize") != (epsilon is not None):
+        raise InputError("give epsilon exactly when kind='localize'")
+    eps = None
+    if epsilon is not None:
+        # a float by its shortest text: the ε the user asked for (0.05), not the binary number nearest it
+        eps = to_fraction(repr(epsilon) if isinstance(epsilon, float) else epsilon, where="epsilon")
+        if eps <= 0:
+            raise InputError(f"epsilon {epsilon!r} must be a positive length")
     if not stages:
         raise InputError("a certificate needs at least one stage")
     if (kind == "cycle") != (cycle is not None):
@@ -235,7 +248,7 @@ def build_certificate(
                 )
             )
         positions = None
-        if kind == "funnel":
+        if kind in ("funnel", "localize"):
             if any(r.image is None for r in moves):
                 raise InputError(f"stage {k}: a move's corner rays miss its target line, so its image is undefined")
             positions = _union_pieces((r.target_edge, r.image) for r in moves)
@@ -249,6 +262,7 @@ def build_certificate(
         objective=objective,
         sum_width=sum(widths, Fraction(0)),
         optimality=optimality,
+        epsilon=eps,
     )
     cycle_claim = _cycle_claim(env, stages, out_stages, cycle) if cycle is not None else None
     segments = tuple(_segment_record(part, i) for i in sorted(used))

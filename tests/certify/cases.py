@@ -288,6 +288,15 @@ def funnel_square() -> dict:
     return cert
 
 
+def localize_square(epsilon: str = "19/2") -> dict:
+    """funnel_square as a localisation: the final positions t ∈ [1/20, 19/20] of the top edge (10 long)
+    are one interval 9 long, shorter than ε = 9.5."""
+    cert = funnel_square()
+    cert["kind"] = "localize"
+    cert["claims"]["epsilon"] = epsilon
+    return cert
+
+
 ALL_VALID = {
     "square_up": square_up,
     "square_adjacent": square_adjacent,
@@ -296,6 +305,7 @@ ALL_VALID = {
     "l_shape_plan": l_shape_plan,
     "one_hole_plan": one_hole_plan,
     "funnel_square": funnel_square,
+    "localize_square": localize_square,
 }
 
 

@@ -56,7 +56,7 @@ def _imports(module) -> set[str]:
 @pytest.mark.parametrize("module", CHECKER_MODULES, ids=lambda m: m.__name__)
 def test_checker_imports_nothing_but_stdlib_and_schema(module):
     checker = {m.__name__ for m in CHECKER_MODULES}
-    assert _imports(module) <= {"__future__", "fractions", "dataclasses", "json", "typing", "solverplan.certify.schema"} | checker
+    assert _imports(module) <= {"__future__", "fractions", "dataclasses", "hashlib", "json", "typing", "solverplan.certify.schema"} | checker
 
 
 @pytest.mark.parametrize("module", CHECKER_MODULES, ids=lambda m: m.__name__)
@@ -131,7 +131,14 @@ def test_report_json_and_text():
     data = report.to_json()
     assert data["valid"] is True and data["kind"] == "plan" and data["failures"] == []
     assert data["checked"]["corner_rays"] == 4
-    assert report.to_text().startswith("certificate (plan): VALID\nchecked exactly: 1 stages")
+    assert data["version"] == 2 and data["start"] == {"set": "e0:0.1:0.9", "length": "8", "length_exact": True}
+    assert data["goal"]["set"] == "e2" and data["claims"]["bounces"] == 1
+    lines = report.to_text().splitlines()
+    assert lines[0] == "certificate (plan): VALID"
+    assert lines[1].startswith("environment: 'square', sha256 ") and lines[1].endswith("4 vertices, 4 edges, 0 holes")
+    assert lines[2:4] == ["start: e0:0.1:0.9 (length 8)", "goal: e2 (length 10)"]
+    assert lines[4].startswith("claims: bounces 1, min_width 0.0999")
+    assert lines[5].startswith("checked exactly: 1 stages")
 
 
 # ---------------------------------------------------------------------- tampering: one claim at a time
@@ -556,3 +563,42 @@ def test_accepted_moves_agree_with_exact_ray_casting(model):
             rays += 1
             assert hit.vertex is None and hit.edge == g.edge and g.t0 < hit.t < g.t1, (move, t, d, hit)
     assert accepted >= 15 and rays >= 100  # the test is not vacuous
+
+
+# ---------------------------------------------------------------------- localisation: ε
+def test_localisation_epsilon_is_checked_exactly():
+    report = run(cases.localize_square("19/2"))
+    assert report.valid, [str(f) for f in report.failures]
+    assert report.claims["epsilon"] == "9.5" and report.claims["final"] == {"set": "e2:0.05:0.95", "length": "9", "length_exact": True}
+    # the final interval is exactly 9 long: ε = 9 is not larger, and ε just above 9 is
+    assert_fails(cases.localize_square("9"), "claims.epsilon", "claims ε = 9, but the final position set e2:[0.05, 0.95] is 9 long: not shorter than ε")
+    assert run(cases.localize_square("9.000000000000000000001")).valid
+    assert_fails(cases.localize_square("0"), "claims.epsilon", "not a positive length")
+
+
+def test_reported_set_lengths_are_exact_or_a_9_decimal_approximation():
+    """Edges of rational length give exact lengths; the hypotenuse of a unit right triangle (√2) does not."""
+    tri = check.certified(Certificate.from_json({**cases.localize_square(), "environment": {"name": "t", "rings": [[[0, 0], [1, 0], [0, 1]]]}}))
+    assert tri["start"] == {"set": "e0:0.1:0.9", "length": "0.8", "length_exact": True}
+    assert tri["goal"] == {"set": "e2", "length": "1", "length_exact": True}
+    slanted = check.certified(Certificate.from_json({**cases.localize_square(), "start": [{"edge": 1, "t0": 0, "t1": "1/2"}],
+                                                     "environment": {"name": "t", "rings": [[[0, 0], [1, 0], [0, 1]]]}}))
+    assert slanted["start"] == {"set": "e1:0:0.5", "length": "0.707106781", "length_exact": False}
+
+
+def test_localisation_final_positions_on_two_edges_fail():
+    data = cases.localize_square()
+    data["goal"] = [{"edge": 1, "t0": 0, "t1": 1}, {"edge": 2, "t0": 0, "t1": 1}]
+    data["stages"][0]["positions"] = [{"edge": 1, "t0": 0, "t1": "1/2"}, {"edge": 2, "t0": "1/20", "t1": "19/20"}]
+    report = run(data)
+    assert "claims.epsilon" in claims_of(report)
+    assert any(str(f) == "claims.epsilon: the final position set lies on edges 1, 2, not in one interval of one edge" for f in report.failures)
+
+
+def test_a_constructed_version_2_localisation_without_epsilon_fails():
+    import dataclasses
+
+    cert = Certificate.from_json(cases.localize_square())
+    bare = dataclasses.replace(cert, claims=dataclasses.replace(cert.claims, epsilon=None))
+    report = check_certificate(bare)
+    assert not report.valid and report.failures[0].claim == "claims.epsilon"

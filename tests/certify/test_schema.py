@@ -76,3 +76,40 @@ def test_kind_specific_blocks():
         Certificate.from_json({k: v for k, v in cycle.items() if k != "cycle"})
     with pytest.raises(CertificateFormatError, match="needs a non-empty goal set"):
         Certificate.from_json(dict(cases.square_up(), goal=None))
+
+
+# ---------------------------------------------------------------------- versions and ε
+def test_epsilon_belongs_to_localize_certificates_of_version_2():
+    from solverplan.certify.schema import READ_VERSIONS, VERSION, CertificateFormatError
+
+    assert VERSION == 2 and READ_VERSIONS == (1, 2)
+    cert = Certificate.from_json(cases.localize_square())
+    assert cert.kind == "localize" and cert.claims.epsilon == Fraction(19, 2)
+    assert Certificate.from_json(cert.to_json()) == cert and cert.to_json()["claims"]["epsilon"] == "9.5"
+    bare = cases.localize_square()
+    del bare["claims"]["epsilon"]
+    with pytest.raises(CertificateFormatError, match=r"claims.epsilon: a localize certificate claims ε"):
+        Certificate.from_json(bare)
+    funnel = cases.funnel_square()
+    funnel["claims"]["epsilon"] = "1"
+    with pytest.raises(CertificateFormatError, match="claims.epsilon: only a localize certificate claims ε, not a funnel certificate"):
+        Certificate.from_json(funnel)
+    old = cases.localize_square()
+    old["version"] = 1
+    with pytest.raises(CertificateFormatError, match="kind: 'localize' is not one of plan, cycle, funnel$"):
+        Certificate.from_json(old)
+
+
+def test_version_1_certificates_are_read_and_written_back_as_version_1():
+    plan = cases.square_up()
+    plan["version"] = 1
+    cert = Certificate.from_json(plan)
+    assert cert.version == 1 and cert.kind == "plan" and cert.to_json()["version"] == 1
+    funnel = cases.funnel_square()
+    funnel["version"] = 1
+    funnel["claims"]["objective"] = "localize-fewest"
+    old = Certificate.from_json(funnel)
+    assert old.kind == "localize" and old.claims.epsilon is None
+    back = old.to_json()
+    assert back["version"] == 1 and back["kind"] == "funnel" and "epsilon" not in back["claims"]
+    assert Certificate.from_json(back) == old

@@ -95,3 +95,69 @@ def test_cli_localize(tmp_path):
     assert runner.invoke(cli.app, ["verify", str(cert)]).exit_code == 0
     sym = runner.invoke(cli.app, ["localize", str(MODELS / "square.json"), "--epsilon", "0.05"])
     assert sym.exit_code == 0 and json.loads(sym.stdout)["status"] == "infeasible"
+
+
+# ---------------------------------------------------------------------- certificates claim ε
+def _certificate_file(tmp_path: Path, loc) -> Path:
+    from solverplan.certify.schema import dumps_certificate
+
+    path = tmp_path / "loc.cert.json"
+    path.write_text(dumps_certificate(certificate(loc)), encoding="utf-8")
+    return path
+
+
+def test_localisation_certificate_claims_epsilon_and_verify_prints_it(triangle_localised, tmp_path):
+    from fractions import Fraction
+
+    cert = certificate(triangle_localised)
+    assert cert.kind == "localize" and cert.version == 2 and cert.claims.epsilon == Fraction(1, 20)
+    path = _certificate_file(tmp_path, triangle_localised)
+    data = json.loads(path.read_text())
+    assert data["version"] == 2 and data["kind"] == "localize" and data["claims"]["epsilon"] == "0.05"
+    result = runner.invoke(cli.app, ["verify", str(path)])
+    assert result.exit_code == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert report["kind"] == "localize" and report["claims"]["epsilon"] == "0.05"
+    final = report["claims"]["final"]
+    assert final["set"].startswith("e1:") and not final["length_exact"] and float(final["length"]) < 0.05
+    text = runner.invoke(cli.app, ["verify", str(path), "--format", "text"]).stdout
+    assert f"epsilon: 0.05: the final positions {final['set']} (length ≈ {final['length']}) lie in one interval shorter than ε" in text
+
+
+def test_an_epsilon_below_the_final_length_fails_naming_the_claim(triangle_localised, tmp_path):
+    path = _certificate_file(tmp_path, triangle_localised)
+    data = json.loads(path.read_text())
+    final = triangle_localised.stages[-1].positions
+    length = float((max(p.t1 for p in final) - min(p.t0 for p in final)) * triangle_localised.env.edge_lengths[final[0].edge])
+    data["claims"]["epsilon"] = "0.005"  # the final interval is ≈ 0.0058 long
+    assert 0.005 < length < 0.05
+    path.write_text(json.dumps(data), encoding="utf-8")
+    result = runner.invoke(cli.app, ["verify", str(path)])
+    assert result.exit_code == 1
+    assert result.stderr.startswith("error: certificate invalid: claims.epsilon: claims ε = 0.005, but the final position set e1:[0, ")
+    assert "long: not shorter than ε" in result.stderr
+    assert [f["claim"] for f in json.loads(result.stdout)["failures"]] == ["claims.epsilon"]
+
+
+def test_a_version_1_localisation_certificate_is_read_without_an_epsilon_claim(triangle_localised, tmp_path):
+    from solverplan.certify.schema import dumps_certificate, load_certificate
+
+    path = _certificate_file(tmp_path, triangle_localised)
+    data = json.loads(path.read_text())
+    data.update(version=1, kind="funnel")  # as version 1 wrote it: a funnel, objective localize-fewest, no ε
+    del data["claims"]["epsilon"]
+    path.write_text(json.dumps(data), encoding="utf-8")
+    old = load_certificate(path)
+    assert old.kind == "localize" and old.version == 1 and old.claims.epsilon is None
+    assert json.loads(dumps_certificate(old)) == data  # written back as it was
+    result = runner.invoke(cli.app, ["verify", str(path)])
+    assert result.exit_code == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert report["version"] == 1 and report["kind"] == "localize" and report["claims"]["epsilon"] is None
+    assert any(item.startswith("claims.epsilon: a version-1 localisation certificate carries no ε claim") for item in report["not_checked"])
+    text = runner.invoke(cli.app, ["verify", str(path), "--format", "text"]).stdout
+    assert "epsilon: none (a version-1 localisation certificate carries no ε claim)" in text
+    data["claims"]["epsilon"] = "0.05"  # version 1 had no such field
+    path.write_text(json.dumps(data), encoding="utf-8")
+    bad = runner.invoke(cli.app, ["verify", str(path)])
+    assert bad.exit_code == 2 and "claims: unknown field 'epsilon'" in bad.stderr
