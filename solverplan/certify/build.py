@@ -226,10 +226,9 @@ def _funnel(result: PositionStrategy, env: Environment | None, part: Partition |
         moves = tuple(MoveSpec(source=BoundaryPiece(piece.edge, piece.t0, piece.t1), target_edge=target, directions=cone)
                       for piece, cone, target in zip(st.sources, st.cones, st.target_edges))
         stages.append(StageSpec(st.interval, moves))
-    localising = isinstance(result, Localization)
+    epsilon = result.epsilon if isinstance(result, Localization) else None
     return build_certificate(env, part, stages, start=result.start, goal=result.goal,
-                             kind="localize" if localising else "funnel",
-                             epsilon=result.epsilon if localising else None,
+                             kind="localize" if epsilon is not None else "funnel", epsilon=epsilon,
                              objective=f"{result.kind}-fewest", optimality=_contraction_optimality(result.optimality))
 
 
