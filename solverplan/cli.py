@@ -551,6 +551,10 @@ PictureOpt = Annotated[
     Path | None,
     typer.Option("--picture", metavar="FIG", help="Also draw the answer to a .png or .svg file.", show_default=False),
 ]
+PositionToleranceOpt = Annotated[
+    float | None,
+    typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): every interval is 2ε wide (default 0.005).", show_default=False),
+]
 HeadingMarginOpt = Annotated[
     float, typer.Option("--heading-margin", metavar="D", help="Keep every heading this far (radians) from the walls (0 and π).")
 ]
@@ -609,10 +613,7 @@ def funnel_command(
     env: EnvArg,
     start: Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4.")],
     goal: Annotated[str, typer.Option("--to", metavar="SET", help="Goal set: every start must end inside it.")],
-    tolerance: Annotated[
-        float | None,
-        typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): every interval is 2ε wide (default 0.005).", show_default=False),
-    ] = None,
+    tolerance: PositionToleranceOpt = None,
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget of the search.")] = 30,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
@@ -639,10 +640,7 @@ def localize_command(
         str | None,
         typer.Option("--from", metavar="SET", help="Start set (default: the whole boundary).", show_default=False),
     ] = None,
-    tolerance: Annotated[
-        float | None,
-        typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): every interval is 2ε wide (default 0.005).", show_default=False),
-    ] = None,
+    tolerance: PositionToleranceOpt = None,
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget of the search.")] = 40,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
