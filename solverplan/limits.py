@@ -21,6 +21,7 @@ __all__ = [
     "MAX_BOUNCES",
     "MAX_TRIALS",
     "MAX_TRAJECTORIES",
+    "MAX_GENERATED_VERTICES",
     "MAX_ROOMS",
     "MAX_SEED",
     "MAX_QUOTED_CHARS",
@@ -49,17 +50,17 @@ COORDINATE_RESOLUTION = 10**100
 1e-101 is not); finer values cost unbounded exact arithmetic and are lost in floats anyway."""
 
 MAX_VERTICES = 100_000
-"""Most vertices of an environment (all rings together), also the bound of ``generate --n``."""
+"""Most vertices of an environment file (all rings together)."""
 
 MAX_HOLES = 10_000
-"""Most holes of an environment, also the bound of ``generate holes --holes``."""
+"""Most holes of an environment file."""
 
 MIN_HEADING = 1e-9
 """Smallest angle (radians) between a heading and a wall (0 or π) that is read: headings closer to the
 wall than this run along it for floats, and their exact form has denominators floats cannot carry."""
 
 MAX_COUNT = MAX_VERTICES
-"""Bound of the other size options (``--hole-vertices``, ``--family-size``, ``--per-cell``)."""
+"""Bound of the other count options (``--family-size``, ``--per-cell``, ``--workers``, ``--wall``, ``--door``)."""
 
 MAX_BOUNCES = 10_000_000
 """Most bounces of any option (``--bounces``, ``--max-bounces``, ``--max-between``)."""
@@ -70,8 +71,13 @@ MAX_TRIALS = 100_000_000
 MAX_TRAJECTORIES = 100_000
 """Most trajectories drawn in one picture (``render --trajectories``)."""
 
-MAX_ROOMS = 10_000
-"""Most rooms of ``generate rooms`` and ``generate rectilinear``."""
+MAX_GENERATED_VERTICES = 10_000
+"""Most vertices ``generate`` is asked for (``--n``, ``--hole-vertices``, ``--width``, ``--height``): a
+random star of 10,000 vertices already takes seconds to draw and validate."""
+
+MAX_ROOMS = 1_000
+"""Most rooms, holes, loops or pillars ``generate`` is asked for (``--rooms``, ``--holes``, ``--loops``,
+``--pillars``): 1,000 rectilinear rooms take about ten seconds to lay out."""
 
 MAX_SEED = 2**64 - 1
 """Largest random seed (``--seed``): seeds are unsigned 64-bit integers."""
