@@ -583,8 +583,8 @@ def _check_float_span(env: Environment) -> None:
     edge = int(np.flatnonzero(~(lengths > 0))[0])
     ring = int(env.ring_of[edge])
     raise InvalidEnvironment(
-        f"{_ring_name(ring)} edge {_input_edge(env, edge)} is too short for floats at this scale "
-        f"(its ends round to the same point {format_point(env.vertices[edge].tolist())}): rescale the file"
+        f"{_ring_name(ring)} edge {_input_edge(env, edge)} has length 0 in floats "
+        f"(both ends round to {format_point(env.vertices[edge].tolist())}): rescale the file"
     )
 
 
