@@ -466,21 +466,24 @@ class Environment:
         solverplan.errors.InvalidBoundarySet: unknown edge e7: edges are e0..e2
         """
         if not isinstance(spec, str) or not spec.strip():
-            raise InvalidBoundarySet(f"boundary set {spec!r} is empty: expected e.g. 'e3' or 'e3:0.25:0.75,e4'")
+            raise InvalidBoundarySet(f"boundary set {quote(spec)} is empty: expected e.g. 'e3' or 'e3:0.25:0.75,e4'")
         pieces = []
         for part in spec.split(","):
             text = part.strip()
             match = _PIECE.match(text)
             if not match:
                 raise InvalidBoundarySet(
-                    f"boundary set piece {text!r} is malformed: expected 'eK' or 'eK:T0:T1' with 0 <= T0 < T1 <= 1"
+                    f"boundary set piece {quote(text)} is malformed: expected 'eK' or 'eK:T0:T1' with 0 <= T0 < T1 <= 1"
                 )
-            edge = int(match.group(1))
+            digits = match.group(1)
+            if len(digits) > 18:  # int() of thousands of digits is refused by Python itself: no edge has such an id
+                raise InvalidBoundarySet(f"unknown edge e{digits[:20]}…: edges are e0..e{self.n_edges - 1}")
+            edge = int(digits)
             self._check_edge_id(edge)
             if match.group(2) is None:
                 t0, t1 = Fraction(0), Fraction(1)
             else:
-                where = f"boundary set piece {text!r}"
+                where = f"boundary set piece {quote(text)}"
                 try:
                     t0 = to_fraction(match.group(2), where=where)
                     t1 = to_fraction(match.group(3), where=where)
@@ -488,9 +491,10 @@ class Environment:
                     raise InvalidBoundarySet(str(exc)) from None
                 if not (0 <= t0 < t1 <= 1):
                     raise InvalidBoundarySet(
-                        f"boundary set piece {text!r}: need 0 <= t0 < t1 <= 1, got t0={format_number(t0)}, "
-                        f"t1={format_number(t1)}"
+                        f"{where}: need 0 <= t0 < t1 <= 1, got t0={_brief(t0)}, t1={_brief(t1)}"
                     )
+                if float(t0) == float(t1) or max(t0.denominator, t1.denominator) > COORDINATE_RESOLUTION:
+                    raise InvalidBoundarySet(f"{where}: the piece is narrower than floats carry (t0={_brief(t0)}, t1={_brief(t1)})")
             pieces.append(BoundaryPiece(edge, t0, t1))
         return BoundarySet(tuple(pieces))
 
@@ -564,6 +568,12 @@ def _check_coordinate(c: Fraction, where: str) -> None:
         raise InvalidEnvironment(f"{where}: coordinate {_about(c)} is larger than 1e100 in magnitude: rescale the file")
     if c.denominator > COORDINATE_RESOLUTION:
         raise InvalidEnvironment(f"{where}: coordinate {_about(c)} is finer than 1e-100 (the finest step read): rescale the file")
+
+
+def _brief(c: Fraction) -> str:
+    """``c`` exactly when that is short, else :func:`_about` it."""
+    text = format_number(c)
+    return text if len(text) <= 30 else _about(c)
 
 
 def _about(c: Fraction) -> str:
@@ -760,8 +770,10 @@ def json_depth(text: str) -> int:
     return int(np.cumsum(step).max(initial=0))
 
 
-def read_json(text: str) -> object:
-    """Parse JSON input text within the documented limits: decimals exact, numbers and nesting bounded.
+def read_json(text: str, *, exact: bool = True) -> object:
+    """Parse JSON input text within the documented limits: numbers and nesting bounded.
+
+    Decimals are read as exact :class:`~decimal.Decimal` values, or as floats with ``exact=False``.
 
     Raises
     ------
@@ -772,7 +784,8 @@ def read_json(text: str) -> object:
     depth = json_depth(text)
     if depth > MAX_JSON_DEPTH:
         raise MalformedFile(f"JSON nested {depth} levels deep (at most {MAX_JSON_DEPTH})")
-    return json.loads(text, parse_float=_parse_decimal, parse_int=_parse_int, parse_constant=_reject_constant)
+    parse_float = _parse_decimal if exact else lambda number: float(_parse_decimal(number))
+    return json.loads(text, parse_float=parse_float, parse_int=_parse_int, parse_constant=_reject_constant)
 
 
 def _json_point(p: ExactPoint) -> list:

@@ -165,3 +165,27 @@ def test_quote_cuts_long_runs():
     assert limits.quote("ab") == "'ab'"
     assert limits.quote("x" * 100) == "'" + "x" * 38 + "…"
     assert len(limits.quote("x" * 100)) == limits.MAX_QUOTED_CHARS
+
+
+@pytest.mark.parametrize(
+    "spec,message",
+    [
+        ("e0:1e-999999:0.5", "boundary set piece 'e0:1e-999999:0.5': number '1E-999999' has decimal exponent -999999 (at most ±1000)"),
+        ("e0:0:1e-300", "boundary set piece 'e0:0:1e-300': the piece is narrower than floats carry (t0=0, t1=1e-300)"),
+        ("e0:0.5:0.50000000000000000001",
+         "boundary set piece 'e0:0.5:0.50000000000000000001': the piece is narrower than floats carry (t0=0.5, t1=0.50000000000000000001)"),
+        ("e" + "1" * 5000, "unknown edge e11111111111111111111…: edges are e0..e17"),
+        ("x" * 300, "boundary set piece '" + "x" * 38 + "… is malformed: expected 'eK' or 'eK:T0:T1' with 0 <= T0 < T1 <= 1"),
+    ],
+    ids=["exponent", "fine", "float-width", "edge-digits", "long"],
+)
+def test_malformed_boundary_set_is_one_short_line(spec, message):
+    assert one_line_error("plan", "two_rooms", "--from", spec, "--to", "e2") == f"error: {message}"
+
+
+@pytest.mark.parametrize("name", ["deep.json", "digits.json"])
+def test_plan_files_are_read_within_the_same_limits(tmp_path, monkeypatch, name):
+    text, reason = FILES[name]
+    monkeypatch.chdir(tmp_path)
+    Path(name).write_text(text)
+    assert one_line_error("simulate", "two_rooms", name) == f"error: {name}: {reason}"
