@@ -10,6 +10,7 @@ import contextlib
 import json
 import signal
 import warnings
+from decimal import Decimal
 from pathlib import Path
 
 import pytest
@@ -189,3 +190,19 @@ def test_plan_files_are_read_within_the_same_limits(tmp_path, monkeypatch, name)
     monkeypatch.chdir(tmp_path)
     Path(name).write_text(text)
     assert one_line_error("simulate", "two_rooms", name) == f"error: {name}: {reason}"
+
+
+def test_answers_at_the_magnitude_limits_match_the_unit_scale(tmp_path):
+    """Inside the limits, a scaled copy gets the same angles (no overflow, no underflow, no warnings)."""
+    shape = [[0, 0], [1, 0], [1, 1], [0.5, 0.2], [0, 1]]
+    tolerances = []
+    for scale in ("1", "1e99", "1e-90"):
+        path = tmp_path / "scaled.json"
+        path.write_text(json.dumps({"outer": [[str(Decimal(str(x)) * Decimal(scale)) for x in p] for p in shape]}))
+        with bounded(), warnings.catch_warnings():
+            warnings.simplefilter("error")
+            result = runner.invoke(cli.app, ["plan", str(path), "--from", "e0", "--to", "e2", "--objective", "tolerance"])
+        assert result.exit_code == 0, (scale, result.stderr)
+        answer = json.loads(result.stdout)
+        tolerances.append((answer["bounces"], answer["tolerance"]))
+    assert tolerances[0] == tolerances[1] == tolerances[2]
