@@ -8,8 +8,10 @@ mode before the rename, so no reader ever sees a partial file or a wider mode th
 
 from __future__ import annotations
 
+import errno
 import os
 import stat
+import sys
 import tempfile
 import threading
 from pathlib import Path
@@ -58,13 +60,46 @@ def _final_mode(target: Path) -> int:
     return 0o666 & ~current_umask()
 
 
-def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
-    """Write ``data`` to ``path`` via a temporary file in the same folder and a rename.
-
-    A crash or an exception half-way leaves any previous file intact and no partial file behind. The file's
-    permission bits are those of a plain ``open(path, "w")`` (module docstring).
-    """
+def _destination(path: str | os.PathLike[str]) -> tuple[Path, os.stat_result | None]:
+    """Where a write to ``path`` lands: a symlink's final target, with its status (None if it does not exist)."""
     target = Path(path)
+    if target.is_symlink():
+        # replacing the link would cut it: write what it points to, next to that file
+        target = Path(os.path.realpath(target))
+    try:
+        return target, os.stat(target)
+    except FileNotFoundError:
+        return target, None
+
+
+def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
+    """Write ``data`` to ``path``; a regular file atomically, via a temporary file in its folder and a rename.
+
+    A crash, an exception or a SIGINT/SIGTERM (as the CLI handles them) half-way leaves any previous
+    file intact and no partial file behind. The file's permission bits are those of a plain
+    ``open(path, "w")`` (module docstring). What is *not* a regular file is never replaced:
+
+    - ``-`` is standard output;
+    - a symlink is followed, and its target written atomically as above (the link stays a link);
+    - a FIFO, a character or block device (``/dev/null``, a terminal) is opened and written straight
+      through, as ``open(path, "w")`` would;
+    - a directory raises :class:`IsADirectoryError`.
+
+    Raises
+    ------
+    OSError
+        When the place cannot be written (missing folder, no permission, a directory).
+    """
+    if os.fspath(path) == "-":
+        _write_stdout(data)
+        return
+    target, status = _destination(path)
+    if status is not None and stat.S_ISDIR(status.st_mode):
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(path))
+    if status is not None and not stat.S_ISREG(status.st_mode):
+        with open(target, "wb") as handle:  # FIFO or device: no rename could stand in for it
+            handle.write(data)
+        return
     folder = target.parent if str(target.parent) else Path(".")
     mode = _final_mode(target)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
@@ -84,6 +119,18 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
         except FileNotFoundError:
             pass
         raise
+
+
+def _write_stdout(data: bytes) -> None:
+    out = sys.stdout
+    buffer = getattr(out, "buffer", None)
+    out.flush()
+    if buffer is not None:
+        buffer.write(data)
+        buffer.flush()
+    else:  # a text-only stream (a test's capture): it takes text
+        out.write(data.decode("utf-8"))
+        out.flush()
 
 
 def atomic_write_text(path: str | os.PathLike[str], text: str) -> None:

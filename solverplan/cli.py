@@ -25,6 +25,7 @@ import gc
 import json
 import logging
 import shutil
+import signal
 import sys
 import traceback
 from enum import StrEnum
@@ -36,6 +37,16 @@ import typer
 from typer.core import TyperGroup
 
 from solverplan._io import atomic_write_text
+from solverplan.limits import (
+    MAX_BOUNCES,
+    MAX_COORDINATE,
+    MAX_COUNT,
+    MAX_GENERATED_VERTICES,
+    MAX_ROOMS,
+    MAX_SEED,
+    MAX_TRAJECTORIES,
+    MAX_TRIALS,
+)
 from solverplan.describe import describe_environment
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, SolverplanError
@@ -409,7 +420,7 @@ def render(
         bool, typer.Option("--safe-arcs", help="Draw every safe arc as a ray that lands on its target segment.")
     ] = False,
     trajectories: Annotated[
-        int, typer.Option("--trajectories", min=0, metavar="N", help="Simulate N rollouts of --rule (or of --plan) and draw them.")
+        int, typer.Option("--trajectories", min=0, max=MAX_TRAJECTORIES, metavar="N", help="Simulate N rollouts of --rule (or of --plan) and draw them.")
     ] = 0,
     rule: Annotated[
         str,
@@ -422,8 +433,8 @@ def render(
         str | None,
         typer.Option("--from", metavar="SET", help="Start set of the trajectories, e.g. e0 or e3:0.25:0.75,e4 (default: the whole boundary).", show_default=False),
     ] = None,
-    bounces: Annotated[int, typer.Option("--bounces", min=0, metavar="K", help="Bounces per trajectory.")] = 20,
-    seed: Annotated[int, typer.Option("--seed", min=0, metavar="S", help="Random seed of the trajectories.")] = 0,
+    bounces: Annotated[int, typer.Option("--bounces", min=0, max=MAX_BOUNCES, metavar="K", help="Bounces per trajectory.")] = 20,
+    seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the trajectories.")] = 0,
     show_cycle: Annotated[
         bool,
         typer.Option("--cycle", help="Draw the limit cycle of the constant heading --theta on top (bold; contacts as yellow "
@@ -505,7 +516,7 @@ def cycle_command(
         str | None,
         typer.Option("--start", metavar="eK:T", help="Iterate: the start point (default e0:0.5).", show_default=False),
     ] = None,
-    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Iterate: bounce budget.")] = 20000,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Iterate: bounce budget.")] = 20000,
     heading_margin: Annotated[
         float | None,
         typer.Option("--heading-margin", metavar="D", help="With --theta auto: try no heading within D radians of a wall "
@@ -584,7 +595,7 @@ def patrol_command(
     ] = PatrolObjective.CONTRACTION,
     max_between: Annotated[
         int | None,
-        typer.Option("--max-between", min=0, metavar="H", help="Intermediate bounces allowed between consecutive required visits (default: the fewest that work, up to 3).", show_default=False),
+        typer.Option("--max-between", min=0, max=MAX_BOUNCES, metavar="H", help="Intermediate bounces allowed between consecutive required visits (default: the fewest that work, up to 3).", show_default=False),
     ] = None,
     epsilon: Annotated[
         float | None,
@@ -614,7 +625,7 @@ def funnel_command(
     start: Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4.")],
     goal: Annotated[str, typer.Option("--to", metavar="SET", help="Goal set: every start must end inside it.")],
     tolerance: PositionToleranceOpt = None,
-    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget of the search.")] = 30,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of the search.")] = 30,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
     certificate: CertificateOpt = None,
@@ -641,7 +652,7 @@ def localize_command(
         typer.Option("--from", metavar="SET", help="Start set (default: the whole boundary).", show_default=False),
     ] = None,
     tolerance: PositionToleranceOpt = None,
-    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget of the search.")] = 40,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of the search.")] = 40,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
     certificate: CertificateOpt = None,
@@ -729,7 +740,7 @@ def plan_command(
                      "the sum of the widths within --max-bounces; constant: one interval at every stage (Algorithm 2).", show_default=False),
     ] = None,
     max_bounces: Annotated[
-        int | None, typer.Option("--max-bounces", min=1, metavar="K", help="Bounce budget (needed by --objective sum).", show_default=False)
+        int | None, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget (needed by --objective sum).", show_default=False)
     ] = None,
     pareto: Annotated[
         bool, typer.Option("--pareto", help="Answer the Pareto front bounces ↔ tolerance instead of one plan (objective tolerance).")
@@ -772,8 +783,8 @@ def plan_command(
 def simulate_command(
     env: EnvArg,
     plan_file: Annotated[Path, typer.Argument(metavar="PLAN.json", help="A plan written by 'solverplan plan -o PLAN.json'.", show_default=False)],
-    trials: Annotated[int, typer.Option("--trials", min=1, metavar="N", help="Number of rollouts.")] = 10000,
-    seed: Annotated[int, typer.Option("--seed", min=0, metavar="S", help="Random seed (recorded in the answer).")] = 0,
+    trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="N", help="Number of rollouts.")] = 10000,
+    seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed (recorded in the answer).")] = 0,
     sampling: Annotated[
         PlanSampling,
         typer.Option("--sampling", help="How headings are drawn from each interval: uniform, or endpoints (adversarial: an end of the interval)."),
@@ -868,7 +879,7 @@ generate_app = typer.Typer(
 )
 app.add_typer(generate_app, name="generate")
 
-SeedOpt = Annotated[int, typer.Option("--seed", min=0, metavar="S", help="Random seed: the same seed gives the same environment.")]
+SeedOpt = Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed: the same seed gives the same environment.")]
 EnvOutOpt = Annotated[
     Path | None,
     typer.Option("-o", "--output", help="Write the environment file atomically (format by extension: .json, .geojson, .wkt).", show_default=False),
@@ -879,6 +890,9 @@ def _emit_generated(make: Any, fmt: OutputFormat, out: Path | None, verbose: int
     from solverplan.studies.generators import GeneratedEnvironment
 
     with exit_codes(verbose):
+        for key, value in params.items():  # lengths: the coordinates they make must stay readable
+            if isinstance(value, float) and abs(value) > MAX_COORDINATE:
+                raise InputError(f"--{key.replace('_', '-')} {value:g} is larger than 1e100 in magnitude")
         answer = GeneratedEnvironment(make(**params))
         if out is not None:
             answer.save(out)
@@ -889,7 +903,7 @@ def _emit_generated(make: Any, fmt: OutputFormat, out: Path | None, verbose: int
 
 @generate_app.command("star")
 def generate_star(
-    n: Annotated[int, typer.Option("--n", min=3, help="Number of vertices.")] = 20,
+    n: Annotated[int, typer.Option("--n", min=3, max=MAX_GENERATED_VERTICES, help="Number of vertices.")] = 20,
     irregularity: Annotated[float, typer.Option("--irregularity", min=0.0, max=1.0, help="Spread of the angle steps (fraction of 2π/n).")] = 0.3,
     spikiness: Annotated[float, typer.Option("--spikiness", min=0.0, max=1.0, help="Spread of the radii (fraction of the radius).")] = 0.3,
     radius: Annotated[float, typer.Option("--radius", help="Mean distance of the vertices from the origin.")] = 1.0,
@@ -906,9 +920,9 @@ def generate_star(
 
 @generate_app.command("holes")
 def generate_holes(
-    n: Annotated[int, typer.Option("--n", min=3, help="Vertices of the outer ring.")] = 20,
-    holes: Annotated[int, typer.Option("--holes", min=0, help="Number of holes.")] = 2,
-    hole_vertices: Annotated[int, typer.Option("--hole-vertices", min=3, help="Vertices per hole.")] = 6,
+    n: Annotated[int, typer.Option("--n", min=3, max=MAX_GENERATED_VERTICES, help="Vertices of the outer ring.")] = 20,
+    holes: Annotated[int, typer.Option("--holes", min=0, max=MAX_ROOMS, help="Number of holes.")] = 2,
+    hole_vertices: Annotated[int, typer.Option("--hole-vertices", min=3, max=MAX_GENERATED_VERTICES, help="Vertices per hole.")] = 6,
     hole_kind: Annotated[str, typer.Option("--hole-kind", help="convex or star.")] = "convex",
     irregularity: Annotated[float, typer.Option("--irregularity", min=0.0, max=1.0)] = 0.2,
     spikiness: Annotated[float, typer.Option("--spikiness", min=0.0, max=1.0)] = 0.15,
@@ -926,8 +940,8 @@ def generate_holes(
 
 @generate_app.command("rooms")
 def generate_rooms(
-    rooms: Annotated[int, typer.Option("--rooms", min=1, help="Number of rooms.")] = 5,
-    loops: Annotated[int, typer.Option("--loops", min=0, help="Extra corridors closing loops (one hole each).")] = 0,
+    rooms: Annotated[int, typer.Option("--rooms", min=1, max=MAX_ROOMS, help="Number of rooms.")] = 5,
+    loops: Annotated[int, typer.Option("--loops", min=0, max=MAX_ROOMS, help="Extra corridors closing loops (one hole each).")] = 0,
     room_size: Annotated[float, typer.Option("--room-size", help="Room diameter.")] = 4.0,
     spacing: Annotated[float, typer.Option("--spacing", help="Distance between neighbouring rooms (>= 1.6 room size).")] = 10.0,
     corridor_width: Annotated[float, typer.Option("--corridor-width", help="Corridor width (< room size / 3).")] = 1.0,
@@ -945,13 +959,13 @@ def generate_rooms(
 
 @generate_app.command("rectilinear")
 def generate_rectilinear(
-    rooms: Annotated[int, typer.Option("--rooms", min=1, help="Number of rooms.")] = 4,
-    width: Annotated[int | None, typer.Option("--width", min=1, help="Building width (default grows with the rooms).", show_default=False)] = None,
-    height: Annotated[int | None, typer.Option("--height", min=1, help="Building height.", show_default=False)] = None,
-    wall: Annotated[int, typer.Option("--wall", min=1, help="Wall thickness.")] = 1,
-    door: Annotated[int, typer.Option("--door", min=1, help="Door width.")] = 2,
-    min_room: Annotated[int, typer.Option("--min-room", min=1, help="Smallest room width (>= door + 2).")] = 4,
-    pillars: Annotated[int, typer.Option("--pillars", min=0, help="Square pillars (holes), one per room at most.")] = 0,
+    rooms: Annotated[int, typer.Option("--rooms", min=1, max=MAX_ROOMS, help="Number of rooms.")] = 4,
+    width: Annotated[int | None, typer.Option("--width", min=1, max=MAX_GENERATED_VERTICES, help="Building width (default grows with the rooms).", show_default=False)] = None,
+    height: Annotated[int | None, typer.Option("--height", min=1, max=MAX_GENERATED_VERTICES, help="Building height.", show_default=False)] = None,
+    wall: Annotated[int, typer.Option("--wall", min=1, max=MAX_COUNT, help="Wall thickness.")] = 1,
+    door: Annotated[int, typer.Option("--door", min=1, max=MAX_COUNT, help="Door width.")] = 2,
+    min_room: Annotated[int, typer.Option("--min-room", min=1, max=MAX_COUNT, help="Smallest room width (>= door + 2).")] = 4,
+    pillars: Annotated[int, typer.Option("--pillars", min=0, max=MAX_ROOMS, help="Square pillars (holes), one per room at most.")] = 0,
     seed: SeedOpt = 0,
     fmt: FormatOpt = OutputFormat.JSON,
     out: EnvOutOpt = None,
@@ -986,15 +1000,15 @@ GridOpt = Annotated[
                  help="A generator parameter: one value (20), a list (0.1,0.3) or START:STOP:COUNT (0.1:0.4:5); repeatable. "
                       "Default for star: the paper's n=20, irregularity=0.1:0.4:5, spikiness=0.1:0.5:5."),
 ]
-PerCellOpt = Annotated[int, typer.Option("--per-cell", min=1, metavar="N", help="Environments per grid cell.")]
-StudySeedOpt = Annotated[int, typer.Option("--seed", min=0, metavar="S", help="Base seed (each row's seed derives from it).")]
+PerCellOpt = Annotated[int, typer.Option("--per-cell", min=1, max=MAX_COUNT, metavar="N", help="Environments per grid cell.")]
+StudySeedOpt = Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Base seed (each row's seed derives from it).")]
 OutDirOpt = Annotated[
     Path | None,
     typer.Option("--out-dir", metavar="DIR", show_default=False,
                  help="Folder of NAME.jsonl (rows, written as they finish), NAME.csv, NAME.json, NAME.png (default ./NAME-study)."),
 ]
 WorkersOpt = Annotated[
-    int | None, typer.Option("--workers", min=1, metavar="N", show_default=False, help="Local worker processes (default: the CPU count).")
+    int | None, typer.Option("--workers", min=1, max=MAX_COUNT, metavar="N", show_default=False, help="Local worker processes (default: the CPU count).")
 ]
 SchedulerOpt = Annotated[
     str | None, typer.Option("--scheduler", metavar="ADDRESS", show_default=False, help="Run on this Dask scheduler (tcp://host:8786).")
@@ -1071,9 +1085,9 @@ def study_rules(
         str, typer.Option("--rules", metavar="F1,F2,...", help="Rule families: any, fixed, monotone, relative, specular, or one rule "
                           "such as fixed:pi/4.")
     ] = "any,fixed,monotone,relative,specular",
-    family_size: Annotated[int, typer.Option("--family-size", min=1, metavar="M", help="Parameters per family: θ = kπ/(M+1).")] = 5,
-    trials: Annotated[int, typer.Option("--trials", min=1, metavar="K", help="Simulated robots per environment and family.")] = 200,
-    bounces: Annotated[int, typer.Option("--bounces", min=2, metavar="B", help="Bounces per simulated robot.")] = 50,
+    family_size: Annotated[int, typer.Option("--family-size", min=1, max=MAX_COUNT, metavar="M", help="Parameters per family: θ = kπ/(M+1).")] = 5,
+    trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="K", help="Simulated robots per environment and family.")] = 200,
+    bounces: Annotated[int, typer.Option("--bounces", min=2, max=MAX_BOUNCES, metavar="B", help="Bounces per simulated robot.")] = 50,
     generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
     out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
     quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
@@ -1085,8 +1099,14 @@ def study_rules(
            families=families, family_size=family_size, trials=trials, bounces=bounces)
 
 
+def _terminate(signum: int, frame: Any) -> None:
+    """SIGTERM unwinds like SIGINT, so output files half-written are removed (exit 128 + 15)."""
+    raise SystemExit(128 + signum)
+
+
 def main() -> None:
     """Console-script entry point (``solverplan = "solverplan.cli:main"``)."""
+    signal.signal(signal.SIGTERM, _terminate)
     # A command builds large acyclic structures (10⁵–10⁶ arcs, their answers) and exits: with the default
     # thresholds the cyclic collector rescans the growing heap again and again (≈ 40 % of a big graph's build).
     # Collect young objects rarely; the structures have no cycles, and the process is short-lived.

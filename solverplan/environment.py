@@ -43,6 +43,16 @@ import numpy as np
 from solverplan._io import atomic_write_text
 from solverplan._shipped import model_file, model_names
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
+from solverplan.limits import (
+    COORDINATE_RESOLUTION,
+    MAX_COORDINATE,
+    MAX_FILE_BYTES,
+    MAX_HOLES,
+    MAX_JSON_DEPTH,
+    MAX_NUMBER_CHARS,
+    MAX_VERTICES,
+    quote,
+)
 from solverplan.exact import (
     ExactPoint,
     format_number,
@@ -192,6 +202,7 @@ class Environment:
                     f"{_ring_name(index)} is {'clockwise' if area2 < 0 else 'counter-clockwise'}: "
                     "use Environment.from_coords to normalise orientation"
                 )
+        _check_float_span(self)
         _check_crossings(self)
         _check_nesting(self)
 
@@ -216,6 +227,8 @@ class Environment:
         solverplan.errors.InvalidEnvironment: outer ring self-intersects: edge 0 crosses edge 2 at (1, 1)
         """
         raw_rings = [outer, *holes]
+        if len(raw_rings) - 1 > MAX_HOLES:
+            raise InvalidEnvironment(f"environment has {len(raw_rings) - 1} holes (at most {MAX_HOLES})")
         rings: list[tuple[ExactPoint, ...]] = []
         flipped: list[bool] = []
         for index, raw in enumerate(raw_rings):
@@ -232,6 +245,9 @@ class Environment:
                 ring = (ring[0], *reversed(ring[1:]))
             rings.append(ring)
             flipped.append(flip)
+        total = sum(map(len, rings))
+        if total > MAX_VERTICES:
+            raise InvalidEnvironment(f"environment has {total} vertices (at most {MAX_VERTICES})")
         return cls(tuple(rings), name=name, reoriented=tuple(flipped))
 
     # ------------------------------------------------------------------ structure
@@ -451,21 +467,24 @@ class Environment:
         solverplan.errors.InvalidBoundarySet: unknown edge e7: edges are e0..e2
         """
         if not isinstance(spec, str) or not spec.strip():
-            raise InvalidBoundarySet(f"boundary set {spec!r} is empty: expected e.g. 'e3' or 'e3:0.25:0.75,e4'")
+            raise InvalidBoundarySet(f"boundary set {quote(spec)} is empty: expected e.g. 'e3' or 'e3:0.25:0.75,e4'")
         pieces = []
         for part in spec.split(","):
             text = part.strip()
             match = _PIECE.match(text)
             if not match:
                 raise InvalidBoundarySet(
-                    f"boundary set piece {text!r} is malformed: expected 'eK' or 'eK:T0:T1' with 0 <= T0 < T1 <= 1"
+                    f"boundary set piece {quote(text)} is malformed: expected 'eK' or 'eK:T0:T1' with 0 <= T0 < T1 <= 1"
                 )
-            edge = int(match.group(1))
+            digits = match.group(1)
+            if len(digits) > 18:  # int() of thousands of digits is refused by Python itself: no edge has such an id
+                raise InvalidBoundarySet(f"unknown edge e{digits[:20]}…: edges are e0..e{self.n_edges - 1}")
+            edge = int(digits)
             self._check_edge_id(edge)
             if match.group(2) is None:
                 t0, t1 = Fraction(0), Fraction(1)
             else:
-                where = f"boundary set piece {text!r}"
+                where = f"boundary set piece {quote(text)}"
                 try:
                     t0 = to_fraction(match.group(2), where=where)
                     t1 = to_fraction(match.group(3), where=where)
@@ -473,9 +492,10 @@ class Environment:
                     raise InvalidBoundarySet(str(exc)) from None
                 if not (0 <= t0 < t1 <= 1):
                     raise InvalidBoundarySet(
-                        f"boundary set piece {text!r}: need 0 <= t0 < t1 <= 1, got t0={format_number(t0)}, "
-                        f"t1={format_number(t1)}"
+                        f"{where}: need 0 <= t0 < t1 <= 1, got t0={_brief(t0)}, t1={_brief(t1)}"
                     )
+                if float(t0) == float(t1) or max(t0.denominator, t1.denominator) > COORDINATE_RESOLUTION:
+                    raise InvalidBoundarySet(f"{where}: the piece is narrower than floats carry (t0={_brief(t0)}, t1={_brief(t1)})")
             pieces.append(BoundaryPiece(edge, t0, t1))
         return BoundarySet(tuple(pieces))
 
@@ -524,18 +544,59 @@ def _exact_ring(raw: Iterable[Sequence[object]], index: int) -> tuple[ExactPoint
         items = list(raw)
     except TypeError:
         raise InvalidEnvironment(f"{name}: expected a list of [x, y] pairs, got {raw!r}") from None
+    if len(items) > MAX_VERTICES:
+        raise InvalidEnvironment(f"{name} has {len(items)} vertices (at most {MAX_VERTICES})")
     ring = []
     for k, item in enumerate(items):
         where = f"{name} vertex {k}"
-        if isinstance(item, (str, bytes)) or not hasattr(item, "__len__") or len(item) != 2:
-            raise InvalidEnvironment(f"{where}: expected a pair [x, y], got {item!r}")
+        if isinstance(item, (str, bytes, dict)) or not hasattr(item, "__len__") or len(item) != 2:
+            raise InvalidEnvironment(f"{where}: expected a pair [x, y], got {quote(item)}")
         try:
-            ring.append((to_fraction(item[0], where=where), to_fraction(item[1], where=where)))
+            point = (to_fraction(item[0], where=where), to_fraction(item[1], where=where))
         except ValueError as exc:
             raise InvalidEnvironment(str(exc)) from None
+        for c in point:
+            _check_coordinate(c, where)
+        ring.append(point)
     if len(ring) >= 2 and ring[0] == ring[-1]:
         ring.pop()  # closed ring (GeoJSON, WKT): the closing vertex is not a vertex of its own
     return tuple(ring)
+
+
+def _check_coordinate(c: Fraction, where: str) -> None:
+    """A coordinate within the documented magnitude and resolution (``solverplan.limits``)."""
+    if abs(c) > MAX_COORDINATE:
+        raise InvalidEnvironment(f"{where}: coordinate {_about(c)} is larger than 1e100 in magnitude: rescale the file")
+    if c.denominator > COORDINATE_RESOLUTION:
+        raise InvalidEnvironment(f"{where}: coordinate {_about(c)} is finer than 1e-100 (the finest step read): rescale the file")
+
+
+def _brief(c: Fraction) -> str:
+    """``c`` exactly when that is short, else :func:`_about` it."""
+    text = format_number(c)
+    return text if len(text) <= 30 else _about(c)
+
+
+def _about(c: Fraction) -> str:
+    """Three significant digits of ``c`` at any magnitude (a float would overflow past 1e308)."""
+    return f"{Decimal(c.numerator) / Decimal(c.denominator):.3g}"
+
+
+def _check_float_span(env: Environment) -> None:
+    """Every edge must keep a positive length in floats, where the planner measures and replays.
+
+    Coordinates far apart in magnitude (1 and 1 + 1e-30) are distinct exactly but equal as floats: an
+    answer computed there could be wrong, so such an environment is refused rather than answered.
+    """
+    lengths = env.edge_lengths
+    if np.all(lengths > 0):
+        return
+    edge = int(np.flatnonzero(~(lengths > 0))[0])
+    ring = int(env.ring_of[edge])
+    raise InvalidEnvironment(
+        f"{_ring_name(ring)} edge {_input_edge(env, edge)} has length 0 in floats "
+        f"(both ends round to {format_point(env.vertices[edge].tolist())}): rescale the file"
+    )
 
 
 def _check_ring_shape(ring: Sequence[ExactPoint], index: int) -> None:
@@ -684,6 +745,50 @@ def _reject_constant(name: str) -> None:
     raise MalformedFile(f"non-finite number {name} in file")
 
 
+def _parse_int(text: str) -> int:
+    # int() refuses more than 4,300 digits with a ValueError naming sys.set_int_max_str_digits: say it our way
+    if len(text) > MAX_NUMBER_CHARS:
+        raise MalformedFile(f"integer of {len(text)} digits in file (at most {MAX_NUMBER_CHARS})")
+    return int(text)
+
+
+def _parse_decimal(text: str) -> Decimal:
+    if len(text) > MAX_NUMBER_CHARS:
+        raise MalformedFile(f"number of {len(text)} characters in file (at most {MAX_NUMBER_CHARS})")
+    return Decimal(text)
+
+
+_JSON_STRING = re.compile(rb'"(?:[^"\\]|\\.)*"')
+
+
+def json_depth(text: str) -> int:
+    """How deep arrays and objects nest in JSON ``text`` (strings skipped), without parsing it.
+
+    Vectorised over the bytes, so it is fast on large files and cannot exhaust the stack.
+    """
+    data = np.frombuffer(_JSON_STRING.sub(b'""', text.encode("utf-8", "surrogatepass")), dtype=np.uint8)
+    step = np.isin(data, (ord("["), ord("{"))).astype(np.int32) - np.isin(data, (ord("]"), ord("}"))).astype(np.int32)
+    return int(np.cumsum(step).max(initial=0))
+
+
+def read_json(text: str, *, exact: bool = True) -> object:
+    """Parse JSON input text within the documented limits: numbers and nesting bounded.
+
+    Decimals are read as exact :class:`~decimal.Decimal` values, or as floats with ``exact=False``.
+
+    Raises
+    ------
+    MalformedFile
+        For nesting deeper than :data:`~solverplan.limits.MAX_JSON_DEPTH`, a number longer than
+        :data:`~solverplan.limits.MAX_NUMBER_CHARS`, or NaN/Infinity; ``json.JSONDecodeError`` for bad syntax.
+    """
+    depth = json_depth(text)
+    if depth > MAX_JSON_DEPTH:
+        raise MalformedFile(f"JSON nested {depth} levels deep (at most {MAX_JSON_DEPTH})")
+    parse_float = _parse_decimal if exact else lambda number: float(_parse_decimal(number))
+    return json.loads(text, parse_float=parse_float, parse_int=_parse_int, parse_constant=_reject_constant)
+
+
 def _json_point(p: ExactPoint) -> list:
     return [json_number(p[0]), json_number(p[1])]
 
@@ -701,7 +806,7 @@ def parse_environment(
             rings, file_name = _parse_wkt(text), ""
         elif fmt in ("json", "geojson"):
             try:
-                data = json.loads(text, parse_float=Decimal, parse_constant=_reject_constant)
+                data = read_json(text)
             except json.JSONDecodeError as exc:
                 raise MalformedFile(f"{source}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})") from None
             rings, file_name = (_parse_geojson(data) if fmt == "geojson" or _looks_geojson(data) else _parse_json(data))
@@ -775,7 +880,7 @@ def _parse_wkt(text: str) -> list[list[list[str]]]:
         for k, chunk in enumerate(ring_match.group(1).split(",")):
             parts = chunk.split()
             if len(parts) != 2:
-                raise MalformedFile(f"WKT ring {len(rings)} point {k}: expected 'x y', got {chunk.strip()!r}")
+                raise MalformedFile(f"WKT ring {len(rings)} point {k}: expected 'x y', got {quote(chunk.strip())}")
             points.append(parts)
         rings.append(points)
     if not rings:
@@ -878,6 +983,9 @@ def load_environment(path: str | PathLike[str], fmt: FileFormat | None = None) -
         file, fmt = shipped, "json"
     kind = _format_of(file, fmt)
     try:
+        size = file.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise MalformedFile(f"{file}: file is {size} bytes (at most {MAX_FILE_BYTES})")
         text = file.read_text(encoding="utf-8")
     except FileNotFoundError:  # removed since the check above
         raise MalformedFile(_no_such_file(str(path))) from None

@@ -29,6 +29,7 @@ from typing import Literal, Sequence
 import numpy as np
 
 from solverplan.errors import InputError
+from solverplan.limits import MAX_DECIMAL_EXPONENT, MAX_NUMBER_CHARS, quote
 
 __all__ = [
     "ExactPoint",
@@ -90,26 +91,42 @@ def to_fraction(value: object, *, where: str = "value") -> Fraction:
     if isinstance(value, Decimal):
         if not value.is_finite():
             raise InputError(f"{where}: coordinate is not finite ({value})")
+        _check_decimal_size(value, where)
         return Fraction(value)
     if isinstance(value, str):
         text = value.strip()
+        if len(text) > MAX_NUMBER_CHARS:
+            raise InputError(f"{where}: number {quote(text)} is {len(text)} characters long (at most {MAX_NUMBER_CHARS})")
         if _FRACTION_TEXT.match(text):
             num, den = (int(part) for part in text.split("/"))
             if den == 0:
-                raise InputError(f"{where}: {value!r} divides by zero")
+                raise InputError(f"{where}: {quote(value)} divides by zero")
             return Fraction(num, den)
         try:
             number = Decimal(text)
         except InvalidOperation:
-            raise InputError(f"{where}: {value!r} is not a number") from None
+            raise InputError(f"{where}: {quote(value)} is not a number") from None
         return to_fraction(number, where=where)
-    raise InputError(f"{where}: {value!r} is not a number")
+    raise InputError(f"{where}: {quote(value)} is not a number")
+
+
+def _check_decimal_size(value: Decimal, where: str) -> None:
+    """Refuse a decimal whose exact value would be huge to compute with (``1e-999999``, 5,000 digits)."""
+    digits = len(value.as_tuple().digits)
+    exponent = value.as_tuple().exponent
+    assert isinstance(exponent, int)  # finite decimals only reach here
+    if digits > MAX_NUMBER_CHARS:
+        raise InputError(f"{where}: number has {digits} digits (at most {MAX_NUMBER_CHARS})")
+    if abs(exponent) > MAX_DECIMAL_EXPONENT or abs(value.adjusted()) > MAX_DECIMAL_EXPONENT:
+        raise InputError(
+            f"{where}: number {quote(str(value))} has decimal exponent {value.adjusted()} (at most ±{MAX_DECIMAL_EXPONENT})"
+        )
 
 
 def exact_point(xy: Sequence[object], *, where: str = "point") -> ExactPoint:
     """Convert a pair of numbers to an exact point; see :func:`to_fraction`."""
     if isinstance(xy, (str, bytes)) or not hasattr(xy, "__len__") or len(xy) != 2:
-        raise InputError(f"{where}: expected a pair [x, y], got {xy!r}")
+        raise InputError(f"{where}: expected a pair [x, y], got {quote(xy)}")
     return (to_fraction(xy[0], where=where), to_fraction(xy[1], where=where))
 
 

@@ -81,3 +81,141 @@ def test_a_directory_in_the_way_is_an_error_not_a_lost_directory(tmp_path):
         atomic_write_text(tmp_path / "out", "{}")
     assert (tmp_path / "out").is_dir() and stat.S_ISDIR(os.stat(tmp_path / "out").st_mode)
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
+
+
+# ---------------------------------------------------------------------- what is not a regular file is never replaced
+def test_a_symlink_stays_a_link_and_its_target_is_written(tmp_path):
+    (tmp_path / "real").mkdir()
+    target = tmp_path / "real" / "answer.json"
+    target.write_text("old")
+    os.chmod(target, 0o640)
+    link = tmp_path / "link.json"
+    link.symlink_to(target)
+    atomic_write_text(link, "new")
+    assert link.is_symlink() and os.readlink(link) == str(target)
+    assert target.read_text() == "new" and stat.S_IMODE(os.stat(target).st_mode) == 0o640
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.json", "real"]
+    assert [p.name for p in (tmp_path / "real").iterdir()] == ["answer.json"], "the temporary sat next to the target"
+
+
+def test_a_dangling_symlink_creates_its_target(tmp_path):
+    link = tmp_path / "link.json"
+    link.symlink_to(tmp_path / "made.json")
+    atomic_write_text(link, "{}")
+    assert link.is_symlink() and (tmp_path / "made.json").read_text() == "{}"
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="POSIX FIFOs")
+def test_a_fifo_is_written_straight_through(tmp_path):
+    import threading
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    received: list[bytes] = []
+    reader = threading.Thread(target=lambda: received.append(fifo.read_bytes()), daemon=True)
+    reader.start()
+    atomic_write_bytes(fifo, b"through the pipe")
+    reader.join(timeout=10)
+    assert received == [b"through the pipe"]
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert [p.name for p in tmp_path.iterdir()] == ["pipe"]
+
+
+def _null_device(tmp_path: Path) -> Path:
+    """A character device like /dev/null inside ``tmp_path`` (root only), so a regression cannot touch /dev/null."""
+    if not hasattr(os, "mknod") or os.geteuid() != 0:
+        pytest.skip("making a device node needs root")
+    device = tmp_path / "null"
+    os.mknod(device, 0o666 | stat.S_IFCHR, os.makedev(1, 3))  # Linux's null device (/dev/null may be a bind mount)
+    try:
+        with open(device, "wb"):
+            pass
+    except OSError:
+        pytest.skip("device nodes cannot be opened here")
+    return device
+
+
+def test_a_character_device_is_written_through_and_stays_a_device(tmp_path):
+    device = _null_device(tmp_path)
+    atomic_write_text(device, "discarded")
+    assert stat.S_ISCHR(os.stat(device).st_mode)
+    assert [p.name for p in tmp_path.iterdir()] == ["null"]
+
+
+def test_cli_graph_onto_a_null_device_leaves_it_a_device(tmp_path):
+    from typer.testing import CliRunner
+
+    from solverplan import cli
+
+    device = _null_device(tmp_path)
+    result = CliRunner().invoke(cli.app, ["graph", "two_rooms", "-o", str(device)])
+    assert result.exit_code == 0, result.stderr
+    assert stat.S_ISCHR(os.stat(device).st_mode) and os.stat(device).st_rdev == os.makedev(1, 3)
+
+
+def test_dash_is_standard_output(tmp_path, monkeypatch, capfd):
+    monkeypatch.chdir(tmp_path)
+    atomic_write_text("-", "to stdout\n")
+    assert capfd.readouterr().out == "to stdout\n"
+    assert list(tmp_path.iterdir()) == [], "no file named '-'"
+
+
+def test_cli_output_dash_and_directory(tmp_path, monkeypatch):
+    from typer.testing import CliRunner
+
+    from solverplan import cli
+
+    monkeypatch.chdir(tmp_path)
+    runner = CliRunner()
+    result = runner.invoke(cli.app, ["info", "two_rooms", "-o", "-"])
+    assert result.exit_code == 0 and json.loads(result.stdout)["name"] == "two_rooms"
+    (tmp_path / "out").mkdir()
+    result = runner.invoke(cli.app, ["info", "two_rooms", "-o", "out"])
+    assert result.exit_code == 2 and result.stderr == "error: out: cannot write (Is a directory)\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+# SIGTERM arrives while the temporary file exists (fsync made slow); the CLI's handler must unwind like SIGINT.
+_SIGTERM_CHILD = r"""
+import os, sys, time, signal
+from solverplan import cli, _io
+signal.signal(signal.SIGTERM, cli._terminate)
+def slow_fsync(fd):
+    print("writing", flush=True)
+    time.sleep(30)
+_io.os.fsync = slow_fsync
+_io.atomic_write_text(sys.argv[1], "x" * 1000)
+"""
+
+
+@pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
+def test_sigterm_during_a_write_leaves_no_temporary(tmp_path):
+    import signal
+
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
+    target = tmp_path / "answer.json"
+    child = subprocess.Popen([sys.executable, "-c", _SIGTERM_CHILD, str(target)], stdout=subprocess.PIPE, text=True, env=env)
+    try:
+        assert child.stdout.readline() == "writing\n"
+        assert len(list(tmp_path.iterdir())) == 1, "the temporary exists while the write runs"
+        child.send_signal(signal.SIGTERM)
+        assert child.wait(timeout=20) == 128 + signal.SIGTERM
+    finally:
+        if child.poll() is None:
+            child.kill()
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_main_installs_the_sigterm_handler(monkeypatch):
+    import signal
+
+    from solverplan import cli
+
+    installed = {}
+    monkeypatch.setattr(cli.signal, "signal", lambda sig, handler: installed.setdefault(sig, handler))
+    monkeypatch.setattr(cli, "app", lambda: None)
+    cli.main()
+    assert installed == {signal.SIGTERM: cli._terminate}
+    with pytest.raises(SystemExit) as exit_info:
+        cli._terminate(signal.SIGTERM, None)
+    assert exit_info.value.code == 143

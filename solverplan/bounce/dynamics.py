@@ -52,6 +52,7 @@ from solverplan.interval import Interval
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, format_number, to_fraction
+from solverplan.limits import MIN_HEADING
 
 __all__ = [
     "Side",
@@ -102,6 +103,9 @@ class ExactHeading:
             raise InputError(
                 f"exact heading ({format_number(c)}, {format_number(s)}) is not inside (0, π): its sin part must be > 0"
             )
+        if c != 0 and s / abs(c) < _MIN_TANGENT:
+            # tan of the angle to the wall: exact, so a pair with huge parts is refused before any float sees it
+            raise InputError(f"exact heading ({_short(c)}, {_short(s)}) is within {MIN_HEADING:g} rad of the wall: floats cannot follow it")
         scale = math.lcm(c.denominator, s.denominator)
         ci, si = int(c * scale), int(s * scale)
         g = math.gcd(ci, si)
@@ -218,7 +222,19 @@ def _check_theta(theta: float) -> float:
     value = float(theta)
     if not (math.isfinite(value) and 0 < value < math.pi):
         raise InputError(f"heading {value:g} is not inside (0, π) (radians)")
+    if min(value, math.pi - value) < MIN_HEADING:
+        raise InputError(f"heading {value:g} is within {MIN_HEADING:g} rad of the wall: floats cannot follow it")
     return value
+
+
+# tan(MIN_HEADING) rounded down: a heading whose exact tangent to the wall is below this is refused
+_MIN_TANGENT = Fraction(MIN_HEADING) * Fraction(999_999, 1_000_000)
+
+
+def _short(value: Fraction) -> str:
+    """An exact number for a message, its long spellings cut (headings may hold huge integers)."""
+    text = format_number(value)
+    return text if len(text) <= 24 else f"{float(value):.3g}" if abs(value) < 10**300 else text[:20] + "…"
 
 
 # ---------------------------------------------------------------------- Def. 11, Lemma 2

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
 
-from solverplan.environment import Environment
+from solverplan.environment import Environment, read_json
 from solverplan.errors import InputError, MalformedFile
 from solverplan.interval import Interval
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
@@ -413,7 +413,9 @@ def load_plan(path: str | Path) -> Plan:
     except (OSError, UnicodeDecodeError) as exc:
         raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
     try:
-        data = json.loads(text)
+        data = read_json(text, exact=False)  # bounded nesting and number sizes (solverplan.limits)
     except json.JSONDecodeError as exc:
         raise MalformedFile(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})") from None
+    except MalformedFile as exc:
+        raise MalformedFile(f"{path}: {exc}") from None
     return parse_plan(data, str(path))
