@@ -231,3 +231,16 @@ def test_cycle_claims_are_printed(tmp_path):
     assert "goal: none (a cycle: the cycle is the goal)" in lines
     cycle = next(line for line in lines if line.startswith("cycle: "))
     assert "fixed point 1/11" in cycle and "contraction 0.0081 < 1" in cycle and "visits [0, 1, 2, 3]" in cycle
+
+
+def test_a_certificate_with_a_number_of_thousands_of_digits_is_bad_input(tmp_path):
+    """Python refuses to read integers of more than 4300 digits: that is a malformed file (exit 2, one line)."""
+    from typer.testing import CliRunner
+
+    from solverplan.cli import app
+
+    path = tmp_path / "long.json"
+    path.write_text('{"schema": "solverplan-certificate", "version": ' + "1" * 5000 + "}")
+    result = CliRunner().invoke(app, ["verify", str(path)])
+    assert result.exit_code == 2 and result.stdout == ""
+    assert result.stderr == f"error: {path}: a number has too many digits to read (thousands)\n"

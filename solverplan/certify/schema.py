@@ -435,6 +435,8 @@ def parse_certificate(text: str, *, source: str = "certificate") -> Certificate:
         raise CertificateFormatError(f"{source}: {exc}") from None
     except RecursionError:
         raise CertificateFormatError(f"{source}: JSON nested too deeply") from None
+    except ValueError as exc:  # Python's limit on the digits of an integer (a corrupt or hostile file)
+        raise CertificateFormatError(f"{source}: a number has too many digits to read (thousands)") from None
     return Certificate.from_json(data)
 
 
