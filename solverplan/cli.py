@@ -105,7 +105,10 @@ def _json_text(value: Any, indent: int | None = None) -> str:
     same text but does not re-check finiteness (the answers' own ``to_json`` map non-finite floats to
     null).
     """
-    fast = orjson.dumps(value)
+    try:
+        fast = orjson.dumps(value)
+    except orjson.JSONEncodeError:  # e.g. an exact integer beyond 64 bits: the standard encoder writes it
+        fast = b""
     if len(fast) > JSON_INDENT_LIMIT:
         if indent is None or indent < 0:
             return fast.decode()

@@ -30,6 +30,13 @@ settings.register_profile(
     print_blob=True,
     suppress_health_check=_LOAD_DEPENDENT,
 )
+settings.register_profile(  # tests/test_fuzz_cli.py: 10,000 random (not derandomized) inputs per test
+    "fuzz",
+    max_examples=10_000,
+    deadline=None,
+    print_blob=True,
+    suppress_health_check=_LOAD_DEPENDENT,
+)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"

@@ -89,6 +89,12 @@ __all__ = [
     "EXAMPLE",
 ]
 
+
+def _q(value: object, limit: int = 40) -> str:
+    """``repr(value)`` cut to ``limit`` characters with ``…``: messages quote the input but stay one short line."""
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
 SCHEMA = "solverplan-certificate"
 VERSION = 2
 """The version this solverplan writes."""
@@ -116,14 +122,14 @@ def parse_number(value: object, where: str) -> Fraction:
     (a JSON number read with ``parse_float=Decimal``). Binary floats, booleans and non-finite values
     are refused with :class:`CertificateFormatError` naming ``where``."""
     if isinstance(value, bool):
-        raise CertificateFormatError(f"{where}: {value!r} is not a number")
+        raise CertificateFormatError(f"{where}: {_q(value)} is not a number")
     if isinstance(value, int):
         return Fraction(value)
     if isinstance(value, Fraction):
         return value
     if isinstance(value, float):
         raise CertificateFormatError(
-            f"{where}: {value!r} is a binary float; write exact numbers as integers or strings (\"1/3\", \"0.25\")"
+            f"{where}: {_q(value)} is a binary float; write exact numbers as integers or strings (\"1/3\", \"0.25\")"
         )
     if isinstance(value, Decimal):
         if not value.is_finite():
@@ -134,16 +140,16 @@ def parse_number(value: object, where: str) -> Fraction:
         if match:
             num, den = int(match.group(1)), int(match.group(2))
             if den == 0:
-                raise CertificateFormatError(f"{where}: {value!r} divides by zero")
+                raise CertificateFormatError(f"{where}: {_q(value)} divides by zero")
             return Fraction(num, den)
         try:
             number = Decimal(value.strip())
         except InvalidOperation:
-            raise CertificateFormatError(f"{where}: {value!r} is not a number") from None
+            raise CertificateFormatError(f"{where}: {_q(value)} is not a number") from None
         if not number.is_finite():
-            raise CertificateFormatError(f"{where}: {value!r} is not finite")
+            raise CertificateFormatError(f"{where}: {_q(value)} is not finite")
         return Fraction(number)
-    raise CertificateFormatError(f"{where}: {value!r} is not a number")
+    raise CertificateFormatError(f"{where}: {_q(value)} is not a number")
 
 
 def _terminating_decimal(value: Fraction) -> str | None:
@@ -371,7 +377,7 @@ class Certificate:
         """
         top = _object(data, "certificate")
         if top.get("schema") != SCHEMA:
-            raise CertificateFormatError(f"not a solverplan certificate: schema is {top.get('schema')!r}, expected {SCHEMA!r}")
+            raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
         version = top.get("version")
         if isinstance(version, bool) or version not in READ_VERSIONS:
             raise CertificateFormatError(f"certificate version {version} is not supported (this solverplan reads versions 1 and 2)")
@@ -383,10 +389,10 @@ class Certificate:
         kind = _field(top, "kind", "certificate")
         kinds = KINDS if version >= 2 else _KINDS_V1
         if kind not in kinds:
-            raise CertificateFormatError(f"kind: {kind!r} is not one of {', '.join(kinds)}")
+            raise CertificateFormatError(f"kind: {_q(kind)} is not one of {', '.join(kinds)}")
         producer = top.get("producer", "")
         if not isinstance(producer, str):
-            raise CertificateFormatError(f"producer: expected a string, got {producer!r}")
+            raise CertificateFormatError(f"producer: expected a string, got {_q(producer)}")
         environment = _environment(_field(top, "environment", "certificate"))
         segments = tuple(_segment(s, f"segments[{i}]") for i, s in enumerate(_list(_field(top, "segments", "certificate"), "segments")))
         start = _pieces(_field(top, "start", "certificate"), "start")
@@ -542,19 +548,19 @@ def _kind_of(value: object) -> str:
 
 def _field(obj: dict, key: str, where: str) -> Any:
     if key not in obj:
-        raise CertificateFormatError(f"{where}: missing field {key!r}")
+        raise CertificateFormatError(f"{where}: missing field {_q(key)}")
     return obj[key]
 
 
 def _known(obj: dict, keys: set[str], where: str) -> None:
     unknown = sorted(set(obj) - keys)
     if unknown:
-        raise CertificateFormatError(f"{where}: unknown field {unknown[0]!r}")
+        raise CertificateFormatError(f"{where}: unknown field {_q(unknown[0])}")
 
 
 def _integer(value: object, where: str, *, minimum: int | None = 0) -> int:
     if isinstance(value, bool) or not isinstance(value, int):
-        raise CertificateFormatError(f"{where}: expected an integer, got {value!r}")
+        raise CertificateFormatError(f"{where}: expected an integer, got {_q(value)}")
     if minimum is not None and value < minimum:
         raise CertificateFormatError(f"{where}: expected an integer ≥ {minimum}, got {value}")
     return value
@@ -562,13 +568,13 @@ def _integer(value: object, where: str, *, minimum: int | None = 0) -> int:
 
 def _point(value: object, where: str) -> Point:
     if not isinstance(value, list) or len(value) != 2:
-        raise CertificateFormatError(f"{where}: expected a pair [x, y], got {value!r}")
+        raise CertificateFormatError(f"{where}: expected a pair [x, y], got {_q(value)}")
     return (parse_number(value[0], where), parse_number(value[1], where))
 
 
 def _pair(value: object, where: str) -> tuple[Fraction, Fraction]:
     if not isinstance(value, list) or len(value) != 2:
-        raise CertificateFormatError(f"{where}: expected a pair [lo, hi], got {value!r}")
+        raise CertificateFormatError(f"{where}: expected a pair [lo, hi], got {_q(value)}")
     return (parse_number(value[0], where), parse_number(value[1], where))
 
 
@@ -577,7 +583,7 @@ def _environment(value: object) -> EnvironmentRecord:
     _known(obj, {"name", "rings"}, "environment")
     name = obj.get("name", "")
     if not isinstance(name, str):
-        raise CertificateFormatError(f"environment.name: expected a string, got {name!r}")
+        raise CertificateFormatError(f"environment.name: expected a string, got {_q(name)}")
     rings_raw = _list(_field(obj, "rings", "environment"), "environment.rings")
     if not rings_raw:
         raise CertificateFormatError("environment.rings: no outer ring")
@@ -654,7 +660,7 @@ def _claims(value: object, version: int = VERSION) -> Claims:
     epsilon_raw = obj.get("epsilon")
     objective = obj.get("objective")
     if objective is not None and not isinstance(objective, str):
-        raise CertificateFormatError(f"claims.objective: expected a string, got {objective!r}")
+        raise CertificateFormatError(f"claims.objective: expected a string, got {_q(objective)}")
     sum_raw = obj.get("sum_width")
     optimality = None
     if obj.get("optimality") is not None:
@@ -662,10 +668,10 @@ def _claims(value: object, version: int = VERSION) -> Claims:
         _known(opt, {"method", "proved", "bound"}, "claims.optimality")
         method = _field(opt, "method", "claims.optimality")
         if not isinstance(method, str) or not method:
-            raise CertificateFormatError(f"claims.optimality.method: expected a non-empty string, got {method!r}")
+            raise CertificateFormatError(f"claims.optimality.method: expected a non-empty string, got {_q(method)}")
         proved = _field(opt, "proved", "claims.optimality")
         if not isinstance(proved, bool):
-            raise CertificateFormatError(f"claims.optimality.proved: expected true or false, got {proved!r}")
+            raise CertificateFormatError(f"claims.optimality.proved: expected true or false, got {_q(proved)}")
         bound_raw = opt.get("bound")
         bound = None if bound_raw is None else parse_number(bound_raw, "claims.optimality.bound")
         optimality = Optimality(method, proved, bound)

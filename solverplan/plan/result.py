@@ -33,6 +33,7 @@ from typing import Any, Literal
 from solverplan.environment import Environment, read_json
 from solverplan.errors import InputError, MalformedFile
 from solverplan.interval import Interval
+from solverplan.limits import quote
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
 __all__ = [
@@ -318,7 +319,7 @@ def _int_list(value: object, where: str) -> tuple[int, ...]:
 
 def _number(value: object, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(float(value)):
-        raise MalformedFile(f"{where}: expected a finite number, got {value!r}")
+        raise MalformedFile(f"{where}: expected a finite number, got {quote(value)}")
     return float(value)
 
 
@@ -342,7 +343,7 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
         raise MalformedFile(f"{source}: expected a JSON object (a plan)")
     status = data.get("status")
     if status not in ("found", "infeasible"):
-        raise MalformedFile(f"{source}: status must be 'found' or 'infeasible', got {status!r}")
+        raise MalformedFile(f"{source}: status must be 'found' or 'infeasible', got {quote(status)}")
     objective = data.get("objective", "fewest")
     if not isinstance(objective, str):
         raise MalformedFile(f"{source}: objective must be a string")
@@ -380,7 +381,7 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
         if set(stages[k].from_segments) != set(stages[k - 1].to_segments):
             raise MalformedFile(f"{source}: stages[{k}].from_segments must be stages[{k - 1}].to_segments")
     if status == "found" and data.get("bounces") is not None and data.get("bounces") != len(stages):
-        raise MalformedFile(f"{source}: bounces is {data.get('bounces')!r} but there are {len(stages)} stages")
+        raise MalformedFile(f"{source}: bounces is {quote(data.get('bounces'))} but there are {len(stages)} stages")
     optimality = (read_optimality(data["optimality"], f"{source}: optimality") if "optimality" in data
                   else Optimality(Method.NONE, False, None))
     start, goal = data.get("start"), data.get("goal")
