@@ -171,8 +171,17 @@ def json_number(value: Fraction | int) -> int | float | str:
 
 
 def format_point(p: Sequence[Fraction | int | float]) -> str:
-    """``(x, y)`` with :func:`format_number` coordinates, for messages."""
-    return f"({format_number(p[0])}, {format_number(p[1])})"
+    """``(x, y)`` with :func:`format_number` coordinates, for messages; a coordinate whose exact text is longer
+    than 24 characters is written ``≈`` its float (messages stay one short line).
+
+    >>> format_point((Fraction(1, 3), 2)), format_point((Fraction(10**30 + 1, 3 * 10**29), 0))
+    ('(1/3, 2)', '(≈3.33333333333, 0)')
+    """
+    def text(x: Fraction | int | float) -> str:
+        exact = format_number(x)
+        return exact if len(exact) <= 24 else f"≈{float(x):.12g}"
+
+    return f"({text(p[0])}, {text(p[1])})"
 
 
 def orient(a: Sequence[Fraction | int], b: Sequence[Fraction | int], c: Sequence[Fraction | int]) -> int:

@@ -90,6 +90,7 @@ def _assert_answer_or_one_line(result, out_file=None) -> None:
 @example(text='{"outer": [[0, 0], [1e400, 0], [0, 1]]}', command="info")
 @example(text="[" * 100_000, command="graph")
 @example(text='{"outer": [[0, 0], [18446744073709551616, 0], [4, 4], [0, 4]]}', command="info")  # found by fuzzing
+@example(text='{"outer": [[0, 0], [4, 0], [-1.401298464324817e-45, 4], [0, 4]]}', command="info")  # found by fuzzing
 def test_fuzzed_environment_files_are_answered_or_refused_in_one_line(tmp_path_factory, text, command):
     folder = tmp_path_factory.mktemp("fuzz")
     env, out = folder / "env.json", folder / "answer.json"
