@@ -196,8 +196,8 @@ def _partial_goal_segments(env: Environment, part: Partition, goal: str) -> set[
 # ---------------------------------------------------------------------- contraction answers
 def _patrol(result: Patrol, env: Environment | None, part: Partition | None) -> Certificate:
     if not result.found:
-        raise NothingToCertify(f"the patrol has status {result.status!r}: there is no cycle to certify",
-                               why=f"the patrol has status {result.status!r}")
+        raise NothingToCertify(f"the patrol has status {result.status.value!r}: there is no cycle to certify",
+                               why=f"the patrol has status {result.status.value!r}")
     env, part = _own_environment(result, env, part)
     stages: list[StageSpec] = []
     for st in result.entry:
@@ -216,8 +216,8 @@ def _funnel(result: PositionStrategy, env: Environment | None, part: Partition |
     """Funnels and localisation strategies: each stage's moves leave the exact position pieces with the
     planner's exact cones."""
     if not result.found:
-        raise NothingToCertify(f"the answer has status {result.status!r}: there is no strategy to certify",
-                               why=f"the {result.kind} has status {result.status!r}")
+        raise NothingToCertify(f"the answer has status {result.status.value!r}: there is no strategy to certify",
+                               why=f"the {result.kind} has status {result.status.value!r}")
     env, part = _own_environment(result, env, part)
     stages: list[StageSpec] = []
     for st in result.stages:

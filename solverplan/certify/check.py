@@ -141,7 +141,8 @@ from solverplan.certify.rational_atan import (
     difference_vector,
     heading_vector,
 )
-from solverplan.certify.schema import Certificate, CycleClaim, Move, Piece, Point, SegmentRecord, Stage, number_text
+from solverplan.certify.schema import (Certificate, CycleClaim, Move, Piece, Point, SegmentRecord, Stage, _terminating_decimal,
+                                       number_text)
 
 __all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]
 
@@ -1094,19 +1095,7 @@ def _canonical(x: Fraction) -> str:
     x = Fraction(x)
     if x.denominator == 1:
         return str(x.numerator)
-    den, twos, fives = x.denominator, 0, 0
-    while den % 2 == 0:
-        den //= 2
-        twos += 1
-    while den % 5 == 0:
-        den //= 5
-        fives += 1
-    if den != 1:
-        return f"{x.numerator}/{x.denominator}"
-    digits = max(twos, fives)
-    scaled = x * 10**digits
-    text = str(abs(scaled.numerator)).rjust(digits + 1, "0")
-    return f"{'-' if scaled < 0 else ''}{text[:-digits]}.{text[-digits:]}"
+    return _terminating_decimal(x) or f"{x.numerator}/{x.denominator}"
 
 
 def _squared_lengths(rings: Sequence[Sequence[Point]]) -> list[Fraction]:
