@@ -127,3 +127,102 @@ def test_fuzzed_plan_and_certificate_files_are_refused_in_one_line(tmp_path_fact
 def test_huge_integer_options_are_refused_in_one_line(flag):
     result = CliRunner().invoke(app, ["simulate", "square", "nope.json", flag, str(2**64)])
     _assert_answer_or_one_line(result)
+
+
+# Every command with a valid base invocation on small models, and each of its value options. A fuzzed option value
+# replaces the default (or the base's value); the rest of the invocation stays valid, so the refusal (or answer) is
+# the option's.
+_BASE = {
+    "info": ["info", "square"],
+    "partition": ["partition", "l_shape"],
+    "graph": ["graph", "triangle", "--safe"],
+    "cycle": ["cycle", "square", "--theta", "0.3"],
+    "patrol": ["patrol", "square", "--visit", "e0,e2"],
+    "funnel": ["funnel", "square", "--from", "e0", "--to", "e2"],
+    "localize": ["localize", "triangle", "--epsilon", "0.5"],
+    "plan": ["plan", "triangle", "--from", "e0", "--to", "e1"],
+    "render": ["render", "square"],
+    "simulate": ["simulate", "square", "PLAN"],
+    "verify": ["verify", "CERT"],
+    "prove": ["prove", "--only", "lemma2_contraction"],
+}
+_OPTIONS = {
+    "graph": ["--from", "--heading"],
+    "cycle": ["--theta", "--edges", "--epsilon", "--method", "--start", "--max-bounces", "--heading-margin"],
+    "patrol": ["--visit", "--from", "--tolerance", "--objective", "--max-between", "--epsilon", "--heading-margin",
+               "--corner-clearance"],
+    "funnel": ["--from", "--to", "--tolerance", "--max-bounces", "--heading-margin", "--corner-clearance"],
+    "localize": ["--epsilon", "--from", "--tolerance", "--max-bounces", "--heading-margin", "--corner-clearance"],
+    "plan": ["--from", "--to", "--objective", "--max-bounces", "--pareto", "--method", "--heading-margin",
+             "--corner-clearance"],
+    "render": ["--trajectories", "--rule", "--from", "--bounces", "--seed", "--theta"],
+    "simulate": ["--trials", "--seed", "--sampling", "--ties"],
+    "verify": ["--from", "--to"],
+    "prove": ["--only"],
+    "info": ["--env-format", "--format"],
+    "partition": ["--env-format", "--format"],
+}
+_VALUES = st.one_of(
+    st.sampled_from(["0", "-0", "-1", "1", "2", "0.3", "1e-300", "5e-324", "1e300", "1e400", "nan", "inf", "-inf",
+                     "18446744073709551616", "1e-999999", "1e999999", "abc", "", " ", "0x10", "1_000", "1/3",
+                     "e0", "e0:0:1", "e0,e1", "e5", "fixed:1.0", "specular", "relative:1.0±0.1", "fewest",
+                     "1e7", "10000000", "-1e-300", "٣"]),
+    st.text(max_size=10),
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.integers(-10**25, 10**25).map(str),
+)
+
+
+@pytest.fixture(scope="module")
+def plan_and_certificate(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("fuzz-files")
+    plan, cert = folder / "plan.json", folder / "cert.json"
+    result = CliRunner().invoke(app, ["plan", "square", "--from", "e0", "--to", "e2", "-o", str(plan),
+                                      "--certificate", str(cert)])
+    assert result.exit_code == 0, result.stderr
+    return str(plan), str(cert)
+
+
+def _invoke_bounded(args, seconds: int = 120):
+    """Run one CLI invocation; a case that runs longer than ``seconds`` fails the test (a hang)."""
+    import signal
+
+    def _hang(signum, frame):  # pragma: no cover - only on a hang
+        raise AssertionError(f"no answer within {seconds} s: {args}")
+
+    previous = signal.signal(signal.SIGALRM, _hang)
+    signal.alarm(seconds)
+    try:
+        return CliRunner().invoke(app, args, catch_exceptions=False)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+@FUZZ
+@given(command=st.sampled_from(sorted(_OPTIONS)), data=st.data())
+def test_fuzzed_option_values_are_answered_or_refused_in_one_line(tmp_path_factory, plan_and_certificate, command,
+                                                                  data):
+    folder = tmp_path_factory.mktemp("fuzz")
+    out = folder / "answer.json"
+    args = [{"PLAN": plan_and_certificate[0], "CERT": plan_and_certificate[1]}.get(a, a) for a in _BASE[command]]
+    if data is None:
+        pairs = [("--max-bounces", "10000000"), ("--epsilon", "1e-300")]
+    else:
+        options = data.draw(st.lists(st.sampled_from(_OPTIONS[command]), min_size=1, max_size=2, unique=True))
+        pairs = [(option, data.draw(_VALUES)) for option in options]
+    for option, value in pairs:
+        if option in args:  # replace the base's value
+            args[args.index(option) + 1] = value
+        else:
+            args += [option, value]
+    if command == "render":
+        args += ["-o", str(folder / "picture.png")]
+        out = folder / "picture.png"
+    elif command != "verify":
+        args += ["-o", str(out)]
+    result = _invoke_bounded(args)
+    if command == "verify" and result.exit_code == 1:  # a certificate that does not hold for the pinned sets
+        assert "INVALID" in result.stdout or '"valid": false' in result.stdout or result.stdout == "", result.stdout
+        return
+    _assert_answer_or_one_line(result, out)

@@ -163,7 +163,18 @@ def prove_all(names: Sequence[str] | None = None) -> ProofReport:
         known = all_proofs()
         unknown = [name for name in names if name not in known]
         if unknown:
-            from solverplan.errors import InputError
+            import difflib
 
-            raise InputError(f"unknown proof {unknown[0]!r}: proofs are {', '.join(known)}")
+            from solverplan.errors import InputError
+            from solverplan.limits import quote
+
+            # The full list of names would make a line too long to read: name the closest one, or where to look.
+            names_known = list(known)
+            # Users type the lemma's short name ('lemma2'): match it against each module's first word too.
+            first_words = {name.split("_")[0]: name for name in names_known}
+            close = difflib.get_close_matches(str(unknown[0]), names_known, n=1) or [
+                first_words[word] for word in difflib.get_close_matches(str(unknown[0]), list(first_words), n=1)]
+            hint = (f"did you mean {close[0]}?" if close else
+                    f"{len(names_known)} proofs, e.g. {names_known[0]}; 'solverplan prove' runs and lists them all")
+            raise InputError(f"unknown proof {quote(str(unknown[0]))}: {hint}")
     return ProofReport(tuple(run_all(names)))
