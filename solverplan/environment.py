@@ -211,7 +211,7 @@ class Environment:
     def from_coords(
         cls,
         outer: Iterable[Sequence[object]],
-        holes: Iterable[Iterable[Sequence[object]]] = (),
+        holes: Iterable[Iterable[Sequence[object]]] | None = (),
         *,
         name: str = "",
     ) -> Environment:
@@ -226,6 +226,12 @@ class Environment:
         ...
         solverplan.errors.InvalidEnvironment: outer ring self-intersects: edge 0 crosses edge 2 at (1, 1)
         """
+        if holes is None:  # "no holes", as users write it
+            holes = ()
+        if isinstance(outer, (str, bytes)) or not isinstance(outer, Iterable) or not isinstance(holes, Iterable) \
+                or isinstance(holes, (str, bytes)):
+            raise InvalidEnvironment(f"an environment is a list of vertices (outer ring) and a list of rings "
+                                     f"(holes), got {type(outer).__name__} and {type(holes).__name__}")
         raw_rings = [outer, *holes]
         if len(raw_rings) - 1 > MAX_HOLES:
             raise InvalidEnvironment(f"environment has {len(raw_rings) - 1} holes (at most {MAX_HOLES})")

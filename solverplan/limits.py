@@ -7,6 +7,8 @@ The bounds sit far above any floor plan in practice; each says why it exists.
 
 from __future__ import annotations
 
+from solverplan.errors import InputError
+
 __all__ = [
     "MAX_FILE_BYTES",
     "MAX_JSON_DEPTH",
@@ -26,6 +28,8 @@ __all__ = [
     "MAX_SEED",
     "MAX_QUOTED_CHARS",
     "quote",
+    "available_memory",
+    "refuse_beyond_memory",
 ]
 
 MAX_FILE_BYTES = 64 * 1024 * 1024
@@ -90,3 +94,49 @@ def quote(value: object, limit: int = MAX_QUOTED_CHARS) -> str:
     """``repr(value)``, cut to ``limit`` characters with ``…`` so an error message stays one short line."""
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
+def available_memory() -> int | None:
+    """Bytes of memory this process can still allocate without swapping, or None where it cannot be told.
+
+    Linux's ``MemAvailable`` (``/proc/meminfo``), capped by the cgroup's limit (containers) and by
+    ``RLIMIT_AS`` when they are set; elsewhere ``None`` (no early refusal, as before).
+    """
+    import resource
+
+    candidates: list[int] = []
+    try:
+        with open("/proc/meminfo", encoding="ascii") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    candidates.append(int(line.split()[1]) * 1024)
+                    break
+    except (OSError, ValueError, IndexError):
+        pass
+    for path in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
+        try:
+            with open(path, encoding="ascii") as limit_file:
+                text = limit_file.read().strip()
+            if text.isdigit() and int(text) < 2**60:
+                used_path = path.replace("memory.max", "memory.current").replace("limit_in_bytes", "usage_in_bytes")
+                with open(used_path, encoding="ascii") as used_file:
+                    candidates.append(max(0, int(text) - int(used_file.read().strip())))
+            break
+        except (OSError, ValueError):
+            continue
+    soft, _hard = resource.getrlimit(resource.RLIMIT_AS)
+    if soft not in (resource.RLIM_INFINITY, -1) and soft > 0:
+        candidates.append(int(soft))
+    return min(candidates) if candidates else None
+
+
+def refuse_beyond_memory(estimate_bytes: float, what: str) -> None:
+    """Raise :class:`~solverplan.errors.InputError` up front when ``estimate_bytes`` exceed the memory available.
+
+    The job would otherwise run for a long time and end in ``MemoryError``. ``what`` names the job and its
+    size for the message, e.g. ``"10,000,000 rollouts of 3 bounces"``.
+    """
+    available = available_memory()
+    if available is not None and estimate_bytes > 0.9 * available:
+        raise InputError(f"{what} would need about {estimate_bytes / 2**30:.1f} GiB of memory, "
+                         f"{available / 2**30:.1f} GiB are available: ask for less")

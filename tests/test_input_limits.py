@@ -206,3 +206,21 @@ def test_answers_at_the_magnitude_limits_match_the_unit_scale(tmp_path):
         answer = json.loads(result.stdout)
         tolerances.append((answer["bounces"], answer["tolerance"]))
     assert tolerances[0] == tolerances[1] == tolerances[2]
+
+
+def test_rollouts_beyond_memory_are_refused_up_front(monkeypatch, tmp_path):
+    import json
+
+    import solverplan as sp
+    import solverplan.limits as limits
+    from solverplan.cli import app
+    from typer.testing import CliRunner
+
+    assert limits.available_memory() is None or limits.available_memory() > 0
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps(sp.find_plan(sp.load_environment("square"), "e0", "e2").to_json()))
+    monkeypatch.setattr(limits, "available_memory", lambda: 2**30)  # 1 GiB left
+    result = CliRunner().invoke(app, ["simulate", "square", str(plan), "--trials", "10000000"])
+    assert result.exit_code == 2, result.stderr
+    assert result.stderr.splitlines() == [
+        "error: 10,000,000 rollouts of 2 bounces would need about 4.0 GiB of memory, 1.0 GiB are available: ask for less"]
