@@ -136,7 +136,7 @@ def format_number(value: Fraction | int | float) -> str:
         return repr(value)
     value = Fraction(value)
     if value.denominator == 1:
-        return str(value.numerator)
+        return _long_int_text(value.numerator)
     den = value.denominator
     twos = fives = 0
     while den % 2 == 0:
@@ -149,9 +149,24 @@ def format_number(value: Fraction | int | float) -> str:
         digits = max(twos, fives)
         scaled = value * 10**digits
         sign = "-" if scaled < 0 else ""
-        text = str(abs(scaled.numerator)).rjust(digits + 1, "0")
+        text = _long_int_text(abs(scaled.numerator)).rjust(digits + 1, "0")
         return f"{sign}{text[:-digits]}.{text[-digits:]}"
-    return f"{value.numerator}/{value.denominator}"
+    return _long_int_text(value.numerator) + "/" + _long_int_text(value.denominator)
+
+
+def _long_int_text(n: int) -> str:
+    """``str(n)`` for integers of any length: products along long cycles exceed Python's 4,300-digit guard,
+    which protects parsers of untrusted text, not the printing of numbers we computed."""
+    if n.bit_length() < 14_000:
+        return str(n)
+    import sys
+
+    previous = sys.get_int_max_str_digits()
+    sys.set_int_max_str_digits(0)
+    try:
+        return str(n)
+    finally:
+        sys.set_int_max_str_digits(previous)
 
 
 def json_number(value: Fraction | int) -> int | float | str:
@@ -162,9 +177,9 @@ def json_number(value: Fraction | int) -> int | float | str:
     (2.5, '1/3', 7)
     """
     value = Fraction(value)
-    if value.denominator == 1:
+    if value.denominator == 1 and value.numerator.bit_length() < 13_000:
         return int(value.numerator)
-    text = format_number(value)
+    text = format_number(value)  # also integers past Python's digit guard: JSON encoders refuse to print them
     if "/" not in text and Fraction(repr(float(value))) == value:
         return float(value)
     return text

@@ -92,6 +92,8 @@ MAX_QUOTED_CHARS = 40
 
 def quote(value: object, limit: int = MAX_QUOTED_CHARS) -> str:
     """``repr(value)``, cut to ``limit`` characters with ``…`` so an error message stays one short line."""
+    if isinstance(value, int) and value.bit_length() > 13_000:  # repr would hit Python's 4,300-digit guard
+        return f"(an integer of about {int(value.bit_length() * 0.30103):,} digits)"
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 1] + "…"
 

@@ -55,6 +55,7 @@ from __future__ import annotations
 
 import json
 import re
+import sys
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from fractions import Fraction
@@ -92,6 +93,8 @@ __all__ = [
 
 def _q(value: object, limit: int = 40) -> str:
     """``repr(value)`` cut to ``limit`` characters with ``…``: messages quote the input but stay one short line."""
+    if isinstance(value, int) and value.bit_length() > 13_000:  # repr would hit Python's digit guard
+        return f"(an integer of about {int(value.bit_length() * 0.30103):,} digits)"
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
@@ -116,6 +119,37 @@ class CertificateFormatError(MalformedFile):
 # ---------------------------------------------------------------------- numbers
 _RATIO = re.compile(r"^\s*([+-]?\d+)\s*/\s*(\d+)\s*$")
 
+MAX_DIGITS = 200_000
+"""Most digits of one integer read from a certificate. The exact products along a long patrol cycle have tens of
+thousands of digits, past Python's 4,300-digit guard for parsing untrusted text; this bound keeps a hostile file
+from costing minutes of quadratic conversion (200,000 digits read in about 0.1 s)."""
+
+
+def _int_of(text: str, where: str = "certificate") -> int:
+    """``int(text)`` for up to :data:`MAX_DIGITS` digits, refusing longer runs in one line."""
+    if len(text) > MAX_DIGITS + 1:
+        raise CertificateFormatError(f"{where}: an integer of {len(text):,} digits (at most {MAX_DIGITS:,} are read)")
+    if len(text) < 4000:
+        return int(text)
+    previous = sys.get_int_max_str_digits()
+    sys.set_int_max_str_digits(0)
+    try:
+        return int(text)
+    finally:
+        sys.set_int_max_str_digits(previous)
+
+
+def _text_of(n: int) -> str:
+    """``str(n)`` for integers of any length (see :data:`MAX_DIGITS`)."""
+    if n.bit_length() < 13_000:
+        return str(n)
+    previous = sys.get_int_max_str_digits()
+    sys.set_int_max_str_digits(0)
+    try:
+        return str(n)
+    finally:
+        sys.set_int_max_str_digits(previous)
+
 
 def parse_number(value: object, where: str) -> Fraction:
     """An exact number from JSON: an int, a ``"p/q"`` or decimal string, or a :class:`~decimal.Decimal`
@@ -138,7 +172,7 @@ def parse_number(value: object, where: str) -> Fraction:
     if isinstance(value, str):
         match = _RATIO.match(value)
         if match:
-            num, den = int(match.group(1)), int(match.group(2))
+            num, den = _int_of(match.group(1), where), _int_of(match.group(2), where)
             if den == 0:
                 raise CertificateFormatError(f"{where}: {_q(value)} divides by zero")
             return Fraction(num, den)
@@ -165,7 +199,7 @@ def _terminating_decimal(value: Fraction) -> str | None:
         return None
     digits = max(twos, fives)
     scaled = abs(value.numerator) * (10**digits // value.denominator)
-    text = str(scaled).rjust(digits + 1, "0")
+    text = _text_of(scaled).rjust(digits + 1, "0")
     sign = "-" if value < 0 else ""
     return f"{sign}{text[:-digits]}.{text[-digits:]}"
 
@@ -174,8 +208,8 @@ def number_text(value: Fraction | int) -> str:
     """Exact text of a number: ``3``, ``-0.25``, ``1/3`` (a terminating decimal when shorter)."""
     value = Fraction(value)
     if value.denominator == 1:
-        return str(value.numerator)
-    ratio = f"{value.numerator}/{value.denominator}"
+        return _text_of(value.numerator)
+    ratio = f"{_text_of(value.numerator)}/{_text_of(value.denominator)}"
     decimal = _terminating_decimal(value)
     return decimal if decimal is not None and len(decimal) <= len(ratio) + 4 else ratio
 
@@ -183,7 +217,9 @@ def number_text(value: Fraction | int) -> str:
 def json_value(value: Fraction | int) -> int | str:
     """An exact number as JSON: an integer, or the string of :func:`number_text`."""
     value = Fraction(value)
-    return int(value.numerator) if value.denominator == 1 else number_text(value)
+    if value.denominator == 1 and value.numerator.bit_length() < 13_000:
+        return int(value.numerator)
+    return number_text(value)  # integers past Python's digit guard, too: JSON encoders refuse to print them
 
 
 def point_text(p: tuple[Fraction | int, Fraction | int]) -> str:
@@ -380,7 +416,7 @@ class Certificate:
             raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
         version = top.get("version")
         if isinstance(version, bool) or version not in READ_VERSIONS:
-            raise CertificateFormatError(f"certificate version {version} is not supported (this solverplan reads versions 1 and 2)")
+            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1 and 2)")
         _known(
             top,
             {"schema", "version", "kind", "producer", "environment", "segments", "start", "goal", "stages", "claims", "cycle"},
@@ -434,15 +470,15 @@ class Certificate:
 def parse_certificate(text: str, *, source: str = "certificate") -> Certificate:
     """Parse certificate JSON text (decimals read exactly); :class:`CertificateFormatError` if malformed."""
     try:
-        data = json.loads(text, parse_float=Decimal, parse_constant=_reject_constant)
+        data = json.loads(text, parse_float=Decimal, parse_int=_int_of, parse_constant=_reject_constant)
     except json.JSONDecodeError as exc:
         raise CertificateFormatError(f"{source}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})") from None
     except CertificateFormatError as exc:
         raise CertificateFormatError(f"{source}: {exc}") from None
     except RecursionError:
         raise CertificateFormatError(f"{source}: JSON nested too deeply") from None
-    except ValueError as exc:  # Python's limit on the digits of an integer (a corrupt or hostile file)
-        raise CertificateFormatError(f"{source}: a number has too many digits to read (thousands)") from None
+    except ValueError as exc:  # a decimal of a huge exponent, or another number Python cannot read
+        raise CertificateFormatError(f"{source}: a number cannot be read ({str(exc)[:60]})") from None
     return Certificate.from_json(data)
 
 

@@ -73,6 +73,7 @@ from solverplan.bounce.transitions import affine_map
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet, SolverFailed
 from solverplan.exact import ExactPoint, format_number
+from solverplan.limits import refuse_beyond_memory
 from solverplan.plan import _search
 from solverplan.plan._choices import ArcChoices, arc_choices, max_tolerance
 from solverplan.plan._problem import Problem
@@ -414,6 +415,9 @@ def _product(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: in
         rows = rows[mask]
     s, t, rows = _tagged(choices, rows, N)
     M = 4 * N
+    # four int64/bool arrays (25 bytes) per product arc: one copy of the tagged arcs per (q, h)
+    refuse_beyond_memory(25 * len(s) * k * (1 if H is None else H + 1),
+                         f"the patrol product graph with max_between = {H or 0:,}")
     hs = [0] if H is None else list(range(H + 1))
     nh = len(hs)
     src, dst, ch, adv = [], [], [], []
@@ -476,6 +480,8 @@ def _period_dp(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: 
         return None
     A = len(anchors)
     layers = (k + 1) * (H + 1)
+    # distances (8 bytes) and predecessors (16 bytes) per (layer, anchor, tagged segment)
+    refuse_beyond_memory(24 * layers * A * M, f"the one-period patrol search with max_between = {H:,}")
     dist = np.full((layers, A, M), np.inf)
     pred = np.full((layers, A, M, 2), -1, dtype=np.int64)  # (previous layer, tagged arc)
     for i, a in enumerate(anchors):

@@ -113,3 +113,14 @@ def test_version_1_certificates_are_read_and_written_back_as_version_1():
     back = old.to_json()
     assert back["version"] == 1 and back["kind"] == "funnel" and "epsilon" not in back["claims"]
     assert Certificate.from_json(back) == old
+
+
+def test_numbers_longer_than_pythons_digit_guard_round_trip_and_hostile_lengths_are_refused():
+    from fractions import Fraction
+
+    from solverplan.certify.schema import MAX_DIGITS, CertificateFormatError, number_text, parse_number
+
+    long = Fraction(3**20_000 + 1, 7**9_000)  # 9,543 and 7,606 digits: beyond int()'s 4,300
+    assert parse_number(number_text(long), "x") == long
+    with pytest.raises(CertificateFormatError, match=r"^x: an integer of 200,002 digits \(at most 200,000 are read\)$"):
+        parse_number("1" * (MAX_DIGITS + 2) + "/3", "x")
