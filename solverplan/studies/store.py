@@ -28,6 +28,7 @@ from typing import IO, Any
 
 from solverplan._io import atomic_write_text
 from solverplan.errors import InputError
+from solverplan.limits import quote
 from solverplan.studies.study import Study, row_seed
 
 __all__ = ["RowStore", "FORMAT", "VERSION"]
@@ -55,17 +56,19 @@ class RowStore:
     def _check_header(self, line: str) -> None:
         try:
             header = json.loads(line)
-        except json.JSONDecodeError:
+        except (ValueError, RecursionError):  # not JSON, a number past the digit guard, nested too deep
             header = None
         if not isinstance(header, dict) or header.get("format") != FORMAT:
             raise InputError(f"{self.path}: not a solverplan study rows file; delete it, or use --fresh or another --out-dir")
         if header.get("version") != VERSION:
-            raise InputError(f"{self.path}: rows file version {header.get('version')!r}, this solverplan writes {VERSION}; use --fresh")
-        old, new = header.get("identity") or {}, self.study.identity()
+            raise InputError(f"{self.path}: rows file version {quote(header.get('version'))}, this solverplan writes "
+                             f"{VERSION}; use --fresh")
+        old, new = header.get("identity"), self.study.identity()
+        old = old if isinstance(old, dict) else {}
         for k in new:
             if old.get(k) != new[k]:
                 raise InputError(
-                    f"{self.path} holds rows of another study ({k}: {old.get(k)!r} there, {new[k]!r} here); "
+                    f"{self.path} holds rows of another study ({k}: {quote(old.get(k))} there, {quote(new[k])} here); "
                     "use --fresh to start over, or another --out-dir"
                 )
 
@@ -95,9 +98,9 @@ class RowStore:
                 continue
             try:
                 row = json.loads(line)
-            except json.JSONDecodeError:
-                row = None
-            key = self._row_key(row)
+                key = self._row_key(row)
+            except (ValueError, RecursionError, TypeError):  # a damaged or foreign line is dropped and rewritten
+                row, key = None, None
             if key is None or key in self.rows:
                 self.dropped += 1
                 continue

@@ -205,6 +205,31 @@ def test_resume_after_a_partial_last_line_and_deleted_rows(tmp_path):
     assert len(lines) == 13 and all(json.loads(line) for line in lines)
 
 
+@pytest.mark.parametrize("hostile", ["[" * 100_000, '{"replicate": ' + "9" * 5000 + "}", '{"replicate": [1]}',
+                                     '[1, 2]', '{"seed": {"a": 1}, "replicate": 0, "n": [], "cell": 1}'])
+def test_hostile_rows_are_dropped_and_recomputed(tmp_path, hostile):
+    study = counting_study(per_cell=1)
+    run_study(study, tmp_path, workers=1)
+    path = output_paths(study, tmp_path)["rows"]
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text(lines[0] + hostile + "\n" + "".join(lines[2:]))
+    again = run_study(study, tmp_path, workers=1)
+    assert (again.computed, again.reused) == (1, len(lines) - 2)
+
+
+@pytest.mark.parametrize("header", ["[" * 100_000, '{"format": "solverplan-study-rows", "version": ' + "9" * 5000 + "}",
+                                    '{"format": "solverplan-study-rows", "version": 1, "identity": [1]}'])
+def test_a_hostile_header_is_one_line(tmp_path, header):
+    study = counting_study(per_cell=1)
+    run_study(study, tmp_path, workers=1)
+    path = output_paths(study, tmp_path)["rows"]
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text(header + "\n" + "".join(lines[1:]))
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path, workers=1)
+    assert "\n" not in str(info.value) and len(str(info.value)) < 200 + len(str(path))
+
+
 def test_a_finished_study_recomputes_nothing_and_a_larger_one_reuses_its_rows(tmp_path):
     run_study(counting_study(per_cell=2), tmp_path, workers=1)
     CALLS.clear()
