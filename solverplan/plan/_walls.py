@@ -46,7 +46,7 @@ def _straight(p: ExactPoint, v: ExactPoint, q: ExactPoint) -> bool:
 
 def collinear_vertices(env: Environment) -> tuple[int, ...]:
     """Global indices of the vertices of ``env`` whose interior angle is exactly π (exact test)."""
-    out = []
+    out: list[int] = []
     base = 0
     for ring in env.rings:
         n = len(ring)
