@@ -22,7 +22,7 @@ removed (the same free space, exactly) — and report in the user's numbering:
 >>> walls.identity, walls.merged.n_edges, walls.edge_map[1]
 (False, 4, (0, Fraction(1, 2), Fraction(1, 1)))
 >>> str(walls.to_merged(split.boundary_set("e1:0:0.5,e2")))
-'e0:1/2:3/4,e1'
+'e0:0.5:0.75,e1'
 """
 
 from __future__ import annotations
