@@ -177,3 +177,16 @@ def test_random_collinear_points_change_nothing(data):
     assert plan.bounces == again.bounces
     if plan.found:
         assert abs(plan.min_width - again.min_width) <= 1e-12
+
+
+def test_a_plan_onto_runs_reads_back_and_replays():
+    """A plan's JSON with a source landing on a run (several pairs per source) reads back (simulate, render)."""
+    from solverplan.plan.result import parse_plan
+
+    split, new_of = midpoints(models.load("irregular_convex"))
+    plan = find_plan(split, edges_text(new_of[0]), edges_text(new_of[3]), objective="tolerance")
+    data = plan.to_json()
+    assert any(len({i for i, _ in st_["moves"]}) < len(st_["moves"]) for st_ in data["stages"])
+    back = parse_plan(data)
+    assert back.stages == plan.stages
+    assert simulate_plan(split, back, trials=200, seed=3).success_rate == 1.0
