@@ -156,12 +156,12 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certif
                                why="the plan has no stages (certificates certify plans)")
     part = part if part is not None else make_partition(env)
     plan.check_environment(env, len(part.segments))
-    stages = [StageSpec(stage.interval, tuple(MoveSpec(source=i, target=j) for i, j in stage.moves))
-              for stage in plan.stages]
+    stages = [StageSpec(stage.interval, _plan_moves(part, stage.moves)) for stage in plan.stages]
     partial = set(plan.stats.counts.get("partial_goal_segments", ())) if plan.stats else set()
     if not plan.stats and plan.goal:
         partial = _partial_goal_segments(env, part, plan.goal)
-    targets: Literal["image", "segment"] = "image" if set(plan.stages[-1].to_segments) & partial else "segment"
+    on_walls = any(spec.target is None for st in stages for spec in st.moves)
+    targets: Literal["image", "segment"] = "image" if on_walls or set(plan.stages[-1].to_segments) & partial else "segment"
     opt = plan.optimality
     proved = opt.proved
     value = {"tolerance": plan.min_width, "constant": plan.min_width, "sum": plan.sum_width}.get(plan.objective)
@@ -172,6 +172,26 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certif
     goal = plan.goal if plan.goal else list(plan.stages[-1].to_segments)
     return build_certificate(env, part, stages, start=start, goal=goal, kind="plan", objective=plan.objective,
                              optimality=claimed, targets=targets, margin=_PLAN_MARGIN)
+
+
+def _plan_moves(part: Partition, moves: tuple[tuple[int, int], ...]) -> tuple[MoveSpec, ...]:
+    """One certificate move per source segment of a plan stage. A source with several targets lands on a run of
+    consecutive collinear segments (one straight wall: the planner merges collinear vertices): its move names
+    the target edge of the run's first segment and no segment, and claims its exact image on the wall."""
+    targets: dict[int, list[int]] = {}
+    for i, j in moves:
+        targets.setdefault(i, []).append(j)
+    out = []
+    for i, js in targets.items():
+        if len(js) == 1:
+            out.append(MoveSpec(source=i, target=js[0]))
+            continue
+        ends = {part.segments[j].b for j in js}
+        first = [j for j in js if part.segments[j].a not in ends]
+        if len(first) != 1:
+            raise InputError(f"plan move from segment {i}: its targets {sorted(js)} are not one run of consecutive segments")
+        out.append(MoveSpec(source=i, target_edge=part.segments[first[0]].edge))
+    return tuple(out)
 
 
 def _pareto(front: ParetoFront, env: Environment | None, part: Partition | None) -> Certificate:

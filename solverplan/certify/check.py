@@ -494,7 +494,62 @@ class _Checker:
                     self.fail(f"environment.rings[{h}]", f"the hole lies inside hole ring {g}")
                     return False
         self.edges = edges
+        self._find_walls(nxt)
         return True
+
+    def _find_walls(self, nxt: Sequence[int]) -> None:
+        """The straight walls: maximal chains of consecutive edges of a ring on one line, in one direction (a
+        vertex with an angle of exactly π between them is no corner). For every edge e, ``wall[e]`` = (w, o, s):
+        the first edge w of its chain and the affine map t ↦ o + s·t from e's parameter to the parameter along
+        w's line (exact); ``wall_end[w]``: the parameter of the chain's last point on that line."""
+        n = len(self.edges)
+        prev = [0] * n
+        for i, j in enumerate(nxt):
+            prev[j] = i
+
+        def straight(i: int, j: int) -> bool:
+            u, v = self.edges[i].vector, self.edges[j].vector
+            return cross(u, v) == 0 and dot(u, v) > 0
+
+        self.wall: list[tuple[int, Fraction, Fraction]] = [(i, _ZERO, _ONE) for i in range(n)]
+        self.wall_end: dict[int, Fraction] = {i: _ONE for i in range(n)}
+        for w in range(n):
+            if straight(prev[w], w) or not straight(w, nxt[w]):
+                continue  # not the first edge of a chain of two or more
+            base, vec = self.edges[w].a, self.edges[w].vector
+            norm = dot(vec, vec)
+            j = w
+            while True:
+                e = self.edges[j]
+                offset, scale = dot(sub(e.a, base), vec) / norm, dot(e.vector, vec) / norm
+                self.wall[j] = (w, offset, scale)
+                self.wall_end[w] = offset + scale
+                if not straight(j, nxt[j]):
+                    break
+                j = nxt[j]
+
+    def wall_range(self, edge: int) -> tuple[Fraction, Fraction]:
+        """The straight wall through ``edge`` in ``edge``'s own parameter ([0, 1] when it has no collinear
+        neighbour; beyond it the line runs on over the neighbours)."""
+        w, offset, scale = self.wall[edge]
+        return (-offset / scale, (self.wall_end[w] - offset) / scale)
+
+    def on_walls(self, edge: int, a: Fraction, b: Fraction) -> list[tuple[int, Fraction, Fraction]]:
+        """The part [a, b] of ``edge``'s line (within its straight wall) as pieces of the wall's edges, each
+        in its own parameter (pieces of positive length; a single point stays on ``edge``)."""
+        if _ZERO <= a and b <= _ONE:
+            return [(edge, a, b)]
+        w, offset, scale = self.wall[edge]
+        lo, hi = offset + scale * a, offset + scale * b
+        out = []
+        for j in range(len(self.edges)):
+            wj, oj, sj = self.wall[j]
+            if wj != w:
+                continue
+            x0, x1 = max(lo, oj), min(hi, oj + sj)
+            if x0 < x1:
+                out.append((j, (x0 - oj) / sj, (x1 - oj) / sj))
+        return out or [(edge, a, b)]
 
     # ------------------------------------------------------------------ records
     def point_at(self, edge: int, t: Fraction) -> Point:
@@ -540,8 +595,9 @@ class _Checker:
         if not 0 <= move.target_edge < n:
             self.fail(f"{path}.target_edge", f"edge {move.target_edge} does not exist (edges 0..{n - 1})")
             return None
-        if move.target_edge == move.edge:
-            self.fail(f"{path}.target_edge", f"edge {move.edge} is the source edge: no ray leaving an edge into the free space comes back to its line")
+        if self.wall[move.target_edge][0] == self.wall[move.edge][0]:
+            self.fail(f"{path}.target_edge", f"edge {move.target_edge} lies on the source edge {move.edge}'s line: no ray "
+                                             "leaving an edge into the free space comes back to its line")
             return None
         p, q = move.source
         if not 0 <= p < q <= 1:
@@ -559,7 +615,10 @@ class _Checker:
             elif not (seg.t0 <= p and q <= seg.t1):
                 self.fail(f"{path}.source", f"[{_num(p)}, {_num(q)}] is not within segment {seg.id} ([{_num(seg.t0)}, {_num(seg.t1)}] of edge {seg.edge})")
                 sound = False
-        t_lo, t_hi, label = _ZERO, _ONE, f"edge {move.target_edge}"
+        # Without a named segment a move may land anywhere on the straight wall through its target edge: the
+        # vertices between collinear edges are no corners (t < 0 and t > 1 run on over the neighbours)
+        t_lo, t_hi = self.wall_range(move.target_edge)
+        label = f"edge {move.target_edge}" if (t_lo, t_hi) == (_ZERO, _ONE) else f"the straight wall through edge {move.target_edge}"
         if move.target_segment is not None:
             seg = self.segments.get(move.target_segment)
             if seg is None:
@@ -675,6 +734,13 @@ class _Checker:
             elif edge.id == move.target_edge:
                 if target_range[0] <= l0 and l1 <= target_range[1]:
                     continue
+            elif move.target_segment is None and self.wall[edge.id][0] == self.wall[move.target_edge][0]:
+                # another edge of the straight wall the move may land on: within the target range only
+                w, o_e, s_e = self.wall[edge.id]
+                _, o_t, s_t = self.wall[move.target_edge]
+                m0, m1 = sorted(((o_e + s_e * l - o_t) / s_t for l in (l0, l1)))
+                if target_range[0] <= m0 and m1 <= target_range[1]:
+                    continue
             elif l0 == l1 and along(a, edge.vector, l0) in allowed:
                 continue  # a neighbour of the source edge touching it at a vertex end of the source
             x0, x1 = along(a, edge.vector, l0), along(a, edge.vector, l1)
@@ -770,14 +836,17 @@ class _Checker:
             for m, move in enumerate(stages[k_from].moves):
                 self.counts["links"] += 1
                 c, d = move.target
-                gap = uncovered(c, d, sources.get(move.target_edge, []))
-                if gap is not None:
-                    wrap = " (the cycle returns to its first stage)" if k_to <= k_from else ""
-                    self.fail(
-                        f"stages[{k_to}].moves",
-                        f"no move leaves t in ({_num(gap[0])}, {_num(gap[1])}) of edge {move.target_edge}, where "
-                        f"stages[{k_from}].moves[{m}] may land (its target is [{_num(c)}, {_num(d)}]){wrap}",
-                    )
+                for edge, a, b in self.on_walls(move.target_edge, c, d):
+                    gap = uncovered(a, b, sources.get(edge, []))
+                    if gap is not None:
+                        wrap = " (the cycle returns to its first stage)" if k_to <= k_from else ""
+                        self.fail(
+                            f"stages[{k_to}].moves",
+                            f"no move leaves t in ({_num(gap[0])}, {_num(gap[1])}) of edge {edge}, where "
+                            f"stages[{k_from}].moves[{m}] may land (its target is [{_num(c)}, {_num(d)}]"
+                            f"{'' if edge == move.target_edge else f' of edge {move.target_edge}'}){wrap}",
+                        )
+                        break
         if cert.goal is not None:
             goal: dict[int, list[tuple[Fraction, Fraction]]] = {}
             for piece in cert.goal:
@@ -786,13 +855,16 @@ class _Checker:
             for m, move in enumerate(stages[last].moves):
                 self.counts["links"] += 1
                 c, d = move.target
-                gap = uncovered(c, d, goal.get(move.target_edge, []))
-                if gap is not None:
-                    self.fail(
-                        f"stages[{last}].moves[{m}].target",
-                        f"[{_num(c)}, {_num(d)}] of edge {move.target_edge} is not within the goal set: "
-                        f"t in ({_num(gap[0])}, {_num(gap[1])}) is outside it",
-                    )
+                for edge, a, b in self.on_walls(move.target_edge, c, d):
+                    gap = uncovered(a, b, goal.get(edge, []))
+                    if gap is not None:
+                        self.fail(
+                            f"stages[{last}].moves[{m}].target",
+                            f"[{_num(c)}, {_num(d)}] of edge {move.target_edge} is not within the goal set: "
+                            f"t in ({_num(gap[0])}, {_num(gap[1])}){'' if edge == move.target_edge else f' of edge {edge}'} "
+                            "is outside it",
+                        )
+                        break
 
     def check_source_ends(self) -> None:
         """Every end of a source is accounted for: an end of the edge or of a named segment, an end of a
@@ -810,9 +882,9 @@ class _Checker:
             if k == 0:
                 feeding += [(piece.edge, piece.t0, piece.t1) for piece in cert.start]
             else:
-                feeding += [(m.target_edge, *m.target) for m in stages[k - 1].moves]
+                feeding += [p for m in stages[k - 1].moves for p in self.on_walls(m.target_edge, *m.target)]
             if cert.cycle is not None and k == cert.cycle.stages[0]:
-                feeding += [(m.target_edge, *m.target) for m in stages[n - 1].moves]
+                feeding += [p for m in stages[n - 1].moves for p in self.on_walls(m.target_edge, *m.target)]
             for edge, a, b in feeding:
                 inflow.setdefault(edge, set()).update((a, b))
             for m, move in enumerate(stage.moves):
@@ -843,7 +915,7 @@ class _Checker:
         self.check_pieces(stage.positions, where)
         if len(self.failures) > before or any(r is None or r.image is None for r in results):
             return
-        exact_u = _merged((r.move.target_edge, *r.image) for r in results)  # type: ignore[union-attr, misc]
+        exact_u = _merged(p for r in results for p in self.on_walls(r.move.target_edge, *r.image))  # type: ignore[union-attr, misc]
         claimed_u = _merged((piece.edge, piece.t0, piece.t1) for piece in stage.positions)
         if exact_u != claimed_u:
             self.fail(where, f"claims {self._pieces_text(claimed_u)}, but the exact image of the stage is {self._pieces_text(exact_u)}")

@@ -54,6 +54,7 @@ import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.environment import BoundarySet
+from solverplan.plan._walls import Walls
 from solverplan.plan.margins import (DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins, admissible_intervals,
                                      corner_arcs)
 
@@ -108,10 +109,23 @@ class Problem:
         goal: BoundarySet | None,
         *,
         margins: Margins | None = None,
+        walls: Walls | None = None,
     ) -> None:
-        """``goal=None``: a problem without a goal (reachability sweeps: no goal options)."""
+        """``goal=None``: a problem without a goal (reachability sweeps: no goal options).
+
+        ``walls``: the straight walls of the user's environment when ``graph`` was built on its merged
+        environment (:mod:`solverplan.plan._walls`); ``start`` and ``goal`` are then in the user's numbering
+        and are mapped here. :attr:`runs` maps every segment of the search back to the user's segments."""
         self.graph = graph
         self.partition = graph.partition
+        self.walls = walls
+        self.user_env = walls.env if walls is not None else self.partition.env
+        self.user_start_set, self.user_goal_set = start, goal
+        if walls is not None:
+            if walls.merged != self.partition.env:
+                raise ValueError("the graph is not built on the merged environment of the walls given")
+            start = walls.to_merged(start)
+            goal = walls.to_merged(goal) if goal is not None else None
         self.env = self.partition.env
         self.start_set = start
         self.goal_set = goal
@@ -177,6 +191,42 @@ class Problem:
         """An option's (source, target) moves as segment ids (distinct)."""
         n = self.n_segments
         return tuple(dict.fromkeys((i % n, j % n) for i, j in moves))
+
+    # ------------------------------------------------------------------ the user's numbering
+    @property
+    def runs(self) -> tuple[tuple[int, ...], ...]:
+        """For every segment of the search, the segments of the user's P′ it is made of (boundary order): one
+        each, unless collinear vertices were merged (:mod:`solverplan.plan._walls`)."""
+        cached = getattr(self, "_runs", None)
+        if cached is None:
+            cached = self._runs = (self.walls.runs(self.partition) if self.walls is not None
+                                   else tuple((k,) for k in range(self.n_segments)))
+        return cached
+
+    @property
+    def user_partition(self):
+        """The partition P′ of the user's environment (the one answers name segments of)."""
+        return self.walls.user_partition if self.walls is not None else self.partition
+
+    def user_segments(self, segments) -> tuple[int, ...]:
+        """The user's segments making up some segments of the search (sorted, distinct)."""
+        runs = self.runs
+        return tuple(sorted({u for s in segments for u in runs[s % self.n_segments]}))
+
+    def user_moves(self, moves: tuple[tuple[int, int], ...]) -> tuple[tuple[int, int], ...]:
+        """An option's moves in the user's segments: every user segment of a source with every user segment of
+        its target (a move onto a run of collinear segments may land on any of them)."""
+        runs = self.runs
+        return tuple(dict.fromkeys((u, v) for i, j in self.moves(moves) for u in runs[i] for v in runs[j]))
+
+    def segment_text(self, segment: int) -> str:
+        """A segment of the search named in the user's numbering: ``segment 3 (on e2)``, or a run of them."""
+        part = self.user_partition
+        users = self.runs[segment % self.n_segments]
+        edges = sorted({part.segments[u].edge for u in users})
+        ids = ", ".join(map(str, users))
+        on = ", ".join(f"e{e}" for e in edges)
+        return f"segment {ids} (on {on})" if len(users) == 1 else f"segments {ids} (one wall: {on})"
 
     def intervals(self, source: int) -> tuple[list[float], list[float], list[int]]:
         """The admissible intervals of belief element ``source`` (sorted, disjoint): lows, highs, target

@@ -607,8 +607,9 @@ def _scope(H: int, eps: float | None, start_set: BoundarySet | None, *, one_peri
     what = "one-period patrol cycles" if one_period else "patrol cycles"
     width = "" if eps is None else f", intervals {2 * eps:g} rad wide at the contracting end of each admissible interval"
     reach = "" if start_set is None else f", on segments a safe plan from {start_set} reaches with certainty"
-    return (f"{what} with at most {H} intermediate bounces between consecutive required visits{width}{reach} "
-            "(within the margin policy: no two consecutive arcs into one corner)")
+    return (f"{what} with at most {H} intermediate bounces between consecutive required visits{width}{reach}, "
+            "every stage an arc of the safe BVG between segments of P′ of the vertex list as given (a collinear "
+            "vertex ends a segment here) (within the margin policy: no two consecutive arcs into one corner)")
 
 
 def _claim(method: Method, bound: float | None, scope: str, algorithm: str, limits: tuple[str, ...],

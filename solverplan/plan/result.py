@@ -374,8 +374,10 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
             if not isinstance(raw_moves, list) or not all(isinstance(m, list) and len(m) == 2 for m in raw_moves):
                 raise MalformedFile(f"{where}.moves: expected a list of [source, target] pairs")
             moves = tuple((int(m[0]), int(m[1])) for m in raw_moves)
-            if sorted(i for i, _ in moves) != sorted(frm) or set(j for _, j in moves) != set(to):
-                raise MalformedFile(f"{where}.moves: the pairs must use each from_segment once and reach exactly to_segments")
+            # one pair per source, or one per segment of the run of collinear segments it lands on
+            if {i for i, _ in moves} != set(frm) or {j for _, j in moves} != set(to) or len(set(moves)) != len(moves):
+                raise MalformedFile(f"{where}.moves: the pairs must use every from_segment, reach exactly to_segments "
+                                    "and not repeat")
         stages.append(Stage(frm, tuple(sorted(set(to))), Interval(lo, hi), moves=moves))
     for k in range(1, len(stages)):
         if set(stages[k].from_segments) != set(stages[k - 1].to_segments):

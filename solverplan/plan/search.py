@@ -29,7 +29,11 @@ Objectives and why the answers are optimal
 
 Every plan interval lies in an *admissible* interval: the exact safe set shrunk by μ =
 ``safe_margin`` and kept δ = ``heading_margin`` away from the wall (see :mod:`solverplan.plan._problem`);
-optimality is over such plans. Partial segments: a start piece covering part of a segment counts as
+optimality is over such plans. Stages land on segments of P′ of the environment's *straight walls*: a
+vertex with an angle of exactly π is no corner, so the search runs on the environment with those vertices
+merged (:mod:`solverplan.plan._walls`; the same free space) and the answer names the user's edges and
+segments — a stage onto a run of collinear segments lists every segment of the run. Inserting collinear
+vertices never changes an answer. Partial segments: a start piece covering part of a segment counts as
 the whole segment; the goal is reached on segments lying wholly in the goal set, or — in the last
 stage only — on the part of a segment the goal set covers, with the interval cut so that every
 landing point is inside it.
@@ -66,6 +70,7 @@ from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan import _search
 from solverplan.plan._problem import Problem
+from solverplan.plan._walls import Walls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
@@ -123,29 +128,56 @@ def planning_problem(
                                       corner_clearance=corner_clearance)
     start_set = _boundary(env, start, "start")
     goal_set = _boundary(env, goal, "goal")
-    if graph is None:
-        graph = safe_bounce_visibility_graph(env)
-    elif graph.partition.env != env:
+    walls = Walls(env)
+    if graph is not None and graph.partition.env not in (env, walls.merged):
         raise InputError("the safe BVG given was built for another environment")
-    return Problem(graph, start_set, goal_set, margins=margins)
+    if walls.identity:
+        return Problem(graph or safe_bounce_visibility_graph(env), start_set, goal_set, margins=margins)
+    # Collinear vertices are no corners: search the same free space with them merged (module docstring)
+    if graph is None or graph.partition.env != walls.merged:
+        graph = safe_bounce_visibility_graph(walls.merged)
+    return Problem(graph, start_set, goal_set, margins=margins, walls=walls)
 
 
 # ---------------------------------------------------------------------- results
 def _stages(problem: Problem, path: _search.Path, constant: tuple[float, float] | None = None) -> tuple[Stage, ...]:
+    """The stages of a path, in the user's segment ids (a move onto a run of collinear segments lists each)."""
     out = []
-    for belief, o in _search.walk(problem, path):
+    steps = list(_search.walk(problem, path))
+    for k, (belief, o) in enumerate(steps):
         lo, hi = constant if constant is not None else (o.lo, o.hi)
-        out.append(Stage(problem.segments(belief), problem.segments(o.next), Interval(lo, hi),
-                         moves=problem.moves(o.moves)))
+        moves = problem.user_moves(o.moves)
+        if k == len(steps) - 1 and problem.walls is not None:
+            moves = _in_goal(problem, moves)
+        out.append(Stage(problem.user_segments(problem.segments(belief)), tuple(sorted({j for _, j in moves})),
+                         Interval(lo, hi), moves=moves))
     return tuple(out)
+
+
+def _in_goal(problem: Problem, moves: tuple[tuple[int, int], ...]) -> tuple[tuple[int, int], ...]:
+    """The last stage's moves onto user segments the goal set overlaps: where a last stage lands on a run that
+    the goal covers in part, it lands inside the goal (the interval was cut for it), hence not on the run's
+    other segments."""
+    part = problem.user_partition
+    pieces = problem.user_goal_set.by_edge() if problem.user_goal_set is not None else {}
+
+    def meets(u: int) -> bool:
+        seg = part.segments[u]
+        return any(seg.t0 < q and p < seg.t1 for p, q in pieces.get(seg.edge, ()))
+
+    kept = tuple(m for m in moves if meets(m[1]))
+    sources = {i for i, _ in moves}
+    if {i for i, _ in kept} != sources:  # pragma: no cover - every source lands in the goal
+        raise AssertionError("a last stage has a source that lands outside the goal set")
+    return kept
 
 
 def _common(problem: Problem, max_bounces: int | None) -> dict:
     return {
-        "start": str(problem.start_set),
-        "goal": str(problem.goal_set),
+        "start": str(problem.user_start_set),
+        "goal": str(problem.user_goal_set),
         "max_bounces": max_bounces,
-        "environment": EnvironmentRecord.of(problem.env, problem.partition.n_segments),
+        "environment": EnvironmentRecord.of(problem.user_env, problem.user_partition.n_segments),
         "margins": problem.margins.to_json(),
     }
 
@@ -154,9 +186,10 @@ def _scope(problem: Problem, max_bounces: int | None) -> str:
     """The class of plans every optimality claim of :func:`find_plan` and :func:`pareto_front` is about."""
     budget = f" with at most {max_bounces} bounces" if max_bounces is not None else ""
     m = problem.margins
-    return (f"plans{budget} whose intervals lie in the admissible intervals of the safe BVG (heading margin "
-            f"{m.heading_margin:g} rad, safe margin {m.safe_margin:g} rad, corner clearance {m.corner_clearance:.3g}, "
-            "no two consecutive arcs into one corner)")
+    return (f"plans{budget} whose stages each land on one segment of P′ of the straight walls (collinear vertices "
+            f"merged: a run of collinear segments is one landing unit) with intervals in the admissible intervals of "
+            f"the safe BVG (heading margin {m.heading_margin:g} rad, safe margin {m.safe_margin:g} rad, corner "
+            f"clearance {m.corner_clearance:.3g} at real corners, no two consecutive arcs into one corner)")
 
 
 def _claim(method: Method, proved: bool, bound: float | None, algorithm: str, problem: Problem,
@@ -167,17 +200,16 @@ def _claim(method: Method, proved: bool, bound: float | None, algorithm: str, pr
 def _precheck(problem: Problem, objective: str, max_bounces: int | None) -> str | None:
     """A reason why no plan can exist, found without searching (None if the search must decide)."""
     if not problem.goal_has_incoming():
-        segs = sorted(problem.goal_whole | set(problem.goal_partial))
+        segs = problem.user_segments(problem.goal_whole | set(problem.goal_partial))
         which = f"segment {segs[0]}" if len(segs) == 1 else f"segments {', '.join(map(str, segs))}"
         return f"goal segments have no incoming safe arc ({which} of P′)"
     for s in problem.start_belief:
         if not problem.intervals(s)[0]:
-            seg = problem.partition.segments[s]
-            return f"start segment {s} (on e{seg.edge}) has no admissible outgoing interval"
+            return f"start {problem.segment_text(s)} has no admissible outgoing interval"
     b = problem.start_belief
     if len(b) > 1 and not problem.options(b) and not problem.goal_options(b):
         return (f"no heading interval is admissible from every start segment at once (segments "
-                f"{', '.join(map(str, b))}): a belief-state plan cannot even begin")
+                f"{', '.join(map(str, problem.user_segments(b)))}): a belief-state plan cannot even begin")
     return None
 
 
@@ -260,11 +292,26 @@ def find_plan(
     plan = _solve(problem, objective, k_max, method, common)
     t2 = time.perf_counter()
     stats = plan.stats.with_(seconds_setup=round(t1 - t0, 6), seconds_search=round(t2 - t1, 6),
-                             start_segments=list(problem.start_belief), goal_segments=sorted(problem.goal_whole),
-                             partial_goal_segments=sorted(problem.goal_partial), options_built=problem.options_built,
+                             start_segments=list(problem.user_segments(problem.start_belief)),
+                             goal_segments=list(problem.user_segments(problem.goal_whole)),
+                             partial_goal_segments=_partial_user_goal(problem), options_built=problem.options_built,
                              admissible_intervals=problem.n_admissible)
     logger.info("%s plan: %s in %.3f s", objective, plan.status.value, t2 - t1)
     return plan.with_(stats=stats)
+
+
+def _partial_user_goal(problem: Problem) -> list[int]:
+    """The user's segments the goal set covers only in part (what a certificate must claim images on)."""
+    if problem.walls is None:
+        return sorted(problem.goal_partial)
+    part = problem.user_partition
+    out = []
+    for edge, pieces in (problem.user_goal_set.by_edge() if problem.user_goal_set is not None else {}).items():
+        for k in part.edge_segments[edge]:
+            s = part.segments[k]
+            if not any(p <= s.t0 and s.t1 <= q for p, q in pieces) and any(s.t0 < q and p < s.t1 for p, q in pieces):
+                out.append(k)
+    return sorted(out)
 
 
 def _found(problem: Problem, objective: str, path: _search.Path, optimality: Optimality, common: dict,
@@ -396,8 +443,7 @@ def _fewest(problem: Problem, k_max: int | None, common: dict) -> Plan:
         dist, _ = problem.singleton_bounds
         lone = [s for s in start if dist[s] == math.inf]
         if lone:
-            seg = problem.partition.segments[lone[0]]
-            reason = (f"start segment {lone[0]} (on e{seg.edge}) has no plan to the goal even on its own, so no plan "
+            reason = (f"start {problem.segment_text(lone[0])} has no plan to the goal even on its own, so no plan "
                       f"works from the whole start set")
             return _infeasible("fewest", reason, claim(None, algorithm), common)
         fewest, astats = _search.fewest_stages(problem, k_max)

@@ -34,7 +34,9 @@ def test_contract_fields_and_numbers():
     assert data["optimality"] == {"method": "search-exhausted", "proved": True, "bound": data["min_width"],
                                   "scope": data["optimality"]["scope"], "gap": 0.0,
                                   "algorithm": data["optimality"]["algorithm"]}
-    assert data["optimality"]["scope"].startswith("plans whose intervals lie in the admissible intervals")
+    scope = data["optimality"]["scope"]
+    assert scope.startswith("plans whose stages each land on one segment of P′ of the straight walls")
+    assert "collinear vertices merged" in scope and "admissible intervals" in scope
     assert all(stage["width"] == stage["interval"][1] - stage["interval"][0] for stage in data["stages"])
 
 

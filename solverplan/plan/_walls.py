@@ -1,0 +1,140 @@
+"""Straight walls: an environment with its collinear vertices merged, and the exact map between the two (private).
+
+A vertex whose interior angle is exactly π (the previous and next vertices on one line through it, on
+either side) is not a corner: the wall goes on straight through it. Yet the partition P′ cuts the boundary
+at every vertex, so a collinear vertex splits a wall into segments, and the rays of Algorithm 1 through it
+add further cut points that mark no visibility event. A planner whose stages land on one segment of P′
+would then see a different (smaller) class of plans in the same free space, and its "optimal" answers would
+change with the vertex list.
+
+The planners therefore search the **merged** environment — the same rings with every collinear vertex
+removed (the same free space, exactly) — and report in the user's numbering:
+
+- user edge k lies on merged edge ``m`` with merged parameter s = s₀ + t·(s₁ − s₀) (exact: the merged edge
+  is the same line, and s is the ratio of the distances along it);
+- every segment of the user's P′ lies inside exactly one segment of the merged P′ (the user's partition
+  points are the merged ones plus the collinear vertices and the cut points of the rays through them), so a
+  merged segment is a *run* of consecutive user segments, listed in boundary order.
+
+>>> from solverplan.environment import Environment
+>>> split = Environment.from_coords([[0, 0], [2, 0], [4, 0], [4, 4], [0, 4]])   # (2, 0) is collinear
+>>> walls = Walls(split)
+>>> walls.identity, walls.merged.n_edges, walls.edge_map[1]
+(False, 4, (0, Fraction(1, 2), Fraction(1, 1)))
+>>> str(walls.to_merged(split.boundary_set("e1:0:0.5,e2")))
+'e0:0.5:0.75,e1'
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from functools import cached_property
+
+from solverplan.bounce.partition import Partition, partition as make_partition
+from solverplan.environment import BoundaryPiece, BoundarySet, Environment
+from solverplan.exact import ExactPoint, orient
+
+__all__ = ["Walls", "collinear_vertices"]
+
+
+def _straight(p: ExactPoint, v: ExactPoint, q: ExactPoint) -> bool:
+    """Is v a collinear vertex between p and q (angle exactly π: on the line pq, strictly between them)?"""
+    if orient(p, v, q) != 0:
+        return False
+    return (v[0] - p[0]) * (q[0] - v[0]) + (v[1] - p[1]) * (q[1] - v[1]) > 0
+
+
+def collinear_vertices(env: Environment) -> tuple[int, ...]:
+    """Global indices of the vertices of ``env`` whose interior angle is exactly π (exact test)."""
+    out: list[int] = []
+    base = 0
+    for ring in env.rings:
+        n = len(ring)
+        out.extend(base + i for i in range(n) if _straight(ring[i - 1], ring[i], ring[(i + 1) % n]))
+        base += n
+    return tuple(out)
+
+
+def _param(a: ExactPoint, b: ExactPoint, x: ExactPoint) -> Fraction:
+    """The parameter of point x on the line a → b (x on it): (x − a)·(b − a) / |b − a|², exact."""
+    ex, ey = b[0] - a[0], b[1] - a[1]
+    return Fraction((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey)
+
+
+class Walls:
+    """The straight walls of ``env``: its merged environment and the maps between the two numberings.
+
+    Attributes
+    ----------
+    env
+        The user's environment.
+    merged
+        ``env`` without its collinear vertices (``env`` itself when it has none: :attr:`identity`).
+    edge_map
+        For every user edge k: ``(m, s0, s1)``, the merged edge it lies on and the merged parameters of its
+        two ends (user t ↦ s0 + t·(s1 − s0)).
+    """
+
+    def __init__(self, env: Environment) -> None:
+        self.env = env
+        rings: list[tuple[ExactPoint, ...]] = []
+        edge_map: list[tuple[int, Fraction, Fraction]] = []
+        merged_base = 0
+        for ring in env.rings:
+            n = len(ring)
+            keep = [i for i in range(n) if not _straight(ring[i - 1], ring[i], ring[(i + 1) % n])]
+            rings.append(tuple(ring[i] for i in keep))
+            # the merged edge of user edge i starts at the last kept vertex at or before i (cyclically)
+            owner = [0] * n
+            last = keep[-1]
+            kept = set(keep)
+            for i in range(n):
+                if i in kept:
+                    last = i
+                owner[i] = last
+            index = {v: k for k, v in enumerate(keep)}
+            for i in range(n):
+                k = index[owner[i]]
+                a, b = ring[keep[k]], ring[keep[(k + 1) % len(keep)]]
+                s0 = _param(a, b, ring[i])
+                s1 = _param(a, b, ring[(i + 1) % n]) if (i + 1) % n != keep[(k + 1) % len(keep)] else Fraction(1)
+                edge_map.append((merged_base + k, s0, s1))
+            merged_base += len(keep)
+        self.edge_map: tuple[tuple[int, Fraction, Fraction], ...] = tuple(edge_map)
+        self.identity = merged_base == env.n_edges
+        self.merged = env if self.identity else Environment(tuple(rings), name=env.name, reoriented=env.reoriented)
+
+    # ------------------------------------------------------------------ sets
+    def to_merged(self, bset: BoundarySet) -> BoundarySet:
+        """The same boundary points, in the merged numbering (exact; pieces of one wall joined)."""
+        if self.identity:
+            return bset
+        pieces = []
+        for piece in bset.pieces:
+            m, s0, s1 = self.edge_map[piece.edge]
+            pieces.append(BoundaryPiece(m, s0 + piece.t0 * (s1 - s0), s0 + piece.t1 * (s1 - s0)))
+        return BoundarySet(tuple(pieces)).merged()
+
+    # ------------------------------------------------------------------ segments
+    @cached_property
+    def user_partition(self) -> Partition:
+        """The partition P′ of the user's environment (the ids answers are reported in)."""
+        return make_partition(self.env)
+
+    def runs(self, merged_partition: Partition) -> tuple[tuple[int, ...], ...]:
+        """For every segment of ``merged_partition`` (the P′ of :attr:`merged`), the user segments inside it, in
+        boundary order. Raises :class:`AssertionError` if a user segment is not inside one merged segment
+        (the user's P′ always refines the merged one)."""
+        user = self.user_partition
+        if self.identity:
+            return tuple((k,) for k in range(len(user.segments)))
+        found: list[list[tuple[Fraction, int]]] = [[] for _ in merged_partition.segments]
+        for seg in user.segments:
+            m, s0, s1 = self.edge_map[seg.edge]
+            lo, hi = s0 + seg.t0 * (s1 - s0), s0 + seg.t1 * (s1 - s0)
+            j = merged_partition.segment_at(m, (lo + hi) / 2)
+            host = merged_partition.segments[j]
+            if not (host.edge == m and host.t0 <= lo and hi <= host.t1):  # pragma: no cover - P′ refines
+                raise AssertionError(f"user segment {seg.id} is not inside one segment of the merged partition")
+            found[j].append((lo, seg.id))
+        return tuple(tuple(k for _, k in sorted(items)) for items in found)

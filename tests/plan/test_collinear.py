@@ -1,0 +1,192 @@
+"""Collinear vertices never change an answer: the planner searches the straight walls (collinear vertices merged)
+and answers in the user's edge and segment ids; the answers replay, and their certificates verify."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from solverplan import models
+from solverplan.bounce.partition import partition
+from solverplan.certify.build import certificate
+from solverplan.certify.check import check_certificate
+from solverplan.certify.schema import Certificate
+from solverplan.environment import Environment
+from solverplan.plan.patrol import patrol
+from solverplan.plan.search import find_plan, pareto_front
+from solverplan.plan._walls import Walls, collinear_vertices
+from solverplan.simulate import simulate_plan
+
+
+def with_points(env: Environment, inserts: dict[int, list[Fraction]]) -> tuple[Environment, list[list[int]]]:
+    """``env`` with collinear vertices inserted: at the fractions ``inserts[k]`` (in (0, 1)) of edge k. Returns
+    the new environment and, for every old edge, its new edges in order."""
+    rings, new_of = [], []
+    edge = count = 0
+    for ring in env.rings:
+        out = []
+        for i, a in enumerate(ring):
+            b = ring[(i + 1) % len(ring)]
+            out.append(a)
+            fracs = sorted(set(inserts.get(edge, ())))
+            out.extend(tuple(a[c] + f * (b[c] - a[c]) for c in range(2)) for f in fracs)
+            new_of.append(list(range(count, count + len(fracs) + 1)))
+            count += len(fracs) + 1
+            edge += 1
+        rings.append(tuple(out))
+    return Environment(tuple(rings), name=env.name, reoriented=env.reoriented), new_of
+
+
+def midpoints(env: Environment) -> tuple[Environment, list[list[int]]]:
+    """Every edge's midpoint inserted: edge k becomes edges 2k, 2k + 1."""
+    return with_points(env, {k: [Fraction(1, 2)] for k in range(env.n_edges)})
+
+
+def edges_text(edges) -> str:
+    return ",".join(f"e{e}" for e in edges)
+
+
+def same(plan, other) -> None:
+    assert plan.status == other.status
+    assert plan.bounces == other.bounces
+    if plan.found:
+        assert abs(plan.min_width - other.min_width) <= 1e-12
+        assert abs(plan.sum_width - other.sum_width) <= 1e-12
+
+
+def sound(env: Environment, plan) -> None:
+    """The plan's certificate verifies exactly and its rollouts all reach the goal."""
+    report = check_certificate(certificate(plan, env=env))
+    assert report.valid, [str(f) for f in report.failures]
+    runs = simulate_plan(env, plan, trials=300, seed=7, sampling="endpoints")
+    assert runs.success_rate == 1.0
+
+
+def test_walls_of_a_split_square_are_the_square():
+    square = models.load("square")
+    split, new_of = midpoints(square)
+    walls = Walls(split)
+    assert not walls.identity and collinear_vertices(split) == (1, 3, 5, 7)
+    assert walls.merged.rings == square.rings
+    assert walls.edge_map[3] == (1, Fraction(1, 2), Fraction(1))
+    assert str(walls.to_merged(split.boundary_set("e0,e1:0:0.5"))) == "e0:0:0.75"
+    assert Walls(square).identity and Walls(square).merged is square
+    runs = walls.runs(partition(square))
+    assert runs == ((0, 1), (2, 3), (4, 5), (6, 7))
+
+
+CASES = [("irregular_convex", 0, 3), ("hexagon", 1, 4), ("l_shape", 0, 3), ("one_hole", 0, 2), ("one_hole", 4, 1)]
+
+
+@pytest.mark.parametrize("objective", ["fewest", "tolerance"])
+@pytest.mark.parametrize("name, start, goal", CASES)
+def test_midpoint_split_keeps_the_optimum(name, start, goal, objective):
+    env = models.load(name)
+    split, new_of = midpoints(env)
+    plan = find_plan(env, f"e{start}", f"e{goal}", objective=objective)
+    again = find_plan(split, edges_text(new_of[start]), edges_text(new_of[goal]), objective=objective)
+    same(plan, again)
+    assert again.optimality.proved and "collinear vertices merged" in again.optimality.scope
+    assert again.environment.matches(split) and again.start == "e" + ",e".join(map(str, new_of[start]))
+    if again.found:
+        sound(split, again)
+
+
+def test_midpoint_split_goal_on_half_a_wall_is_sound():
+    """A goal on one half of a wall: the last stage is cut to land inside it; the certificate claims images."""
+    split, new_of = midpoints(models.load("irregular_convex"))
+    plan = find_plan(split, edges_text(new_of[0]), f"e{new_of[3][1]}", objective="tolerance")
+    assert plan.found and set(plan.stages[-1].to_segments) <= set(
+        s.id for s in partition(split).segments
+        if s.edge == new_of[3][1])
+    sound(split, plan)
+
+
+def test_fifty_collinear_vertices_on_one_wall():
+    env = models.load("irregular_convex")
+    wall, new_of = with_points(env, {0: [Fraction(i, 51) for i in range(1, 51)]})
+    assert len(collinear_vertices(wall)) == 50
+    for start, goal in ((0, 3), (3, 0), (0, 2)):
+        plan = find_plan(env, f"e{start}", f"e{goal}", objective="fewest")
+        again = find_plan(wall, edges_text(new_of[start]), edges_text(new_of[goal]), objective="fewest")
+        same(plan, again)
+        sound(wall, again)
+    # a stage landing on the wall lists every segment of the run it lands on
+    plan = find_plan(wall, edges_text(new_of[3]), edges_text(new_of[0]), objective="fewest")
+    assert len(plan.stages[-1].to_segments) >= 51
+
+
+def test_pareto_front_on_a_split_polygon():
+    env = models.load("l_shape")
+    split, new_of = midpoints(env)
+    front = pareto_front(env, "e5", "e0:0:0.3")
+    again = pareto_front(split, edges_text(new_of[5]), "e0:0:0.6")
+    assert [(p.bounces, round(p.min_width, 12)) for p in front.points] == \
+        [(p.bounces, round(p.min_width, 12)) for p in again.points]
+
+
+def test_patrol_on_a_split_square():
+    """Patrols search the vertex list as given (their scope says so); on the split square the optimal cycle lands
+    on the visited halves, so the answer is the same."""
+    square = models.load("square")
+    split, new_of = midpoints(square)
+    p = patrol(square, "e0,e1,e2,e3", tolerance=0.05, objective="contraction")
+    q = patrol(split, ",".join(f"e{new_of[k][0]}" for k in range(4)), tolerance=0.05, objective="contraction")
+    assert p.found and q.found and abs(p.contraction - q.contraction) <= 1e-12
+    assert "vertex list as given" in q.optimality.scope
+
+
+def test_the_checker_bounds_a_wall_landing_by_the_wall():
+    """A move without a named segment lands on the straight wall through its target edge, and no further."""
+    split, new_of = midpoints(models.load("irregular_convex"))
+    plan = find_plan(split, edges_text(new_of[0]), edges_text(new_of[3]), objective="tolerance")
+    cert = certificate(plan, env=split)
+    data = cert.to_json()
+    runs = [(k, m) for k, st_ in enumerate(data["stages"]) for m, mv in enumerate(st_["moves"]) if "target_segment" not in mv]
+    assert runs, "the plan lands on a run of collinear segments somewhere"
+    k, m = runs[0]
+    move = data["stages"][k]["moves"][m]
+    hi = Fraction(move["target"][1])
+    assert hi > 1  # past the collinear vertex, in the first edge's parameter
+    move["target"] = [move["target"][0], "3"]   # beyond the wall's far end (t = 2 on the first edge)
+    report = check_certificate(Certificate.from_json(data))
+    assert not report.valid
+    assert any("straight wall through edge" in f.message for f in report.failures)
+
+
+MODELS = ["square", "triangle", "irregular_convex", "hexagon", "l_shape", "one_hole"]
+
+
+@settings(max_examples=12)
+@given(data=st.data())
+def test_random_collinear_points_change_nothing(data):
+    env = models.load(data.draw(st.sampled_from(MODELS), label="model"))
+    n = env.n_edges
+    chosen = data.draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=3, unique=True), label="edges")
+    inserts = {k: data.draw(st.lists(st.fractions(Fraction(1, 20), Fraction(19, 20), max_denominator=40),
+                                     min_size=1, max_size=3), label=f"points on e{k}") for k in chosen}
+    changed, new_of = with_points(env, inserts)
+    start = data.draw(st.integers(0, n - 1), label="start")
+    goal = data.draw(st.integers(0, n - 1).filter(lambda g: g != start), label="goal")
+    objective = data.draw(st.sampled_from(["fewest", "tolerance"]), label="objective")
+    plan = find_plan(env, f"e{start}", f"e{goal}", objective=objective)
+    again = find_plan(changed, edges_text(new_of[start]), edges_text(new_of[goal]), objective=objective)
+    assert plan.bounces == again.bounces
+    if plan.found:
+        assert abs(plan.min_width - again.min_width) <= 1e-12
+
+
+def test_a_plan_onto_runs_reads_back_and_replays():
+    """A plan's JSON with a source landing on a run (several pairs per source) reads back (simulate, render)."""
+    from solverplan.plan.result import parse_plan
+
+    split, new_of = midpoints(models.load("irregular_convex"))
+    plan = find_plan(split, edges_text(new_of[0]), edges_text(new_of[3]), objective="tolerance")
+    data = plan.to_json()
+    assert any(len({i for i, _ in st_["moves"]}) < len(st_["moves"]) for st_ in data["stages"])
+    back = parse_plan(data)
+    assert back.stages == plan.stages
+    assert simulate_plan(split, back, trials=200, seed=3).success_rate == 1.0
