@@ -276,7 +276,7 @@ def find_plan(
     t1 = time.perf_counter()
     if deadline.expired():
         plan = _cut(problem, objective, k_max, deadline, "building the safe BVG and the query", None,
-                    "none (the search did not start)", common, {})
+                    "", common, {})
     else:
         plan = _solve(problem, objective, k_max, method, common, deadline)
     t2 = time.perf_counter()
@@ -314,7 +314,8 @@ def _cut(problem: Problem, objective: str, k_max: int | None, deadline: Deadline
     proved optimal) or ``not-found``; either way with the ``bound`` proved so far and the timeout as a limit."""
     if bound is not None and not math.isfinite(bound):
         bound = None
-    opt = Optimality(method, False, bound, scope=_scope(problem, k_max), algorithm=f"{algorithm}, stopped by the timeout",
+    algorithm = f"{algorithm}, stopped by the timeout" if algorithm else "none: the timeout came before the search"
+    opt = Optimality(method, False, bound, scope=_scope(problem, k_max), algorithm=algorithm,
                      limits=(deadline.limit(progress),))
     if path is not None:
         return _found(problem, objective, path, opt, common, stats)
@@ -343,7 +344,7 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
         return _fewest(problem, k_max, common, deadline)
 
     if deadline.expired():
-        return _cut(problem, objective, k_max, deadline, "the precheck", None, "none (the search did not start)",
+        return _cut(problem, objective, k_max, deadline, "the precheck", None, "",
                     common, {})
 
     if objective == "tolerance":
