@@ -29,11 +29,18 @@ from __future__ import annotations
 
 import math
 import time
+from typing import Callable
+
+import numpy as np
 
 from solverplan.errors import InputError
 from solverplan.limits import quote
 
-__all__ = ["Deadline", "NEVER", "check_timeout", "deadline_of"]
+__all__ = ["Deadline", "NEVER", "check_timeout", "deadline_of", "in_chunks"]
+
+CHUNK_ROWS = 2048
+"""Rows per call of :func:`in_chunks` under a deadline: small enough that one call takes a fraction of a second
+on the position searches' largest layers."""
 
 
 def check_timeout(timeout: object) -> float | None:
@@ -105,3 +112,26 @@ def deadline_of(timeout: float | Deadline | None) -> Deadline:
         return timeout
     seconds = check_timeout(timeout)
     return NEVER if seconds is None else Deadline(seconds)
+
+
+def in_chunks(deadline: Deadline, fn: Callable[..., tuple[np.ndarray, ...]], *columns: np.ndarray,
+              rows: int = CHUNK_ROWS) -> tuple[np.ndarray, ...] | None:
+    """``fn(*columns)`` for a row-wise vectorised ``fn`` (each output row depends on the same input row only),
+    computed ``rows`` rows at a time with the deadline asked between calls; None once it has expired. Without a
+    limit ``fn`` is called once on everything (the same arrays as a direct call).
+
+    >>> double = lambda a: (2 * a, a + 1)
+    >>> [x.tolist() for x in in_chunks(NEVER, double, np.arange(5), rows=2)]
+    [[0, 2, 4, 6, 8], [1, 2, 3, 4, 5]]
+    >>> [x.tolist() for x in in_chunks(Deadline(60), double, np.arange(5), rows=2)]
+    [[0, 2, 4, 6, 8], [1, 2, 3, 4, 5]]
+    """
+    n = len(columns[0])
+    if deadline.seconds is None or n <= rows:
+        return None if deadline.expired() else fn(*columns)
+    parts = []
+    for lo in range(0, n, rows):
+        if deadline.expired():
+            return None
+        parts.append(fn(*(c[lo:lo + rows] for c in columns)))
+    return tuple(np.concatenate(outs) for outs in zip(*parts))

@@ -25,7 +25,8 @@ outside it (:func:`~solverplan.plan._results.heading_cone`; every heading of the
 :func:`~solverplan.bounce.transitions.transition_set`, and the exact final set must lie in the goal. Only replayed
 strategies are returned. The search is a heuristic (the heading grid and the beam): it proves what it returns,
 never that nothing exists. A ``deadline`` (:class:`~solverplan.plan._deadline.Deadline`) is asked before each
-bounce and each exact replay; when it has passed the search stops with nothing found and the timeout in
+bounce, between blocks of the vectorised corner-ray tests and for each new state (before its dominance check
+or its exact replay); when it has passed the search stops with nothing found and the timeout in
 ``limits``.
 """
 
@@ -44,7 +45,7 @@ from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import cast_from_boundary
-from solverplan.plan._deadline import NEVER, Deadline
+from solverplan.plan._deadline import NEVER, Deadline, in_chunks
 from solverplan.plan._results import heading_cone
 from solverplan.result import Stage
 from solverplan.plan.margins import Margins
@@ -291,7 +292,10 @@ def search_positions(
             rep_p.append(pr)
         rc = np.concatenate(rep_c)
         rp = np.concatenate(rep_p)
-        ok, tgt, lo_t, hi_t = ps.images(pe_a[rp], pa_a[rp], pb_a[rp], ct[rc])
+        imaged = in_chunks(deadline, ps.images, pe_a[rp], pa_a[rp], pb_a[rp], ct[rc])
+        if imaged is None:
+            return _timed_out(deadline, expanded, depth - 1, failures)
+        ok, tgt, lo_t, hi_t = imaged
         expanded += len(cs)
         good = np.ones(len(cs), dtype=bool)
         np.logical_and.at(good, rc, ok)
@@ -300,6 +304,8 @@ def search_positions(
         order = np.argsort(rc, kind="stable")
         bounds = np.searchsorted(rc[order], np.arange(len(cs) + 1))
         for c_index in np.flatnonzero(good).tolist():
+            if deadline.expired():
+                return _timed_out(deadline, expanded, depth - 1, failures)
             rows = order[bounds[c_index]:bounds[c_index + 1]]
             pieces = merge_pieces([(int(tgt[r]), float(lo_t[r]), float(hi_t[r])) for r in rows])
             length = sum((b - a) * ps.lengths[e] for e, a, b in pieces)
@@ -310,9 +316,9 @@ def search_positions(
         next_layer: list[int] = []
         per: dict[int, int] = {}
         for length, pieces, parent, interval in new:
+            if deadline.expired():
+                return _timed_out(deadline, expanded, depth - 1, failures)
             if is_goal(pieces) and replays < max_replays:
-                if deadline.expired():
-                    return _timed_out(deadline, expanded, depth, failures)
                 nodes.append(_Node(pieces, parent, interval, depth))
                 replays += 1
                 path = _path(nodes, len(nodes) - 1)
