@@ -649,7 +649,7 @@ def _solve(env, g: SafeBVG, edges, objective, tolerance, max_between, start_set,
     one_period = objective == "contraction"
     for H in classes:
         if deadline.expired():
-            limits = (*limits, deadline.limit(f"the classes H < {H}"))
+            limits = (*limits, deadline.limit(_classes_done(classes, H)))
             break
         scope = _scope(H, eps, start_set, one_period=one_period)
         if one_period:
@@ -683,11 +683,25 @@ def _solve(env, g: SafeBVG, edges, objective, tolerance, max_between, start_set,
     return Patrol(status=status, tolerance=eps, max_between=classes[-1],
                   reason=(f"no patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with intervals "
                           f"{2 * eps:g} rad wide and at most {classes[-1]} intermediate bounces between required visits "
-                          f"(every such walk of the safe BVG was searched){where}{_capped(limits)}"),
+                          f"(every such walk of the safe BVG was searched){where}{_capped(limits)}")
+                  if not _timed_out(limits) else _timed_out(limits),
                   optimality=_claim(Method.SEARCH_EXHAUSTED, None, _scope(classes[-1], eps, start_set,
                                                                           one_period=one_period),
                                     "search of the product of the safe BVG with the sequence automaton", limits),
                   **base)
+
+
+def _classes_done(classes: list[int], H: int) -> str:
+    """How far a search over the classes got before class ``H`` (for a timeout's limit entry)."""
+    if H == classes[0]:
+        return "building the safe BVG and the arc choices"
+    return f"the classes H = {classes[0]}..{H - 1}" if H - 1 > classes[0] else f"the class H = {classes[0]}"
+
+
+def _timed_out(limits: tuple[str, ...]) -> str:
+    """The reason of an answer the timeout stopped before a cycle was found ("" when it did not)."""
+    hit = [x for x in limits if x.startswith("timeout")]
+    return f"{hit[0]} before a patrol cycle was found: not a proof" if hit else ""
 
 
 def _capped(limits: tuple[str, ...]) -> str:
@@ -781,7 +795,7 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
     start_set = base["start"]
     for H in classes:
         if deadline.expired():
-            hit_limits.add(deadline.limit(f"the classes H < {H}"))
+            hit_limits.add(deadline.limit(_classes_done(classes, H)))
             break
         lo_hit = feasible(_EPS_FLOOR, H)
         if lo_hit is None:
@@ -813,7 +827,7 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
     return Patrol(status=Status.NOT_FOUND if limits else Status.INFEASIBLE, tolerance=None, max_between=classes[-1],
                   reason=(f"no contracting patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with at most "
                           f"{classes[-1]} intermediate bounces between required visits, even with tolerance "
-                          f"{_EPS_FLOOR:g}{_capped(limits)}"),
+                          f"{_EPS_FLOOR:g}{_capped(limits)}") if not _timed_out(limits) else _timed_out(limits),
                   optimality=_claim(Method.BISECTION, None, _scope(classes[-1], _EPS_FLOOR, start_set, one_period=False),
                                     "Bellman-Ford negative-cycle detection at the smallest tolerance", limits),
                   **base)
