@@ -572,6 +572,12 @@ PositionToleranceOpt = Annotated[
 HeadingMarginOpt = Annotated[
     float, typer.Option("--heading-margin", metavar="D", help="Keep every heading this far (radians) from the walls (0 and π).")
 ]
+TimeoutOpt = Annotated[
+    float | None,
+    typer.Option("--timeout", metavar="SECONDS", help="Stop searching after this many seconds (the graph build counts, "
+                 "uninterrupted) and answer the best found so far, not proved optimal, with the bound proved so far.",
+                 show_default=False),
+]
 CornerClearanceOpt = Annotated[
     float | None,
     typer.Option("--corner-clearance", metavar="K", help="Keep every landing point this far (a length) from segment ends, "
@@ -606,6 +612,7 @@ def patrol_command(
     ] = None,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
+    timeout: TimeoutOpt = None,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
@@ -618,7 +625,7 @@ def patrol_command(
 
     _contraction_answer(env, env_format, lambda environment: patrol(
         environment, visit, start=start, objective=objective.value, tolerance=tolerance, max_between=max_between,
-        epsilon=epsilon, heading_margin=heading_margin, corner_clearance=corner_clearance),
+        epsilon=epsilon, heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=timeout),
         certificate, picture, fmt, out, verbose)
 
 
@@ -631,6 +638,7 @@ def funnel_command(
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of the search.")] = 30,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
+    timeout: TimeoutOpt = None,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
@@ -643,7 +651,7 @@ def funnel_command(
 
     _contraction_answer(env, env_format, lambda environment: funnel(
         environment, start, goal, tolerance=tolerance, max_bounces=max_bounces, heading_margin=heading_margin,
-        corner_clearance=corner_clearance), certificate, picture, fmt, out, verbose)
+        corner_clearance=corner_clearance, timeout=timeout), certificate, picture, fmt, out, verbose)
 
 
 @app.command(name="localize")
@@ -658,6 +666,7 @@ def localize_command(
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of the search.")] = 40,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
+    timeout: TimeoutOpt = None,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
@@ -670,7 +679,8 @@ def localize_command(
 
     _contraction_answer(env, env_format, lambda environment: localize(
         environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces,
-        heading_margin=heading_margin, corner_clearance=corner_clearance), certificate, picture, fmt, out, verbose)
+        heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=timeout), certificate, picture, fmt,
+        out, verbose)
 
 
 def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, certificate: Path | None,
@@ -758,6 +768,7 @@ def plan_command(
     ] = None,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
+    timeout: TimeoutOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,
@@ -772,11 +783,11 @@ def plan_command(
             if objective not in (None, PlanObjective.TOLERANCE) or method != "auto":
                 raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
             answer: Any = pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin,
-                                       corner_clearance=corner_clearance)
+                                       corner_clearance=corner_clearance, timeout=timeout)
         else:
             answer = find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
                                max_bounces=max_bounces, method=method, heading_margin=heading_margin,
-                               corner_clearance=corner_clearance)
+                               corner_clearance=corner_clearance, timeout=timeout)
         if certificate is not None:
             _write_certificate_file(answer, certificate, environment)
         emit(answer, fmt, out)

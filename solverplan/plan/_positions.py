@@ -24,7 +24,10 @@ A state inside the goal is replayed **exactly**: the interval of every stage bec
 outside it (:func:`~solverplan.plan._results.heading_cone`; every heading of the float interval is in the cone), each piece is pushed through
 :func:`~solverplan.bounce.transitions.transition_set`, and the exact final set must lie in the goal. Only replayed
 strategies are returned. The search is a heuristic (the heading grid and the beam): it proves what it returns,
-never that nothing exists.
+never that nothing exists. A ``deadline`` (:class:`~solverplan.plan._deadline.Deadline`) is asked before each
+bounce, between blocks of the vectorised corner-ray tests and for each new state (before its dominance check
+or its exact replay); when it has passed the search stops with nothing found and the timeout in
+``limits``.
 """
 
 from __future__ import annotations
@@ -42,6 +45,7 @@ from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import cast_from_boundary
+from solverplan.plan._deadline import NEVER, Deadline, in_chunks
 from solverplan.plan._results import heading_cone
 from solverplan.result import Stage
 from solverplan.plan.margins import Margins
@@ -62,6 +66,7 @@ class SearchOutcome:
     layers: int
     replay_failures: int
     reason: str
+    limits: tuple[str, ...] = ()  # what stopped the search early (a timeout), besides its caps
 
 
 @dataclass
@@ -222,6 +227,7 @@ def search_positions(
     max_replays: int = 20,
     rank: Callable[[Pieces, float], tuple] | None = None,
     margins: Margins | None = None,
+    deadline: Deadline = NEVER,
 ) -> SearchOutcome:
     """Breadth-first search with dominance and a beam (module docstring) for a state satisfying ``is_goal``
     (floats), confirmed by ``is_goal_exact`` on the exact replay; ``margins``: the margin policy (default for
@@ -243,6 +249,8 @@ def search_positions(
     for depth in range(1, max_bounces + 1):
         if not layer:
             break
+        if deadline.expired():
+            return _timed_out(deadline, expanded, depth - 1, failures)
         # flatten the layer's pieces × candidate headings
         owners, pe, pa, pb = [], [], [], []
         for i in layer:
@@ -284,7 +292,10 @@ def search_positions(
             rep_p.append(pr)
         rc = np.concatenate(rep_c)
         rp = np.concatenate(rep_p)
-        ok, tgt, lo_t, hi_t = ps.images(pe_a[rp], pa_a[rp], pb_a[rp], ct[rc])
+        imaged = in_chunks(deadline, ps.images, pe_a[rp], pa_a[rp], pb_a[rp], ct[rc])
+        if imaged is None:
+            return _timed_out(deadline, expanded, depth - 1, failures)
+        ok, tgt, lo_t, hi_t = imaged
         expanded += len(cs)
         good = np.ones(len(cs), dtype=bool)
         np.logical_and.at(good, rc, ok)
@@ -293,6 +304,8 @@ def search_positions(
         order = np.argsort(rc, kind="stable")
         bounds = np.searchsorted(rc[order], np.arange(len(cs) + 1))
         for c_index in np.flatnonzero(good).tolist():
+            if deadline.expired():
+                return _timed_out(deadline, expanded, depth - 1, failures)
             rows = order[bounds[c_index]:bounds[c_index + 1]]
             pieces = merge_pieces([(int(tgt[r]), float(lo_t[r]), float(hi_t[r])) for r in rows])
             length = sum((b - a) * ps.lengths[e] for e, a, b in pieces)
@@ -303,6 +316,8 @@ def search_positions(
         next_layer: list[int] = []
         per: dict[int, int] = {}
         for length, pieces, parent, interval in new:
+            if deadline.expired():
+                return _timed_out(deadline, expanded, depth - 1, failures)
             if is_goal(pieces) and replays < max_replays:
                 nodes.append(_Node(pieces, parent, interval, depth))
                 replays += 1
@@ -327,6 +342,11 @@ def search_positions(
     reason = (f"no strategy found within {max_bounces} bounces (heuristic search: a grid of {n_headings} headings, "
               f"beam {beam}; {expanded} (state, heading) pairs expanded, {failures} exact replays failed)")
     return SearchOutcome(None, expanded, max_bounces, failures, reason)
+
+
+def _timed_out(deadline: Deadline, expanded: int, layers: int, failures: int) -> SearchOutcome:
+    limit = deadline.limit(f"{expanded} (state, heading) pairs, {layers} bounces searched")
+    return SearchOutcome(None, expanded, layers, failures, f"{limit} before a strategy was found: not a proof", (limit,))
 
 
 def _path(nodes: list[_Node], i: int) -> list[tuple[float, float]]:

@@ -3,6 +3,10 @@
 Every search returns paths as lists of :class:`~._problem.Option` (the last one a goal option) and
 counts what it explored, so that an empty answer is a proof: the search space was exhausted.
 Optimality arguments are in the docstrings; :mod:`.search` states them in each plan's ``optimality``.
+
+Every search takes a ``deadline`` (:class:`~._deadline.Deadline`, default never), asked once per expansion.
+When it expires the search stops and says so (``timed_out`` in its statistics or its :class:`Front`), with the
+bound it has proved so far and, where it has one, its best plan so far: then nothing is exhausted.
 """
 
 from __future__ import annotations
@@ -12,6 +16,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Callable
 
+from solverplan.plan._deadline import NEVER, Deadline
 from solverplan.plan._problem import Belief, Option, Problem
 
 __all__ = ["Path", "Front", "WIDTH_EPS", "bfs", "reachable", "fewest_stages", "bottleneck", "layered_front", "max_sum",
@@ -34,6 +39,9 @@ class Front:
     layers: int = 0
     exhausted: bool = True  # True: no label could change any more (the whole space was searched)
     budget_pruned: bool = False  # some belief was dropped because it cannot reach the goal within the budget
+    timed_out: bool = False  # the deadline stopped the search (then ``exhausted`` is False)
+    scanned: int = 0  # layers whose goal options were all looked at: no plan has fewer stages than the first point
+    bound: float | None = None  # on a timeout: an upper bound on the min width of every plan within the budget
 
 
 def _widest_per_next(options: list[Option], threshold: float = 0.0) -> dict[Belief, Option]:
@@ -59,7 +67,7 @@ def _widest(options: list[Option], threshold: float = 0.0) -> Option | None:
 
 # ---------------------------------------------------------------------- fewest bounces (BFS)
 def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = None,
-        accept: Callable[[Belief], bool] | None = None) -> tuple[Path | None, dict]:
+        accept: Callable[[Belief], bool] | None = None, deadline: Deadline = NEVER) -> tuple[Path | None, dict]:
     """Breadth-first search over beliefs using only options of width ≥ ``threshold``; with ``accept``, only
     goal options whose next belief it accepts end a plan (patrol entries must end on one known segment).
 
@@ -68,6 +76,7 @@ def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = N
     − 1 stages has been expanded. *Optimality*: BFS visits beliefs in order of depth, and a plan with
     k stages is a path of k − 1 options followed by a goal option from a belief of depth ≤ k − 1;
     the first depth d at which some belief has a goal option gives k = d + 1, and none is shorter.
+    On a timeout: None with ``timed_out`` (no plan has ≤ ``depth`` stages).
     """
     start = problem.start_belief
     parent: dict[Belief, tuple[Belief, Option] | None] = {start: None}
@@ -78,6 +87,8 @@ def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = N
             return None, {"beliefs": len(parent), "depth": depth, "cut_by_budget": True}
         best: tuple[float, Belief, Option] | None = None
         for b in level:
+            if deadline.expired():
+                return None, {"beliefs": len(parent), "depth": depth, "cut_by_budget": False, "timed_out": True}
             goals = problem.goal_options(b)
             if accept is not None:
                 goals = [o for o in goals if accept(o.next)]
@@ -95,6 +106,8 @@ def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = N
         nxt = []
         bounded = len(start) > 1
         for b in level:
+            if deadline.expired():
+                return None, {"beliefs": len(parent), "depth": depth + 1, "cut_by_budget": False, "timed_out": True}
             for o in problem.options(b):
                 if o.hi - o.lo < threshold or o.next in parent:
                     continue
@@ -109,15 +122,19 @@ def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = N
     return None, {"beliefs": len(parent), "depth": depth, "cut_by_budget": False}
 
 
-def reachable(problem: Problem, *, threshold: float = 0.0, max_beliefs: int | None = None) -> tuple[dict[Belief, int], bool]:
+def reachable(problem: Problem, *, threshold: float = 0.0, max_beliefs: int | None = None,
+              deadline: Deadline = NEVER) -> tuple[dict[Belief, int], bool]:
     """Every belief reachable from the start belief with options of width ≥ ``threshold``, with its depth
     (fewest stages), by breadth-first search. Returns ``(depth, exhausted)``: ``exhausted`` is False when the
-    search stopped at ``max_beliefs`` beliefs (then the set is a subset and proves nothing about the rest)."""
+    search stopped at ``max_beliefs`` beliefs or at the deadline (then the set is a subset and proves nothing
+    about the rest)."""
     depth: dict[Belief, int] = {problem.start_belief: 0}
     level = [problem.start_belief]
     while level:
         nxt = []
         for b in level:
+            if deadline.expired():
+                return depth, False
             for o in problem.options(b):
                 if o.hi - o.lo < threshold or o.next in depth:
                     continue
@@ -129,14 +146,16 @@ def reachable(problem: Problem, *, threshold: float = 0.0, max_beliefs: int | No
     return depth, True
 
 
-def fewest_stages(problem: Problem, max_bounces: int | None = None) -> tuple[int | None, dict]:
+def fewest_stages(problem: Problem, max_bounces: int | None = None, *,
+                  deadline: Deadline = NEVER) -> tuple[int | None, dict]:
     """The fewest stages of any plan, by A* over beliefs with h(b) = max_{s∈b} d(s) (the fewest stages
     from each segment alone, :attr:`Problem.singleton_bounds`). h is admissible (a plan from b is a plan
     from each {s}) and consistent (an option b → b′ takes each s ∈ b to some j ∈ b′, so d(s) ≤ 1 + d(j)
     ≤ 1 + h(b′)), so beliefs are expanded at most once, in order of f = depth + h, and the first belief
     with a goal option at f = depth + 1 gives the optimum. A belief is not queued when one of its segments
     alone was already reached with no more stages (subsumption). None when the queue empties (no plan) or
-    when f exceeds the budget.
+    when f exceeds the budget; None with ``timed_out`` on a timeout, and ``bound``: the smallest f queued, a
+    lower bound on the stages of every plan.
     """
     start = problem.start_belief
 
@@ -147,6 +166,9 @@ def fewest_stages(problem: Problem, max_bounces: int | None = None) -> tuple[int
     heap = [(h(start), 0, start)]
     expanded = 0
     while heap:
+        if deadline.expired():
+            return None, {"beliefs": len(depth), "expanded": expanded, "cut_by_budget": False, "timed_out": True,
+                          "bound": heap[0][0]}
         f, g, b = heapq.heappop(heap)
         if f == INF:
             break
@@ -170,7 +192,7 @@ def fewest_stages(problem: Problem, max_bounces: int | None = None) -> tuple[int
 
 
 # ---------------------------------------------------------------------- bottleneck (max-min) paths
-def bottleneck(problem: Problem) -> tuple[float, dict]:
+def bottleneck(problem: Problem, *, deadline: Deadline = NEVER) -> tuple[float, dict]:
     """The largest min width W* of any plan (no bounce budget), 0.0 if there is no plan.
 
     Dijkstra with max-min labels: a belief is settled with the largest bottleneck of any path to it
@@ -184,6 +206,11 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
     :attr:`Problem.singleton_bounds`), a best-first branch and bound: as long as the best plan found is
     below W*, some belief of an optimal plan waits in the queue with f ≥ W*, so the search stops (when the
     largest f left is ≤ the best found) only at W*. Beliefs are re-expanded if their label improves.
+
+    Each label keeps the option it came by; ``incumbent`` in the statistics is the plan of the best value (its
+    options' widths are ≥ the labels along it, which never decrease towards the start, so it attains the value;
+    the pointers form a tree: a label only changes with its pointer, and strictly grows). On a timeout the
+    statistics say ``timed_out`` and ``bound`` = max(best, largest f queued) ≥ W*.
     """
     start = problem.start_belief
     bounded = len(start) > 1
@@ -192,10 +219,16 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
         return problem.belief_bounds(b)[1] if bounded else INF
 
     label: dict[Belief, float] = {start: INF}
+    parent: dict[Belief, tuple[Belief, Option]] = {}
     heap = [(-bound(start), INF, start)]
     best = 0.0
+    best_at: tuple[Belief, Option] | None = None
     expanded = 0
+    timed_out = False
     while heap:
+        if deadline.expired():
+            timed_out = True
+            break
         neg_f, w_b, b = heapq.heappop(heap)
         if -neg_f <= best:
             break
@@ -203,8 +236,8 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
             continue  # a stale entry: the label improved since
         expanded += 1
         g = _widest(problem.goal_options(b))
-        if g is not None:
-            best = max(best, min(w_b, g.hi - g.lo))
+        if g is not None and min(w_b, g.hi - g.lo) > best:
+            best, best_at = min(w_b, g.hi - g.lo), (b, g)
         for o in problem.options(b):
             w = min(w_b, o.hi - o.lo)
             if w <= best or w <= label.get(o.next, 0.0):
@@ -213,12 +246,30 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
             if f <= best or (bounded and _subsumed(label, o.next, w)):
                 continue
             label[o.next] = w
+            parent[o.next] = (b, o)
             heapq.heappush(heap, (-f, w, o.next))
-    return best, {"beliefs": len(label), "expanded": expanded}
+    stats: dict = {"beliefs": len(label), "expanded": expanded}
+    if best_at is not None:
+        stats["incumbent"] = _pointer_path(parent, *best_at)
+    if timed_out:
+        stats.update(timed_out=True, bound=max(best, -heap[0][0]) if heap else best)
+    return best, stats
+
+
+def _pointer_path(parent: dict[Belief, tuple[Belief, Option]], belief: Belief, last: Option) -> Path:
+    """The options from the start to ``belief`` by its label pointers, then ``last``."""
+    path = [last]
+    while belief in parent:
+        belief, o = parent[belief]
+        path.append(o)
+        assert len(path) <= len(parent) + 1, "label pointers form a cycle"
+    path.reverse()
+    return path
 
 
 # ---------------------------------------------------------------------- the Pareto front bounces ↔ min width
-def layered_front(problem: Problem, max_bounces: int | None, *, stop_at_first: bool = False) -> Front:
+def layered_front(problem: Problem, max_bounces: int | None, *, stop_at_first: bool = False,
+                  deadline: Deadline = NEVER) -> Front:
     """The Pareto front (bounces, min width) by label setting in order of bounces.
 
     Each belief keeps the largest min width of any path of ≤ k options to it (its label after layer
@@ -236,6 +287,11 @@ def layered_front(problem: Problem, max_bounces: int | None, *, stop_at_first: b
     With a start of several segments, beliefs are also dropped when their bounds from single segments
     (:attr:`Problem.singleton_bounds`) show that no completion can beat the front or fit the budget
     (min(w, h(b′)) ≤ best, or k + d(b′) > K): both are upper/lower bounds on every completion.
+
+    On a timeout the front found so far is returned with ``timed_out`` and ``bound`` = max(best, the largest
+    label changed in the last finished layer, capped by h), an upper bound on every plan within the budget: a
+    plan of minimal length among the best has a prefix of k − 1 options ending on such a belief (else a
+    shorter prefix dominates it), and its min width is at most that belief's label.
     """
     start = problem.start_belief
     hist: dict[Belief, list[tuple[int, float, Belief | None, Option | None]]] = {start: [(0, INF, None, None)]}
@@ -250,6 +306,8 @@ def layered_front(problem: Problem, max_bounces: int | None, *, stop_at_first: b
         if max_bounces is not None and k > max_bounces:
             front.exhausted = False
             break
+        if _front_timed_out(deadline, front, problem, changed, label, best_total, bounded):
+            break
         cand: tuple[float, Belief, Option] | None = None
         for b in changed:
             w_b = label[b]
@@ -259,6 +317,7 @@ def layered_front(problem: Problem, max_bounces: int | None, *, stop_at_first: b
             w = min(w_b, g.hi - g.lo)
             if w > best_total + WIDTH_EPS and (cand is None or w > cand[0]):
                 cand = (w, b, g)
+        front.scanned = k
         if cand is not None:
             best_total = cand[0]
             front.points.append((k, cand[0], _backtrack(hist, cand[1], k - 1) + [cand[2]]))
@@ -270,6 +329,8 @@ def layered_front(problem: Problem, max_bounces: int | None, *, stop_at_first: b
             break
         improved: dict[Belief, tuple[float, Belief, Option]] = {}
         for b in changed:
+            if _front_timed_out(deadline, front, problem, changed, label, best_total, bounded):
+                break
             w_b = label[b]
             for o in problem.options(b):
                 w = min(w_b, o.hi - o.lo)
@@ -287,6 +348,8 @@ def layered_front(problem: Problem, max_bounces: int | None, *, stop_at_first: b
                 cur = improved.get(o.next)
                 if cur is None or w > cur[0]:
                     improved[o.next] = (w, b, o)
+        if front.timed_out:
+            break
         for nb, (w, b, o) in improved.items():
             label[nb] = w
             hist.setdefault(nb, []).append((k, w, b, o))
@@ -294,6 +357,21 @@ def layered_front(problem: Problem, max_bounces: int | None, *, stop_at_first: b
     front.beliefs = len(label)
     front.layers = k
     return front
+
+
+def _front_timed_out(deadline: Deadline, front: Front, problem: Problem, changed: list[Belief],
+                     label: dict[Belief, float], best: float, bounded: bool) -> bool:
+    """On an expired deadline, mark ``front`` as cut and give it its bound (:func:`layered_front`)."""
+    if not deadline.expired():
+        return False
+    top = best
+    for b in changed:
+        w = label[b]
+        if bounded:
+            w = min(w, problem.belief_bounds(b)[1])
+        top = max(top, w)
+    front.timed_out, front.exhausted, front.bound = True, False, min(top, math.pi)
+    return True
 
 
 def _subsumed(label: dict[Belief, float], belief: Belief, w: float) -> bool:
@@ -335,7 +413,7 @@ def _backtrack(hist, belief: Belief, layer: int) -> Path:
 
 
 # ---------------------------------------------------------------------- sum of widths (DP over (belief, bounces))
-def max_sum(problem: Problem, max_bounces: int) -> tuple[float | None, Path | None, dict]:
+def max_sum(problem: Problem, max_bounces: int, *, deadline: Deadline = NEVER) -> tuple[float | None, Path | None, dict]:
     """The plan with ≤ ``max_bounces`` stages maximising the sum of its widths.
 
     S_k(b) = the largest sum of widths of a walk of exactly k options from the start to b (walks may
@@ -343,14 +421,20 @@ def max_sum(problem: Problem, max_bounces: int) -> tuple[float | None, Path | No
     b → b′ of S_{k−1}(b) + width (only the widest option per (b, b′) can be best). A plan with k
     stages scores S_{k−1}(b) + widest goal option of b. This is exact dynamic programming over the
     (belief, bounces) layers (Bellman's principle: the best k-walk to b′ extends a best (k−1)-walk).
-    Ties go to fewer stages.
+    Ties go to fewer stages. On a timeout the best plan so far, with ``timed_out`` and ``bound`` = max(best,
+    max_b S_{k−1}(b) + (K − k + 1)(π − 2δ)): no stage is wider than π − 2δ.
     """
     start = problem.start_belief
     layer: dict[Belief, float] = {start: 0.0}
+    timed_out = False
+    widest = math.pi - 2 * problem.heading_margin
     parents: list[dict[Belief, tuple[Belief, Option]]] = []
     best: tuple[float, int, Belief, Option] | None = None
     states = 1
     for k in range(1, max_bounces + 1):
+        if deadline.expired():
+            timed_out = True
+            break
         for b, s in layer.items():
             g = _widest(problem.goal_options(b))
             if g is not None:
@@ -362,17 +446,25 @@ def max_sum(problem: Problem, max_bounces: int) -> tuple[float | None, Path | No
         nxt: dict[Belief, float] = {}
         par: dict[Belief, tuple[Belief, Option]] = {}
         for b, s in layer.items():
+            if deadline.expired():
+                break
             for nb, o in _widest_per_next(problem.options(b)).items():
                 v = s + (o.hi - o.lo)
                 if v > nxt.get(nb, -1.0):
                     nxt[nb] = v
                     par[nb] = (b, o)
+        if deadline.expired():
+            timed_out = True
+            break
         if not nxt:
             break
         parents.append(par)
         layer = nxt
         states += len(nxt)
-    stats = {"states": states}
+    stats: dict = {"states": states}
+    if timed_out:
+        top = max(layer.values()) + (max_bounces - k + 1) * widest
+        stats.update(timed_out=True, bound=top if best is None else max(best[0], top))
     if best is None:
         return None, None, stats
     total, k, b, g = best
@@ -396,7 +488,8 @@ class _Label:
     option: Option | None
 
 
-def widest_constant(problem: Problem, max_bounces: int | None) -> tuple[tuple[float, float] | None, Path | None, dict]:
+def widest_constant(problem: Problem, max_bounces: int | None, *,
+                    deadline: Deadline = NEVER) -> tuple[tuple[float, float] | None, Path | None, dict]:
     """The widest constant interval (paper Algorithm 2, optimised): one interval I used at every stage.
 
     Labels are (belief, I) with I the running intersection of the options' intervals, starting from
@@ -408,7 +501,9 @@ def widest_constant(problem: Problem, max_bounces: int | None) -> tuple[tuple[fl
     stages, so the
     first plan of the largest width has the fewest stages. The interval ends are ends of admissible
     intervals, so there are finitely many labels and the search ends; when it ends with no plan, no
-    constant interval survives (within the budget, if any).
+    constant interval survives (within the budget, if any). On a timeout the best plan so far, with
+    ``timed_out`` and ``bound`` = max(best, widest running intersection of the frontier): intersections only
+    shrink.
     """
     start = problem.start_belief
     d = problem.heading_margin
@@ -420,7 +515,11 @@ def widest_constant(problem: Problem, max_bounces: int | None) -> tuple[tuple[fl
     labels = 1
     depth = 0
     cut = False
+    timed_out = False
     while frontier:
+        if deadline.expired():
+            timed_out = True
+            break
         depth += 1
         if max_bounces is not None and depth > max_bounces:
             cut = True
@@ -438,6 +537,9 @@ def widest_constant(problem: Problem, max_bounces: int | None) -> tuple[tuple[fl
         best_w = best[0] if best else 0.0
         nxt: list[_Label] = []
         for lab in frontier:
+            if deadline.expired():
+                timed_out = True
+                break
             for o in problem.options(lab.belief):
                 lo, hi = max(lab.lo, o.lo), min(lab.hi, o.hi)
                 if not hi - lo > best_w + WIDTH_EPS:
@@ -457,8 +559,13 @@ def widest_constant(problem: Problem, max_bounces: int | None) -> tuple[tuple[fl
                 held.append(new)
                 nxt.append(new)
                 labels += 1
+        if timed_out:
+            break
         frontier = nxt
-    stats = {"labels": labels, "beliefs": len(store), "depth": depth, "cut_by_budget": cut}
+    stats: dict = {"labels": labels, "beliefs": len(store), "depth": depth, "cut_by_budget": cut}
+    if timed_out:
+        top = max((lab.hi - lab.lo for lab in frontier), default=0.0)
+        stats.update(timed_out=True, bound=max(best[0] if best else 0.0, top))
     if best is None:
         return None, None, stats
     _, lab, g, lo, hi = best

@@ -36,6 +36,7 @@ from solverplan.bounce.partition import partition
 from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
+from solverplan.plan._deadline import deadline_of
 from solverplan.plan._positions import SearchOutcome, search_positions
 from solverplan.plan._results import PositionStrategy
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
@@ -77,7 +78,7 @@ def search_optimality(outcome: SearchOutcome, *, max_bounces: int, n_headings: i
     not proved), or not found within its caps (``limits``: nothing is proved)."""
     algorithm = f"breadth-first beam search over position sets ({n_headings} headings, beam {beam})"
     if outcome.stages is None:
-        limits = (f"max_bounces={max_bounces}", f"beam={beam}", f"n_headings={n_headings}")
+        limits = (f"max_bounces={max_bounces}", f"beam={beam}", f"n_headings={n_headings}", *outcome.limits)
         return Status.NOT_FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope, algorithm=algorithm,
                                             limits=limits)
     return Status.FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope,
@@ -141,6 +142,7 @@ def funnel(
     graph: SafeBVG | None = None,
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     corner_clearance: float | None = None,
+    timeout: float | None = None,
 ) -> Funnel:
     """A funnel from ``start`` to ``goal``: fixed-width heading intervals whose exact position sets shrink by
     contraction until they fit the goal (module docstring).
@@ -161,6 +163,9 @@ def funnel(
         wall, no landing within κ (a length) of a segment end.
     graph
         A precomputed safe BVG (for the comparison with plans over whole segments).
+    timeout
+        Seconds of wall time (positive, finite; None: no limit), the graph build included (it is not
+        interrupted); at the deadline the search stops: ``not-found``, with the timeout in ``optimality.limits``.
 
     Returns
     -------
@@ -175,6 +180,7 @@ def funnel(
         raise InputError(f"tolerance {tolerance!r} must be a heading half-width in (0, π/2) radians")
     if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or max_bounces < 1:
         raise InputError(f"max_bounces must be a positive integer, got {max_bounces!r}")
+    deadline = deadline_of(timeout)
     g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
     part = g.partition
     goal_f = [(p.edge, float(p.t0), float(p.t1)) for p in goal_set.pieces]
@@ -192,7 +198,8 @@ def funnel(
     margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
     t0 = time.perf_counter()
     outcome = search_positions(env, part, start_set.pieces, inside, inside_exact, tolerance=eps, max_bounces=max_bounces,
-                               goal_points=np.array(points), n_headings=n_headings, beam=beam, margins=margins)
+                               goal_points=np.array(points), n_headings=n_headings, beam=beam, margins=margins,
+                               deadline=deadline)
     stats = search_stats(outcome, time.perf_counter() - t0)
     safe = safe_plan_exists(g, start_set, goal_set)
     status, optimality = search_optimality(

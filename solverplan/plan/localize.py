@@ -41,6 +41,7 @@ from solverplan.bounce.partition import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
+from solverplan.plan._deadline import deadline_of
 from solverplan.plan._positions import search_positions
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan.funnel import DEFAULT_FUNNEL_TOLERANCE, search_optimality, search_stats
@@ -131,20 +132,23 @@ def localize(
     graph: SafeBVG | None = None,
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     corner_clearance: float | None = None,
+    timeout: float | None = None,
 ) -> Localization:
     """A localisation strategy: after its stages every start in ``start`` (default: the whole boundary) is inside
     one interval of one edge shorter than ``epsilon`` (arc length). Returns a :class:`Localization` whose goal is
     that interval (``found``), ``infeasible`` when a symmetry of the environment and the start set forbids it
     (proved), or ``not-found`` with the search's caps in ``optimality.limits``.
 
-    ``tolerance``, ``max_bounces``, ``n_headings``, ``beam`` and ``graph`` are as for
+    ``tolerance``, ``max_bounces``, ``n_headings``, ``beam``, ``graph`` and ``timeout`` (seconds, the graph
+    build included; at the deadline: ``not-found`` with the timeout in ``optimality.limits``) are as for
     :func:`~solverplan.plan.funnel.funnel`; ``heading_margin`` and ``corner_clearance`` are the margin policy of
     every planner (:mod:`solverplan.plan.margins`).
 
     Raises
     ------
     InputError
-        ε not a positive length, a bad start set, a tolerance outside (0, π/2).
+        ε not a positive length, a bad start set, a tolerance outside (0, π/2), a timeout that is not a
+        positive finite number.
     """
     if isinstance(epsilon, bool) or not isinstance(epsilon, (int, float)) or not (math.isfinite(epsilon) and epsilon > 0):
         raise InputError(f"epsilon {epsilon!r} must be a positive length")
@@ -159,6 +163,7 @@ def localize(
         start_set = start
     else:
         raise InputError(f"start set {start!r}: expected a boundary set such as 'e3:0.25:0.75,e4'")
+    deadline = deadline_of(timeout)
     g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
     part = g.partition
     record = EnvironmentRecord.of(env, part.n_segments)
@@ -196,7 +201,7 @@ def localize(
     margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
     t0 = time.perf_counter()
     outcome = search_positions(env, part, start_set.pieces, done, done_exact, tolerance=eps, max_bounces=max_bounces,
-                               n_headings=n_headings, beam=beam, rank=rank, margins=margins)
+                               n_headings=n_headings, beam=beam, rank=rank, margins=margins, deadline=deadline)
     stats = search_stats(outcome, time.perf_counter() - t0)
     status, optimality = search_optimality(
         outcome, max_bounces=max_bounces, n_headings=n_headings, beam=beam,

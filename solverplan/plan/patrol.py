@@ -34,7 +34,10 @@ edges).
 
 A start set S restricts the cycle to the segments a safe plan from S reaches with certainty, found by a
 belief search with caps; when a cap is hit, nothing the answer says is proved (``proved`` false, the caps in
-``optimality.limits``; an answer without a cycle is then ``not-found``, not ``infeasible``).
+``optimality.limits``; an answer without a cycle is then ``not-found``, not ``infeasible``). A ``timeout``
+(seconds) is such a cap too: the reachability sweep, the classes H and the bisection stop at the deadline and
+answer the best cycle found so far (for ``tolerance``, the bracket reached) or ``not-found``, with the timeout in
+``optimality.limits``. The safe BVG and each class's product and solve are not interrupted.
 
 Every answer reports the cycle's stages and intervals, its worst-case contraction (exact, from rational
 directions inside the intervals), the exact affine return map of the nominal headings (interval midpoints,
@@ -76,6 +79,7 @@ from solverplan.exact import ExactPoint, format_number
 from solverplan.limits import refuse_beyond_memory
 from solverplan.plan import _search
 from solverplan.plan._choices import ArcChoices, arc_choices, max_tolerance
+from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan._graphs import (
@@ -332,8 +336,8 @@ class _Entry:
     breadth-first searches. An entry stage is one option of the problem at least 2ε wide; an entry ends on *one*
     known segment of the cycle (the cycle's stages depend on the segment)."""
 
-    def __init__(self, graph: SafeBVG, start: BoundarySet, margins: Margins) -> None:
-        self.graph, self.start, self.margins = graph, start, margins
+    def __init__(self, graph: SafeBVG, start: BoundarySet, margins: Margins, deadline: Deadline = NEVER) -> None:
+        self.graph, self.start, self.margins, self.deadline = graph, start, margins, deadline
         self.problem = Problem(graph, start, None, margins=margins)
         self.start_belief = self.problem.start_belief
         self._singletons: dict[float, tuple[frozenset[int], tuple[str, ...]]] = {}
@@ -343,9 +347,12 @@ class _Entry:
         stages ≥ 2ε wide searched (beliefs never grow, so the sweep is finite), and the cap it hit if it stopped
         at :data:`MAX_ENTRY_BELIEFS` beliefs (then the set may miss segments: nothing is proved)."""
         if eps not in self._singletons:
-            depth, exhausted = _search.reachable(self.problem, threshold=2 * eps, max_beliefs=MAX_ENTRY_BELIEFS)
+            depth, exhausted = _search.reachable(self.problem, threshold=2 * eps, max_beliefs=MAX_ENTRY_BELIEFS,
+                                                 deadline=self.deadline)
             found = frozenset(self.problem.segment(b[0]) for b in depth if len(b) == 1)
-            self._singletons[eps] = (found, () if exhausted else (f"max_beliefs={MAX_ENTRY_BELIEFS}",))
+            cap = (self.deadline.limit(f"{len(depth)} beliefs of the reachability sweep") if self.deadline.hit
+                   else f"max_beliefs={MAX_ENTRY_BELIEFS}")
+            self._singletons[eps] = (found, () if exhausted else (cap,))
         return self._singletons[eps]
 
     def plan(self, targets: dict[int, int], eps: float) -> tuple[tuple[Stage, ...], int] | None:
@@ -366,7 +373,7 @@ class _Entry:
             tag = belief[0] // n
             return not tag & targets.get(belief[0] % n, 0)
 
-        path, _ = _search.bfs(problem, threshold=2 * eps, accept=accept)
+        path, _ = _search.bfs(problem, threshold=2 * eps, accept=accept, deadline=self.deadline)
         if path is None:
             return None
         stages = tuple(Stage(from_segments=problem.segments(belief), to_segments=problem.segments(o.next),
@@ -544,6 +551,7 @@ def patrol(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
+    timeout: float | None = None,
 ) -> Patrol:
     """A patrol cycle visiting ``visit`` in order, optimal for ``objective`` (module docstring).
 
@@ -573,11 +581,16 @@ def patrol(
     heading_margin, safe_margin, corner_clearance
         The margin policy of every planner (:mod:`solverplan.plan.margins`): no interval within δ of a wall,
         μ inside the exact safe sets, no landing within κ of a segment end.
+    timeout
+        Seconds of wall time (positive, finite; None: no limit), the graph build included (it is not
+        interrupted). At the deadline the search answers the best cycle found so far or ``not-found``, not
+        proved, with the timeout in ``optimality.limits`` (module docstring).
 
     Raises
     ------
     InputError
-        Unknown edges, a bad start set, tolerance outside (0, π/2), negative max_between, unknown objective.
+        Unknown edges, a bad start set, tolerance outside (0, π/2), negative max_between, unknown objective,
+        a timeout that is not a positive finite number.
     SolverFailed
         The LP and Karp disagree, or a solver breaks down.
     """
@@ -591,12 +604,13 @@ def patrol(
         raise InputError(f"max_between must be a non-negative integer, got {max_between!r}")
     if epsilon is not None and not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon > 0):
         raise InputError(f"epsilon {epsilon!r} must be a positive length")
+    deadline = deadline_of(timeout)
     t0 = time.perf_counter()
     g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
     t1 = time.perf_counter()
     margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
                                       corner_clearance=corner_clearance)
-    result = _solve(env, g, edges, objective, tolerance, max_between, start_set, epsilon, solver, margins)
+    result = _solve(env, g, edges, objective, tolerance, max_between, start_set, epsilon, solver, margins, deadline)
     stats = Stats(seconds_setup=round(t1 - t0, 6), seconds_search=round(time.perf_counter() - t1, 6))
     logger.info("patrol (%s): %s in %.3f s", objective, result.status.value, time.perf_counter() - t1)
     return replace(result, stats=stats)
@@ -619,16 +633,16 @@ def _claim(method: Method, bound: float | None, scope: str, algorithm: str, limi
 
 
 def _solve(env, g: SafeBVG, edges, objective, tolerance, max_between, start_set, epsilon, solver,
-           margins: Margins) -> Patrol:
+           margins: Margins, deadline: Deadline = NEVER) -> Patrol:
     part = g.partition
     eps = float(tolerance) if tolerance is not None else DEFAULT_TOLERANCE
-    entry = _Entry(g, start_set, margins) if start_set is not None else None
+    entry = _Entry(g, start_set, margins, deadline) if start_set is not None else None
     classes = [max_between] if max_between is not None else list(range(MAX_BETWEEN_SEARCHED + 1))
     base = dict(environment=EnvironmentRecord.of(env, part.n_segments), partition=part, visit=edges,
                 objective=objective, start=start_set)
 
     if objective == "tolerance":
-        return _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base)
+        return _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base, deadline)
 
     choices = arc_choices(g, eps, margins)
     allowed, limits = _allowed(choices, entry, eps)
@@ -641,6 +655,9 @@ def _solve(env, g: SafeBVG, edges, objective, tolerance, max_between, start_set,
                       **base)
     one_period = objective == "contraction"
     for H in classes:
+        if deadline.expired():
+            limits = (*limits, deadline.limit(_classes_done(classes, H)))
+            break
         scope = _scope(H, eps, start_set, one_period=one_period)
         if one_period:
             found = _period_dp(part, choices, edges, H, allowed)
@@ -673,11 +690,25 @@ def _solve(env, g: SafeBVG, edges, objective, tolerance, max_between, start_set,
     return Patrol(status=status, tolerance=eps, max_between=classes[-1],
                   reason=(f"no patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with intervals "
                           f"{2 * eps:g} rad wide and at most {classes[-1]} intermediate bounces between required visits "
-                          f"(every such walk of the safe BVG was searched){where}{_capped(limits)}"),
+                          f"(every such walk of the safe BVG was searched){where}{_capped(limits)}")
+                  if not _timed_out(limits) else _timed_out(limits),
                   optimality=_claim(Method.SEARCH_EXHAUSTED, None, _scope(classes[-1], eps, start_set,
                                                                           one_period=one_period),
                                     "search of the product of the safe BVG with the sequence automaton", limits),
                   **base)
+
+
+def _classes_done(classes: list[int], H: int) -> str:
+    """How far a search over the classes got before class ``H`` (for a timeout's limit entry)."""
+    if H == classes[0]:
+        return "building the safe BVG and the arc choices"
+    return f"the classes H = {classes[0]}..{H - 1}" if H - 1 > classes[0] else f"the class H = {classes[0]}"
+
+
+def _timed_out(limits: tuple[str, ...]) -> str:
+    """The reason of an answer the timeout stopped before a cycle was found ("" when it did not)."""
+    hit = [x for x in limits if x.startswith("timeout")]
+    return f"{hit[0]} before a patrol cycle was found: not a proof" if hit else ""
 
 
 def _capped(limits: tuple[str, ...]) -> str:
@@ -748,8 +779,9 @@ def _min_mean(prod: _Product, solver: str | None, *, karp: bool = True) -> tuple
     return mean, cycle, solvers
 
 
-def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base) -> Patrol:
-    """(b): bisection on ε with negative-cycle detection."""
+def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base,
+                         deadline: Deadline = NEVER) -> Patrol:
+    """(b): bisection on ε with negative-cycle detection; at the deadline, the bracket reached (not proved)."""
     top = max_tolerance(g, margins)
     hit_limits: set[str] = set()  # caps the reachability search hit at any ε tried
 
@@ -769,6 +801,9 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
 
     start_set = base["start"]
     for H in classes:
+        if deadline.expired():
+            hit_limits.add(deadline.limit(_classes_done(classes, H)))
+            break
         lo_hit = feasible(_EPS_FLOOR, H)
         if lo_hit is None:
             continue
@@ -777,8 +812,11 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
         if feasible(hi, H) is not None:  # pragma: no cover - only with a whole-interval contracting cycle
             lo, best = hi, feasible(hi, H)
         else:
-            for _ in range(60):
+            for step in range(60):
                 if hi - lo <= 1e-9 * max(1.0, hi):
+                    break
+                if deadline.expired():
+                    hit_limits.add(deadline.limit(f"{step} bisection steps (H = {H})"))
                     break
                 mid = (lo + hi) / 2
                 hit = feasible(mid, H)
@@ -796,7 +834,7 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
     return Patrol(status=Status.NOT_FOUND if limits else Status.INFEASIBLE, tolerance=None, max_between=classes[-1],
                   reason=(f"no contracting patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with at most "
                           f"{classes[-1]} intermediate bounces between required visits, even with tolerance "
-                          f"{_EPS_FLOOR:g}{_capped(limits)}"),
+                          f"{_EPS_FLOOR:g}{_capped(limits)}") if not _timed_out(limits) else _timed_out(limits),
                   optimality=_claim(Method.BISECTION, None, _scope(classes[-1], _EPS_FLOOR, start_set, one_period=False),
                                     "Bellman-Ford negative-cycle detection at the smallest tolerance", limits),
                   **base)
@@ -813,6 +851,12 @@ def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: i
     rotate = 0
     if entry is not None:
         found = entry.plan({int(choices.source[r]): int(choices.dive[r]) for r in reversed(rows)}, eps)  # first visit wins
+        if found is None and entry.deadline.hit:
+            limit = entry.deadline.limit("the search for an entry plan")
+            return Patrol(status=Status.NOT_FOUND, tolerance=eps, max_between=H,
+                          reason=f"a patrol cycle was found, but {limit} before a plan into it from the start set: "
+                                 "not a proof", optimality=replace(opt, proved=False, limits=(*opt.limits, limit)),
+                          **base)
         if found is None:  # pragma: no cover - the cycle was chosen among reachable segments
             raise SolverFailed("the patrol cycle lies among reachable segments, yet no entry plan was found")
         entry_stages, landing = found

@@ -264,8 +264,11 @@ class ParetoFront:
 
     @property
     def status(self) -> Status:
-        """Found when the front has a point; infeasible (proved by the exhaustive label setting) otherwise."""
-        return Status.FOUND if self.points else Status.INFEASIBLE
+        """Found when the front has a point; infeasible (proved by the exhaustive label setting) otherwise, or
+        not-found when a limit (a timeout) stopped the search first."""
+        if self.points:
+            return Status.FOUND
+        return Status.NOT_FOUND if self.optimality.limits else Status.INFEASIBLE
 
     def best(self, bounces: int | None = None) -> ParetoPoint | None:
         """The most tolerant point with at most ``bounces`` bounces (any number when None)."""

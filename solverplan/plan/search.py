@@ -38,6 +38,15 @@ the whole segment; the goal is reached on segments lying wholly in the goal set,
 stage only — on the part of a segment the goal set covers, with the interval cut so that every
 landing point is inside it.
 
+Timeouts
+--------
+``timeout=`` (seconds) bounds the wall time of a query (:mod:`solverplan.plan._deadline`). The safe BVG is
+built first and not interrupted; every search then stops at the deadline and the query answers its best plan
+so far (found, exact like every plan) or ``not-found``, with ``optimality.proved`` false, ``optimality.bound``
+the bound the search had proved (a lower bound on the bounces for ``fewest``, an upper bound on the width or
+the sum otherwise) and ``"timeout T s reached after …"`` in ``optimality.limits``. The LP and MILP of
+``method="lp"`` / ``"milp"`` are not interrupted once started.
+
 A proven "infeasible" is an answer (``status="infeasible"`` with a ``reason``), never an exception. Every
 optimality claim states its ``scope`` (plans over the admissible intervals, within the budget) and its ``gap``
 (|value − bound| over that scope: 0 for the exhaustive searches, the solver's gap for the LP and the MILP).
@@ -69,6 +78,7 @@ from solverplan.interval import Interval
 from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan import _search
+from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
 from solverplan.plan._walls import Walls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
@@ -237,6 +247,7 @@ def find_plan(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
+    timeout: float | None = None,
 ) -> Plan:
     """The optimal plan from ``start`` to ``goal`` for ``objective``, or a proof that there is none.
 
@@ -259,18 +270,23 @@ def find_plan(
     heading_margin, safe_margin, corner_clearance
         δ and μ (radians) and κ (a length; default 10⁻⁶ of the environment's diagonal) of the one margin
         policy of every planner (:mod:`solverplan.plan.margins`).
+    timeout
+        Seconds of wall time (positive, finite; None: no limit), the graph build included (it is not
+        interrupted). At the deadline the search stops: the best plan found so far, or ``not-found``, with
+        ``optimality.proved`` false, the bound proved so far and the timeout in ``optimality.limits``.
 
     Returns
     -------
     Plan
         ``status`` found (stages, widths, ``optimality`` with method, proof and bound) or infeasible
-        (``reason``; ``optimality.proved`` says the search was exhaustive).
+        (``reason``; ``optimality.proved`` says the search was exhaustive); ``not-found`` when the timeout
+        came before any plan.
 
     Raises
     ------
     InputError
         Bad sets (unknown edge, malformed piece), unknown objective or method, a bad budget, ``sum``
-        without a budget, ``milp`` without a budget.
+        without a budget, ``milp`` without a budget, a timeout that is not a positive finite number.
     """
     if objective not in OBJECTIVES:
         raise InputError(f"unknown objective {objective!r}: use {', '.join(OBJECTIVES)}")
@@ -284,12 +300,17 @@ def find_plan(
         raise InputError("method 'milp' needs max_bounces (--max-bounces K): it works on the time-expanded network")
     if method == "auto":
         method = allowed[1]
+    deadline = deadline_of(timeout)
     t0 = time.perf_counter()
     problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin,
                                corner_clearance=corner_clearance)
     common = _common(problem, k_max)
     t1 = time.perf_counter()
-    plan = _solve(problem, objective, k_max, method, common)
+    if deadline.expired():
+        plan = _cut(problem, objective, k_max, deadline, "building the safe BVG and the query", None,
+                    "", common, {})
+    else:
+        plan = _solve(problem, objective, k_max, method, common, deadline)
     t2 = time.perf_counter()
     stats = plan.stats.with_(seconds_setup=round(t1 - t0, 6), seconds_search=round(t2 - t1, 6),
                              start_segments=list(problem.user_segments(problem.start_belief)),
@@ -333,7 +354,25 @@ def _infeasible(objective: str, reason: str, optimality: Optimality, common: dic
     return Plan.infeasible(objective, reason, optimality, stats=Stats(counts=stats or {}), **common)
 
 
-def _solve(problem: Problem, objective: str, k_max: int | None, method: str, common: dict) -> Plan:
+def _cut(problem: Problem, objective: str, k_max: int | None, deadline: Deadline, progress: str,
+         bound: float | None, algorithm: str, common: dict, stats: dict, path: _search.Path | None = None,
+         method: Method = Method.SEARCH_EXHAUSTED) -> Plan:
+    """The answer of a search the deadline stopped after ``progress``: its incumbent ``path`` (found, not
+    proved optimal) or ``not-found``; either way with the ``bound`` proved so far and the timeout as a limit."""
+    if bound is not None and not math.isfinite(bound):
+        bound = None
+    algorithm = f"{algorithm}, stopped by the timeout" if algorithm else "none: the timeout came before the search"
+    opt = Optimality(method, False, bound, scope=_scope(problem, k_max), algorithm=algorithm,
+                     limits=(deadline.limit(progress),))
+    if path is not None:
+        return _found(problem, objective, path, opt, common, stats)
+    known = "" if bound is None else f" (the optimum is {'≥' if objective == 'fewest' else '≤'} {bound:.10g})"
+    reason = f"{deadline.limit(progress)} before any plan was found{known}: not a proof"
+    return Plan(Status.NOT_FOUND, objective, (), opt, reason=reason, stats=Stats(counts=stats), **common)
+
+
+def _solve(problem: Problem, objective: str, k_max: int | None, method: str, common: dict,
+           deadline: Deadline = NEVER) -> Plan:
     exhausted = Method.SEARCH_EXHAUSTED
 
     def claim(method_: Method, proved: bool, bound: float | None, algorithm: str, gap: float | None = None):
@@ -349,7 +388,11 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
             return _infeasible(objective, reason, claim(exhausted, True, None, "precheck"), common)
 
     if objective == "fewest":
-        return _fewest(problem, k_max, common)
+        return _fewest(problem, k_max, common, deadline)
+
+    if deadline.expired():
+        return _cut(problem, objective, k_max, deadline, "the precheck", None, "",
+                    common, {})
 
     if objective == "tolerance":
         if method == "milp":
@@ -364,18 +407,30 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
                         "MILP (HiGHS) over path flows in the time-expanded network", gap=stats["gap"])
             return _found(problem, objective, path, opt, common, stats)
         if k_max is None:
-            best, stats = _search.bottleneck(problem)
+            best, stats = _search.bottleneck(problem, deadline=deadline)
+            incumbent = stats.pop("incumbent", None)
+            if stats.pop("timed_out", False):
+                return _cut(problem, objective, None, deadline, f"{stats['expanded']} beliefs expanded",
+                            min(stats.pop("bound"), math.pi), "max-min Dijkstra over beliefs", common, stats, incumbent)
             if best <= 0.0:
                 reason = _exhausted(objective, None, stats["beliefs"], False)
                 return _infeasible(objective, reason, claim(exhausted, True, None, "max-min Dijkstra"), common, stats)
-            path, bstats = _search.bfs(problem, threshold=best - _search.WIDTH_EPS)
+            path, bstats = _search.bfs(problem, threshold=best - _search.WIDTH_EPS, deadline=deadline)
+            algorithm = "max-min Dijkstra over beliefs (W*), then BFS over options of width ≥ W* (fewest bounces)"
+            if bstats.get("timed_out"):  # W* is proved; the plan attaining it may not have the fewest bounces
+                return _cut(problem, objective, None, deadline, f"W* = {best:.10g} was proved, during the BFS for "
+                            f"the fewest bounces ({bstats['beliefs']} beliefs)", best, algorithm, common,
+                            {**stats, "bfs_beliefs": bstats["beliefs"]}, incumbent)
             if path is None:  # pragma: no cover - W* is attained by some plan
                 raise AssertionError("no plan attains the bottleneck value")
-            algorithm = "max-min Dijkstra over beliefs (W*), then BFS over options of width ≥ W* (fewest bounces)"
             return _found(problem, objective, path, claim(exhausted, True, best, algorithm), common,
                           {**stats, "bfs_beliefs": bstats["beliefs"]})
-        front = _search.layered_front(problem, k_max)
+        front = _search.layered_front(problem, k_max, deadline=deadline)
         algorithm = f"Pareto label setting (bounces, min width) up to {k_max} bounces"
+        if front.timed_out:
+            path = front.points[-1][2] if front.points else None
+            return _cut(problem, objective, k_max, deadline, f"{front.scanned} of {k_max} layers ({front.beliefs} "
+                        "beliefs)", front.bound, algorithm, common, {"beliefs": front.beliefs}, path)
         if not front.points:
             reason = _exhausted(objective, k_max, front.beliefs, not front.exhausted or front.budget_pruned)
             return _infeasible(objective, reason, claim(exhausted, True, None, algorithm), common,
@@ -392,8 +447,11 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
             value, path, stats = sum_lp(problem, k_max)
             opt_method, algorithm = Method.LP_DUALITY, "LP over path flows in the time-expanded network (clarabel)"
         else:
-            value, path, stats = _search.max_sum(problem, k_max)
+            value, path, stats = _search.max_sum(problem, k_max, deadline=deadline)
             opt_method, algorithm = exhausted, f"dynamic programming over (belief, bounces ≤ {k_max})"
+            if stats.pop("timed_out", False):
+                return _cut(problem, objective, k_max, deadline, f"{stats['states']} (belief, bounces) states",
+                            stats.pop("bound"), algorithm, common, stats, path)
         if problem.start_in_goal and (value is None or value <= 0.0):
             return Plan(Status.FOUND, objective, (), claim(opt_method, True, 0.0, algorithm, gap=0.0), **common)
         if path is None:
@@ -406,8 +464,16 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
         return _found(problem, objective, path, opt, common, stats)
 
     # constant
-    interval, path, stats = _search.widest_constant(problem, k_max)
+    interval, path, stats = _search.widest_constant(problem, k_max, deadline=deadline)
     algorithm = "Algorithm 2 labels (belief, running intersection) with ⊇ dominance"
+    if stats.pop("timed_out", False):
+        if path is not None:
+            assert interval is not None
+            plan = _cut(problem, objective, k_max, deadline, f"{stats['labels']} labels", stats.pop("bound"), algorithm,
+                        common, stats)
+            return _found(problem, objective, path, plan.optimality, common, stats, constant=interval)
+        return _cut(problem, objective, k_max, deadline, f"{stats['labels']} labels", stats.pop("bound"), algorithm,
+                    common, stats)
     if path is None:
         reason = _exhausted(objective, k_max, stats["beliefs"], stats["cut_by_budget"])
         return _infeasible(objective, reason, claim(exhausted, True, None, algorithm), common, stats)
@@ -416,7 +482,7 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
                   common, stats, constant=interval)
 
 
-def _fewest(problem: Problem, k_max: int | None, common: dict) -> Plan:
+def _fewest(problem: Problem, k_max: int | None, common: dict, deadline: Deadline = NEVER) -> Plan:
     """Fewest bounces; among those plans the most tolerant.
 
     One start segment: the layered label search in order of bounces (a BFS whose labels also carry the
@@ -431,8 +497,11 @@ def _fewest(problem: Problem, k_max: int | None, common: dict) -> Plan:
     algorithm = "belief-state BFS (layered labels); ties: the most tolerant of the fewest-bounce plans"
     start = problem.start_belief
     if len(start) == 1:
-        front = _search.layered_front(problem, k_max, stop_at_first=True)
+        front = _search.layered_front(problem, k_max, stop_at_first=True, deadline=deadline)
         stats = {"beliefs": front.beliefs}
+        if front.timed_out and not front.points:
+            return _cut(problem, "fewest", k_max, deadline, f"{front.scanned} layers ({front.beliefs} beliefs)",
+                        float(front.scanned + 1), algorithm, common, stats)
         if not front.points:
             cut = not front.exhausted or front.budget_pruned
             reason = _exhausted("fewest", k_max, front.beliefs, cut)
@@ -446,12 +515,21 @@ def _fewest(problem: Problem, k_max: int | None, common: dict) -> Plan:
             reason = (f"start {problem.segment_text(lone[0])} has no plan to the goal even on its own, so no plan "
                       f"works from the whole start set")
             return _infeasible("fewest", reason, claim(None, algorithm), common)
-        fewest, astats = _search.fewest_stages(problem, k_max)
+        if deadline.expired():
+            return _cut(problem, "fewest", k_max, deadline, "the single-segment bounds", float(max(dist[s] for s in start)),
+                        algorithm, common, {})
+        fewest, astats = _search.fewest_stages(problem, k_max, deadline=deadline)
+        if astats.pop("timed_out", False):
+            return _cut(problem, "fewest", k_max, deadline, f"{astats['expanded']} beliefs expanded by A*",
+                        float(astats.pop("bound")), algorithm, common, astats)
         if fewest is None:
             reason = _exhausted("fewest", k_max, astats["beliefs"], astats["cut_by_budget"])
             return _infeasible("fewest", reason, claim(None, algorithm), common, astats)
-        front = _search.layered_front(problem, fewest, stop_at_first=True)
+        front = _search.layered_front(problem, fewest, stop_at_first=True, deadline=deadline)
         stats = {"beliefs": front.beliefs, "a_star_beliefs": astats["beliefs"]}
+        if front.timed_out and not front.points:
+            return _cut(problem, "fewest", k_max, deadline, f"A* proved {fewest} stages, during the search for the "
+                        f"most tolerant of them ({front.beliefs} beliefs)", float(fewest), algorithm, common, stats)
         if not front.points or front.points[0][0] != fewest:  # pragma: no cover - A* and the labels agree
             raise AssertionError("the layered search did not find the A* optimum")
     k, _, path = front.points[0]
@@ -468,10 +546,14 @@ def pareto_front(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
+    timeout: float | None = None,
 ) -> ParetoFront:
     """The Pareto front bounces ↔ tolerance: for each bounce count b at which the best achievable min
     width strictly improves, the most tolerant plan with ≤ b bounces (within ``max_bounces`` if given;
-    without it the front is complete: no plan of any length beats its last point).
+    without it the front is complete: no plan of any length beats its last point). ``timeout`` (seconds, the
+    graph build included; None: no limit) stops the label setting: the points found so far are exact, the
+    front's ``optimality`` is not proved, its bound is an upper bound on every plan's min width and its limits
+    name the timeout (:func:`find_plan`). The other parameters are :func:`find_plan`'s.
 
     >>> from solverplan.environment import Environment
     >>> ell = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]])
@@ -480,6 +562,7 @@ def pareto_front(
     [(1, 0.2903), (5, 0.4625)]
     """
     k_max = _check_budget(max_bounces)
+    deadline = deadline_of(timeout)
     t0 = time.perf_counter()
     problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin,
                                corner_clearance=corner_clearance)
@@ -494,17 +577,28 @@ def pareto_front(
     reason = _precheck(problem, "tolerance", k_max)
     points: list[ParetoPoint] = []
     beliefs = 0
+    limits: tuple[str, ...] = ()
+    bound = None
     if reason is None:
-        front = _search.layered_front(problem, k_max)
+        front = _search.layered_front(problem, k_max, deadline=deadline)
         beliefs = front.beliefs
+        if front.timed_out:
+            limits, bound = (deadline.limit(f"{front.scanned} layers ({front.beliefs} beliefs)"),), front.bound
         for k, w, path in front.points:
             opt = _claim(exhausted, True, w, f"{algorithm}: the best plan with ≤ {k} bounces", problem, k)
             plan = _found(problem, "tolerance", path, opt, {**common, "max_bounces": k}, {})
             points.append(ParetoPoint(k, w, plan))
         if not points:
             reason = _exhausted("tolerance", k_max, front.beliefs, not front.exhausted or front.budget_pruned)
+            if limits:
+                reason = f"{limits[0]} before any plan was found: not a proof"
     best = points[-1].min_width if points else None
     stats = Stats(seconds_search=round(time.perf_counter() - t0, 6), counts={"beliefs": beliefs})
-    opt = _claim(exhausted, True, best, algorithm, problem, k_max, gap=None if best is None else 0.0)
+    if limits:
+        gap = None if best is None or bound is None else abs(bound - best)
+        opt = Optimality(exhausted, False, bound, scope=_scope(problem, k_max), gap=gap,
+                         algorithm=f"{algorithm}, stopped by the timeout", limits=limits)
+    else:
+        opt = _claim(exhausted, True, best, algorithm, problem, k_max, gap=None if best is None else 0.0)
     return ParetoFront(tuple(points), opt, common["start"], common["goal"], k_max, reason=reason,
                        environment=common["environment"], stats=stats)
