@@ -402,7 +402,6 @@ def test_midpoint_split_polygon_partition_and_graph_are_exact_and_sound():
     assert plan.found and check_certificate(certificate(plan, env=env)).valid
 
 
-@pytest.mark.xfail(strict=True, reason="collinear runs change landing units; fixed on the collinear branch")
 @pytest.mark.parametrize("objective", ["fewest", "tolerance"])
 def test_collinear_runs_never_change_plan_answers(objective):
     """The L and the L with every edge split at its midpoint are the same free space: the same optimum

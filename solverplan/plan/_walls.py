@@ -29,12 +29,13 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import cached_property
+from typing import Iterable
 
 from solverplan.bounce.partition import Partition, partition as make_partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.exact import ExactPoint, orient
 
-__all__ = ["Walls", "collinear_vertices"]
+__all__ = ["Walls", "collinear_vertices", "set_ends"]
 
 
 def _straight(p: ExactPoint, v: ExactPoint, q: ExactPoint) -> bool:
@@ -55,6 +56,25 @@ def collinear_vertices(env: Environment) -> tuple[int, ...]:
     return tuple(out)
 
 
+def set_ends(env: Environment, *sets: BoundarySet | None) -> frozenset[int]:
+    """Global indices of the vertices where one of ``sets`` ends: it holds the boundary on one side of the
+    vertex (the end t = 1 of the edge into it, or the start t = 0 of the edge out of it) but not on the other."""
+    out: set[int] = set()
+    for bset in sets:
+        if bset is None:
+            continue
+        arriving, leaving = set(), set()  # vertices the set reaches from the edge before / after them
+        for piece in bset.pieces:
+            ring = int(env.ring_of[piece.edge])
+            first, size = env.ring_offsets[ring], env.ring_offsets[ring + 1] - env.ring_offsets[ring]
+            if piece.t0 == 0:
+                leaving.add(piece.edge)
+            if piece.t1 == 1:
+                arriving.add(first + (piece.edge - first + 1) % size)
+        out |= arriving ^ leaving
+    return frozenset(out)
+
+
 def _param(a: ExactPoint, b: ExactPoint, x: ExactPoint) -> Fraction:
     """The parameter of point x on the line a → b (x on it): (x − a)·(b − a) / |b − a|², exact."""
     ex, ey = b[0] - a[0], b[1] - a[1]
@@ -73,16 +93,24 @@ class Walls:
     edge_map
         For every user edge k: ``(m, s0, s1)``, the merged edge it lies on and the merged parameters of its
         two ends (user t ↦ s0 + t·(s1 − s0)).
+
+    ``keep`` lists collinear vertices (global indices) to keep as vertices: those where a start or goal set
+    ends. Merging them would make the query coarser, not finer — the planner's beliefs are whole segments, and
+    a start set that ends at a collinear vertex would grow to the whole merged segment around it.
     """
 
-    def __init__(self, env: Environment) -> None:
+    def __init__(self, env: Environment, keep: Iterable[int] = ()) -> None:
         self.env = env
+        keep_global = frozenset(keep)
         rings: list[tuple[ExactPoint, ...]] = []
         edge_map: list[tuple[int, Fraction, Fraction]] = []
         merged_base = 0
+        user_base = 0
         for ring in env.rings:
             n = len(ring)
-            keep = [i for i in range(n) if not _straight(ring[i - 1], ring[i], ring[(i + 1) % n])]
+            keep = [i for i in range(n)
+                    if user_base + i in keep_global or not _straight(ring[i - 1], ring[i], ring[(i + 1) % n])]
+            user_base += n
             rings.append(tuple(ring[i] for i in keep))
             # the merged edge of user edge i starts at the last kept vertex at or before i (cyclically)
             owner = [0] * n

@@ -80,7 +80,7 @@ from solverplan.errors import InputError
 from solverplan.plan import _search
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import Walls, set_ends
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
@@ -138,7 +138,7 @@ def planning_problem(
                                       corner_clearance=corner_clearance)
     start_set = _boundary(env, start, "start")
     goal_set = _boundary(env, goal, "goal")
-    walls = Walls(env)
+    walls = Walls(env, keep=set_ends(env, start_set, goal_set))
     if graph is not None and graph.partition.env not in (env, walls.merged):
         raise InputError("the safe BVG given was built for another environment")
     if walls.identity:
