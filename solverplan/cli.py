@@ -24,6 +24,7 @@ import contextlib
 import gc
 import json
 import logging
+import re
 import shutil
 import signal
 import sys
@@ -42,6 +43,7 @@ from solverplan.limits import (
     MAX_COORDINATE,
     MAX_COUNT,
     MAX_GENERATED_VERTICES,
+    MAX_QUOTED_CHARS,
     MAX_ROOMS,
     MAX_SEED,
     MAX_TRAJECTORIES,
@@ -151,8 +153,11 @@ def emit(answer: Answer, fmt: OutputFormat, out: Path | None) -> None:
 
 
 # ---------------------------------------------------------------------- errors and logging
-def _one_line(message: str) -> str:
-    return " ".join(part.strip() for part in message.splitlines() if part.strip())
+def _one_line(message: str, limit: int = 150) -> str:
+    """The framework's usage message on one line, its quotes of the input cut like ours (``limits.quote``)."""
+    text = " ".join(part.strip() for part in message.splitlines() if part.strip())
+    text = re.sub(r"'([^']{%d,})'" % MAX_QUOTED_CHARS, lambda m: f"'{m.group(1)[:MAX_QUOTED_CHARS - 3]}…'", text)
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def _fail(message: str, code: int) -> typer.Exit:

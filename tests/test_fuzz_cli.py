@@ -199,6 +199,11 @@ def _invoke_bounded(args, seconds: int = 120):
         signal.signal(signal.SIGALRM, previous)
 
 
+@pytest.mark.parametrize("value", ["00\U000114da\U00012544\U00018d09\U00018d09\U0001fbcb\U0002ebe1", "x" * 300])
+def test_a_long_bad_choice_is_quoted_short(value):  # found by the fuzz profile: the choice's repr made 226 characters
+    _assert_answer_or_one_line(CliRunner().invoke(app, ["cycle", "square", "--theta", "0.3", "--method", value]))
+
+
 @FUZZ
 @given(command=st.sampled_from(sorted(_OPTIONS)), data=st.data())
 def test_fuzzed_option_values_are_answered_or_refused_in_one_line(tmp_path_factory, plan_and_certificate, command,
