@@ -56,7 +56,9 @@ _CROSS_REL = 1e-13
 # be strictly inside); relative gap of the two nearest edges along a bisector that counts as a tie.
 _THIN = 1e-9
 _DEPTH_REL = 1e-9
-# Rows of (sweep × vertex) per numpy block.
+# Elements per numpy block: (sweep × vertex) cells in the classification (a few dozen bytes of
+# temporaries each), (sector, edge) tests in the hit search, candidates when cutting runs.
+_CELLS = 1 << 19
 _BLOCK = 1 << 21
 
 # Vertex classes against a sweep's region (headings relative to the frame).
@@ -237,7 +239,7 @@ def build_sweeps(partition) -> Sweeps:
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
     M, n = len(origin), ctx.n
     holes = len(ctx.env.rings) > 1
-    rows = max(1, _BLOCK // max(n, 1))
+    rows = max(1, _CELLS // max(n, 1))
     parts: list[tuple] = []
     for s0 in range(0, M, rows):
         sl = slice(s0, min(M, s0 + rows))
@@ -255,6 +257,8 @@ def build_sweeps(partition) -> Sweeps:
     dir_to = dir_to.astype(np.int64)
     dir_off = np.concatenate([[0], np.cumsum(K + 2)]).astype(np.int64)
     pairs = tuple(np.concatenate([q[t] for q in parts]) if parts else np.zeros(0, dtype=np.int64) for t in (5, 6, 7, 8))
+    ext = [q[9] for q in parts]
+    del parts
     # ---- 2. first-hit edge of every sector
     hit = _hit_edges(ctx, origin, frame, K, dir_ang, dir_to, dir_off, thin, pairs)
     del pairs
@@ -265,12 +269,19 @@ def build_sweeps(partition) -> Sweeps:
     # Cor. 1 entries are its first (from heading 0) or last (up to π) one: a stable sort on the
     # sweep alone of [entries from 0, entries, entries up to π] is that order.
     n_hi = int(np.count_nonzero(hi_lim >= 0))  # the special entries list the "+" rows (up to π) first
-    cols = [np.concatenate([b[n_hi:], a, b[:n_hi]]) for a, b in zip(entries, special)]
-    order = np.argsort(cols[0], kind="stable")
-    sweep, seg, lo_to, hi_to, lo, hi, lo_err, hi_err = (c[order] for c in cols)
+    entries, special = list(entries), list(special)
+    order = np.argsort(np.concatenate([special[0][n_hi:], entries[0], special[0][:n_hi]]), kind="stable")
+    cols = []
+    for t in range(len(entries)):  # one column at a time: the unsorted copy is dropped at once
+        a, b = entries[t], special[t]
+        entries[t] = special[t] = None
+        cols.append(np.concatenate([b[n_hi:], a, b[:n_hi]])[order])
+        del a, b
+    del order
+    sweep, seg, lo_to, hi_to, lo, hi, lo_err, hi_err = cols
+    del cols
     sweeps = Sweeps(origin, frame, plus_seg, minus_seg, sweep, seg, lo_to, hi_to, lo, hi, lo_err, hi_err)
     if holes:
-        ext = [q[9] for q in parts]
         sweeps.hole_alpha, sweeps.hole_alpha_v, sweeps.hole_beta, sweeps.hole_beta_v = (
             np.concatenate([x[t] for x in ext]) for t in range(4))
     sweeps.exact_checks = ctx.exact_checks
@@ -696,22 +707,23 @@ def _exact_sector_hit(ctx: _Context, o: int, frame: int, lo_to: int, hi_to: int)
 
 def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off, hit):
     """Runs of sectors hitting one edge, cut by the P′ vertices on that edge into entries."""
-    M = len(origin)
     n_sec = K + 1
-    m_all = np.repeat(np.arange(M), n_sec)
-    k_all = ragged_arange(n_sec)
+    sec_off = np.concatenate([[0], np.cumsum(n_sec)]).astype(np.int64)  # first sector of each sweep
     if len(hit) and (hit < 0).any():  # pragma: no cover - every ray in a valid environment hits
         i = int(np.flatnonzero(hit < 0)[0])
-        raise SolverFailed(f"no edge found for sector {int(k_all[i])} of the sweep from P′ vertex {int(origin[m_all[i]])}")
+        m = int(np.searchsorted(sec_off, i, side="right")) - 1
+        raise SolverFailed(f"no edge found for sector {i - int(sec_off[m])} of the sweep from P′ vertex {int(origin[m])}")
     # runs: maximal stretches of consecutive sectors of one sweep with one hit edge
     first = np.ones(len(hit), dtype=bool)
-    first[1:] = (hit[1:] != hit[:-1]) | (k_all[1:] == 0)
+    first[1:] = hit[1:] != hit[:-1]
+    first[sec_off[:-1][n_sec > 0]] = True
     starts = np.flatnonzero(first)
+    del first
     ends = np.append(starts[1:], len(hit))  # exclusive
-    r_m = m_all[starts]
+    r_m = np.searchsorted(sec_off, starts, side="right") - 1
     r_e = hit[starts]
-    r_lo = dir_off[r_m] + k_all[starts]  # direction index of the run's start
-    r_hi = dir_off[r_m] + k_all[ends - 1] + 1
+    r_lo = dir_off[r_m] + starts - sec_off[r_m]  # direction index of the run's start
+    r_hi = dir_off[r_m] + ends - sec_off[r_m]  # ... and of its end (k of its last sector + 1)
     # candidates: the interior P′ vertices of the run's edge; per run, how many lie before its
     # start direction (nb) and strictly inside it (ni) — in blocks of runs (memory)
     c0 = ctx.edge_first[r_e] + 1
@@ -736,13 +748,16 @@ def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off,
     lo_to = np.where(p == 0, dir_to[r_lo[er]], seg)
     hi_to = np.where(last, dir_to[r_hi[er]], seg + 1)
     em = r_m[er]
+    del p
     # headings of the piece ends that are P′ vertices of the edge
-    lo = dir_ang[r_lo[er]].copy()
-    hi = dir_ang[r_hi[er]].copy()
-    lo_err = dir_err[r_lo[er]].copy()
-    hi_err = dir_err[r_hi[er]].copy()
+    lo = dir_ang[r_lo[er]]
+    hi = dir_ang[r_hi[er]]
+    lo_err = dir_err[r_lo[er]]
+    hi_err = dir_err[r_hi[er]]
+    del er
     # (an inner upper end is the next piece's lower end: the same vertex seen from the same origin)
     idx = np.flatnonzero(~last)
+    del last
     for b0 in range(0, len(idx), _BLOCK // 4):
         ix = idx[b0 : b0 + _BLOCK // 4]
         a, e, *_ = _headings(ctx, origin[em[ix]], frame[em[ix]], ctx.P[hi_to[ix]][:, None, :])

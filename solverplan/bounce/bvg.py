@@ -502,6 +502,9 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     segment's direction), its widest interval, the transition side (Def. 8) and φ_ij. See the module
     docstring for the algorithm and its proof; the safe sets equal
     :func:`solverplan.bounce.safe.safe_set` for every pair. Accepts an environment too.
+
+    Memory follows the output: the graph is a structure of arrays (about 110 bytes per arc), and
+    the build's peak stays within a small multiple of it (see ``benchmarks/README.md``).
     """
     import time
 
@@ -511,6 +514,8 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     t0 = time.perf_counter()
     sw = build_sweeps(p)
     t1 = time.perf_counter()
+    n_sweeps, n_entries = len(sw.origin), len(sw.seg)
+    sweep_checks, sweep_casts = sw.exact_checks, sw.exact_casts
     exact = ExactPoints([s.a for s in p.segments], _edge_vectors(env))
     ends = _Ends(exact)
     seg_edge = np.asarray(p.seg_edge, dtype=np.int64)
@@ -518,19 +523,20 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     # ---- roles: entries of "+" sweeps belong to the segment starting at the origin (x = a),
     # entries of "−" sweeps to the segment ending there (x = b)
     e_plus = sw.plus_seg[sw.sweep]
-    e_minus = sw.minus_seg[sw.sweep]
-    frm = sw.origin[sw.sweep]
     ia = np.flatnonzero(e_plus >= 0)
+    A_key = e_plus[ia] * N + sw.seg[ia]
+    del e_plus
+    e_minus = sw.minus_seg[sw.sweep]
     ib = np.flatnonzero(e_minus >= 0)
-    A_i, B_i = e_plus[ia], e_minus[ib]
-    A_key = A_i * N + sw.seg[ia]
-    B_key = B_i * N + sw.seg[ib]
+    B_key = e_minus[ib] * N + sw.seg[ib]
+    del e_minus
 
     # ---- arcs: every pair met by some sweep, both directions
     keys = np.concatenate([A_key, B_key])
-    i_all, j_all = keys // N, keys % N
-    keys = np.sort(np.concatenate([keys, j_all * N + i_all]))
-    keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
+    keys = np.concatenate([keys, (keys % N) * N + keys // N])
+    keys.sort()
+    if len(keys):
+        keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
     source, target = keys // N, keys % N
     n_arcs = len(keys)
 
@@ -538,28 +544,36 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     oa = np.argsort(A_key, kind="stable")
     ob = np.argsort(B_key, kind="stable")
     ia, ib, A_key, B_key = ia[oa], ib[ob], A_key[oa], B_key[ob]
+    del oa, ob
     b_start = np.searchsorted(B_key, A_key, side="left")
-    b_end = np.searchsorted(B_key, A_key, side="right")
-    cnt = b_end - b_start
+    cnt = np.searchsorted(B_key, A_key, side="right") - b_start
     pa = np.repeat(ia, cnt)
     pb = ib[np.repeat(b_start, cnt) + ragged_arange(cnt)]
     pkey = np.repeat(A_key, cnt)
+    del ia, ib, A_key, B_key, b_start, cnt
+    frm = sw.origin[sw.sweep]
     edge_p = seg_edge[pkey // N]
     c_lo = ends.cmp(edge_p, frm[pa], sw.lo_to[pa], sw.lo[pa], sw.lo_err[pa], frm[pb], sw.lo_to[pb], sw.lo[pb], sw.lo_err[pb])
-    c_hi = ends.cmp(edge_p, frm[pa], sw.hi_to[pa], sw.hi[pa], sw.hi_err[pa], frm[pb], sw.hi_to[pb], sw.hi[pb], sw.hi_err[pb])
     lo_pick = np.where(c_lo >= 0, pa, pb)
+    del c_lo
+    c_hi = ends.cmp(edge_p, frm[pa], sw.hi_to[pa], sw.hi[pa], sw.hi_err[pa], frm[pb], sw.hi_to[pb], sw.hi[pb], sw.hi_err[pb])
     hi_pick = np.where(c_hi <= 0, pa, pb)
+    del c_hi, pa, pb, edge_p
     pieces = _Pieces(
         np.searchsorted(keys, pkey),
         frm[lo_pick], sw.lo_to[lo_pick], sw.lo[lo_pick], sw.lo_err[lo_pick],
         frm[hi_pick], sw.hi_to[hi_pick], sw.hi[hi_pick], sw.hi_err[hi_pick],
     )
+    del pkey, lo_pick, hi_pick, frm
+    # the entries are consumed: keep only what the hole step reads
+    sw.sweep = sw.seg = sw.lo_to = sw.hi_to = sw.lo = sw.hi = sw.lo_err = sw.hi_err = None  # type: ignore[assignment]
     edge_of = seg_edge[source]
     pieces = _nonempty(pieces, ends, edge_of)
 
     # ---- holes lying strictly inside every swept region of a range of headings
     if len(env.rings) > 1 and len(pieces.arc):
         pieces = _subtract_holes(p, sw, pieces, ends, source, target, edge_of)
+    del sw
 
     # ---- single points: closures may add isolated points; check them exactly
     single = _singletons(pieces, ends, edge_of)
@@ -570,41 +584,52 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
         keep = np.ones(len(pieces.arc), dtype=bool)
         keep[rows[~ok]] = False
         pieces = pieces.take(np.flatnonzero(keep))
+    del single
     t2 = time.perf_counter()
 
     # ---- per arc: all intervals (sorted), the widest one
-    order = np.lexsort((pieces.lo, pieces.arc))
-    pieces = pieces.take(order)
+    if not _sorted_by_arc_lo(pieces):
+        pieces = pieces.take(np.lexsort((pieces.lo, pieces.arc)))
     counts = np.bincount(pieces.arc, minlength=n_arcs).astype(np.int64)
     offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    set_lo = pieces.lo.copy()
-    set_hi = pieces.hi.copy()
     # exact ends: an end at a frame mark is exactly 0 or π; equal exact ends share one float
-    set_lo = np.where(pieces.lo_to == MARK_ZERO, 0.0, set_lo)
-    set_hi = np.where(pieces.hi_to == MARK_PI, math.pi, set_hi)
+    set_lo = np.where(pieces.lo_to == MARK_ZERO, 0.0, pieces.lo)
+    set_hi = np.where(pieces.hi_to == MARK_PI, math.pi, pieces.hi)
     equal = _equal_ends(pieces, ends, edge_of)
     set_hi = np.where(equal, set_lo, np.maximum(set_hi, set_lo))
+    del equal
     lo = np.full(n_arcs, np.nan)
     hi = np.full(n_arcs, np.nan)
     if len(pieces.arc):
-        width = set_hi - set_lo
-        # widest per arc: sort by (arc, -width) and take the first
-        o2 = np.lexsort((-width, pieces.arc))
-        firsts = o2[np.concatenate([[True], pieces.arc[o2][1:] != pieces.arc[o2][:-1]])]
-        lo[pieces.arc[firsts]] = set_lo[firsts]
-        hi[pieces.arc[firsts]] = set_hi[firsts]
+        # widest per arc (the first of equal widths): an arc's only interval, or among several
+        # the first of the largest width
+        one = counts[pieces.arc] == 1
+        r1 = np.flatnonzero(one)
+        lo[pieces.arc[r1]] = set_lo[r1]
+        hi[pieces.arc[r1]] = set_hi[r1]
+        rm = np.flatnonzero(~one)
+        if len(rm):
+            width = set_hi[rm] - set_lo[rm]
+            arc_m = pieces.arc[rm]
+            o2 = np.lexsort((-width, arc_m))
+            firsts = rm[o2[np.concatenate([[True], arc_m[o2][1:] != arc_m[o2][:-1]])]]
+            lo[pieces.arc[firsts]] = set_lo[firsts]
+            hi[pieces.arc[firsts]] = set_hi[firsts]
+        del one, r1, rm
+    set_ends = (pieces.lo_from, pieces.lo_to, pieces.hi_from, pieces.hi_to)
+    del pieces
 
     # ---- transitions and φ (they depend on the two edges only)
     transition, phi = _transitions(env, seg_edge[source], seg_edge[target])
     t3 = time.perf_counter()
     stats = {
-        "sweeps": len(sw.origin),
-        "entries": len(sw.seg),
+        "sweeps": n_sweeps,
+        "entries": n_entries,
         "seconds_sweeps": t1 - t0,
         "seconds_join": t2 - t1,
         "seconds_total": t3 - t0,
-        "exact_checks": sw.exact_checks + ends.checks,
-        "exact_casts": sw.exact_casts,
+        "exact_checks": sweep_checks + ends.checks,
+        "exact_casts": sweep_casts,
         "singletons_checked": n_single,
     }
     logger.debug("safe BVG of %r: %s", env.name, stats)
@@ -620,9 +645,18 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
         set_hi=set_hi,
         transition=transition,
         phi=phi,
-        _set_ends=(pieces.lo_from, pieces.lo_to, pieces.hi_from, pieces.hi_to),
+        _set_ends=set_ends,
         stats=stats,
     )
+
+
+def _sorted_by_arc_lo(pieces: _Pieces) -> bool:
+    """Are the pieces already in (arc, lo) order? (Then sorting them would change nothing.)"""
+    arc, lo = pieces.arc, pieces.lo
+    if len(arc) < 2:
+        return True
+    d = np.diff(arc)
+    return bool((d >= 0).all() and (lo[1:][d == 0] >= lo[:-1][d == 0]).all())
 
 
 def _edge_vectors(env: Environment) -> list[tuple[Fraction, Fraction]]:
@@ -873,7 +907,17 @@ def _angle_err(p: Partition, frm: np.ndarray, to: np.ndarray) -> np.ndarray:
 
 
 def _transitions(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Def. 8 side (+1 right, −1 left, 0 parallel; exact) and φ (radians) for edge pairs."""
+    """Def. 8 side (+1 right, −1 left, 0 parallel; exact) and φ (radians) for edge pairs (in blocks:
+    a dozen temporaries per pair)."""
+    side = np.empty(len(ei), dtype=np.int8)
+    phi = np.empty(len(ei))
+    block = 1 << 19
+    for s0 in range(0, len(ei), block):
+        side[s0 : s0 + block], phi[s0 : s0 + block] = _transitions_block(env, ei[s0 : s0 + block], ej[s0 : s0 + block])
+    return side, phi
+
+
+def _transitions_block(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     d = env.edge_end - env.edge_start
     u, v = d[ei], d[ej]
     cr = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
