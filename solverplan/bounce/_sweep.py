@@ -545,14 +545,6 @@ def _hit_edges(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_off, thin, 
     bad = np.zeros(total, dtype=bool)
     ctx.depth_pairs = int(cnt.sum())
     ctx.depth_tested = 0
-    # per (sweep, edge) pair: numerator cross(A − X, d) of the distance along any unit direction
-    # u, which is numer / cross(u, d); and the distance from X to the edge (a lower bound)
-    X = ctx.P[origin[m_idx]]
-    A, B = ctx.A[e_idx], ctx.B[e_idx]
-    dxp, dyp = B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]
-    numer = (A[:, 0] - X[:, 0]) * dyp - (A[:, 1] - X[:, 1]) * dxp
-    dmin = _point_segment_distance(X, A, B)
-    del X, A, B
     # blocks of whole sweeps (the pairs are sorted by sweep), about _BLOCK sector tests each
     p_of_m = np.searchsorted(m_idx, np.arange(M + 1))
     work = np.concatenate([[0], np.cumsum(cnt)])[p_of_m]
@@ -564,8 +556,7 @@ def _hit_edges(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_off, thin, 
         g0, g1 = int(sec_off[m0]), int(sec_off[m1])
         if p1 > p0:
             h, b = _hit_block(ctx, origin, frame, dir_ang, dir_off, thin, n_sec, sec_off, m0, m1,
-                              m_idx[p0:p1], e_idx[p0:p1], sr[p0:p1], cnt[p0:p1],
-                              numer[p0:p1], dxp[p0:p1], dyp[p0:p1], dmin[p0:p1])
+                              m_idx[p0:p1], e_idx[p0:p1], sr[p0:p1], cnt[p0:p1])
             hit[g0:g1], bad[g0:g1] = h, b
         else:  # no covering edge at all: every sector is cast exactly (never happens in a valid room)
             bad[g0:g1] = True
@@ -585,10 +576,18 @@ _PRUNE_REL = 1e-6
 
 
 def _hit_block(ctx, origin, frame, dir_ang, dir_off, thin, n_sec, sec_off, m0, m1,
-               m_idx, e_idx, sr, cnt, numer, dxp, dyp, dmin):
+               m_idx, e_idx, sr, cnt):
     """:func:`_hit_edges` for the sweeps m0..m1−1 and their pairs: (hit edge, needs an exact cast)
     per sector of these sweeps."""
     C = _CHUNK
+    # per (sweep, edge) pair: numerator cross(A − X, d) of the distance along any unit direction
+    # u, which is numer / cross(u, d); and the distance from X to the edge (a lower bound)
+    X = ctx.P[origin[m_idx]]
+    A, B = ctx.A[e_idx], ctx.B[e_idx]
+    dxp, dyp = B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]
+    numer = (A[:, 0] - X[:, 0]) * dyp - (A[:, 1] - X[:, 1]) * dxp
+    dmin = _point_segment_distance(X, A, B)
+    del X, A, B
     ms = np.arange(m0, m1)
     ns = n_sec[m0:m1]
     g0 = int(sec_off[m0])
@@ -733,36 +732,43 @@ def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off,
     csum = np.concatenate([[0], np.cumsum(ccount)])
     r0 = 0
     while r0 < len(starts):
-        r1 = min(max(int(np.searchsorted(csum, csum[r0] + _BLOCK // 4, side="right")) - 1, r0 + 1), len(starts))
+        r1 = min(max(int(np.searchsorted(csum, csum[r0] + _BLOCK // 16, side="right")) - 1, r0 + 1), len(starts))
         b_nb, b_ni = _run_cuts(ctx, origin, frame, dir_to, r_m[r0:r1], r_lo[r0:r1], r_hi[r0:r1],
                                c0[r0:r1], ccount[r0:r1])
         nb[r0:r1], ni[r0:r1] = b_nb, b_ni
         r0 = r1
-    # entries: piece p = 0..ni of run r lies on segment base + p
+    # entries: piece p = 0..ni of run r lies on segment base + p (filled in blocks of runs)
     base = ctx.edge_first[r_e] + nb
     pieces = ni + 1
-    er = np.repeat(np.arange(len(starts)), pieces)
-    p = ragged_arange(pieces)
-    seg = base[er] + p
-    last = p == ni[er]
-    lo_to = np.where(p == 0, dir_to[r_lo[er]], seg)
-    hi_to = np.where(last, dir_to[r_hi[er]], seg + 1)
-    em = r_m[er]
-    del p
-    # headings of the piece ends that are P′ vertices of the edge
-    lo = dir_ang[r_lo[er]]
-    hi = dir_ang[r_hi[er]]
-    lo_err = dir_err[r_lo[er]]
-    hi_err = dir_err[r_hi[er]]
-    del er
-    # (an inner upper end is the next piece's lower end: the same vertex seen from the same origin)
-    idx = np.flatnonzero(~last)
-    del last
-    for b0 in range(0, len(idx), _BLOCK // 4):
-        ix = idx[b0 : b0 + _BLOCK // 4]
-        a, e, *_ = _headings(ctx, origin[em[ix]], frame[em[ix]], ctx.P[hi_to[ix]][:, None, :])
-        hi[ix], hi_err[ix] = a[:, 0], e[:, 0]
-    lo[idx + 1], lo_err[idx + 1] = hi[idx], hi_err[idx]
+    total = int(pieces.sum())
+    em, seg, lo_to, hi_to = (np.empty(total, dtype=np.int64) for _ in range(4))
+    lo, hi, lo_err, hi_err = (np.empty(total) for _ in range(4))
+    psum = np.concatenate([[0], np.cumsum(pieces)])
+    r0 = 0
+    while r0 < len(starts):
+        r1 = min(max(int(np.searchsorted(psum, psum[r0] + _BLOCK // 16, side="right")) - 1, r0 + 1), len(starts))
+        out = slice(int(psum[r0]), int(psum[r1]))
+        er = np.repeat(np.arange(r0, r1), pieces[r0:r1])
+        p = ragged_arange(pieces[r0:r1])
+        sg = base[er] + p
+        last = p == ni[er]
+        seg[out] = sg
+        lo_to[out] = np.where(p == 0, dir_to[r_lo[er]], sg)
+        hi_to[out] = np.where(last, dir_to[r_hi[er]], sg + 1)
+        em[out] = r_m[er]
+        # headings of the piece ends that are P′ vertices of the edge; an inner upper end is the
+        # next piece's lower end (the same vertex seen from the same origin)
+        lo[out] = dir_ang[r_lo[er]]
+        lo_err[out] = dir_err[r_lo[er]]
+        h, he = dir_ang[r_hi[er]], dir_err[r_hi[er]]
+        ix = np.flatnonzero(~last)
+        if len(ix):
+            a, e, *_ = _headings(ctx, origin[r_m[er[ix]]], frame[r_m[er[ix]]], ctx.P[sg[ix] + 1][:, None, :])
+            h[ix], he[ix] = a[:, 0], e[:, 0]
+        hi[out], hi_err[out] = h, he
+        lo_b, le_b = lo[out], lo_err[out]  # views
+        lo_b[ix + 1], le_b[ix + 1] = h[ix], he[ix]
+        r0 = r1
     return em, seg, lo_to, hi_to, lo, hi, lo_err, hi_err
 
 
