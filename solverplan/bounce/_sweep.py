@@ -204,6 +204,7 @@ class _Context:
         self.scale = float(np.max(np.abs(self.V))) + 1.0
         self.exact_checks = 0
         self.exact_casts = 0
+        self.depth_pairs = self.depth_tested = 0
         # turn at each original vertex: +1 convex, -1 reflex, 0 flat (exact)
         reflex = set(env.reflex_vertices)
         pv = env.prev_vertex
@@ -247,23 +248,24 @@ def build_sweeps(partition) -> Sweeps:
         # ---- 1. headings and classes of all original vertices, and the critical directions
         cls, ang, err = _classify(ctx, o, fr, lo_lim[sl], hi_lim[sl])
         rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo_lim[sl], hi_lim[sl], cls, ang, err)
-        pm, pe, psr, pcnt = _covering(ctx, o, cls, rank, K)
+        pairs = _covering(ctx, o, cls, rank, K)
         extremes = _hole_extremes(ctx, o, fr, ang, err) if holes else None
-        del cls, rank
-        thin = np.append(thin, False)  # one flag per direction (the last one starts no sector)
-        parts.append((K, dir_ang, dir_to, dir_err, thin, pm + s0, pe, psr, pcnt, extremes))
-    K = np.concatenate([q[0] for q in parts]) if parts else np.zeros(0, dtype=np.int64)
-    dir_ang, dir_to, dir_err, thin = (np.concatenate([q[t] for q in parts]) if parts else np.zeros(0) for t in (1, 2, 3, 4))
-    dir_to = dir_to.astype(np.int64)
-    dir_off = np.concatenate([[0], np.cumsum(K + 2)]).astype(np.int64)
-    pairs = tuple(np.concatenate([q[t] for q in parts]) if parts else np.zeros(0, dtype=np.int64) for t in (5, 6, 7, 8))
-    ext = [q[9] for q in parts]
+        del cls, rank, ang, err
+        # ---- 2. first-hit edge of every sector
+        hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
+        del pairs
+        # ---- 3. runs and entries
+        block = list(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit))
+        block[0] = block[0] + s0
+        parts.append((block, extremes))
+    # the entries of all blocks, one column at a time
+    entries = []
+    for t in range(8):
+        entries.append(np.concatenate([q[0][t] for q in parts]) if parts else np.zeros(0, dtype=np.int64 if t < 4 else float))
+        for q in parts:
+            q[0][t] = None
+    ext = [q[1] for q in parts]
     del parts
-    # ---- 2. first-hit edge of every sector
-    hit = _hit_edges(ctx, origin, frame, K, dir_ang, dir_to, dir_off, thin, pairs)
-    del pairs
-    # ---- 3. runs and entries
-    entries = _entries(ctx, origin, frame, K, dir_ang, dir_to, dir_err, dir_off, hit)
     special = _special_entries(ctx, origin, frame, lo_lim, hi_lim)
     # Order by (sweep, heading). The entries of a sweep are already in heading order, and its
     # Cor. 1 entries are its first (from heading 0) or last (up to π) one: a stable sort on the
@@ -543,8 +545,7 @@ def _hit_edges(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_off, thin, 
     total = int(sec_off[-1])
     hit = np.full(total, -1, dtype=np.int64)
     bad = np.zeros(total, dtype=bool)
-    ctx.depth_pairs = int(cnt.sum())
-    ctx.depth_tested = 0
+    ctx.depth_pairs += int(cnt.sum())
     # blocks of whole sweeps (the pairs are sorted by sweep), about _BLOCK sector tests each
     p_of_m = np.searchsorted(m_idx, np.arange(M + 1))
     work = np.concatenate([[0], np.cumsum(cnt)])[p_of_m]
@@ -875,3 +876,22 @@ def _hole_extremes(ctx: _Context, origin, frame, ang, err) -> tuple[np.ndarray, 
         alpha_v[:, h] = ctx.orig_pv[lo + ia]
         beta_v[:, h] = ctx.orig_pv[lo + ib]
     return alpha, alpha_v, beta, beta_v
+
+
+def estimate_entries(partition, sample: int = 256) -> tuple[int, int]:
+    """(estimated number of entries of all sweeps, number of sweeps), from the sweeps of an evenly
+    spaced sample of ``sample`` origins (all of them when there are fewer): the size of the BVG
+    before it is built (its arcs are about 0.95 times its entries)."""
+    ctx = _Context(partition)
+    origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
+    M = len(origin)
+    rows = np.unique(np.linspace(0, M - 1, min(M, sample)).astype(np.int64)) if M else np.zeros(0, dtype=np.int64)
+    o, fr, lo, hi = origin[rows], frame[rows], lo_lim[rows], hi_lim[rows]
+    cls, ang, err = _classify(ctx, o, fr, lo, hi)
+    rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo, hi, cls, ang, err)
+    pairs = _covering(ctx, o, cls, rank, K)
+    del cls, ang, err, rank
+    hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
+    found = len(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit)[0])
+    special = int(np.count_nonzero(lo_lim >= 0) + np.count_nonzero(hi_lim >= 0))
+    return int(round(found * M / max(len(rows), 1))) + special, M

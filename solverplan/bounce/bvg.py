@@ -503,12 +503,38 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     docstring for the algorithm and its proof; the safe sets equal
     :func:`solverplan.bounce.safe.safe_set` for every pair. Accepts an environment too.
 
+    Built graphs are reused: the last few of this process are kept in memory, keyed by the
+    environment's exact rings, and on disk when a cache directory is set
+    (:func:`solverplan.bounce.set_graph_cache`; the command line keeps one, see docs/contract.md).
+    A reused graph is the same answer (equal arrays), with ``stats["cached"]`` set when it was read
+    from disk; its arrays are read-only, shared by every caller.
+
     Memory follows the output: the graph is a structure of arrays (about 110 bytes per arc), and
-    the build's peak stays within a small multiple of it (see ``benchmarks/README.md``).
+    the build's peak is under 200 bytes per arc (see ``benchmarks/README.md``). Before building a
+    large graph its size is estimated from a sample of the sweeps; a graph that would need more
+    memory than the limit (:func:`set_graph_memory_limit`, by default the memory available) is
+    refused up front with :class:`GraphTooLarge`, naming the estimate.
     """
     import time
 
+    from solverplan.bounce import _cache
+
+    if isinstance(partition, (Partition, Environment)):
+        env = partition.env if isinstance(partition, Partition) else partition
+        found = _cache.lookup(env, partition if isinstance(partition, Partition) else None)
+        if found is not None:
+            return found
     p = _as_partition(partition)
+    check_graph_memory(p)
+    t0 = time.perf_counter()
+    graph = _build(p)
+    return _cache.store(p.env, graph, time.perf_counter() - t0)
+
+
+def _build(p: Partition) -> SafeBVG:
+    """Build the safe BVG of ``p`` (no cache, no size check)."""
+    import time
+
     env = p.env
     N = len(p.segments)
     t0 = time.perf_counter()
@@ -939,3 +965,82 @@ def _transitions_block(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tupl
     heading = np.arctan2(cr, dt)  # heading of δ in the frame of e_i, in (−π, π]
     phi = np.where(side > 0, math.pi - heading, np.where(side < 0, heading + math.pi, 0.0))
     return side, phi
+
+
+# ---------------------------------------------------------------------------------------------
+# size limits
+# ---------------------------------------------------------------------------------------------
+class GraphTooLarge(InputError):
+    """The safe BVG of an environment would not fit in the memory limit (raised before building it)."""
+
+
+BYTES_PER_ARC = 200
+"""Peak build memory per arc of the safe BVG (bytes; measured ≈ 175, see ``benchmarks/README.md``)."""
+_BASE_BYTES = 150 * 2**20  # the process, the environment and the partition around the graph
+
+_memory_limit: int | None = None
+_limit_set = False
+
+
+def set_graph_memory_limit(limit: int | None) -> None:
+    """Refuse to build safe BVGs estimated to need more than ``limit`` bytes (``None``: no limit).
+
+    Until this is called, the limit is the memory available when a graph is built (Linux:
+    ``MemAvailable`` of ``/proc/meminfo``; no limit where that is unknown).
+    """
+    global _memory_limit, _limit_set
+    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, int) or limit <= 0):
+        raise InputError(f"memory limit must be a positive number of bytes, got {limit!r}")
+    _memory_limit, _limit_set = limit, True
+
+
+def _available_memory() -> int | None:
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def graph_memory_limit() -> tuple[int | None, str]:
+    """The memory limit for building a safe BVG (bytes, ``None`` for none) and where it comes from."""
+    if _limit_set:
+        return _memory_limit, "the memory limit"
+    return _available_memory(), "the memory available"
+
+
+def estimate_graph(partition: Partition | Environment) -> tuple[int, int]:
+    """(estimated arcs, estimated peak bytes) of the safe BVG of ``partition``, from the sweeps of
+    an evenly spaced sample of 256 of its vertices' frames — a second or two for the largest inputs.
+
+    >>> from solverplan.environment import Environment
+    >>> square = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> estimate_graph(square)[0]      # every sweep is sampled: the 12 arcs, up to the 0.95 factor
+    11
+    """
+    p = _as_partition(partition)
+    entries, _ = _sweep.estimate_entries(p)
+    arcs = int(round(0.95 * entries))
+    return arcs, _BASE_BYTES + BYTES_PER_ARC * entries
+
+
+def _gib(n: float) -> str:
+    return f"{n / 2**30:.1f} GB" if n >= 2**30 else f"{n / 2**20:.0f} MB"
+
+
+def check_graph_memory(p: Partition) -> None:
+    """Raise :class:`GraphTooLarge` when the safe BVG of ``p`` is estimated to exceed the memory limit
+    (:func:`graph_memory_limit`). Free for graphs that would fit even with every pair of segments
+    as an arc; otherwise it samples the sweeps (:func:`estimate_graph`)."""
+    limit, source = graph_memory_limit()
+    N = len(p.segments)
+    if limit is None or _BASE_BYTES + BYTES_PER_ARC * N * (N - 1) <= limit:
+        return
+    arcs, need = estimate_graph(p)
+    if need > limit:
+        raise GraphTooLarge(
+            f"the safe BVG of {p.env.name[:40]!r} would need about {_gib(need)} (≈ {arcs:,} arcs on {N:,} segments), "
+            f"more than {source} ({_gib(limit)}); raise it with --max-memory, or simplify the environment")
