@@ -439,15 +439,15 @@ def graph_command(
             _emit_string(view.to_dot(), out)
         elif fmt is GraphFormat.JSON and _json_indent in (None, -1) and view.n_arcs > 20_000:
             # a large graph is compact JSON (_json_text): the same bytes, encoded a chunk at a time
-            data = view.json_bytes()
+            data = view.json_bytes(end=b"\n")
             if len(data) <= JSON_INDENT_LIMIT:
                 emit(view, OutputFormat.JSON, out)
             elif out is None:
-                sys.stdout.buffer.write(data + b"\n")
+                sys.stdout.buffer.write(data)
                 sys.stdout.flush()
             else:
                 try:
-                    atomic_write_bytes(out, data + b"\n")
+                    atomic_write_bytes(out, data)  # type: ignore[arg-type]  # any bytes-like object
                 except OSError as exc:
                     raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
                 logger.info("wrote %s", out)

@@ -359,21 +359,24 @@ class SafeBVG:
         out["arcs"] = self._arc_dicts(0, self.n_arcs, safe)
         return out
 
-    def json_bytes(self, *, safe: bool | None = None, arcs_per_chunk: int = 1 << 16) -> bytes:
-        """:meth:`to_json` as compact JSON (UTF-8, no trailing newline), encoded a chunk of arcs at a
-        time: the same bytes as ``orjson.dumps(self.to_json())``, without holding a dict per arc
-        (2.4 million arcs: ≈ 0.4 GB of text instead of ≈ 2 GB of dicts)."""
+    def json_bytes(self, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 16) -> bytearray:
+        """:meth:`to_json` as compact JSON (UTF-8) followed by ``end``, encoded a chunk of arcs at a
+        time into one growing buffer: the same bytes as ``orjson.dumps(self.to_json()) + end``,
+        without a dict per arc at once nor a second copy of the text (2.4 million arcs: ≈ 0.3 GB
+        of text instead of ≈ 2 GB of dicts)."""
         import orjson
 
         safe = self.labelled if safe is None else safe
         head = orjson.dumps(self._json_header(safe))
-        parts = [head[:-1], b',"arcs":[' if len(head) > 2 else b'"arcs":[']
+        out = bytearray(head[:-1])
+        out += b',"arcs":[' if len(head) > 2 else b'"arcs":['
         for a in range(0, self.n_arcs, arcs_per_chunk):
             if a:
-                parts.append(b",")
-            parts.append(orjson.dumps(self._arc_dicts(a, min(self.n_arcs, a + arcs_per_chunk), safe))[1:-1])
-        parts.append(b"]}")
-        return b"".join(parts)
+                out += b","
+            out += orjson.dumps(self._arc_dicts(a, min(self.n_arcs, a + arcs_per_chunk), safe))[1:-1]
+        out += b"]}"
+        out += end
+        return out
 
     def _json_header(self, safe: bool) -> dict:
         out = {
