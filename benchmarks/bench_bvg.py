@@ -27,7 +27,7 @@ import warnings
 
 import numpy as np
 
-from solverplan.bounce.bvg import safe_bounce_visibility_graph
+from solverplan.bounce.bvg import clear_graph_cache, safe_bounce_visibility_graph
 from solverplan.bounce.partition import partition
 from solverplan.studies.generators import star_polygon, worst_case_polygon
 
@@ -38,6 +38,7 @@ WORST_CASE_T = [2, 4, 8, 16, 24, 32]
 def measure(env, repeat: int) -> dict:
     best_p = best_g = float("inf")
     for _ in range(repeat):
+        clear_graph_cache()  # a build each time, not the graph kept from the previous run
         gc.collect()
         t0 = time.perf_counter()
         p = partition(env)

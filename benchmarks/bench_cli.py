@@ -16,6 +16,12 @@ the median wall time and the 1-minute load average when the command's runs start
 markdown table and the machine (cores, CPU model, Python); the recorded results are in
 ``benchmarks/README.md``, "Whole-process CLI times".
 
+``--large`` times the scale targets instead: partition + safe BVG of the 640- and 1,000-vertex stars
+and of a 26 × 22 room with 30 aligned unit-square pillars, as whole processes (wall and CPU seconds,
+peak resident memory), with the full JSON answer and with a one-segment answer (the build alone), a
+second run reading the graph from the disk cache, and the 2,000-vertex star built and refused under
+``--max-memory 1G``.
+
 The machine is shared: ``--wait-load L`` waits (at most ``--max-wait`` seconds) until the 1-minute
 load average is below L before starting. This script is not a test: pytest collects only
 ``tests/``, ``solverplan/`` and ``proofs/``, and nothing here is named ``test_*``.
@@ -98,13 +104,81 @@ def make_inputs(folder: Path, cli: list[str], env: dict[str, str]) -> dict[str, 
     return {"star80": star, "worst_case_t16": worst}
 
 
+def measure(args: list[str], env: dict[str, str]) -> tuple[float, float, float, int]:
+    """(wall s, CPU s = user + system, peak resident MB, exit code) of one run, stdout to /dev/null."""
+    with open(os.devnull, "wb") as sink:
+        start = time.perf_counter()
+        child = subprocess.Popen(args, stdout=sink, stderr=subprocess.DEVNULL, env=env)
+        _, status, usage = os.wait4(child.pid, 0)
+        seconds = time.perf_counter() - start
+    return seconds, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024, os.waitstatus_to_exitcode(status)
+
+
+def pillar_room() -> object:
+    """A 26 × 22 room with 30 unit-square pillars on an aligned 6 × 5 grid (1,584 segments of P′)."""
+    from solverplan.environment import Environment
+
+    holes = [[[x, y], [x, y + 1], [x + 1, y + 1], [x + 1, y]] for x in range(3, 24, 4) for y in range(3, 20, 4)]
+    return Environment.from_coords([[0, 0], [26, 0], [26, 22], [0, 22]], holes, name="pillars30")
+
+
+def large(opts: argparse.Namespace) -> None:
+    """The scale targets: partition + safe BVG of the 640- and 1,000-vertex stars and the 30-pillar room
+    as whole processes (the full JSON answer, and a one-segment answer: the build alone), the reuse of a
+    cached graph, and the 2,000-vertex star with and without a memory limit."""
+    from solverplan.environment import save_environment
+
+    cli = solverplan_command()
+    with tempfile.TemporaryDirectory(prefix="bench_cli_") as tmp:
+        folder = Path(tmp)
+        env = child_environment(folder / "pycache")
+        inputs = {}
+        for n in (640, 1000, 2000):
+            inputs[f"star{n}"] = folder / f"star{n}.json"
+            subprocess.run([*cli, "generate", "star", "--n", str(n), "--irregularity", "0.2", "--spikiness", "0.3",
+                            "--seed", "1", "-o", str(inputs[f"star{n}"])], env=env, check=True)
+        inputs["pillars30"] = folder / "pillars30.json"
+        save_environment(pillar_room(), inputs["pillars30"])
+        cache = folder / "graphs"
+        out = str(folder / "g.json")
+        cases = []
+        for name in ("star640", "star1000", "pillars30"):
+            path = str(inputs[name])
+            cases += [(name, "graph --safe -o FILE", ["--graph-cache", "off", "graph", path, "--safe", "-o", out]),
+                      (name, "graph --safe --from 0 (build only)", ["--graph-cache", "off", "graph", path, "--safe", "--from", "0", "-o", out]),
+                      (name, "… again, graph cached on disk", ["--graph-cache", str(cache), "graph", path, "--safe", "--from", "0", "-o", out])]
+        path = str(inputs["star2000"])
+        cases += [("star2000", "graph --safe --from 0 (build only)", ["--graph-cache", "off", "graph", path, "--safe", "--from", "0", "-o", out]),
+                  ("star2000", "--max-memory 1G: refused", ["--graph-cache", "off", "--max-memory", "1G", "graph", path, "--safe"])]
+        subprocess.run([*cli, "info", str(inputs["star640"])], env=env, check=True, capture_output=True)  # warm bytecode
+        rows = []
+        for name, label, args in cases:
+            if label.startswith("…"):  # the first run fills the cache
+                measure([*cli, *args], env)
+            wait_for_load(opts.wait_load, opts.max_wait)
+            load = os.getloadavg()[0]
+            runs = [measure([*cli, *args], env) for _ in range(opts.repeat)]
+            best = min(runs, key=lambda r: r[1])
+            rows.append((name, label, *best, load))
+    print(f"machine: {os.cpu_count()} cores, {cpu_model()}, Python {platform.python_version()}; best of {opts.repeat} by CPU time")
+    print()
+    print("| environment | command | wall s | CPU s | peak MB | exit | load (1 min) |")
+    print("|---|---|---:|---:|---:|---:|---:|")
+    for name, label, wall, cpu, rss, code, load in rows:
+        print(f"| {name} | `{label}` | {wall:.2f} | {cpu:.2f} | {rss:,.0f} | {code} | {load:.2f} |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--repeat", type=int, default=5, help="timed runs per command (median reported)")
     parser.add_argument("--wait-load", type=float, default=None, metavar="L",
                         help="wait until the 1-minute load average is below L before each command")
     parser.add_argument("--max-wait", type=float, default=300.0, metavar="S", help="give up waiting after S seconds")
+    parser.add_argument("--large", action="store_true", help="the scale targets instead (stars of 640, 1,000, 2,000 vertices, 30 pillars)")
     opts = parser.parse_args()
+    if opts.large:
+        large(opts)
+        return
 
     cli = solverplan_command()
     with tempfile.TemporaryDirectory(prefix="bench_cli_") as tmp:

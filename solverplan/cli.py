@@ -37,7 +37,7 @@ import orjson
 import typer
 from typer.core import TyperGroup
 
-from solverplan._io import atomic_write_text
+from solverplan._io import atomic_write_bytes, atomic_write_text
 from solverplan.limits import (
     MAX_BOUNCES,
     MAX_COORDINATE,
@@ -48,6 +48,8 @@ from solverplan.limits import (
     MAX_SEED,
     MAX_TRAJECTORIES,
     MAX_TRIALS,
+    reset_memory_limit,
+    set_memory_limit,
 )
 from solverplan.describe import describe_environment
 from solverplan.environment import Environment, load_environment
@@ -156,7 +158,11 @@ def emit(answer: Answer, fmt: OutputFormat, out: Path | None) -> None:
 def _one_line(message: str, limit: int = 150) -> str:
     """The framework's usage message on one line, its quotes of the input cut like ours (``limits.quote``)."""
     text = " ".join(part.strip() for part in message.splitlines() if part.strip())
-    text = re.sub(r"'([^']{%d,})'" % MAX_QUOTED_CHARS, lambda m: f"'{m.group(1)[:MAX_QUOTED_CHARS - 3]}…'", text)
+    if len(text) <= limit:
+        return text
+    # a quote opens before a non-space and closes before a non-word character: the framework's repr of the input
+    text = re.sub(r"(?<!\w)'([^'\s][^']{%d,}?)'(?!\w)" % (MAX_QUOTED_CHARS - 1),
+                  lambda m: f"'{m.group(1)[:MAX_QUOTED_CHARS - 3]}…'", text)
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
@@ -287,7 +293,11 @@ def _version(value: bool) -> None:
 
 def _reset_json_layout() -> None:
     global _json_indent
+    from solverplan.bounce import bvg
+
     _json_indent = None
+    bvg.set_graph_cache(None)
+    reset_memory_limit()
 
 
 @app.callback()
@@ -304,14 +314,45 @@ def _root(
     compact: Annotated[
         bool, typer.Option("--compact", help="Print JSON answers on one line, however small (fastest for large answers).")
     ] = False,
+    graph_cache: Annotated[
+        str | None,
+        typer.Option("--graph-cache", metavar="DIR", envvar="SOLVERPLAN_GRAPH_CACHE", show_default=False,
+                     help="Keep safe BVGs that took over a second to build in DIR and reuse them ('off': never; default: $XDG_CACHE_HOME/solverplan/graphs)."),
+    ] = None,
+    max_memory: Annotated[
+        str | None,
+        typer.Option("--max-memory", metavar="SIZE", envvar="SOLVERPLAN_MAX_MEMORY", show_default=False,
+                     help="Refuse up front a job (a safe BVG, rollouts, a patrol search) estimated to need more than SIZE bytes (e.g. 2G, 500M; default: the memory available)."),
+    ] = None,
 ) -> None:
     """Planning with proofs for minimal bouncing robots in polygonal environments."""
     global _json_indent
+    from solverplan.bounce import bvg
+
     if compact and indent is not None:
         raise typer.BadParameter("give --indent or --compact, not both", param_hint="'--indent'")
     _json_indent = -1 if compact else indent
-    # the layout belongs to this one command line (tests run many in one process)
+    cache = bvg.default_cache_directory() if graph_cache is None else None if graph_cache in ("", "off") else Path(graph_cache)
+    limit = _parse_size(max_memory) if max_memory is not None else None
+    bvg.set_graph_cache(cache)
+    if limit is not None:
+        set_memory_limit(limit)
+    # the layout, cache and limit belong to this one command line (tests run many in one process)
     ctx.call_on_close(_reset_json_layout)
+
+
+def _parse_size(text: str) -> int:
+    """``SIZE`` of --max-memory: bytes, or a number with K, M, G or T (powers of 1024)."""
+    units = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
+    t = text.strip().upper().removesuffix("B")
+    unit = t[-1:] if t[-1:] in units and t[-1:] else ""
+    try:
+        value = float(t[: len(t) - len(unit)])
+    except ValueError:
+        value = float("nan")
+    if not (1 <= value * units[unit] < 2**62):
+        raise typer.BadParameter(f"expected a size such as 2G, 500M or 1000000 bytes, got {text[:40]!r}", param_hint="'--max-memory'")
+    return int(value * units[unit])
 
 
 def _load(env: Path, env_format: EnvFormat | None) -> Environment:
@@ -407,6 +448,20 @@ def graph_command(
             _emit_string(view.to_graphml(), out)
         elif fmt is GraphFormat.DOT:
             _emit_string(view.to_dot(), out)
+        elif fmt is GraphFormat.JSON and _json_indent in (None, -1) and view.n_arcs > 20_000:
+            # a large graph is compact JSON (_json_text): the same bytes, encoded a chunk at a time
+            data = view.json_bytes(end=b"\n")
+            if len(data) <= JSON_INDENT_LIMIT:
+                emit(view, OutputFormat.JSON, out)
+            elif out is None:
+                sys.stdout.buffer.write(data)
+                sys.stdout.flush()
+            else:
+                try:
+                    atomic_write_bytes(out, data)  # type: ignore[arg-type]  # any bytes-like object
+                except OSError as exc:
+                    raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+                logger.info("wrote %s", out)
         else:
             emit(view, OutputFormat(fmt.value), out)
 

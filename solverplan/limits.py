@@ -29,6 +29,9 @@ __all__ = [
     "MAX_QUOTED_CHARS",
     "quote",
     "available_memory",
+    "memory_limit",
+    "set_memory_limit",
+    "reset_memory_limit",
     "refuse_beyond_memory",
 ]
 
@@ -132,13 +135,42 @@ def available_memory() -> int | None:
     return min(candidates) if candidates else None
 
 
+_memory_limit: int | None = None
+_limit_set = False
+
+
+def set_memory_limit(limit: int | None) -> None:
+    """Refuse jobs estimated to need more than ``limit`` bytes (``None``: no limit); CLI ``--max-memory``.
+
+    Until this is called (or after :func:`reset_memory_limit`), the limit is :func:`available_memory` at the
+    moment a job is checked.
+    """
+    global _memory_limit, _limit_set
+    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, int) or limit <= 0):
+        raise InputError(f"memory limit must be a positive number of bytes, got {quote(limit)}")
+    _memory_limit, _limit_set = limit, True
+
+
+def reset_memory_limit() -> None:
+    """Back to the default limit: the memory available when a job is checked."""
+    global _memory_limit, _limit_set
+    _memory_limit, _limit_set = None, False
+
+
+def memory_limit() -> tuple[int | None, str]:
+    """The memory limit for one job (bytes, ``None`` for none) and where it comes from, for messages."""
+    if _limit_set:
+        return _memory_limit, "the memory limit"
+    return available_memory(), "the memory available"
+
+
 def refuse_beyond_memory(estimate_bytes: float, what: str) -> None:
-    """Raise :class:`~solverplan.errors.InputError` up front when ``estimate_bytes`` exceed the memory available.
+    """Raise :class:`~solverplan.errors.InputError` up front when ``estimate_bytes`` exceed :func:`memory_limit`.
 
     The job would otherwise run for a long time and end in ``MemoryError``. ``what`` names the job and its
     size for the message, e.g. ``"10,000,000 rollouts of 3 bounces"``.
     """
-    available = available_memory()
-    if available is not None and estimate_bytes > 0.9 * available:
-        raise InputError(f"{what} would need about {estimate_bytes / 2**30:.1f} GiB of memory, "
-                         f"{available / 2**30:.1f} GiB are available: ask for less")
+    limit, source = memory_limit()
+    if limit is not None and estimate_bytes > limit:
+        raise InputError(f"{what} would need about {estimate_bytes / 2**30:.1f} GiB of memory, more than {source} "
+                         f"({limit / 2**30:.1f} GiB; see --max-memory)")

@@ -13,6 +13,10 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, settings
 
+# The CLI keeps slow safe BVGs in ~/.cache by default: the suite must not write there (tests of the cache
+# give their own folder with --graph-cache or set_graph_cache).
+os.environ.setdefault("SOLVERPLAN_GRAPH_CACHE", "off")
+
 # CI must never be flaky: generation-budget health checks depend on machine load (seen with
 # concurrent test runs), so they are off; the strategies' rejection rates are kept low by design.
 _LOAD_DEPENDENT = [HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large]

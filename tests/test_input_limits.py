@@ -223,4 +223,4 @@ def test_rollouts_beyond_memory_are_refused_up_front(monkeypatch, tmp_path):
     result = CliRunner().invoke(app, ["simulate", "square", str(plan), "--trials", "10000000"])
     assert result.exit_code == 2, result.stderr
     assert result.stderr.splitlines() == [
-        "error: 10,000,000 rollouts of 2 bounces would need about 4.0 GiB of memory, 1.0 GiB are available: ask for less"]
+        "error: 10,000,000 rollouts of 2 bounces would need about 4.0 GiB of memory, more than the memory available (1.0 GiB; see --max-memory)"]

@@ -56,7 +56,9 @@ _CROSS_REL = 1e-13
 # be strictly inside); relative gap of the two nearest edges along a bisector that counts as a tie.
 _THIN = 1e-9
 _DEPTH_REL = 1e-9
-# Rows of (sweep × vertex) per numpy block.
+# Elements per numpy block: (sweep × vertex) cells in the classification (a few dozen bytes of
+# temporaries each), (sector, edge) tests in the hit search, candidates when cutting runs.
+_CELLS = 1 << 19
 _BLOCK = 1 << 21
 
 # Vertex classes against a sweep's region (headings relative to the frame).
@@ -172,7 +174,8 @@ class Sweeps:
 class _Context:
     """Float and exact views of one partition shared by the sweep steps."""
 
-    depth_pairs: int  # set by _hit_edges: (sweep, edge) pairs with at least one sector to test (diagnostic)
+    depth_pairs: int  # set by _hit_edges (diagnostics): (sector, covering edge) pairs, and those tested after pruning
+    depth_tested: int
 
     def __init__(self, partition) -> None:
         env = partition.env
@@ -201,6 +204,7 @@ class _Context:
         self.scale = float(np.max(np.abs(self.V))) + 1.0
         self.exact_checks = 0
         self.exact_casts = 0
+        self.depth_pairs = self.depth_tested = 0
         # turn at each original vertex: +1 convex, -1 reflex, 0 flat (exact)
         reflex = set(env.reflex_vertices)
         pv = env.prev_vertex
@@ -226,24 +230,62 @@ class _Context:
 
 
 def build_sweeps(partition) -> Sweeps:
-    """All sweeps of ``partition`` and their entries (see the module docstring)."""
+    """All sweeps of ``partition`` and their entries (see the module docstring).
+
+    Memory follows the output: the (sweep × vertex) tables of steps 1–2 exist for one block of
+    sweeps at a time (:data:`_BLOCK` cells), and only their compact results are kept — the
+    direction tables, and per (sweep, covering edge) pair its range of sectors.
+    """
     ctx = _Context(partition)
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
-    M = len(origin)
-    # ---- 1. headings and classes of all original vertices, and the critical directions
-    cls, ang, err = _classify(ctx, origin, frame, lo_lim, hi_lim)
-    rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, origin, frame, lo_lim, hi_lim, cls, ang, err)
-    # ---- 2. first-hit edge of every sector
-    hit = _hit_edges(ctx, origin, frame, cls, rank, K, dir_ang, dir_to, dir_off, thin)
-    # ---- 3. runs and entries
-    entries = _entries(ctx, origin, frame, K, dir_ang, dir_to, dir_err, dir_off, hit)
+    M, n = len(origin), ctx.n
+    holes = len(ctx.env.rings) > 1
+    rows = max(1, _CELLS // max(n, 1))
+    parts: list[tuple] = []
+    for s0 in range(0, M, rows):
+        sl = slice(s0, min(M, s0 + rows))
+        o, fr = origin[sl], frame[sl]
+        # ---- 1. headings and classes of all original vertices, and the critical directions
+        cls, ang, err = _classify(ctx, o, fr, lo_lim[sl], hi_lim[sl])
+        rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo_lim[sl], hi_lim[sl], cls, ang, err)
+        pairs = _covering(ctx, o, cls, rank, K)
+        extremes = _hole_extremes(ctx, o, fr, ang, err) if holes else None
+        del cls, rank, ang, err
+        # ---- 2. first-hit edge of every sector
+        hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
+        del pairs
+        # ---- 3. runs and entries
+        block = list(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit))
+        block[0] = block[0] + s0
+        parts.append((block, extremes))
+    # the entries of all blocks, one column at a time
+    entries = []
+    for t in range(8):
+        entries.append(np.concatenate([q[0][t] for q in parts]) if parts else np.zeros(0, dtype=np.int64 if t < 4 else float))
+        for q in parts:
+            q[0][t] = None
+    ext = [q[1] for q in parts]
+    del parts
     special = _special_entries(ctx, origin, frame, lo_lim, hi_lim)
-    cols = [np.concatenate([a, b]) for a, b in zip(entries, special)]
-    order = np.lexsort((cols[4], cols[0]))  # by sweep, then heading
-    sweep, seg, lo_to, hi_to, lo, hi, lo_err, hi_err = (c[order] for c in cols)
+    # Order by (sweep, heading). The entries of a sweep are already in heading order, and its
+    # Cor. 1 entries are its first (from heading 0) or last (up to π) one: a stable sort on the
+    # sweep alone of [entries from 0, entries, entries up to π] is that order.
+    n_hi = int(np.count_nonzero(hi_lim >= 0))  # the special entries list the "+" rows (up to π) first
+    entries, special = list(entries), list(special)
+    order = np.argsort(np.concatenate([special[0][n_hi:], entries[0], special[0][:n_hi]]), kind="stable")
+    cols = []
+    for t in range(len(entries)):  # one column at a time: the unsorted copy is dropped at once
+        a, b = entries[t], special[t]
+        entries[t] = special[t] = None
+        cols.append(np.concatenate([b[n_hi:], a, b[:n_hi]])[order])
+        del a, b
+    del order
+    sweep, seg, lo_to, hi_to, lo, hi, lo_err, hi_err = cols
+    del cols
     sweeps = Sweeps(origin, frame, plus_seg, minus_seg, sweep, seg, lo_to, hi_to, lo, hi, lo_err, hi_err)
-    if len(ctx.env.rings) > 1:
-        _hole_extremes(ctx, sweeps, origin, cls, ang, err)
+    if holes:
+        sweeps.hole_alpha, sweeps.hole_alpha_v, sweeps.hole_beta, sweeps.hole_beta_v = (
+            np.concatenate([x[t] for x in ext]) for t in range(4))
     sweeps.exact_checks = ctx.exact_checks
     sweeps.exact_casts = ctx.exact_casts
     return sweeps
@@ -455,8 +497,9 @@ def _front_facing(ctx: _Context, origin: np.ndarray) -> tuple[np.ndarray, np.nda
     return np.concatenate(rows_out).astype(np.int64), np.concatenate(edges_out).astype(np.int64)
 
 
-def _hit_edges(ctx: _Context, origin, frame, cls, rank, K, dir_ang, dir_to, dir_off, thin) -> np.ndarray:
-    """The first-hit edge of every sector (flat index dir_off[m] + k), −1 if none."""
+def _covering(ctx: _Context, origin, cls, rank, K):
+    """(sweep row, edge, first sector, sector count) of every front-facing edge covering at least one
+    sector of its sweep: the edge spans the sectors from its start vertex's rank to its end's."""
     m_idx, e_idx = _front_facing(ctx, origin)
     nv = np.asarray(ctx.env.next_vertex, dtype=np.int64)
     a_v, b_v = e_idx, nv[e_idx]
@@ -468,61 +511,179 @@ def _hit_edges(ctx: _Context, origin, frame, cls, rank, K, dir_ang, dir_to, dir_
     er = np.where(both_below, sr, er)
     cnt = np.maximum(er - sr, 0)
     keep = cnt > 0
-    m_idx, e_idx, sr, cnt = m_idx[keep], e_idx[keep], sr[keep], cnt[keep]
-    ctx.depth_pairs = int(cnt.sum())
-    # sectors in one flat numbering gl = dir_off[m] + k - m (k = 0..K[m]); per sector: the origin
-    # and the unit vector of the bisector
+    return m_idx[keep], e_idx[keep], sr[keep].astype(np.int64), cnt[keep].astype(np.int64)
+
+
+def _point_segment_distance(X: np.ndarray, A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Float distance from each point X to the closed segment AB (rows)."""
+    d = B - A
+    w = X - A
+    dd = d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]
+    t = np.clip((w[:, 0] * d[:, 0] + w[:, 1] * d[:, 1]) / dd, 0.0, 1.0)
+    return np.hypot(w[:, 0] - t * d[:, 0], w[:, 1] - t * d[:, 1])
+
+
+def _hit_edges(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_off, thin, pairs) -> np.ndarray:
+    """The first-hit edge of every sector (flat index dir_off[m] + k − m), −1 if none.
+
+    ``pairs`` = (sweep, edge, first sector, count) of the covering edges (:func:`_covering`),
+    sorted by sweep. The nearest covering edge along each sector's bisector wins; a near-tie, a
+    thin sector or a sector without a finite hit is cast exactly.
+
+    Occlusion pruning (it changes no answer): the sectors of a sweep are grouped in chunks of
+    :data:`_CHUNK`. The nearest edge spanning a whole chunk (its *occluder*) is hit by every ray
+    of the chunk at a distance at most its larger distance along the chunk's two end directions
+    (the distance to a line along the heading θ is h / sin(θ − α), convex in θ); an edge whose
+    distance from the sweep origin exceeds that bound, with a wide margin, is never the first
+    hit nor within the tie margin in that chunk, and is not tested there. This makes the work
+    follow the visible structure instead of every (sector, covering edge) pair.
+    """
+    m_idx, e_idx, sr, cnt = pairs
     M = len(K)
     n_sec = K + 1
-    sec_off = dir_off[:-1] - np.arange(M)
-    total = int(n_sec.sum())
+    sec_off = np.concatenate([[0], np.cumsum(n_sec)]).astype(np.int64)
+    total = int(sec_off[-1])
+    hit = np.full(total, -1, dtype=np.int64)
+    bad = np.zeros(total, dtype=bool)
+    ctx.depth_pairs += int(cnt.sum())
+    # blocks of whole sweeps (the pairs are sorted by sweep), about _BLOCK sector tests each
+    p_of_m = np.searchsorted(m_idx, np.arange(M + 1))
+    work = np.concatenate([[0], np.cumsum(cnt)])[p_of_m]
+    m0 = 0
+    while m0 < M:
+        m1 = max(int(np.searchsorted(work, work[m0] + _BLOCK, side="right")) - 1, m0 + 1)
+        m1 = min(m1, M)
+        p0, p1 = int(p_of_m[m0]), int(p_of_m[m1])
+        g0, g1 = int(sec_off[m0]), int(sec_off[m1])
+        if p1 > p0:
+            h, b = _hit_block(ctx, origin, frame, dir_ang, dir_off, thin, n_sec, sec_off, m0, m1,
+                              m_idx[p0:p1], e_idx[p0:p1], sr[p0:p1], cnt[p0:p1])
+            hit[g0:g1], bad[g0:g1] = h, b
+        else:  # no covering edge at all: every sector is cast exactly (never happens in a valid room)
+            bad[g0:g1] = True
+        m0 = m1
     sec_m = np.repeat(np.arange(M), n_sec)
-    sec_g = dir_off[sec_m] + ragged_arange(n_sec)
-    mid = 0.5 * (dir_ang[sec_g] + dir_ang[sec_g + 1])
-    f = ctx.edge_unit[frame[sec_m]]
+    for i in np.flatnonzero(bad).tolist():
+        m = int(sec_m[i])
+        k = i - int(sec_off[m])
+        hit[i] = _exact_sector_hit(ctx, int(origin[m]), int(frame[m]),
+                                   int(dir_to[dir_off[m] + k]), int(dir_to[dir_off[m] + k + 1]))
+    return hit
+
+
+# Sectors per occlusion chunk in _hit_edges; relative margin of its pruning bound.
+_CHUNK = 8
+_PRUNE_REL = 1e-6
+
+
+def _hit_block(ctx, origin, frame, dir_ang, dir_off, thin, n_sec, sec_off, m0, m1,
+               m_idx, e_idx, sr, cnt):
+    """:func:`_hit_edges` for the sweeps m0..m1−1 and their pairs: (hit edge, needs an exact cast)
+    per sector of these sweeps."""
+    C = _CHUNK
+    # per (sweep, edge) pair: numerator cross(A − X, d) of the distance along any unit direction
+    # u, which is numer / cross(u, d); and the distance from X to the edge (a lower bound)
+    X = ctx.P[origin[m_idx]]
+    A, B = ctx.A[e_idx], ctx.B[e_idx]
+    dxp, dyp = B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]
+    numer = (A[:, 0] - X[:, 0]) * dyp - (A[:, 1] - X[:, 1]) * dxp
+    dmin = _point_segment_distance(X, A, B)
+    del X, A, B
+    ms = np.arange(m0, m1)
+    ns = n_sec[m0:m1]
+    g0 = int(sec_off[m0])
+    L = int(sec_off[m1]) - g0
+    # sectors: sweep, index k, direction index, bisector unit vector
+    s_m = np.repeat(ms, ns)
+    s_k = ragged_arange(ns)
+    s_g = dir_off[s_m] + s_k
+    mid = 0.5 * (dir_ang[s_g] + dir_ang[s_g + 1])
+    f = ctx.edge_unit[frame[s_m]]
     c, s = np.cos(mid), np.sin(mid)
     UX, UY = c * f[:, 0] - s * f[:, 1], s * f[:, 0] + c * f[:, 1]
-    SX, SY = ctx.P[origin[sec_m], 0], ctx.P[origin[sec_m], 1]
-    best = np.full(total, np.inf)
-    hit = np.full(total, -1, dtype=np.int64)
-    # per (sweep, edge) pair: numerator cross(A − X, d) of the distance along any unit direction u,
-    # which is numer / cross(u, d)
-    X = ctx.P[origin[m_idx]]
-    dxp, dyp = ctx.B[e_idx, 0] - ctx.A[e_idx, 0], ctx.B[e_idx, 1] - ctx.A[e_idx, 1]
-    numer = (ctx.A[e_idx, 0] - X[:, 0]) * dyp - (ctx.A[e_idx, 1] - X[:, 1]) * dxp
-    gl_first = sec_off[m_idx] + sr
-    csum = np.cumsum(cnt)
-    blocks = []
-    start = 0
-    while start < len(cnt):
-        base = csum[start - 1] if start else 0
-        stop = max(int(np.searchsorted(csum, base + (1 << 21), side="right")), start + 1)
-        c_blk = cnt[start:stop]
-        rep = np.repeat(np.arange(start, stop), c_blk)
-        gl = gl_first[rep] + ragged_arange(c_blk)
-        dx, dy = dxp[rep], dyp[rep]
+    del mid, c, s
+    # chunks of each sweep: chunk q of sweep m holds its sectors qC .. min(qC + C, K + 1) − 1
+    nc = (ns + C - 1) // C
+    c_off = np.concatenate([[0], np.cumsum(nc)]).astype(np.int64)  # local chunk numbering
+    n_chunks = int(c_off[-1])
+    lm = m_idx - m0  # local sweep of each pair
+    first, stop = sr, sr + cnt  # sector range [first, stop) of each pair
+    # pairs spanning whole chunks: chunk q is spanned iff first <= qC and min(qC + C, K + 1) <= stop
+    q_lo = (first + C - 1) // C
+    q_hi = np.where(stop == n_sec[m_idx], nc[lm], stop // C)  # exclusive
+    nfull = np.maximum(q_hi - q_lo, 0)
+    thr = np.full(n_chunks, np.inf)
+    scale = ctx.scale
+    if nfull.any():
+        fp = np.repeat(np.arange(len(lm)), nfull)
+        fq = np.repeat(q_lo, nfull) + ragged_arange(nfull)
+        fc = c_off[lm[fp]] + fq  # local chunk id
+        # distance along the bisector of the chunk's middle sector
+        q_sec = np.minimum(fq * C + C // 2, n_sec[m_idx[fp]] - 1)
+        gl = sec_off[m_idx[fp]] - g0 + q_sec
         with np.errstate(divide="ignore", invalid="ignore"):
-            dist = numer[rep] / (UX[gl] * dy - UY[gl] * dx)
+            dist = numer[fp] / (UX[gl] * dyp[fp] - UY[gl] * dxp[fp])
         dist[~(dist > 0)] = np.inf
-        np.minimum.at(best, gl, dist)
-        blocks.append((gl, rep, dist))
-        start = stop
-    near = np.zeros(total, dtype=np.int64)  # covering edges within the tie margin of the nearest
-    for gl, rep, dist in blocks:
-        b = best[gl]
-        win = dist == b
-        hit[gl[win]] = e_idx[rep[win]]
-        close = dist <= b * (1.0 + _DEPTH_REL)
-        near += np.bincount(gl[close], minlength=total)
-    k_all = sec_g - dir_off[sec_m]
-    m_all = sec_m
-    bad = thin[sec_g] | ~np.isfinite(best) | (near != 1)
-    out = hit
-    for i in np.flatnonzero(bad).tolist():
-        m, k = int(m_all[i]), int(k_all[i])
-        out[i] = _exact_sector_hit(ctx, int(origin[m]), int(frame[m]),
-                                   int(dir_to[dir_off[m] + k]), int(dir_to[dir_off[m] + k + 1]))
-    return out  # indexed by dir_off[m] + k - m
+        best = np.full(n_chunks, np.inf)
+        np.minimum.at(best, fc, dist)
+        owner = np.full(n_chunks, -1, dtype=np.int64)
+        win = np.isfinite(dist) & (dist == best[fc])
+        owner[fc[win]] = fp[win]
+        del fp, fq, q_sec, gl, dist, win
+        # the occluder's distances along the chunk's two end directions
+        oc = np.flatnonzero(owner >= 0)
+        if len(oc):
+            op = owner[oc]
+            c_m = np.searchsorted(c_off, oc, side="right") - 1  # local sweep of the chunk
+            q = oc - c_off[c_m]
+            gm = c_m + m0
+            r_lo = dir_off[gm] + q * C
+            r_hi = dir_off[gm] + np.minimum(q * C + C, n_sec[gm])
+            fo = ctx.edge_unit[frame[gm]]
+            bound = np.zeros(len(oc))
+            ok = np.ones(len(oc), dtype=bool)
+            dlen = np.hypot(dxp[op], dyp[op])
+            for r in (r_lo, r_hi):
+                a = dir_ang[r]
+                ca, sa = np.cos(a), np.sin(a)
+                ux, uy = ca * fo[:, 0] - sa * fo[:, 1], sa * fo[:, 0] + ca * fo[:, 1]
+                den = ux * dyp[op] - uy * dxp[op]
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    d = numer[op] / den
+                # well conditioned only: the ray crosses the line at a clear angle, inside the room
+                ok &= (np.abs(den) > 1e-3 * dlen) & (d > 0) & (d < 3.0 * scale)
+                bound = np.maximum(bound, np.where(ok, d, 0.0))
+            thr[oc[ok]] = bound[ok] * (1.0 + _PRUNE_REL) + _PRUNE_REL * scale
+    # pairs × overlapped chunks; keep those not certainly behind the chunk's occluder
+    qa = first // C
+    qb = (stop - 1) // C
+    nq = qb - qa + 1
+    pp = np.repeat(np.arange(len(lm)), nq)
+    pq = np.repeat(qa, nq) + ragged_arange(nq)
+    live = dmin[pp] <= thr[c_off[lm[pp]] + pq]
+    pp, pq = pp[live], pq[live]
+    lo = np.maximum(first[pp], pq * C)
+    n_t = np.minimum(stop[pp], pq * C + C) - lo
+    del live, pq
+    # the surviving (pair, sector) tests
+    rep = np.repeat(pp, n_t)
+    gl = np.repeat(sec_off[m_idx[pp]] - g0 + lo, n_t) + ragged_arange(n_t)
+    del pp, lo, n_t
+    ctx.depth_tested += len(rep)
+    dx, dy = dxp[rep], dyp[rep]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dist = numer[rep] / (UX[gl] * dy - UY[gl] * dx)
+    del dx, dy
+    dist[~(dist > 0)] = np.inf
+    best = np.full(L, np.inf)
+    np.minimum.at(best, gl, dist)
+    hit = np.full(L, -1, dtype=np.int64)
+    b = best[gl]
+    win = dist == b
+    hit[gl[win]] = e_idx[rep[win]]
+    near = np.bincount(gl[dist <= b * (1.0 + _DEPTH_REL)], minlength=L)
+    bad = thin[s_g] | ~np.isfinite(best) | (near != 1)
+    return hit, bad
 
 
 def _exact_sector_hit(ctx: _Context, o: int, frame: int, lo_to: int, hi_to: int) -> int:
@@ -546,26 +707,78 @@ def _exact_sector_hit(ctx: _Context, o: int, frame: int, lo_to: int, hi_to: int)
 
 def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off, hit):
     """Runs of sectors hitting one edge, cut by the P′ vertices on that edge into entries."""
-    M = len(origin)
     n_sec = K + 1
-    m_all = np.repeat(np.arange(M), n_sec)
-    k_all = ragged_arange(n_sec)
+    sec_off = np.concatenate([[0], np.cumsum(n_sec)]).astype(np.int64)  # first sector of each sweep
     if len(hit) and (hit < 0).any():  # pragma: no cover - every ray in a valid environment hits
         i = int(np.flatnonzero(hit < 0)[0])
-        raise SolverFailed(f"no edge found for sector {int(k_all[i])} of the sweep from P′ vertex {int(origin[m_all[i]])}")
+        m = int(np.searchsorted(sec_off, i, side="right")) - 1
+        raise SolverFailed(f"no edge found for sector {i - int(sec_off[m])} of the sweep from P′ vertex {int(origin[m])}")
     # runs: maximal stretches of consecutive sectors of one sweep with one hit edge
     first = np.ones(len(hit), dtype=bool)
-    first[1:] = (hit[1:] != hit[:-1]) | (k_all[1:] == 0)
+    first[1:] = hit[1:] != hit[:-1]
+    first[sec_off[:-1][n_sec > 0]] = True
     starts = np.flatnonzero(first)
+    del first
     ends = np.append(starts[1:], len(hit))  # exclusive
-    r_m = m_all[starts]
+    r_m = np.searchsorted(sec_off, starts, side="right") - 1
     r_e = hit[starts]
-    r_lo = dir_off[r_m] + k_all[starts]  # direction index of the run's start
-    r_hi = dir_off[r_m] + k_all[ends - 1] + 1
-    # candidates: the interior P′ vertices of the run's edge
+    r_lo = dir_off[r_m] + starts - sec_off[r_m]  # direction index of the run's start
+    r_hi = dir_off[r_m] + ends - sec_off[r_m]  # ... and of its end (k of its last sector + 1)
+    # candidates: the interior P′ vertices of the run's edge; per run, how many lie before its
+    # start direction (nb) and strictly inside it (ni) — in blocks of runs (memory)
     c0 = ctx.edge_first[r_e] + 1
     ccount = ctx.edge_first[r_e + 1] - c0
-    rr = np.repeat(np.arange(len(starts)), ccount)
+    nb = np.zeros(len(starts), dtype=np.int64)
+    ni = np.zeros(len(starts), dtype=np.int64)
+    csum = np.concatenate([[0], np.cumsum(ccount)])
+    r0 = 0
+    while r0 < len(starts):
+        r1 = min(max(int(np.searchsorted(csum, csum[r0] + _BLOCK // 16, side="right")) - 1, r0 + 1), len(starts))
+        b_nb, b_ni = _run_cuts(ctx, origin, frame, dir_to, r_m[r0:r1], r_lo[r0:r1], r_hi[r0:r1],
+                               c0[r0:r1], ccount[r0:r1])
+        nb[r0:r1], ni[r0:r1] = b_nb, b_ni
+        r0 = r1
+    # entries: piece p = 0..ni of run r lies on segment base + p (filled in blocks of runs)
+    base = ctx.edge_first[r_e] + nb
+    pieces = ni + 1
+    total = int(pieces.sum())
+    em, seg, lo_to, hi_to = (np.empty(total, dtype=np.int64) for _ in range(4))
+    lo, hi, lo_err, hi_err = (np.empty(total) for _ in range(4))
+    psum = np.concatenate([[0], np.cumsum(pieces)])
+    r0 = 0
+    while r0 < len(starts):
+        r1 = min(max(int(np.searchsorted(psum, psum[r0] + _BLOCK // 16, side="right")) - 1, r0 + 1), len(starts))
+        out = slice(int(psum[r0]), int(psum[r1]))
+        er = np.repeat(np.arange(r0, r1), pieces[r0:r1])
+        p = ragged_arange(pieces[r0:r1])
+        sg = base[er] + p
+        last = p == ni[er]
+        seg[out] = sg
+        lo_to[out] = np.where(p == 0, dir_to[r_lo[er]], sg)
+        hi_to[out] = np.where(last, dir_to[r_hi[er]], sg + 1)
+        em[out] = r_m[er]
+        # headings of the piece ends that are P′ vertices of the edge; an inner upper end is the
+        # next piece's lower end (the same vertex seen from the same origin)
+        lo[out] = dir_ang[r_lo[er]]
+        lo_err[out] = dir_err[r_lo[er]]
+        h, he = dir_ang[r_hi[er]], dir_err[r_hi[er]]
+        ix = np.flatnonzero(~last)
+        if len(ix):
+            a, e, *_ = _headings(ctx, origin[r_m[er[ix]]], frame[r_m[er[ix]]], ctx.P[sg[ix] + 1][:, None, :])
+            h[ix], he[ix] = a[:, 0], e[:, 0]
+        hi[out], hi_err[out] = h, he
+        lo_b, le_b = lo[out], lo_err[out]  # views
+        lo_b[ix + 1], le_b[ix + 1] = h[ix], he[ix]
+        r0 = r1
+    return em, seg, lo_to, hi_to, lo, hi, lo_err, hi_err
+
+
+def _run_cuts(ctx: _Context, origin, frame, dir_to, r_m, r_lo, r_hi, c0, ccount):
+    """For runs (sweep, start and end direction index, first interior P′ vertex of the edge and
+    their count): the number of interior vertices before the run's start direction, and strictly
+    inside the run (exact near ties)."""
+    n_runs = len(r_m)
+    rr = np.repeat(np.arange(n_runs), ccount)
     y = np.repeat(c0, ccount) + ragged_arange(ccount)
     mm = r_m[rr]
     o = origin[mm]
@@ -585,8 +798,9 @@ def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off,
     cb = rel[:, 0] * ds[:, 1] - rel[:, 1] * ds[:, 0]
     ca = de[:, 0] * rel[:, 1] - de[:, 1] * rel[:, 0]
     mag = _ninf(X) + _ninf(Y)
-    tol_b = _CROSS_REL * (_ninf(rel) * _ninf(ds) + 0.1 * mag * (_ninf(ds) + _ninf(rel))) + 1e-300
-    tol_a = _CROSS_REL * (_ninf(rel) * _ninf(de) + 0.1 * mag * (_ninf(de) + _ninf(rel))) + 1e-300
+    n_rel = _ninf(rel)
+    tol_b = _CROSS_REL * (n_rel * _ninf(ds) + 0.1 * mag * (_ninf(ds) + n_rel)) + 1e-300
+    tol_a = _CROSS_REL * (n_rel * _ninf(de) + 0.1 * mag * (_ninf(de) + n_rel)) + 1e-300
     before = cb > tol_b
     after = ca > tol_a
     unsure_b = np.abs(cb) <= tol_b
@@ -597,31 +811,9 @@ def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off,
         after[i] = -_dir_cross_sign(ctx, int(o[i]), int(y[i]), int(dir_to[r_hi[rr[i]]]), int(fr[i])) >= 0
     after &= ~before
     inside = ~before & ~after
-    nb = np.bincount(rr, weights=before, minlength=len(starts)).astype(np.int64)
-    ni = np.bincount(rr, weights=inside, minlength=len(starts)).astype(np.int64)
-    # entries: piece p = 0..ni of run r lies on segment base + p
-    base = ctx.edge_first[r_e] + nb
-    pieces = ni + 1
-    er = np.repeat(np.arange(len(starts)), pieces)
-    p = ragged_arange(pieces)
-    seg = base[er] + p
-    last = p == ni[er]
-    lo_to = np.where(p == 0, dir_to[r_lo[er]], seg)
-    hi_to = np.where(last, dir_to[r_hi[er]], seg + 1)
-    em = r_m[er]
-    # headings of the piece ends that are P′ vertices of the edge
-    lo = dir_ang[r_lo[er]].copy()
-    hi = dir_ang[r_hi[er]].copy()
-    lo_err = dir_err[r_lo[er]].copy()
-    hi_err = dir_err[r_hi[er]].copy()
-    inner_lo = p > 0
-    inner_hi = ~last
-    for mask, vals, errs, ids in ((inner_lo, lo, lo_err, lo_to), (inner_hi, hi, hi_err, hi_to)):
-        idx = np.flatnonzero(mask)
-        if len(idx):
-            a, e, *_ = _headings(ctx, origin[em[idx]], frame[em[idx]], ctx.P[ids[idx]][:, None, :])
-            vals[idx], errs[idx] = a[:, 0], e[:, 0]
-    return em, seg, lo_to, hi_to, lo, hi, lo_err, hi_err
+    nb = np.bincount(rr, weights=before, minlength=n_runs).astype(np.int64)
+    ni = np.bincount(rr, weights=inside, minlength=n_runs).astype(np.int64)
+    return nb, ni
 
 
 def _dir_cross_sign(ctx: _Context, o: int, y: int, to: int, frame: int) -> int:
@@ -650,8 +842,9 @@ def _special_entries(ctx: _Context, origin, frame, lo_lim, hi_lim):
     return sweep.astype(np.int64), seg.astype(np.int64), lo_to, hi_to, lo, hi, lo_err, hi_err
 
 
-def _hole_extremes(ctx: _Context, sweeps: Sweeps, origin, cls, ang, err) -> None:
-    """Per sweep and hole: the largest and smallest heading of the hole's vertices (their P′ ids)."""
+def _hole_extremes(ctx: _Context, origin, frame, ang, err) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Per sweep and hole: the largest and smallest heading of the hole's vertices (their P′ ids):
+    ``(alpha, alpha_v, beta, beta_v)``, each of shape (sweeps, holes)."""
     env = ctx.env
     H = len(env.rings) - 1
     M = len(origin)
@@ -671,7 +864,7 @@ def _hole_extremes(ctx: _Context, sweeps: Sweeps, origin, cls, ang, err) -> None
             best = a[r, pick]
             close = (sign * (a - best[:, None]) >= -(e + e[r, pick][:, None])) & (np.arange(hi - lo)[None, :] != pick[:, None])
             for m in np.flatnonzero(close.any(axis=1)).tolist():
-                o, fr = int(origin[m]), int(sweeps.frame[m])
+                o, fr = int(origin[m]), int(frame[m])
                 cur = int(pick[m])
                 for w in np.flatnonzero(close[m]).tolist():
                     c = ctx.exact.heading_cmp(fr, o, int(ctx.orig_pv[lo + w]), o, int(ctx.orig_pv[lo + cur]))
@@ -682,5 +875,23 @@ def _hole_extremes(ctx: _Context, sweeps: Sweeps, origin, cls, ang, err) -> None
         beta[:, h] = a[r, ib]
         alpha_v[:, h] = ctx.orig_pv[lo + ia]
         beta_v[:, h] = ctx.orig_pv[lo + ib]
-    sweeps.hole_alpha, sweeps.hole_alpha_v = alpha, alpha_v
-    sweeps.hole_beta, sweeps.hole_beta_v = beta, beta_v
+    return alpha, alpha_v, beta, beta_v
+
+
+def estimate_entries(partition, sample: int = 256) -> tuple[int, int]:
+    """(estimated number of entries of all sweeps, number of sweeps), from the sweeps of an evenly
+    spaced sample of ``sample`` origins (all of them when there are fewer): the size of the BVG
+    before it is built (its arcs are about 0.95 times its entries)."""
+    ctx = _Context(partition)
+    origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
+    M = len(origin)
+    rows = np.unique(np.linspace(0, M - 1, min(M, sample)).astype(np.int64)) if M else np.zeros(0, dtype=np.int64)
+    o, fr, lo, hi = origin[rows], frame[rows], lo_lim[rows], hi_lim[rows]
+    cls, ang, err = _classify(ctx, o, fr, lo, hi)
+    rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo, hi, cls, ang, err)
+    pairs = _covering(ctx, o, cls, rank, K)
+    del cls, ang, err, rank
+    hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
+    found = len(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit)[0])
+    special = int(np.count_nonzero(lo_lim >= 0) + np.count_nonzero(hi_lim >= 0))
+    return int(round(found * M / max(len(rows), 1))) + special, M

@@ -38,8 +38,13 @@ Algorithm (see :mod:`solverplan.bounce._sweep` for the sweeps)
 All comparisons of interval ends are exact when their floats are within the error bound (ends are
 directions between two exact points of P′, or the frame ends 0 and π, which are excluded).
 
-Cost: the sweeps (O(M·n log n) plus the size of the visibility structure) and a sort-merge join,
-all numpy — no loop over pairs of segments. See ``benchmarks/bench_bvg.py`` for measured times.
+Cost: the sweeps (O(M·n log n), plus the first-hit tests that survive the occlusion pruning of
+:func:`~solverplan.bounce._sweep._hit_edges`) and a sort-merge join, all numpy — no loop over
+pairs of segments. Memory follows the output: the sweeps run in blocks and keep only their entries,
+the join frees each intermediate once consumed, and the graph is a structure of arrays (source,
+target, widest interval, interval offsets and ends, transition, φ: about 110 bytes per arc, under
+200 at the build's peak). See ``benchmarks/bench_bvg.py`` and ``benchmarks/bench_cli.py --large``
+for measured times and memory.
 """
 
 from __future__ import annotations
@@ -56,18 +61,22 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from solverplan._arrays import ragged_arange
-from solverplan.bounce import _sweep
+from solverplan.bounce import _cache, _sweep
+from solverplan.bounce._cache import clear_graph_cache, default_cache_directory, graph_cache_directory, set_graph_cache
 from solverplan.bounce._sweep import MARK_PI, MARK_ZERO, ExactPoints, Sweeps, _ninf, build_sweeps
 from solverplan.interval import Interval
 from solverplan.bounce.partition import Partition, partition as make_partition
 from solverplan.bounce.safe import Direction, SafeInterval, SafeSet
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
+from solverplan.limits import memory_limit
 
 if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only the conversions below load it
     import networkx as nx
 
-__all__ = ["SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph"]
+__all__ = ["SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph", "GraphTooLarge", "estimate_graph",
+           "check_graph_memory", "set_graph_cache", "clear_graph_cache",
+           "graph_cache_directory", "default_cache_directory"]
 
 logger = logging.getLogger(__name__)
 
@@ -352,21 +361,30 @@ class SafeBVG:
         With ``safe=False`` (the plain BVG; the default after ``select(safe=False)``) arcs carry only
         ``from``, ``to``, ``transition``."""
         safe = self.labelled if safe is None else safe
-        # Built column-wise with zip (no per-arc indexing, one list slice per safe set): this runs
-        # once per `solverplan graph` over up to ~10⁵–10⁶ arcs, where it was the slowest step.
-        names = [_TRANSITIONS[t] for t in self.transition.tolist()]
-        src, dst = self.source.tolist(), self.target.tolist()
-        if not safe:
-            arcs = [{"from": i, "to": j, "transition": t} for i, j, t in zip(src, dst, names)]
-        else:
-            off = self.set_offsets.tolist()
-            pieces = [[a, b] for a, b in zip(self.set_lo.tolist(), self.set_hi.tolist())]
-            sets = [pieces[a:b] for a, b in zip(off, off[1:])]
-            widest = [[a, b] if c else None for a, b, c in zip(self.lo.tolist(), self.hi.tolist(), self.n_intervals.tolist())]
-            arcs = [
-                {"from": i, "to": j, "safe": w, "transition": t, "phi": f, "safe_set": ss}
-                for i, j, w, t, f, ss in zip(src, dst, widest, names, self.phi.tolist(), sets)
-            ]
+        out = self._json_header(safe)
+        out["arcs"] = self._arc_dicts(0, self.n_arcs, safe)
+        return out
+
+    def json_bytes(self, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 16) -> bytearray:
+        """:meth:`to_json` as compact JSON (UTF-8) followed by ``end``, encoded a chunk of arcs at a
+        time into one growing buffer: the same bytes as ``orjson.dumps(self.to_json()) + end``,
+        without a dict per arc at once nor a second copy of the text (2.4 million arcs: ≈ 0.3 GB
+        of text instead of ≈ 2 GB of dicts)."""
+        import orjson
+
+        safe = self.labelled if safe is None else safe
+        head = orjson.dumps(self._json_header(safe))
+        out = bytearray(head[:-1])
+        out += b',"arcs":[' if len(head) > 2 else b'"arcs":['
+        for a in range(0, self.n_arcs, arcs_per_chunk):
+            if a:
+                out += b","
+            out += orjson.dumps(self._arc_dicts(a, min(self.n_arcs, a + arcs_per_chunk), safe))[1:-1]
+        out += b"]}"
+        out += end
+        return out
+
+    def _json_header(self, safe: bool) -> dict:
         out = {
             "name": self.partition.env.name,
             "n_segments": self.n_segments,
@@ -374,8 +392,26 @@ class SafeBVG:
         }
         if safe:
             out["n_safe_arcs"] = self.n_safe_arcs
-        out["arcs"] = arcs
         return out
+
+    def _arc_dicts(self, a: int, b: int, safe: bool) -> list[dict]:
+        """The JSON arcs of rows a..b−1."""
+        # Built column-wise with zip (no per-arc indexing, one list slice per safe set): this runs
+        # once per `solverplan graph` over up to ~10⁶ arcs, where it was the slowest step.
+        names = [_TRANSITIONS[t] for t in self.transition[a:b].tolist()]
+        src, dst = self.source[a:b].tolist(), self.target[a:b].tolist()
+        if not safe:
+            return [{"from": i, "to": j, "transition": t} for i, j, t in zip(src, dst, names)]
+        off = self.set_offsets[a : b + 1]
+        r0, r1 = int(off[0]), int(off[-1])
+        pieces = [[x, y] for x, y in zip(self.set_lo[r0:r1].tolist(), self.set_hi[r0:r1].tolist())]
+        off = (off - r0).tolist()
+        sets = [pieces[x:y] for x, y in zip(off, off[1:])]
+        widest = [[x, y] if c else None for x, y, c in zip(self.lo[a:b].tolist(), self.hi[a:b].tolist(), self.n_intervals[a:b].tolist())]
+        return [
+            {"from": i, "to": j, "safe": w, "transition": t, "phi": f, "safe_set": ss}
+            for i, j, w, t, f, ss in zip(src, dst, widest, names, self.phi[a:b].tolist(), sets)
+        ]
 
     def to_text(self, *, width: int = 100, safe: bool | None = None) -> str:
         """A summary and one line per segment listing its out-arcs (safe ones with their intervals)."""
@@ -502,15 +538,44 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     segment's direction), its widest interval, the transition side (Def. 8) and φ_ij. See the module
     docstring for the algorithm and its proof; the safe sets equal
     :func:`solverplan.bounce.safe.safe_set` for every pair. Accepts an environment too.
+
+    Built graphs are reused: the last few of this process are kept in memory, keyed by the
+    environment's exact rings, and on disk when a cache directory is set
+    (:func:`set_graph_cache`; the command line keeps one, see docs/contract.md).
+    A reused graph is the same answer (equal arrays), with ``stats["cached"]`` set when it was read
+    from disk; its arrays are read-only, shared by every caller.
+
+    Memory follows the output: the graph is a structure of arrays (about 110 bytes per arc), and
+    the build's peak is under 200 bytes per arc (see ``benchmarks/README.md``). Before building a
+    large graph its size is estimated from a sample of the sweeps; a graph that would need more
+    memory than the limit (:func:`solverplan.limits.set_memory_limit`, by default the memory available) is
+    refused up front with :class:`GraphTooLarge`, naming the estimate.
     """
     import time
 
+    if isinstance(partition, (Partition, Environment)):
+        env = partition.env if isinstance(partition, Partition) else partition
+        found = _cache.lookup(env, partition if isinstance(partition, Partition) else None)
+        if found is not None:
+            return found
     p = _as_partition(partition)
+    check_graph_memory(p)
+    t0 = time.perf_counter()
+    graph = _build(p)
+    return _cache.store(p.env, graph, time.perf_counter() - t0)
+
+
+def _build(p: Partition) -> SafeBVG:
+    """Build the safe BVG of ``p`` (no cache, no size check)."""
+    import time
+
     env = p.env
     N = len(p.segments)
     t0 = time.perf_counter()
     sw = build_sweeps(p)
     t1 = time.perf_counter()
+    n_sweeps, n_entries = len(sw.origin), len(sw.seg)
+    sweep_checks, sweep_casts = sw.exact_checks, sw.exact_casts
     exact = ExactPoints([s.a for s in p.segments], _edge_vectors(env))
     ends = _Ends(exact)
     seg_edge = np.asarray(p.seg_edge, dtype=np.int64)
@@ -518,19 +583,20 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     # ---- roles: entries of "+" sweeps belong to the segment starting at the origin (x = a),
     # entries of "−" sweeps to the segment ending there (x = b)
     e_plus = sw.plus_seg[sw.sweep]
-    e_minus = sw.minus_seg[sw.sweep]
-    frm = sw.origin[sw.sweep]
     ia = np.flatnonzero(e_plus >= 0)
+    A_key = e_plus[ia] * N + sw.seg[ia]
+    del e_plus
+    e_minus = sw.minus_seg[sw.sweep]
     ib = np.flatnonzero(e_minus >= 0)
-    A_i, B_i = e_plus[ia], e_minus[ib]
-    A_key = A_i * N + sw.seg[ia]
-    B_key = B_i * N + sw.seg[ib]
+    B_key = e_minus[ib] * N + sw.seg[ib]
+    del e_minus
 
     # ---- arcs: every pair met by some sweep, both directions
     keys = np.concatenate([A_key, B_key])
-    i_all, j_all = keys // N, keys % N
-    keys = np.sort(np.concatenate([keys, j_all * N + i_all]))
-    keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
+    keys = np.concatenate([keys, (keys % N) * N + keys // N])
+    keys.sort()
+    if len(keys):
+        keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
     source, target = keys // N, keys % N
     n_arcs = len(keys)
 
@@ -538,28 +604,36 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     oa = np.argsort(A_key, kind="stable")
     ob = np.argsort(B_key, kind="stable")
     ia, ib, A_key, B_key = ia[oa], ib[ob], A_key[oa], B_key[ob]
+    del oa, ob
     b_start = np.searchsorted(B_key, A_key, side="left")
-    b_end = np.searchsorted(B_key, A_key, side="right")
-    cnt = b_end - b_start
+    cnt = np.searchsorted(B_key, A_key, side="right") - b_start
     pa = np.repeat(ia, cnt)
     pb = ib[np.repeat(b_start, cnt) + ragged_arange(cnt)]
     pkey = np.repeat(A_key, cnt)
+    del ia, ib, A_key, B_key, b_start, cnt
+    frm = sw.origin[sw.sweep]
     edge_p = seg_edge[pkey // N]
     c_lo = ends.cmp(edge_p, frm[pa], sw.lo_to[pa], sw.lo[pa], sw.lo_err[pa], frm[pb], sw.lo_to[pb], sw.lo[pb], sw.lo_err[pb])
-    c_hi = ends.cmp(edge_p, frm[pa], sw.hi_to[pa], sw.hi[pa], sw.hi_err[pa], frm[pb], sw.hi_to[pb], sw.hi[pb], sw.hi_err[pb])
     lo_pick = np.where(c_lo >= 0, pa, pb)
+    del c_lo
+    c_hi = ends.cmp(edge_p, frm[pa], sw.hi_to[pa], sw.hi[pa], sw.hi_err[pa], frm[pb], sw.hi_to[pb], sw.hi[pb], sw.hi_err[pb])
     hi_pick = np.where(c_hi <= 0, pa, pb)
+    del c_hi, pa, pb, edge_p
     pieces = _Pieces(
         np.searchsorted(keys, pkey),
         frm[lo_pick], sw.lo_to[lo_pick], sw.lo[lo_pick], sw.lo_err[lo_pick],
         frm[hi_pick], sw.hi_to[hi_pick], sw.hi[hi_pick], sw.hi_err[hi_pick],
     )
+    del pkey, lo_pick, hi_pick, frm
+    # the entries are consumed: keep only what the hole step reads
+    sw.sweep = sw.seg = sw.lo_to = sw.hi_to = sw.lo = sw.hi = sw.lo_err = sw.hi_err = None  # type: ignore[assignment]
     edge_of = seg_edge[source]
     pieces = _nonempty(pieces, ends, edge_of)
 
     # ---- holes lying strictly inside every swept region of a range of headings
     if len(env.rings) > 1 and len(pieces.arc):
         pieces = _subtract_holes(p, sw, pieces, ends, source, target, edge_of)
+    del sw
 
     # ---- single points: closures may add isolated points; check them exactly
     single = _singletons(pieces, ends, edge_of)
@@ -570,41 +644,52 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
         keep = np.ones(len(pieces.arc), dtype=bool)
         keep[rows[~ok]] = False
         pieces = pieces.take(np.flatnonzero(keep))
+    del single
     t2 = time.perf_counter()
 
     # ---- per arc: all intervals (sorted), the widest one
-    order = np.lexsort((pieces.lo, pieces.arc))
-    pieces = pieces.take(order)
+    if not _sorted_by_arc_lo(pieces):
+        pieces = pieces.take(np.lexsort((pieces.lo, pieces.arc)))
     counts = np.bincount(pieces.arc, minlength=n_arcs).astype(np.int64)
     offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    set_lo = pieces.lo.copy()
-    set_hi = pieces.hi.copy()
     # exact ends: an end at a frame mark is exactly 0 or π; equal exact ends share one float
-    set_lo = np.where(pieces.lo_to == MARK_ZERO, 0.0, set_lo)
-    set_hi = np.where(pieces.hi_to == MARK_PI, math.pi, set_hi)
+    set_lo = np.where(pieces.lo_to == MARK_ZERO, 0.0, pieces.lo)
+    set_hi = np.where(pieces.hi_to == MARK_PI, math.pi, pieces.hi)
     equal = _equal_ends(pieces, ends, edge_of)
     set_hi = np.where(equal, set_lo, np.maximum(set_hi, set_lo))
+    del equal
     lo = np.full(n_arcs, np.nan)
     hi = np.full(n_arcs, np.nan)
     if len(pieces.arc):
-        width = set_hi - set_lo
-        # widest per arc: sort by (arc, -width) and take the first
-        o2 = np.lexsort((-width, pieces.arc))
-        firsts = o2[np.concatenate([[True], pieces.arc[o2][1:] != pieces.arc[o2][:-1]])]
-        lo[pieces.arc[firsts]] = set_lo[firsts]
-        hi[pieces.arc[firsts]] = set_hi[firsts]
+        # widest per arc (the first of equal widths): an arc's only interval, or among several
+        # the first of the largest width
+        one = counts[pieces.arc] == 1
+        r1 = np.flatnonzero(one)
+        lo[pieces.arc[r1]] = set_lo[r1]
+        hi[pieces.arc[r1]] = set_hi[r1]
+        rm = np.flatnonzero(~one)
+        if len(rm):
+            width = set_hi[rm] - set_lo[rm]
+            arc_m = pieces.arc[rm]
+            o2 = np.lexsort((-width, arc_m))
+            firsts = rm[o2[np.concatenate([[True], arc_m[o2][1:] != arc_m[o2][:-1]])]]
+            lo[pieces.arc[firsts]] = set_lo[firsts]
+            hi[pieces.arc[firsts]] = set_hi[firsts]
+        del one, r1, rm
+    set_ends = (pieces.lo_from, pieces.lo_to, pieces.hi_from, pieces.hi_to)
+    del pieces
 
     # ---- transitions and φ (they depend on the two edges only)
     transition, phi = _transitions(env, seg_edge[source], seg_edge[target])
     t3 = time.perf_counter()
     stats = {
-        "sweeps": len(sw.origin),
-        "entries": len(sw.seg),
+        "sweeps": n_sweeps,
+        "entries": n_entries,
         "seconds_sweeps": t1 - t0,
         "seconds_join": t2 - t1,
         "seconds_total": t3 - t0,
-        "exact_checks": sw.exact_checks + ends.checks,
-        "exact_casts": sw.exact_casts,
+        "exact_checks": sweep_checks + ends.checks,
+        "exact_casts": sweep_casts,
         "singletons_checked": n_single,
     }
     logger.debug("safe BVG of %r: %s", env.name, stats)
@@ -620,9 +705,18 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
         set_hi=set_hi,
         transition=transition,
         phi=phi,
-        _set_ends=(pieces.lo_from, pieces.lo_to, pieces.hi_from, pieces.hi_to),
+        _set_ends=set_ends,
         stats=stats,
     )
+
+
+def _sorted_by_arc_lo(pieces: _Pieces) -> bool:
+    """Are the pieces already in (arc, lo) order? (Then sorting them would change nothing.)"""
+    arc, lo = pieces.arc, pieces.lo
+    if len(arc) < 2:
+        return True
+    d = np.diff(arc)
+    return bool((d >= 0).all() and (lo[1:][d == 0] >= lo[:-1][d == 0]).all())
 
 
 def _edge_vectors(env: Environment) -> list[tuple[Fraction, Fraction]]:
@@ -873,7 +967,17 @@ def _angle_err(p: Partition, frm: np.ndarray, to: np.ndarray) -> np.ndarray:
 
 
 def _transitions(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Def. 8 side (+1 right, −1 left, 0 parallel; exact) and φ (radians) for edge pairs."""
+    """Def. 8 side (+1 right, −1 left, 0 parallel; exact) and φ (radians) for edge pairs (in blocks:
+    a dozen temporaries per pair)."""
+    side = np.empty(len(ei), dtype=np.int8)
+    phi = np.empty(len(ei))
+    block = 1 << 19
+    for s0 in range(0, len(ei), block):
+        side[s0 : s0 + block], phi[s0 : s0 + block] = _transitions_block(env, ei[s0 : s0 + block], ej[s0 : s0 + block])
+    return side, phi
+
+
+def _transitions_block(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     d = env.edge_end - env.edge_start
     u, v = d[ei], d[ej]
     cr = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
@@ -895,3 +999,56 @@ def _transitions(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tuple[np.n
     heading = np.arctan2(cr, dt)  # heading of δ in the frame of e_i, in (−π, π]
     phi = np.where(side > 0, math.pi - heading, np.where(side < 0, heading + math.pi, 0.0))
     return side, phi
+
+
+# ---------------------------------------------------------------------------------------------
+# size limits
+# ---------------------------------------------------------------------------------------------
+class GraphTooLarge(InputError):
+    """The safe BVG of an environment would not fit in the memory limit (raised before building it)."""
+
+
+BYTES_PER_ARC = 200
+"""Peak build memory per arc of the safe BVG (bytes; measured ≈ 175, see ``benchmarks/README.md``)."""
+_BASE_BYTES = 150 * 2**20  # the process, the environment and the partition around the graph
+
+def estimate_graph(partition: Partition | Environment) -> tuple[int, int]:
+    """(estimated arcs, estimated peak bytes) of the safe BVG of ``partition``, from the sweeps of
+    an evenly spaced sample of 256 of its vertices' frames — under a second for the largest inputs.
+
+    The sweeps' entries are counted exactly on the sample and scaled to all sweeps; the arcs are
+    0.95 times the entries, as measured where size matters (stars, rooms with many pillars: within
+    3 % of the true count). Where each segment is seen whole from both its ends, as in a convex
+    room, there are about two entries per arc and the estimate is up to twice too high: it errs on
+    the safe side.
+
+    >>> from solverplan.environment import Environment
+    >>> square = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> estimate_graph(square)[0]      # 12 arcs, each seen from both ends of its source: 24 entries
+    23
+    """
+    p = _as_partition(partition)
+    entries, _ = _sweep.estimate_entries(p)
+    arcs = int(round(0.95 * entries))
+    return arcs, _BASE_BYTES + BYTES_PER_ARC * entries
+
+
+def _gib(n: float) -> str:
+    return f"{n / 2**30:.1f} GB" if n >= 2**30 else f"{n / 2**20:.0f} MB"
+
+
+def check_graph_memory(p: Partition) -> None:
+    """Raise :class:`GraphTooLarge` when the safe BVG of ``p`` is estimated to exceed the memory limit
+    (:func:`solverplan.limits.memory_limit`). Free for graphs that would fit even with every pair of segments
+    as an arc; otherwise it samples the sweeps (:func:`estimate_graph`)."""
+    limit, source = memory_limit()
+    N = len(p.segments)
+    if limit is None or _BASE_BYTES + BYTES_PER_ARC * N * (N - 1) <= limit:
+        return
+    arcs, need = estimate_graph(p)
+    if need > limit:
+        name = p.env.name if len(p.env.name) <= 30 else p.env.name[:29] + "…"
+        raise GraphTooLarge(f"the safe BVG of {name!r} would need ≈ {_gib(need)} (≈ {arcs:,} arcs, {N:,} segments), "
+                            f"more than {source} ({_gib(limit)}; see --max-memory)")
+
+

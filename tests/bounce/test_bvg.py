@@ -22,6 +22,7 @@ from solverplan import cli
 from solverplan.bounce.bvg import SafeBVG, bounce_visibility_graph, safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.bounce.partition import partition
+from solverplan.limits import reset_memory_limit, set_memory_limit
 from solverplan.bounce.safe import safe_set
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, InvalidBoundarySet
@@ -166,7 +167,9 @@ def test_exact_fallbacks_agree_with_the_float_path(monkeypatch, name):
     monkeypatch.setattr(sweep_module, "_CROSS_REL", 1e3)
     monkeypatch.setattr(sweep_module, "_THIN", 10.0)
     monkeypatch.setattr(bvg_module, "_SAT_REL", 1e3)
+    bvg_module.clear_graph_cache()  # a rebuild, not the graph kept from the first call
     got = safe_bounce_visibility_graph(env)
+    bvg_module.clear_graph_cache()  # nor keep this one for the other tests
     assert got.stats["exact_casts"] > 0 and got.stats["exact_checks"] > 5 * want.stats["exact_checks"]
     assert arcs_of(got) == arcs_of(want)
     assert np.array_equal(got.n_intervals, want.n_intervals)
@@ -377,3 +380,166 @@ def test_cli_render_partition_graph(tmp_path):
     result = runner.invoke(cli.app, ["render", str(MODELS / "l_shape.json"), "--partition", "--graph", "--safe-arcs", "-o", str(out)])
     assert result.exit_code == 0, result.output
     assert json.loads(result.stdout)["written"] == str(out) and out.stat().st_size > 1000
+
+
+# ---------------------------------------------------------------------------------------------
+# memory and time that follow the output: pruning, chunked JSON, the graph cache, the size check
+# ---------------------------------------------------------------------------------------------
+from solverplan.bounce import bvg as bvg_api  # noqa: E402
+from solverplan.studies.generators import star_polygon, star_polygon_with_holes  # noqa: E402
+
+
+@pytest.fixture
+def no_cache():
+    """No graph kept between the calls of a test, none left for the others."""
+    bvg_api.clear_graph_cache()
+    bvg_api.set_graph_cache(None)
+    yield
+    bvg_api.clear_graph_cache()
+    bvg_api.set_graph_cache(None)
+    reset_memory_limit()
+
+
+def graph_arrays(g: SafeBVG) -> dict[str, np.ndarray]:
+    names = ("source", "target", "lo", "hi", "n_intervals", "set_offsets", "set_lo", "set_hi", "transition", "phi")
+    out = {k: getattr(g, k) for k in names}
+    out.update({f"end{i}": a for i, a in enumerate(g._set_ends)})
+    return out
+
+
+def assert_same_graph(got: SafeBVG, want: SafeBVG) -> None:
+    a, b = graph_arrays(got), graph_arrays(want)
+    for k in a:
+        assert np.array_equal(a[k], b[k], equal_nan=True), k
+
+
+@pytest.mark.parametrize(("env", "prunes"), [(star_polygon(60, 0.2, 0.3, seed=3), True),
+                                             (star_polygon_with_holes(40, 3, seed=2), True), (model("two_holes"), False)],
+                         ids=["star60", "star40+holes", "two_holes"])
+def test_occlusion_pruning_changes_no_sweep_entry(monkeypatch, env, prunes):
+    """The occluder pruning of the hit search skips tests, never answers: with chunks too wide to
+    ever be spanned (no pruning) the sweeps are the same, and pruning did skip tests."""
+    p = partition(env)
+    pruned = sweep_module.build_sweeps(p)
+    ctx = sweep_module._Context(p)
+    monkeypatch.setattr(sweep_module, "_Context", lambda partition: ctx)
+    sweep_module.build_sweeps(p)
+    assert (ctx.depth_tested < ctx.depth_pairs) == prunes  # the stars' hidden spikes are skipped
+    monkeypatch.setattr(sweep_module, "_CHUNK", 1 << 30)
+    ctx.depth_pairs = ctx.depth_tested = 0
+    full = sweep_module.build_sweeps(p)
+    assert ctx.depth_tested == ctx.depth_pairs  # every (sector, covering edge) pair tested
+    for name in ("sweep", "seg", "lo_to", "hi_to", "lo", "hi", "lo_err", "hi_err"):
+        assert np.array_equal(getattr(pruned, name), getattr(full, name)), name
+
+
+def test_json_bytes_are_the_bytes_of_to_json(no_cache):
+    import orjson
+
+    g = safe_bounce_visibility_graph(star_polygon_with_holes(12, 4, hole_kind="star", hole_vertices=6, hole_radius=0.06, seed=3))
+    assert (g.n_intervals > 1).any()  # unions of intervals are in the answer
+    for view in (g, g.select(safe=False), g.select(source=3)):
+        want = orjson.dumps(view.to_json())
+        assert bytes(view.json_bytes(arcs_per_chunk=7)) == want
+        assert bytes(view.json_bytes(end=b"\n")) == want + b"\n"
+    empty = g.select(source=0, heading=3.1)
+    assert bytes(empty.json_bytes()) == orjson.dumps(empty.to_json())
+
+
+def test_memory_cache_reuses_the_graph_for_equal_rings(no_cache):
+    env = star_polygon(30, 0.2, 0.3, seed=5)
+    first = safe_bounce_visibility_graph(env)
+    again = safe_bounce_visibility_graph(env)
+    assert again is first
+    with pytest.raises(ValueError):  # shared arrays are read-only
+        first.lo[0] = 0.0
+    renamed = Environment.from_coords([[float(x), float(y)] for x, y in env.outer], name="renamed")
+    other = safe_bounce_visibility_graph(renamed)  # same rings, another name: the same arrays, its own name
+    assert other.partition.env is renamed and other.to_json()["name"] == "renamed"
+    assert other.lo is first.lo
+    p = partition(env)
+    mine = safe_bounce_visibility_graph(p)  # an equal partition: answered for that partition object
+    assert mine.partition is p and mine.source is first.source
+
+
+def test_disk_cache_round_trip_and_never_trusted_blindly(no_cache, tmp_path):
+    env = star_polygon(25, 0.2, 0.3, seed=7)
+    bvg_api.set_graph_cache(tmp_path, min_seconds=0.0)
+    built = safe_bounce_visibility_graph(env)
+    (entry,) = tmp_path.glob("*.npz")
+    assert not list(tmp_path.glob("*.tmp"))  # written atomically, nothing left behind
+    bvg_api.clear_graph_cache()
+    read = safe_bounce_visibility_graph(env)
+    assert read.stats.get("cached") is True and read is not built
+    assert_same_graph(read, built)
+    assert read.to_json() == built.to_json()
+
+    def rebuilt() -> SafeBVG:
+        bvg_api.clear_graph_cache()
+        g = safe_bounce_visibility_graph(env)
+        assert not g.stats.get("cached"), "a bad entry was trusted"
+        assert_same_graph(g, built)
+        return g
+
+    good = entry.read_bytes()
+    entry.write_bytes(good[: len(good) // 2])  # truncated
+    rebuilt()
+    assert entry.read_bytes() == good or np.load(entry)["source"].shape == built.source.shape  # rewritten whole
+    with np.load(entry) as data:
+        arrays = {k: data[k] for k in data.files}
+    meta = json.loads(str(arrays["meta"]))
+    for tamper in ("version", "partition", "unsorted", "offsets"):
+        bad = dict(arrays)
+        m = dict(meta)
+        if tamper == "version":
+            m["version"] = m["version"] + 1
+        elif tamper == "partition":
+            m["partition"] = "0" * 64
+        elif tamper == "unsorted":
+            bad["source"] = bad["source"][::-1].copy()
+        else:
+            bad["set_offsets"] = bad["set_offsets"] + 1
+        bad["meta"] = np.array(json.dumps(m))
+        with open(entry, "wb") as fh:
+            np.savez(fh, **bad)
+        rebuilt()
+    entry.write_bytes(b"not a zip file")
+    rebuilt()
+
+
+def test_size_estimate_and_refusal_up_front(no_cache):
+    env = star_polygon(80, 0.2, 0.3, seed=1)
+    p = partition(env)
+    arcs, need = bvg_api.estimate_graph(p)
+    g = safe_bounce_visibility_graph(p)
+    assert abs(arcs - g.n_arcs) <= 0.1 * g.n_arcs
+    assert need > bvg_api.BYTES_PER_ARC * arcs
+    bvg_api.clear_graph_cache()
+    set_memory_limit(need // 2)
+    with pytest.raises(bvg_api.GraphTooLarge, match=r"would need ≈ .* arcs, 629 segments\), more than the memory limit") as info:
+        safe_bounce_visibility_graph(p)
+    assert "\n" not in str(info.value) and len(str(info.value)) < 200
+    set_memory_limit(need * 2)
+    assert safe_bounce_visibility_graph(p).n_arcs == g.n_arcs
+    with pytest.raises(InputError, match="positive number of bytes"):
+        set_memory_limit(0)
+
+
+def test_cli_max_memory_refuses_in_one_line_and_graph_cache_option(tmp_path):
+    runner = CliRunner()
+    src = tmp_path / "star.json"
+    src.write_text(json.dumps(star_polygon(80, 0.2, 0.3, seed=1).to_dict()))
+    out = tmp_path / "g.json"
+    r = runner.invoke(cli.app, ["--graph-cache", "off", "--max-memory", "1M", "graph", str(src), "--safe", "-o", str(out)])
+    assert r.exit_code == 2 and not out.exists()
+    assert r.stderr.count("\n") == 1 and "would need ≈" in r.stderr and "1 MB" in r.stderr
+    r = runner.invoke(cli.app, ["--max-memory", "lots", "graph", str(src)])
+    assert r.exit_code == 2 and "--max-memory" in r.stderr
+    cache = tmp_path / "cache"
+    r1 = runner.invoke(cli.app, ["--graph-cache", str(cache), "graph", str(src), "--safe", "-o", str(out)])
+    assert r1.exit_code == 0, r1.stderr
+    bvg_api.clear_graph_cache()
+    bvg_api.set_graph_cache(None)
+    assert bvg_api.graph_cache_directory() is None  # the option lasted one command line
+    plain = runner.invoke(cli.app, ["--graph-cache", "off", "--compact", "graph", str(src), "--safe"])
+    assert plain.exit_code == 0 and out.read_text() == plain.stdout  # the chunked encoder wrote the same bytes
