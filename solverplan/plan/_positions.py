@@ -229,9 +229,8 @@ def search_positions(
     ps = PositionSearch(env, tolerance, n_headings=n_headings, margins=margins)
     first = merge_pieces([(p.edge, float(p.t0), float(p.t1)) for p in start])
     nodes = [_Node(first, -1, None, 0)]
-    seen: dict[int, list[tuple[float, float]]] = {}  # single-piece states reached, per edge (for dominance)
-    seen_multi: list[Pieces] = []
-    _remember(seen, seen_multi, first)
+    reached = _Reached(env.n_edges)  # every state kept so far, for dominance
+    reached.add(first)
     layer = [0]
     expanded = 0
     replays = 0
@@ -313,14 +312,15 @@ def search_positions(
                                          f"found after expanding {expanded} (state, heading) pairs")
                 failures += 1
                 continue
-            if _dominated(seen, seen_multi, pieces):
-                continue
+            # the cheap caps first: a state past the beam is not looked up at all (only goals are still sought)
             key = pieces[0][0]
             if per.get(key, 0) >= per_edge or len(next_layer) >= beam:
                 continue
+            if reached.dominated(pieces):
+                continue
             per[key] = per.get(key, 0) + 1
             nodes.append(_Node(pieces, parent, interval, depth))
-            _remember(seen, seen_multi, pieces)
+            reached.add(pieces)
             next_layer.append(len(nodes) - 1)
         logger.info("position search: bounce %d, %d candidates, %d kept", depth, len(new), len(next_layer))
         layer = next_layer
@@ -339,14 +339,6 @@ def _path(nodes: list[_Node], i: int) -> list[tuple[float, float]]:
     return out[::-1]
 
 
-def _remember(seen, seen_multi, pieces: Pieces) -> None:
-    if len(pieces) == 1:
-        e, a, b = pieces[0]
-        seen.setdefault(e, []).append((a, b))
-    else:
-        seen_multi.append(pieces)
-
-
 def _contains(big: Pieces, small: Pieces, tol: float = 1e-12) -> bool:
     for e, a, b in small:
         if not any(E == e and A <= a + tol and b <= B + tol for E, A, B in big):
@@ -354,16 +346,86 @@ def _contains(big: Pieces, small: Pieces, tol: float = 1e-12) -> bool:
     return True
 
 
-def _dominated(seen, seen_multi, pieces: Pieces, tol: float = 1e-12) -> bool:
-    """Does ``pieces`` contain a position set already reached?"""
-    for e, a, b in pieces:
-        for c, d in seen.get(e, ()):
-            if a <= c + tol and d <= b + tol:
-                return True
-    for other in seen_multi:
-        if _contains(pieces, other, tol):
-            return True
-    return False
+
+class _Reached:
+    """The position sets reached so far, indexed for dominance (is a new set a superset of one of them?).
+
+    A new set is dominated when one of its pieces contains a single-piece set reached before (per edge: is
+    there a reached [c, d] with a ≤ c and d ≤ b? — a vectorised test over that edge's intervals), or when it
+    contains a reached set of several pieces *occupying the same edges* (a bucket per edge set, tested first
+    on the per-edge hulls, vectorised, then piece by piece). Sets of several pieces occupying fewer edges are
+    not looked up: dominance only prunes, so checking a subset of the reached sets costs search time, never
+    soundness, and a lookup by edge set is a dictionary access where a scan over every reached set was the
+    search's main cost.
+    """
+
+    def __init__(self, n_edges: int, tol: float = 1e-12) -> None:
+        self.n_edges = n_edges
+        self.tol = tol
+        self.single: dict[int, _Grow] = {}
+        self.multi: dict[tuple[int, ...], tuple[_Grow, list[Pieces]]] = {}
+
+    def add(self, pieces: Pieces) -> None:
+        if len(pieces) == 1:
+            e, a, b = pieces[0]
+            self.single.setdefault(e, _Grow(2)).append((a, b))
+            return
+        edges, lo, hi = self._hulls(pieces)
+        grow, members = self.multi.setdefault(edges, (_Grow(2 * len(edges)), []))
+        grow.append(tuple(lo) + tuple(hi))
+        members.append(pieces)
+
+    @staticmethod
+    def _hulls(pieces: Pieces) -> tuple[tuple[int, ...], list[float], list[float]]:
+        edges: list[int] = []
+        lo: list[float] = []
+        hi: list[float] = []
+        for e, a, b in pieces:  # pieces are sorted by edge (merge_pieces)
+            if edges and edges[-1] == e:
+                hi[-1] = max(hi[-1], b)
+            else:
+                edges.append(e)
+                lo.append(a)
+                hi.append(b)
+        return tuple(edges), lo, hi
+
+    def dominated(self, pieces: Pieces) -> bool:
+        """Does ``pieces`` contain a position set already reached?"""
+        tol = self.tol
+        for e, a, b in pieces:
+            grow = self.single.get(e)
+            if grow is not None:
+                rows = grow.view()
+                if np.any((a <= rows[:, 0] + tol) & (rows[:, 1] <= b + tol)):
+                    return True
+        if len(pieces) == 1:
+            return False
+        edges, lo, hi = self._hulls(pieces)
+        bucket = self.multi.get(edges)
+        if bucket is None:
+            return False
+        grow, members = bucket
+        rows = grow.view()
+        k = len(edges)
+        fits = np.all(rows[:, :k] >= np.asarray(lo) - tol, axis=1) & np.all(rows[:, k:] <= np.asarray(hi) + tol, axis=1)
+        return any(_contains(pieces, members[i], tol) for i in np.flatnonzero(fits).tolist())
+
+
+class _Grow:
+    """A float matrix with a fixed number of columns that grows by appending rows (amortised doubling)."""
+
+    def __init__(self, columns: int) -> None:
+        self.data = np.empty((8, columns))
+        self.size = 0
+
+    def append(self, row: Sequence[float]) -> None:
+        if self.size == len(self.data):
+            self.data = np.concatenate([self.data, np.empty_like(self.data)])
+        self.data[self.size] = row
+        self.size += 1
+
+    def view(self) -> np.ndarray:
+        return self.data[:self.size]
 
 
 def replay(env: Environment, part: Partition, start: Sequence[BoundaryPiece], path: Sequence[tuple[float, float]],

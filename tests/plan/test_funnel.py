@@ -21,7 +21,7 @@ from solverplan.certify.schema import Certificate
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from solverplan.plan import find_plan
-from solverplan.plan._positions import _dominated, merge_pieces
+from solverplan.plan._positions import _Reached, merge_pieces
 from solverplan.plan.funnel import funnel, safe_plan_exists
 from solverplan.simulate import StagePolicy, simulate_policy
 
@@ -124,10 +124,17 @@ def test_tampered_funnel_certificates_fail(door_funnel):
 def test_dominance_and_merging():
     assert merge_pieces([(3, 0.5, 0.7), (1, 0.1, 0.2), (3, 0.6, 0.9), (3, 0.95, 1.0)]) == (
         (1, 0.1, 0.2), (3, 0.5, 0.9), (3, 0.95, 1.0))
-    seen = {2: [(0.4, 0.5)]}
-    assert _dominated(seen, [], ((2, 0.3, 0.6),))  # contains an earlier state: any plan from that works
-    assert not _dominated(seen, [], ((2, 0.45, 0.6),))
-    assert _dominated({}, [((1, 0.1, 0.2), (3, 0.5, 0.6))], ((1, 0.0, 0.3), (3, 0.4, 0.7)))
+    reached = _Reached(4)
+    reached.add(((2, 0.4, 0.5),))
+    assert reached.dominated(((2, 0.3, 0.6),))  # contains an earlier state: any plan from that works
+    assert reached.dominated(((1, 0.0, 0.1), (2, 0.3, 0.6)))  # one of its pieces does
+    assert not reached.dominated(((2, 0.45, 0.6),))
+    assert not reached.dominated(((3, 0.3, 0.6),))
+    reached.add(((1, 0.1, 0.2), (3, 0.5, 0.6)))
+    assert reached.dominated(((1, 0.0, 0.3), (3, 0.4, 0.7)))
+    assert reached.dominated(((1, 0.0, 0.3), (3, 0.4, 0.45), (3, 0.5, 0.7)))  # several pieces on one edge
+    assert not reached.dominated(((1, 0.0, 0.3), (3, 0.4, 0.55), (3, 0.57, 0.7)))  # hull fits, pieces do not
+    assert not reached.dominated(((1, 0.15, 0.3), (3, 0.4, 0.7)))
 
 
 def test_funnel_into_a_short_goal_of_the_square_uses_contraction():
