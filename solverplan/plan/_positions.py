@@ -107,8 +107,14 @@ class PositionSearch:
         self.scale = float(np.max(np.abs(self.verts))) + 1.0
         self.lengths = np.asarray(env.edge_lengths, dtype=float)
 
-    def images(self, edges: np.ndarray, a: np.ndarray, b: np.ndarray, theta: np.ndarray):
-        """For pieces (edges, a, b) and nominal headings theta (same length m): (ok, target, lo, hi)."""
+    def images(self, edges: np.ndarray, a: np.ndarray, b: np.ndarray, theta: np.ndarray,
+               group: np.ndarray | None = None):
+        """For pieces (edges, a, b) and nominal headings theta (same length m): (ok, target, lo, hi).
+
+        ``group`` (optional, length m): the candidate each row belongs to. A candidate is only useful when all
+        its rows are ok, so the swept-hull tests (the costly part) are skipped for the rows of candidates that
+        already failed the ray tests; those rows come back not ok.
+        """
         m = len(edges)
         eps = self.eps
         # piece ends pulled in a little so that rays never start at a vertex (a filter: the replay is exact)
@@ -125,43 +131,78 @@ class PositionSearch:
         ok = (he == he[:, :1]).all(axis=1) & ~flagged.any(axis=1) & (he[:, 0] != edges)
         target = he[:, 0]
         ok &= self._clear_of_ends(edges, target, ht)
-        # the hull of the piece ends and the corner hits must hold no vertex of P
-        P = self.env.points_at(edges, ta)
-        Q = self.env.points_at(edges, tb)
-        lo_k = np.argmin(ht, axis=1)
-        hi_k = np.argmax(ht, axis=1)
-        rows = np.arange(m)
-        H1 = np.stack([hx[rows, lo_k], hy[rows, lo_k]], axis=1)
-        H2 = np.stack([hx[rows, hi_k], hy[rows, hi_k]], axis=1)
-        inside = np.zeros(m, dtype=bool)
-        exempt = self._edge_ends(edges) | self._edge_ends(target)
-        for A, B, C in ((P, Q, H1), (P, Q, H2), (P, H1, H2), (Q, H1, H2)):
-            inside |= self._any_vertex_inside(A, B, C)
-            inside |= self._any_vertex_near(A, B, C, exempt)
-        ok &= ~inside
+        if group is not None and m:
+            alive = np.ones(int(group.max()) + 1, dtype=bool)
+            np.logical_and.at(alive, group, ok)
+            ok &= alive[group]
+        # the hull of the piece ends and the corner hits must hold no vertex of P (nor come within κ of one)
+        rows = np.flatnonzero(ok)
+        if len(rows):
+            P = self.env.points_at(edges[rows], ta[rows])
+            Q = self.env.points_at(edges[rows], tb[rows])
+            sub_t = ht[rows]
+            lo_k = np.argmin(sub_t, axis=1)
+            hi_k = np.argmax(sub_t, axis=1)
+            r = np.arange(len(rows))
+            H1 = np.stack([hx[rows][r, lo_k], hy[rows][r, lo_k]], axis=1)
+            H2 = np.stack([hx[rows][r, hi_k], hy[rows][r, hi_k]], axis=1)
+            ok[rows[self._hull_blocked(P, Q, H1, H2, edges[rows], target[rows])]] = False
         lo = ht.min(axis=1)
         hi = ht.max(axis=1)
-        return ok, he[:, 0], lo, hi
+        return ok, target, lo, hi
 
-    def _any_vertex_inside(self, A: np.ndarray, B: np.ndarray, C: np.ndarray) -> np.ndarray:
-        """Does some vertex of P lie strictly inside triangle ABC (with a relative margin)? Vectorised."""
+    def _hull_blocked(self, P: np.ndarray, Q: np.ndarray, H1: np.ndarray, H2: np.ndarray, source: np.ndarray,
+                      target: np.ndarray) -> np.ndarray:
+        """Per row: does a vertex of P lie strictly inside one of the triangles PQH1, PQH2, PH1H2, QH1H2 (their
+        union is the swept hull), with a relative margin, or within κ of one of their sides (vertices of the
+        source and target edges exempt from the latter)?
+
+        Only (row, vertex) pairs inside the rows' bounding boxes grown by κ (and the margin) are tested: a
+        vertex outside the box is neither inside a triangle nor within κ of a side. The box test is a few
+        comparisons per pair; the distance tests, the costly part, run on the few pairs that pass it.
+        """
         V = self.verts
+        kappa = max(self.margins.corner_clearance, 0.0)
         tol = 1e-9 * self.scale * self.scale
+        pts = np.stack([P, Q, H1, H2], axis=1)  # rows × 4 × 2
+        grow = kappa + 1e-9 * self.scale
+        lo = pts.min(axis=1) - grow
+        hi = pts.max(axis=1) + grow
+        pair_r, pair_v = np.nonzero((V[None, :, 0] >= lo[:, None, 0]) & (V[None, :, 0] <= hi[:, None, 0])
+                                    & (V[None, :, 1] >= lo[:, None, 1]) & (V[None, :, 1] <= hi[:, None, 1]))
+        blocked = np.zeros(len(P), dtype=bool)
+        if not len(pair_r):
+            return blocked
+        W = V[pair_v]
+        A, B, C, D = P[pair_r], Q[pair_r], H1[pair_r], H2[pair_r]
 
         def side(p, q):
             d = q - p
-            return d[:, None, 0] * (V[None, :, 1] - p[:, None, 1]) - d[:, None, 1] * (V[None, :, 0] - p[:, None, 0])
+            return d[:, 0] * (W[:, 1] - p[:, 1]) - d[:, 1] * (W[:, 0] - p[:, 0])
 
-        s1, s2, s3 = side(A, B), side(B, C), side(C, A)
-        pos = (s1 > tol) & (s2 > tol) & (s3 > tol)
-        neg = (s1 < -tol) & (s2 < -tol) & (s3 < -tol)
-        return (pos | neg).any(axis=1)
+        inside = np.zeros(len(pair_r), dtype=bool)
+        for X, Y, Z in ((A, B, C), (A, B, D), (A, C, D), (B, C, D)):
+            s1, s2, s3 = side(X, Y), side(Y, Z), side(Z, X)
+            inside |= ((s1 > tol) & (s2 > tol) & (s3 > tol)) | ((s1 < -tol) & (s2 < -tol) & (s3 < -tol))
+        if kappa > 0:
+            exempt = self._is_end(source[pair_r], pair_v) | self._is_end(target[pair_r], pair_v)
+            near = np.zeros(len(pair_r), dtype=bool)
+            for X, Y in ((A, B), (A, C), (A, D), (B, C), (B, D), (C, D)):
+                d = Y - X
+                w = W - X
+                dd = np.maximum((d * d).sum(axis=1), 1e-300)
+                lam = np.clip((w * d).sum(axis=1) / dd, 0.0, 1.0)
+                gap = w - lam[:, None] * d
+                near |= (gap * gap).sum(axis=1) < kappa * kappa
+            inside |= near & ~exempt
+        np.logical_or.at(blocked, pair_r, inside)
+        return blocked
 
-    def _edge_ends(self, edges: np.ndarray) -> np.ndarray:
-        """(rows, vertices) mask: the vertex is an end of the row's edge (floats of one exact point are equal)."""
-        V = self.verts
-        start, end = self.env.edge_start[edges], self.env.edge_end[edges]
-        return (np.all(V[None, :, :] == start[:, None, :], axis=2) | np.all(V[None, :, :] == end[:, None, :], axis=2))
+    def _is_end(self, edges: np.ndarray, vertex: np.ndarray) -> np.ndarray:
+        """Is vertex ``vertex`` (an index into the float vertices) an end of edge ``edges``, pairwise? (Floats of
+        one exact point are equal.)"""
+        V = self.verts[vertex]
+        return (np.all(V == self.env.edge_start[edges], axis=1) | np.all(V == self.env.edge_end[edges], axis=1))
 
     def _clear_of_ends(self, source: np.ndarray, target: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Do the corner hits ``t`` (rows × 4, on ``target``) stay κ from the target's ends, but the end shared
@@ -176,25 +217,6 @@ class PositionSearch:
         low_ok = shared_lo | (t.min(axis=1) >= room)
         high_ok = shared_hi | (t.max(axis=1) <= 1 - room)
         return low_ok & high_ok
-
-    def _any_vertex_near(self, A: np.ndarray, B: np.ndarray, C: np.ndarray, exempt: np.ndarray) -> np.ndarray:
-        """Does some vertex not in ``exempt`` lie within κ of the sides of triangle ABC (the inside is
-        :meth:`_any_vertex_inside`'s)? Point-to-segment distances, vectorised over rows × vertices."""
-        kappa = self.margins.corner_clearance
-        if kappa <= 0:
-            return np.zeros(len(A), dtype=bool)
-        V = self.verts[None, :, :]
-
-        def close_to(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-            d = (q - p)[:, None, :]
-            w = V - p[:, None, :]
-            dd = np.maximum((d * d).sum(axis=2), 1e-300)
-            lam = np.clip((w * d).sum(axis=2) / dd, 0.0, 1.0)
-            gap = w - lam[:, :, None] * d
-            return (gap * gap).sum(axis=2) < kappa * kappa
-
-        near = close_to(A, B) | close_to(B, C) | close_to(C, A)
-        return (near & ~exempt).any(axis=1)
 
     def aim(self, edges: np.ndarray, a: np.ndarray, b: np.ndarray, goal_points: np.ndarray) -> np.ndarray:
         """Nominal headings from each piece's midpoint towards each goal point: shape (pieces, points)."""
@@ -283,7 +305,7 @@ def search_positions(
             rep_p.append(pr)
         rc = np.concatenate(rep_c)
         rp = np.concatenate(rep_p)
-        ok, tgt, lo_t, hi_t = ps.images(pe_a[rp], pa_a[rp], pb_a[rp], ct[rc])
+        ok, tgt, lo_t, hi_t = ps.images(pe_a[rp], pa_a[rp], pb_a[rp], ct[rc], rc)
         expanded += len(cs)
         good = np.ones(len(cs), dtype=bool)
         np.logical_and.at(good, rc, ok)
