@@ -55,13 +55,18 @@ Pieces = tuple[tuple[int, float, float], ...]
 
 @dataclass(frozen=True)
 class SearchOutcome:
-    """What the search found: exact ``stages`` (None if nothing), and statistics."""
+    """What the search found: exact ``stages`` (None if nothing), and statistics. ``cut`` names what ended a
+    search that found nothing: ``"max_bounces"`` (the bounce budget), ``"max_rows"`` (the work budget:
+    (piece, heading) images evaluated), or ``"exhausted"`` (no state was left to expand: every candidate heading
+    of the grid failed or led to a dominated state — still only a statement about the grid and the beam)."""
 
     stages: tuple[Stage, ...] | None
     expanded: int
     layers: int
     replay_failures: int
     reason: str
+    cut: str | None = None
+    rows: int = 0
 
 
 @dataclass
@@ -120,21 +125,43 @@ class PositionSearch:
         # piece ends pulled in a little so that rays never start at a vertex (a filter: the replay is exact)
         pull = 1e-6 * (b - a)
         ta, tb = a + pull, b - pull
-        E = np.repeat(edges, 4)
-        T = np.stack([ta, ta, tb, tb], axis=1).reshape(-1)
-        H = np.stack([theta - eps, theta + eps, theta - eps, theta + eps], axis=1).reshape(-1)
-        hits = cast_from_boundary(self.env, E, T, H)
-        he = hits.edge.reshape(m, 4)
-        ht = hits.t.reshape(m, 4)
-        hx, hy = hits.x.reshape(m, 4), hits.y.reshape(m, 4)
-        flagged = (hits.vertex >= 0).reshape(m, 4)
-        ok = (he == he[:, :1]).all(axis=1) & ~flagged.any(axis=1) & (he[:, 0] != edges)
+        # two diagonal corner rays first, for every row; the other two only for rows of candidates still alive
+        # (a candidate dies with any of its rows, so most rows of a many-piece state need no second cast)
+        he = np.full((m, 4), -1, dtype=np.int64)
+        ht = np.zeros((m, 4))
+        hx, hy = np.zeros((m, 4)), np.zeros((m, 4))
+        flagged = np.zeros((m, 4), dtype=bool)
+
+        def cast(rows: np.ndarray, cols: tuple[int, int]) -> None:
+            T = np.stack([ta[rows] if c < 2 else tb[rows] for c in cols], axis=1).reshape(-1)
+            H = np.stack([theta[rows] - eps if c % 2 == 0 else theta[rows] + eps for c in cols], axis=1).reshape(-1)
+            hits = cast_from_boundary(self.env, np.repeat(edges[rows], len(cols)), T, H)
+            k = len(cols)
+            for j, c in enumerate(cols):
+                he[rows, c] = hits.edge.reshape(-1, k)[:, j]
+                ht[rows, c] = hits.t.reshape(-1, k)[:, j]
+                hx[rows, c] = hits.x.reshape(-1, k)[:, j]
+                hy[rows, c] = hits.y.reshape(-1, k)[:, j]
+                flagged[rows, c] = hits.vertex.reshape(-1, k)[:, j] >= 0
+
+        def alive_rows(ok: np.ndarray) -> np.ndarray:
+            if group is not None and m:
+                alive = np.ones(int(group.max()) + 1, dtype=bool)
+                np.logical_and.at(alive, group, ok)
+                ok = ok & alive[group]
+            return ok
+
+        every = np.arange(m)
+        cast(every, (0, 3))
+        ok = (he[:, 0] == he[:, 3]) & ~flagged[:, 0] & ~flagged[:, 3] & (he[:, 0] != edges)
+        ok = alive_rows(ok)
+        rest = np.flatnonzero(ok)
+        if len(rest):
+            cast(rest, (1, 2))
+        ok &= (he == he[:, :1]).all(axis=1) & ~flagged.any(axis=1)
         target = he[:, 0]
         ok &= self._clear_of_ends(edges, target, ht)
-        if group is not None and m:
-            alive = np.ones(int(group.max()) + 1, dtype=bool)
-            np.logical_and.at(alive, group, ok)
-            ok &= alive[group]
+        ok = alive_rows(ok)
         # the hull of the piece ends and the corner hits must hold no vertex of P (nor come within κ of one)
         rows = np.flatnonzero(ok)
         if len(rows):
@@ -232,7 +259,7 @@ def search_positions(
     env: Environment,
     part: Partition,
     start: Sequence[BoundaryPiece],
-    is_goal: Callable[[Pieces], bool],
+    is_goal: Callable[["Flat"], np.ndarray],
     is_goal_exact: Callable[[tuple[BoundaryPiece, ...]], bool],
     *,
     tolerance: float,
@@ -242,12 +269,15 @@ def search_positions(
     beam: int = 400,
     per_edge: int = 40,
     max_replays: int = 20,
-    rank: Callable[[Pieces, float], tuple] | None = None,
+    rank: str = "pieces",
     margins: Margins | None = None,
+    max_rows: int | None = None,
 ) -> SearchOutcome:
     """Breadth-first search with dominance and a beam (module docstring) for a state satisfying ``is_goal``
-    (floats), confirmed by ``is_goal_exact`` on the exact replay; ``margins``: the margin policy (default for
-    ``env``)."""
+    (floats, vectorised: a :class:`Flat` batch of states → one bool per state), confirmed by ``is_goal_exact``
+    on the exact replay. ``rank``: how states compete for the beam (:func:`_rank_keys`); ``margins``: the margin
+    policy (default for ``env``); ``max_rows``: a work budget, the (piece, heading) images evaluated over the
+    whole search (a bounce that would exceed it is not started; None: no budget)."""
     ps = PositionSearch(env, tolerance, n_headings=n_headings, margins=margins)
     first = merge_pieces([(p.edge, float(p.t0), float(p.t1)) for p in start])
     nodes = [_Node(first, -1, None, 0)]
@@ -257,7 +287,8 @@ def search_positions(
     expanded = 0
     replays = 0
     failures = 0
-    if is_goal(first):
+    rows_done = 0
+    if is_goal(Flat.of([first]))[0]:
         stages = replay(env, part, start, [], is_goal_exact)
         if stages is not None:
             return SearchOutcome(stages, 0, 0, 0, "the start set already lies in the goal")
@@ -294,61 +325,168 @@ def search_positions(
                     cand_theta.append(th)
         cs = np.concatenate(cand_state)
         ct = np.concatenate(cand_theta)
-        # one row per (candidate, piece of its state)
-        piece_rows_of: dict[int, np.ndarray] = {}
-        for i in layer:
-            piece_rows_of[i] = np.flatnonzero(owners_a == i)
-        rep_c, rep_p = [], []
-        for c_index, i in enumerate(cs.tolist()):
-            pr = piece_rows_of[i]
-            rep_c.append(np.full(len(pr), c_index))
-            rep_p.append(pr)
-        rc = np.concatenate(rep_c)
-        rp = np.concatenate(rep_p)
+        # one row per (candidate, piece of its state); a state's pieces are contiguous rows of the flat arrays
+        slot = {i: k for k, i in enumerate(layer)}
+        n_of = np.array([len(nodes[i].pieces) for i in layer], dtype=np.int64)
+        off_of = np.cumsum(n_of) - n_of
+        cs_slot = np.array([slot[i] for i in cs.tolist()], dtype=np.int64)
+        count = n_of[cs_slot]
+        rc = np.repeat(np.arange(len(cs)), count)
+        rp = np.repeat(off_of[cs_slot] - (np.cumsum(count) - count), count) + np.arange(int(count.sum()))
+        if max_rows is not None and rows_done + len(rc) > max_rows:
+            reason = (f"work budget reached at bounce {depth}: {rows_done} (piece, heading) images evaluated, the next "
+                      f"bounce needs {len(rc)} more (max_rows={max_rows}); heuristic search (a grid of {n_headings} "
+                      f"headings, beam {beam}; {expanded} (state, heading) pairs expanded, {failures} exact replays "
+                      "failed)")
+            return SearchOutcome(None, expanded, depth - 1, failures, reason, "max_rows", rows_done)
         ok, tgt, lo_t, hi_t = ps.images(pe_a[rp], pa_a[rp], pb_a[rp], ct[rc], rc)
         expanded += len(cs)
+        rows_done += len(rc)
         good = np.ones(len(cs), dtype=bool)
         np.logical_and.at(good, rc, ok)
-        # new states
-        new: list[tuple[float, Pieces, int, tuple[float, float]]] = []
-        order = np.argsort(rc, kind="stable")
-        bounds = np.searchsorted(rc[order], np.arange(len(cs) + 1))
-        for c_index in np.flatnonzero(good).tolist():
-            rows = order[bounds[c_index]:bounds[c_index + 1]]
-            pieces = merge_pieces([(int(tgt[r]), float(lo_t[r]), float(hi_t[r])) for r in rows])
-            length = sum((b - a) * ps.lengths[e] for e, a, b in pieces)
-            theta = float(ct[c_index])
-            new.append((length, pieces, int(cs[c_index]), (theta - ps.eps, theta + ps.eps)))
-        new.sort(key=(lambda x: rank(x[1], x[0])) if rank is not None else (lambda x: (len(x[1]), x[0])))
-        # goals first: replay exactly
+        # the new states, all at once: the images of each good candidate's pieces, merged per edge
+        cand = np.flatnonzero(good)
+        flat = _merged_images(rc, tgt, lo_t, hi_t, good)
+        goal = is_goal(flat)[cand]
+        keys = _rank_keys(flat, ps.lengths, rank)
+        order = cand[np.lexsort(tuple(k[cand] for k in reversed(keys)))]
+        starts = flat.starts
+
+        def state(c: int) -> Pieces:
+            s, t = starts[c], starts[c + 1]
+            return tuple(zip(flat.edge[s:t].tolist(), flat.lo[s:t].tolist(), flat.hi[s:t].tolist()))
+
         next_layer: list[int] = []
         per: dict[int, int] = {}
-        for length, pieces, parent, interval in new:
-            if is_goal(pieces) and replays < max_replays:
-                nodes.append(_Node(pieces, parent, interval, depth))
-                replays += 1
-                path = _path(nodes, len(nodes) - 1)
-                stages = replay(env, part, start, path, is_goal_exact)
-                if stages is not None:
-                    return SearchOutcome(stages, expanded, depth, failures,
-                                         f"found after expanding {expanded} (state, heading) pairs")
-                failures += 1
+        is_goal_c = np.zeros(len(cs), dtype=bool)
+        is_goal_c[cand] = goal
+        # goals first, best ranked first: replay exactly
+        for c_index in order[is_goal_c[order]].tolist():
+            if replays >= max_replays:
+                break
+            theta = float(ct[c_index])
+            nodes.append(_Node(state(c_index), int(cs[c_index]), (theta - ps.eps, theta + ps.eps), depth))
+            replays += 1
+            stages = replay(env, part, start, _path(nodes, len(nodes) - 1), is_goal_exact)
+            if stages is not None:
+                return SearchOutcome(stages, expanded, depth, failures,
+                                     f"found after expanding {expanded} (state, heading) pairs", None, rows_done)
+            failures += 1
+            nodes.pop()
+        first_edge = flat.edge[np.minimum(starts[:-1], max(len(flat.edge) - 1, 0))].tolist() if len(flat.edge) else []
+        for c_index in order.tolist():
+            if len(next_layer) >= beam:
+                break
+            key = first_edge[c_index]
+            if per.get(key, 0) >= per_edge:
                 continue
-            # the cheap caps first: a state past the beam is not looked up at all (only goals are still sought)
-            key = pieces[0][0]
-            if per.get(key, 0) >= per_edge or len(next_layer) >= beam:
-                continue
+            pieces = state(c_index)
+            parent = int(cs[c_index])
+            theta = float(ct[c_index])
+            interval = (theta - ps.eps, theta + ps.eps)
             if reached.dominated(pieces):
                 continue
             per[key] = per.get(key, 0) + 1
             nodes.append(_Node(pieces, parent, interval, depth))
             reached.add(pieces)
             next_layer.append(len(nodes) - 1)
-        logger.info("position search: bounce %d, %d candidates, %d kept", depth, len(new), len(next_layer))
+        logger.info("position search: bounce %d, %d candidates, %d kept", depth, len(cand), len(next_layer))
         layer = next_layer
+        if not layer:
+            what = ("no candidate heading carried every piece whole onto one edge" if not len(cand) else
+                    "every new state contained one reached before")
+            reason = (f"the search ran out of states at bounce {depth}: {what} (heuristic search: a grid of "
+                      f"{n_headings} headings, beam {beam}; {expanded} (state, heading) pairs expanded, {failures} "
+                      "exact replays failed; stages that split a piece over several edges are not searched)")
+            return SearchOutcome(None, expanded, depth, failures, reason, "exhausted", rows_done)
     reason = (f"no strategy found within {max_bounces} bounces (heuristic search: a grid of {n_headings} headings, "
               f"beam {beam}; {expanded} (state, heading) pairs expanded, {failures} exact replays failed)")
-    return SearchOutcome(None, expanded, max_bounces, failures, reason)
+    return SearchOutcome(None, expanded, max_bounces, failures, reason, "max_bounces", rows_done)
+
+
+@dataclass
+class Flat:
+    """A batch of position sets in flat arrays: piece k is (``edge[k]``, ``lo[k]``, ``hi[k]``) of set
+    ``owner[k]``, sorted by set, edge and ``lo``, each set's pieces merged per edge (as :func:`merge_pieces`);
+    set c's pieces are ``starts[c]:starts[c + 1]`` (empty for a set that does not exist)."""
+
+    owner: np.ndarray
+    edge: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    n: int
+
+    @property
+    def starts(self) -> np.ndarray:
+        return np.searchsorted(self.owner, np.arange(self.n + 1))
+
+    @classmethod
+    def of(cls, states: Sequence[Pieces]) -> "Flat":
+        owner = [c for c, s in enumerate(states) for _ in s]
+        cols = [p for s in states for p in s]
+        return cls(np.array(owner, dtype=np.int64), np.array([p[0] for p in cols], dtype=np.int64),
+                   np.array([p[1] for p in cols], dtype=float), np.array([p[2] for p in cols], dtype=float),
+                   len(states))
+
+    def hulls(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Per (set, edge) occupied: (set, edge, min lo, max hi), sorted by set then edge."""
+        if not len(self.owner):
+            empty = np.zeros(0)
+            return empty.astype(np.int64), empty.astype(np.int64), empty, empty
+        first = np.ones(len(self.owner), dtype=bool)
+        first[1:] = (self.owner[1:] != self.owner[:-1]) | (self.edge[1:] != self.edge[:-1])
+        at = np.flatnonzero(first)
+        return self.owner[at], self.edge[at], self.lo[at], np.maximum.reduceat(self.hi, at)
+
+    def edge_counts(self) -> np.ndarray:
+        """Per set: how many edges it occupies."""
+        owner, _, _, _ = self.hulls()
+        return np.bincount(owner, minlength=self.n)
+
+
+def _merged_images(rc: np.ndarray, tgt: np.ndarray, lo: np.ndarray, hi: np.ndarray, good: np.ndarray) -> Flat:
+    """The new states of the good candidates as a :class:`Flat` batch: each candidate's image pieces (rows
+    ``rc == c``) merged per edge exactly as :func:`merge_pieces` does (a piece starting at or before the running
+    end of its edge joins it)."""
+    sel = good[rc]
+    c, e, a, b = rc[sel], tgt[sel].astype(np.int64), lo[sel], hi[sel]
+    order = np.lexsort((a, e, c))
+    c, e, a, b = c[order], e[order], a[order], b[order]
+    m = len(c)
+    if not m:
+        return Flat(c, e, a, b, len(good))
+    group = np.zeros(m, dtype=np.int64)
+    new_group = np.ones(m, dtype=bool)
+    new_group[1:] = (c[1:] != c[:-1]) | (e[1:] != e[:-1])
+    group = np.cumsum(new_group)
+    # running end of each (candidate, edge) group: a segmented cumulative max (Hillis–Steele doubling, log of the
+    # largest group's size steps)
+    run_end = b.copy()
+    sizes = np.diff(np.append(np.flatnonzero(new_group), m))
+    k = 1
+    while k < sizes.max():
+        same = group[k:] == group[:-k]
+        run_end[k:] = np.where(same, np.maximum(run_end[k:], run_end[:-k]), run_end[k:])
+        k *= 2
+    start = new_group.copy()
+    start[1:] |= a[1:] > run_end[:-1]
+    at = np.flatnonzero(start)
+    return Flat(c[at], e[at], a[at], np.maximum.reduceat(b, at), len(good))
+
+
+def _rank_keys(flat: Flat, lengths: np.ndarray, rank: str) -> tuple[np.ndarray, ...]:
+    """Sort keys per candidate, most significant first: ``"pieces"`` — fewest pieces, then the shortest total
+    length; ``"edges"`` — fewest edges occupied, then the shortest sum over edges of the hull of the pieces
+    there (arc length)."""
+    n = flat.n
+    if rank == "pieces":
+        count = np.bincount(flat.owner, minlength=n)
+        total = np.bincount(flat.owner, weights=(flat.hi - flat.lo) * lengths[flat.edge], minlength=n)
+        return count, total
+    if rank == "edges":
+        owner, edge, lo, hi = flat.hulls()
+        return np.bincount(owner, minlength=n), np.bincount(owner, weights=(hi - lo) * lengths[edge], minlength=n)
+    raise ValueError(f"unknown rank {rank!r}")
 
 
 def _path(nodes: list[_Node], i: int) -> list[tuple[float, float]]:
@@ -490,3 +628,24 @@ def _segments(part: Partition, pieces: Sequence[BoundaryPiece]) -> tuple[int, ..
             if min(seg.t1, p.t1) > max(seg.t0, p.t0) or (p.t0 == p.t1 and seg.t0 <= p.t0 <= seg.t1):
                 out.add(s)
     return tuple(sorted(out))
+
+
+def search_widening(env: Environment, part: Partition, start: Sequence[BoundaryPiece], is_goal, is_goal_exact, *,
+                    passes: Sequence[tuple[int, int]], max_rows: int | None, **options) -> tuple[SearchOutcome, int, int]:
+    """:func:`search_positions` with a widening beam: one pass per ``(beam, n_headings)`` of ``passes``,
+    cheapest first, all sharing one work budget ``max_rows``; the first pass that finds a strategy answers
+    (it is replayed exactly like any other). Narrow passes are cheap and often enough; the wide ones only run
+    when they fail. Returns ``(outcome, beam, n_headings)`` of the pass that answered (the last one run when
+    none found anything: its ``cut`` and ``reason`` say what ended it)."""
+    used = 0
+    outcome = None
+    beam = n_headings = 0
+    for beam, n_headings in passes:
+        left = None if max_rows is None else max_rows - used
+        outcome = search_positions(env, part, start, is_goal, is_goal_exact, beam=beam, n_headings=n_headings,
+                                   max_rows=left, **options)
+        used += outcome.rows
+        if outcome.stages is not None or outcome.cut == "max_rows":
+            break
+    assert outcome is not None, "at least one pass"
+    return outcome, beam, n_headings

@@ -36,7 +36,7 @@ from solverplan.bounce.partition import partition
 from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
-from solverplan.plan._positions import SearchOutcome, search_positions
+from solverplan.plan._positions import Flat, SearchOutcome, search_positions
 from solverplan.plan._results import PositionStrategy
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
 
@@ -72,12 +72,17 @@ class Funnel(PositionStrategy):
 
 
 def search_optimality(outcome: SearchOutcome, *, max_bounces: int, n_headings: int, beam: int,
-                      scope: str) -> tuple[Status, Optimality]:
+                      scope: str, max_rows: int | None = None) -> tuple[Status, Optimality]:
     """The status and optimality of a beam search over position sets: found (a sound strategy; fewest bounces
-    not proved), or not found within its caps (``limits``: nothing is proved)."""
+    not proved), or not found within its caps (``limits``: the caps, then ``cut=...``, what ended the search —
+    see :class:`~solverplan.plan._positions.SearchOutcome`; nothing is proved)."""
     algorithm = f"breadth-first beam search over position sets ({n_headings} headings, beam {beam})"
     if outcome.stages is None:
         limits = (f"max_bounces={max_bounces}", f"beam={beam}", f"n_headings={n_headings}")
+        if max_rows is not None:
+            limits += (f"max_rows={max_rows}",)
+        if outcome.cut is not None:
+            limits += (f"cut={outcome.cut}",)
         return Status.NOT_FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope, algorithm=algorithm,
                                             limits=limits)
     return Status.FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope,
@@ -179,8 +184,14 @@ def funnel(
     part = g.partition
     goal_f = [(p.edge, float(p.t0), float(p.t1)) for p in goal_set.pieces]
 
-    def inside(pieces) -> bool:
-        return all(any(e == E and A + 1e-12 <= a and b <= B - 1e-12 for E, A, B in goal_f) for e, a, b in pieces)
+    def inside(flat: Flat) -> np.ndarray:
+        # every piece of the state strictly inside some goal piece (floats; the exact test decides)
+        fits = np.zeros(len(flat.owner), dtype=bool)
+        for E, A, B in goal_f:
+            fits |= (flat.edge == E) & (A + 1e-12 <= flat.lo) & (flat.hi <= B - 1e-12)
+        out = np.ones(flat.n, dtype=bool)
+        np.logical_and.at(out, flat.owner, fits)
+        return out
 
     def inside_exact(pieces) -> bool:
         return all(any(p.edge == q.edge and q.t0 <= p.t0 and p.t1 <= q.t1 for q in goal_set.pieces) for p in pieces)

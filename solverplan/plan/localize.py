@@ -36,17 +36,26 @@ import time
 from dataclasses import dataclass
 from fractions import Fraction
 
+import numpy as np
+
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.partition import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
-from solverplan.plan._positions import search_positions
+from solverplan.plan._positions import Flat, search_widening
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan.funnel import DEFAULT_FUNNEL_TOLERANCE, search_optimality, search_stats
 from solverplan.result import EnvironmentRecord, Method, Optimality, Status
 
-__all__ = ["Localization", "localize", "rotational_symmetry"]
+__all__ = ["Localization", "localize", "rotational_symmetry", "NARROW_PASSES", "DEFAULT_MAX_ROWS"]
+
+NARROW_PASSES = ((20, 60), (60, 120))
+"""(beam, headings) of the cheap passes :func:`localize` tries before its full beam."""
+
+DEFAULT_MAX_ROWS = 400_000
+"""The default work budget of :func:`localize`: (piece, heading) images evaluated over all its passes (about
+two to three seconds of search on the shipped models)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -131,6 +140,7 @@ def localize(
     graph: SafeBVG | None = None,
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     corner_clearance: float | None = None,
+    max_rows: int | None = DEFAULT_MAX_ROWS,
 ) -> Localization:
     """A localisation strategy: after its stages every start in ``start`` (default: the whole boundary) is inside
     one interval of one edge shorter than ``epsilon`` (arc length). Returns a :class:`Localization` whose goal is
@@ -139,7 +149,10 @@ def localize(
 
     ``tolerance``, ``max_bounces``, ``n_headings``, ``beam`` and ``graph`` are as for
     :func:`~solverplan.plan.funnel.funnel`; ``heading_margin`` and ``corner_clearance`` are the margin policy of
-    every planner (:mod:`solverplan.plan.margins`).
+    every planner (:mod:`solverplan.plan.margins`). The search widens: narrow passes (:data:`NARROW_PASSES`)
+    run first and the full ``beam`` × ``n_headings`` pass only if they find nothing, all within one work budget
+    ``max_rows`` ((piece, heading) images evaluated; None: none), so that the answer comes in seconds; when the
+    budget ends the search, ``optimality.limits`` says so (``cut=max_rows``).
 
     Raises
     ------
@@ -173,14 +186,16 @@ def localize(
                             epsilon=float(epsilon), partition=part,
                             optimality=Optimality(Method.SYMMETRY, True, None, scope=scope,
                                                   algorithm="exact rotational symmetry"))
-    lengths = env.edge_lengths
+    lengths = np.asarray(env.edge_lengths, dtype=float)
     limit = float(epsilon)
 
-    def spread(pieces) -> float:
-        return (max(b for _, _, b in pieces) - min(a for _, a, _ in pieces)) * float(lengths[pieces[0][0]])
-
-    def done(pieces) -> bool:
-        return len({e for e, _, _ in pieces}) == 1 and spread(pieces) < limit * (1 - 1e-9)
+    def done(flat: Flat) -> np.ndarray:
+        # one edge, hull shorter than ε (floats, with a relative margin; the exact test decides)
+        owner, edge, lo, hi = flat.hulls()
+        count = np.bincount(owner, minlength=flat.n)
+        short = np.zeros(flat.n, dtype=bool)
+        short[owner] = (hi - lo) * lengths[edge] < limit * (1 - 1e-9)
+        return (count == 1) & short
 
     def done_exact(pieces) -> bool:
         if len({p.edge for p in pieces}) != 1:
@@ -188,18 +203,15 @@ def localize(
         lo, hi = min(p.t0 for p in pieces), max(p.t1 for p in pieces)
         return float(hi - lo) * float(lengths[pieces[0].edge]) < limit
 
-    def rank(pieces, length):
-        edges = {e for e, _, _ in pieces}
-        hull = sum(spread(tuple(p for p in pieces if p[0] == e)) for e in edges)
-        return (len(edges), hull)
-
     margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
     t0 = time.perf_counter()
-    outcome = search_positions(env, part, start_set.pieces, done, done_exact, tolerance=eps, max_bounces=max_bounces,
-                               n_headings=n_headings, beam=beam, rank=rank, margins=margins)
+    passes = [(b, h) for b, h in NARROW_PASSES if b < beam and h <= n_headings] + [(beam, n_headings)]
+    outcome, used_beam, used_headings = search_widening(
+        env, part, start_set.pieces, done, done_exact, passes=passes, max_rows=max_rows, tolerance=eps,
+        max_bounces=max_bounces, rank="edges", margins=margins)
     stats = search_stats(outcome, time.perf_counter() - t0)
     status, optimality = search_optimality(
-        outcome, max_bounces=max_bounces, n_headings=n_headings, beam=beam,
+        outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
         scope=f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces")
     goal = None
     if outcome.stages is not None:
