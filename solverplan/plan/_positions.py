@@ -635,7 +635,8 @@ def search_widening(env: Environment, part: Partition, start: Sequence[BoundaryP
     """:func:`search_positions` with a widening beam: one pass per ``(beam, n_headings)`` of ``passes``,
     cheapest first, all sharing one work budget ``max_rows``; the first pass that finds a strategy answers
     (it is replayed exactly like any other). Narrow passes are cheap and often enough; the wide ones only run
-    when they fail. Returns ``(outcome, beam, n_headings)`` of the pass that answered (the last one run when
+    when they fail. Each pass keeps at most max(2, beam / 10) states per edge (diversity matters more than
+    depth in a narrow beam). Returns ``(outcome, beam, n_headings)`` of the pass that answered (the last one run when
     none found anything: its ``cut`` and ``reason`` say what ended it)."""
     used = 0
     outcome = None
@@ -643,7 +644,7 @@ def search_widening(env: Environment, part: Partition, start: Sequence[BoundaryP
     for beam, n_headings in passes:
         left = None if max_rows is None else max_rows - used
         outcome = search_positions(env, part, start, is_goal, is_goal_exact, beam=beam, n_headings=n_headings,
-                                   max_rows=left, **options)
+                                   per_edge=max(2, beam // 10), max_rows=left, **options)
         used += outcome.rows
         if outcome.stages is not None or outcome.cut == "max_rows":
             break

@@ -45,17 +45,11 @@ from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._positions import Flat, search_widening
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan.funnel import DEFAULT_FUNNEL_TOLERANCE, search_optimality, search_stats
+from solverplan.plan.funnel import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, search_optimality,
+                                    search_stats)
 from solverplan.result import EnvironmentRecord, Method, Optimality, Status
 
-__all__ = ["Localization", "localize", "rotational_symmetry", "NARROW_PASSES", "DEFAULT_MAX_ROWS"]
-
-NARROW_PASSES = ((20, 60), (60, 120))
-"""(beam, headings) of the cheap passes :func:`localize` tries before its full beam."""
-
-DEFAULT_MAX_ROWS = 400_000
-"""The default work budget of :func:`localize`: (piece, heading) images evaluated over all its passes (about
-two to three seconds of search on the shipped models)."""
+__all__ = ["Localization", "localize", "rotational_symmetry"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -149,7 +143,8 @@ def localize(
 
     ``tolerance``, ``max_bounces``, ``n_headings``, ``beam`` and ``graph`` are as for
     :func:`~solverplan.plan.funnel.funnel`; ``heading_margin`` and ``corner_clearance`` are the margin policy of
-    every planner (:mod:`solverplan.plan.margins`). The search widens: narrow passes (:data:`NARROW_PASSES`)
+    every planner (:mod:`solverplan.plan.margins`). The search widens: narrow passes
+    (:data:`~solverplan.plan.funnel.NARROW_PASSES`)
     run first and the full ``beam`` × ``n_headings`` pass only if they find nothing, all within one work budget
     ``max_rows`` ((piece, heading) images evaluated; None: none), so that the answer comes in seconds; when the
     budget ends the search, ``optimality.limits`` says so (``cut=max_rows``).
@@ -205,7 +200,7 @@ def localize(
 
     margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
     t0 = time.perf_counter()
-    passes = [(b, h) for b, h in NARROW_PASSES if b < beam and h <= n_headings] + [(beam, n_headings)]
+    passes = widening_passes(beam, n_headings)
     outcome, used_beam, used_headings = search_widening(
         env, part, start_set.pieces, done, done_exact, passes=passes, max_rows=max_rows, tolerance=eps,
         max_bounces=max_bounces, rank="edges", margins=margins)
