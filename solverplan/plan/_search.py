@@ -187,9 +187,15 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
     """
     start = problem.start_belief
     bounded = len(start) > 1
+    bounds: dict[Belief, float] = {}  # h(b), once per belief (the same belief is offered by many options)
 
     def bound(b: Belief) -> float:
-        return problem.belief_bounds(b)[1] if bounded else INF
+        if not bounded:
+            return INF
+        h = bounds.get(b)
+        if h is None:
+            h = bounds[b] = problem.belief_bounds(b)[1]
+        return h
 
     label: dict[Belief, float] = {start: INF}
     heap = [(-bound(start), INF, start)]
@@ -205,7 +211,7 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
         g = _widest(problem.goal_options(b))
         if g is not None:
             best = max(best, min(w_b, g.hi - g.lo))
-        for o in problem.options(b):
+        for o in _options_wider(problem, b, best):
             w = min(w_b, o.hi - o.lo)
             if w <= best or w <= label.get(o.next, 0.0):
                 continue
@@ -215,6 +221,21 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
             label[o.next] = w
             heapq.heappush(heap, (-f, w, o.next))
     return best, {"beliefs": len(label), "expanded": expanded}
+
+
+def _options_wider(problem: Problem, belief: Belief, threshold: float) -> list[Option]:
+    """The options of ``belief`` wider than ``threshold`` (all of them, cached, when it is 0). An option's
+    interval is the intersection of one admissible interval per element, so an element's intervals no wider
+    than the threshold cannot contribute: they are dropped before the intersection is folded, which is where a
+    search with a lower bound spends its time."""
+    if threshold <= 0.0 or len(belief) == 1:
+        return problem.options(belief)
+    lists = []
+    for s in belief:
+        los, his, tgts = problem.intervals(s)
+        keep = [k for k in range(len(los)) if his[k] - los[k] > threshold]
+        lists.append(([los[k] for k in keep], [his[k] for k in keep], [tgts[k] for k in keep]))
+    return [o for o in problem._combine(belief, lists, problem._merged) if o.hi - o.lo > threshold]
 
 
 # ---------------------------------------------------------------------- the Pareto front bounces ↔ min width
