@@ -14,11 +14,20 @@ coefficient of each transition (Def. 11) until it fits through a gap no segment 
   source, at least the corner clearance κ from that edge's ends (but the corner it shares with the source edge),
   and no vertex of P other than the ends of the two edges lies inside the convex hull of the piece and the corner
   hits (the swept region) or within κ of it. Then the image of the piece is the interval spanned by the corner
-  hits, the same test the exact checker makes, and every landing replays in floating point too;
+  hits, the same test the exact checker makes, and every landing replays in floating point too. All (candidate,
+  piece) rows of a bounce are tested at once: two diagonal corner rays for every row, the other two and the hull
+  test only for rows of candidates still alive (one failing piece kills its candidate), the hull test only on
+  (row, vertex) pairs inside the row's bounding box;
 - *dominance*: a state whose position set contains a set already reached (with no more bounces) is dropped:
-  every strategy from the larger set works from the smaller one;
+  every strategy from the larger set works from the smaller one (:class:`_Reached`: indexed lookups against
+  single-piece sets and sets occupying the same edges);
 - *beam*: per bounce at most ``beam`` states survive (at most ``per_edge`` per edge of their first piece), the
-  ones with the fewest pieces and the shortest total length first (or by the caller's ``rank``).
+  ones with the fewest pieces and the shortest total length first (or the fewest edges occupied:
+  ``rank="edges"``); states are built, ranked and goal-tested as flat arrays (:class:`Flat`);
+- *work budget*: ``max_rows`` (piece, heading) images over the whole search; a bounce that would pass it is not
+  started, and the outcome says what cut the search (:class:`SearchOutcome`). :func:`search_widening` runs
+  narrow passes first (a narrow beam that keeps few states per edge is fast and often enough) and the full
+  beam only when they fail, within one budget.
 
 A state inside the goal is replayed **exactly**: the interval of every stage becomes rational directions just
 outside it (:func:`~solverplan.plan._results.heading_cone`; every heading of the float interval is in the cone), each piece is pushed through
@@ -397,7 +406,8 @@ def search_positions(
                     "every new state contained one reached before")
             reason = (f"the search ran out of states at bounce {depth}: {what} (heuristic search: a grid of "
                       f"{n_headings} headings, beam {beam}; {expanded} (state, heading) pairs expanded, {failures} "
-                      "exact replays failed; stages that split a piece over several edges are not searched)")
+                      "exact replays failed; a stage that splits a piece over several edges sweeps across a vertex, which "
+                      "no stage of this search (nor a move of its certificate) does: give a smaller start set)")
             return SearchOutcome(None, expanded, depth, failures, reason, "exhausted", rows_done)
     reason = (f"no strategy found within {max_bounces} bounces (heuristic search: a grid of {n_headings} headings, "
               f"beam {beam}; {expanded} (state, heading) pairs expanded, {failures} exact replays failed)")

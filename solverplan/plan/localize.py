@@ -17,10 +17,14 @@ never one interval of one edge. :func:`localize` checks this exactly first and a
 rotation (status ``infeasible``, method ``symmetry``, proved: the square, the regular hexagon,
 ``narrow_door``'s half-turn).
 
-Limits: a stage must carry each piece whole onto a single edge, so starts whose pieces must split (edges next to
-reflex vertices, from the whole boundary of a non-convex room) are not localised by this search; give a start set
-S instead. The search is heuristic: not finding is not a proof (status ``not-found``, with the search's caps in
-``optimality.limits``).
+**Search and its limits.** The search widens (narrow passes first, the full beam only when they fail) within a
+work budget (``max_rows``), so it answers in seconds; on the shipped models it finds strategies from the whole
+boundary in convex rooms, L-shaped and two-room plans, rooms with holes, the comb and the star. A stage must
+carry each piece whole onto a single edge (a piece whose image spans several edges sweeps across a vertex, which
+the exact checker's moves never do), so from the whole boundary of a room where every heading splits some edge
+(a corridor with alcoves, the warehouse) the search stops at once with that reason; give a start set S instead.
+The search is heuristic: not finding is not a proof (status ``not-found``, with its caps and ``cut=...``, what
+ended it, in ``optimality.limits``).
 
 >>> from solverplan.environment import Environment
 >>> tri = Environment.from_coords([[0, 0], [10, 0], [3, 7]], name="triangle")
