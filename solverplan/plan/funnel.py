@@ -49,7 +49,7 @@ NARROW_PASSES = ((20, 60), (60, 120))
 """(beam, headings) of the cheap passes that funnels and localisation try before their full beam; each pass
 keeps at most max(2, beam / 10) states per edge, so that a narrow beam still spreads over the room."""
 
-DEFAULT_MAX_ROWS = 400_000
+DEFAULT_MAX_ROWS = 250_000
 """The default work budget of funnels and localisation: (piece, heading) images evaluated over all passes (a
 few seconds of search on the shipped models)."""
 

@@ -173,7 +173,7 @@ def test_funnel_not_found_is_an_answer_and_bad_input_raises(door):
     f = funnel(env, "e0", "e4", max_bounces=2, graph=graph)
     assert f.status == "not-found" and "heuristic" in f.reason and not f.optimality.proved
     assert f.status.incomplete and f.optimality.method == "heuristic"
-    assert f.optimality.limits == ("max_bounces=2", "beam=400", "n_headings=240", "max_rows=400000", "cut=max_bounces")
+    assert f.optimality.limits == ("max_bounces=2", "beam=400", "n_headings=240", "max_rows=250000", "cut=max_bounces")
     with pytest.raises(InputError, match="unknown edge e99"):
         funnel(env, "e0", "e99")
     with pytest.raises(InputError, match="tolerance"):
