@@ -94,8 +94,10 @@ def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = N
             return path, {"beliefs": len(parent), "depth": depth}
         nxt = []
         bounded = len(start) > 1
+        # options of width ≥ threshold are exactly those wider than the float just below it
+        below = math.nextafter(threshold, 0.0) if threshold > 0.0 else 0.0
         for b in level:
-            for o in problem.options(b):
+            for o in _options_wider(problem, b, below):
                 if o.hi - o.lo < threshold or o.next in parent:
                     continue
                 if bounded:
@@ -183,7 +185,9 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
     min over s ∈ b of the best min width from {s} alone (an upper bound on every completion, see
     :attr:`Problem.singleton_bounds`), a best-first branch and bound: as long as the best plan found is
     below W*, some belief of an optimal plan waits in the queue with f ≥ W*, so the search stops (when the
-    largest f left is ≤ the best found) only at W*. Beliefs are re-expanded if their label improves.
+    largest f left is ≤ the best found) only at W*. Beliefs are re-expanded if their label improves. The
+    best found starts at the width of a greedy plan (:func:`_greedy_plan_width`, a plan's width is ≤ W*), so
+    that options no wider than it are never built.
     """
     start = problem.start_belief
     bounded = len(start) > 1
@@ -199,7 +203,7 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
 
     label: dict[Belief, float] = {start: INF}
     heap = [(-bound(start), INF, start)]
-    best = 0.0
+    best = _greedy_plan_width(problem, bound) if bounded else 0.0
     expanded = 0
     while heap:
         neg_f, w_b, b = heapq.heappop(heap)
@@ -221,6 +225,44 @@ def bottleneck(problem: Problem) -> tuple[float, dict]:
             label[o.next] = w
             heapq.heappush(heap, (-f, w, o.next))
     return best, {"beliefs": len(label), "expanded": expanded}
+
+
+def _greedy_plan_width(problem: Problem, bound: Callable[[Belief], float], beam: int = 8) -> float:
+    """The min width of one plan found by a small beam search (0.0 if it finds none): a lower bound on W* that
+    lets :func:`bottleneck` prune from its first expansion. From the start, layer by layer, keep the ``beam``
+    unvisited beliefs with the smallest stage bound d(belief) (then the largest min(width so far, h)); stop
+    at the first layer with a goal option (or after a few times the start's stage bound). The options it builds
+    are cached by the problem, so the search reuses them."""
+    start = problem.start_belief
+    d0, _ = problem.belief_bounds(start)
+    if d0 == INF:
+        return 0.0
+    layer = [(INF, start)]
+    seen = {start}
+    for _ in range(4 * int(d0) + 8):
+        found = 0.0
+        for w_b, b in layer:
+            g = _widest(problem.goal_options(b))
+            if g is not None:
+                found = max(found, min(w_b, g.hi - g.lo))
+        if found > 0.0:
+            return found
+        children: dict[Belief, float] = {}
+        for w_b, b in layer:
+            for o in problem.options(b):
+                w = min(w_b, o.hi - o.lo)
+                if o.next in seen or w <= children.get(o.next, 0.0):
+                    continue
+                if min(w, bound(o.next)) > 0.0 and problem.belief_bounds(o.next)[0] < INF:
+                    children[o.next] = w
+        if not children:
+            return 0.0
+        # closest to the goal first (the stage bound d), then the widest
+        ranked = sorted(children.items(), key=lambda item: (problem.belief_bounds(item[0])[0],
+                                                            -min(item[1], bound(item[0]))))[:beam]
+        layer = [(w, nb) for nb, w in ranked]
+        seen.update(nb for _, nb in layer)
+    return 0.0
 
 
 def _options_wider(problem: Problem, belief: Belief, threshold: float) -> list[Option]:
