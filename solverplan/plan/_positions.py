@@ -301,18 +301,17 @@ def search_positions(
         stages = replay(env, part, start, [], is_goal_exact)
         if stages is not None:
             return SearchOutcome(stages, 0, 0, 0, "the start set already lies in the goal")
+        failures += 1
     for depth in range(1, max_bounces + 1):
         if not layer:
             break
         # flatten the layer's pieces × candidate headings
-        owners, pe, pa, pb = [], [], [], []
+        pe, pa, pb = [], [], []
         for i in layer:
             for e, a, b in nodes[i].pieces:
-                owners.append(i)
                 pe.append(e)
                 pa.append(a)
                 pb.append(b)
-        owners_a = np.array(owners)
         pe_a, pa_a, pb_a = np.array(pe, dtype=np.int64), np.array(pa), np.array(pb)
         # candidate headings per state: the grid, plus aims at the goal from single-piece states
         cand_state, cand_theta = [], []
@@ -465,7 +464,6 @@ def _merged_images(rc: np.ndarray, tgt: np.ndarray, lo: np.ndarray, hi: np.ndarr
     m = len(c)
     if not m:
         return Flat(c, e, a, b, len(good))
-    group = np.zeros(m, dtype=np.int64)
     new_group = np.ones(m, dtype=bool)
     new_group[1:] = (c[1:] != c[:-1]) | (e[1:] != e[:-1])
     group = np.cumsum(new_group)
