@@ -92,11 +92,12 @@ def search_optimality(outcome: SearchOutcome, *, max_bounces: int, n_headings: i
     see :class:`~solverplan.plan._positions.SearchOutcome`; nothing is proved)."""
     algorithm = f"breadth-first beam search over position sets ({n_headings} headings, beam {beam})"
     if outcome.stages is None:
-        limits = (f"max_bounces={max_bounces}", f"beam={beam}", f"n_headings={n_headings}")
+        caps = [f"max_bounces={max_bounces}", f"beam={beam}", f"n_headings={n_headings}"]
         if max_rows is not None:
-            limits += (f"max_rows={max_rows}",)
+            caps.append(f"max_rows={max_rows}")
         if outcome.cut is not None:
-            limits += (f"cut={outcome.cut}",)
+            caps.append(f"cut={outcome.cut}")
+        limits = tuple(caps)
         return Status.NOT_FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope, algorithm=algorithm,
                                             limits=limits)
     return Status.FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope,
