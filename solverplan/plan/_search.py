@@ -105,10 +105,12 @@ def bfs(problem: Problem, *, threshold: float = 0.0, max_bounces: int | None = N
             return path, {"beliefs": len(parent), "depth": depth}
         nxt = []
         bounded = len(start) > 1
+        # options of width ≥ threshold are exactly those wider than the float just below it
+        below = math.nextafter(threshold, 0.0) if threshold > 0.0 else 0.0
         for b in level:
             if deadline.expired():
                 return None, {"beliefs": len(parent), "depth": depth + 1, "cut_by_budget": False, "timed_out": True}
-            for o in problem.options(b):
+            for o in _options_wider(problem, b, below):
                 if o.hi - o.lo < threshold or o.next in parent:
                     continue
                 if bounded:
@@ -205,23 +207,32 @@ def bottleneck(problem: Problem, *, deadline: Deadline = NEVER) -> tuple[float, 
     min over s ∈ b of the best min width from {s} alone (an upper bound on every completion, see
     :attr:`Problem.singleton_bounds`), a best-first branch and bound: as long as the best plan found is
     below W*, some belief of an optimal plan waits in the queue with f ≥ W*, so the search stops (when the
-    largest f left is ≤ the best found) only at W*. Beliefs are re-expanded if their label improves.
+    largest f left is ≤ the best found) only at W*. Beliefs are re-expanded if their label improves. The
+    best found starts at the width of a greedy plan (:func:`_greedy_plan`, a plan's width is ≤ W*), so
+    that options no wider than it are never built.
 
     Each label keeps the option it came by; ``incumbent`` in the statistics is the plan of the best value (its
     options' widths are ≥ the labels along it, which never decrease towards the start, so it attains the value;
-    the pointers form a tree: a label only changes with its pointer, and strictly grows). On a timeout the
-    statistics say ``timed_out`` and ``bound`` = max(best, largest f queued) ≥ W*.
+    the pointers form a tree: a label only changes with its pointer, and strictly grows), or the greedy plan
+    while nothing beat it. On a timeout the statistics say ``timed_out`` and ``bound`` = max(best, largest f
+    queued) ≥ W*.
     """
     start = problem.start_belief
     bounded = len(start) > 1
+    bounds: dict[Belief, float] = {}  # h(b), once per belief (the same belief is offered by many options)
 
     def bound(b: Belief) -> float:
-        return problem.belief_bounds(b)[1] if bounded else INF
+        if not bounded:
+            return INF
+        h = bounds.get(b)
+        if h is None:
+            h = bounds[b] = problem.belief_bounds(b)[1]
+        return h
 
     label: dict[Belief, float] = {start: INF}
     parent: dict[Belief, tuple[Belief, Option]] = {}
     heap = [(-bound(start), INF, start)]
-    best = 0.0
+    best, greedy = _greedy_plan(problem, bound, deadline) if bounded else (0.0, None)
     best_at: tuple[Belief, Option] | None = None
     expanded = 0
     timed_out = False
@@ -238,7 +249,7 @@ def bottleneck(problem: Problem, *, deadline: Deadline = NEVER) -> tuple[float, 
         g = _widest(problem.goal_options(b))
         if g is not None and min(w_b, g.hi - g.lo) > best:
             best, best_at = min(w_b, g.hi - g.lo), (b, g)
-        for o in problem.options(b):
+        for o in _options_wider(problem, b, best):
             w = min(w_b, o.hi - o.lo)
             if w <= best or w <= label.get(o.next, 0.0):
                 continue
@@ -251,6 +262,8 @@ def bottleneck(problem: Problem, *, deadline: Deadline = NEVER) -> tuple[float, 
     stats: dict = {"beliefs": len(label), "expanded": expanded}
     if best_at is not None:
         stats["incumbent"] = _pointer_path(parent, *best_at)
+    elif greedy is not None:
+        stats["incumbent"] = greedy
     if timed_out:
         stats.update(timed_out=True, bound=max(best, -heap[0][0]) if heap else best)
     return best, stats
@@ -265,6 +278,63 @@ def _pointer_path(parent: dict[Belief, tuple[Belief, Option]], belief: Belief, l
         assert len(path) <= len(parent) + 1, "label pointers form a cycle"
     path.reverse()
     return path
+
+
+def _greedy_plan(problem: Problem, bound: Callable[[Belief], float], deadline: Deadline = NEVER,
+                 beam: int = 8) -> tuple[float, Path | None]:
+    """The min width of one plan found by a small beam search and the plan ((0.0, None) if it finds none): a
+    lower bound on W* that
+    lets :func:`bottleneck` prune from its first expansion. From the start, layer by layer, keep the ``beam``
+    unvisited beliefs with the smallest stage bound d(belief) (then the largest min(width so far, h)); stop
+    at the first layer with a goal option (or after a few times the start's stage bound). The options it builds
+    are cached by the problem, so the search reuses them."""
+    start = problem.start_belief
+    d0, _ = problem.belief_bounds(start)
+    if d0 == INF:
+        return 0.0, None
+    layer: list[tuple[float, Belief, Path]] = [(INF, start, [])]
+    seen = {start}
+    for _ in range(4 * int(d0) + 8):
+        if deadline.expired():
+            return 0.0, None
+        found, found_path = 0.0, None
+        for w_b, b, path in layer:
+            g = _widest(problem.goal_options(b))
+            if g is not None and min(w_b, g.hi - g.lo) > found:
+                found, found_path = min(w_b, g.hi - g.lo), [*path, g]
+        if found_path is not None:
+            return found, found_path
+        children: dict[Belief, tuple[float, Path]] = {}
+        for w_b, b, path in layer:
+            for o in problem.options(b):
+                w = min(w_b, o.hi - o.lo)
+                if o.next in seen or w <= children.get(o.next, (0.0, []))[0]:
+                    continue
+                if min(w, bound(o.next)) > 0.0 and problem.belief_bounds(o.next)[0] < INF:
+                    children[o.next] = (w, [*path, o])
+        if not children:
+            return 0.0, None
+        # closest to the goal first (the stage bound d), then the widest
+        ranked = sorted(children.items(), key=lambda item: (problem.belief_bounds(item[0])[0],
+                                                            -min(item[1][0], bound(item[0]))))[:beam]
+        layer = [(w, nb, path) for nb, (w, path) in ranked]
+        seen.update(nb for _, nb, _ in layer)
+    return 0.0, None
+
+
+def _options_wider(problem: Problem, belief: Belief, threshold: float) -> list[Option]:
+    """The options of ``belief`` wider than ``threshold`` (all of them, cached, when it is 0). An option's
+    interval is the intersection of one admissible interval per element, so an element's intervals no wider
+    than the threshold cannot contribute: they are dropped before the intersection is folded, which is where a
+    search with a lower bound spends its time."""
+    if threshold <= 0.0 or len(belief) == 1:
+        return problem.options(belief)
+    lists = []
+    for s in belief:
+        los, his, tgts = problem.intervals(s)
+        keep = [k for k in range(len(los)) if his[k] - los[k] > threshold]
+        lists.append(([los[k] for k in keep], [his[k] for k in keep], [tgts[k] for k in keep]))
+    return [o for o in problem._combine(belief, lists, problem._merged) if o.hi - o.lo > threshold]
 
 
 # ---------------------------------------------------------------------- the Pareto front bounces ↔ min width

@@ -37,14 +37,28 @@ from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import deadline_of
-from solverplan.plan._positions import SearchOutcome, search_positions
+from solverplan.plan._positions import Flat, SearchOutcome, search_widening
 from solverplan.plan._results import PositionStrategy
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
 
-__all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "safe_plan_exists"]
+__all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "DEFAULT_MAX_ROWS", "NARROW_PASSES", "safe_plan_exists"]
 
 DEFAULT_FUNNEL_TOLERANCE = 0.005
 """Radians: the half-width of every heading interval of a funnel when none is given."""
+
+NARROW_PASSES = ((20, 60), (60, 120))
+"""(beam, headings) of the cheap passes that funnels and localisation try before their full beam; each pass
+keeps at most max(2, beam / 10) states per edge, so that a narrow beam still spreads over the room."""
+
+DEFAULT_MAX_ROWS = 250_000
+"""The default work budget of funnels and localisation: (piece, heading) images evaluated over all passes (a
+few seconds of search on the shipped models)."""
+
+
+def widening_passes(beam: int, n_headings: int) -> list[tuple[int, int]]:
+    """The passes of a search whose full width is ``beam`` × ``n_headings``: the narrow ones that are smaller,
+    then the full one."""
+    return [(b, h) for b, h in NARROW_PASSES if b < beam and h <= n_headings] + [(beam, n_headings)]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -73,12 +87,18 @@ class Funnel(PositionStrategy):
 
 
 def search_optimality(outcome: SearchOutcome, *, max_bounces: int, n_headings: int, beam: int,
-                      scope: str) -> tuple[Status, Optimality]:
+                      scope: str, max_rows: int | None = None) -> tuple[Status, Optimality]:
     """The status and optimality of a beam search over position sets: found (a sound strategy; fewest bounces
-    not proved), or not found within its caps (``limits``: nothing is proved)."""
+    not proved), or not found within its caps (``limits``: the caps, then ``cut=...``, what ended the search —
+    see :class:`~solverplan.plan._positions.SearchOutcome`; nothing is proved)."""
     algorithm = f"breadth-first beam search over position sets ({n_headings} headings, beam {beam})"
     if outcome.stages is None:
-        limits = (f"max_bounces={max_bounces}", f"beam={beam}", f"n_headings={n_headings}", *outcome.limits)
+        caps = [f"max_bounces={max_bounces}", f"beam={beam}", f"n_headings={n_headings}"]
+        if max_rows is not None:
+            caps.append(f"max_rows={max_rows}")
+        if outcome.cut is not None:
+            caps.append(f"cut={outcome.cut}")
+        limits = (*caps, *outcome.limits)
         return Status.NOT_FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope, algorithm=algorithm,
                                             limits=limits)
     return Status.FOUND, Optimality(Method.HEURISTIC, False, None, scope=scope,
@@ -105,9 +125,6 @@ def safe_plan_exists(graph: SafeBVG, start: BoundarySet, goal: BoundarySet) -> b
     start set overlaps to segments inside the goal? Reachability of beliefs' members is necessary for a
     belief plan, so ``False`` proves no safe-BVG plan exists (``True`` is only necessary)."""
     part = graph.partition
-    import networkx as nx
-
-    g = graph.to_networkx(safe_only=True)
 
     def overlapping(bs: BoundarySet, inside: bool):
         out = set()
@@ -124,7 +141,13 @@ def safe_plan_exists(graph: SafeBVG, start: BoundarySet, goal: BoundarySet) -> b
     if not goals:
         return False
     for s in starts:
-        reach = nx.descendants(g, s) | {s}
+        # depth-first reachability over safe arcs (the graph's own successor lists)
+        reach, todo = {s}, [s]
+        while todo and not reach & goals:
+            for t in graph.successors(todo.pop(), safe_only=True).tolist():
+                if t not in reach:
+                    reach.add(t)
+                    todo.append(t)
         if not reach & goals:
             return False
     return True
@@ -142,6 +165,7 @@ def funnel(
     graph: SafeBVG | None = None,
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     corner_clearance: float | None = None,
+    max_rows: int | None = DEFAULT_MAX_ROWS,
     timeout: float | None = None,
 ) -> Funnel:
     """A funnel from ``start`` to ``goal``: fixed-width heading intervals whose exact position sets shrink by
@@ -157,7 +181,11 @@ def funnel(
         ε, radians: every interval is [θ − ε, θ + ε] (default :data:`DEFAULT_FUNNEL_TOLERANCE`).
     max_bounces, n_headings, beam
         The search's bounds: bounces, headings tried per stage (a uniform grid, plus aims at the goal), states
-        kept per bounce.
+        kept per bounce. The search widens: the passes of :data:`NARROW_PASSES` narrower than ``beam`` ×
+        ``n_headings`` run first, the full one only if they find nothing.
+    max_rows
+        The work budget over all passes: (piece, heading) images evaluated (None: no budget). When it ends the
+        search, ``optimality.limits`` says so (``cut=max_rows``).
     heading_margin, corner_clearance
         The margin policy of every planner (:mod:`solverplan.plan.margins`): no interval within δ radians of a
         wall, no landing within κ (a length) of a segment end.
@@ -185,8 +213,14 @@ def funnel(
     part = g.partition
     goal_f = [(p.edge, float(p.t0), float(p.t1)) for p in goal_set.pieces]
 
-    def inside(pieces) -> bool:
-        return all(any(e == E and A + 1e-12 <= a and b <= B - 1e-12 for E, A, B in goal_f) for e, a, b in pieces)
+    def inside(flat: Flat) -> np.ndarray:
+        # every piece of the state strictly inside some goal piece (floats; the exact test decides)
+        fits = np.zeros(len(flat.owner), dtype=bool)
+        for E, A, B in goal_f:
+            fits |= (flat.edge == E) & (A + 1e-12 <= flat.lo) & (flat.hi <= B - 1e-12)
+        out = np.ones(flat.n, dtype=bool)
+        np.logical_and.at(out, flat.owner, fits)
+        return out
 
     def inside_exact(pieces) -> bool:
         return all(any(p.edge == q.edge and q.t0 <= p.t0 and p.t1 <= q.t1 for q in goal_set.pieces) for p in pieces)
@@ -197,13 +231,13 @@ def funnel(
             points.append(env.point_at(p.edge, float(p.t0) + s * float(p.t1 - p.t0)))
     margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
     t0 = time.perf_counter()
-    outcome = search_positions(env, part, start_set.pieces, inside, inside_exact, tolerance=eps, max_bounces=max_bounces,
-                               goal_points=np.array(points), n_headings=n_headings, beam=beam, margins=margins,
-                               deadline=deadline)
+    outcome, used_beam, used_headings = search_widening(
+        env, part, start_set.pieces, inside, inside_exact, passes=widening_passes(beam, n_headings), max_rows=max_rows,
+        tolerance=eps, max_bounces=max_bounces, goal_points=np.array(points), margins=margins, deadline=deadline)
     stats = search_stats(outcome, time.perf_counter() - t0)
     safe = safe_plan_exists(g, start_set, goal_set)
     status, optimality = search_optimality(
-        outcome, max_bounces=max_bounces, n_headings=n_headings, beam=beam,
+        outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
         scope=f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces")
     return Funnel(status=status, optimality=optimality, environment=EnvironmentRecord.of(env, part.n_segments),
                   start=start_set, goal=goal_set, tolerance=eps, partition=part, stages=outcome.stages or (),

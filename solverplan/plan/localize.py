@@ -17,10 +17,14 @@ never one interval of one edge. :func:`localize` checks this exactly first and a
 rotation (status ``infeasible``, method ``symmetry``, proved: the square, the regular hexagon,
 ``narrow_door``'s half-turn).
 
-Limits: a stage must carry each piece whole onto a single edge, so starts whose pieces must split (edges next to
-reflex vertices, from the whole boundary of a non-convex room) are not localised by this search; give a start set
-S instead. The search is heuristic: not finding is not a proof (status ``not-found``, with the search's caps in
-``optimality.limits``).
+**Search and its limits.** The search widens (narrow passes first, the full beam only when they fail) within a
+work budget (``max_rows``), so it answers in seconds; on the shipped models it finds strategies from the whole
+boundary in convex rooms, L-shaped and two-room plans, rooms with holes, the comb and the star. A stage must
+carry each piece whole onto a single edge (a piece whose image spans several edges sweeps across a vertex, which
+the exact checker's moves never do), so from the whole boundary of a room where every heading splits some edge
+(a corridor with alcoves, the warehouse) the search stops at once with that reason; give a start set S instead.
+The search is heuristic: not finding is not a proof (status ``not-found``, with its caps and ``cut=...``, what
+ended it, in ``optimality.limits``).
 
 >>> from solverplan.environment import Environment
 >>> tri = Environment.from_coords([[0, 0], [10, 0], [3, 7]], name="triangle")
@@ -36,15 +40,18 @@ import time
 from dataclasses import dataclass
 from fractions import Fraction
 
+import numpy as np
+
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.partition import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import deadline_of
-from solverplan.plan._positions import search_positions
+from solverplan.plan._positions import Flat, search_widening
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan.funnel import DEFAULT_FUNNEL_TOLERANCE, search_optimality, search_stats
+from solverplan.plan.funnel import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, search_optimality,
+                                    search_stats)
 from solverplan.result import EnvironmentRecord, Method, Optimality, Status
 
 __all__ = ["Localization", "localize", "rotational_symmetry"]
@@ -132,6 +139,7 @@ def localize(
     graph: SafeBVG | None = None,
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     corner_clearance: float | None = None,
+    max_rows: int | None = DEFAULT_MAX_ROWS,
     timeout: float | None = None,
 ) -> Localization:
     """A localisation strategy: after its stages every start in ``start`` (default: the whole boundary) is inside
@@ -142,7 +150,11 @@ def localize(
     ``tolerance``, ``max_bounces``, ``n_headings``, ``beam``, ``graph`` and ``timeout`` (seconds, the graph
     build included; at the deadline: ``not-found`` with the timeout in ``optimality.limits``) are as for
     :func:`~solverplan.plan.funnel.funnel`; ``heading_margin`` and ``corner_clearance`` are the margin policy of
-    every planner (:mod:`solverplan.plan.margins`).
+    every planner (:mod:`solverplan.plan.margins`). The search widens: narrow passes
+    (:data:`~solverplan.plan.funnel.NARROW_PASSES`)
+    run first and the full ``beam`` × ``n_headings`` pass only if they find nothing, all within one work budget
+    ``max_rows`` ((piece, heading) images evaluated; None: none), so that the answer comes in seconds; when the
+    budget ends the search, ``optimality.limits`` says so (``cut=max_rows``).
 
     Raises
     ------
@@ -178,14 +190,16 @@ def localize(
                             epsilon=float(epsilon), partition=part,
                             optimality=Optimality(Method.SYMMETRY, True, None, scope=scope,
                                                   algorithm="exact rotational symmetry"))
-    lengths = env.edge_lengths
+    lengths = np.asarray(env.edge_lengths, dtype=float)
     limit = float(epsilon)
 
-    def spread(pieces) -> float:
-        return (max(b for _, _, b in pieces) - min(a for _, a, _ in pieces)) * float(lengths[pieces[0][0]])
-
-    def done(pieces) -> bool:
-        return len({e for e, _, _ in pieces}) == 1 and spread(pieces) < limit * (1 - 1e-9)
+    def done(flat: Flat) -> np.ndarray:
+        # one edge, hull shorter than ε (floats, with a relative margin; the exact test decides)
+        owner, edge, lo, hi = flat.hulls()
+        count = np.bincount(owner, minlength=flat.n)
+        short = np.zeros(flat.n, dtype=bool)
+        short[owner] = (hi - lo) * lengths[edge] < limit * (1 - 1e-9)
+        return (count == 1) & short
 
     def done_exact(pieces) -> bool:
         if len({p.edge for p in pieces}) != 1:
@@ -193,18 +207,15 @@ def localize(
         lo, hi = min(p.t0 for p in pieces), max(p.t1 for p in pieces)
         return float(hi - lo) * float(lengths[pieces[0].edge]) < limit
 
-    def rank(pieces, length):
-        edges = {e for e, _, _ in pieces}
-        hull = sum(spread(tuple(p for p in pieces if p[0] == e)) for e in edges)
-        return (len(edges), hull)
-
     margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
     t0 = time.perf_counter()
-    outcome = search_positions(env, part, start_set.pieces, done, done_exact, tolerance=eps, max_bounces=max_bounces,
-                               n_headings=n_headings, beam=beam, rank=rank, margins=margins, deadline=deadline)
+    passes = widening_passes(beam, n_headings)
+    outcome, used_beam, used_headings = search_widening(
+        env, part, start_set.pieces, done, done_exact, passes=passes, max_rows=max_rows, tolerance=eps,
+        max_bounces=max_bounces, rank="edges", margins=margins, deadline=deadline)
     stats = search_stats(outcome, time.perf_counter() - t0)
     status, optimality = search_optimality(
-        outcome, max_bounces=max_bounces, n_headings=n_headings, beam=beam,
+        outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
         scope=f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces")
     goal = None
     if outcome.stages is not None:

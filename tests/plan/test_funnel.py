@@ -21,7 +21,7 @@ from solverplan.certify.schema import Certificate
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from solverplan.plan import find_plan
-from solverplan.plan._positions import _dominated, merge_pieces
+from solverplan.plan._positions import Flat, _merged_images, _Reached, merge_pieces
 from solverplan.plan.funnel import funnel, safe_plan_exists
 from solverplan.simulate import StagePolicy, simulate_policy
 
@@ -124,10 +124,41 @@ def test_tampered_funnel_certificates_fail(door_funnel):
 def test_dominance_and_merging():
     assert merge_pieces([(3, 0.5, 0.7), (1, 0.1, 0.2), (3, 0.6, 0.9), (3, 0.95, 1.0)]) == (
         (1, 0.1, 0.2), (3, 0.5, 0.9), (3, 0.95, 1.0))
-    seen = {2: [(0.4, 0.5)]}
-    assert _dominated(seen, [], ((2, 0.3, 0.6),))  # contains an earlier state: any plan from that works
-    assert not _dominated(seen, [], ((2, 0.45, 0.6),))
-    assert _dominated({}, [((1, 0.1, 0.2), (3, 0.5, 0.6))], ((1, 0.0, 0.3), (3, 0.4, 0.7)))
+    reached = _Reached(4)
+    reached.add(((2, 0.4, 0.5),))
+    assert reached.dominated(((2, 0.3, 0.6),))  # contains an earlier state: any plan from that works
+    assert reached.dominated(((1, 0.0, 0.1), (2, 0.3, 0.6)))  # one of its pieces does
+    assert not reached.dominated(((2, 0.45, 0.6),))
+    assert not reached.dominated(((3, 0.3, 0.6),))
+    reached.add(((1, 0.1, 0.2), (3, 0.5, 0.6)))
+    assert reached.dominated(((1, 0.0, 0.3), (3, 0.4, 0.7)))
+    assert reached.dominated(((1, 0.0, 0.3), (3, 0.4, 0.45), (3, 0.5, 0.7)))  # several pieces on one edge
+    assert not reached.dominated(((1, 0.0, 0.3), (3, 0.4, 0.55), (3, 0.57, 0.7)))  # hull fits, pieces do not
+    assert not reached.dominated(((1, 0.15, 0.3), (3, 0.4, 0.7)))
+
+
+def test_flat_merging_is_merge_pieces_per_candidate():
+    """The vectorised state building merges each candidate's images exactly as merge_pieces does."""
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        n_cand = int(rng.integers(1, 6))
+        rc = np.sort(rng.integers(0, n_cand, size=int(rng.integers(1, 12))))
+        tgt = rng.integers(0, 3, size=len(rc))
+        lo = np.round(rng.random(len(rc)), 1)  # coarse values: touching and nested pieces are common
+        hi = np.minimum(lo + np.round(rng.random(len(rc)) * 0.4, 1), 1.0)
+        good = rng.random(n_cand) < 0.8
+        flat = _merged_images(rc, tgt, lo, hi, good)
+        starts = flat.starts
+        for c in range(n_cand):
+            got = tuple(zip(flat.edge[starts[c]:starts[c + 1]].tolist(), flat.lo[starts[c]:starts[c + 1]].tolist(),
+                            flat.hi[starts[c]:starts[c + 1]].tolist()))
+            rows = np.flatnonzero(rc == c)
+            expected = merge_pieces([(int(tgt[r]), float(lo[r]), float(hi[r])) for r in rows]) if good[c] else ()
+            assert got == expected
+    batch = Flat.of([((1, 0.1, 0.2), (1, 0.3, 0.5), (4, 0.0, 0.1)), ((2, 0.5, 0.6),)])
+    owner, edge, lo, hi = batch.hulls()
+    assert owner.tolist() == [0, 0, 1] and edge.tolist() == [1, 4, 2] and lo.tolist() == [0.1, 0.0, 0.5]
+    assert hi.tolist() == [0.5, 0.1, 0.6] and batch.edge_counts().tolist() == [2, 1]
 
 
 def test_funnel_into_a_short_goal_of_the_square_uses_contraction():
@@ -142,7 +173,7 @@ def test_funnel_not_found_is_an_answer_and_bad_input_raises(door):
     f = funnel(env, "e0", "e4", max_bounces=2, graph=graph)
     assert f.status == "not-found" and "heuristic" in f.reason and not f.optimality.proved
     assert f.status.incomplete and f.optimality.method == "heuristic"
-    assert f.optimality.limits == ("max_bounces=2", "beam=400", "n_headings=240")
+    assert f.optimality.limits == ("max_bounces=2", "beam=400", "n_headings=240", "max_rows=250000", "cut=max_bounces")
     with pytest.raises(InputError, match="unknown edge e99"):
         funnel(env, "e0", "e99")
     with pytest.raises(InputError, match="tolerance"):

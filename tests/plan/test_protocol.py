@@ -112,7 +112,8 @@ def test_statuses_and_methods_of_each_kind():
     assert built["patrol-tolerance"].optimality.method is Method.BISECTION
     assert built["funnel"].optimality.method is Method.HEURISTIC and not built["funnel"].optimality.proved
     assert built["funnel-not-found"].status is Status.NOT_FOUND
-    assert built["funnel-not-found"].optimality.limits == ("max_bounces=1", "beam=400", "n_headings=240")
+    assert built["funnel-not-found"].optimality.limits == ("max_bounces=1", "beam=400", "n_headings=240", "max_rows=250000",
+                                                          "cut=max_bounces")
     assert built["localization"].status is Status.FOUND and built["localization"].optimality.method is Method.HEURISTIC
     sym = built["localization-symmetric"]
     assert sym.status is Status.INFEASIBLE and sym.optimality.method is Method.SYMMETRY and sym.optimality.proved

@@ -155,6 +155,23 @@ def test_two_rooms_pareto_front_is_monotone_and_ends_at_the_max_tolerance_plan(t
         assert point.plan.min_width == pytest.approx(point.min_width)
 
 
+def test_options_wider_than_a_threshold_are_exactly_the_wide_options(two_rooms):
+    """The bottleneck search's pre-filtered intersection drops only options no wider than its lower bound."""
+    from solverplan.plan._search import _options_wider
+
+    env, graph = two_rooms
+    problem = planning_problem(env, "e0:0.2:0.8,e9", "e4:0.5:1", graph=graph)
+    beliefs = [problem.start_belief] + [o.next for o in problem.options(problem.start_belief)][:20]
+    checked = 0
+    for b in beliefs:
+        every = problem.options(b)
+        for threshold in (0.0, 1e-3, 0.02, 0.1):
+            expected = sorted((o.lo, o.hi, o.next) for o in every if threshold == 0.0 or o.hi - o.lo > threshold)
+            assert sorted((o.lo, o.hi, o.next) for o in _options_wider(problem, b, threshold)) == expected
+            checked += len(expected)
+    assert checked > 0
+
+
 def test_belief_state_plan_from_a_start_spanning_segments(two_rooms):
     """e0:0.2:0.8 covers segments 2–5 of e0: one interval must work from all four (conformant plan)."""
     env, graph = two_rooms
