@@ -155,10 +155,11 @@ def emit(answer: Answer, fmt: OutputFormat, out: Path | None) -> None:
 
 
 # ---------------------------------------------------------------------- errors and logging
-def _one_line(message: str, limit: int = 150) -> str:
-    """The framework's usage message on one line, its quotes of the input cut like ours (``limits.quote``)."""
+def _one_line(message: str, limit: int | None = None) -> str:
+    """A message on one line. With a ``limit`` (the framework's usage messages, which quote the input whole), the
+    quotes of the input are cut like ours (``limits.quote``) and the line to ``limit`` characters."""
     text = " ".join(part.strip() for part in message.splitlines() if part.strip())
-    if len(text) <= limit:
+    if limit is None or len(text) <= limit:
         return text
     # a quote opens before a non-space and closes before a non-word character: the framework's repr of the input
     text = re.sub(r"(?<!\w)'([^'\s][^']{%d,}?)'(?!\w)" % (MAX_QUOTED_CHARS - 1),
@@ -237,7 +238,7 @@ class _Shell(TyperGroup):
                 sys.stderr.write(exc.format_message() + "\n")
             else:
                 hint = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
-                sys.stderr.write(f"error: {_one_line(exc.format_message())}{hint}\n")
+                sys.stderr.write(f"error: {_one_line(exc.format_message(), limit=150)}{hint}\n")
             sys.stderr.flush()
             sys.exit(getattr(exc, "exit_code", 2))
         except typer.Abort:

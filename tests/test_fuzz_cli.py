@@ -206,6 +206,7 @@ def test_a_long_bad_choice_is_quoted_short(value):  # found by the fuzz profile:
 
 @FUZZ
 @given(command=st.sampled_from(sorted(_OPTIONS)), data=st.data())
+@example(command="localize", data=None).via("found by fuzzing: ten million bounces, ε below float resolution (a hang)")
 def test_fuzzed_option_values_are_answered_or_refused_in_one_line(tmp_path_factory, plan_and_certificate, command,
                                                                   data):
     folder = tmp_path_factory.mktemp("fuzz")
