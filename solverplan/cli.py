@@ -875,6 +875,65 @@ def verify_command(
         raise _fail(f"certificate invalid: {report.failures[0]}{suffix}", 1)
 
 
+# ---------------------------------------------------------------------- rooms and doors (rectilinear polygons)
+class RoomRule(StrEnum):
+    SMART = "smart"
+    RANDOM = "random"
+    BILLIARD = "billiard"
+    ALL = "all"
+
+
+class DoorMode(StrEnum):
+    CONTROL = "control"
+    OPEN = "open"
+
+
+@app.command(name="rooms")
+def rooms_command(
+    env: EnvArg,
+    simulate: Annotated[bool, typer.Option("--simulate", help="Simulate robots from room --from to room --to instead.")] = False,
+    start: Annotated[int | None, typer.Option("--from", min=0, metavar="ROOM", help="Start room (with --simulate).", show_default=False)] = None,
+    goal: Annotated[int | None, typer.Option("--to", min=0, metavar="ROOM", help="Target room (with --simulate).", show_default=False)] = None,
+    rule: Annotated[RoomRule, typer.Option("--rule", help="Bounce rule: smart, random, billiard, or all three side by side.")] = RoomRule.SMART,
+    trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="N", help="Robots per rule.")] = 100,
+    seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the starts (and of the random rule).")] = 0,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of each robot.")] = 5000,
+    doors: Annotated[DoorMode, typer.Option("--doors", help="control: the door-control policy for the room sequence; open: every door open.")] = DoorMode.CONTROL,
+    per_room: Annotated[bool, typer.Option("--per-room", help="Tell the smart robot the θ of the room it is in.")] = False,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Rooms and doors of a rectilinear polygon (Algorithm 1 of the rooms paper); with --simulate, the bounce rules compared."""
+    from solverplan.rectilinear import decompose
+    from solverplan.render import save_figure
+    from solverplan.render.rooms import render_rooms
+
+    with exit_codes(verbose):
+        _check_picture(picture)
+        if not simulate and (start is not None or goal is not None):
+            raise InputError("--from and --to choose the rooms of --simulate: add --simulate")
+        if simulate and (start is None or goal is None):
+            raise InputError("--simulate needs --from ROOM and --to ROOM")
+        dec = decompose(_load(env, env_format))
+        if not simulate:
+            if picture is not None:
+                save_figure(render_rooms(dec), picture)
+            emit(dec, fmt, out)
+            return
+        from solverplan.studies.rooms import RULES, compare_rules
+
+        assert start is not None and goal is not None
+        names = RULES if rule is RoomRule.ALL else (rule.value,)
+        answer = compare_rules(dec, start, goal, rules=names, trials=trials, seed=seed, max_bounces=max_bounces,
+                               doors=doors.value, per_room=per_room, keep=1 if picture is not None else 0)
+        if picture is not None:
+            save_figure(render_rooms(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}), picture)
+        emit(answer if rule is RoomRule.ALL else answer.runs[rule.value], fmt, out)
+
+
 # ---------------------------------------------------------------------- generate (random environments)
 generate_app = typer.Typer(
     name="generate", cls=_Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,

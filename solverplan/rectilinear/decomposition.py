@@ -254,6 +254,12 @@ class Decomposition:
         return EnvironmentRecord.of(self.env)
 
     # -- structure
+    @cached_property
+    def room_environments(self) -> tuple[Environment, ...]:
+        """Each room as an environment of its own: its sides in counter-clockwise order, door end points included
+        as vertices (so every side is all wall or all door: side k of room r is ``rooms[r].sides[k]``)."""
+        return tuple(Environment.from_coords(room.ring, name=f"{self.env.name} room {room.id}") for room in self.rooms)
+
     @property
     def tree(self) -> tuple[tuple[int, int], ...]:
         """The room adjacency tree as sorted room-id pairs, one per door (Remark 5)."""
@@ -307,20 +313,22 @@ class Decomposition:
         self.check_room(start)
         walk = [start]
         seen = {start}
-
-        def visit(room: int) -> None:
-            children = [other for other, _ in self.neighbours[room] if other not in seen]
-            for k, child in enumerate(children):
-                if child in seen:
-                    continue
-                seen.add(child)
-                walk.append(child)
-                visit(child)
-                if any(c not in seen for c in children[k + 1:]):
-                    walk.append(room)
-
-        visit(start)
-        return tuple(walk)
+        last_new = 0  # where the last room entered for the first time sits in the walk
+        stack = [(start, iter(self.neighbours[start]))]  # depth first, without recursion (deep trees)
+        while stack:
+            room, children = stack[-1]
+            for child, _ in children:
+                if child not in seen:
+                    seen.add(child)
+                    walk.append(child)
+                    last_new = len(walk) - 1
+                    stack.append((child, iter(self.neighbours[child])))
+                    break
+            else:
+                stack.pop()
+                if stack:
+                    walk.append(stack[-1][0])  # back to the parent
+        return tuple(walk[: last_new + 1])
 
     def room_of(self, point: tuple[object, object]) -> int:
         """The room containing ``point`` (exact; a point on a door belongs to the lower room id); :class:`InputError` outside P."""
