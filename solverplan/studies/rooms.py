@@ -10,8 +10,8 @@ rooms as its walls; a run that reaches the target room counts its bounces (a pas
 a bounce; a bounce off a closed door is).
 
 **Trapped runs.** A deterministic rule (billiard, smart) that has not reached the target within the budget may
-be caught in a periodic orbit. Such a run is replayed in exact rational arithmetic (its start rounded to a
-nearby rational point and direction): the exact state — the wall hit, the exact point, the exact direction
+be caught in a periodic orbit. Such a run is replayed in exact rational arithmetic (:func:`periodic_orbit`; its
+start rounded to a nearby rational point and slope, to 1e-6): the exact state — the wall hit, the exact point, the exact direction
 of travel, the position in the room sequence and the smart rule's bit — is remembered at every bounce, and the
 run is *trapped* when a state repeats before the target is reached (then it never gets there). Runs that
 neither reach the target nor repeat within the budget are only "not reached".
@@ -38,10 +38,11 @@ from solverplan.geometry.raycast import cast_rays_exact
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
 from solverplan.rectilinear.metrics import RuleRecommendation, recommend_rule
-from solverplan.rectilinear.rules import RULES, Billiard, Rule, Smart, make_rule, smart_tangent
+from solverplan.rectilinear.rules import RULES, Rule, Smart, make_rule, room_tangents, smart_tangent
 from solverplan.simulate import Contacts, Outcome, simulate_policy
 
-__all__ = ["RoomPolicy", "RoomRuns", "RuleComparison", "simulate_rooms", "compare_rules", "DEFAULT_MAX_BOUNCES"]
+__all__ = ["RoomPolicy", "RoomRuns", "RuleComparison", "simulate_rooms", "compare_rules", "periodic_orbit",
+           "DEFAULT_MAX_BOUNCES"]
 
 DEFAULT_MAX_BOUNCES = 5000
 """Bounce budget of a run when none is given (the smart rule sweeps a room in steps of half a door)."""
@@ -272,65 +273,78 @@ def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[
 
 
 # ---------------------------------------------------------------------- exact replay: periodic orbits
+def _rational_start(world: RoomWorld, wall: int, t: float, heading: float) -> tuple[tuple[Fraction, Fraction], tuple[Fraction, Fraction]]:
+    """A rational start near a float one: the point at t rounded to 1e-6 of the wall, the direction's slope
+    rounded to 1e-6 (so a billiard orbit keeps a rational slope, the precondition of a periodic one)."""
+    room = int(world.room_of[wall])
+    edge = world.dec.room_environments[room].edge(wall - int(world.offsets[room]))
+    q = Fraction(t).limit_denominator(10**6)
+    point = (edge.a[0] + q * (edge.b[0] - edge.a[0]), edge.a[1] + q * (edge.b[1] - edge.a[1]))
+    dx, dy = world.directions(np.array([wall]), np.array([heading]))[0].tolist()
+    if abs(dx) >= abs(dy):
+        return point, (Fraction(1 if dx > 0 else -1), Fraction(dy / abs(dx)).limit_denominator(10**6))
+    return point, (Fraction(dx / abs(dy)).limit_denominator(10**6), Fraction(1 if dy > 0 else -1))
+
+
 def _periodic(dec: Decomposition, rule: Rule, walk: tuple[int, ...], doors: Doors, wall: int, t: float,
               heading: float, max_bounces: int) -> bool:
-    """Replay one deterministic run exactly; True when a state repeats before the target is reached."""
+    world = RoomWorld(dec)
+    point, direction = _rational_start(world, wall, t, heading)
+    return periodic_orbit(dec, rule, walk, wall, point, direction, max_bounces=max_bounces, doors=doors) is not None
+
+
+def periodic_orbit(dec: Decomposition, rule: Rule, walk: Sequence[int], wall: int, point: tuple[object, object],
+                   direction: tuple[object, object], *, max_bounces: int, doors: Doors = "control") -> int | None:
+    """Replay a deterministic rule exactly from ``point`` on wall ``wall`` (a wall of :class:`RoomWorld`) moving
+    along ``direction`` (exact numbers); the period in bounces when the state repeats before the end of
+    ``walk`` is reached (the robot is trapped for ever), else ``None`` (it arrives, hits a corner, or the
+    budget ends first). Door control as in :class:`RoomPolicy`."""
+    from solverplan.exact import exact_point
+
+    if not rule.deterministic:
+        raise InputError(f"the {rule.name} rule is not deterministic: it has no periodic orbits to find")
+    walk = tuple(walk)
     world = RoomWorld(dec)
     control = DoorControl(dec, walk)
     env_of = dec.room_environments
     room = int(world.room_of[wall])
-    local = wall - int(world.offsets[room])
-    edge = env_of[room].edge(local)
-    q = Fraction(t).limit_denominator(10**6)
-    point = (edge.a[0] + q * (edge.b[0] - edge.a[0]), edge.a[1] + q * (edge.b[1] - edge.a[1]))
-    direction = _rational_direction(float(world.directions(np.array([wall]), np.array([heading]))[0, 0]),
-                                    float(world.directions(np.array([wall]), np.array([heading]))[0, 1]))
+    p = exact_point(point, where="start point")
+    d = exact_point(direction, where="start direction")
     smart = rule if isinstance(rule, Smart) else None
+    tangents = (room_tangents(dec) if smart.per_room else (smart_tangent(dec, walk),) * len(dec.rooms)) if smart else ()
     position = 0
-    seen: set[tuple] = set()
+    seen: dict[tuple, int] = {}
     for step in range(1, max_bounces + 1):
-        # fly: cast in the room, through open doors
-        while True:
-            hit = cast_rays_exact(env_of[room], [point], [direction], skip_invalid=True)[0]
+        while True:  # one flight: in the room, on through open doors
+            hit = cast_rays_exact(env_of[room], [p], [d], skip_invalid=True)[0]
             if hit is None or hit.vertex is not None:
-                return False  # a corner: outside the model, not a periodic orbit
+                return None  # a corner: outside the model
             wall = int(world.offsets[room]) + hit.edge
             door = int(world.door_of[wall])
-            passes = door >= 0 and (doors == "open" or bool(control.is_open(np.array([position]), np.array([door]))[0]))
-            point = hit.point
-            if not passes:
+            p = hit.point
+            if door < 0 or not (doors == "open" or bool(control.is_open(np.array([position]), np.array([door]))[0])):
                 break
             wall = int(world.twin[wall])
             room = int(world.room_of[wall])
         if doors == "open":
             if room == walk[-1]:
-                return False
+                return None
         else:
             new, ok = control.advance(np.array([position]), np.array([room]))
             position = int(new[0])
             if not ok[0] or position == control.last:
-                return False
-        local = wall - int(world.offsets[room])
-        state = (wall, point, direction, position, step % 2 if smart is not None else 0)
+                return None
+        state = (wall, p, d, position, step % 2 if smart is not None else 0)
         if state in seen:
-            return True
-        seen.add(state)
-        edge = env_of[room].edge(local)
+            return step - seen[state]
+        seen[state] = step
+        edge = env_of[room].edge(wall - int(world.offsets[room]))
         tangent = (edge.b[0] - edge.a[0], edge.b[1] - edge.a[1])  # axis-parallel: one component is 0
         normal = (-tangent[1], tangent[0])
-        if isinstance(rule, Billiard):
-            # reflect: the component along the normal changes sign
-            direction = (-direction[0], direction[1]) if tangent[0] == 0 else (direction[0], -direction[1])
-        else:
-            assert smart is not None
-            if step % 2 == 0:
-                direction = normal
-            else:  # π/2 + θ from the wall: the normal turned by θ towards −tangent
-                tan = smart.tangent_of(dec, walk, room)
-                direction = (normal[0] - tan * tangent[0], normal[1] - tan * tangent[1])
-    return False
-
-
-def _rational_direction(dx: float, dy: float) -> tuple[Fraction, Fraction]:
-    """A nearby rational direction (each component to 1e-6)."""
-    return (Fraction(dx).limit_denominator(10**6), Fraction(dy).limit_denominator(10**6))
+        if smart is None:  # billiard: the component across the wall changes sign
+            d = (-d[0], d[1]) if tangent[0] == 0 else (d[0], -d[1])
+        elif step % 2 == 0:
+            d = normal
+        else:  # π/2 + θ from the wall: the normal turned by θ towards the wall's start
+            d = (normal[0] - tangents[room] * tangent[0], normal[1] - tangents[room] * tangent[1])
+    return None
