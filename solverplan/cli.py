@@ -907,7 +907,7 @@ def rooms_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """Rooms and doors of a rectilinear polygon (Algorithm 1 of the rooms paper); with --simulate, the bounce rules compared."""
-    from solverplan.rectilinear import decompose
+    from solverplan.rectilinear import decompose_rooms
     from solverplan.render import save_figure
     from solverplan.render.rooms import render_rooms
 
@@ -917,7 +917,7 @@ def rooms_command(
             raise InputError("--from and --to choose the rooms of --simulate: add --simulate")
         if simulate and (start is None or goal is None):
             raise InputError("--simulate needs --from ROOM and --to ROOM")
-        dec = decompose(_load(env, env_format))
+        dec = decompose_rooms(_load(env, env_format))
         if not simulate:
             if picture is not None:
                 save_figure(render_rooms(dec), picture)

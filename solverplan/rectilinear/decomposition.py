@@ -63,7 +63,7 @@ adds them (reflex vertex order); a door's ``a`` is its reflex vertex, ``b`` the 
 
 >>> from solverplan.environment import Environment
 >>> ell = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])
->>> rooms = decompose(ell)
+>>> rooms = decompose_rooms(ell)
 >>> [room.polygon for room in rooms.rooms] == [((0, 0), (2, 0), (2, 4), (0, 4)), ((2, 0), (4, 0), (4, 2), (2, 2))]
 True
 >>> door = rooms.doors[0]          # four candidates of length 2 tie: the one to edge 0 (the floor) wins
@@ -89,7 +89,7 @@ __all__ = [
     "Door",
     "Room",
     "Decomposition",
-    "decompose",
+    "decompose_rooms",
     "check_rectilinear",
     "bottleneck_segments",
 ]
@@ -575,7 +575,7 @@ def _check_no_crossings(doors: list[tuple[ExactPoint, ExactPoint]]) -> None:
                                f"{format_point(doors[j][0])}–{format_point(doors[j][1])} cross (Prop. 2 fails)")
 
 
-def decompose(env: Environment) -> Decomposition:
+def decompose_rooms(env: Environment) -> Decomposition:
     """Rooms and doors of a rectilinear polygon by Algorithm 1 (module docstring), exact.
 
     Parameters

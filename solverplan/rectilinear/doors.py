@@ -17,8 +17,8 @@ the way on and stays open until the robot is back (the paper's exact words for a
 that come back through a room).
 
 >>> from solverplan.environment import load_environment
->>> from solverplan.rectilinear.decomposition import decompose
->>> dec = decompose(load_environment("chambers"))
+>>> from solverplan.rectilinear.decomposition import decompose_rooms
+>>> dec = decompose_rooms(load_environment("chambers"))
 >>> control = DoorControl(dec, dec.path(0, 2))
 >>> control.walk, [sorted(control.open_doors(k)) for k in range(len(control.walk))]
 ((0, 4, 1, 3, 2), [[0, 1, 2, 3], [1, 2, 3], [2, 3], [3], []])

@@ -14,8 +14,8 @@
   the smart rule when the escapability factors exceed 0.1 and calls a door narrower than that too narrow.
 
 >>> from solverplan.environment import Environment
->>> from solverplan.rectilinear.decomposition import decompose
->>> ell = decompose(Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]]))
+>>> from solverplan.rectilinear.decomposition import decompose_rooms
+>>> ell = decompose_rooms(Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]]))
 >>> escapability(ell, 0, 1), escapability(ell, 1, 0)          # the door is half of room 0's wall, all of room 1's
 (Fraction(1, 2), Fraction(1, 1))
 >>> reachability(ell, 0, 1).psi, recommend_rule(ell, 0, 1).rule

@@ -24,8 +24,8 @@ everywhere in solverplan; α is the paper's hitting angle, measured from the wal
 
 >>> from fractions import Fraction
 >>> from solverplan.environment import load_environment
->>> from solverplan.rectilinear.decomposition import decompose
->>> dec = decompose(load_environment("chambers"))
+>>> from solverplan.rectilinear.decomposition import decompose_rooms
+>>> dec = decompose_rooms(load_environment("chambers"))
 >>> smart_tangent(dec, dec.path(0, 2))     # the 1-wide door out of a 30 × 30 chamber: 1 / (2 · 30)
 Fraction(1, 60)
 >>> rule = Smart.for_walk(dec, dec.path(0, 2))
@@ -90,17 +90,13 @@ def smart_tangent(dec: Decomposition, walk: Sequence[int]) -> Fraction:
     walk = tuple(walk)
     pairs = [(walk[k], dec.door_between(walk[k], walk[k + 1]).length) for k in range(len(walk) - 1)]
     if not pairs:
-        room = dec.rooms[dec.check_room(walk[0])] if walk else dec.rooms[0]
-        pairs = [(room.id, dec.doors[d].length) for d in room.doors]
-    if not pairs:
-        return Fraction(1, 2)
-    best = None
-    for room, length in pairs:
-        x0, y0, x1, y1 = dec.rooms[room].bounds
-        value = length / (2 * max(x1 - x0, y1 - y0))
-        best = value if best is None or value < best else best
-    assert best is not None
-    return best
+        only = dec.rooms[dec.check_room(walk[0])] if walk else dec.rooms[0]
+        pairs = [(only.id, dec.doors[d].length) for d in only.doors]
+    values = []
+    for room_id, length in pairs:
+        x0, y0, x1, y1 = dec.rooms[room_id].bounds
+        values.append(length / (2 * max(x1 - x0, y1 - y0)))
+    return min(values, default=Fraction(1, 2))
 
 
 def room_tangents(dec: Decomposition) -> tuple[Fraction, ...]:

@@ -2,8 +2,8 @@
 bold red segments, segments Algorithm 1 dropped dotted, and trajectories of the bounce rules on top.
 
 >>> from solverplan.environment import load_environment
->>> from solverplan.rectilinear import decompose
->>> fig = render_rooms(decompose(load_environment("chambers")))
+>>> from solverplan.rectilinear import decompose_rooms
+>>> fig = render_rooms(decompose_rooms(load_environment("chambers")))
 >>> sorted({a.get_gid() for a in fig.axes[0].patches})[:2], len([t for t in fig.axes[0].texts if t.get_gid().startswith("room-id-")])
 (['room-0', 'room-1'], 5)
 """

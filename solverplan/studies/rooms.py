@@ -17,8 +17,8 @@ run is *trapped* when a state repeats before the target is reached (then it neve
 neither reach the target nor repeat within the budget are only "not reached".
 
 >>> from solverplan.environment import load_environment
->>> from solverplan.rectilinear import decompose
->>> dec = decompose(load_environment("chambers"))
+>>> from solverplan.rectilinear import decompose_rooms
+>>> dec = decompose_rooms(load_environment("chambers"))
 >>> runs = simulate_rooms(dec, 0, 2, rule="smart", trials=20, seed=1, max_bounces=3000)
 >>> runs.success, runs.outcomes["goal"]
 (1.0, 20)
@@ -219,7 +219,7 @@ def simulate_rooms(
     Parameters
     ----------
     dec
-        A room decomposition (:func:`solverplan.rectilinear.decompose`).
+        A room decomposition (:func:`solverplan.rectilinear.decompose_rooms`).
     start, goal
         Room ids.
     rule

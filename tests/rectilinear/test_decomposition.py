@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, InvalidEnvironment
 from solverplan.exact import orient, point_in_ring, segment_intersection
-from solverplan.rectilinear.decomposition import bottleneck_segments, decompose
+from solverplan.rectilinear.decomposition import bottleneck_segments, decompose_rooms
 from solverplan.studies.generators import rectilinear_polygon
 
 
@@ -35,7 +35,7 @@ def test_l_shape_one_door_from_the_reflex_vertex_to_the_floor():
     # the reflex vertex (2, 2) sees four closest points at distance 2: (2, 0) on edge 0 (the floor), (4, 2) on
     # edge 1, (2, 4) on edge 4 and (0, 2) on edge 5; line 10's strict < keeps the first edge's
     ell = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])
-    dec = decompose(ell)
+    dec = decompose_rooms(ell)
     assert door_set(dec) == {frozenset((F(2, 2), F(2, 0)))}
     assert [set(room.polygon) for room in dec.rooms] == [{F(0, 0), F(2, 0), F(2, 4), F(0, 4)},
                                                          {F(2, 0), F(4, 0), F(4, 2), F(2, 2)}]
@@ -59,7 +59,7 @@ def chambers(doorway: int = 4) -> Environment:
 
 
 def test_fig_5_chambers_have_one_door_at_each_end_of_each_doorway():
-    dec = decompose(chambers())
+    dec = decompose_rooms(chambers())
     # by hand: each doorway end has two reflex vertices facing each other across the doorway's width; the lower
     # one (earlier in vertex order) draws the door up to the upper one, which is then served by that door
     expected = {frozenset((F(30, 14.5), F(30, 15.5))), frozenset((F(34, 14.5), F(34, 15.5))),
@@ -77,7 +77,7 @@ def test_a_diagonal_shortest_segment_is_dropped_and_leaves_no_door():
     # the reflex vertices (3, 2) and (2, 3) are each other's closest points (distance √2 < 3): the segment
     # between them is the door of (3, 2), serves (2, 3) too, and is dropped by line 19
     stair = Environment.from_coords([[0, 0], [3, 0], [3, 2], [5, 2], [5, 5], [2, 5], [2, 3], [0, 3]])
-    dec = decompose(stair)
+    dec = decompose_rooms(stair)
     assert bottleneck_segments(stair) == [(2, F(2, 3), 5)]
     assert dec.doors == () and len(dec.rooms) == 1
     assert dec.dropped == ((F(3, 2), F(2, 3), "diagonal"),)
@@ -90,7 +90,7 @@ def test_a_chain_of_three_doors_keeps_its_middle_door():
     env = Environment.from_coords([[11, 5], [11, 2], [12, 2], [12, 8], [11, 8], [11, 11], [8, 11], [8, 8], [5, 8], [5, 5]])
     raw = {frozenset((env.exact_vertices[v], p)) for v, p, _ in bottleneck_segments(env)}
     assert raw == {frozenset((F(11, 5), F(12, 5))), frozenset((F(11, 8), F(11, 5))), frozenset((F(8, 8), F(11, 8)))}
-    dec = decompose(env)
+    dec = decompose_rooms(env)
     assert door_set(dec) == {frozenset((F(11, 8), F(11, 5)))}
     assert {(a, b, r) for a, b, r in dec.dropped} == {(F(11, 5), F(12, 5), "chain"), (F(8, 8), F(11, 8), "chain")}
     assert [room.area for room in dec.rooms] == [box_area(11, 2, 12, 8), box_area(5, 5, 11, 8) + box_area(8, 8, 11, 11)]
@@ -107,13 +107,13 @@ def test_prop_2_fails_for_closest_points_and_the_longer_crossing_door_is_dropped
     up, across = frozenset((F(21, 13), F(21, 18))), frozenset((F(18, 17), F(22, 17)))
     assert up in raw and across in raw
     assert segment_intersection(F(21, 13), F(21, 18), F(18, 17), F(22, 17)).points == (F(21, 17),)
-    dec = decompose(env)
+    dec = decompose_rooms(env)
     assert across in door_set(dec) and up not in door_set(dec)
     assert (F(21, 13), F(21, 18), "crossing") in dec.dropped
 
 
 def test_warehouse_rooms_doors_and_doorway_cells():
-    dec = decompose(load_environment("warehouse"))
+    dec = decompose_rooms(load_environment("warehouse"))
     assert len(dec.rooms) == 15 and len(dec.doors) == 14
     areas = sorted(room.area for room in dec.rooms)
     assert areas == [1] * 7 + [28] + [64] * 6 + [78]  # 7 doorway cells, the bay, the six rooms, the corridor
@@ -126,16 +126,16 @@ def test_warehouse_rooms_doors_and_doorway_cells():
 # ---------------------------------------------------------------------- bad input
 def test_non_rectilinear_input_is_refused_naming_the_edge():
     with pytest.raises(InvalidEnvironment, match=r"^rooms need a rectilinear polygon: edge 1 from \(4, 0\) to \(4\.5, 3\) is neither horizontal nor vertical$"):
-        decompose(Environment.from_coords([[0, 0], [4, 0], [4.5, 3], [0, 3]]))
+        decompose_rooms(Environment.from_coords([[0, 0], [4, 0], [4.5, 3], [0, 3]]))
 
 
 def test_holes_are_refused():
     with pytest.raises(InvalidEnvironment, match=r"^rooms need a polygon without holes .*: one_hole has 1 hole$"):
-        decompose(load_environment("one_hole"))
+        decompose_rooms(load_environment("one_hole"))
 
 
 def test_unknown_rooms_are_input_errors():
-    dec = decompose(chambers())
+    dec = decompose_rooms(chambers())
     with pytest.raises(InputError, match=r"^unknown room 9: rooms are 0\.\.4$"):
         dec.path(0, 9)
     with pytest.raises(InputError, match=r"^rooms 0 and 2 do not share a door$"):
@@ -143,7 +143,7 @@ def test_unknown_rooms_are_input_errors():
 
 
 def test_json_answer_has_the_contract_fields():
-    data = decompose(chambers()).to_json()
+    data = decompose_rooms(chambers()).to_json()
     assert {"rooms", "doors", "tree"} <= set(data)
     assert set(data["rooms"][0]) >= {"id", "polygon", "area"}
     assert set(data["doors"][0]) >= {"a", "b", "rooms", "escapability"}
@@ -179,7 +179,7 @@ def triangle_inside(env: Environment, a, b, c) -> bool:
 @settings(max_examples=300)
 @given(polygons)
 def test_prop_1_two_doors_ab_bc_span_a_triangle_inside_the_polygon(env):
-    dec = decompose(env)
+    dec = decompose_rooms(env)
     for d in dec.doors:
         for e in dec.doors:
             if d.id >= e.id:
@@ -197,7 +197,7 @@ def test_prop_1_two_doors_ab_bc_span_a_triangle_inside_the_polygon(env):
 @settings(max_examples=300)
 @given(polygons)
 def test_prop_2_doors_never_cross(env):
-    doors = decompose(env).doors
+    doors = decompose_rooms(env).doors
     for d in doors:
         for e in doors:
             if d.id < e.id:
@@ -208,7 +208,7 @@ def test_prop_2_doors_never_cross(env):
 @settings(max_examples=300)
 @given(polygons)
 def test_remark_5_rooms_form_a_tree_and_their_areas_add_up_exactly(env):
-    dec = decompose(env)
+    dec = decompose_rooms(env)
     assert len(dec.rooms) == len(dec.doors) + 1
     assert sum(room.area for room in dec.rooms) == env.area
     tree = nx.Graph()
@@ -231,7 +231,7 @@ def test_remark_5_rooms_form_a_tree_and_their_areas_add_up_exactly(env):
 @settings(max_examples=100)
 @given(polygons)
 def test_every_door_is_a_bottleneck_segment_from_a_reflex_vertex(env):
-    dec = decompose(env)
+    dec = decompose_rooms(env)
     for door in dec.doors:
         assert env.is_reflex(door.vertex) and env.exact_vertices[door.vertex] == door.a
         assert door.a[0] == door.b[0] or door.a[1] == door.b[1]

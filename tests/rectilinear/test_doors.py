@@ -10,13 +10,13 @@ import pytest
 
 from solverplan.environment import load_environment
 from solverplan.errors import InputError
-from solverplan.rectilinear.decomposition import decompose
+from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
 
 
 @pytest.fixture(scope="module")
 def chambers():
-    return decompose(load_environment("chambers"))
+    return decompose_rooms(load_environment("chambers"))
 
 
 class Contacts:  # what RoomWorld.cast reads of the simulator's contacts

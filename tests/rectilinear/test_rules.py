@@ -10,14 +10,14 @@ import pytest
 
 from solverplan.environment import load_environment
 from solverplan.errors import InputError
-from solverplan.rectilinear.decomposition import decompose
+from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.rectilinear.doors import RoomWorld
 from solverplan.rectilinear.rules import Billiard, Random, Smart, make_rule, room_tangents, smart_tangent
 
 
 @pytest.fixture(scope="module")
 def chambers():
-    return decompose(load_environment("chambers"))
+    return decompose_rooms(load_environment("chambers"))
 
 
 def floor_of_chamber_1(world):
@@ -67,7 +67,7 @@ def test_smart_theta_is_half_the_door_over_the_larger_room_side(chambers):
 
 
 def test_warehouse_smart_theta_comes_from_the_corridor():
-    dec = decompose(load_environment("warehouse"))
+    dec = decompose_rooms(load_environment("warehouse"))
     path = dec.path(0, 14)
     assert path == (0, 4, 7, 11, 14)
     assert smart_tangent(dec, path) == Fraction(1, 52)  # a 1-wide door out of the 26 × 3 corridor

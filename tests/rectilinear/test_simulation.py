@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from solverplan.environment import load_environment
 from solverplan.errors import InputError
-from solverplan.rectilinear.decomposition import decompose
+from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.rectilinear.doors import RoomWorld
 from solverplan.rectilinear.rules import Billiard, Smart
 from solverplan.simulate import Outcome, simulate_policy
@@ -23,14 +23,14 @@ from solverplan.studies.rooms import RoomPolicy, compare_rules, periodic_orbit, 
 
 @pytest.fixture(scope="module")
 def chambers():
-    return decompose(load_environment("chambers"))
+    return decompose_rooms(load_environment("chambers"))
 
 
 # ---------------------------------------------------------------------- Prop. 3
 @settings(max_examples=1000)
 @given(st.integers(1, 16), st.integers(1, 4), st.integers(0, 2**32 - 1), st.integers(0, 100))
 def test_prop_3_with_door_control_the_smart_robot_visits_every_room(n, size, seed, start):
-    dec = decompose(rectilinear_polygon(n, seed=seed, max_size=size))
+    dec = decompose_rooms(rectilinear_polygon(n, seed=seed, max_size=size))
     start %= len(dec.rooms)
     tour = dec.tour(start)
     assert set(tour) == set(range(len(dec.rooms)))
@@ -42,7 +42,7 @@ def test_prop_3_with_door_control_the_smart_robot_visits_every_room(n, size, see
 
 
 def test_prop_3_on_the_shipped_models_every_robot_arrives(chambers):
-    warehouse = decompose(load_environment("warehouse"))
+    warehouse = decompose_rooms(load_environment("warehouse"))
     for dec, start, goal in ((chambers, 0, 2), (chambers, 2, 0), (warehouse, 0, 14), (warehouse, 3, 12)):
         runs = simulate_rooms(dec, start, goal, rule="smart", trials=15, seed=1, max_bounces=20_000)
         assert runs.success == 1.0 and runs.trapped == 0, (dec.env.name, start, goal, runs.outcomes)
