@@ -900,6 +900,7 @@ def rooms_command(
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of each robot.")] = 5000,
     doors: Annotated[DoorMode, typer.Option("--doors", help="control: the door-control policy for the room sequence; open: every door open.")] = DoorMode.CONTROL,
     per_room: Annotated[bool, typer.Option("--per-room", help="Tell the smart robot the θ of the room it is in.")] = False,
+    tour: Annotated[bool, typer.Option("--tour", help="Visit every room from --from (depth first) instead of going to --to.")] = False,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
@@ -913,10 +914,10 @@ def rooms_command(
 
     with exit_codes(verbose):
         _check_picture(picture)
-        if not simulate and (start is not None or goal is not None):
-            raise InputError("--from and --to choose the rooms of --simulate: add --simulate")
-        if simulate and (start is None or goal is None):
-            raise InputError("--simulate needs --from ROOM and --to ROOM")
+        if not simulate and (start is not None or goal is not None or tour):
+            raise InputError("--from, --to and --tour choose the rooms of --simulate: add --simulate")
+        if simulate and (start is None or (goal is None) == (not tour)):
+            raise InputError("--simulate needs --from ROOM and either --to ROOM or --tour")
         dec = decompose_rooms(_load(env, env_format))
         if not simulate:
             if picture is not None:
@@ -925,10 +926,11 @@ def rooms_command(
             return
         from solverplan.studies.rooms import RULES, compare_rules
 
-        assert start is not None and goal is not None
+        assert start is not None
+        walk = dec.tour(start) if tour else dec.path(start, dec.check_room(goal))
         names = RULES if rule is RoomRule.ALL else (rule.value,)
-        answer = compare_rules(dec, start, goal, rules=names, trials=trials, seed=seed, max_bounces=max_bounces,
-                               doors=doors.value, per_room=per_room, keep=1 if picture is not None else 0)
+        answer = compare_rules(dec, start, walk[-1], rules=names, trials=trials, seed=seed, max_bounces=max_bounces,
+                               doors=doors.value, per_room=per_room, walk=walk, keep=1 if picture is not None else 0)
         if picture is not None:
             save_figure(render_rooms(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}), picture)
         emit(answer if rule is RoomRule.ALL else answer.runs[rule.value], fmt, out)

@@ -81,7 +81,8 @@ from fractions import Fraction
 from functools import cached_property
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidEnvironment, SolverFailed
-from solverplan.exact import ExactPoint, format_number, format_point, json_number, point_in_ring, segment_intersection
+from solverplan.exact import (ExactPoint, exact_point, format_number, format_point, json_number, point_in_ring,
+                              segment_intersection)
 from solverplan.geometry.raycast import cast_ray
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
 
@@ -94,12 +95,9 @@ __all__ = [
     "bottleneck_segments",
 ]
 
-# the four axis directions, counter-clockwise; a segment's direction index
-_DIRECTIONS = ((1, 0), (0, 1), (-1, 0), (0, -1))  # E, N, W, S
-
-
 def _direction(a: ExactPoint, b: ExactPoint) -> int:
-    """Index in :data:`_DIRECTIONS` of the axis-parallel segment a → b."""
+    """The direction of the axis-parallel segment a → b as 0 (east), 1 (north), 2 (west) or 3 (south):
+    counter-clockwise order, so turning clockwise by 90° is subtracting 1 (mod 4)."""
     dx, dy = b[0] - a[0], b[1] - a[1]
     if dy == 0:
         return 0 if dx > 0 else 2
@@ -332,8 +330,6 @@ class Decomposition:
 
     def room_of(self, point: tuple[object, object]) -> int:
         """The room containing ``point`` (exact; a point on a door belongs to the lower room id); :class:`InputError` outside P."""
-        from solverplan.exact import exact_point
-
         p = exact_point(point, where="point")
         for room in self.rooms:
             if point_in_ring(p, room.polygon) >= 0:
@@ -646,7 +642,7 @@ def _check_remark_5(dec: Decomposition) -> None:
         raise SolverFailed("the room areas do not add up to the area of the polygon")
     if any(room.area <= 0 for room in dec.rooms):
         raise SolverFailed("a room has no positive area")
-    reached = set(dec.path(0, 0))
+    reached = {0}
     stack = [0]
     while stack:
         for other, _ in dec.neighbours[stack.pop()]:

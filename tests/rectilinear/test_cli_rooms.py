@@ -49,6 +49,13 @@ def test_simulate_one_rule_gives_the_contract_fields():
     assert data["recommended"] == "smart" and data["reachability_exact"] == "1/300"
 
 
+def test_simulate_a_tour_of_every_room():
+    result = run("rooms", "chambers", "--simulate", "--from", 1, "--tour", "--trials", 3, "--max-bounces", 20000)
+    assert result.exit_code == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert data["rooms"] == [1, 3, 2, 3, 1, 4, 0] and data["to"] == 0 and data["success"] == 1.0
+
+
 def test_simulate_all_rules_side_by_side_with_a_picture(tmp_path):
     picture = tmp_path / "rules.png"
     result = run("rooms", "chambers", "--simulate", "--from", 2, "--to", 0, "--rule", "all", "--trials", 4,
@@ -74,7 +81,8 @@ def test_rooms_picture_without_simulation(tmp_path):
 def test_bad_rooms_requests_are_one_line_errors():
     one_line_error(run("rooms", "one_hole"), "rooms need a polygon without holes")
     one_line_error(run("rooms", "two_rooms"), "rooms need a rectilinear polygon: edge")
-    one_line_error(run("rooms", "chambers", "--from", 0), "--from and --to choose the rooms of --simulate")
-    one_line_error(run("rooms", "chambers", "--simulate", "--from", 0), "--simulate needs --from ROOM and --to ROOM")
+    one_line_error(run("rooms", "chambers", "--from", 0), "--from, --to and --tour choose the rooms of --simulate")
+    one_line_error(run("rooms", "chambers", "--simulate", "--from", 0), "--simulate needs --from ROOM and either --to ROOM or --tour")
+    one_line_error(run("rooms", "chambers", "--simulate", "--from", 0, "--to", 2, "--tour"), "either --to ROOM or --tour")
     one_line_error(run("rooms", "chambers", "--simulate", "--from", 0, "--to", 9), "unknown room 9: rooms are 0..4")
     one_line_error(run("rooms", "chambers", "--picture", "x.gif"), "gif")

@@ -236,3 +236,11 @@ def test_every_door_is_a_bottleneck_segment_from_a_reflex_vertex(env):
         assert env.is_reflex(door.vertex) and env.exact_vertices[door.vertex] == door.a
         assert door.a[0] == door.b[0] or door.a[1] == door.b[1]
         assert point_in_ring(((door.a[0] + door.b[0]) / 2, (door.a[1] + door.b[1]) / 2), env.outer) == 1
+
+
+def test_room_of_a_point():
+    dec = decompose_rooms(chambers())
+    assert [dec.room_of(p) for p in [(15, 15), (32, 15), (50, 1), (66, 16), (97, 29)]] == [0, 4, 1, 3, 2]
+    assert dec.room_of((30, 15)) == 0  # on door a: the lower room id
+    with pytest.raises(InputError, match=r"^point \(31, 20\) is not in the polygon$"):
+        dec.room_of((31, 20))
