@@ -1042,6 +1042,21 @@ def generate_rectilinear(
                     door=door, min_room=min_room, pillars=pillars, seed=seed)
 
 
+@generate_app.command("polyomino")
+def generate_polyomino(
+    cells: Annotated[int, typer.Option("--cells", min=1, max=MAX_ROOMS, help="Number of grid cells (1,000 take seconds).")] = 12,
+    max_size: Annotated[int, typer.Option("--max-size", min=1, max=MAX_COUNT, help="Largest cell width or height.")] = 6,
+    seed: SeedOpt = 0,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: EnvOutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """A random simple rectilinear polygon without holes (grid cells of random sizes; integer coordinates)."""
+    from solverplan.studies.generators import rectilinear_polygon
+
+    _emit_generated(rectilinear_polygon, fmt, out, verbose, n_cells=cells, max_size=max_size, seed=seed)
+
+
 # ---------------------------------------------------------------------- study (batch experiments)
 study_app = typer.Typer(
     name="study", cls=_Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,

@@ -86,3 +86,14 @@ def test_bad_rooms_requests_are_one_line_errors():
     one_line_error(run("rooms", "chambers", "--simulate", "--from", 0, "--to", 2, "--tour"), "either --to ROOM or --tour")
     one_line_error(run("rooms", "chambers", "--simulate", "--from", 0, "--to", 9), "unknown room 9: rooms are 0..4")
     one_line_error(run("rooms", "chambers", "--picture", "x.gif"), "gif")
+
+
+def test_generate_polyomino_then_rooms(tmp_path):
+    env = tmp_path / "poly.json"
+    result = run("generate", "polyomino", "--cells", 14, "--max-size", 3, "--seed", 5, "-o", env)
+    assert result.exit_code == 0, result.stderr
+    rooms = run("rooms", env)
+    assert rooms.exit_code == 0, rooms.stderr
+    data = json.loads(rooms.stdout)
+    assert len(data["rooms"]) == len(data["doors"]) + 1 >= 1
+    one_line_error(run("generate", "polyomino", "--cells", 0), "--cells")
