@@ -12,7 +12,7 @@ Simulations and the rules' comparison (Table I) are in :mod:`solverplan.studies.
 :mod:`solverplan.render.rooms`; the command is ``solverplan rooms``.
 
 >>> import solverplan as sp
->>> rooms = sp.decompose_rooms(sp.load_environment("chambers"))
+>>> rooms = sp.decompose_rooms(sp.load_environment("three_chambers"))
 >>> len(rooms.rooms), len(rooms.doors), str(reachability(rooms, 0, 2).psi)
 (5, 4, '1/300')
 """

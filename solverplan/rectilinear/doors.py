@@ -18,7 +18,7 @@ that come back through a room).
 
 >>> from solverplan.environment import load_environment
 >>> from solverplan.rectilinear.decomposition import decompose_rooms
->>> dec = decompose_rooms(load_environment("chambers"))
+>>> dec = decompose_rooms(load_environment("three_chambers"))
 >>> control = DoorControl(dec, dec.path(0, 2))
 >>> control.walk, [sorted(control.open_doors(k)) for k in range(len(control.walk))]
 ((0, 4, 1, 3, 2), [[0, 1, 2, 3], [1, 2, 3], [2, 3], [3], []])

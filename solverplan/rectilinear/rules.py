@@ -25,7 +25,7 @@ everywhere in solverplan; α is the paper's hitting angle, measured from the wal
 >>> from fractions import Fraction
 >>> from solverplan.environment import load_environment
 >>> from solverplan.rectilinear.decomposition import decompose_rooms
->>> dec = decompose_rooms(load_environment("chambers"))
+>>> dec = decompose_rooms(load_environment("three_chambers"))
 >>> smart_tangent(dec, dec.path(0, 2))     # the 1-wide door out of a 30 × 30 chamber: 1 / (2 · 30)
 Fraction(1, 60)
 >>> rule = Smart.for_walk(dec, dec.path(0, 2))
@@ -115,10 +115,13 @@ class Smart:
     """The one-bit smart rule with tilt θ (radians, 0 < θ < π/2): heading π/2 + (step mod 2)·θ at the
     step-th hit (module docstring). With ``per_room`` (one θ per room, :func:`room_tangents`) the central
     system tells the robot the θ of the room it is in — the paper's variant with updated information; the
-    bit is still the robot's only memory."""
+    bit is still the robot's only memory. ``tangent`` and ``room_tangents`` are the exact tan θ when known
+    (the exact replay of :func:`solverplan.studies.rooms.periodic_orbit` moves along them)."""
 
     theta: float
     per_room: tuple[float, ...] = ()
+    tangent: Fraction | None = None
+    room_tangents: tuple[Fraction, ...] = ()
     name: ClassVar[str] = "smart"
     deterministic: ClassVar[bool] = True
 
@@ -131,12 +134,23 @@ class Smart:
     def for_walk(cls, dec: Decomposition, walk: Sequence[int], *, per_room: bool = False) -> Smart:
         """The smart rule with θ = arctan(:func:`smart_tangent`) for the room sequence ``walk`` (with
         ``per_room``: θ of each room from :func:`room_tangents`)."""
-        rooms = tuple(math.atan(tan) for tan in room_tangents(dec)) if per_room else ()
-        return cls(math.atan(smart_tangent(dec, walk)), rooms)
+        tangent = smart_tangent(dec, walk)
+        rooms = room_tangents(dec) if per_room else ()
+        return cls(math.atan(tangent), tuple(math.atan(t) for t in rooms), tangent, rooms)
 
-    def tangent_of(self, dec: Decomposition, walk: Sequence[int], room: int) -> Fraction:
-        """The exact tan θ the robot uses in ``room``."""
-        return room_tangents(dec)[room] if self.per_room else smart_tangent(dec, walk)
+    @classmethod
+    def with_tangent(cls, tangent: Fraction | int) -> Smart:
+        """The smart rule with the exact tan θ = ``tangent`` (> 0)."""
+        value = Fraction(tangent)
+        if value <= 0:
+            raise InputError(f"smart rule: tan θ = {value} must be positive")
+        return cls(math.atan(value), (), value)
+
+    def exact_tangent(self, room: int) -> Fraction:
+        """The exact tan θ the robot uses in ``room`` (the float θ's exact binary value when none was given)."""
+        if self.per_room:
+            return self.room_tangents[room] if self.room_tangents else Fraction(math.tan(self.per_room[room]))
+        return self.tangent if self.tangent is not None else Fraction(math.tan(self.theta))
 
     def headings_at(self, step: int, n: int) -> np.ndarray:
         return np.full(n, math.pi / 2 + (step % 2) * self.theta)

@@ -3,7 +3,7 @@ bold red segments, segments Algorithm 1 dropped dotted, and trajectories of the 
 
 >>> from solverplan.environment import load_environment
 >>> from solverplan.rectilinear import decompose_rooms
->>> fig = render_rooms(decompose_rooms(load_environment("chambers")))
+>>> fig = render_rooms(decompose_rooms(load_environment("three_chambers")))
 >>> sorted({a.get_gid() for a in fig.axes[0].patches})[:2], len([t for t in fig.axes[0].texts if t.get_gid().startswith("room-id-")])
 (['room-0', 'room-1'], 5)
 """

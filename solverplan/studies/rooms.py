@@ -18,7 +18,7 @@ neither reach the target nor repeat within the budget are only "not reached".
 
 >>> from solverplan.environment import load_environment
 >>> from solverplan.rectilinear import decompose_rooms
->>> dec = decompose_rooms(load_environment("chambers"))
+>>> dec = decompose_rooms(load_environment("three_chambers"))
 >>> runs = simulate_rooms(dec, 0, 2, rule="smart", trials=20, seed=1, max_bounces=3000)
 >>> runs.success, runs.outcomes["goal"]
 (1.0, 20)
@@ -38,7 +38,7 @@ from solverplan.geometry.raycast import cast_rays_exact
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
 from solverplan.rectilinear.metrics import RuleRecommendation, recommend_rule
-from solverplan.rectilinear.rules import RULES, Rule, Smart, make_rule, room_tangents, smart_tangent
+from solverplan.rectilinear.rules import RULES, Rule, Smart, make_rule
 from solverplan.simulate import Contacts, Outcome, simulate_policy
 
 __all__ = ["RoomPolicy", "RoomRuns", "RuleComparison", "simulate_rooms", "compare_rules", "periodic_orbit",
@@ -261,7 +261,7 @@ def simulate_rooms(
         stuck = np.flatnonzero(runs.status == Outcome.OK)
         n_trapped = sum(_periodic(dec, chosen, walk, doors, int(edges[k]), float(t[k]), float(headings[k]), max_bounces)
                         for k in stuck.tolist())
-    tangent = smart_tangent(dec, walk) if isinstance(chosen, Smart) and not per_room else None
+    tangent = chosen.tangent if isinstance(chosen, Smart) and not per_room else None
     return RoomRuns(rule, walk, trials, max_bounces, seed, doors, float(reached.mean()),
                     tuple(int(b) for b in runs.stop_step[reached]), runs.outcome_counts(), n_trapped,
                     chosen.theta if isinstance(chosen, Smart) else None, tangent, kept, recommend_rule(dec, start, goal))
@@ -311,7 +311,7 @@ def periodic_orbit(dec: Decomposition, rule: Rule, walk: Sequence[int], wall: in
     p = exact_point(point, where="start point")
     d = exact_point(direction, where="start direction")
     smart = rule if isinstance(rule, Smart) else None
-    tangents = (room_tangents(dec) if smart.per_room else (smart_tangent(dec, walk),) * len(dec.rooms)) if smart else ()
+    tangents = tuple(smart.exact_tangent(r) for r in range(len(dec.rooms))) if smart else ()
     position = 0
     seen: dict[tuple, int] = {}
     for step in range(1, max_bounces + 1):

@@ -22,7 +22,7 @@ def one_line_error(result, fragment: str) -> None:
 
 
 def test_rooms_answer_has_rooms_doors_and_tree():
-    result = run("rooms", "chambers")
+    result = run("rooms", "three_chambers")
     assert result.exit_code == 0, result.stderr
     data = json.loads(result.stdout)
     assert [room["id"] for room in data["rooms"]] == [0, 1, 2, 3, 4]
@@ -31,7 +31,7 @@ def test_rooms_answer_has_rooms_doors_and_tree():
     assert door["a"] == [30, 14.5] and door["b"] == [30, 15.5] and door["rooms"] == [0, 4]
     assert door["escapability_exact"] == ["1/30", "1"]
     assert sorted(map(tuple, data["tree"])) == [(0, 4), (1, 3), (1, 4), (2, 3)]
-    assert data["status"] == "found" and data["environment"]["name"] == "chambers"
+    assert data["status"] == "found" and data["environment"]["name"] == "three_chambers"
 
 
 def test_warehouse_rooms_as_text():
@@ -41,7 +41,7 @@ def test_warehouse_rooms_as_text():
 
 
 def test_simulate_one_rule_gives_the_contract_fields():
-    result = run("rooms", "chambers", "--simulate", "--from", 0, "--to", 2, "--rule", "smart", "--trials", 5, "--seed", 3)
+    result = run("rooms", "three_chambers", "--simulate", "--from", 0, "--to", 2, "--rule", "smart", "--trials", 5, "--seed", 3)
     assert result.exit_code == 0, result.stderr
     data = json.loads(result.stdout)
     assert {"rule", "trials", "success", "bounces_mean", "bounces_median", "trapped"} <= set(data)
@@ -50,7 +50,7 @@ def test_simulate_one_rule_gives_the_contract_fields():
 
 
 def test_simulate_a_tour_of_every_room():
-    result = run("rooms", "chambers", "--simulate", "--from", 1, "--tour", "--trials", 3, "--max-bounces", 20000)
+    result = run("rooms", "three_chambers", "--simulate", "--from", 1, "--tour", "--trials", 3, "--max-bounces", 20000)
     assert result.exit_code == 0, result.stderr
     data = json.loads(result.stdout)
     assert data["rooms"] == [1, 3, 2, 3, 1, 4, 0] and data["to"] == 0 and data["success"] == 1.0
@@ -58,13 +58,13 @@ def test_simulate_a_tour_of_every_room():
 
 def test_simulate_all_rules_side_by_side_with_a_picture(tmp_path):
     picture = tmp_path / "rules.png"
-    result = run("rooms", "chambers", "--simulate", "--from", 2, "--to", 0, "--rule", "all", "--trials", 4,
+    result = run("rooms", "three_chambers", "--simulate", "--from", 2, "--to", 0, "--rule", "all", "--trials", 4,
                  "--max-bounces", 3000, "--picture", picture)
     assert result.exit_code == 0, result.stderr
     data = json.loads(result.stdout)
     assert set(data["rules"]) == {"smart", "random", "billiard"} and data["rooms"] == [2, 3, 1, 4, 0]
     assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    text = run("rooms", "chambers", "--simulate", "--from", 2, "--to", 0, "--rule", "all", "--trials", 4,
+    text = run("rooms", "three_chambers", "--simulate", "--from", 2, "--to", 0, "--rule", "all", "--trials", 4,
                "--max-bounces", 3000, "--format", "text")
     rows = [line.split()[0] for line in text.stdout.splitlines()[2:5]]
     assert rows == ["smart", "random", "billiard"]
@@ -81,11 +81,11 @@ def test_rooms_picture_without_simulation(tmp_path):
 def test_bad_rooms_requests_are_one_line_errors():
     one_line_error(run("rooms", "one_hole"), "rooms need a polygon without holes")
     one_line_error(run("rooms", "two_rooms"), "rooms need a rectilinear polygon: edge")
-    one_line_error(run("rooms", "chambers", "--from", 0), "--from, --to and --tour choose the rooms of --simulate")
-    one_line_error(run("rooms", "chambers", "--simulate", "--from", 0), "--simulate needs --from ROOM and either --to ROOM or --tour")
-    one_line_error(run("rooms", "chambers", "--simulate", "--from", 0, "--to", 2, "--tour"), "either --to ROOM or --tour")
-    one_line_error(run("rooms", "chambers", "--simulate", "--from", 0, "--to", 9), "unknown room 9: rooms are 0..4")
-    one_line_error(run("rooms", "chambers", "--picture", "x.gif"), "gif")
+    one_line_error(run("rooms", "three_chambers", "--from", 0), "--from, --to and --tour choose the rooms of --simulate")
+    one_line_error(run("rooms", "three_chambers", "--simulate", "--from", 0), "--simulate needs --from ROOM and either --to ROOM or --tour")
+    one_line_error(run("rooms", "three_chambers", "--simulate", "--from", 0, "--to", 2, "--tour"), "either --to ROOM or --tour")
+    one_line_error(run("rooms", "three_chambers", "--simulate", "--from", 0, "--to", 9), "unknown room 9: rooms are 0..4")
+    one_line_error(run("rooms", "three_chambers", "--picture", "x.gif"), "gif")
 
 
 def test_generate_polyomino_then_rooms(tmp_path):

@@ -55,7 +55,7 @@ def chambers(doorway: int = 4) -> Environment:
     return Environment.from_coords([
         [0, 0], [a, 0], [a, 14.5], [b, 14.5], [b, 0], [b + 30, 0], [b + 30, 13.5], [c, 13.5], [c, 0], [c + 30, 0],
         [c + 30, 30], [c, 30], [c, 16.5], [b + 30, 16.5], [b + 30, 30], [b, 30], [b, 15.5], [a, 15.5], [a, 30],
-        [0, 30]], name="chambers")
+        [0, 30]], name="three_chambers")
 
 
 def test_fig_5_chambers_have_one_door_at_each_end_of_each_doorway():

@@ -16,7 +16,7 @@ from solverplan.rectilinear.doors import DoorControl, RoomWorld
 
 @pytest.fixture(scope="module")
 def chambers():
-    return decompose_rooms(load_environment("chambers"))
+    return decompose_rooms(load_environment("three_chambers"))
 
 
 class Contacts:  # what RoomWorld.cast reads of the simulator's contacts

@@ -18,11 +18,11 @@ from tests.rectilinear.test_decomposition import chambers
 
 
 def test_the_shipped_chambers_model_is_fig_5():
-    assert load_environment("chambers") == chambers(4)
+    assert load_environment("three_chambers") == chambers(4)
 
 
 def test_fig_5_escapability_and_reachability():
-    dec = decompose_rooms(load_environment("chambers"))
+    dec = decompose_rooms(load_environment("three_chambers"))
     one, two, three = 0, 1, 2  # the chambers, numbered by their lowest vertex
     x, y = 4, 3                # the doorways: x (1 wide) between chambers 1 and 2, y (3 wide) between 2 and 3
     assert dec.path(one, three) == (one, x, two, y, three)
@@ -38,7 +38,7 @@ def test_fig_5_escapability_and_reachability():
 
 
 def test_fig_5_reachability_graph_is_directed_and_weighted():
-    dec = decompose_rooms(load_environment("chambers"))
+    dec = decompose_rooms(load_environment("three_chambers"))
     graph = reachability_graph(dec)
     assert sorted(graph.nodes) == [0, 1, 2, 3, 4] and graph.number_of_edges() == 2 * len(dec.doors)
     assert graph[0][4]["escapability"] == Fraction(1, 30) and graph[4][0]["escapability"] == 1
@@ -47,7 +47,7 @@ def test_fig_5_reachability_graph_is_directed_and_weighted():
 
 
 def test_recommendation_smart_below_the_threshold_random_above():
-    dec = decompose_rooms(load_environment("chambers"))
+    dec = decompose_rooms(load_environment("three_chambers"))
     assert SMART_THRESHOLD == Fraction(1, 10)
     far = recommend_rule(dec, 0, 2)
     assert far.rule == "smart" and far.reachability.psi == Fraction(1, 300)
@@ -59,7 +59,7 @@ def test_recommendation_smart_below_the_threshold_random_above():
 
 
 def test_metrics_of_rooms_that_share_no_door_are_input_errors():
-    dec = decompose_rooms(load_environment("chambers"))
+    dec = decompose_rooms(load_environment("three_chambers"))
     with pytest.raises(InputError, match=r"^rooms 0 and 1 do not share a door$"):
         escapability(dec, 0, 1)
 

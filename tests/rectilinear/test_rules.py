@@ -17,7 +17,7 @@ from solverplan.rectilinear.rules import Billiard, Random, Smart, make_rule, roo
 
 @pytest.fixture(scope="module")
 def chambers():
-    return decompose_rooms(load_environment("chambers"))
+    return decompose_rooms(load_environment("three_chambers"))
 
 
 def floor_of_chamber_1(world):

@@ -23,7 +23,7 @@ from solverplan.studies.rooms import RoomPolicy, compare_rules, periodic_orbit, 
 
 @pytest.fixture(scope="module")
 def chambers():
-    return decompose_rooms(load_environment("chambers"))
+    return decompose_rooms(load_environment("three_chambers"))
 
 
 # ---------------------------------------------------------------------- Prop. 3
