@@ -134,3 +134,29 @@ def test_bad_simulation_requests_are_input_errors(chambers):
         simulate_rooms(chambers, 0, 2, walk=(0, 4, 1))
     with pytest.raises(InputError, match=r"^doors must be 'control' or 'open', got 'shut'$"):
         simulate_rooms(chambers, 0, 2, doors="shut")  # type: ignore[arg-type]
+
+
+def test_the_literal_theta_of_eq_1_traps_the_smart_robot_in_a_flat_room_and_ours_does_not():
+    # a 13 × 2 room with a 1-wide door in its ceiling at x ∈ [7.5, 8.5] (into a 1 × 1 alcove): the paper's
+    # θ = arctan(ℓ/h), h = 2 the distance from the door to the opposite wall, and even half of it, let the tilted
+    # crossings of the short side walls leap along them, and the robot settles into a periodic orbit that never
+    # meets the door; tan θ = ℓ / (2·13) (the larger side) sweeps every wall and finds it
+    from solverplan.environment import Environment
+
+    a = Fraction(15, 2)
+    env = Environment.from_coords([(0, 0), (13, 0), (13, 2), (a + 1, 2), (a + 1, 3), (a, 3), (a, 2), (0, 2)])
+    dec = decompose_rooms(env)
+    assert [room.area for room in dec.rooms] == [26, 1] and len(dec.doors) == 1
+    walk = dec.path(0, 1)
+    world = RoomWorld(dec)
+    floor = int(world.offsets[0])
+    start, direction = (Fraction(3, 10), 0), (-1, 2)
+    assert periodic_orbit(dec, Smart.with_tangent(Fraction(1, 2)), walk, floor, start, direction, max_bounces=1000) == 14
+    assert periodic_orbit(dec, Smart.with_tangent(Fraction(1, 4)), walk, floor, start, direction, max_bounces=1000) == 20
+    ours = Smart.for_walk(dec, walk)
+    assert ours.tangent == Fraction(1, 26)
+    assert periodic_orbit(dec, ours, walk, floor, start, direction, max_bounces=100_000) is None
+    policy = RoomPolicy(dec, ours, walk, np.array([math.atan2(2, -1)]))
+    runs = simulate_policy(env, policy, (np.array([floor]), np.array([0.3 / 13])), bounces=20_000, trials=1, seed=0,
+                           record="ends")
+    assert runs.status[0] == Outcome.GOAL
