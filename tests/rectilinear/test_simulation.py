@@ -160,3 +160,27 @@ def test_the_literal_theta_of_eq_1_traps_the_smart_robot_in_a_flat_room_and_ours
     runs = simulate_policy(env, policy, (np.array([floor]), np.array([0.3 / 13])), bounces=20_000, trials=1, seed=0,
                            record="ends")
     assert runs.status[0] == Outcome.GOAL
+
+
+def test_prop_3_has_exceptional_starts_even_for_the_documented_reading():
+    # the failing case: a 12 × 2 room, door [3, 4] in the ceiling; from (10.48, 0) along (1, 1) the smart robot
+    # (tan θ = 1/24) runs into a periodic orbit of 40 bounces that never meets the door. It is isolated: moving
+    # the start by 1e-7 (or the direction by 1e-6) the robot arrives — which is why 2,000 random starts never
+    # showed it. So Prop. 3 holds for almost every start, not for every one.
+    from solverplan.environment import Environment
+
+    env = Environment.from_coords([(0, 0), (12, 0), (12, 2), (4, 2), (4, 3), (3, 3), (3, 2), (0, 2)])
+    dec = decompose_rooms(env)
+    walk = dec.path(0, 1)
+    world = RoomWorld(dec)
+    floor = int(world.offsets[0])
+    smart = Smart.for_walk(dec, walk)
+    assert smart.tangent == Fraction(1, 24)
+    start = Fraction(262, 25)
+    assert periodic_orbit(dec, smart, walk, floor, (start, 0), (1, 1), max_bounces=1000) == 40
+    for moved, direction in (((start + Fraction(1, 10**7), 0), (1, 1)), ((start, 0), (1, 1 + Fraction(1, 10**6)))):
+        assert periodic_orbit(dec, smart, walk, floor, moved, direction, max_bounces=20_000) is None
+    policy = RoomPolicy(dec, smart, walk, np.array([math.pi / 4]))
+    runs = simulate_policy(env, policy, (np.array([floor]), np.array([10.48 / 12 + 1e-7])), bounces=20_000, trials=1,
+                           seed=0, record="ends")
+    assert runs.status[0] == Outcome.GOAL
