@@ -901,6 +901,10 @@ def rooms_command(
     doors: Annotated[DoorMode, typer.Option("--doors", help="control: the door-control policy for the room sequence; open: every door open.")] = DoorMode.CONTROL,
     per_room: Annotated[bool, typer.Option("--per-room", help="Tell the smart robot the θ of the room it is in.")] = False,
     tour: Annotated[bool, typer.Option("--tour", help="Visit every room from --from (depth first) instead of going to --to.")] = False,
+    check: Annotated[
+        Path | None,
+        typer.Option("--check", metavar="ROOMS.json", help="Check a rooms answer file against ENV exactly instead: exit 0 valid, 1 invalid.", show_default=False),
+    ] = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
@@ -912,6 +916,19 @@ def rooms_command(
     from solverplan.render import save_figure
     from solverplan.render.rooms import render_rooms
 
+    if check is not None:
+        from solverplan.rectilinear.check import check_rooms, load_rooms_answer
+
+        with exit_codes(verbose):
+            if simulate or picture is not None or start is not None or goal is not None or tour:
+                raise InputError("--check checks an answer file: drop the options of --simulate and --picture")
+            report = check_rooms(_load(env, env_format), load_rooms_answer(check))
+            emit(report, fmt, out)
+        if not report.valid:
+            more = len(report.failures) - 1
+            suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
+            raise _fail(f"rooms answer invalid: {report.failures[0]}{suffix}", 1)
+        return
     with exit_codes(verbose):
         _check_picture(picture)
         if not simulate and (start is not None or goal is not None or tour):

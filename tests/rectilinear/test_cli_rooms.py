@@ -97,3 +97,21 @@ def test_generate_polyomino_then_rooms(tmp_path):
     data = json.loads(rooms.stdout)
     assert len(data["rooms"]) == len(data["doors"]) + 1 >= 1
     one_line_error(run("generate", "polyomino", "--cells", 0), "--cells")
+
+
+def test_check_a_rooms_answer_file(tmp_path):
+    answer = tmp_path / "rooms.json"
+    assert run("rooms", "warehouse", "-o", answer).exit_code == 0
+    result = run("rooms", "warehouse", "--check", answer)
+    assert result.exit_code == 0, result.stderr
+    assert json.loads(result.stdout)["valid"] is True
+    data = json.loads(answer.read_text())
+    data["rooms"][0]["area_exact"] = "63"
+    answer.write_text(json.dumps(data))
+    bad = run("rooms", "warehouse", "--check", answer)
+    assert bad.exit_code == 1 and json.loads(bad.stdout)["valid"] is False
+    assert bad.stderr.startswith("error: rooms answer invalid: room 0: area 63 claimed, 64 exactly")
+    one_line_error(run("rooms", "warehouse", "--check", tmp_path / "none.json"), "no such file")
+    (tmp_path / "junk.json").write_text("{")
+    one_line_error(run("rooms", "warehouse", "--check", tmp_path / "junk.json"), "not valid JSON")
+    one_line_error(run("rooms", "warehouse", "--check", answer, "--simulate"), "--check checks an answer file")
