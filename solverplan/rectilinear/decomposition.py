@@ -45,7 +45,9 @@ edge while line 7 only ever ends one at an edge's *closest* point, and the two c
 the proof would use is not the closest point of its edge) and crosses the door (18, 17)–(22, 17) of length 4.
 Rooms need doors that do not cross, so after line 19 the doors are taken shortest first (ties in the order
 found) and a door that crosses one already taken is dropped (reason ``"crossing"``). When Prop. 2 holds,
-nothing is dropped.
+nothing is dropped. Prop. 1 (two segments ab, bc span a triangle inside P) fails the same way, for diagonal
+segments: (22, 20)–(18, 16) and (18, 16)–(14, 15) in ``(31,10) (31,22) (22,22) (22,20) (18,20) (18,16) (14,16)
+(14,15) (10,15) (10,11) (18,11) (18,10)``; line 19 drops both, and no counterexample among the doors is known.
 
 **Chains (lines 20–21).** Doors that share end points form a graph. It is cut into maximal chains at the
 points where one door or three or more meet; a maximal chain of k ≥ 3 doors loses its first and its last

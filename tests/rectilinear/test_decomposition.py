@@ -244,3 +244,19 @@ def test_room_of_a_point():
     assert dec.room_of((30, 15)) == 0  # on door a: the lower room id
     with pytest.raises(InputError, match=r"^point \(31, 20\) is not in the polygon$"):
         dec.room_of((31, 20))
+
+
+def test_prop_1_fails_for_the_diagonal_segments_before_line_19():
+    # Prop. 1 is claimed for any simple polygon, but its proof again picks a segment to a point that is not an
+    # edge's closest point: here the bottleneck segments (22, 20)–(18, 16) and (18, 16)–(14, 15), both diagonal,
+    # share (18, 16), and the triangle they span leaves the polygon. Line 19 drops both, so the doors keep Prop. 1
+    # (6 such pairs among 1,259 pairs of segments sharing an end in 1,000 random polygons; none among doors).
+    env = Environment.from_coords([(31, 10), (31, 22), (22, 22), (22, 20), (18, 20), (18, 16), (14, 16), (14, 15), (10, 15),
+                                   (10, 11), (18, 11), (18, 10)])
+    raw = {frozenset((env.exact_vertices[v], p)) for v, p, _ in bottleneck_segments(env)}
+    ab, bc = frozenset((F(22, 20), F(18, 16))), frozenset((F(18, 16), F(14, 15)))
+    assert ab in raw and bc in raw
+    assert not triangle_inside(env, F(22, 20), F(18, 16), F(14, 15))
+    dec = decompose_rooms(env)
+    assert ab not in door_set(dec) and bc not in door_set(dec)
+    assert {(a, b) for a, b, r in dec.dropped if r == "diagonal"} >= {(F(22, 20), F(18, 16)), (F(18, 16), F(14, 15))}
