@@ -22,11 +22,11 @@ from solverplan.rectilinear.check import RoomsCheck, check_rooms, load_rooms_ans
 from solverplan.rectilinear.decomposition import Decomposition, Door, Room, decompose_rooms
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
 from solverplan.rectilinear.metrics import (SMART_THRESHOLD, Reachability, RuleRecommendation, escapability,
-                                            reachability, reachability_graph, recommend_rule)
+                                            reachability, reachability_along, reachability_graph, recommend_rule)
 
 from solverplan.rectilinear.rules import RULES, Billiard, Random, Smart, make_rule, room_tangents, smart_tangent
 
 __all__ = ["Decomposition", "Door", "Room", "decompose_rooms", "SMART_THRESHOLD", "Reachability", "RuleRecommendation",
-           "escapability", "reachability", "reachability_graph", "recommend_rule", "DoorControl", "RoomWorld",
+           "escapability", "reachability", "reachability_along", "reachability_graph", "recommend_rule", "DoorControl", "RoomWorld",
            "RULES", "Billiard", "Random", "Smart", "make_rule", "room_tangents", "smart_tangent", "RoomsCheck",
            "check_rooms", "load_rooms_answer"]

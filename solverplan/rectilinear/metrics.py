@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Sequence
 
 from solverplan.exact import format_number
 from solverplan.rectilinear.decomposition import Decomposition
@@ -35,6 +36,7 @@ __all__ = [
     "escapability",
     "Reachability",
     "reachability",
+    "reachability_along",
     "reachability_graph",
     "RuleRecommendation",
     "recommend_rule",
@@ -75,7 +77,12 @@ class Reachability:
 
 def reachability(dec: Decomposition, start: int, goal: int) -> Reachability:
     """Ψ(start, goal): the product of the escapability factors along the room sequence from ``start`` to ``goal``."""
-    rooms = dec.path(start, goal)
+    return reachability_along(dec, dec.path(start, goal))
+
+
+def reachability_along(dec: Decomposition, rooms: Sequence[int]) -> Reachability:
+    """Ψ along any room sequence (each room a neighbour of the one before; a tour may come back through a room)."""
+    rooms = tuple(rooms)
     return Reachability(rooms, tuple(escapability(dec, i, j) for i, j in zip(rooms, rooms[1:])))
 
 
@@ -116,8 +123,10 @@ class RuleRecommendation:
         return {"rule": self.rule, "threshold": float(self.threshold), "reason": self.reason, **self.reachability.to_json()}
 
 
-def recommend_rule(dec: Decomposition, start: int, goal: int, *, threshold: Fraction | float = SMART_THRESHOLD) -> RuleRecommendation:
-    """The rule recommendation of §VII for going from room ``start`` to room ``goal`` (module docstring)."""
+def recommend_rule(dec: Decomposition, start: int, goal: int, *, threshold: Fraction | float = SMART_THRESHOLD,
+                   rooms: Sequence[int] | None = None) -> RuleRecommendation:
+    """The rule recommendation of §VII for going from room ``start`` to room ``goal`` (module docstring), along
+    ``rooms`` when given (a tour), else along the tree path."""
     limit = Fraction(threshold)
-    reach = reachability(dec, start, goal)
+    reach = reachability(dec, start, goal) if rooms is None else reachability_along(dec, rooms)
     return RuleRecommendation("smart" if reach.psi < limit else "random", reach, limit)

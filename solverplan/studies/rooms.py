@@ -264,7 +264,8 @@ def simulate_rooms(
     tangent = chosen.tangent if isinstance(chosen, Smart) and not per_room else None
     return RoomRuns(rule, walk, trials, max_bounces, seed, doors, float(reached.mean()),
                     tuple(int(b) for b in runs.stop_step[reached]), runs.outcome_counts(), n_trapped,
-                    chosen.theta if isinstance(chosen, Smart) else None, tangent, kept, recommend_rule(dec, start, goal))
+                    chosen.theta if isinstance(chosen, Smart) else None, tangent, kept,
+                    recommend_rule(dec, start, goal, rooms=walk))
 
 
 def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[str] = RULES, **options: Any) -> RuleComparison:

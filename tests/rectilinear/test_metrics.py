@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from solverplan.environment import load_environment
 from solverplan.errors import InputError
 from solverplan.rectilinear.decomposition import decompose_rooms
-from solverplan.rectilinear.metrics import (SMART_THRESHOLD, escapability, reachability, reachability_graph,
+from solverplan.rectilinear.metrics import (SMART_THRESHOLD, escapability, reachability, reachability_along, reachability_graph,
                                             recommend_rule)
 from solverplan.studies.generators import rectilinear_polygon
 from tests.rectilinear.test_decomposition import chambers
@@ -75,3 +75,12 @@ def test_reachability_is_the_product_along_the_tree_path_and_at_most_each_factor
     for i, j in zip(reach.rooms, reach.rooms[1:]):
         product *= graph[i][j]["escapability"]
     assert reach.psi == product and 0 < reach.psi <= min(reach.factors, default=1) <= 1
+
+
+def test_reachability_along_a_tour_multiplies_every_door_crossed():
+    dec = decompose_rooms(load_environment("three_chambers"))
+    tour = dec.tour(1)  # 1, 3, 2, 3, 1, 4, 0
+    reach = reachability_along(dec, tour)
+    assert reach.factors == (Fraction(1, 10), 1, Fraction(1, 10), 1, Fraction(1, 30), 1)
+    assert reach.psi == Fraction(1, 3000)
+    assert recommend_rule(dec, 1, 0, rooms=tour).reachability.psi == Fraction(1, 3000)
