@@ -184,3 +184,25 @@ def test_prop_3_has_exceptional_starts_even_for_the_documented_reading():
     runs = simulate_policy(env, policy, (np.array([floor]), np.array([10.48 / 12 + 1e-7])), bounces=20_000, trials=1,
                            seed=0, record="ends")
     assert runs.status[0] == Outcome.GOAL
+
+
+def test_the_simulator_hook_for_walls_of_a_policys_own(chambers):
+    from solverplan.errors import InvalidBoundarySet
+
+    policy = RoomPolicy(chambers, Smart(0.1), chambers.path(0, 2), np.array([1.0]))
+    with pytest.raises(InputError, match=r"^a policy with walls of its own needs explicit \(edges, t\) starts on those walls$"):
+        simulate_policy(chambers.env, policy, "e0", bounces=3, trials=1)
+    with pytest.raises(InvalidBoundarySet, match=r"^start 0 \(wall 999, t = 0.5\) is not on the walls$"):
+        simulate_policy(chambers.env, policy, (np.array([999]), np.array([0.5])), bounces=3)
+
+    class Broken:
+        walls = object()
+
+        def headings(self, contacts, rng):
+            return np.ones(len(contacts))
+
+        def check(self, contacts):
+            return np.full(len(contacts), Outcome.RUNNING, dtype=np.int8)
+
+    with pytest.raises(InputError, match=r"has walls that are not Walls"):
+        simulate_policy(chambers.env, Broken(), (np.array([0]), np.array([0.5])), bounces=3)
