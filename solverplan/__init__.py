@@ -47,6 +47,10 @@ _EXPORTS: dict[str, str] = {
     "safe_bounce_visibility_graph": "solverplan.bounce.bvg",
     "limit_cycle": "solverplan.bounce.cycles",
     "constant_controller": "solverplan.bounce.controller",
+    # rooms and doors of rectilinear polygons (Çağırıcı, Bahoo and LaValle)
+    "decompose_rooms": "solverplan.rectilinear.decomposition",
+    "simulate_rooms": "solverplan.studies.rooms",
+    "compare_rules": "solverplan.studies.rooms",
     # planners
     "find_plan": "solverplan.plan.search",
     "pareto_front": "solverplan.plan.search",
@@ -102,8 +106,10 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.plan.patrol import Patrol, patrol
     from solverplan.plan.result import ParetoFront, Plan, load_plan
     from solverplan.plan.search import find_plan, pareto_front
+    from solverplan.rectilinear.decomposition import decompose_rooms
     from solverplan.result import Method, Optimality, Stage, Stats, Status, StatusGroup
     from solverplan.simulate import simulate_plan, simulate_rule
+    from solverplan.studies.rooms import compare_rules, simulate_rooms
 
 
 def __getattr__(name: str) -> Any:

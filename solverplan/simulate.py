@@ -20,6 +20,10 @@ Policies (:class:`Policy`) map the current contacts to headings and test for ter
   allowed landing set of each stage, a goal set, and an optional repeating tail (limit cycles,
   patrols, funnels).
 
+A policy may bring its own :class:`Walls` (attribute ``walls``): then contacts are numbered on those
+walls, and the walls cast the rays — e.g. rooms whose doors are open (the robot passes) or closed (it
+bounces off them) for each rollout, as the policy decides.
+
 >>> from solverplan.environment import Environment
 >>> from solverplan.bounce.rules import Fixed
 >>> square = Environment.from_coords([[0, 0], [10, 0], [10, 10], [0, 10]])
@@ -51,13 +55,14 @@ from solverplan.bounce.rules import (
 )
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet
-from solverplan.geometry.raycast import cast_from_boundary, heading_directions
+from solverplan.geometry.raycast import RayHits, cast_from_boundary, heading_directions
 from solverplan.limits import MAX_BOUNCES, MAX_TRIALS, quote, refuse_beyond_memory
 
 __all__ = [
     "Outcome",
     "Contacts",
     "Policy",
+    "Walls",
     "RulePolicy",
     "StagePolicy",
     "Rollouts",
@@ -108,7 +113,7 @@ class Contacts:
     rollout
         Index of each running rollout among all trials.
     edge, t
-        Boundary coordinates of the contacts.
+        Boundary coordinates of the contacts (on the policy's own :class:`Walls` when it has them).
     point
         Contact points, shape (m, 2).
     incoming
@@ -137,6 +142,32 @@ class Policy(Protocol):
 
     def check(self, contacts: Contacts) -> np.ndarray:
         """Per contact, :data:`Outcome.RUNNING` to carry on or the outcome to stop with (int array)."""
+        ...
+
+
+@runtime_checkable
+class Walls(Protocol):
+    """Walls of a policy's own (its attribute ``walls``), in place of the environment's edges.
+
+    Contacts are then ``(edge, t)`` on these walls (ids ``0 .. n_edges − 1``, t ∈ [0, 1] along each), starts
+    must be explicit ``(edges, t)`` arrays, and every batch of rays is cast by :meth:`cast`, which may depend
+    on the rollout (``contacts.rollout``): walls that open and close. Headings are radians in (0, π), CCW
+    from the wall the robot is on, as everywhere.
+    """
+
+    @property
+    def n_edges(self) -> int: ...
+
+    def points_at(self, edges: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Points (m, 2) of wall coordinates."""
+        ...
+
+    def directions(self, edges: np.ndarray, headings: np.ndarray) -> np.ndarray:
+        """Unit world directions (m, 2) of headings leaving the walls ``edges``."""
+        ...
+
+    def cast(self, contacts: Contacts, headings: np.ndarray, *, exact_ties: bool) -> RayHits:
+        """The first wall each contact's ray hits (edges numbered on these walls), as the ray caster reports it."""
         ...
 
 
@@ -389,6 +420,26 @@ def _starts(env: Environment, starts: Starts, trials: int | None, rng: np.random
     return edges, t
 
 
+def _wall_starts(walls: Walls, starts: Starts, trials: int | None):
+    """Explicit ``(edges, t)`` starts on a policy's own walls (boundary sets name the environment's edges)."""
+    if starts is None or isinstance(starts, (str, BoundarySet)):
+        raise InputError("a policy with walls of its own needs explicit (edges, t) starts on those walls")
+    try:
+        edges, t = starts
+    except (TypeError, ValueError):
+        raise InputError(f"starts must be (edges, t) arrays, got {starts!r}") from None
+    edges = np.asarray(edges, dtype=np.int64).reshape(-1)
+    t = np.asarray(t, dtype=float).reshape(-1)
+    if len(t) != len(edges):
+        raise InputError(f"start edges and t differ in length: {len(edges)} and {len(t)}")
+    bad = np.flatnonzero((edges < 0) | (edges >= walls.n_edges) | ~((t >= 0) & (t <= 1)))
+    if len(bad):
+        raise InvalidBoundarySet(f"start {bad[0]} (wall {edges[bad[0]]}, t = {t[bad[0]]:g}) is not on the walls")
+    if trials is not None and trials != len(edges):
+        raise InputError(f"{len(edges)} explicit starts for trials={trials}")
+    return edges, t
+
+
 def _generator(seed: int | np.random.Generator | None):
     """(rng, recorded seed, recorded generator state)."""
     if isinstance(seed, np.random.Generator):
@@ -592,7 +643,10 @@ def simulate_policy(
         kept = bounces + 1 if record == "all" else 2
         refuse_beyond_memory(trials * (400 + 16 * kept), f"{trials:,} rollouts of {bounces:,} bounces")
     rng, seed_used, state = _generator(seed)
-    start_edges, start_t = _starts(env, starts, trials, rng)
+    walls: Walls | None = getattr(policy, "walls", None)
+    if walls is not None and not isinstance(walls, Walls):
+        raise InputError(f"{policy!r} has walls that are not Walls: they need n_edges, points_at, directions and cast")
+    start_edges, start_t = _starts(env, starts, trials, rng) if walls is None else _wall_starts(walls, starts, trials)
     m = len(start_edges)
     columns = bounces + 1 if record == "all" else 2
     edge = np.full((m, columns), -1, dtype=np.int64)
@@ -606,7 +660,7 @@ def simulate_policy(
     active = np.arange(m)
     cur_e, cur_t = start_edges.astype(np.int64), start_t.astype(float)
     incoming = np.full((m, 2), np.nan)
-    points = env.points_at(cur_e, cur_t)
+    points = env.points_at(cur_e, cur_t) if walls is None else walls.points_at(cur_e, cur_t)
 
     def store(column: int, rows, e, t, p) -> None:
         edge[rows, column], t_arr[rows, column] = e, t
@@ -638,7 +692,10 @@ def simulate_policy(
         hcol = step if record == "all" else 0
         if record == "all" or step == 0:
             heading[active, hcol] = h
-        hits = cast_from_boundary(env, cur_e, cur_t, h, exact_ties=tolerance_ties)
+        if walls is None:
+            hits = cast_from_boundary(env, cur_e, cur_t, h, exact_ties=tolerance_ties)
+        else:
+            hits = walls.cast(contacts, h, exact_ties=tolerance_ties)
         on_vertex = hits.vertex >= 0
         tie = hits.uncertain & ~on_vertex
         flagged = on_vertex | tie
@@ -650,7 +707,8 @@ def simulate_policy(
             status[rows] = np.where(on_vertex[flagged], Outcome.VERTEX, Outcome.TIE)
             stop_step[rows] = step + 1
         keep = ~flagged
-        incoming = heading_directions(env, cur_e[keep], h[keep])
+        incoming = (heading_directions(env, cur_e[keep], h[keep]) if walls is None
+                    else walls.directions(cur_e[keep], h[keep]))
         active, cur_e, cur_t = active[keep], hits.edge[keep], hits.t[keep]
         points = landed[keep]
     status[status == Outcome.RUNNING] = Outcome.OK

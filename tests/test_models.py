@@ -264,3 +264,10 @@ def test_degenerate_has_collinear_vertices_parallel_edges_and_aligned_hole_verti
         if (p, q) not in outer_edges and (q, p) not in outer_edges
         for h in hole
     )
+
+
+def test_chambers_are_three_big_rooms_joined_by_doorways_one_and_three_wide():
+    env = model("three_chambers")
+    assert is_rectilinear(env) and env.holes == () and env.area == 3 * 900 + 4 * 1 + 4 * 3
+    assert len(pieces_after_erosion(env, 0.6)) == 2  # the 1-wide doorway closes: chamber 1 | chambers 2, 3
+    assert len(pieces_after_erosion(env, 1.6)) == 3  # the 3-wide one too

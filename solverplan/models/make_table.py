@@ -34,6 +34,7 @@ PURPOSES: dict[str, str] = {
     "one_hole": "a rectangle with a quadrilateral hole: holes in the partition and the BVG",
     "two_holes": "a pentagon with a triangular and a trapezoidal hole: hole-to-hole transitions",
     "warehouse": "rectilinear warehouse, 6 rooms + corridor + loading bay, 1-unit doors: rooms and doors",
+    "three_chambers": "three 30 × 30 chambers joined by doorways 1 and 3 wide (the rooms paper's Fig. 5): Φ = 1/30, 1/10, Ψ = 1/300",
     "hallway": "50 × 2 hallway with two door alcoves: contraction and localisation along a corridor",
     "narrow_door": "two rooms joined by a 0.2-wide doorway: funnels that shrink uncertainty to pass a door",
     "worst_case_t4": "the paper's worst case for Alg. 1 (§4.0.1, Fig. 3), `worst_case_polygon(4)`: O(n⁴) BVG",

@@ -5,6 +5,7 @@ All plotting in solverplan lives in this package, one module per layer: :mod:`~s
 ids), :mod:`~solverplan.render.environment`, :mod:`~solverplan.render.partition`,
 :mod:`~solverplan.render.graph`, :mod:`~solverplan.render.trajectories`, :mod:`~solverplan.render.cycles`,
 :mod:`~solverplan.render.plans`, :mod:`~solverplan.render.answers`, :mod:`~solverplan.render.heatmaps`,
+:mod:`~solverplan.render.rooms` (rooms and doors of rectilinear polygons),
 and :mod:`~solverplan.render.scenes`, whose :func:`scene` stacks the layers into a whole picture (what
 ``solverplan render`` draws). Each ``draw_*`` layer takes an Axes and returns the artists it added; every
 artist has a ``gid`` that becomes its ``id`` in SVG output.
@@ -31,6 +32,7 @@ from solverplan.render.heatmaps import draw_heatmap, render_heatmaps
 from solverplan.render.labels import LabelPlacer, draw_edge_ids, draw_vertex_ids
 from solverplan.render.partition import draw_partition
 from solverplan.render.plans import draw_plan, plan_title
+from solverplan.render.rooms import ROOM_COLORS, RULE_COLORS, draw_doors, draw_room_paths, draw_rooms, render_rooms
 from solverplan.render.scenes import scene
 from solverplan.render.trajectories import draw_trajectories
 
@@ -64,4 +66,10 @@ __all__ = [
     "SavedFigure",
     "draw_heatmap",
     "render_heatmaps",
+    "ROOM_COLORS",
+    "RULE_COLORS",
+    "draw_rooms",
+    "draw_doors",
+    "draw_room_paths",
+    "render_rooms",
 ]

@@ -12,6 +12,9 @@
 - :mod:`~solverplan.studies.execute` — :func:`run_study`: in process, on a local process pool or on a
   Dask cluster, written row by row so an interrupted study resumes (:mod:`~solverplan.studies.store`).
 - :mod:`~solverplan.studies.catalog` — the named studies of ``solverplan study``.
+- :mod:`~solverplan.studies.rooms` — robots bouncing through the rooms and doors of a rectilinear polygon
+  (Çağırıcı, Bahoo and LaValle): the smart, random and billiard rules side by side (their Table I), with door
+  control and exact detection of periodic orbits.
 
 Programs that run a study on a process pool must guard their entry point
 (``if __name__ == "__main__":``): the workers start with the ``forkserver`` method.
@@ -23,12 +26,14 @@ from solverplan.studies.generators import (
     GENERATORS,
     generate,
     rectilinear_floor_plan,
+    rectilinear_polygon,
     rooms_and_corridors,
     star_polygon,
     star_polygon_with_holes,
     worst_case_polygon,
 )
 from solverplan.studies.metrics import Connectivity, Metric, Reachability
+from solverplan.studies.rooms import RoomRuns, RuleComparison, compare_rules, periodic_orbit, simulate_rooms
 from solverplan.studies.rule_systems import RuleReachability
 from solverplan.studies.study import Heatmap, Study, StudyTable, parse_grid, parse_values, row_seed, run_task
 
@@ -37,6 +42,7 @@ __all__ = [
     "star_polygon_with_holes",
     "rooms_and_corridors",
     "rectilinear_floor_plan",
+    "rectilinear_polygon",
     "worst_case_polygon",
     "GENERATORS",
     "generate",
@@ -57,4 +63,9 @@ __all__ = [
     "build_study",
     "STUDIES",
     "DEFAULT_GRIDS",
+    "simulate_rooms",
+    "compare_rules",
+    "periodic_orbit",
+    "RoomRuns",
+    "RuleComparison",
 ]

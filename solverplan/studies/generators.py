@@ -35,6 +35,7 @@ __all__ = [
     "star_polygon_with_holes",
     "rooms_and_corridors",
     "rectilinear_floor_plan",
+    "rectilinear_polygon",
     "worst_case_polygon",
     "GENERATORS",
     "generate",
@@ -788,12 +789,110 @@ def rectilinear_floor_plan(
     )
 
 
+# ---------------------------------------------------------------------- random rectilinear polygons
+def _pinches(occupied: np.ndarray, i: int, j: int) -> bool:
+    """Would occupying cell (i, j) make it touch an occupied cell at a corner only (a pinched boundary)?"""
+    for di in (-1, 1):
+        for dj in (-1, 1):
+            if occupied[i + di, j + dj] and not occupied[i + di, j] and not occupied[i, j + dj]:
+                return True
+    return False
+
+
+def _encloses(occupied: np.ndarray) -> bool:
+    """Do the occupied cells enclose an empty one (a hole)? Flood fill of the empty cells from the border."""
+    free = ~occupied
+    reached = np.zeros_like(occupied)
+    stack = [(0, 0)]
+    reached[0, 0] = True
+    rows, cols = occupied.shape
+    while stack:
+        i, j = stack.pop()
+        for a, b in ((i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)):
+            if 0 <= a < rows and 0 <= b < cols and free[a, b] and not reached[a, b]:
+                reached[a, b] = True
+                stack.append((a, b))
+    return bool((free & ~reached).any())
+
+
+def rectilinear_polygon(
+    n_cells: int,
+    *,
+    seed: Seed,
+    max_size: int = 6,
+    grid: int | None = None,
+) -> Environment:
+    """A random simple rectilinear polygon (no holes): a random polyomino on a grid of random cell sizes.
+
+    Column widths and row heights are integers drawn uniformly from 1..``max_size``, so the polygon has
+    narrow passages beside wide rooms. From the middle cell, cells are added one at a time, each drawn
+    uniformly among the empty cells beside the shape that keep its boundary one simple ring (no two cells
+    touching at a corner only, no enclosed empty cell), until ``n_cells`` cells are in. The polygon is the
+    union, without collinear vertices, with **integer** coordinates. The test bed of the rooms-and-doors
+    decomposition (Çağırıcı, Bahoo and LaValle): every edge horizontal or vertical.
+
+    Parameters
+    ----------
+    n_cells
+        Number of grid cells (≥ 1).
+    seed
+        ``int``, :class:`numpy.random.Generator` or ``None``.
+    max_size
+        Largest cell width or height (≥ 1).
+    grid
+        Cells per side of the grid (default ⌈√n_cells⌉ + 3, room for every shape of n_cells cells to grow).
+
+    >>> env = rectilinear_polygon(12, seed=4)
+    >>> len(env.holes), all(a[0] == b[0] or a[1] == b[1] for a, b in zip(env.outer, env.outer[1:] + env.outer[:1]))
+    (0, True)
+    >>> env == rectilinear_polygon(12, seed=4), env.name
+    (True, 'rectilinear_polygon(n_cells=12, max_size=6, seed=4)')
+    """
+    import shapely
+
+    n_cells = _check_int("n_cells", n_cells, 1)
+    max_size = _check_int("max_size", max_size, 1)
+    side = math.isqrt(n_cells - 1) + 4 if grid is None else _check_int("grid", grid, 1)
+    if side * side < n_cells:
+        raise InputError(f"a {side} x {side} grid holds fewer than n_cells = {n_cells} cells")
+    rng = np.random.default_rng(seed)
+    widths = rng.integers(1, max_size + 1, side)
+    heights = rng.integers(1, max_size + 1, side)
+    xs = np.concatenate([[0], np.cumsum(widths)])
+    ys = np.concatenate([[0], np.cumsum(heights)])
+    occupied = np.zeros((side + 2, side + 2), dtype=bool)  # a border of empty cells: no bounds checks
+    start = side // 2 + 1
+    occupied[start, start] = True
+    count = 1
+    while count < n_cells:
+        frontier = sorted({(a, b) for i, j in zip(*np.nonzero(occupied)) for a, b in ((i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1))
+                           if 1 <= a <= side and 1 <= b <= side and not occupied[a, b]})
+        options = [cell for cell in frontier if not _pinches(occupied, *cell)]
+        rng.shuffle(options)
+        for i, j in options:
+            occupied[i, j] = True
+            if _encloses(occupied):
+                occupied[i, j] = False
+                continue
+            count += 1
+            break
+        else:
+            raise InvalidEnvironment(f"rectilinear_polygon: the shape cannot grow to n_cells = {n_cells} in a {side} x {side} grid")
+    boxes = [shapely.box(xs[j - 1], ys[i - 1], xs[j], ys[i]) for i, j in zip(*np.nonzero(occupied))]
+    rings = _rings_of(shapely.union_all(boxes), None)
+    if rings is None or rings[1]:  # pragma: no cover - the growth rules keep one simple ring
+        raise InvalidEnvironment("rectilinear_polygon: the cells did not make one polygon without holes")
+    name = f"rectilinear_polygon(n_cells={n_cells}, max_size={max_size}, seed={_seed_text(seed)})"
+    return Environment.from_coords(rings[0], name=name)
+
+
 # ---------------------------------------------------------------------- by name
 GENERATORS: dict[str, Callable[..., Environment]] = {
     "star": star_polygon,
     "holes": star_polygon_with_holes,
     "rooms": rooms_and_corridors,
     "rectilinear": rectilinear_floor_plan,
+    "polyomino": rectilinear_polygon,
 }
 """The random generators by their short name (CLI ``solverplan generate NAME``, study ``generator``)."""
 
@@ -806,7 +905,7 @@ def generate(kind: str, *, seed: Seed, **params: object) -> Environment:
     >>> generate("blob", seed=0)
     Traceback (most recent call last):
     ...
-    solverplan.errors.InputError: unknown generator 'blob': use star, holes, rooms or rectilinear
+    solverplan.errors.InputError: unknown generator 'blob': use star, holes, rooms, rectilinear or polyomino
     """
     try:
         make = GENERATORS[kind]

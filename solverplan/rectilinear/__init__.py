@@ -1,0 +1,32 @@
+"""Rooms and doors of rectilinear polygons (Çağırıcı, Bahoo and LaValle, "Bouncing robots in rectilinear polygons").
+
+- :mod:`~solverplan.rectilinear.decomposition` — Algorithm 1: bottleneck segments from reflex vertices become
+  virtual doors, the polygon splits into rooms along them, and rooms and doors form a tree (Remark 5).
+- :mod:`~solverplan.rectilinear.metrics` — escapability Φ, reachability Ψ, the reachability graph and the
+  rule recommendation (§VII).
+- :mod:`~solverplan.rectilinear.doors` — the rooms as the simulator's walls, doors open or closed per robot,
+  and the door-control policy for a room sequence (§V–VI).
+- :mod:`~solverplan.rectilinear.rules` — the billiard, random and one-bit smart rules (§VI, Eq. 1).
+- :mod:`~solverplan.rectilinear.check` — an independent exact check of a rooms answer (``rooms --check``).
+
+Simulations and the rules' comparison (Table I) are in :mod:`solverplan.studies.rooms`; pictures in
+:mod:`solverplan.render.rooms`; the command is ``solverplan rooms``.
+
+>>> import solverplan as sp
+>>> rooms = sp.decompose_rooms(sp.load_environment("three_chambers"))
+>>> len(rooms.rooms), len(rooms.doors), str(reachability(rooms, 0, 2).psi)
+(5, 4, '1/300')
+"""
+
+from solverplan.rectilinear.check import RoomsCheck, check_rooms, load_rooms_answer
+from solverplan.rectilinear.decomposition import Decomposition, Door, Room, decompose_rooms
+from solverplan.rectilinear.doors import DoorControl, RoomWorld
+from solverplan.rectilinear.metrics import (SMART_THRESHOLD, Reachability, RuleRecommendation, escapability,
+                                            reachability, reachability_along, reachability_graph, recommend_rule)
+
+from solverplan.rectilinear.rules import RULES, Billiard, Random, Smart, make_rule, room_tangents, smart_tangent
+
+__all__ = ["Decomposition", "Door", "Room", "decompose_rooms", "SMART_THRESHOLD", "Reachability", "RuleRecommendation",
+           "escapability", "reachability", "reachability_along", "reachability_graph", "recommend_rule", "DoorControl", "RoomWorld",
+           "RULES", "Billiard", "Random", "Smart", "make_rule", "room_tangents", "smart_tangent", "RoomsCheck",
+           "check_rooms", "load_rooms_answer"]
