@@ -210,7 +210,7 @@ def check_rooms(env: Environment, answer: dict) -> RoomsCheck:
         failures.append(f"the doors connect {len(reached)} of the {n_rooms} rooms")
     # 6. escapability
     for k, (a, b, named, data) in enumerate(doors):
-        claimed = data.get("escapability_exact")
+        claimed = data.get("escapability_by_room_exact")
         if claimed is None:
             continue
         for side, room in enumerate(named):

@@ -170,8 +170,11 @@ class Door:
             "b": [json_number(self.b[0]), json_number(self.b[1])],
             "rooms": list(self.rooms),
             "length": float(self.length),
-            "escapability": [float(self.escapability(r)) for r in self.rooms],
-            "escapability_exact": [format_number(self.escapability(r)) for r in self.rooms],
+            # the door's Φ is the harder way through it (the chamber side: Fig. 5's 1/30); both sides follow
+            "escapability": float(min(sides := [self.escapability(r) for r in self.rooms])),
+            "escapability_exact": format_number(min(sides)),
+            "escapability_by_room": [float(f) for f in sides],
+            "escapability_by_room_exact": [format_number(f) for f in sides],
             "vertex": self.vertex,
         }
 

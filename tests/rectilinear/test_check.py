@@ -50,7 +50,7 @@ def test_tampered_answers_fail_naming_the_claim(chambers):
         "area": (lambda d: d["rooms"][0].update(area_exact="901"), "room 0: area 901 claimed, 900 exactly"),
         "sum": (lambda d: d["rooms"].pop(), "the room areas add up to 2712"),
         "tree": (lambda d: d["doors"].pop(), "5 rooms for 3 doors"),
-        "phi": (lambda d: d["doors"][2]["escapability_exact"].__setitem__(0, "1/30"), "door 2: escapability from room 1 claimed 1/30, 0.1 exactly"),
+        "phi": (lambda d: d["doors"][2]["escapability_by_room_exact"].__setitem__(0, "1/30"), "door 2: escapability from room 1 claimed 1/30, 0.1 exactly"),
         "rooms": (lambda d: d["doors"][0].update(rooms=[0, 1]), "door 0 lies on a side of rooms [0, 4]; the answer says it joins rooms [0, 1]"),
         "side": (lambda d: d["rooms"][4].update(polygon=[[30, 14.5], [34, 14.5], [34, 16.5], [30, 16.5]], area_exact="8"),
                  "room 4: its side (34, 16.5)–(30, 16.5) is neither wall nor door"),  # the doorway made 2 high

@@ -29,7 +29,7 @@ def test_rooms_answer_has_rooms_doors_and_tree():
     assert data["rooms"][0]["polygon"] == [[0, 0], [30, 0], [30, 30], [0, 30]] and data["rooms"][0]["area"] == 900
     door = data["doors"][0]
     assert door["a"] == [30, 14.5] and door["b"] == [30, 15.5] and door["rooms"] == [0, 4]
-    assert door["escapability_exact"] == ["1/30", "1"]
+    assert door["escapability_by_room_exact"] == ["1/30", "1"] and door["escapability_exact"] == "1/30"
     assert sorted(map(tuple, data["tree"])) == [(0, 4), (1, 3), (1, 4), (2, 3)]
     assert data["status"] == "found" and data["environment"]["name"] == "three_chambers"
 

@@ -149,7 +149,8 @@ def test_json_answer_has_the_contract_fields():
     assert set(data["doors"][0]) >= {"a", "b", "rooms", "escapability"}
     door = data["doors"][0]
     assert door["a"] == [30, 14.5] and door["b"] == [30, 15.5] and door["rooms"] == [0, 4]
-    assert door["escapability_exact"] == ["1/30", "1"] and door["escapability"] == [1 / 30, 1.0]
+    assert door["escapability_by_room_exact"] == ["1/30", "1"] and door["escapability_by_room"] == [1 / 30, 1.0]
+    assert door["escapability_exact"] == "1/30" and door["escapability"] == 1 / 30  # a number, as the contract says
 
 
 # ---------------------------------------------------------------------- the paper's claims, on random polygons
