@@ -276,7 +276,7 @@ def build_sweeps(partition) -> Sweeps:
     cols = []
     for t in range(len(entries)):  # one column at a time: the unsorted copy is dropped at once
         a, b = entries[t], special[t]
-        entries[t] = special[t] = None
+        entries[t] = special[t] = None  # type: ignore[call-overload]  # drop each column once copied
         cols.append(np.concatenate([b[n_hi:], a, b[:n_hi]])[order])
         del a, b
     del order
