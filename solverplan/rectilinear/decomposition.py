@@ -356,8 +356,11 @@ class Decomposition:
         }
 
     def to_text(self, *, width: int = 100) -> str:
-        lines = [f"{len(self.rooms)} rooms and {len(self.doors)} doors in {self.env.name or 'the environment'} "
-                 f"(Algorithm 1; {len(self.dropped)} segments dropped)"]
+        def count(n: int, noun: str) -> str:
+            return f"{n} {noun}" + ("" if n == 1 else "s")
+
+        lines = [f"{count(len(self.rooms), 'room')} and {count(len(self.doors), 'door')} in "
+                 f"{self.env.name or 'the environment'} (Algorithm 1; {count(len(self.dropped), 'segment')} dropped)"]
         lines.append("rooms:")
         for room in self.rooms:
             x0, y0, x1, y1 = room.bounds
