@@ -266,13 +266,7 @@ def test_safe_interval_ends_are_exact(name):
     assert check_safe_ends(*built(name)) > 0
 
 
-FLOAT_ENDS_OFF = pytest.mark.xfail(strict=True, reason=(
-    "bvg/_sweep: float safe-interval ends keep the sweep's float error (≈ 1e-16 × |coordinate| / length) "
-    "instead of being the angles of the exact end directions: 3.3e-8 rad off (30× the planner's safe margin "
-    "of 1e-9) on the 2e-9-long segments of the 1e-9 slit"))
-
-
-@pytest.mark.parametrize("name", [pytest.param(n, marks=FLOAT_ENDS_OFF) if n == "slit" else n for n in sorted(CASES)])
+@pytest.mark.parametrize("name", sorted(CASES))
 def test_float_safe_ends_are_the_angles_of_the_exact_directions(name):
     _, p, g = built(name)
     assert float_end_errors(p, g) == []
@@ -481,25 +475,16 @@ def test_translation_keeps_the_exact_safe_directions():
         assert ends[0] == ends[1]
 
 
-@pytest.mark.xfail(strict=True, reason="bvg/_sweep: the float safe-interval ends are headings computed from the "
-                   "float coordinates (error ≈ 1e-16 × |coordinate| / length), not the angles of the exact end "
-                   "directions: 6e-6 rad off at an offset of 1e12 even where every coordinate is an exact float")
 def test_translated_float_ends_are_the_angles_of_the_exact_directions():
     far = Environment.from_coords([[x + 10**12, y - 10**12] for x, y in L_OUTER])
     p = partition(far)
     assert float_end_errors(p, safe_bounce_visibility_graph(p)) == []
 
 
-@pytest.mark.xfail(strict=True, reason="bvg/_sweep: float safe-interval ends computed from float coordinates "
-                   "(see above): plan widths and intervals move by up to 2.6e-5 rad under a translation by 1e12")
 def test_translation_keeps_the_float_angles(base_answers):
     assert_same_angles(angle_answers(INVARIANT.env(offset=(10**12, -(10**12)))), base_answers)
 
 
-@pytest.mark.xfail(strict=True, reason="bvg/_sweep: at scale 1e-4 and offset 1e12 (valid input: every edge keeps "
-                   "a positive float length) the BVG gains the arcs 0 ↔ 11 (the floor's first piece and the arm's "
-                   "ceiling piece, which the hole hides; empty safe sets), absent from the exact brute force "
-                   "and from the untranslated environment")
 def test_translation_never_changes_the_arcs():
     env = INVARIANT.env(scale=F(1, 10**4), offset=(10**12, -(10**12)))
     assert arcs_of(safe_bounce_visibility_graph(env)) == arcs_of(safe_bounce_visibility_graph(INVARIANT.env()))

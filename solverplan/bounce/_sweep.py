@@ -69,6 +69,75 @@ _END_LOW = (_AHEAD, _BEFORE_LO, _AT_LO)  # end rank 0 (a BELOW end wraps through
 MARK_ZERO, MARK_PI = -1, -2
 """Reference ids of the frame ends: heading 0 (direction b − a) and heading π (direction a − b)."""
 
+# A float heading or edge direction formed from rounded coordinates is off by up to about
+# 2⁻⁵² × (magnitude of the coordinates) / (length of the difference): nothing at a wall's scale, but
+# 1e-7 rad for a 1e-9-long feature at coordinates near 2, or 1e-5 rad for a 10-long one translated
+# by 1e12. Where that bound (with _ANGLE_REL's margin) exceeds _REFINE (radians), the value is
+# recomputed from the exact coordinates, so every float answer is accurate to about 1e-16 of the
+# angle whatever the translation; elsewhere the plain float value is already that accurate.
+_REFINE = 1e-10
+_ROUND = 2.0**-52
+
+
+def _local_points(partition) -> np.ndarray:
+    """Float coordinates of the points of P′ for the sweeps: the rounded points, or, for an environment
+    lying farther from 0 than 4 times its size, the rounded exact differences from a float point c at
+    the centre of its bounding box. Every sweep quantity is a difference of points, unchanged by the
+    shift, but rounding far from 0 would cost up to 2⁻⁵³ × |coordinate| on each: 1e-4 at 1e12."""
+    P = np.asarray(partition.seg_start, dtype=float)
+    if not len(P):
+        return P
+    low, high = P.min(axis=0), P.max(axis=0)
+    if float(np.max(np.abs(P))) <= 4.0 * float(np.max(high - low)):
+        return P
+    c = [Fraction(float(x)) for x in (low + high) / 2]
+    return np.array([[float(s.a[0] - c[0]), float(s.a[1] - c[1])] for s in partition.segments], dtype=float)
+
+
+def float_edge_vectors(env) -> np.ndarray:
+    """Float edge vectors b − a of ``env`` (shape (n, 2)), accurate to rounding: the difference of the
+    float vertices where it is well conditioned, else the exact difference rounded once."""
+    A, B = env.edge_start, env.edge_end
+    ev = B - A
+    mag = _ninf(A) + _ninf(B)
+    bad = np.flatnonzero(_ANGLE_REL * mag > _REFINE * np.hypot(ev[:, 0], ev[:, 1]))
+    if len(bad):
+        ev = ev.copy()
+        verts, nv = env.exact_vertices, env.next_vertex
+        for e in bad.tolist():
+            a, b = verts[e], verts[int(nv[e])]
+            ev[e] = (float(b[0] - a[0]), float(b[1] - a[1]))
+    return ev
+
+
+def accurate_headings(partition, edge: np.ndarray, frm: np.ndarray, to: np.ndarray) -> np.ndarray:
+    """Headings (radians, in [0, π]) of the directions P′[to] − P′[frm] (P′ vertex ids; ``to`` ≥ 0)
+    in the frames of ``edge``, accurate to a few units of 1e-16 whatever the coordinates' magnitude.
+
+    The points involved are carried as double-doubles (hi = float(x), lo = float(x − hi), from the
+    exact coordinates; :meth:`~solverplan.bounce.partition.Partition.point_vectors`), so the
+    differences are accurate to rounding relative to the *difference*; the frame is the edge's
+    exact direction rounded.
+    """
+    if not len(frm):
+        return np.zeros(0)
+    env = partition.env
+    r = partition.point_vectors(frm, to, accurate=True)
+    r = r / np.maximum(np.abs(r).max(axis=1), 1e-300)[:, None]  # atan2 is scale-free; no underflow below
+    verts, nv = env.exact_vertices, env.next_vertex
+    vec = {}
+    for e in np.unique(edge).tolist():
+        a, b = verts[e], verts[int(nv[e])]
+        dx, dy = b[0] - a[0], b[1] - a[1]
+        m = max(abs(dx), abs(dy))
+        vec[e] = (float(dx / m), float(dy / m))
+    f = np.array([vec[e] for e in edge.tolist()], dtype=float).reshape(-1, 2)
+    cr = f[:, 0] * r[:, 1] - f[:, 1] * r[:, 0]
+    dt = f[:, 0] * r[:, 0] + f[:, 1] * r[:, 1]
+    h = np.arctan2(cr, dt)
+    # on the frame line (cross exactly 0, or rounded just below it): 0 ahead, π behind
+    return np.where(h < 0, np.where(dt > 0, 0.0, math.pi), h)
+
 
 # ---------------------------------------------------------------------------------------------
 # exact points as homogeneous integers
@@ -184,8 +253,7 @@ class _Context:
         segs = partition.segments
         self.N = N = len(segs)
         self.n = n = env.n_vertices
-        self.P = np.asarray(partition.seg_start, dtype=float)  # P′ vertex k = start of segment k
-        self.V = np.asarray(env.vertices, dtype=float)
+        self.P = _local_points(partition)  # P′ vertex k = start of segment k
         self.seg_edge = np.asarray(partition.seg_edge, dtype=np.int64)
         self.nxt = np.asarray(partition.next_segment, dtype=np.int64)
         self.prv = np.asarray(partition.prev_segment, dtype=np.int64)
@@ -197,10 +265,11 @@ class _Context:
         nv = env.next_vertex
         edge_vectors = [(verts[int(nv[e])][0] - verts[e][0], verts[int(nv[e])][1] - verts[e][1]) for e in range(n)]
         self.exact = ExactPoints([s.a for s in segs], edge_vectors)
-        ev = env.edge_end - env.edge_start
-        self.edge_unit = ev / np.hypot(ev[:, 0], ev[:, 1])[:, None]
-        self.A = np.asarray(env.edge_start, dtype=float)
-        self.B = np.asarray(env.edge_end, dtype=float)
+        self.edge_vec = float_edge_vectors(env)
+        self.edge_unit = self.edge_vec / np.hypot(self.edge_vec[:, 0], self.edge_vec[:, 1])[:, None]
+        self.V = self.P[self.orig_pv]
+        self.A = self.V
+        self.B = self.V[np.asarray(env.next_vertex, dtype=np.int64)]
         self.scale = float(np.max(np.abs(self.V))) + 1.0
         self.exact_checks = 0
         self.exact_casts = 0
@@ -456,7 +525,8 @@ def _rank(ctx: _Context, origin, frame, lo_lim, hi_lim, cls, ang, err):
     dir_err[pos] = serr[mm, jj]
     # sector k of sweep m lies between directions k and k+1: flat index dir_off[m] + k (k <= K)
     width = np.diff(dir_ang)
-    thin = width <= np.maximum(_THIN, dir_err[1:] + dir_err[:-1])
+    # a float bisector is strictly inside its sector when the sector is wider than twice either end's error
+    thin = width <= np.maximum(_THIN, 2.0 * np.maximum(dir_err[1:], dir_err[:-1]))
     return rank, K, dir_ang, dir_to, dir_err, dir_off, thin
 
 
@@ -470,8 +540,7 @@ def _front_facing(ctx: _Context, origin: np.ndarray) -> tuple[np.ndarray, np.nda
     M, n = len(origin), ctx.n
     rows_out, edges_out = [], []
     rows = max(1, _BLOCK // max(n, 1))
-    A, B = ctx.A, ctx.B
-    d = B - A
+    A, d = ctx.A, ctx.edge_vec  # d accurate to rounding: the float ends of a short edge far from 0 are not
     own = ctx.seg_edge  # edge of the segment starting at each P′ vertex
     for s0 in range(0, M, rows):
         o = origin[s0 : s0 + rows]
@@ -585,10 +654,17 @@ def _hit_block(ctx, origin, frame, dir_ang, dir_off, thin, n_sec, sec_off, m0, m
     # u, which is numer / cross(u, d); and the distance from X to the edge (a lower bound)
     X = ctx.P[origin[m_idx]]
     A, B = ctx.A[e_idx], ctx.B[e_idx]
-    dxp, dyp = B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]
-    numer = (A[:, 0] - X[:, 0]) * dyp - (A[:, 1] - X[:, 1]) * dxp
+    dvec = ctx.edge_vec[e_idx]
+    dxp, dyp = dvec[:, 0], dvec[:, 1]
+    rel = A - X
+    numer = rel[:, 0] * dyp - rel[:, 1] * dxp
     dmin = _point_segment_distance(X, A, B)
-    del X, A, B
+    # error of a distance numer / cross(u, d) along a unit u: the coordinates are rounded (2⁻⁵³ of
+    # their magnitude), d is accurate to rounding; with a margin of 8, it is at most
+    # 2⁻⁴⁹ (err_num + distance · err_den) / |cross(u, d)| (see the tie test below)
+    dn = _ninf(dvec)
+    err_num = (_ninf(X) + _ninf(A) + _ninf(rel)) * dn
+    del X, A, B, rel, dvec
     ms = np.arange(m0, m1)
     ns = n_sec[m0:m1]
     g0 = int(sec_off[m0])
@@ -670,18 +746,25 @@ def _hit_block(ctx, origin, frame, dir_ang, dir_off, thin, n_sec, sec_off, m0, m
     gl = np.repeat(sec_off[m_idx[pp]] - g0 + lo, n_t) + ragged_arange(n_t)
     del pp, lo, n_t
     ctx.depth_tested += len(rep)
-    dx, dy = dxp[rep], dyp[rep]
+    den = UX[gl] * dyp[rep] - UY[gl] * dxp[rep]
     with np.errstate(divide="ignore", invalid="ignore"):
-        dist = numer[rep] / (UX[gl] * dy - UY[gl] * dx)
-    del dx, dy
-    dist[~(dist > 0)] = np.inf
+        dist = numer[rep] / den
+        dist[~(dist > 0)] = np.inf
+        # the float error bound of each distance: rounded coordinates far from 0 or a grazing ray
+        # make distances unreliable, and the sector is then a tie, cast exactly
+        err = _ROUND * 8.0 * (err_num[rep] + dist * dn[rep]) / np.abs(den)
+    del den
     best = np.full(L, np.inf)
     np.minimum.at(best, gl, dist)
     hit = np.full(L, -1, dtype=np.int64)
     b = best[gl]
     win = dist == b
     hit[gl[win]] = e_idx[rep[win]]
-    near = np.bincount(gl[dist <= b * (1.0 + _DEPTH_REL)], minlength=L)
+    best_err = np.zeros(L)
+    best_err[gl[win]] = err[win]
+    # near the nearest: within the relative tie margin, or not separated by the two error bounds
+    with np.errstate(invalid="ignore"):
+        near = np.bincount(gl[dist - err <= b * (1.0 + _DEPTH_REL) + best_err[gl]], minlength=L)
     bad = thin[s_g] | ~np.isfinite(best) | (near != 1)
     return hit, bad
 

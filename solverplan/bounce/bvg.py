@@ -645,6 +645,7 @@ def _build(p: Partition) -> SafeBVG:
         keep[rows[~ok]] = False
         pieces = pieces.take(np.flatnonzero(keep))
     del single
+    _refine_ends(p, pieces, edge_of)
     t2 = time.perf_counter()
 
     # ---- per arc: all intervals (sorted), the widest one
@@ -708,6 +709,21 @@ def _build(p: Partition) -> SafeBVG:
         _set_ends=set_ends,
         stats=stats,
     )
+
+
+def _refine_ends(p: Partition, pieces: _Pieces, edge_of: np.ndarray) -> None:
+    """Recompute, from the exact coordinates, the float headings of the ends whose error bound exceeds
+    :data:`~solverplan.bounce._sweep._REFINE` (directions between points far from 0 relative to their
+    distance: tiny features, or a translated environment), so that every float end is the angle of
+    its exact end direction to about 1e-16 (the comparisons made so far were exact where unsure)."""
+    for which in ("lo", "hi"):
+        to, err = getattr(pieces, f"{which}_to"), getattr(pieces, f"{which}_err")
+        rows = np.flatnonzero((err > _sweep._REFINE) & (to >= 0))
+        if len(rows):
+            values = getattr(pieces, which).copy()
+            values[rows] = _sweep.accurate_headings(p, edge_of[pieces.arc[rows]],
+                                                    getattr(pieces, f"{which}_from")[rows], to[rows])
+            setattr(pieces, which, values)
 
 
 def _sorted_by_arc_lo(pieces: _Pieces) -> bool:
@@ -873,8 +889,8 @@ def _hole_side_table(p: Partition) -> np.ndarray:
     """S[e, h]: hole h lies strictly left of the line of edge e (the free side), exact near ties."""
     env = p.env
     H = len(env.rings) - 1
-    A, B = env.edge_start, env.edge_end
-    d = B - A
+    A = env.edge_start
+    d = _sweep.float_edge_vectors(env)  # accurate to rounding: the tolerance below assumes it
     scale = float(np.max(np.abs(env.vertices))) + 1.0
     out = np.zeros((env.n_edges, H), dtype=bool)
     verts = env.exact_vertices
@@ -978,7 +994,7 @@ def _transitions(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tuple[np.n
 
 
 def _transitions_block(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    d = env.edge_end - env.edge_start
+    d = _sweep.float_edge_vectors(env)  # accurate to rounding (φ of a short edge far from 0 too)
     u, v = d[ei], d[ej]
     cr = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
     dt = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]

@@ -173,16 +173,20 @@ def admissible_intervals(graph: SafeBVG, margins: Margins) -> AdmissibleInterval
         a = np.array([[float(s.a[0]), float(s.a[1])] for s in part.segments])
         b = np.array([[float(s.b[0]), float(s.b[1])] for s in part.segments])
         A, B, C, D = a[src], b[src], a[tgt], b[tgt]
-        length = np.hypot(*(D - C).T)
-        u = (D - C) / np.where(length > 0, length, 1.0)[:, None]
+        dc = part.point_vectors(tgt, part.next_segment[tgt])
+        length = np.hypot(*dc.T)
+        u = dc / np.where(length > 0, length, 1.0)[:, None]
         # the end shared with the source is exempt (Cor. 1's corners); floats of one exact point are equal
         shared_c = np.all(C == B, axis=1)
         shared_d = np.all(D == A, axis=1)
-        c_in = C + kappa * u
-        d_in = D - kappa * u
-        ex, ey = (B - A).T
-        cone_lo = np.where(shared_c, 0.0, _angle_from(ex, ey, c_in[:, 0] - B[:, 0], c_in[:, 1] - B[:, 1]))
-        cone_hi = np.where(shared_d, math.pi, _angle_from(ex, ey, d_in[:, 0] - A[:, 0], d_in[:, 1] - A[:, 1]))
+        # the directions from differences of the exact points (c_in − b = (c − b) + κu), accurate
+        # however far from 0 the environment lies (differences of its rounded points are not)
+        nxt = part.next_segment
+        ex, ey = part.point_vectors(src, nxt[src]).T
+        cb = part.point_vectors(nxt[src], tgt) + kappa * u
+        da = part.point_vectors(src, nxt[tgt]) - kappa * u
+        cone_lo = np.where(shared_c, 0.0, _angle_from(ex, ey, cb[:, 0], cb[:, 1]))
+        cone_hi = np.where(shared_d, math.pi, _angle_from(ex, ey, da[:, 0], da[:, 1]))
         # a target too short for the clearance at both (unshared) ends cannot be used at all
         needed = kappa * ((~shared_c).astype(float) + (~shared_d).astype(float))
         lo = np.maximum(lo, cone_lo + margins.safe_margin)

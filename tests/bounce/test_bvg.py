@@ -543,3 +543,34 @@ def test_cli_max_memory_refuses_in_one_line_and_graph_cache_option(tmp_path):
     assert bvg_api.graph_cache_directory() is None  # the option lasted one command line
     plain = runner.invoke(cli.app, ["--graph-cache", "off", "--compact", "graph", str(src), "--safe"])
     assert plain.exit_code == 0 and out.read_text() == plain.stdout  # the chunked encoder wrote the same bytes
+
+
+def test_point_vectors_are_accurate_far_from_zero():
+    """Differences of P′ points 1e12 from 0 (rounded there to 1.2e-4) are accurate to rounding of the
+    difference itself, and the plain path is the float difference where that is already accurate."""
+    from fractions import Fraction as F
+
+    from solverplan.bounce.partition import partition
+
+    off = 10**12
+    env = Environment.from_coords([[off, off], [off + 10, off], [off + F(10, 3), off + F(1, 7)]])
+    p = partition(env)
+    frm, to = np.array([0, 1, 2]), np.array([1, 2, 0])
+    exact = [(float(p.segments[t].a[0] - p.segments[f].a[0]), float(p.segments[t].a[1] - p.segments[f].a[1]))
+             for f, t in zip(frm, to)]
+    np.testing.assert_allclose(p.point_vectors(frm, to), exact, rtol=1e-15, atol=0)
+    near = partition(Environment.from_coords([[0, 0], [10, 0], [F(10, 3), F(1, 7)]]))
+    assert np.array_equal(near.point_vectors(frm, to), near.seg_start[to] - near.seg_start[frm])
+
+
+def test_translated_star_keeps_arcs_and_float_angles():
+    """A random star moved by 1e12: the same arcs and every float answer within 1e-12 of the untranslated one."""
+    from solverplan.studies.generators import star_polygon
+
+    base = star_polygon(12, 0.2, 0.3, seed=3)
+    moved = Environment.from_coords([[x + 10**12, y - 10**12] for x, y in base.outer])
+    a, b = safe_bounce_visibility_graph(base), safe_bounce_visibility_graph(moved)
+    assert np.array_equal(a.source, b.source) and np.array_equal(a.target, b.target)
+    assert np.array_equal(a.set_offsets, b.set_offsets)
+    for x, y in [(a.set_lo, b.set_lo), (a.set_hi, b.set_hi), (a.phi, b.phi)]:
+        np.testing.assert_allclose(y, x, rtol=0, atol=1e-12)
