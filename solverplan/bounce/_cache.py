@@ -47,7 +47,7 @@ __all__ = ["FORMAT_VERSION", "set_graph_cache", "graph_cache_directory", "clear_
 
 logger = logging.getLogger(__name__)
 
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: float ends refined where rounding could show (translated or tiny features)
 """Version of the cached arrays and of the construction that made them: bump it whenever either
 changes, and every older entry is ignored."""
 
