@@ -79,6 +79,8 @@ _floats = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.sampled_f
        objective=st.sampled_from(["fewest", "tolerance", "sum", "constant", "nope"]),
        max_bounces=st.one_of(st.none(), st.integers(-3, 6), st.just(10**30)),
        heading_margin=st.one_of(st.just(1e-3), _floats), corner_clearance=st.one_of(st.none(), _floats))
+@example(model="triangle", start="e0:0:1,e1:0:1,e2", goal="e0:0:1,e1:0:1,e2", objective="sum", max_bounces=10**30,
+         heading_margin=1e-3, corner_clearance=None).via("found by the fuzz profile: a hang")
 def test_fuzzed_plan_queries_answer_or_refuse_in_one_line(model, start, goal, objective, max_bounces, heading_margin,
                                                           corner_clearance):
     plan = _answer_or_input_error(sp.find_plan, _model(model), start, goal, objective=objective,

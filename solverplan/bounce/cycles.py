@@ -69,6 +69,7 @@ from solverplan.bounce.rules import check_edges
 from solverplan.bounce.transitions import AffineMap
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet, SolverFailed
+from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.exact import ExactPoint, format_number, to_fraction
 from solverplan.interval import Interval
 from solverplan.result import AffineStep, EnvironmentRecord, Method, Optimality, Stage, Stats, Status
@@ -497,8 +498,8 @@ def limit_cycle(
         value = heading.theta
     if method not in ("auto", "theorem1", "iterate", "edges"):
         raise InputError(f"unknown cycle method {method!r}: use auto, theorem1, iterate or edges")
-    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or max_bounces < 1:
-        raise InputError(f"max_bounces must be a positive integer, got {max_bounces!r}")
+    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or not 1 <= max_bounces <= MAX_BOUNCES:
+        raise InputError(f"max_bounces must be an integer in [1, {MAX_BOUNCES:,}], got {quote(max_bounces)}")
     seq = _parse_edges(env, edges) if edges is not None else None
     lemma3 = _strictly_convex(env, clockwise=heading.theta > math.pi / 2)
     if method == "auto":

@@ -35,6 +35,7 @@ from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.partition import partition
 from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
+from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import deadline_of
 from solverplan.plan._positions import Flat, SearchOutcome, search_widening
@@ -206,8 +207,8 @@ def funnel(
     eps = DEFAULT_FUNNEL_TOLERANCE if tolerance is None else float(tolerance)
     if not (0 < eps < math.pi / 2):
         raise InputError(f"tolerance {tolerance!r} must be a heading half-width in (0, π/2) radians")
-    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or max_bounces < 1:
-        raise InputError(f"max_bounces must be a positive integer, got {max_bounces!r}")
+    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or not 1 <= max_bounces <= MAX_BOUNCES:
+        raise InputError(f"max_bounces must be an integer in [1, {MAX_BOUNCES:,}], got {quote(max_bounces)}")
     deadline = deadline_of(timeout)
     g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
     part = g.partition

@@ -77,6 +77,7 @@ from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
+from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan import _search
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
@@ -113,11 +114,16 @@ def _boundary(env: Environment, value: str | BoundarySet, what: str) -> Boundary
     raise InputError(f"{what} set must be a boundary-set string like 'e3:0.25:0.75,e4', got {value!r}")
 
 
+MAX_SUM_STAGES = 10_000
+"""Largest budget of the ``sum`` objective (and ``milp``): its optimum uses every stage it may (each adds width), so
+the work and the answer grow linearly with the budget — ten million stages would be hours and gigabytes."""
+
+
 def _check_budget(max_bounces: object) -> int | None:
     if max_bounces is None:
         return None
-    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or max_bounces < 1:
-        raise InputError(f"max_bounces must be a positive integer, got {max_bounces!r}")
+    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or not 1 <= max_bounces <= MAX_BOUNCES:
+        raise InputError(f"max_bounces must be an integer in [1, {MAX_BOUNCES:,}], got {quote(max_bounces)}")
     return int(max_bounces)
 
 
@@ -296,6 +302,10 @@ def find_plan(
     k_max = _check_budget(max_bounces)
     if objective == "sum" and k_max is None:
         raise InputError("objective 'sum' needs max_bounces (--max-bounces K): every extra stage adds width")
+    if (objective == "sum" or method == "milp") and k_max is not None and k_max > MAX_SUM_STAGES:
+        raise InputError(f"max_bounces {k_max:,} is too large for {'the sum objective' if objective == 'sum' else 'milp'}"
+                         f" (at most {MAX_SUM_STAGES:,}): its plan uses every stage it may, so work and answer grow "
+                         "with the budget")
     if method == "milp" and k_max is None:
         raise InputError("method 'milp' needs max_bounces (--max-bounces K): it works on the time-expanded network")
     if method == "auto":

@@ -276,7 +276,7 @@ def test_infeasible_when_no_interval_works_from_every_start_segment(two_rooms):
         ({"objective": "fastest"}, r"^unknown objective 'fastest': use fewest, tolerance, sum, constant$"),
         ({"objective": "sum"}, r"^objective 'sum' needs max_bounces \(--max-bounces K\): every extra stage adds width$"),
         ({"objective": "fewest", "method": "lp"}, r"^unknown method 'lp' for objective 'fewest': use auto, bfs$"),
-        ({"max_bounces": 0}, r"^max_bounces must be a positive integer, got 0$"),
+        ({"max_bounces": 0}, r"^max_bounces must be an integer in \[1, 10,000,000\], got 0$"),
         ({"objective": "tolerance", "method": "milp"}, r"^method 'milp' needs max_bounces"),
     ],
 )
