@@ -14,7 +14,7 @@ stop lies in an earlier view; the goal is few views.
 The command is ``solverplan explore``.
 
 >>> import solverplan as sp
->>> run = sp.explore(sp.load_environment("comb"), (1, 1))
+>>> run = sp.explore_depth_first(sp.load_environment("comb"), (1, 1))
 >>> run.n_views <= run.bound, run.covered_fraction > 1 - 1e-9
 (True, True)
 """
@@ -24,8 +24,6 @@ from solverplan.explore.bounds import (Cost, depth_first_ratio, exploration_cost
 from solverplan.explore.depth_first import CHOICES, Exploration, covered_fraction, explore_depth_first
 from solverplan.explore.windows import Window, unexplored_parts, windows
 
-explore = explore_depth_first
-
-__all__ = ["CHOICES", "Cost", "Exploration", "Window", "covered_fraction", "depth_first_ratio", "explore",
+__all__ = ["CHOICES", "Cost", "Exploration", "Window", "covered_fraction", "depth_first_ratio",
            "explore_depth_first", "exploration_cost", "range_ratio_bound", "range_views_bound",
            "range_views_lower_bound", "unexplored_parts", "views_bound", "windows"]
