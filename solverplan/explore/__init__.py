@@ -10,6 +10,8 @@ stop lies in an earlier view; the goal is few views.
   stack, at most r + 1 views (Theorem 1); z-choice rules ``first``, ``random``, ``far``.
 - :mod:`~solverplan.explore.bounds` — the cost T = t_M·N_M + t_S·N_S + d/r and the paper's bounds (r + 1,
   Lemma 4, Theorem 5).
+- :mod:`~solverplan.explore.optimum` — the offline optimum over candidate points (a set cover MILP with a
+  connectivity constraint), to measure the competitive ratio.
 
 The command is ``solverplan explore``.
 
