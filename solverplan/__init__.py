@@ -51,6 +51,9 @@ _EXPORTS: dict[str, str] = {
     "decompose_rooms": "solverplan.rectilinear.decomposition",
     "simulate_rooms": "solverplan.studies.rooms",
     "compare_rules": "solverplan.studies.rooms",
+    # online exploration with discrete views (Ghosh, Burdick, Bhattacharya and Sarkar)
+    "explore_depth_first": "solverplan.explore.depth_first",
+    "Exploration": "solverplan.explore.depth_first",
     # planners
     "find_plan": "solverplan.plan.search",
     "pareto_front": "solverplan.plan.search",
@@ -100,6 +103,7 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.environment import BoundaryPiece, BoundarySet, Environment, load_environment
     from solverplan.errors import (InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile, SolverFailed,
                                    SolverplanError)
+    from solverplan.explore.depth_first import Exploration, explore_depth_first
     from solverplan.interval import Interval
     from solverplan.plan.funnel import Funnel, funnel
     from solverplan.plan.localize import localize

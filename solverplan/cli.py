@@ -1025,6 +1025,50 @@ def rooms_command(
         emit(answer if rule is RoomRule.ALL else answer.runs[rule.value], fmt, out)
 
 
+# ---------------------------------------------------------------------- online exploration with discrete views
+class ZChoice(StrEnum):
+    FIRST = "first"
+    RANDOM = "random"
+    FAR = "far"
+
+
+def _xy(text: str, option: str) -> tuple:
+    """``X,Y`` as an exact point; bad text is one line naming the option."""
+    from solverplan.exact import to_fraction
+
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise InputError(f"{option} {text!r}: expected X,Y (two numbers separated by a comma)")
+    return tuple(to_fraction(part.strip(), where=option) for part in parts)
+
+
+@app.command(name="explore")
+def explore_command(
+    env: EnvArg,
+    start: Annotated[str, typer.Option("--start", metavar="X,Y", help="The robot's start p1, a point of the free space.")],
+    choice: Annotated[ZChoice, typer.Option("--choice", help="Which unexplored constructed edge the next view is taken on: first, random (with --seed) or far.")] = ZChoice.FIRST,
+    seed: Annotated[int | None, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Seed of --choice random (default 0).", show_default=False)] = None,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Explore an unknown polygon with discrete views (Algorithm A of Ghosh et al.): at most r + 1 views."""
+    from solverplan.explore import explore_depth_first
+
+    with exit_codes(verbose):
+        _check_picture(picture)
+        environment = _load(env, env_format)
+        run = explore_depth_first(environment, _xy(start, "--start"), choice=choice.value, seed=seed)
+        if picture is not None:
+            from solverplan.render import save_figure
+            from solverplan.render.explore import render_exploration
+
+            save_figure(render_exploration(run, environment), picture)
+        emit(run, fmt, out)
+
+
 # ---------------------------------------------------------------------- generate (random environments)
 generate_app = typer.Typer(
     name="generate", cls=_Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,

@@ -5,7 +5,8 @@ All plotting in solverplan lives in this package, one module per layer: :mod:`~s
 ids), :mod:`~solverplan.render.environment`, :mod:`~solverplan.render.partition`,
 :mod:`~solverplan.render.graph`, :mod:`~solverplan.render.trajectories`, :mod:`~solverplan.render.cycles`,
 :mod:`~solverplan.render.plans`, :mod:`~solverplan.render.answers`, :mod:`~solverplan.render.heatmaps`,
-:mod:`~solverplan.render.rooms` (rooms and doors of rectilinear polygons),
+:mod:`~solverplan.render.rooms` (rooms and doors of rectilinear polygons), :mod:`~solverplan.render.explore`
+(explorations with discrete views),
 and :mod:`~solverplan.render.scenes`, whose :func:`scene` stacks the layers into a whole picture (what
 ``solverplan render`` draws). Each ``draw_*`` layer takes an Axes and returns the artists it added; every
 artist has a ``gid`` that becomes its ``id`` in SVG output.
@@ -26,6 +27,7 @@ from solverplan.render.environment import (
     draw_reflex_vertices,
     render_environment,
 )
+from solverplan.render.explore import render_exploration
 from solverplan.render.figure import FigureFormat, SavedFigure, figure_bytes, figure_format, new_figure, save_figure
 from solverplan.render.graph import draw_graph, draw_safe_arcs
 from solverplan.render.heatmaps import draw_heatmap, render_heatmaps
@@ -37,6 +39,7 @@ from solverplan.render.scenes import scene
 from solverplan.render.trajectories import draw_trajectories
 
 __all__ = [
+    "render_exploration",
     "FigureFormat",
     "new_figure",
     "draw_free_space",

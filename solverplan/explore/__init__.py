@@ -1,0 +1,31 @@
+"""Online exploration of unknown polygons with discrete views (Ghosh, Burdick, Bhattacharya and Sarkar,
+"Online algorithms with discrete visibility: exploring unknown polygonal environments").
+
+A point robot that knows nothing of the polygon computes visibility polygons only where it stops, and each
+stop lies in an earlier view; the goal is few views.
+
+- :mod:`~solverplan.explore.windows` — the constructed edges (windows) of a view and their unexplored parts,
+  exact.
+- :mod:`~solverplan.explore.depth_first` — Algorithm A: depth-first over unexplored windows with an explicit
+  stack, at most r + 1 views (Theorem 1); z-choice rules ``first``, ``random``, ``far``.
+- :mod:`~solverplan.explore.bounds` — the cost T = t_M·N_M + t_S·N_S + d/r and the paper's bounds (r + 1,
+  Lemma 4, Theorem 5).
+- :mod:`~solverplan.explore.optimum` — the offline optimum over candidate points (a set cover MILP with a
+  connectivity constraint), to measure the competitive ratio.
+
+The command is ``solverplan explore``.
+
+>>> import solverplan as sp
+>>> run = sp.explore_depth_first(sp.load_environment("comb"), (1, 1))
+>>> run.n_views <= run.bound, run.covered_fraction > 1 - 1e-9
+(True, True)
+"""
+
+from solverplan.explore.bounds import (Cost, depth_first_ratio, exploration_cost, range_ratio_bound,
+                                       range_views_bound, range_views_lower_bound, views_bound)
+from solverplan.explore.depth_first import CHOICES, Exploration, covered_fraction, explore_depth_first
+from solverplan.explore.windows import Window, unexplored_parts, windows
+
+__all__ = ["CHOICES", "Cost", "Exploration", "Window", "covered_fraction", "depth_first_ratio",
+           "explore_depth_first", "exploration_cost", "range_ratio_bound", "range_views_bound",
+           "range_views_lower_bound", "unexplored_parts", "views_bound", "windows"]

@@ -1,0 +1,280 @@
+"""Algorithm A: depth-first exploration of an unknown polygon with discrete views (no range limit).
+
+Ghosh, Burdick, Bhattacharya and Sarkar, "Online algorithms with discrete visibility", section "An
+Exploration Algorithm". The robot starts at p₁ and computes visibility polygons only at viewpoints it stops
+at. Each next viewpoint is a point of a constructed edge (a window) of the current view that is not yet
+explored, so it lies in an earlier view (the viewpoints are chained); when the current view has no unexplored
+window left the robot backtracks to the previous viewpoint on an explicit stack. The exploration stops when the
+stack is empty: every window of every view is explored, so the union of the views is the whole free space
+(Lemma 2) — with at most r + 1 views (Theorem 1).
+
+The explored region is the union of the views taken so far (exact visibility polygons); it is opaque in the
+sense of the paper: a window counts only as far as it leads out of that region
+(:func:`~solverplan.explore.windows.unexplored_parts`), so a view never sends the robot back into known space.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import time
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Literal, Sequence
+
+from solverplan.environment import Environment
+from solverplan.errors import InputError
+from solverplan.exact import ExactPoint, exact_point, format_point
+from solverplan.explore.bounds import Cost, exploration_cost, views_bound
+from solverplan.explore.windows import Window, point_on_part, unexplored_parts, windows
+from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
+
+__all__ = ["CHOICES", "Exploration", "explore_depth_first"]
+
+Choice = Literal["first", "random", "far"]
+CHOICES: tuple[str, ...] = ("first", "random", "far")
+"""The z-choice rules: ``first`` — the first unexplored window part in the current view's CCW ring order;
+``random`` — a uniformly random one (seeded); ``far`` — the one whose chosen point is farthest from the
+current viewpoint. On the chosen part the viewpoint is the simplest rational point of its middle third."""
+
+
+@dataclass(frozen=True)
+class Exploration:
+    """An exploration: viewpoints in visiting order, the views, the path and what they cost.
+
+    Attributes
+    ----------
+    status
+        ``found`` when the views cover the free space (always, for Algorithm A); ``not-found`` when the view
+        limit was hit first (``optimality.limits`` says which).
+    viewpoints
+        p₁, p₂, … exact, in the order visited (length units of the environment).
+    views
+        The exact visibility polygon of each viewpoint.
+    parents
+        For each viewpoint after the first, the index of the earlier viewpoint whose window it lies on
+        (p_i ∈ VP(p_parent)): the chain; −1 for p₁.
+    path
+        The robot's positions, start first: forward moves to each new viewpoint, backward moves along the
+        stack of viewpoints to the one whose window is explored next. Every leg is a straight segment in the
+        free space.
+    reflex
+        r, the reflex vertices of the free space.
+    bound
+        The bound on the number of views of the algorithm that ran (r + 1 for Algorithm A).
+    covered_fraction
+        Area of the union of the views over the area of the free space (floats; 1 up to rounding).
+    choice, seed
+        The z-choice rule and its seed.
+    """
+
+    status: Status
+    viewpoints: tuple[ExactPoint, ...]
+    views: tuple[VisibilityPolygon, ...]
+    parents: tuple[int, ...]
+    path: tuple[ExactPoint, ...]
+    reflex: int
+    bound: int
+    covered_fraction: float
+    choice: str
+    seed: int | None
+    optimality: Optimality
+    stats: Stats = field(default_factory=Stats)
+    environment: EnvironmentRecord | None = None
+    algorithm: str = "A"
+    range: float | None = None
+
+    @property
+    def n_views(self) -> int:
+        """N_S, the number of views."""
+        return len(self.viewpoints)
+
+    @property
+    def moves(self) -> int:
+        """N_M, the number of straight moves (forward and backward)."""
+        return max(0, len(self.path) - 1)
+
+    @property
+    def path_length(self) -> float:
+        """d, the length of the path (float, length units)."""
+        return sum(math.dist(tuple(map(float, p)), tuple(map(float, q))) for p, q in zip(self.path, self.path[1:]))
+
+    def cost(self, *, t_move: float = 1.0, t_sense: float = 1.0, speed: float = 1.0) -> Cost:
+        """T = t_M·N_M + t_S·N_S + d/r of this exploration (:func:`~solverplan.explore.bounds.exploration_cost`)."""
+        return exploration_cost(self.moves, self.n_views, self.path_length, t_move=t_move, t_sense=t_sense,
+                                speed=speed)
+
+    def to_json(self) -> dict:
+        """The exploration answer of ``docs/contract.md``."""
+        out: dict = {
+            "status": self.status.value,
+            "algorithm": self.algorithm,
+            "viewpoints": [[float(x), float(y)] for x, y in self.viewpoints],
+            "views": self.n_views,
+            "reflex": self.reflex,
+            "bound": self.bound,
+            "path_length": self.path_length,
+            "covered_fraction": self.covered_fraction,
+            "moves": self.moves,
+            "cost": self.cost().to_json(),
+            "parents": list(self.parents),
+            "path": [[float(x), float(y)] for x, y in self.path],
+            "choice": self.choice,
+        }
+        if self.seed is not None:
+            out["seed"] = self.seed
+        if self.range is not None:
+            out["range"] = self.range
+        out["optimality"] = self.optimality.to_json()
+        if self.stats:
+            out["stats"] = self.stats.to_json()
+        if self.environment is not None:
+            out["environment"] = self.environment.to_json()
+        return out
+
+    def to_text(self, *, width: int = 100) -> str:
+        """A short report: counts, bound, coverage, then the viewpoints."""
+        lines = [
+            f"exploration (Algorithm {self.algorithm}, choice {self.choice}): {self.status.value}",
+            f"views {self.n_views} (bound {self.bound}, r = {self.reflex}), moves {self.moves}, "
+            f"path length {self.path_length:.6g}, covered {self.covered_fraction:.12g}",
+            f"optimality: {self.optimality.to_text()}",
+        ]
+        for k, p in enumerate(self.viewpoints):
+            via = "" if self.parents[k] < 0 else f"  (on a window of p{self.parents[k] + 1})"
+            lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via}"[:width])
+        return "\n".join(lines)
+
+
+def covered_fraction(env: Environment, views: Sequence[VisibilityPolygon]) -> float:
+    """Area of the union of ``views`` over the free space's area (floats, shapely)."""
+    import shapely
+
+    union = shapely.union_all([shapely.Polygon([tuple(map(float, p)) for p in vp.ring]) for vp in views])
+    free = env.to_shapely()
+    return float(union.intersection(free).area / free.area)
+
+
+def _start_point(env: Environment, start: Sequence[object]) -> tuple[ExactPoint, VisibilityPolygon]:
+    p = exact_point(start, where="start")
+    try:
+        return p, visibility_polygon(env, p)
+    except InputError:
+        raise InputError(f"start {format_point(p)} is not in the free space of {env.name or 'the environment'}") from None
+
+
+def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Choice = "first",
+                        seed: int | None = None, max_views: int | None = None) -> Exploration:
+    """Explore ``env`` from ``start`` with Algorithm A.
+
+    Parameters
+    ----------
+    env
+        The free space (outer ring and holes); unknown to the robot, which only sees its views.
+    start
+        p₁, a point of the closed free space (length units).
+    choice
+        The z-choice rule (:data:`CHOICES`): ``first``, ``random`` (with ``seed``) or ``far``.
+    seed
+        Seed of the ``random`` rule (default 0); not allowed with the other rules.
+    max_views
+        Stop after this many views (default 2(r + 1) + 2, more than Theorem 1 allows); hitting it gives status
+        ``not-found``.
+
+    Returns
+    -------
+    Exploration
+        Status ``found`` with viewpoints, views, the chain and the path.
+
+    Raises
+    ------
+    InputError
+        If ``start`` is not in the free space, ``choice`` is unknown, or a seed is given to a rule without
+        randomness.
+
+    >>> from solverplan.environment import Environment
+    >>> ell = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])
+    >>> run = explore_depth_first(ell, (3, 1))
+    >>> run.n_views, run.bound, run.covered_fraction
+    (2, 2, 1.0)
+    """
+    if choice not in CHOICES:
+        raise InputError(f"unknown z-choice rule {choice!r}: use {', '.join(CHOICES)}")
+    if seed is not None and choice != "random":
+        raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
+    rng = random.Random(0 if seed is None else seed)
+    bound = views_bound(env)
+    limit = 2 * bound + 2 if max_views is None else max_views
+    if limit < 1:
+        raise InputError(f"max_views must be >= 1, got {max_views}")
+    t0 = time.perf_counter()
+    p, vp = _start_point(env, start)
+    viewpoints, views, parents = [p], [vp], [-1]
+    path: list[ExactPoint] = [p]
+    stack = [0]  # indices of viewpoints whose windows may still lead somewhere (depth ≠ viewpoint index)
+    explored: set[tuple[int, int]] = set()  # (view, window position) found explored: stays explored
+    checks = 0
+    hit_limit = False
+    while stack:
+        top = stack[-1]
+        options: list[tuple[Window, tuple[Fraction, Fraction]]] = []
+        for k, w in enumerate(windows(views[top], top)):
+            if (top, k) in explored:
+                continue
+            checks += 1
+            parts = unexplored_parts(w, views)
+            if not parts:
+                explored.add((top, k))
+            options.extend((w, part) for part in parts)
+        if not options:
+            stack.pop()
+            continue
+        if len(viewpoints) >= limit:
+            hit_limit = True
+            break
+        if choice == "first":
+            w, part = options[0]
+            z = point_on_part(w, part)
+        elif choice == "random":
+            w, part = options[rng.randrange(len(options))]
+            z = point_on_part(w, part)
+        else:
+            here = viewpoints[top]
+            candidates = [point_on_part(w, part) for w, part in options]
+            z = max(candidates, key=lambda q: (q[0] - here[0]) ** 2 + (q[1] - here[1]) ** 2)
+        # the robot walks back along the stack to the viewpoint whose window it explores, then forward to z
+        back = _walk_back(path[-1], viewpoints, parents, top)
+        path.extend(back)
+        path.append(z)
+        viewpoints.append(z)
+        views.append(visibility_polygon(env, z))
+        parents.append(top)
+        stack.append(len(viewpoints) - 1)
+    seconds = time.perf_counter() - t0
+    status = Status.NOT_FOUND if hit_limit else Status.FOUND
+    limits = (f"max_views={limit}",) if hit_limit else ()
+    optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
+                            algorithm="Algorithm A (depth-first over unexplored constructed edges)", limits=limits)
+    return Exploration(status, tuple(viewpoints), tuple(views), tuple(parents), tuple(path), len(env.reflex_vertices),
+                       bound, covered_fraction(env, views), choice, seed if choice == "random" else None, optimality,
+                       Stats(seconds_search=seconds, counts={"window_checks": checks}), EnvironmentRecord.of(env))
+
+
+def _walk_back(here: ExactPoint, viewpoints: Sequence[ExactPoint], parents: Sequence[int], target: int) -> list[ExactPoint]:
+    """The positions from ``here`` (the last viewpoint) back along the chain to viewpoint ``target``.
+
+    The last viewpoint descends from ``target`` through the chain of parents (depth-first order), and each
+    leg of the chain is a forward move taken earlier, so walking it backwards stays in the free space.
+    """
+    last = len(viewpoints) - 1
+    if viewpoints[last] != here or last == target:
+        return []
+    out: list[ExactPoint] = []
+    k = parents[last]
+    while k >= 0:
+        out.append(viewpoints[k])
+        if k == target:
+            return out
+        k = parents[k]
+    raise AssertionError("the stack top is an ancestor of the last viewpoint")  # pragma: no cover

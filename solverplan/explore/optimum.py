@@ -1,0 +1,116 @@
+"""The fewest chained views over a finite candidate set: set cover with a connectivity constraint (a MILP).
+
+The offline problem behind the exploration (Ghosh et al., "Online algorithms with discrete visibility",
+section "Background"): viewpoints p₁ = start, p₂, …, p_k whose views cover P, each p_i in the view of some
+earlier p_j, k minimum. Over a finite candidate set C (start included) the views split P into cells (the
+faces of the arrangement of their boundaries); a chosen set S covers P iff every cell lies in the view of a
+member, and S can be ordered as a chain iff the visibility graph on S is connected and contains the start
+(visibility is symmetric). Connectivity is a single-commodity flow from the start: each chosen candidate
+other than the start consumes one unit, flow runs only along visibility pairs between chosen candidates.
+
+The optimum is over C only: an upper bound on the true optimum over all points of P; with the online
+algorithm's own viewpoints in C it never exceeds the online number of views, so the measured ratio
+online/optimum is a lower estimate of the true competitive ratio on that instance.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+from solverplan.environment import Environment
+from solverplan.errors import InputError, SolverFailed
+from solverplan.exact import ExactPoint, exact_point
+from solverplan.geometry.visibility import sees, visibility_polygon
+
+__all__ = ["ChainedOptimum", "chained_optimum"]
+
+
+@dataclass(frozen=True, slots=True)
+class ChainedOptimum:
+    """The fewest chained views over the candidates: ``viewpoints`` (the start first), ``cells`` the number
+    of arrangement cells covered, ``candidates`` how many points were offered."""
+
+    viewpoints: tuple[ExactPoint, ...]
+    cells: int
+    candidates: int
+
+    @property
+    def views(self) -> int:
+        return len(self.viewpoints)
+
+
+def chained_optimum(env: Environment, start: Sequence[object], candidates: Sequence[Sequence[object]] = (), *,
+                    min_cell_area: float = 1e-9) -> ChainedOptimum:
+    """Solve the chained cover MILP over ``start``, the polygon's vertices and ``candidates``.
+
+    Parameters
+    ----------
+    env
+        The free space.
+    start
+        p₁ (always chosen).
+    candidates
+        Further points of the free space to offer (e.g. an online run's viewpoints).
+    min_cell_area
+        Cells smaller than this fraction of the free space's area are rounding slivers of the arrangement and
+        are dropped (floats, shapely).
+
+    Raises
+    ------
+    InputError
+        If a point is not in the free space.
+    SolverFailed
+        If the MILP solver does not report an optimum.
+    """
+    import cvxpy as cp
+    import numpy as np
+    import shapely
+
+    points: list[ExactPoint] = []
+    for q in [start, *env.exact_vertices, *candidates]:
+        p = exact_point(q, where="candidate")
+        if p not in points:
+            points.append(p)
+    try:
+        views = [visibility_polygon(env, p) for p in points]
+    except InputError as exc:
+        raise InputError(f"chained optimum: {exc}") from None
+    shapes = [shapely.Polygon([tuple(map(float, x)) for x in vp.ring]).buffer(0) for vp in views]
+    free = env.to_shapely()
+    floor = min_cell_area * free.area
+    cells = [free]
+    for shape in shapes:  # refine the arrangement one view at a time
+        nxt = []
+        for cell in cells:
+            for piece in (cell.intersection(shape), cell.difference(shape)):
+                for part in getattr(piece, "geoms", [piece]):
+                    if part.geom_type == "Polygon" and part.area > floor:
+                        nxt.append(part)
+        cells = nxt
+    n, m = len(points), len(cells)
+    spots = [c.representative_point() for c in cells]
+    cover = np.array([[shape.buffer(1e-9 * max(1.0, free.length)).contains(s) for shape in shapes] for s in spots],
+                     dtype=float)
+    if not cover.any(axis=1).all():  # pragma: no cover - the vertices' views cover P
+        raise SolverFailed("chained optimum: some cell is seen by no candidate")
+    arcs = [(i, j) for i in range(n) for j in range(n) if i != j and sees(env, points[i], points[j])]
+    x = cp.Variable(n, boolean=True)
+    f = cp.Variable(len(arcs), nonneg=True)
+    cons = [cover @ x >= 1, x[0] == 1]
+    out_of = [[] for _ in range(n)]
+    into = [[] for _ in range(n)]
+    for k, (i, j) in enumerate(arcs):
+        out_of[i].append(k)
+        into[j].append(k)
+        cons += [f[k] <= (n - 1) * x[i], f[k] <= (n - 1) * x[j]]
+    for v in range(1, n):
+        inflow = sum(f[k] for k in into[v]) if into[v] else 0
+        outflow = sum(f[k] for k in out_of[v]) if out_of[v] else 0
+        cons.append(inflow - outflow == x[v])
+    problem = cp.Problem(cp.Minimize(cp.sum(x)), cons)
+    problem.solve(solver=cp.HIGHS)
+    if problem.status != cp.OPTIMAL or x.value is None:
+        raise SolverFailed(f"chained optimum: the MILP solver stopped with status {problem.status}")
+    chosen = [i for i in range(n) if x.value[i] > 0.5]
+    return ChainedOptimum(tuple(points[i] for i in chosen), m, n)
