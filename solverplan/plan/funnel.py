@@ -37,8 +37,9 @@ from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import deadline_of
-from solverplan.plan._positions import Flat, SearchOutcome, search_widening
+from solverplan.plan._positions import Flat, SearchOutcome, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
+from solverplan.plan._walls import Walls, set_ends
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
 
 __all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "DEFAULT_MAX_ROWS", "NARROW_PASSES", "safe_plan_exists"]
@@ -209,7 +210,16 @@ def funnel(
     if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or max_bounces < 1:
         raise InputError(f"max_bounces must be a positive integer, got {max_bounces!r}")
     deadline = deadline_of(timeout)
-    g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
+    # Collinear vertices are no corners: search the straight walls (the same free space with them merged, but
+    # where the start or goal set ends) and answer in the user's edges (plan._walls, to_user_stages)
+    walls = Walls(env, keep=set_ends(env, start_set, goal_set))
+    user_start, user_goal = start_set, goal_set
+    if walls.identity:
+        g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
+    else:
+        g = (graph if graph is not None and graph.partition.env == walls.merged
+             else safe_bounce_visibility_graph(partition(walls.merged)))
+        env, start_set, goal_set = walls.merged, walls.to_merged(start_set), walls.to_merged(goal_set)
     part = g.partition
     goal_f = [(p.edge, float(p.t0), float(p.t1)) for p in goal_set.pieces]
 
@@ -238,7 +248,19 @@ def funnel(
     safe = safe_plan_exists(g, start_set, goal_set)
     status, optimality = search_optimality(
         outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
-        scope=f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces")
-    return Funnel(status=status, optimality=optimality, environment=EnvironmentRecord.of(env, part.n_segments),
-                  start=start_set, goal=goal_set, tolerance=eps, partition=part, stages=outcome.stages or (),
+        scope=position_scope(eps, max_bounces, walls))
+    user_part = walls.user_partition if not walls.identity else part
+    return Funnel(status=status, optimality=optimality, environment=EnvironmentRecord.of(walls.env, user_part.n_segments),
+                  start=user_start, goal=user_goal, tolerance=eps, partition=user_part,
+                  stages=to_user_stages(walls, outcome.stages or ()),
                   reason="" if outcome.stages is not None else outcome.reason, safe_plan=safe, stats=stats)
+
+
+def position_scope(eps: float, max_bounces: int, walls: Walls) -> str:
+    """The class of strategies a search over position sets is about (``optimality.scope``); on an environment
+    with collinear vertices it says that its pieces are carried onto straight walls, not single edges."""
+    scope = f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces"
+    if not walls.identity:
+        scope += (", each stage carrying every piece whole onto one straight wall (collinear vertices merged: a run "
+                  "of collinear edges is one landing unit)")
+    return scope
