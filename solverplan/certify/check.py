@@ -1055,8 +1055,7 @@ class _Checker:
             v = self.edges[w].vector
             where = f"[{_num(lo)}, {_num(hi)}] of the straight wall through edges {', '.join(map(str, edges))} (in edge {w}'s parameter)"
         else:
-            self.fail("claims.epsilon", f"the final position set lies on edges {', '.join(map(str, edges))}, not in one interval of one edge "
-                                        "(nor of one straight wall)")
+            self.fail("claims.epsilon", f"the final position set lies on edges {', '.join(map(str, edges))}, not in one interval of one edge")
             return
         squared = (hi - lo) ** 2 * (v[0] ** 2 + v[1] ** 2)
         if not squared < eps**2:
