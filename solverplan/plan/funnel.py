@@ -11,7 +11,9 @@ until the position set is narrow enough to be aimed through a doorway. The paper
 
 The search (:mod:`solverplan.plan._positions`) is over (position set, bounces) states with dominance (a state
 whose positions contain an earlier state's is dropped) and a beam; every heading interval is 2ε wide (ε the
-tolerance). What it returns is exact — replayed in rational arithmetic, with the exact positions after every
+tolerance). It runs on the straight walls — the environment with its collinear vertices merged but where the
+start or goal set ends (:mod:`solverplan.plan._walls`) — and answers in the user's edges
+(:func:`~solverplan.plan._positions.to_user_stages`), so collinear vertices never change the strategy found. What it returns is exact — replayed in rational arithmetic, with the exact positions after every
 stage — and certifiable (:func:`solverplan.certify.contraction.funnel_certificate`); its fewest-bounces claim is
 heuristic (``optimality.method`` is ``heuristic``, ``proved`` false; when it finds nothing the status is
 ``not-found``, with its caps in ``optimality.limits``).

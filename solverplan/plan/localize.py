@@ -20,8 +20,10 @@ rotation (status ``infeasible``, method ``symmetry``, proved: the square, the re
 **Search and its limits.** The search widens (narrow passes first, the full beam only when they fail) within a
 work budget (``max_rows``), so it answers in seconds; on the shipped models it finds strategies from the whole
 boundary in convex rooms, L-shaped and two-room plans, rooms with holes, the comb and the star. A stage must
-carry each piece whole onto a single edge (a piece whose image spans several edges sweeps across a vertex, which
-the exact checker's moves never do), so from the whole boundary of a room where every heading splits some edge
+carry each piece whole onto a single straight wall (a piece whose image spans a corner sweeps across a vertex,
+which the exact checker's moves never do; collinear vertices are no corners: the search runs on the environment
+with them merged, :mod:`solverplan.plan._walls`, and answers in the user's edges, so a final interval may hold
+pieces of two collinear edges), so from the whole boundary of a room where every heading splits some edge
 (a corridor with alcoves, the warehouse) the search stops at once with that reason; give a start set S instead.
 The search is heuristic: not finding is not a proof (status ``not-found``, with its caps and ``cut=...``, what
 ended it, in ``optimality.limits``).
@@ -61,7 +63,7 @@ __all__ = ["Localization", "localize", "rotational_symmetry"]
 @dataclass(frozen=True, kw_only=True)
 class Localization(PositionStrategy):
     """A localisation strategy: after its stages every start of ``start`` lies in ``goal``, one interval of one
-    edge shorter than ``epsilon`` (arc length) — or why there is none (``infeasible`` by symmetry, proved; or
+    edge (or of one straight wall: pieces of consecutive collinear edges) shorter than ``epsilon`` (arc length) — or why there is none (``infeasible`` by symmetry, proved; or
     ``not-found`` by the capped search, nothing proved). The other fields are
     :class:`~solverplan.plan._results.PositionStrategy`'s.
     """
