@@ -251,7 +251,8 @@ def build_certificate(
         if kind in ("funnel", "localize"):
             if any(r.image is None for r in moves):
                 raise InputError(f"stage {k}: a move's corner rays miss its target line, so its image is undefined")
-            positions = _union_pieces(part for r in moves for part in _on_wall(env, r.target_edge, r.image))
+            positions = _union_pieces(part for r in moves if r.image is not None
+                                      for part in _on_wall(env, r.target_edge, r.image))
         out_stages.append(Stage(tuple(records), interval, positions))
 
     min_width = min(widths)
