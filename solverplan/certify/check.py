@@ -82,8 +82,9 @@ What is checked
 8. **Optimality.** The bound of a search or LP is not re-derived here (that would mean re-running the
    planner); its consistency with the checked claims is, and the report lists it as not checked.
 9. **Localisation** (``localize``): the final position set (the last stage's positions) lies on one
-   edge, and the interval from its lowest to its highest parameter is shorter than ``claims.epsilon``
-   in arc length: (t_hi − t_lo)² · |E|² < ε², exactly (no square root). A version-1 localisation
+   edge, or on one straight wall (consecutive collinear edges), and the interval from its lowest to its
+   highest parameter (along the wall's line) is shorter than ``claims.epsilon`` in arc length:
+   (t_hi − t_lo)² · |E|² < ε², exactly (no square root). A version-1 localisation
    certificate has no ε: the report says so and lists the claim as not checked.
 
 What is certified
@@ -1039,20 +1040,29 @@ class _Checker:
             self.fail(f"stages[{len(cert.stages) - 1}].positions", "a localize certificate claims the final positions")
             return
         edges = sorted({piece.edge for piece in final})
-        if len(edges) != 1:
+        if not all(0 <= e < len(self.edges) for e in edges):
+            return  # reported by the positions check
+        if len(edges) == 1:
+            edge = edges[0]
+            lo, hi = min(p.t0 for p in final), max(p.t1 for p in final)
+            v = self.edges[edge].vector
+            where = f"e{edge}:[{_num(lo)}, {_num(hi)}]"
+        elif len({self.wall[e][0] for e in edges}) == 1:
+            # one interval of one straight wall (collinear edges): measured along the wall's line
+            w = self.wall[edges[0]][0]
+            lo = min(self.wall[p.edge][1] + self.wall[p.edge][2] * p.t0 for p in final)
+            hi = max(self.wall[p.edge][1] + self.wall[p.edge][2] * p.t1 for p in final)
+            v = self.edges[w].vector
+            where = f"[{_num(lo)}, {_num(hi)}] of the straight wall through edges {', '.join(map(str, edges))} (in edge {w}'s parameter)"
+        else:
             self.fail("claims.epsilon", f"the final position set lies on edges {', '.join(map(str, edges))}, not in one interval of one edge")
             return
-        edge = edges[0]
-        if not 0 <= edge < len(self.edges):
-            return  # reported by the positions check
-        lo, hi = min(p.t0 for p in final), max(p.t1 for p in final)
-        v = self.edges[edge].vector
         squared = (hi - lo) ** 2 * (v[0] ** 2 + v[1] ** 2)
         if not squared < eps**2:
             length, exact = _sqrt_text(squared)
             self.fail(
                 "claims.epsilon",
-                f"claims ε = {_num(eps)}, but the final position set e{edge}:[{_num(lo)}, {_num(hi)}] is "
+                f"claims ε = {_num(eps)}, but the final position set {where} is "
                 f"{'' if exact else '≈ '}{length} long: not shorter than ε",
             )
 

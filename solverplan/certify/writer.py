@@ -251,7 +251,8 @@ def build_certificate(
         if kind in ("funnel", "localize"):
             if any(r.image is None for r in moves):
                 raise InputError(f"stage {k}: a move's corner rays miss its target line, so its image is undefined")
-            positions = _union_pieces((r.target_edge, r.image) for r in moves)
+            positions = _union_pieces(part for r in moves if r.image is not None
+                                      for part in _on_wall(env, r.target_edge, r.image))
         out_stages.append(Stage(tuple(records), interval, positions))
 
     min_width = min(widths)
@@ -364,6 +365,34 @@ def _stage_claim(env: Environment, moves: Sequence[_Resolved]) -> tuple[tuple[Fr
         return (lo, hi), hi - lo
     width = _floor_dec(min(l for l, _ in highs) - max(u for _, u in lows))
     return None, max(width, Fraction(0))
+
+
+def _on_wall(env: Environment, edge: int, span: tuple[Fraction, Fraction]) -> list[tuple[int, tuple[Fraction, Fraction]]]:
+    """The part ``span`` of ``edge``'s line as pieces of the edges of its straight wall (``edge`` and its
+    neighbours on the same line in the same direction: the vertices between them have an angle of exactly π),
+    each in its own parameter. An image of a move without a target segment may run on over those neighbours."""
+    lo, hi = span
+    if 0 <= lo and hi <= 1:
+        return [(edge, span)]
+    a, e = _edge_vector(env, edge)
+    norm = e[0] * e[0] + e[1] * e[1]
+    nxt, prv = env.next_vertex, env.prev_vertex
+    wall = [(edge, Fraction(0), Fraction(1))]  # (edge, offset, scale): its t maps to offset + scale·t on edge's line
+    for step in (nxt, prv):
+        j = int(step[edge])
+        while j != edge:
+            b, f = _edge_vector(env, j)
+            if f[0] * e[1] - f[1] * e[0] != 0 or f[0] * e[0] + f[1] * e[1] <= 0:
+                break
+            offset = Fraction((b[0] - a[0]) * e[0] + (b[1] - a[1]) * e[1]) / norm
+            wall.append((j, offset, Fraction(f[0] * e[0] + f[1] * e[1]) / norm))
+            j = int(step[j])
+    out = []
+    for j, offset, scale in wall:
+        x0, x1 = max(lo, offset), min(hi, offset + scale)
+        if x0 < x1:
+            out.append((j, ((x0 - offset) / scale, (x1 - offset) / scale)))
+    return out or [(edge, span)]
 
 
 def _union_pieces(items) -> tuple[Piece, ...]:

@@ -56,10 +56,11 @@ from solverplan.errors import InputError
 from solverplan.geometry.raycast import cast_from_boundary
 from solverplan.plan._deadline import NEVER, Deadline, in_chunks
 from solverplan.plan._results import heading_cone
+from solverplan.plan._walls import Walls
 from solverplan.result import Stage
 from solverplan.plan.margins import Margins
 
-__all__ = ["PositionSearch", "SearchOutcome", "search_positions", "merge_pieces", "replay"]
+__all__ = ["PositionSearch", "SearchOutcome", "search_positions", "merge_pieces", "replay", "to_user_stages"]
 
 logger = logging.getLogger(__name__)
 
@@ -656,6 +657,38 @@ def _segments(part: Partition, pieces: Sequence[BoundaryPiece]) -> tuple[int, ..
             if min(seg.t1, p.t1) > max(seg.t0, p.t0) or (p.t0 == p.t1 and seg.t0 <= p.t0 <= seg.t1):
                 out.add(s)
     return tuple(sorted(out))
+
+
+def to_user_stages(walls: Walls, stages: Sequence[Stage]) -> tuple[Stage, ...]:
+    """Stages found on the straight walls (:attr:`Walls.merged <solverplan.plan._walls.Walls.merged>`) in the
+    user's edges and segments (exact).
+
+    Every piece (a source or a position) on a merged edge splits at the collinear vertices into pieces of
+    consecutive user edges; each source piece keeps the cone of the merged piece it is part of (its points move
+    as they did: the user edges of one wall have its direction, so the headings are the same), and its target
+    edge is the user edge where its exact image starts (the image may run on over the collinear neighbours of
+    that edge: the straight wall it lands on). The segment ids are the user's partition P′
+    (:attr:`Walls.user_partition <solverplan.plan._walls.Walls.user_partition>`).
+    """
+    if walls.identity:
+        return tuple(stages)
+    part = walls.user_partition
+    out = []
+    for stage in stages:
+        rows = []
+        for piece, cone in zip(stage.sources, stage.cones):
+            for sub in walls.to_user((piece,)):
+                m, s0, s1 = walls.edge_map[sub.edge]
+                on_merged = BoundaryPiece(m, s0 + sub.t0 * (s1 - s0), s0 + sub.t1 * (s1 - s0))
+                image = transition_set(walls.merged, on_merged, cone)
+                rows.append((sub, cone, walls.user_edge_at(image[0].edge, image[0].t0)))
+        rows.sort(key=lambda row: (row[0].edge, row[0].t0))
+        sources = tuple(row[0] for row in rows)
+        positions = merge_exact(walls.to_user(stage.positions))
+        out.append(Stage(from_segments=_segments(part, sources), to_segments=_segments(part, positions),
+                         interval=stage.interval, positions=positions, sources=sources,
+                         cones=tuple(row[1] for row in rows), target_edges=tuple(row[2] for row in rows)))
+    return tuple(out)
 
 
 def search_widening(env: Environment, part: Partition, start: Sequence[BoundaryPiece], is_goal, is_goal_exact, *,

@@ -143,6 +143,45 @@ class Walls:
             pieces.append(BoundaryPiece(m, s0 + piece.t0 * (s1 - s0), s0 + piece.t1 * (s1 - s0)))
         return BoundarySet(tuple(pieces)).merged()
 
+    @cached_property
+    def user_edges(self) -> tuple[tuple[tuple[int, Fraction, Fraction], ...], ...]:
+        """For every merged edge m: the user edges on it, in order along it, each ``(k, s0, s1)`` (its merged
+        parameter range)."""
+        out: list[list[tuple[int, Fraction, Fraction]]] = [[] for _ in range(self.merged.n_edges)]
+        for k, (m, s0, s1) in enumerate(self.edge_map):
+            out[m].append((k, s0, s1))
+        return tuple(tuple(sorted(items, key=lambda item: item[1])) for items in out)
+
+    def user_edge_at(self, edge: int, s: Fraction) -> int:
+        """The user edge holding the point at merged parameter ``s`` of merged edge ``edge`` (at a collinear
+        vertex: the edge that starts there)."""
+        users = self.user_edges[edge]
+        return next((k for k, s0, s1 in users if s0 <= s < s1), users[-1][0])
+
+    def to_user(self, pieces: Iterable[BoundaryPiece]) -> tuple[BoundaryPiece, ...]:
+        """Merged pieces as pieces of the user's edges, in order: a piece on a merged edge splits at the
+        collinear vertices into pieces of consecutive user edges (exact; a point stays one point)."""
+        if self.identity:
+            return tuple(pieces)
+        out: list[BoundaryPiece] = []
+        for piece in pieces:
+            users = self.user_edges[piece.edge]
+            if piece.t0 == piece.t1:
+                k = self.user_edge_at(piece.edge, piece.t0)
+                _, s0, s1 = self.edge_map[k]
+                t = (piece.t0 - s0) / (s1 - s0)
+                out.append(BoundaryPiece(k, t, t))
+                continue
+            for k, s0, s1 in users:
+                lo, hi = max(piece.t0, s0), min(piece.t1, s1)
+                if lo < hi:
+                    out.append(BoundaryPiece(k, (lo - s0) / (s1 - s0), (hi - s0) / (s1 - s0)))
+        return tuple(out)
+
+    def to_user_set(self, bset: BoundarySet) -> BoundarySet:
+        """:meth:`to_user` of a boundary set (pieces of one user edge joined)."""
+        return bset if self.identity else BoundarySet(self.to_user(bset.pieces)).merged()
+
     # ------------------------------------------------------------------ segments
     @cached_property
     def user_partition(self) -> Partition:

@@ -11,7 +11,9 @@ until the position set is narrow enough to be aimed through a doorway. The paper
 
 The search (:mod:`solverplan.plan._positions`) is over (position set, bounces) states with dominance (a state
 whose positions contain an earlier state's is dropped) and a beam; every heading interval is 2ε wide (ε the
-tolerance). What it returns is exact — replayed in rational arithmetic, with the exact positions after every
+tolerance). It runs on the straight walls — the environment with its collinear vertices merged but where the
+start or goal set ends (:mod:`solverplan.plan._walls`) — and answers in the user's edges
+(:func:`~solverplan.plan._positions.to_user_stages`), so collinear vertices never change the strategy found. What it returns is exact — replayed in rational arithmetic, with the exact positions after every
 stage — and certifiable (:func:`solverplan.certify.contraction.funnel_certificate`); its fewest-bounces claim is
 heuristic (``optimality.method`` is ``heuristic``, ``proved`` false; when it finds nothing the status is
 ``not-found``, with its caps in ``optimality.limits``).
@@ -38,8 +40,9 @@ from solverplan.errors import InputError
 from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import deadline_of
-from solverplan.plan._positions import Flat, SearchOutcome, search_widening
+from solverplan.plan._positions import Flat, SearchOutcome, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
+from solverplan.plan._walls import Walls, set_ends
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
 
 __all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "DEFAULT_MAX_ROWS", "NARROW_PASSES", "safe_plan_exists"]
@@ -210,7 +213,16 @@ def funnel(
     if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or not 1 <= max_bounces <= MAX_BOUNCES:
         raise InputError(f"max_bounces must be an integer in [1, {MAX_BOUNCES:,}], got {quote(max_bounces)}")
     deadline = deadline_of(timeout)
-    g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
+    # Collinear vertices are no corners: search the straight walls (the same free space with them merged, but
+    # where the start or goal set ends) and answer in the user's edges (plan._walls, to_user_stages)
+    walls = Walls(env, keep=set_ends(env, start_set, goal_set))
+    user_start, user_goal = start_set, goal_set
+    if walls.identity:
+        g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
+    else:
+        g = (graph if graph is not None and graph.partition.env == walls.merged
+             else safe_bounce_visibility_graph(partition(walls.merged)))
+        env, start_set, goal_set = walls.merged, walls.to_merged(start_set), walls.to_merged(goal_set)
     part = g.partition
     goal_f = [(p.edge, float(p.t0), float(p.t1)) for p in goal_set.pieces]
 
@@ -239,7 +251,19 @@ def funnel(
     safe = safe_plan_exists(g, start_set, goal_set)
     status, optimality = search_optimality(
         outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
-        scope=f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces")
-    return Funnel(status=status, optimality=optimality, environment=EnvironmentRecord.of(env, part.n_segments),
-                  start=start_set, goal=goal_set, tolerance=eps, partition=part, stages=outcome.stages or (),
+        scope=position_scope(eps, max_bounces, walls))
+    user_part = walls.user_partition if not walls.identity else part
+    return Funnel(status=status, optimality=optimality, environment=EnvironmentRecord.of(walls.env, user_part.n_segments),
+                  start=user_start, goal=user_goal, tolerance=eps, partition=user_part,
+                  stages=to_user_stages(walls, outcome.stages or ()),
                   reason="" if outcome.stages is not None else outcome.reason, safe_plan=safe, stats=stats)
+
+
+def position_scope(eps: float, max_bounces: int, walls: Walls) -> str:
+    """The class of strategies a search over position sets is about (``optimality.scope``); on an environment
+    with collinear vertices it says that its pieces are carried onto straight walls, not single edges."""
+    scope = f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces"
+    if not walls.identity:
+        scope += (", each stage carrying every piece whole onto one straight wall (collinear vertices merged: a run "
+                  "of collinear edges is one landing unit)")
+    return scope

@@ -20,8 +20,10 @@ rotation (status ``infeasible``, method ``symmetry``, proved: the square, the re
 **Search and its limits.** The search widens (narrow passes first, the full beam only when they fail) within a
 work budget (``max_rows``), so it answers in seconds; on the shipped models it finds strategies from the whole
 boundary in convex rooms, L-shaped and two-room plans, rooms with holes, the comb and the star. A stage must
-carry each piece whole onto a single edge (a piece whose image spans several edges sweeps across a vertex, which
-the exact checker's moves never do), so from the whole boundary of a room where every heading splits some edge
+carry each piece whole onto a single straight wall (a piece whose image spans a corner sweeps across a vertex,
+which the exact checker's moves never do; collinear vertices are no corners: the search runs on the environment
+with them merged, :mod:`solverplan.plan._walls`, and answers in the user's edges, so a final interval may hold
+pieces of two collinear edges), so from the whole boundary of a room where every heading splits some edge
 (a corridor with alcoves, the warehouse) the search stops at once with that reason; give a start set S instead.
 The search is heuristic: not finding is not a proof (status ``not-found``, with its caps and ``cut=...``, what
 ended it, in ``optimality.limits``).
@@ -48,10 +50,11 @@ from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import deadline_of
-from solverplan.plan._positions import Flat, search_widening
+from solverplan.plan._positions import Flat, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan.funnel import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, search_optimality,
-                                    search_stats)
+from solverplan.plan._walls import Walls, set_ends
+from solverplan.plan.funnel import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, position_scope,
+                                    search_optimality, search_stats)
 from solverplan.result import EnvironmentRecord, Method, Optimality, Status
 
 __all__ = ["Localization", "localize", "rotational_symmetry"]
@@ -60,7 +63,7 @@ __all__ = ["Localization", "localize", "rotational_symmetry"]
 @dataclass(frozen=True, kw_only=True)
 class Localization(PositionStrategy):
     """A localisation strategy: after its stages every start of ``start`` lies in ``goal``, one interval of one
-    edge shorter than ``epsilon`` (arc length) — or why there is none (``infeasible`` by symmetry, proved; or
+    edge (or of one straight wall: pieces of consecutive collinear edges) shorter than ``epsilon`` (arc length) — or why there is none (``infeasible`` by symmetry, proved; or
     ``not-found`` by the capped search, nothing proved). The other fields are
     :class:`~solverplan.plan._results.PositionStrategy`'s.
     """
@@ -176,18 +179,35 @@ def localize(
     else:
         raise InputError(f"start set {start!r}: expected a boundary set such as 'e3:0.25:0.75,e4'")
     deadline = deadline_of(timeout)
-    g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
-    part = g.partition
-    record = EnvironmentRecord.of(env, part.n_segments)
+    # Collinear vertices are no corners: search the straight walls (the same free space with them merged, but
+    # where the start set ends) and answer in the user's edges (plan._walls, to_user_stages). A final interval
+    # may then straddle a collinear vertex: it is one interval of one straight wall.
+    walls = Walls(env, keep=set_ends(env, start_set))
+    user_start = start_set
+    if walls.identity:
+        g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
+        part = user_part = g.partition
+    else:
+        part = graph.partition if graph is not None and graph.partition.env == walls.merged else partition(walls.merged)
+        user_part = graph.partition if graph is not None and graph.partition.env == env else walls.user_partition
+        env, start_set = walls.merged, walls.to_merged(start_set)
+    record = EnvironmentRecord.of(walls.env, user_part.n_segments)
     scope = "open-loop strategies from the start set (headings measured from the wall the robot is on)"
+    # on the straight walls: a rotation of the merged environment is one of the user's free space (a split
+    # square is still a square), and it maps the start set onto itself there exactly when it does in the user's
     symmetry = rotational_symmetry(env, start_set)
     if symmetry is not None:
         (a, b), shift = symmetry
+        if walls.identity:
+            edges = f"edge e0 to e{shift}"
+        else:
+            first = walls.user_edges[0][0][0], walls.user_edges[shift][0][0]
+            edges = f"the straight wall from edge e{first[0]} to the one from edge e{first[1]}"
         reason = (f"the rotation by atan2({b}, {a}) = {math.atan2(float(b), float(a)):.6g} rad maps the environment and "
-                  f"the start set onto themselves (edge e0 to e{shift}), so every position set stays invariant under it "
+                  f"the start set onto themselves ({edges}), so every position set stays invariant under it "
                   "and never lies on one edge: no open-loop strategy localises")
-        return Localization(status=Status.INFEASIBLE, reason=reason, environment=record, start=start_set, tolerance=eps,
-                            epsilon=float(epsilon), partition=part,
+        return Localization(status=Status.INFEASIBLE, reason=reason, environment=record, start=user_start, tolerance=eps,
+                            epsilon=float(epsilon), partition=user_part,
                             optimality=Optimality(Method.SYMMETRY, True, None, scope=scope,
                                                   algorithm="exact rotational symmetry"))
     lengths = np.asarray(env.edge_lengths, dtype=float)
@@ -216,11 +236,12 @@ def localize(
     stats = search_stats(outcome, time.perf_counter() - t0)
     status, optimality = search_optimality(
         outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
-        scope=f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces")
+        scope=position_scope(eps, max_bounces, walls))
     goal = None
     if outcome.stages is not None:
         final = outcome.stages[-1].positions if outcome.stages else start_set.pieces
-        goal = BoundarySet((BoundaryPiece(final[0].edge, min(p.t0 for p in final), max(p.t1 for p in final)),))
-    return Localization(status=status, optimality=optimality, environment=record, start=start_set, goal=goal,
-                        tolerance=eps, epsilon=limit, partition=part, stages=outcome.stages or (),
+        goal = walls.to_user_set(
+            BoundarySet((BoundaryPiece(final[0].edge, min(p.t0 for p in final), max(p.t1 for p in final)),)))
+    return Localization(status=status, optimality=optimality, environment=record, start=user_start, goal=goal,
+                        tolerance=eps, epsilon=limit, partition=user_part, stages=to_user_stages(walls, outcome.stages or ()),
                         reason="" if outcome.stages is not None else outcome.reason, stats=stats)

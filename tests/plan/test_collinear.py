@@ -14,11 +14,14 @@ from solverplan.bounce.partition import partition
 from solverplan.certify.build import certificate
 from solverplan.certify.check import check_certificate
 from solverplan.certify.schema import Certificate
-from solverplan.environment import Environment
+from solverplan.environment import BoundarySet, Environment
+from solverplan.plan.funnel import funnel
+from solverplan.plan.localize import localize
 from solverplan.plan.patrol import patrol
 from solverplan.plan.search import find_plan, pareto_front
 from solverplan.plan._walls import Walls, collinear_vertices
-from solverplan.simulate import simulate_plan
+from solverplan.result import Method, Status
+from solverplan.simulate import StagePolicy, simulate_plan, simulate_policy
 
 
 def with_points(env: Environment, inserts: dict[int, list[Fraction]]) -> tuple[Environment, list[list[int]]]:
@@ -190,3 +193,110 @@ def test_a_plan_onto_runs_reads_back_and_replays():
     back = parse_plan(data)
     assert back.stages == plan.stages
     assert simulate_plan(split, back, trials=200, seed=3).success_rate == 1.0
+
+
+# ---------------------------------------------------------------------- funnels and localisation
+def sound_positions(env: Environment, answer) -> None:
+    """A funnel or localisation strategy in ``env``'s own edges: its stages chain (each stage's sources are the
+    positions before it), its certificate verifies exactly, and rollouts land where its positions say."""
+    assert answer.env is env and answer.environment.matches(env)
+    before = answer.start.merged().pieces
+    for stage in answer.stages:
+        assert BoundarySet(stage.sources).merged().pieces == before
+        assert all(0 <= p.t0 < p.t1 <= 1 and 0 <= p.edge < env.n_edges for p in stage.positions)
+        before = stage.positions
+    report = check_certificate(certificate(answer), expected_rings=env.rings)
+    assert report.valid, [str(f) for f in report.failures]
+    intervals, targets, goal = answer.rollout_spec()
+    runs = simulate_policy(env, StagePolicy(intervals, targets, goal=goal), answer.start, bounces=len(intervals),
+                           trials=500, seed=5, ties="exact")
+    assert runs.outcome_counts()["goal"] == 500
+
+
+def same_strategy(answer, other) -> None:
+    assert answer.status == other.status and answer.bounces == other.bounces
+    assert [round(w, 9) for w in answer.widths] == [round(w, 9) for w in other.widths]
+
+
+@pytest.mark.parametrize("name", ["triangle", "irregular_convex", "l_shape", "one_hole"])
+def test_midpoint_split_keeps_funnels_and_localisation(name):
+    env = models.load(name)
+    split, new_of = midpoints(env)
+    f = funnel(env, "e0", "e2")
+    again = funnel(split, edges_text(new_of[0]), edges_text(new_of[2]))
+    same_strategy(f, again)
+    assert f.found and "straight wall" in again.optimality.scope and "straight wall" not in f.optimality.scope
+    sound_positions(split, again)
+    loc = localize(env, 0.1)
+    loc_again = localize(split, 0.1)
+    same_strategy(loc, loc_again)
+    assert loc.found
+    sound_positions(split, loc_again)
+
+
+def test_a_localisation_interval_across_a_collinear_vertex():
+    """A collinear vertex inserted in the middle of the final interval: the strategy is the same, its final
+    interval is on two user edges of one straight wall, and the checker measures it along the wall."""
+    tri = models.load("triangle")
+    loc = localize(tri, 0.05, start="e0", tolerance=0.002)
+    (final,) = loc.goal.pieces
+    cut, new_of = with_points(tri, {final.edge: [(final.t0 + final.t1) / 2]})
+    again = localize(cut, 0.05, start=edges_text(new_of[0]), tolerance=0.002)
+    same_strategy(loc, again)
+    assert [p.edge for p in again.goal.pieces] == new_of[final.edge]
+    sound_positions(cut, again)
+    # the same claim with an ε just below the interval's length fails, measured along the wall
+    cert = certificate(again)
+    data = cert.to_json()
+    length = float(final.t1 - final.t0) * float(tri.edge_lengths[final.edge])
+    data["claims"]["epsilon"] = repr(length * 0.999)
+    report = check_certificate(Certificate.from_json(data))
+    assert not report.valid and any("straight wall" in f.message for f in report.failures)
+
+
+def test_a_funnel_landing_across_a_collinear_vertex():
+    """The square's funnel into the middle of e2, with a collinear vertex at the goal's centre: every stage
+    is the same; the last one lands on two user edges (the certificate's move runs on over the neighbour)."""
+    square = models.load("square")
+    f = funnel(square, "e0", "e2:0.45:0.55", tolerance=0.005)
+    cut, new_of = with_points(square, {2: [Fraction(1, 2)]})
+    a, b = new_of[2]
+    again = funnel(cut, "e0", f"e{a}:0.9:1,e{b}:0:0.1", tolerance=0.005)
+    same_strategy(f, again)
+    assert {p.edge for p in again.stages[-1].positions} == {a, b}
+    sound_positions(cut, again)
+    moves = certificate(again).stages[-1].moves
+    assert any(m.target[1] > 1 or m.target[0] < 0 for m in moves)  # one image runs over the collinear vertex
+
+
+@pytest.mark.parametrize("name, shift", [("square", 2), ("hexagon", 6)])
+def test_a_split_symmetric_room_is_still_symmetric(name, shift):
+    split, new_of = midpoints(models.load(name))
+    loc = localize(split, 0.1)
+    assert loc.status is Status.INFEASIBLE and loc.optimality.proved and loc.optimality.method is Method.SYMMETRY
+    assert f"from edge e0 to the one from edge e{shift}" in loc.reason
+
+
+LOCALISED = ["triangle", "irregular_convex", "l_shape", "one_hole"]
+
+
+@settings(max_examples=10, deadline=None)
+@given(data=st.data())
+def test_random_collinear_points_change_no_funnel_or_localisation(data):
+    env = models.load(data.draw(st.sampled_from(LOCALISED), label="model"))
+    n = env.n_edges
+    chosen = data.draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=3, unique=True), label="edges")
+    inserts = {k: data.draw(st.lists(st.fractions(Fraction(1, 20), Fraction(19, 20), max_denominator=40),
+                                     min_size=1, max_size=3), label=f"points on e{k}") for k in chosen}
+    changed, new_of = with_points(env, inserts)
+    start = data.draw(st.integers(0, n - 1), label="start")
+    goal = data.draw(st.integers(0, n - 1).filter(lambda g: g != start), label="goal")
+    f = funnel(env, f"e{start}", f"e{goal}")
+    again = funnel(changed, edges_text(new_of[start]), edges_text(new_of[goal]))
+    same_strategy(f, again)
+    if again.found:
+        sound_positions(changed, again)
+    loc, loc_again = localize(env, 0.1), localize(changed, 0.1)
+    same_strategy(loc, loc_again)
+    if loc_again.found:
+        sound_positions(changed, loc_again)
