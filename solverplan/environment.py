@@ -29,6 +29,8 @@ BoundarySet(pieces=(BoundaryPiece(edge=1, t0=Fraction(1, 4), t1=Fraction(3, 4)),
 from __future__ import annotations
 
 import json
+import math
+import operator
 import re
 from dataclasses import dataclass, field
 from decimal import Decimal
@@ -87,13 +89,25 @@ def _ring_name(index: int) -> str:
 
 
 def _signed_area2(ring: Sequence[ExactPoint]) -> Fraction:
-    """Twice the signed area (shoelace), exact: positive for a CCW ring."""
-    total = Fraction(0)
-    n = len(ring)
-    for i in range(n):
-        (x0, y0), (x1, y1) = ring[i], ring[(i + 1) % n]
-        total += x0 * y1 - x1 * y0
-    return total
+    """Twice the signed area (shoelace), exact: positive for a CCW ring.
+
+    Decimal coordinates share small denominators: over their common denominator the sum is one of
+    integers (fast); a ring whose common denominator is huge is summed in fractions.
+    """
+    xs = [p[0] for p in ring]
+    ys = [p[1] for p in ring]
+    common = math.lcm(*(x.denominator for x in xs), *(y.denominator for y in ys))
+    if common.bit_length() > 512:
+        total = Fraction(0)
+        n = len(ring)
+        for i in range(n):
+            (x0, y0), (x1, y1) = ring[i], ring[(i + 1) % n]
+            total += x0 * y1 - x1 * y0
+        return total
+    X = [x.numerator * (common // x.denominator) for x in xs]
+    Y = [y.numerator * (common // y.denominator) for y in ys]
+    X1, Y1 = X[1:] + X[:1], Y[1:] + Y[:1]
+    return Fraction(sum(map(operator.mul, X, Y1)) - sum(map(operator.mul, X1, Y)), common * common)
 
 
 @dataclass(frozen=True, slots=True)
@@ -572,7 +586,7 @@ def _exact_ring(raw: Iterable[Sequence[object]], index: int) -> tuple[ExactPoint
 
 def _check_coordinate(c: Fraction, where: str) -> None:
     """A coordinate within the documented magnitude and resolution (``solverplan.limits``)."""
-    if abs(c) > MAX_COORDINATE:
+    if abs(c.numerator) > MAX_COORDINATE * c.denominator:  # |c| > MAX_COORDINATE, in integers
         raise InvalidEnvironment(f"{where}: coordinate {_about(c)} is larger than 1e100 in magnitude: rescale the file")
     if c.denominator > COORDINATE_RESOLUTION:
         raise InvalidEnvironment(f"{where}: coordinate {_about(c)} is finer than 1e-100 (the finest step read): rescale the file")
@@ -608,14 +622,20 @@ def _check_float_span(env: Environment) -> None:
 
 def _check_ring_shape(ring: Sequence[ExactPoint], index: int) -> None:
     name = _ring_name(index)
-    distinct = len(set(ring))
-    if distinct < 3:
-        raise InvalidEnvironment(f"{name} has fewer than 3 distinct vertices ({distinct})")
+    distinct: list[ExactPoint] = []  # the first three distinct vertices (enough to decide)
+    for p in ring:
+        if p not in distinct:
+            distinct.append(p)
+            if len(distinct) == 3:
+                break
+    if len(distinct) < 3:
+        raise InvalidEnvironment(f"{name} has fewer than 3 distinct vertices ({len(distinct)})")
     n = len(ring)
-    for i in range(n):
-        j = (i + 1) % n
-        if ring[i] == ring[j]:
-            raise InvalidEnvironment(f"{name} repeats vertex {i} at {format_point(ring[i])} as vertex {j}")
+    if any(map(operator.eq, ring, (*ring[1:], ring[0]))):
+        for i in range(n):
+            j = (i + 1) % n
+            if ring[i] == ring[j]:
+                raise InvalidEnvironment(f"{name} repeats vertex {i} at {format_point(ring[i])} as vertex {j}")
 
 
 def _check_ring_simple(ring: Sequence[ExactPoint], index: int) -> None:
@@ -779,6 +799,9 @@ def _sweep_pairs(
         while lo < hi:
             mid = (lo + hi) >> 1
             t = status[mid]
+            if R[t] == v:  # t ends at v: v is on t, not above it
+                hi = mid
+                continue
             det = DX[t] * (py - LY[t]) - DY[t] * (px - LX[t])
             bound = rel * (MX[t] + apx) * (MY[t] + apy)
             if det > bound:
@@ -791,11 +814,9 @@ def _sweep_pairs(
                     lo = mid + 1
                 elif side < 0:
                     hi = mid
-                elif R[t] != v:  # v lies inside edge t (t began before v and ends after it): a touch
+                else:  # v lies inside edge t (t began before v and ends after it): a touch
                     found += [(t, e_in), (t, e_out)]
                     return np.array(found, dtype=np.intp), neighbour_pairs
-                else:
-                    hi = mid
         i = lo
         ending = [e for e in (e_in, e_out) if R[e] == v]
         for e in ending:
