@@ -401,7 +401,11 @@ class Environment:
         """
         verts = self.exact_vertices
         prev, nxt = self.prev_vertex, self.next_vertex
-        return tuple(i for i in range(self.n_vertices) if orient(verts[prev[i]], verts[i], verts[nxt[i]]) < 0)
+        # the certified float filter decides almost every vertex; exact orient only the near-collinear ones
+        turn = orient_filter(self.vertices[prev], self.vertices, self.vertices[nxt])
+        for i in np.flatnonzero(turn == 0).tolist():
+            turn[i] = orient(verts[prev[i]], verts[i], verts[nxt[i]])
+        return tuple(np.flatnonzero(turn < 0).tolist())
 
     def is_reflex(self, vertex: int) -> bool:
         """Is global vertex ``vertex`` reflex with respect to the free space?"""

@@ -180,13 +180,15 @@ def json_number(value: Fraction | int) -> int | float | str:
     >>> json_number(Fraction(5, 2)), json_number(Fraction(1, 3)), json_number(7)
     (2.5, '1/3', 7)
     """
-    value = Fraction(value)
-    if value.denominator == 1 and value.numerator.bit_length() < 13_000:
-        return int(value.numerator)
-    if value.denominator != 1 and abs(value) < 2**53:  # a float past 2**53 is an integer
-        number = float(value)
+    if type(value) is not Fraction:
+        value = Fraction(value)
+    num, den = value.numerator, value.denominator
+    if den == 1 and num.bit_length() < 13_000:
+        return int(num)
+    if den != 1 and abs(num) < den << 53:  # a float past 2**53 is an integer
+        number = num / den  # correctly rounded
         # the shortest text of the float is exact when its decimal value is the value itself
-        if Decimal(repr(number)).as_integer_ratio() == (value.numerator, value.denominator):
+        if Decimal(repr(number)).as_integer_ratio() == (num, den):
             return number
     return format_number(value)  # also integers past Python's digit guard: JSON encoders refuse to print them
 
