@@ -750,12 +750,12 @@ def _sweep_pairs(
        order (an edge enters next to others, or leaves from between two) the pair is listed.
        Let q be the first point (in sweep order) where two edges meet illegally. Just before the
        line reaches q the order is a true order (no meeting to its left), and the edges through q
-       lie in one block of it: edges between two of them are squeezed through q too. If that block
-       holds two edges, one of them has q inside (point 1 rules out two end points at q except a
-       vertex's own two edges), so it and its block neighbour meet illegally, and they became
-       adjacent at an earlier event: listed. Otherwise an edge starts at q inside another edge;
-       locating q in the order compares q with the lowest edge through it, finds q exactly on it,
-       and lists the pair.
+       lie in one block of it: edges between two of them are squeezed through q too. Some edge t
+       has q inside (after point 1, two edges meeting at a common end point are one vertex's
+       neighbours, a legal meeting). If t's block holds another edge, t and its block neighbour
+       meet illegally at q, and became adjacent at an event before q: listed. Otherwise t is alone
+       in its block, and the illegal meeting is an edge starting at q; locating q in the order
+       ends at the lowest edge through q, t, finds q exactly on it, and lists the pair.
 
     Comparisons are exact: the float orientation with the certified bound of :func:`orient_filter`
     decides when it can, exact :func:`orient` otherwise. Time O(n log n) comparisons; memory O(n).
