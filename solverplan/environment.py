@@ -29,6 +29,8 @@ BoundarySet(pieces=(BoundaryPiece(edge=1, t0=Fraction(1, 4), t1=Fraction(3, 4)),
 from __future__ import annotations
 
 import json
+import math
+import operator
 import re
 from dataclasses import dataclass, field
 from decimal import Decimal
@@ -59,6 +61,7 @@ from solverplan.exact import (
     format_point,
     json_number,
     orient,
+    FLOAT_FILTER_REL,
     orient_filter,
     point_in_ring,
     segment_intersection,
@@ -86,13 +89,25 @@ def _ring_name(index: int) -> str:
 
 
 def _signed_area2(ring: Sequence[ExactPoint]) -> Fraction:
-    """Twice the signed area (shoelace), exact: positive for a CCW ring."""
-    total = Fraction(0)
-    n = len(ring)
-    for i in range(n):
-        (x0, y0), (x1, y1) = ring[i], ring[(i + 1) % n]
-        total += x0 * y1 - x1 * y0
-    return total
+    """Twice the signed area (shoelace), exact: positive for a CCW ring.
+
+    Decimal coordinates share small denominators: over their common denominator the sum is one of
+    integers (fast); a ring whose common denominator is huge is summed in fractions.
+    """
+    xs = [p[0] for p in ring]
+    ys = [p[1] for p in ring]
+    common = math.lcm(*(x.denominator for x in xs), *(y.denominator for y in ys))
+    if common.bit_length() > 512:
+        total = Fraction(0)
+        n = len(ring)
+        for i in range(n):
+            (x0, y0), (x1, y1) = ring[i], ring[(i + 1) % n]
+            total += x0 * y1 - x1 * y0
+        return total
+    X = [x.numerator * (common // x.denominator) for x in xs]
+    Y = [y.numerator * (common // y.denominator) for y in ys]
+    X1, Y1 = X[1:] + X[:1], Y[1:] + Y[:1]
+    return Fraction(sum(map(operator.mul, X, Y1)) - sum(map(operator.mul, X1, Y)), common * common)
 
 
 @dataclass(frozen=True, slots=True)
@@ -386,7 +401,11 @@ class Environment:
         """
         verts = self.exact_vertices
         prev, nxt = self.prev_vertex, self.next_vertex
-        return tuple(i for i in range(self.n_vertices) if orient(verts[prev[i]], verts[i], verts[nxt[i]]) < 0)
+        # the certified float filter decides almost every vertex; exact orient only the near-collinear ones
+        turn = orient_filter(self.vertices[prev], self.vertices, self.vertices[nxt])
+        for i in np.flatnonzero(turn == 0).tolist():
+            turn[i] = orient(verts[prev[i]], verts[i], verts[nxt[i]])
+        return tuple(np.flatnonzero(turn < 0).tolist())
 
     def is_reflex(self, vertex: int) -> bool:
         """Is global vertex ``vertex`` reflex with respect to the free space?"""
@@ -571,7 +590,7 @@ def _exact_ring(raw: Iterable[Sequence[object]], index: int) -> tuple[ExactPoint
 
 def _check_coordinate(c: Fraction, where: str) -> None:
     """A coordinate within the documented magnitude and resolution (``solverplan.limits``)."""
-    if abs(c) > MAX_COORDINATE:
+    if abs(c.numerator) > MAX_COORDINATE * c.denominator:  # |c| > MAX_COORDINATE, in integers
         raise InvalidEnvironment(f"{where}: coordinate {_about(c)} is larger than 1e100 in magnitude: rescale the file")
     if c.denominator > COORDINATE_RESOLUTION:
         raise InvalidEnvironment(f"{where}: coordinate {_about(c)} is finer than 1e-100 (the finest step read): rescale the file")
@@ -607,19 +626,26 @@ def _check_float_span(env: Environment) -> None:
 
 def _check_ring_shape(ring: Sequence[ExactPoint], index: int) -> None:
     name = _ring_name(index)
-    distinct = len(set(ring))
-    if distinct < 3:
-        raise InvalidEnvironment(f"{name} has fewer than 3 distinct vertices ({distinct})")
+    distinct: list[ExactPoint] = []  # the first three distinct vertices (enough to decide)
+    for p in ring:
+        if p not in distinct:
+            distinct.append(p)
+            if len(distinct) == 3:
+                break
+    if len(distinct) < 3:
+        raise InvalidEnvironment(f"{name} has fewer than 3 distinct vertices ({len(distinct)})")
     n = len(ring)
-    for i in range(n):
-        j = (i + 1) % n
-        if ring[i] == ring[j]:
-            raise InvalidEnvironment(f"{name} repeats vertex {i} at {format_point(ring[i])} as vertex {j}")
+    if any(map(operator.eq, ring, (*ring[1:], ring[0]))):
+        for i in range(n):
+            j = (i + 1) % n
+            if ring[i] == ring[j]:
+                raise InvalidEnvironment(f"{name} repeats vertex {i} at {format_point(ring[i])} as vertex {j}")
 
 
 def _check_ring_simple(ring: Sequence[ExactPoint], index: int) -> None:
     """Self-intersection of one ring, reported with edge ids local to that ring."""
-    pairs = _candidate_pairs(np.array([[float(x), float(y)] for x, y in ring]), np.roll(np.arange(len(ring)), -1))
+    starts = np.array([[float(x), float(y)] for x, y in ring])
+    pairs = _candidate_pairs(starts, np.roll(np.arange(len(ring)), -1), ring)
     for i, j in pairs:
         problem = _edge_pair_problem(ring, len(ring), i, j)
         if problem:
@@ -643,29 +669,188 @@ def _edge_pair_problem(ring: Sequence[ExactPoint], n: int, i: int, j: int) -> st
     return f"edge {i} {'crosses' if proper else 'touches'} edge {j} at {format_point(point)}"
 
 
-def _candidate_pairs(starts: np.ndarray, next_index: np.ndarray) -> list[tuple[int, int]]:
-    """Pairs i < j of edges whose closed float bounding boxes meet (a superset of meeting edges).
+def _candidate_pairs(
+    starts: np.ndarray, next_index: np.ndarray, exact: Sequence[ExactPoint]
+) -> list[tuple[int, int]]:
+    """Pairs i < j of edges to test exactly: if any two edges meet illegally, one listed pair does.
 
-    Rounding to float is monotone, so exact boxes that meet give float boxes that meet.
-    Then a vectorised orientation filter drops the pairs that certainly do not meet.
+    Edge ``i`` runs from vertex ``i`` to vertex ``next_index[i]``; ``starts`` holds the float
+    vertices (roundings of ``exact``). A pair "meets illegally" unless the two edges are
+    neighbours meeting only at their shared vertex; the caller decides each listed pair with
+    exact :func:`segment_intersection`. A few vertices are compared pair by pair; otherwise a
+    Shamos–Hoey sweep (:func:`_sweep_pairs`) lists O(n) pairs in O(n log n) time. Pairs the
+    certified float filter proves apart are dropped, in either case.
     """
-    import shapely
-
-    ends = starts[next_index]
     n = len(starts)
+    ends = starts[next_index]
     if n <= 64:
         ii, jj = np.triu_indices(n, k=1)
+        extra = np.empty((0, 2), dtype=np.intp)
     else:
-        lines = shapely.linestrings(np.stack([starts, ends], axis=1))
-        tree = shapely.STRtree(lines)
-        ii, jj = tree.query(lines)
-        keep = ii < jj
-        ii, jj = ii[keep], jj[keep]
+        pairs, extra = _sweep_pairs(starts, next_index, exact)
+        pairs = np.sort(pairs, axis=1)
+        pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+        # neighbours are decided by the vertex test in _sweep_pairs (their candidates are in `extra`)
+        neighbours = (next_index[pairs[:, 0]] == pairs[:, 1]) | (next_index[pairs[:, 1]] == pairs[:, 0])
+        pairs = pairs[~neighbours]
+        ii, jj = pairs[:, 0], pairs[:, 1]
     a, b, c, d = starts[ii], ends[ii], starts[jj], ends[jj]
     o1, o2 = orient_filter(a, b, c), orient_filter(a, b, d)
     o3, o4 = orient_filter(c, d, a), orient_filter(c, d, b)
     apart = (o1 * o2 > 0) | (o3 * o4 > 0)
-    return list(zip(ii[~apart].tolist(), jj[~apart].tolist()))
+    kept = np.concatenate([np.stack([ii[~apart], jj[~apart]], axis=1), np.sort(extra, axis=1)])
+    return sorted(set(map(tuple, kept.tolist())))
+
+
+def _lexicographic_order(starts: np.ndarray, exact: Sequence[ExactPoint]) -> tuple[np.ndarray, list[tuple[int, int]]]:
+    """Vertices sorted by their exact points (x, then y), and the pairs of vertices at the same point.
+
+    Rounding to float is monotone, so the float order is the exact order except among points whose
+    x rounds to the same float; only there are exact coordinates compared (a run of such points is
+    re-sorted exactly when its exact x differ, or two of its y round alike).
+    """
+    order = np.lexsort((starts[:, 1], starts[:, 0]))
+    sx, sy = starts[order, 0], starts[order, 1]
+    tied = np.flatnonzero(sx[1:] == sx[:-1])
+    if not len(tied):
+        return order, []
+    ordered = order.tolist()
+    # positions k where order[k], order[k + 1] round to one float x but the float order may be wrong
+    rough = [k for k in tied.tolist()
+             if exact[ordered[k]][0] != exact[ordered[k + 1]][0]
+             or (sy[k] == sy[k + 1] and exact[ordered[k]] != exact[ordered[k + 1]])]
+    if rough:  # sort each run of equal float x holding such a position exactly
+        bounds = np.concatenate([[0], np.flatnonzero(sx[1:] != sx[:-1]) + 1, [len(sx)]])
+        for run in sorted(set(np.searchsorted(bounds, rough, side="right").tolist())):
+            lo, hi = int(bounds[run - 1]), int(bounds[run])
+            ordered[lo:hi] = sorted(ordered[lo:hi], key=exact.__getitem__)
+        order = np.array(ordered, dtype=np.intp)
+        sx, sy = starts[order, 0], starts[order, 1]
+    # equal exact points are adjacent in the exact order, and round to one float point
+    alike = np.flatnonzero((sx[1:] == sx[:-1]) & (sy[1:] == sy[:-1])).tolist()
+    same = [(ordered[k], ordered[k + 1]) for k in alike if exact[ordered[k]] == exact[ordered[k + 1]]]
+    return order, same
+
+
+def _sweep_pairs(
+    starts: np.ndarray, next_index: np.ndarray, exact: Sequence[ExactPoint]
+) -> tuple[np.ndarray, np.ndarray]:
+    """Candidate pairs of a Shamos–Hoey sweep over the edges, and pairs of neighbours to test exactly.
+
+    Returns ``(pairs, neighbours)``, two int arrays of shape (m, 2). Three exact facts together
+    cover every way two edges can meet illegally:
+
+    1. Two vertices at the same point: their edges touch there. All pairs of their edges are listed
+       and the sweep is skipped.
+    2. Neighbours u → v → w meet beyond v only if they fold back along one line: the pair is listed
+       in ``neighbours`` unless the float filter proves u, v, w not collinear.
+    3. Any other meeting is found by the sweep. A vertical line moves over the vertices in exact
+       lexicographic order (x, then y: a vertical edge counts as slightly tilted), keeping the
+       edges it crosses sorted from bottom to top. Every time two edges become adjacent in that
+       order (an edge enters next to others, or leaves from between two) the pair is listed.
+       Let q be the first point (in sweep order) where two edges meet illegally. Just before the
+       line reaches q the order is a true order (no meeting to its left), and the edges through q
+       lie in one block of it: edges between two of them are squeezed through q too. Some edge t
+       has q inside (after point 1, two edges meeting at a common end point are one vertex's
+       neighbours, a legal meeting). If t's block holds another edge, t and its block neighbour
+       meet illegally at q, and became adjacent at an event before q: listed. Otherwise t is alone
+       in its block, and the illegal meeting is an edge starting at q; locating q in the order
+       ends at the lowest edge through q, t, finds q exactly on it, and lists the pair.
+
+    Comparisons are exact: the float orientation with the certified bound of :func:`orient_filter`
+    decides when it can, exact :func:`orient` otherwise. Time O(n log n) comparisons; memory O(n).
+    """
+    n = len(starts)
+    prev = np.empty(n, dtype=np.intp)
+    prev[next_index] = np.arange(n)
+    # 2. neighbours at each vertex v: edge prev[v] (u → v) and edge v (v → w)
+    turn = orient_filter(starts[prev], starts, starts[next_index])
+    neighbours = np.flatnonzero(turn == 0)
+    neighbour_pairs = np.stack([prev[neighbours], neighbours], axis=1)
+
+    order, same = _lexicographic_order(starts, exact)
+    if same:  # 1. coincident vertices
+        touching = []
+        for u, v in same:
+            incident_u, incident_v = (int(prev[u]), u), (int(prev[v]), v)
+            touching += [(e, f) for e in incident_u for f in incident_v]
+        return np.array(touching, dtype=np.intp), neighbour_pairs
+
+    rank = np.empty(n, dtype=np.intp)
+    rank[order] = np.arange(n)
+    forward = rank < rank[next_index]  # edge i runs left to right in sweep order
+    left = np.where(forward, np.arange(n), next_index)
+    right = np.where(forward, next_index, np.arange(n))
+    lo_pt, hi_pt = starts[left], starts[right]
+    # per edge, as Python floats: the left end, the direction, and the magnitudes of orient_filter's bound
+    LX, LY = lo_pt[:, 0].tolist(), lo_pt[:, 1].tolist()
+    DX, DY = (hi_pt[:, 0] - lo_pt[:, 0]).tolist(), (hi_pt[:, 1] - lo_pt[:, 1]).tolist()
+    MX = (np.abs(lo_pt[:, 0]) + np.abs(hi_pt[:, 0])).tolist()
+    MY = (np.abs(lo_pt[:, 1]) + np.abs(hi_pt[:, 1])).tolist()
+    X, Y = starts[:, 0].tolist(), starts[:, 1].tolist()
+    R, L = right.tolist(), left.tolist()
+    P = prev.tolist()
+    rel = FLOAT_FILTER_REL
+
+    status: list[int] = []  # edges crossing the sweep line, bottom to top
+    found: list[tuple[int, int]] = []
+    for v in order.tolist():
+        px, py = X[v], Y[v]
+        apx, apy = abs(px), abs(py)
+        e_in, e_out = P[v], v  # the two edges at v
+        # locate v: i = number of edges strictly below v
+        lo, hi = 0, len(status)
+        while lo < hi:
+            mid = (lo + hi) >> 1
+            t = status[mid]
+            if R[t] == v:  # t ends at v: v is on t, not above it
+                hi = mid
+                continue
+            det = DX[t] * (py - LY[t]) - DY[t] * (px - LX[t])
+            bound = rel * (MX[t] + apx) * (MY[t] + apy)
+            if det > bound:
+                lo = mid + 1
+            elif det < -bound:
+                hi = mid
+            else:
+                side = orient(exact[L[t]], exact[R[t]], exact[v])
+                if side > 0:
+                    lo = mid + 1
+                elif side < 0:
+                    hi = mid
+                else:  # v lies inside edge t (t began before v and ends after it): a touch
+                    found += [(t, e_in), (t, e_out)]
+                    return np.array(found, dtype=np.intp), neighbour_pairs
+        i = lo
+        ending = [e for e in (e_in, e_out) if R[e] == v]
+        for e in ending:
+            if i < len(status) and status[i] == e:
+                del status[i]
+            elif i + 1 < len(status) and status[i + 1] == e:
+                del status[i + 1]
+            else:  # the order is no longer a true order: a meeting to the left is listed already
+                j = status.index(e)
+                del status[j]
+                i -= j < i
+        starting = [e for e in (e_in, e_out) if L[e] == v]
+        if len(starting) == 2:
+            a, b = starting
+            # both leave v to the right: b lies above a when a's far end → b's far end turns left
+            det = DX[a] * DY[b] - DY[a] * DX[b]
+            bound = rel * (MX[a] + MX[b]) * (MY[a] + MY[b])
+            side = 1 if det > bound else -1 if det < -bound else orient(exact[v], exact[R[a]], exact[R[b]])
+            if side < 0:
+                starting = [b, a]
+        if starting:
+            status[i:i] = starting
+            if i > 0:
+                found.append((status[i - 1], starting[0]))
+            top = i + len(starting)
+            if top < len(status):
+                found.append((starting[-1], status[top]))
+        elif 0 < i < len(status):
+            found.append((status[i - 1], status[i]))
+    return np.array(found, dtype=np.intp).reshape(-1, 2), neighbour_pairs
 
 
 def _input_edge(env: Environment, edge: int) -> int:
@@ -686,7 +871,7 @@ def _check_crossings(env: Environment) -> None:
     verts = env.exact_vertices
     nxt = env.next_vertex
     ring_of = env.ring_of
-    for i, j in _candidate_pairs(env.vertices, nxt):
+    for i, j in _candidate_pairs(env.vertices, nxt, verts):
         ri, rj = int(ring_of[i]), int(ring_of[j])
         hit = segment_intersection(verts[i], verts[nxt[i]], verts[j], verts[nxt[j]])
         if hit is None:

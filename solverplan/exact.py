@@ -74,6 +74,9 @@ def to_fraction(value: object, *, where: str = "value") -> Fraction:
         ``where`` names the place, e.g. ``outer ring vertex 2: coordinate 'abc' is not a number``;
         NaN and infinities are rejected as non-finite.
     """
+    if type(value) is Decimal and value.is_finite():  # what files hold: the common case first
+        _check_decimal_size(value, where)
+        return Fraction(value)
     if isinstance(value, bool):
         raise InputError(f"{where}: {value!r} is not a number")
     if isinstance(value, Fraction):
@@ -112,8 +115,9 @@ def to_fraction(value: object, *, where: str = "value") -> Fraction:
 
 def _check_decimal_size(value: Decimal, where: str) -> None:
     """Refuse a decimal whose exact value would be huge to compute with (``1e-999999``, 5,000 digits)."""
-    digits = len(value.as_tuple().digits)
-    exponent = value.as_tuple().exponent
+    sign_digits_exponent = value.as_tuple()
+    digits = len(sign_digits_exponent.digits)
+    exponent = sign_digits_exponent.exponent
     assert isinstance(exponent, int)  # finite decimals only reach here
     if digits > MAX_NUMBER_CHARS:
         raise InputError(f"{where}: number has {digits} digits (at most {MAX_NUMBER_CHARS})")
@@ -176,13 +180,17 @@ def json_number(value: Fraction | int) -> int | float | str:
     >>> json_number(Fraction(5, 2)), json_number(Fraction(1, 3)), json_number(7)
     (2.5, '1/3', 7)
     """
-    value = Fraction(value)
-    if value.denominator == 1 and value.numerator.bit_length() < 13_000:
-        return int(value.numerator)
-    text = format_number(value)  # also integers past Python's digit guard: JSON encoders refuse to print them
-    if "/" not in text and Fraction(repr(float(value))) == value:
-        return float(value)
-    return text
+    if type(value) is not Fraction:
+        value = Fraction(value)
+    num, den = value.numerator, value.denominator
+    if den == 1 and num.bit_length() < 13_000:
+        return int(num)
+    if den != 1 and abs(num) < den << 53:  # a float past 2**53 is an integer
+        number = num / den  # correctly rounded
+        # the shortest text of the float is exact when its decimal value is the value itself
+        if Decimal(repr(number)).as_integer_ratio() == (num, den):
+            return number
+    return format_number(value)  # also integers past Python's digit guard: JSON encoders refuse to print them
 
 
 def format_point(p: Sequence[Fraction | int | float]) -> str:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from fractions import Fraction
 
 import numpy as np
@@ -18,6 +19,8 @@ from solverplan.environment import (
     parse_environment,
     save_environment,
 )
+from solverplan.environment import _candidate_pairs, _edge_pair_problem
+from solverplan.exact import ExactPoint
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
 from tests.strategies import polygons_with_holes
 
@@ -249,3 +252,97 @@ def test_point_at_lies_on_its_edge_and_locate_inverts_exact_point_at(env, data):
     point = env.exact_point_at(edge, t)
     assert env.locate(point) == (edge, t) or t == 0
     assert np.allclose(env.point_at(edge, float(t)), [float(point[0]), float(point[1])])
+
+
+# ---------------------------------------------------------------------- validation at scale
+def _star(n: int) -> list[list[float]]:
+    """A radial star: vertices alternating at radius 1000 and 1300, six decimals (long thin edges)."""
+    return [[round(r * math.cos(a), 6), round(r * math.sin(a), 6)]
+            for k in range(n) for r, a in [(1000 if k % 2 == 0 else 1300, 2 * math.pi * k / n)]]
+
+
+def _comb(teeth: int, bowtie: int | None = None) -> list[list[int]]:
+    """Teeth 1 wide and 10 tall, 1 apart, on a base (clockwise); tooth ``bowtie`` has its top two vertices
+    swapped, so that exactly two edges cross, edge 4·bowtie and edge 4·bowtie + 2, at (2·bowtie + 0.5, 5)."""
+    ring = []
+    for k in range(teeth):
+        a = 2 * k
+        corners = [[a, 0], [a, 10], [a + 1, 10], [a + 1, 0]]
+        if k == bowtie:
+            corners[1], corners[2] = corners[2], corners[1]
+        ring += corners
+    return ring + [[2 * teeth - 1, -5], [0, -5]]
+
+
+def _first_illegal_pair(ring: list[ExactPoint]) -> str | None:
+    """Reference: every pair of edges of one ring whose exact bounding boxes meet, exactly, in order."""
+    n = len(ring)
+    boxes = [(min(p[0], q[0]), max(p[0], q[0]), min(p[1], q[1]), max(p[1], q[1]))
+             for p, q in zip(ring, ring[1:] + ring[:1])]
+    for i in range(n):
+        for j in range(i + 1, n):
+            a, b = boxes[i], boxes[j]
+            if a[1] < b[0] or b[1] < a[0] or a[3] < b[2] or b[3] < a[2]:
+                continue
+            problem = _edge_pair_problem(ring, n, i, j)
+            if problem:
+                return problem
+    return None
+
+
+@pytest.mark.parametrize("seed", range(60))
+def test_the_sweep_finds_exactly_the_rings_the_all_pairs_reference_rejects(seed):
+    # 65-200 vertices (beyond the pair-by-pair size) on coarse grids, so that touches, vertices on edges,
+    # shared points, collinear runs and overlaps, and vertical edges are common; about 40 % are valid
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(65, 200))
+    angles = np.sort(rng.uniform(0, 2 * np.pi, n))
+    r0 = rng.choice([30, 100, 400])
+    scale = int(rng.choice([1, 3, 7]))
+    ring = [(Fraction(round(r * math.cos(a)), scale), Fraction(round(r * math.sin(a)), scale))
+            for r, a in zip(rng.uniform(r0, 2 * r0, n), angles)]
+    for _ in range(int(rng.integers(0, 4)) * (rng.random() < 0.5)):  # a vertex onto or next to another
+        i, j = rng.integers(0, n, 2)
+        ring[i] = (ring[j][0] + int(rng.integers(-1, 2)), ring[j][1] + int(rng.integers(-1, 2)))
+    if rng.random() < 0.15:  # two neighbours swapped
+        i = int(rng.integers(0, n - 1))
+        ring[i], ring[i + 1] = ring[i + 1], ring[i]
+    ring = [p for k, p in enumerate(ring) if p != ring[k - 1]]  # the ring-shape check refuses repeats first
+    n = len(ring)
+    assert n > 64
+    expected = _first_illegal_pair(ring)
+    starts = np.array([[float(x), float(y)] for x, y in ring])
+    pairs = _candidate_pairs(starts, np.roll(np.arange(n), -1), ring)
+    found = next((p for p in (_edge_pair_problem(ring, n, i, j) for i, j in pairs) if p), None)
+    assert (found is None) == (expected is None), (expected, found)
+
+
+def test_a_crossing_hidden_among_10_000_vertices_is_found_in_input_numbering():
+    with pytest.raises(InvalidEnvironment, match=r"^outer ring self-intersects: edge 6000 crosses edge 6002 at \(3000.5, 5\)$"):
+        Environment.from_coords(_comb(2_499, bowtie=1_500))
+    assert Environment.from_coords(_comb(2_499)).n_vertices == 9_998
+
+
+def test_a_10_000_vertex_star_is_valid_and_a_hole_touching_it_is_named():
+    outer = _star(10_000)
+    env = Environment.from_coords(outer)
+    assert env.n_vertices == 10_000 and len(env.reflex_vertices) == 5_000
+    # a thin triangle in the first spike, one corner exactly on the middle of edge 0
+    a, b = env.exact_vertices[0], env.exact_vertices[1]
+    middle = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+    axis = 2 * math.pi / 10_000
+    hole = [middle, [1100 * math.cos(axis), 1100 * math.sin(axis)], [900 * math.cos(axis), 900 * math.sin(axis)]]
+    with pytest.raises(InvalidEnvironment, match=r"^hole 0 touches the outer ring at \(.+\) \(hole edge [02], outer edge 0\)$"):
+        Environment.from_coords(outer, [hole])
+    with pytest.raises(InvalidEnvironment, match=r"^hole 0 touches the outer ring at \(1000, 0\)"):
+        Environment.from_coords(outer, [[outer[0], [500, 10], [500, -10]]])  # a hole corner on vertex 0
+
+
+@pytest.mark.slow
+def test_a_crossing_hidden_among_100_000_vertices_is_found():
+    with pytest.raises(InvalidEnvironment, match=r"^outer ring self-intersects: edge 80000 crosses edge 80002 at \(40000.5, 5\)$"):
+        Environment.from_coords(_comb(24_999, bowtie=20_000))
+    assert Environment.from_coords(_star(100_000)).n_vertices == 100_000
+    outer = _star(99_996)  # with a triangular hole: 99,999 vertices, inside the limit
+    with pytest.raises(InvalidEnvironment, match=r"^hole 0 touches the outer ring at \(1000, 0\)"):
+        Environment.from_coords(outer, [[outer[0], [500, 10], [500, -10]]])
