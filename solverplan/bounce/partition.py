@@ -212,7 +212,7 @@ class Partition:
         A difference below 1e-12 of the coordinates is formed exactly.
 
         >>> from solverplan.environment import Environment
-        >>> far = partition(Environment.from_coords([[10**12, 0], [10**12 + 1, 0], [10**12, 3 * 10**-9]]))
+        >>> far = partition(Environment.from_coords([[10**12, 0], [10**12 + 1, 0], [10**12, "3e-9"]]))
         >>> far.point_vectors(np.array([1]), np.array([2]), accurate=True).tolist()   # exactly (−1, 3e-9)
         [[-1.0, 3e-09]]
         """
