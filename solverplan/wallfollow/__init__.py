@@ -9,9 +9,30 @@ interior, on an edge, at a convex or at a reflex vertex, and whether it is at th
   geometric cut ordering.
 - :mod:`~solverplan.wallfollow.ordering` — the cut ordering as a combinatorial object: canonical form under
   renaming, the chord-alternation test of Prop. 4.
+- :mod:`~solverplan.wallfollow.world` — the geometric simulator: actions, touch and pebble sensors.
+- :mod:`~solverplan.wallfollow.combinatorial` — the simulator driven by the cut ordering alone (Prop. 7).
+- :mod:`~solverplan.wallfollow.filters` — vertex counting and winding number (§IV, corrected).
+- :mod:`~solverplan.wallfollow.learning` — Strategy 1: learning the cut ordering from sensing alone.
+
+The command is ``solverplan wallfollow``.
+
+>>> import solverplan as sp
+>>> room = sp.Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])
+>>> sp.cut_ordering(room).labels
+('v0', 'l3', 'v1', 'v2', 'v3', 'v4', 'v5', 'r3')
+>>> sp.learn_cut_ordering(room).matches_geometry
+True
 """
 
+from solverplan.wallfollow.combinatorial import OrderingWorld
 from solverplan.wallfollow.cuts import Cut, check_general_position, collinear_triple, cut_ordering, cuts
+from solverplan.wallfollow.filters import (CountingFilter, count_walk, printed_vertex_count, printed_winding,
+                                           step_value)
+from solverplan.wallfollow.learning import LearnedOrdering, Robot, learn_cut_ordering, strategy1
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
+from solverplan.wallfollow.world import Action, ActionNotApplicable, Observation, Touch, WallWorld, parse_action
 
-__all__ = ["Cut", "CutOrdering", "check_general_position", "collinear_triple", "cut_ordering", "cuts", "parse_label"]
+__all__ = ["Action", "ActionNotApplicable", "CountingFilter", "Cut", "CutOrdering", "LearnedOrdering", "Observation",
+           "OrderingWorld", "Robot", "Touch", "WallWorld", "check_general_position", "collinear_triple",
+           "count_walk", "cut_ordering", "cuts", "learn_cut_ordering", "parse_action", "parse_label",
+           "printed_vertex_count", "printed_winding", "step_value", "strategy1"]

@@ -31,3 +31,26 @@ def general_position_polygons(draw, min_vertices: int = 3, max_vertices: int = 1
         assume(False)
         raise  # unreachable
     return env
+
+
+def comb(teeth: int, seed: int = 0) -> Environment:
+    """A room whose ceiling has ``teeth`` spikes hanging down: both cuts of every spike's tip (a reflex vertex)
+    land on the floor, so one edge receives 2·teeth cut end points (n = 2·teeth + 5 vertices). Heights are
+    perturbed (seeded) to keep general position; a perturbation that breaks it is replaced by the next seed's."""
+    import random
+
+    for attempt in range(100):
+        rng = random.Random(seed * 1000 + attempt)
+        width = 10 * teeth + 10
+        ring = [(0, 0), (width, 0), (width, 1000 + rng.randint(0, 50))]
+        for i in reversed(range(teeth)):
+            x = 10 * i + 5
+            ring += [(x + 8, 1000 + rng.randint(0, 50)), (x + 4, 300 + rng.randint(0, 200))]
+        ring += [(5, 1000 + rng.randint(0, 50)), (0, 1000 + rng.randint(0, 50))]
+        try:
+            env = Environment.from_coords(ring)
+            cuts(env)
+            return env
+        except InvalidEnvironment:
+            continue
+    raise AssertionError("no comb in general position found")
