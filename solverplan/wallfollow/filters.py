@@ -31,12 +31,14 @@ a walk that never went round.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Any, Sequence
 
+from solverplan.environment import Environment
 from solverplan.errors import InputError
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
 from solverplan.wallfollow.world import Action, Observation, parse_action
 
-__all__ = ["CountingFilter", "count_walk", "printed_winding", "printed_vertex_count", "step_value"]
+__all__ = ["CountingFilter", "WalkCount", "count_random_walk", "count_walk", "printed_winding", "printed_vertex_count", "step_value"]
 
 
 def step_value(action: Action | str) -> int:
@@ -148,3 +150,106 @@ def printed_vertex_count(actions: Sequence[Action | str], pebbles: Sequence[bool
         if kappa5 and kappa6:
             return abs(kappa6)
     return None
+
+
+@dataclass(frozen=True)
+class WalkCount:
+    """The filter's answer after a seeded random walk in the geometric simulator, with the ground truth.
+
+    Attributes
+    ----------
+    n, winding, displacement
+        The filter's estimates at the end (``n`` is ``None`` until the walk has gone once round).
+    known_after
+        The number of follows after which n was known (``None`` if never).
+    steps, seed
+        The walk: ``steps`` follows, each RFOLLOW or LFOLLOW with probability 1/2 (``random.Random(seed)``).
+    true_n, true_winding
+        The polygon's vertex count and the walk's winding number about the pebble, from the simulator's exact
+        positions (not from the filter).
+    """
+
+    n: int | None
+    winding: int | None
+    displacement: int | None
+    known_after: int | None
+    steps: int
+    seed: int
+    true_n: int
+    true_winding: int
+    environment: EnvironmentRecord | None = None
+
+    @property
+    def status(self) -> Status:
+        return Status.FOUND if self.n is not None else Status.NOT_FOUND
+
+    @property
+    def optimality(self) -> Optimality:
+        if self.n is None:
+            return Optimality(Method.HEURISTIC, False, None, limits=(f"steps={self.steps}",),
+                              algorithm="random walk")
+        return Optimality(Method.EXACT_CHECK, self.n == self.true_n and self.winding == self.true_winding, None,
+                          scope="the filter's n and winding against the simulator's ground truth",
+                          algorithm="random walk")
+
+    @property
+    def stats(self) -> Stats:
+        return Stats()
+
+    def to_json(self) -> dict:
+        out: dict[str, Any] = {"status": self.status.value, "n": self.n, "winding": self.winding,
+                               "displacement": self.displacement, "known_after": self.known_after,
+                               "steps": self.steps, "seed": self.seed, "true_n": self.true_n,
+                               "true_winding": self.true_winding, "optimality": self.optimality.to_json()}
+        if self.environment is not None:
+            out["environment"] = self.environment.to_json()
+        return out
+
+    def to_text(self, *, width: int = 100) -> str:
+        known = f"n = {self.n} (known after {self.known_after} follows)" if self.n is not None else \
+            f"n unknown after {self.steps} follows (the walk never went round)"
+        return (f"random walk of {self.steps} follows (seed {self.seed}): {known}, winding {self.winding}\n"
+                f"ground truth: n = {self.true_n}, winding {self.true_winding}\n")
+
+
+def count_random_walk(env: Environment, steps: int = 1000, seed: int = 0,
+                      start: Sequence[object] | None = None, heading: Sequence[object] = (1, 0)) -> WalkCount:
+    """Section IV's task in the geometric simulator: INIT, DROP the pebble at that vertex, then ``steps``
+    random follows, filtered by :class:`CountingFilter`.
+
+    Parameters
+    ----------
+    env
+        A simple polygon in general position.
+    steps
+        Number of follows (≥ 0); an unbiased walk needs about n² of them to go round once.
+    seed
+        Seed of the walk.
+    start, heading
+        The robot's start (default vertex 0) and INIT's direction from an interior start.
+    """
+    import random
+
+    from solverplan.wallfollow.world import WallWorld
+
+    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 0:
+        raise InputError(f"steps must be a non-negative integer, got {steps!r}")
+    world = WallWorld(env, start, heading)
+    world.act(Action.INIT)
+    world.act(Action.DROP)
+    f = CountingFilter()
+    f.start(world.observe())
+    rng = random.Random(seed)
+    n = env.n_vertices
+    lift, known_after = 0, None
+    for k in range(steps):
+        action = Action.RFOLLOW if rng.random() < 0.5 else Action.LFOLLOW
+        before = world.position
+        f.update(action, world.act(action))
+        assert before is not None and world.position is not None
+        lift += 1 if (world.position[0] - before[0]) % n == 1 else -1  # exact positions: the ground truth
+        if f.n is not None and known_after is None:
+            known_after = k + 1
+    turns = abs(lift) // n
+    return WalkCount(f.n, f.winding, f.displacement, known_after, steps, seed, n, turns if lift >= 0 else -turns,
+                     EnvironmentRecord.of(env))

@@ -96,3 +96,15 @@ def test_printed_winding_misses_the_arrival_and_has_the_wrong_sign():
 def test_walk_lengths_must_match():
     with pytest.raises(InputError, match="2 actions but 1 observations"):
         count_walk(["RFOLLOW", "LFOLLOW"], [True])
+
+
+def test_random_walk_count_agrees_with_ground_truth():
+    from tests.wallfollow._polygons import comb
+    from solverplan.wallfollow.filters import count_random_walk
+
+    for seed in range(5):
+        walk = count_random_walk(comb(2), steps=400, seed=seed)
+        assert walk.winding == walk.true_winding
+        assert walk.n in (None, walk.true_n) and (walk.n is None) == (walk.known_after is None)
+    with pytest.raises(InputError, match="steps must be a non-negative integer"):
+        count_random_walk(comb(1), steps=-1)
