@@ -13,6 +13,8 @@ interior, on an edge, at a convex or at a reflex vertex, and whether it is at th
 - :mod:`~solverplan.wallfollow.combinatorial` — the simulator driven by the cut ordering alone (Prop. 7).
 - :mod:`~solverplan.wallfollow.filters` — vertex counting and winding number (§IV, corrected).
 - :mod:`~solverplan.wallfollow.learning` — Strategy 1: learning the cut ordering from sensing alone.
+- :mod:`~solverplan.wallfollow.bitangents` — inflections and bitangents (exact), their end points in the cut
+  ordering: the events of pursuit-evasion (Props. 11, 13, 18 hold and are tested).
 
 The command is ``solverplan wallfollow``.
 
@@ -24,6 +26,7 @@ The command is ``solverplan wallfollow``.
 True
 """
 
+from solverplan.wallfollow.bitangents import Bitangent, bitangents, inflections, mutually_visible, reflex_chains
 from solverplan.wallfollow.combinatorial import OrderingWorld
 from solverplan.wallfollow.cuts import Cut, check_general_position, collinear_triple, cut_ordering, cuts
 from solverplan.wallfollow.filters import (CountingFilter, count_walk, printed_vertex_count, printed_winding,
@@ -32,7 +35,8 @@ from solverplan.wallfollow.learning import LearnedOrdering, Robot, learn_cut_ord
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
 from solverplan.wallfollow.world import Action, ActionNotApplicable, Observation, Touch, WallWorld, parse_action
 
-__all__ = ["Action", "ActionNotApplicable", "CountingFilter", "Cut", "CutOrdering", "LearnedOrdering", "Observation",
-           "OrderingWorld", "Robot", "Touch", "WallWorld", "check_general_position", "collinear_triple",
-           "count_walk", "cut_ordering", "cuts", "learn_cut_ordering", "parse_action", "parse_label",
-           "printed_vertex_count", "printed_winding", "step_value", "strategy1"]
+__all__ = ["Action", "ActionNotApplicable", "Bitangent", "CountingFilter", "Cut", "CutOrdering", "LearnedOrdering",
+           "Observation", "OrderingWorld", "Robot", "Touch", "WallWorld", "bitangents", "check_general_position",
+           "collinear_triple", "count_walk", "cut_ordering", "cuts", "inflections", "learn_cut_ordering",
+           "mutually_visible", "parse_action", "parse_label", "printed_vertex_count", "printed_winding",
+           "reflex_chains", "step_value", "strategy1"]

@@ -293,7 +293,10 @@ def strategy1(robot: Robot, *, comparisons: Comparisons = "pairwise", transcript
                     later[b if learner.before(a, b, e) else a] += 1
             ends = sorted(ends, key=later.__getitem__)
         elif len(ends) > 1:
-            ends = sorted(ends, key=functools.cmp_to_key(lambda a, b, e=e: -1 if learner.before(a, b, e) else 1))
+            def order(a: tuple[str, int], b: tuple[str, int], edge: int = e) -> int:
+                return -1 if learner.before(a, b, edge) else 1
+
+            ends = sorted(ends, key=functools.cmp_to_key(order))
         labels.extend(f"{side}{k}" for side, k in ends)
     counts = dict(learner.counts)
     actions = counts["count"] + counts["locate"] + counts["order"]
@@ -324,7 +327,7 @@ def learn_cut_ordering(env: Environment, start: Sequence[object] | None = None, 
     learned = strategy1(world, comparisons=comparisons, transcript=transcript)
     pebble = world.pebble
     assert pebble is not None and len(pebble) == 2 and pebble[1] == 0
-    p = int(pebble[0])  # type: ignore[arg-type]
+    p = int(pebble[0])
     truth = cut_ordering(env)
     return LearnedOrdering(learned.ordering, learned.actions, learned.memory, learned.counts, learned.transcript,
                            p, learned.ordering.relabel(p).labels == truth.labels, EnvironmentRecord.of(env),

@@ -129,7 +129,7 @@ class WallWorld:
         self._cut_at = {(c.vertex, c.side): c for c in self.cuts}
         self._label_at = {(c.edge, c.t): c.label for c in self.cuts}
         self._heading = (to_fraction(heading[0], where="heading"), to_fraction(heading[1], where="heading"))
-        if self._heading == (0, 0):
+        if self._heading[0] == 0 and self._heading[1] == 0:
             raise InputError("heading (0, 0) is zero")
         self._interior: ExactPoint | None = None
         self.position: Position | None = (0, Fraction(0))
