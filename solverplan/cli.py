@@ -1048,7 +1048,7 @@ def wallfollow_command(
     learn: Annotated[bool, typer.Option("--learn", help="The cut ordering learned by Strategy 1 from sensing alone, with its action and memory counts.")] = False,
     count: Annotated[bool, typer.Option("--count", help="n and the winding number by the counting filter, from a seeded random walk.")] = False,
     start: Annotated[str | None, typer.Option("--start", metavar="X,Y", help="The robot's start point (default vertex 0).", show_default=False)] = None,
-    heading: Annotated[str, typer.Option("--heading", metavar="DX,DY", help="Direction INIT drives in from an interior start.")] = "1,0",
+    heading: Annotated[str | None, typer.Option("--heading", metavar="DX,DY", help="Direction INIT drives in from an interior start (default 1,0).", show_default=False)] = None,
     comparisons: Annotated[Comparisons, typer.Option("--comparisons", help="With --learn: compare every pair of end points on an edge (the paper) or merge-sort them.")] = Comparisons.PAIRWISE,
     transcript: Annotated[bool, typer.Option("--transcript", help="With --learn: include every action and observation.")] = False,
     steps: Annotated[int, typer.Option("--steps", min=0, max=MAX_TRIALS, metavar="K", help="With --count: follows of the random walk.")] = 1000,
@@ -1069,9 +1069,13 @@ def wallfollow_command(
             raise InputError("choose one of --cut-ordering, --learn and --count")
         if not learn and (transcript or comparisons is not Comparisons.PAIRWISE):
             raise InputError("--comparisons and --transcript belong to --learn")
+        if not (learn or count) and (start is not None or heading is not None):
+            raise InputError("--start and --heading place the robot of --learn or --count")
+        if not count and (steps != 1000 or seed != 0):
+            raise InputError("--steps and --seed belong to --count")
         _check_picture(picture)
         environment = _load(env, env_format)
-        where, towards = _pair(start, "--start"), _pair(heading, "--heading")
+        where, towards = _pair(start, "--start"), _pair(heading or "1,0", "--heading")
         assert towards is not None
         if learn:
             answer: Any = learn_cut_ordering(environment, where, towards, comparisons=comparisons.value,

@@ -76,6 +76,8 @@ def test_text_output():
     (["l_shape", "--learn", "--start", "1"], "--start must be two numbers X,Y"),
     (["l_shape", "--learn", "--start", "100,100"], "start (100, 100) is outside the polygon"),
     (["l_shape", "--learn", "--heading", "0,0", "--start", "1,1"], "heading (0, 0) is zero"),
+    (["l_shape", "--start", "1,1"], "--start and --heading place the robot of --learn or --count"),
+    (["l_shape", "--learn", "--seed", "3"], "--steps and --seed belong to --count"),
 ])
 def test_bad_input_is_one_line(args, fragment):
     one_line_error(run("wallfollow", *args), fragment)

@@ -39,6 +39,12 @@ def test_init_from_the_interior_drives_to_the_wall_then_counter_clockwise():
     assert world.act(Action.INIT).touch is Touch.CONVEX and world.position == (1, 0)  # at a vertex: nothing
 
 
+def test_a_start_on_the_wall_is_located_exactly():
+    world = WallWorld(ROOM, start=("21/4", 0), carrying=False)  # the end point of the left cut of vertex 3
+    assert world.label == "l3" and str(world.observe()) == "edge+pebble"
+    assert str(world.act("INIT")) == "convex" and world.position == (1, 0)  # on to the next vertex, past nothing
+
+
 @pytest.mark.parametrize("actions,message", [
     (["JUMP"], "JUMP needs a reflex vertex reached by following the wall; the robot is at vertex 0"),
     (["RFOLLOW", "RFOLLOW", "RFOLLOW", "DROP", "GRAB", "JUMP", "JUMP"], "the robot is on edge 5 at t = 0.275"),
