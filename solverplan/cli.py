@@ -1051,7 +1051,7 @@ def wallfollow_command(
     heading: Annotated[str | None, typer.Option("--heading", metavar="DX,DY", help="Direction INIT drives in from an interior start (default 1,0).", show_default=False)] = None,
     comparisons: Annotated[Comparisons, typer.Option("--comparisons", help="With --learn: compare every pair of end points on an edge (the paper) or merge-sort them.")] = Comparisons.PAIRWISE,
     transcript: Annotated[bool, typer.Option("--transcript", help="With --learn: include every action and observation.")] = False,
-    steps: Annotated[int, typer.Option("--steps", min=0, max=MAX_TRIALS, metavar="K", help="With --count: follows of the random walk.")] = 1000,
+    steps: Annotated[int, typer.Option("--steps", min=0, max=10_000_000, metavar="K", help="With --count: follows of the random walk (at most 10,000,000).")] = 1000,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="With --count: seed of the random walk.")] = 0,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,

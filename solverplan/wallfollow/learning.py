@@ -129,8 +129,10 @@ class LearnedOrdering:
 class _Learner:
     """Strategy 1's state: what the robot knows (its position in its own numbering, where the pebble is)."""
 
-    def __init__(self, robot: Robot, keep: bool) -> None:
+    def __init__(self, robot: Robot, keep: bool, max_actions: int) -> None:
         self.robot = robot
+        self.max_actions = max_actions
+        self.done = 0
         self.n = 0
         self.at: tuple[str, int] = ("v", 0)  # ("v", vertex) or ("e", edge): on an edge's interior
         self.arrived: str | None = None
@@ -140,6 +142,10 @@ class _Learner:
         self.transcript: list[tuple[Action, Observation]] | None = [] if keep else None
 
     def act(self, action: Action) -> Observation:
+        if self.done >= self.max_actions:
+            raise InputError(f"Strategy 1 stopped after max_actions = {self.max_actions:,} actions: the polygon is "
+                             f"too large for it (it needs about n² actions, more with many cut end points on one edge)")
+        self.done += 1
         obs = self.robot.act(action)
         self.counts[self.phase] += 1
         self.counts[action.value] = self.counts.get(action.value, 0) + 1
@@ -252,7 +258,12 @@ class _Learner:
         return answer
 
 
-def strategy1(robot: Robot, *, comparisons: Comparisons = "pairwise", transcript: bool = False) -> LearnedOrdering:
+#: Strategy 1 stops (InputError) after this many actions by default: n = 3,000 vertices already need ~10⁷.
+MAX_ACTIONS = 20_000_000
+
+
+def strategy1(robot: Robot, *, comparisons: Comparisons = "pairwise", transcript: bool = False,
+              max_actions: int = MAX_ACTIONS) -> LearnedOrdering:
     """Learn the cut ordering by Strategy 1, from the robot's observations only.
 
     Parameters
@@ -264,6 +275,8 @@ def strategy1(robot: Robot, *, comparisons: Comparisons = "pairwise", transcript
         ``"pairwise"`` (the paper: every pair of end points on one edge) or ``"sort"`` (a merge sort).
     transcript
         Keep every action and observation.
+    max_actions
+        Stop with an :class:`~solverplan.errors.InputError` after this many actions.
 
     Returns
     -------
@@ -272,7 +285,7 @@ def strategy1(robot: Robot, *, comparisons: Comparisons = "pairwise", transcript
     """
     if comparisons not in ("pairwise", "sort"):
         raise InputError(f"comparisons must be 'pairwise' or 'sort', got {comparisons!r}")
-    learner = _Learner(robot, transcript)
+    learner = _Learner(robot, transcript, max_actions)
     types = learner.count()
     n = learner.n
     reflex = [k for k in range(n) if types[k] is Touch.REFLEX]
@@ -305,7 +318,8 @@ def strategy1(robot: Robot, *, comparisons: Comparisons = "pairwise", transcript
 
 
 def learn_cut_ordering(env: Environment, start: Sequence[object] | None = None, heading: Sequence[object] = (1, 0),
-                       *, comparisons: Comparisons = "pairwise", transcript: bool = False) -> LearnedOrdering:
+                       *, comparisons: Comparisons = "pairwise", transcript: bool = False,
+                       max_actions: int = MAX_ACTIONS) -> LearnedOrdering:
     """Run Strategy 1 in the geometric simulator and check the result against the exact cut ordering.
 
     Parameters
@@ -315,7 +329,7 @@ def learn_cut_ordering(env: Environment, start: Sequence[object] | None = None, 
     start, heading
         The robot's start point (interior or boundary, length units; default vertex 0) and the direction INIT
         drives in from an interior start.
-    comparisons, transcript
+    comparisons, transcript, max_actions
         As for :func:`strategy1`.
 
     Returns
@@ -324,7 +338,7 @@ def learn_cut_ordering(env: Environment, start: Sequence[object] | None = None, 
         With ``pebble_vertex`` (the environment vertex the robot calls v0) and ``matches_geometry``.
     """
     world = WallWorld(env, start, heading)
-    learned = strategy1(world, comparisons=comparisons, transcript=transcript)
+    learned = strategy1(world, comparisons=comparisons, transcript=transcript, max_actions=max_actions)
     pebble = world.pebble
     assert pebble is not None and len(pebble) == 2 and pebble[1] == 0
     p = int(pebble[0])

@@ -140,3 +140,25 @@ def test_malformed_orderings_are_refused(labels, message):
 
 def test_from_labels_rotates_to_v0():
     assert CutOrdering.from_labels(["r3", "v0", "l3", "v1", "v2", "v3", "v4", "v5"]).labels[:2] == ("v0", "l3")
+
+
+def _brute_force_triple(env):
+    from itertools import combinations
+
+    pts = env.exact_vertices
+    return next((t for t in combinations(range(len(pts)), 3) if orient(*(pts[k] for k in t)) == 0), None)
+
+
+@given(st.lists(st.tuples(st.integers(-6, 6), st.integers(-6, 6)), min_size=3, max_size=12, unique=True))
+@settings(max_examples=300)
+def test_collinear_triple_agrees_with_brute_force(points):
+    """The sorted-angle filter finds exactly the collinear triples (small grids make them common)."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from solverplan.wallfollow.cuts import collinear_triple
+
+    exact = tuple((Fraction(x), Fraction(y)) for x, y in points)
+    fake = SimpleNamespace(exact_vertices=exact, vertices=np.array(points, dtype=float))
+    assert collinear_triple(fake) == _brute_force_triple(fake)  # type: ignore[arg-type]

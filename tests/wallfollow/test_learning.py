@@ -66,3 +66,8 @@ def test_transcript_replays_in_the_geometric_simulator():
 def test_unknown_comparison_mode():
     with pytest.raises(InputError, match="comparisons must be 'pairwise' or 'sort'"):
         strategy1(WallWorld(comb(1)), comparisons="bubble")  # type: ignore[arg-type]
+
+
+def test_the_action_budget_stops_a_runaway_strategy():
+    with pytest.raises(InputError, match="Strategy 1 stopped after max_actions = 100 actions"):
+        learn_cut_ordering(comb(5), max_actions=100)
