@@ -54,6 +54,11 @@ _EXPORTS: dict[str, str] = {
     # online exploration with discrete views (Ghosh, Burdick, Bhattacharya and Sarkar)
     "explore_depth_first": "solverplan.explore.depth_first",
     "Exploration": "solverplan.explore.depth_first",
+    # the wall-following robot (Yershova, Tovar, Katsev, Ghrist and LaValle)
+    "cut_ordering": "solverplan.wallfollow.cuts",
+    "CutOrdering": "solverplan.wallfollow.ordering",
+    "WallWorld": "solverplan.wallfollow.world",
+    "learn_cut_ordering": "solverplan.wallfollow.learning",
     # planners
     "find_plan": "solverplan.plan.search",
     "pareto_front": "solverplan.plan.search",
@@ -113,6 +118,10 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.rectilinear.decomposition import decompose_rooms
     from solverplan.result import Method, Optimality, Stage, Stats, Status, StatusGroup
     from solverplan.simulate import simulate_plan, simulate_rule
+    from solverplan.wallfollow.cuts import cut_ordering
+    from solverplan.wallfollow.learning import learn_cut_ordering
+    from solverplan.wallfollow.ordering import CutOrdering
+    from solverplan.wallfollow.world import WallWorld
     from solverplan.studies.rooms import compare_rules, simulate_rooms
 
 

@@ -1069,6 +1069,74 @@ def explore_command(
         emit(run, fmt, out)
 
 
+# ---------------------------------------------------------------------- the wall-following robot
+class Comparisons(StrEnum):
+    PAIRWISE = "pairwise"
+    SORT = "sort"
+
+
+def _pair(text: str | None, name: str) -> tuple[str, str] | None:
+    """``"X,Y"`` → two number strings (read exactly by the library), or ``None``."""
+    if text is None:
+        return None
+    parts = text.split(",")
+    if len(parts) != 2 or not all(p.strip() for p in parts):
+        raise InputError(f"{name} must be two numbers X,Y, got {text!r}")
+    return parts[0].strip(), parts[1].strip()
+
+
+@app.command(name="wallfollow")
+def wallfollow_command(
+    env: EnvArg,
+    cut_ordering: Annotated[bool, typer.Option("--cut-ordering", help="The exact geometric cut ordering (the default).")] = False,
+    learn: Annotated[bool, typer.Option("--learn", help="The cut ordering learned by Strategy 1 from sensing alone, with its action and memory counts.")] = False,
+    count: Annotated[bool, typer.Option("--count", help="n and the winding number by the counting filter, from a seeded random walk.")] = False,
+    start: Annotated[str | None, typer.Option("--start", metavar="X,Y", help="The robot's start point (default vertex 0).", show_default=False)] = None,
+    heading: Annotated[str | None, typer.Option("--heading", metavar="DX,DY", help="Direction INIT drives in from an interior start (default 1,0).", show_default=False)] = None,
+    comparisons: Annotated[Comparisons, typer.Option("--comparisons", help="With --learn: compare every pair of end points on an edge (the paper) or merge-sort them.")] = Comparisons.PAIRWISE,
+    transcript: Annotated[bool, typer.Option("--transcript", help="With --learn: include every action and observation.")] = False,
+    steps: Annotated[int, typer.Option("--steps", min=0, max=10_000_000, metavar="K", help="With --count: follows of the random walk (at most 10,000,000).")] = 1000,
+    seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="With --count: seed of the random walk.")] = 0,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """The wall-following robot (Yershova et al.): cut ordering, Strategy 1, vertex counting."""
+    from solverplan.wallfollow.cuts import cut_ordering as exact_cut_ordering
+    from solverplan.wallfollow.filters import count_random_walk
+    from solverplan.wallfollow.learning import learn_cut_ordering
+
+    with exit_codes(verbose):
+        if cut_ordering + learn + count > 1:
+            raise InputError("choose one of --cut-ordering, --learn and --count")
+        if not learn and (transcript or comparisons is not Comparisons.PAIRWISE):
+            raise InputError("--comparisons and --transcript belong to --learn")
+        if not (learn or count) and (start is not None or heading is not None):
+            raise InputError("--start and --heading place the robot of --learn or --count")
+        if not count and (steps != 1000 or seed != 0):
+            raise InputError("--steps and --seed belong to --count")
+        _check_picture(picture)
+        environment = _load(env, env_format)
+        where, towards = _pair(start, "--start"), _pair(heading or "1,0", "--heading")
+        assert towards is not None
+        if learn:
+            answer: Any = learn_cut_ordering(environment, where, towards, comparisons=comparisons.value,
+                                             transcript=transcript)
+        elif count:
+            answer = count_random_walk(environment, steps, seed, where, towards)
+        else:
+            answer = exact_cut_ordering(environment)
+        if picture is not None:
+            from solverplan.render import save_figure
+            from solverplan.render.wallfollow import render_cuts
+
+            save_figure(render_cuts(environment, answer.ordering.relabel(answer.pebble_vertex) if learn else None),
+                        picture)
+        emit(answer, fmt, out)
+
+
 # ---------------------------------------------------------------------- generate (random environments)
 generate_app = typer.Typer(
     name="generate", cls=_Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,

@@ -98,8 +98,8 @@ def chained_optimum(env: Environment, start: Sequence[object], candidates: Seque
     x = cp.Variable(n, boolean=True)
     f = cp.Variable(len(arcs), nonneg=True)
     cons = [cover @ x >= 1, x[0] == 1]
-    out_of = [[] for _ in range(n)]
-    into = [[] for _ in range(n)]
+    out_of: list[list[int]] = [[] for _ in range(n)]
+    into: list[list[int]] = [[] for _ in range(n)]
     for k, (i, j) in enumerate(arcs):
         out_of[i].append(k)
         into[j].append(k)

@@ -6,7 +6,8 @@ ids), :mod:`~solverplan.render.environment`, :mod:`~solverplan.render.partition`
 :mod:`~solverplan.render.graph`, :mod:`~solverplan.render.trajectories`, :mod:`~solverplan.render.cycles`,
 :mod:`~solverplan.render.plans`, :mod:`~solverplan.render.answers`, :mod:`~solverplan.render.heatmaps`,
 :mod:`~solverplan.render.rooms` (rooms and doors of rectilinear polygons), :mod:`~solverplan.render.explore`
-(explorations with discrete views),
+(explorations with discrete views), :mod:`~solverplan.render.wallfollow` (the wall-following robot's cuts and cut
+diagram),
 and :mod:`~solverplan.render.scenes`, whose :func:`scene` stacks the layers into a whole picture (what
 ``solverplan render`` draws). Each ``draw_*`` layer takes an Axes and returns the artists it added; every
 artist has a ``gid`` that becomes its ``id`` in SVG output.
@@ -37,6 +38,7 @@ from solverplan.render.plans import draw_plan, plan_title
 from solverplan.render.rooms import ROOM_COLORS, RULE_COLORS, draw_doors, draw_room_paths, draw_rooms, render_rooms
 from solverplan.render.scenes import scene
 from solverplan.render.trajectories import draw_trajectories
+from solverplan.render.wallfollow import CUT_COLORS, draw_cut_diagram, draw_cuts, render_cuts
 
 __all__ = [
     "render_exploration",
@@ -75,4 +77,8 @@ __all__ = [
     "draw_doors",
     "draw_room_paths",
     "render_rooms",
+    "CUT_COLORS",
+    "draw_cuts",
+    "draw_cut_diagram",
+    "render_cuts",
 ]

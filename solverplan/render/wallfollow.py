@@ -1,0 +1,106 @@
+"""The wall-following robot's cuts and cut diagram (Yershova et al., Figs. 3–5).
+
+Left: the polygon with every cut drawn from its reflex vertex to its end point (left cuts dashed blue, right cuts
+solid orange), vertices and end points labelled. Right: the **cut diagram** — the n + 2m points of the cut
+ordering placed around a circle in their cyclic order, each reflex vertex joined by a chord to its two cut end
+points; by Prop. 4 two chords cross exactly when the cuts cross in the polygon.
+
+>>> from solverplan.environment import Environment
+>>> from solverplan.wallfollow import cut_ordering
+>>> room = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])
+>>> fig = render_cuts(room)
+>>> sorted(a.get_gid() for a in fig.axes[1].lines if a.get_gid().startswith("chord"))
+['chord-l3', 'chord-r3']
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+
+from solverplan.environment import Environment
+from solverplan.render.environment import draw_boundary, draw_free_space, draw_reflex_vertices
+from solverplan.render.figure import BOUNDARY_COLOR, _style_axes, new_figure
+from solverplan.wallfollow.cuts import Cut, cut_ordering, cuts
+from solverplan.wallfollow.ordering import CutOrdering
+
+__all__ = ["CUT_COLORS", "draw_cuts", "draw_cut_diagram", "render_cuts"]
+
+CUT_COLORS = {"l": "#1f5fbf", "r": "#d95f02"}
+_STYLES = {"l": "--", "r": "-"}
+
+
+def draw_cuts(ax: Axes, env: Environment, all_cuts: tuple[Cut, ...] | None = None, *, labels: bool = True) -> list:
+    """Each cut as a segment (gid ``cut-l3``) and, with ``labels``, its end point's name (gid ``cut-label-l3``)."""
+    artists: list = []
+    pts = env.vertices
+    span = max(env.bounds[2] - env.bounds[0], env.bounds[3] - env.bounds[1])
+    for cut in all_cuts if all_cuts is not None else cuts(env):
+        a, b = pts[cut.vertex], np.array([float(cut.point[0]), float(cut.point[1])])
+        (line,) = ax.plot([a[0], b[0]], [a[1], b[1]], _STYLES[cut.side], color=CUT_COLORS[cut.side], linewidth=1.0,
+                          zorder=3, gid=f"cut-{cut.label}")
+        artists.append(line)
+        if labels:
+            d = (b - a) / max(float(np.hypot(*(b - a))), 1e-300)
+            spot = b - 0.03 * span * d
+            artists.append(ax.text(spot[0], spot[1], cut.label, fontsize=7, color=CUT_COLORS[cut.side],
+                                   ha="center", va="center", zorder=6, gid=f"cut-label-{cut.label}"))
+    if labels:
+        inward = np.mean(pts, axis=0)
+        for k, p in enumerate(pts):
+            d = p - inward
+            spot = p + 0.04 * span * d / max(float(np.hypot(*d)), 1e-300)
+            artists.append(ax.text(spot[0], spot[1], f"v{k}", fontsize=7, color=BOUNDARY_COLOR, ha="center",
+                                   va="center", zorder=6, gid=f"vertex-label-{k}"))
+    return artists
+
+
+def draw_cut_diagram(ax: Axes, ordering: CutOrdering) -> list:
+    """The cut diagram: points of the ordering counter-clockwise on the unit circle from ``v0`` at the top,
+    reflex vertices as red dots, chords to their end points (gid ``chord-l3``)."""
+    artists: list = []
+    size = len(ordering.labels)
+    angle = np.pi / 2 + 2 * np.pi * np.arange(size) / size
+    xy = np.column_stack([np.cos(angle), np.sin(angle)])
+    where = {label: xy[i] for i, label in enumerate(ordering.labels)}
+    circle = np.linspace(0, 2 * np.pi, 200)
+    artists += ax.plot(np.cos(circle), np.sin(circle), color="#bbbbbb", linewidth=0.8, zorder=1, gid="diagram-circle")
+    reflex = set(ordering.reflex)
+    for k in sorted(reflex):
+        for side in ("l", "r"):
+            a, b = where[f"v{k}"], where[f"{side}{k}"]
+            artists += ax.plot([a[0], b[0]], [a[1], b[1]], _STYLES[side], color=CUT_COLORS[side], linewidth=1.0,
+                               zorder=2, gid=f"chord-{side}{k}")
+    for i, label in enumerate(ordering.labels):
+        kind, k = label[0], int(label[1:])
+        color = "#c0392b" if kind == "v" and k in reflex else BOUNDARY_COLOR if kind == "v" else CUT_COLORS[kind]
+        artists.append(ax.scatter([xy[i, 0]], [xy[i, 1]], s=14, color=color, zorder=3, gid=f"diagram-point-{label}"))
+        artists.append(ax.text(1.12 * xy[i, 0], 1.12 * xy[i, 1], label, fontsize=7, color=color, ha="center",
+                               va="center", zorder=4, gid=f"diagram-label-{label}"))
+    ax.set_xlim(-1.3, 1.3)
+    ax.set_ylim(-1.3, 1.3)
+    ax.set_xticks([])
+    ax.set_yticks([])
+    return artists
+
+
+def render_cuts(env: Environment, ordering: CutOrdering | None = None, *, title: str | None = None) -> Figure:
+    """Two panels: the polygon with its cuts, and the cut diagram of ``ordering`` (default: the geometric one)."""
+    ordering = ordering if ordering is not None else cut_ordering(env)
+    fig, ax = new_figure(env, title=title or f"{env.name or 'polygon'}: {len(ordering.reflex)} reflex vertices, "
+                                             f"{2 * len(ordering.reflex)} cuts")
+    width, height = fig.get_size_inches()
+    fig.set_size_inches(width + max(height, 4.0), max(height, 4.0))
+    ax.remove()
+    left = fig.add_subplot(1, 2, 1)
+    _style_axes(left, title or f"{env.name or 'polygon'}: {2 * len(ordering.reflex)} cuts")
+    draw_free_space(left, env)
+    draw_boundary(left, env)
+    draw_reflex_vertices(left, env)
+    draw_cuts(left, env)
+    right = fig.add_subplot(1, 2, 2)
+    _style_axes(right, "cut diagram")
+    draw_cut_diagram(right, ordering)
+    fig.tight_layout()
+    return fig

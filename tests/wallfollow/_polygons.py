@@ -1,0 +1,61 @@
+"""Hypothesis strategies for the wall-following model: simple polygons in general position (integer vertices)."""
+
+from __future__ import annotations
+
+import math
+
+from hypothesis import assume
+from hypothesis import strategies as st
+
+from solverplan.environment import Environment
+from solverplan.errors import InvalidEnvironment
+from solverplan.wallfollow import cuts
+
+
+@st.composite
+def general_position_polygons(draw, min_vertices: int = 3, max_vertices: int = 14, scale: int = 1000,
+                              spiky: bool = False) -> Environment:
+    """Star-shaped simple polygons (usually with reflex vertices) whose vertices and cuts are in general position.
+
+    Radii vary by a factor of up to 4 so that reflex vertices and chains of them are common (``spiky``: every
+    other vertex pulled in further); polygons that break general position (rare at this scale) are rejected.
+    """
+    n = draw(st.integers(min_vertices, max_vertices))
+    jitter = draw(st.lists(st.floats(-0.4, 0.4), min_size=n, max_size=n))
+    radii = draw(st.lists(st.integers(scale // 4, scale), min_size=n, max_size=n))
+    if spiky:  # every other vertex pulled in: many reflex vertices that see each other, so bitangents are common
+        radii = [r if k % 2 == 0 else r * 2 // 5 for k, r in enumerate(radii)]
+    ring = [(round(r * math.cos(2 * math.pi * (k + j) / n)), round(r * math.sin(2 * math.pi * (k + j) / n)))
+            for k, (r, j) in enumerate(zip(radii, jitter))]
+    try:
+        env = Environment.from_coords(ring)
+        cuts(env)
+    except InvalidEnvironment:
+        assume(False)
+        raise  # unreachable
+    return env
+
+
+def comb(teeth: int, seed: int = 0) -> Environment:
+    """A room whose ceiling has ``teeth`` spikes hanging down: both cuts of every spike's tip (a reflex vertex)
+    land on the floor, so one edge receives 2·teeth cut end points (n = 2·teeth + 5 vertices). Heights are
+    perturbed (seeded) to keep general position; a perturbation that breaks it is replaced by the next seed's."""
+    import random
+
+    for attempt in range(100):
+        rng = random.Random(seed * 1000 + attempt)
+        # wide random ranges (integers up to ~10⁶) make collinear triples rare even for many teeth
+        width = 10_000 * teeth + 10_000
+        ring = [(0, 0), (width, 0), (width, 1_000_000 + rng.randint(0, 50_000))]
+        for i in reversed(range(teeth)):
+            x = 10_000 * i + 5_000
+            ring += [(x + 8_000 + rng.randint(-500, 500), 1_000_000 + rng.randint(0, 50_000)),
+                     (x + 4_000 + rng.randint(-500, 500), 300_000 + rng.randint(0, 200_000))]
+        ring += [(5_000, 1_000_000 + rng.randint(0, 50_000)), (0, 1_000_000 + rng.randint(0, 50_000))]
+        try:
+            env = Environment.from_coords(ring)
+            cuts(env)
+            return env
+        except InvalidEnvironment:
+            continue
+    raise AssertionError("no comb in general position found")
