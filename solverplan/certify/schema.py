@@ -125,30 +125,27 @@ thousands of digits, past Python's 4,300-digit guard for parsing untrusted text;
 from costing minutes of quadratic conversion (200,000 digits read in about 0.1 s)."""
 
 
+def _without_digit_guard(convert, value):
+    """``convert(value)`` with Python's int/str digit guard lifted for this one conversion (the lengths are
+    bounded by the callers). The checker keeps its own copy of this, independent of the planner's."""
+    previous = sys.get_int_max_str_digits()
+    sys.set_int_max_str_digits(0)
+    try:
+        return convert(value)
+    finally:
+        sys.set_int_max_str_digits(previous)
+
+
 def _int_of(text: str, where: str = "certificate") -> int:
     """``int(text)`` for up to :data:`MAX_DIGITS` digits, refusing longer runs in one line."""
     if len(text) > MAX_DIGITS + 1:
         raise CertificateFormatError(f"{where}: an integer of {len(text):,} digits (at most {MAX_DIGITS:,} are read)")
-    if len(text) < 4000:
-        return int(text)
-    previous = sys.get_int_max_str_digits()
-    sys.set_int_max_str_digits(0)
-    try:
-        return int(text)
-    finally:
-        sys.set_int_max_str_digits(previous)
+    return int(text) if len(text) < 4000 else _without_digit_guard(int, text)
 
 
 def _text_of(n: int) -> str:
     """``str(n)`` for integers of any length (see :data:`MAX_DIGITS`)."""
-    if n.bit_length() < 13_000:
-        return str(n)
-    previous = sys.get_int_max_str_digits()
-    sys.set_int_max_str_digits(0)
-    try:
-        return str(n)
-    finally:
-        sys.set_int_max_str_digits(previous)
+    return str(n) if n.bit_length() < 13_000 else _without_digit_guard(str, n)
 
 
 def parse_number(value: object, where: str) -> Fraction:
