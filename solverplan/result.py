@@ -55,6 +55,7 @@ __all__ = [
     "AffineStep",
     "Stage",
     "Result",
+    "protocol_json",
     "piece_json",
 ]
 
@@ -289,6 +290,18 @@ class EnvironmentRecord:
         if n is not None and (isinstance(n, bool) or not isinstance(n, int)):
             raise ValueError(f"{where}.n_segments: expected an integer, got {n!r}")
         return cls(str(data.get("name", "")), data["sha256"], n)
+
+
+def protocol_json(optimality: Optimality, stats: Stats | None = None,
+                  environment: EnvironmentRecord | None = None) -> dict:
+    """The protocol's closing fields of an answer, in the contract's order: ``optimality``, then ``stats`` (when
+    there are any) and ``environment`` (when known)."""
+    out: dict = {"optimality": optimality.to_json()}
+    if stats:
+        out["stats"] = stats.to_json()
+    if environment is not None:
+        out["environment"] = environment.to_json()
+    return out
 
 
 # ---------------------------------------------------------------------- stages

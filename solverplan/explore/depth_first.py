@@ -28,7 +28,7 @@ from solverplan.exact import ExactPoint, exact_point, format_point
 from solverplan.explore.bounds import Cost, exploration_cost, views_bound
 from solverplan.explore.windows import Window, point_on_part, unexplored_parts, windows
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
 
 __all__ = ["CHOICES", "Exploration", "explore_depth_first"]
 
@@ -126,11 +126,7 @@ class Exploration:
             out["seed"] = self.seed
         if self.range is not None:
             out["range"] = self.range
-        out["optimality"] = self.optimality.to_json()
-        if self.stats:
-            out["stats"] = self.stats.to_json()
-        if self.environment is not None:
-            out["environment"] = self.environment.to_json()
+        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
     def to_text(self, *, width: int = 100) -> str:

@@ -35,7 +35,7 @@ from typing import Any, Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
 from solverplan.wallfollow.world import Action, Observation, parse_action
 
 __all__ = ["CountingFilter", "WalkCount", "count_random_walk", "count_walk", "printed_winding", "printed_vertex_count", "step_value"]
@@ -200,9 +200,8 @@ class WalkCount:
         out: dict[str, Any] = {"status": self.status.value, "n": self.n, "winding": self.winding,
                                "displacement": self.displacement, "known_after": self.known_after,
                                "steps": self.steps, "seed": self.seed, "true_n": self.true_n,
-                               "true_winding": self.true_winding, "optimality": self.optimality.to_json()}
-        if self.environment is not None:
-            out["environment"] = self.environment.to_json()
+                               "true_winding": self.true_winding,
+                               **protocol_json(self.optimality, environment=self.environment)}
         return out
 
     def to_text(self, *, width: int = 100) -> str:

@@ -39,7 +39,7 @@ from typing import Any, Literal, Protocol, Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
 from solverplan.wallfollow.cuts import cut_ordering
 from solverplan.wallfollow.ordering import CutOrdering
 from solverplan.wallfollow.world import Action, Observation, Touch, WallWorld
@@ -109,11 +109,7 @@ class LearnedOrdering:
         if self.transcript is not None:
             out["transcript"] = [{"action": a.value, "touch": o.touch.value, "pebble": o.pebble}
                                  for a, o in self.transcript]
-        out["optimality"] = self.optimality.to_json()
-        if self.stats:
-            out["stats"] = self.stats.to_json()
-        if self.environment is not None:
-            out["environment"] = self.environment.to_json()
+        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
     def to_text(self, *, width: int = 100) -> str:

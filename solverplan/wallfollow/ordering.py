@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 from typing import Any, Iterable, Sequence
 
 from solverplan.errors import InputError
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
 
 __all__ = ["CutOrdering", "parse_label"]
 
@@ -179,13 +179,8 @@ class CutOrdering:
         return Status.FOUND
 
     def to_json(self) -> dict:
-        out: dict[str, Any] = {"status": self.status.value, "cut_ordering": list(self.labels), "n": self.n,
-                               "reflex": list(self.reflex), "optimality": self.optimality.to_json()}
-        if self.stats:
-            out["stats"] = self.stats.to_json()
-        if self.environment is not None:
-            out["environment"] = self.environment.to_json()
-        return out
+        return {"status": self.status.value, "cut_ordering": list(self.labels), "n": self.n, "reflex": list(self.reflex),
+                **protocol_json(self.optimality, self.stats, self.environment)}
 
     def to_text(self, *, width: int = 100) -> str:
         head = f"cut ordering: {self.n} vertices, {len(self.reflex)} reflex ({len(self.labels)} points)"
