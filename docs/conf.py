@@ -71,6 +71,7 @@ sphinx_gallery_conf = {
     "write_computation_times": False,
     "doc_module": ("solverplan",),
     "backreferences_dir": None,
+    "image_scrapers": ("figure_scraper.solverplan_figures", "matplotlib"),
 }
 
 html_theme = "pydata_sphinx_theme"
