@@ -8,6 +8,7 @@ app's click command tree (sphinx-click). The gallery runs the scripts of ``examp
 from __future__ import annotations
 
 import os
+import shutil
 import sys
 from pathlib import Path
 
@@ -22,6 +23,14 @@ from public_api import write_api_page  # noqa: E402
 
 write_api_page(DOCS / "api.rst")
 
+# The tutorial runs the real commands (sphinxcontrib-programoutput): ``solverplan`` is the script next to the
+# Python running Sphinx, importing this source tree; its files go to docs/tutorial/out (not kept in git).
+os.environ["PATH"] = os.path.dirname(sys.executable) + os.pathsep + os.environ.get("PATH", "")
+os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
+if shutil.which("solverplan") is None:
+    raise RuntimeError(f"no 'solverplan' command next to {sys.executable}: install the project (pip install '.[docs]')")
+(DOCS / "tutorial" / "out").mkdir(exist_ok=True)
+
 project = "solverplan"
 author = "the solverplan authors"
 copyright = "the solverplan authors, MIT licence"
@@ -34,11 +43,12 @@ extensions = [
     "numpydoc",
     "myst_parser",
     "click_tree",
+    "sphinxcontrib.programoutput",
     "sphinx_gallery.gen_gallery",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "_ext", "**/sg_execution_times.rst"]
+exclude_patterns = ["_build", "tutorial/out", "Thumbs.db", ".DS_Store", "_ext", "**/sg_execution_times.rst"]
 templates_path = ["_templates"]
 
 # MyST: docs/contract.md is a page as it stands; its headings become link targets.
@@ -85,3 +95,17 @@ html_theme_options = {
 }
 html_static_path: list[str] = []
 html_show_sourcelink = False
+
+# The commands of the tutorial: shown with a prompt, and a command that exits otherwise than its
+# :returncode: fails the build.
+programoutput_prompt_template = "$ {command}\n{output}"
+programoutput_use_ansi = False
+
+
+def setup(app):
+    # Run the tutorial's commands before Sphinx collects the images of a page, so that the pictures they draw are
+    # found on the first build (programoutput runs them at priority 500, after the image collector; its own pass
+    # then finds nothing left to run).
+    from sphinxcontrib.programoutput import run_programs
+
+    app.connect("doctree-read", run_programs, priority=100)
