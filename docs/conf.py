@@ -77,6 +77,7 @@ sphinx_gallery_conf = {
     "within_subsection_order": "FileNameSortKey",
     "reset_modules": ("matplotlib",),
     "abort_on_example_error": True,
+    "run_stale_examples": True,  # the answers depend on the library too, not only on the script's text
     "show_memory": False,
     "write_computation_times": False,
     "doc_module": ("solverplan",),
