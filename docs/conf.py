@@ -65,6 +65,7 @@ numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
 add_module_names = False
+smartquotes = False  # option names such as --env-format must stay two hyphens, not an en dash
 
 
 # sphinx-gallery: examples/plot_*.py run during the build; their figures become the gallery.
@@ -90,7 +91,7 @@ html_title = f"solverplan {version}"
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
-    "header_links_before_dropdown": 8,
+    "header_links_before_dropdown": 6,
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
 }
