@@ -41,7 +41,10 @@ def _limit_cycle(ns):
 
 
 def _patrol(ns):
-    assert ns["patrol"].status.value == "found" and ns["patrol"].contraction < 1
+    tightest, widest = ns["tightest"], ns["widest"]
+    assert tightest.status.value == widest.status.value == "found"
+    assert tightest.contraction < widest.contraction < 1  # both contract; the wider intervals contract less
+    assert widest.tolerance > tightest.tolerance
 
 
 def _funnel_localize(ns):
