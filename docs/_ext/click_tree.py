@@ -72,7 +72,7 @@ class ClickTree(SphinxDirective):
                 definition += _paragraphs(help_text or " ") or [nodes.paragraph(text="")]
                 item += definition
                 items += item
-            rubric = "Options" if not top else "Options of every command (given before the command name)"
+            rubric = "Arguments and options" if not top else "Options of every command (given before the command name)"
             section += nodes.rubric(text=rubric)
             section += items
         if hasattr(command, "list_commands"):
