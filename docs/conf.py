@@ -2,7 +2,7 @@
 
 The API page (api.rst) and the CLI reference are generated from the code on every build: the API page from the
 public namespace ``solverplan._EXPORTS`` (its comment lines become the sections), the CLI reference from the typer
-app's click command tree (sphinx-click). The gallery runs the scripts of ``examples/`` (sphinx-gallery).
+app's click command tree (docs/_ext/click_tree.py). The gallery runs the scripts of ``examples/`` (sphinx-gallery).
 """
 
 from __future__ import annotations
