@@ -17,6 +17,7 @@ ROOT = DOCS.parent
 sys.path.insert(0, str(ROOT))  # the source tree wins over an installed copy: document what is being built
 sys.path.insert(0, str(DOCS / "_ext"))
 os.environ.setdefault("MPLBACKEND", "Agg")  # no display while the gallery runs
+os.environ.setdefault("SOLVERPLAN_GRAPH_CACHE", "off")  # the build writes nothing to the user's cache
 
 import solverplan  # noqa: E402  (after the path is set)
 from public_api import write_api_page  # noqa: E402
