@@ -163,9 +163,10 @@ def load_answer(path: str | os.PathLike[str], *, option: str | None = None) -> A
         raise MalformedFile(f"{file}: {exc}") from None
     kind = answer_kind(data)
     if kind is None:
-        what = ("a certificate (give it with --certificate)"
-                if isinstance(data, dict) and data.get("schema") == "solverplan-certificate" else "no answer")
-        raise MalformedFile(f"{file}: {what}; a report shows {', '.join(v for v in ANSWER_KINDS.values())}")
+        if isinstance(data, dict) and data.get("schema") == "solverplan-certificate":
+            raise MalformedFile(f"{file}: is a certificate, not an answer: give it with --certificate")
+        raise MalformedFile(f"{file}: is no answer solverplan writes (a report shows plans, Pareto fronts, patrols, funnels, "
+                            "localisation strategies, limit cycles, constant controllers and studies)")
     if option is not None and kind not in REPORT_OPTIONS[option]:
         wanted = next(name for name, kinds in REPORT_OPTIONS.items() if kind in kinds)
         raise MalformedFile(f"{file}: is {ANSWER_KINDS[kind]}, not what --{option} takes: give it with --{wanted}")
@@ -1377,7 +1378,7 @@ class _Study:
         means = d.get("means")
         if isinstance(means, dict):
             rows += [(f"mean {k}", _num(v)) for k, v in means.items() if not isinstance(v, (dict, list))]
-        heat = "".join(self.heatmap(cells, m, varying) for m in metrics)
+        heat = "".join(self.heatmap(cells, m, varying, grid) for m in metrics)
         if not heat:
             heat = "<p>No metric varies over two axes or one: see the table of cells.</p>"
         header = ["cell", *axes, *metrics]
@@ -1410,13 +1411,14 @@ class _Study:
                     names.append(k)
         return names
 
-    def heatmap(self, cells: Sequence[dict], metric: str, varying: Sequence[str]) -> str:
+    def heatmap(self, cells: Sequence[dict], metric: str, varying: Sequence[str], grid: dict) -> str:
         if not varying:
             return ""
         ax_x = varying[-1]
         ax_y = varying[-2] if len(varying) > 1 else None
-        xs: list[Any] = sorted({c[ax_x] for c in cells if isinstance(c.get(ax_x), (int, float))})
-        ys: list[Any] = sorted({c[ax_y] for c in cells if isinstance(c.get(ax_y), (int, float))}) if ax_y else [None]
+        # the axes' values in the grid's order (numbers, or the rule families of a rules study)
+        xs: list[Any] = [v for v in grid[ax_x] if isinstance(v, (int, float, str))]
+        ys: list[Any] = [v for v in grid[ax_y] if isinstance(v, (int, float, str))] if ax_y else [None]
         if not xs or not ys:
             return ""
         table: dict[tuple[object, object], list[float]] = {}
@@ -1474,13 +1476,15 @@ class _Study:
         for a in axes:
             values = grid.get(a)
             if isinstance(values, list) and values:
-                words += ["--grid", f"{a}={','.join(_plain(v) for v in values)}"]
+                if ident.get("study") == "rules" and a == "rule":  # the rule families are an option, not a grid axis
+                    words += ["--rules", ",".join(map(str, values))]
+                else:
+                    words += ["--grid", f"{a}={','.join(_plain(v) for v in values)}"]
         if ident.get("per_cell") is not None:
             words += ["--per-cell", str(ident["per_cell"])]
         metric = ident.get("metric")
         if isinstance(metric, dict):
-            for key, flag in (("rules", "--rules"), ("family_size", "--family-size"), ("trials", "--trials"),
-                              ("bounces", "--bounces")):
+            for key, flag in (("family_size", "--family-size"), ("trials", "--trials"), ("bounces", "--bounces")):
                 if metric.get(key) is not None:
                     v = metric[key]
                     words += [flag, ",".join(map(str, v)) if isinstance(v, list) else str(v)]
