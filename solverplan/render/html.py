@@ -25,7 +25,7 @@ load or run anything.
 >>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]], name="<box>")
 >>> answer = AnswerFile("plan.json", "plan", find_plan(env, "e0", "e2").to_json())
 >>> page = html_report(answer, env, env_label="box.json")
->>> page.kind, "<box>" in page.html, "&lt;box&gt;" in page.html, page.html.count('class="cone"') >= 2
+>>> page.kind, "<box>" in page.html, "&lt;box&gt;" in page.html, page.html.count('class="hover cone"') >= 2
 ('plan', False, True, True)
 """
 
