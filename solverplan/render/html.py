@@ -94,6 +94,7 @@ _CERTIFICATE_KINDS = {"plan": "plan", "pareto": "plan", "patrol": "cycle", "funn
 
 _WIDTH, _MAX_HEIGHT, _PAD = 780.0, 600.0, 30.0
 _EXACT_CELL = ' class="exact"'  # table cells holding exact numbers: monospace, wrapped anywhere
+HOLE_COLOR = "#d9dfe6"  # the holes of the environment (obstacles)
 
 
 # ====================================================================== reading answers
@@ -383,7 +384,7 @@ def html_report(
                "localize": _FunnelReport, "cycle": _CycleReport, "controller": _CycleReport}[kind]
     view = builder(answer, env, env_label or env.name or "ENV")
     verdict = None
-    cert_html = _no_certificate(kind)
+    cert_html = _no_certificate(kind, answer.data.get("status") == "found" or kind == "pareto")
     if certificate is not None:
         verdict, cert_html = _certificate_section(answer, env, view, certificate, certificate_path or "CERT.json")
     body = view.render(cert_html, certificate_path)
@@ -560,8 +561,11 @@ def _stats_block(data: dict) -> str:
     return f"<details><summary>search statistics (recorded, not part of the answer)</summary>{_table(rows)}</details>"
 
 
-def _no_certificate(kind: str) -> str:
-    if kind in _CERTIFICATE_KINDS:
+def _no_certificate(kind: str, answered: bool = True) -> str:
+    if kind in _CERTIFICATE_KINDS and not answered:
+        why = ("An answer that found no strategy has no certificate: what it proves rests on its search "
+               "(see optimality below).")
+    elif kind in _CERTIFICATE_KINDS:
         why = "No certificate was given (make one with --certificate FILE when solving, and pass it to the report)."
     else:
         why = ("This kind of answer has no certificate file; a limit cycle's claims are verified exactly by "
@@ -652,6 +656,7 @@ class _View:
         self.bounces: int | None = None  # what a certificate must claim
         self.start: str | None = None
         self.goal: str | None = None
+        self.contraction: dict[int, float] = {}  # stage → its worst-case contraction coefficient (plans, entries)
         self.check_environment()
 
     # -- checks
@@ -680,6 +685,9 @@ class _View:
         rings = [[(float(x), float(y)) for x, y in ring] for ring in env.rings]
         parts = [_el("path", {"d": c.path(rings), "fill": FREE_SPACE_COLOR, "fill-rule": "evenodd", "stroke": "none",
                               "id": "free-space"})]
+        for h, hole in enumerate(rings[1:], start=1):  # obstacles: grey, so they do not read as the outside
+            parts.append(_el("path", {"d": c.path([hole]), "fill": HOLE_COLOR, "stroke": "none", "class": "hover hole"},
+                             f"hole {h} (an obstacle): edges e{env.ring_offsets[h]}..e{env.ring_offsets[h + 1] - 1}"))
         starts, ends, lengths = env.edge_start, env.edge_end, env.edge_lengths
         ring_of_edge = env.ring_of
         for i in range(env.n_edges):
@@ -693,19 +701,34 @@ class _View:
         return "<g id=\"environment\">" + "".join(parts) + "</g>"
 
     def edge_labels(self) -> str:
+        """``eK`` beside every edge long enough to carry it: outside the free space, or inside when that spot is taken
+        (two walls facing each other across a thin gap); left out where both are (the edge's tooltip still names it)."""
         c, env = self.canvas, self.env
-        if env.n_edges > 120:
+        if env.n_edges > 300:
             return ""
         out = []
+        taken: list[tuple[float, float, float, float]] = []  # label boxes placed so far (pixels)
+
+        def free(x: float, y: float, half: float) -> bool:
+            return all(abs(x - u) > half + h or abs(y - v) > 7.0 for u, v, h, _ in taken)
+
         for i in range(env.n_edges):
             a, b = env.edge_start[i], env.edge_end[i]
             d = b - a
-            n = np.array([-d[1], d[0]]) / max(float(np.hypot(d[0], d[1])), 1e-300)  # the inward (left) normal
+            length = float(np.hypot(d[0], d[1]))
+            if length * c.scale < 18:  # too short to label legibly (door jambs): hover it instead
+                continue
+            n = np.array([-d[1], d[0]]) / max(length, 1e-300)  # the inward (left) normal
             mx, my = c.xy(*(0.5 * (a + b)))
-            x, y = mx - 11 * n[0], my + 11 * n[1]  # outside the wall (world y up, pixels down)
-            out.append(_el("text", {"x": f"{x:.1f}", "y": f"{y:.1f}", "class": "edge-id", "font-size": "10.5",
-                                    "fill": EDGE_ID_COLOR, "text-anchor": "middle", "dominant-baseline": "middle"},
-                           body=_e(f"e{i}")))
+            half = 3.2 * len(f"e{i}") + 1.0
+            for side in (-1.0, 1.0):  # outside the wall first (world y up, pixels down), then inside
+                x, y = mx + side * 11 * n[0], my - side * 11 * n[1]
+                if free(x, y, half):
+                    taken.append((x, y, half, 0.0))
+                    out.append(_el("text", {"x": f"{x:.1f}", "y": f"{y:.1f}", "class": "edge-id", "font-size": "10.5",
+                                            "fill": EDGE_ID_COLOR, "text-anchor": "middle", "dominant-baseline": "middle"},
+                                   body=_e(f"e{i}")))
+                    break
         return "<g id=\"edge-ids\">" + "".join(out) + "</g>"
 
     def pieces_layer(self, spec: str | None, colour: str, gid: str, name: str) -> str:
@@ -746,7 +769,7 @@ class _View:
     # -- the sections
     def render(self, cert_html: str, certificate_path: str | None) -> str:
         layers = [self.environment_layer(), *self.layers(), self.edge_labels()]
-        numbers = self.numbers()
+        numbers = self.numbers()  # after the layers: drawing the stages measured their contraction
         command = self.command(certificate_path)
         return (self.picture(layers) + cert_html + f'<section id="numbers"><h2>The answer</h2>{numbers}'
                 f"{_stats_block(self.data)}</section>"
@@ -782,6 +805,21 @@ class _View:
             out.append(_el("circle", {"cx": f"{x:.2f}", "cy": f"{y:.2f}", "r": "1.6", "fill": BOUNDARY_COLOR}))
         return '<g id="segments">' + "".join(out) + "</g>"
 
+    def move_contraction(self, source: int, target: int, lo: float, hi: float) -> tuple[float, str, float] | None:
+        """The worst-case contraction coefficient C over [lo, hi] of a move from edge ``source`` to edge ``target``
+        (paper Def. 11, Lemma 2: C is monotone in θ, so the worst case is at a known end), its transition and φ;
+        None where the paper's C does not apply (the same wall, or parallel walls facing the same way)."""
+        from solverplan.bounce.dynamics import transition_angle, worst_case_contraction
+
+        if source == target:
+            return None
+        try:
+            phi, side = transition_angle(self.env, source, target)
+        except InputError:
+            return None
+        c = worst_case_contraction((lo, hi), phi, side)
+        return (c, side, phi) if math.isfinite(c) else None
+
     def check_segments(self, stages: Sequence[dict], where: str) -> None:
         n = self.partition().n_segments
         for k, st in enumerate(stages):
@@ -811,11 +849,16 @@ class _View:
         regions = swept_regions(self.env, seg_edge[src], seg_t0[src], seg_t1[src], [m[3] for m in moves],
                                 [m[4] for m in moves]) if moves else []
         for (k, i, j, lo, hi), region in zip(moves, regions):
+            shrink = self.move_contraction(int(part.segments[i].edge), int(part.segments[j].edge), lo, hi)
+            if shrink is not None:
+                self.contraction[first + k] = max(self.contraction.get(first + k, 0.0), shrink[0])
             if region is None:
                 continue
             colour = _stage_colour(first + k)
             title = (f"{label} {first + k + 1}, move {i} → {j}: heading interval {_interval((lo, hi))}, width {hi - lo:.6g} rad "
-                     f"(±{math.degrees((hi - lo) / 2):.4g}°): every point of segment {i} lands on segment {j}")
+                     f"(±{math.degrees((hi - lo) / 2):.4g}°): every point of segment {i} lands on segment {j}"
+                     + (f"; worst-case contraction C = {shrink[0]:.6g} ({shrink[1]} transition, φ = {_rad(shrink[2])})"
+                        if shrink is not None else ""))
             out.append(_el("polygon", {"points": self.canvas.points(region), "class": "hover cone", "data-stage": first + k,
                                        "fill": colour, "fill-opacity": "0.28", "stroke": colour, "stroke-opacity": "0.9",
                                        "stroke-width": "1"}, title))
@@ -844,17 +887,19 @@ class _View:
         return f'<g id="{_e(gid)}">' + "".join(out) + "</g>"
 
 
-def _stage_rows(stages: Sequence[dict], first: int = 0) -> list[list[str]]:
+def _stage_rows(stages: Sequence[dict], contraction: dict[int, float], first: int = 0) -> list[list[str]]:
     rows = []
     for k, st in enumerate(stages):
         lo, hi = st["interval"]
+        c = contraction.get(first + k)
         rows.append([str(first + k + 1), ", ".join(map(str, st.get("from_segments", []))),
                      ", ".join(map(str, st.get("to_segments", []))), f"{lo:.9g}", f"{hi:.9g}", f"{hi - lo:.6g}",
-                     f"±{math.degrees((hi - lo) / 2):.4g}°"])
+                     f"±{math.degrees((hi - lo) / 2):.4g}°", "—" if c is None else f"{c:.6g}"])
     return rows
 
 
-_STAGE_HEADER = ["stage", "from segments", "to segments", "lo (rad)", "hi (rad)", "width (rad)", "tolerance"]
+_STAGE_HEADER = ["stage", "from segments", "to segments", "lo (rad)", "hi (rad)", "width (rad)", "tolerance",
+                 "worst-case contraction C"]
 
 
 class _PlanReport(_View):
@@ -926,7 +971,10 @@ class _PlanReport(_View):
                   _num((q["plan"].get("optimality") or {}).get("proved"))] for q in self.front], table_id="front")
             out += "<p>The picture and the stages below are the front's most tolerant plan.</p>"
         if self.stages:
-            out += "<h2>Stages</h2>" + _grid(_STAGE_HEADER, _stage_rows(self.stages), table_id="stages", stage_rows=True)
+            out += "<h2>Stages</h2>" + _grid(_STAGE_HEADER, _stage_rows(self.stages, self.contraction), table_id="stages",
+                                             stage_rows=True)
+            out += ("<p>C is the worst case over the interval of the contraction coefficient of the stage's moves "
+                    "(the paper's Def. 11): how much a set of positions may stretch (C &gt; 1) or shrink (C &lt; 1).</p>")
         return out
 
     def command(self, certificate_path: str | None) -> str:
@@ -1023,7 +1071,7 @@ class _PatrolReport(_View):
             rows.append(("bound_all_classes", _num(d.get("bound_all_classes"), 9)))
         rows += _environment_rows(d)
         out = _table(rows, table_id="summary", exact=("contraction_exact", "return map", "environment sha256"))
-        out += _cycle_tables(self.entry, self.cycle, self.points)
+        out += _cycle_tables(self.entry, self.cycle, self.points, self.contraction)
         return out
 
     def command(self, certificate_path: str | None) -> str:
@@ -1110,10 +1158,13 @@ def _cycle_layers(view: _View, cycle: Sequence[dict], points: Sequence[dict], *,
     return f'<g id="{_e(gid)}">' + "".join(out) + "</g>"
 
 
-def _cycle_tables(entry: Sequence[dict], cycle: Sequence[dict], points: Sequence[dict]) -> str:
+def _cycle_tables(entry: Sequence[dict], cycle: Sequence[dict], points: Sequence[dict],
+                  contraction: dict[int, float] | None = None) -> str:
+    contraction = contraction or {}
     out = ""
     if entry:
-        out += "<h2>Entry stages</h2>" + _grid(_STAGE_HEADER, _stage_rows(entry), table_id="entry-stages", stage_rows=True)
+        out += "<h2>Entry stages</h2>" + _grid(_STAGE_HEADER, _stage_rows(entry, contraction), table_id="entry-stages",
+                                               stage_rows=True)
     if cycle:
         header = ["stage", "edges", "lo (rad)", "hi (rad)", "width (rad)", "transition", "contraction", "map t ↦ α t + β"]
         rows = []
