@@ -1386,9 +1386,10 @@ def _answer_option(kind: str, what: str) -> Any:
 
 @app.command(name="report")
 def report_command(
+    out: Annotated[Path, typer.Option("-o", "--output", help="The HTML file to write (.html or .htm).", show_default=False)],
     env: Annotated[
         Path | None,
-        typer.Argument(metavar="[ENV]", help="The environment the answer was made in (file or shipped model); none for --study.",
+        typer.Argument(metavar="ENV", help="The environment the answer was made in (file or shipped model); none for --study.",
                        show_default=False),
     ] = None,
     plan_file: Annotated[Path | None, _answer_option("plan", "A plan or a Pareto front (from 'solverplan plan -o').")] = None,
@@ -1407,7 +1408,6 @@ def report_command(
         typer.Option("--certificate", metavar="CERT.json", help="The answer's certificate: checked exactly now, its status shown.",
                      show_default=False),
     ] = None,
-    out: Annotated[Path, typer.Option("-o", "--output", help="The HTML file to write (.html or .htm).", show_default=False)] = Path(),
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,
@@ -1421,8 +1421,8 @@ def report_command(
                                                  ("cycle", cycle_file), ("study", study_file)) if path is not None]
         if len(given) != 1:
             raise InputError("give exactly one answer: --plan, --patrol, --funnel, --cycle or --study")
-        if out == Path() or out.suffix.lower() not in (".html", ".htm"):
-            raise InputError(f"-o {str(out) if out != Path() else ''}: a report is an .html file: give -o REPORT.html".replace("-o :", "-o:"))
+        if out.suffix.lower() not in (".html", ".htm"):
+            raise InputError(f"-o {out}: a report is an .html file: give -o REPORT.html")
         option, path = given[0]
         answer = load_answer(path, option=option)
         environment = _load(env, env_format) if env is not None else None
