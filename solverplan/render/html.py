@@ -40,8 +40,9 @@ import os
 import shlex
 from dataclasses import dataclass, field
 from fractions import Fraction
+from functools import cached_property
 from pathlib import Path
-from typing import Any, Iterable, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Sequence
 
 import numpy as np
 
@@ -65,6 +66,9 @@ from solverplan.render.figure import (
     PLAN_START_COLOR,
 )
 from solverplan.result import EnvironmentRecord
+
+if TYPE_CHECKING:  # pragma: no cover
+    from solverplan.bounce.partition import Partition
 
 __all__ = ["ANSWER_KINDS", "REPORT_OPTIONS", "AnswerFile", "HtmlReport", "SavedReport", "answer_kind", "load_answer",
            "html_report", "write_report"]
@@ -786,16 +790,16 @@ class _View:
         raise NotImplementedError
 
     # -- shared drawing of stages that move between segments of P′ (plans, patrol entries)
-    def partition(self):
+    @cached_property
+    def partition(self) -> Partition:
+        """P′ of the environment (Algorithm 1): the segments stage ids refer to, built once per report."""
         from solverplan.bounce.partition import partition
 
-        if not hasattr(self, "_partition"):
-            self._partition = partition(self.env)
-        return self._partition
+        return partition(self.env)
 
     def segment_layer(self) -> str:
         """Every segment of P′ as a hover target (thin ticks at its ends), with its exact coordinates."""
-        part = self.partition()
+        part = self.partition
         out = []
         for s in part.segments:
             a, b = (float(s.a[0]), float(s.a[1])), (float(s.b[0]), float(s.b[1]))
@@ -821,7 +825,7 @@ class _View:
         return (c, side, phi) if math.isfinite(c) else None
 
     def check_segments(self, stages: Sequence[dict], where: str) -> None:
-        n = self.partition().n_segments
+        n = self.partition.n_segments
         for k, st in enumerate(stages):
             for key in ("from_segments", "to_segments"):
                 for seg in _ints(st.get(key), f"{self.answer.path}: {where}[{k}].{key}"):
@@ -831,7 +835,7 @@ class _View:
 
     def segment_stage_layer(self, stages: Sequence[dict], where: str, gid: str, first: int = 0, label: str = "stage") -> str:
         """Cones (the swept region of every move) and landing segments of stages over segments of P′."""
-        part = self.partition()
+        part = self.partition
         out: list[str] = []
         moves: list[tuple[int, int, int, float, float]] = []
         for k, st in enumerate(stages):
@@ -923,9 +927,7 @@ class _PlanReport(_View):
             plan_data = data
         self.plan = parse_plan(plan_data, answer.path)
         self.plan_data = plan_data
-        if self.plan.environment is not None and not self.plan.environment.matches(env):
-            self.check_environment()  # the same message for either record
-        self.plan.check_environment(env, self.partition().n_segments)
+        self.plan.check_environment(env, self.partition.n_segments)  # a Pareto point's plan records it too
         self.stages = plan_data.get("stages", []) if self.plan.found else []
         self.check_segments(self.stages, "stages")
         self.bounces = self.plan.bounces
@@ -1021,8 +1023,9 @@ class _PatrolReport(_View):
             self.edge_id(st.get("from_edge"), f"cycle[{k}].from_edge")
         self.points = _fixed_points(self, d.get("fixed_point") or [])
         visit = d.get("visit") or []
-        self.visit = [self.edge_id(int(str(v).lstrip("e")) if str(v).lstrip("e").isdigit() else v, "visit")
-                      for v in visit]
+        if not isinstance(visit, list):
+            raise MalformedFile(f"{answer.path}: visit: expected a list of edges like 'e3'")
+        self.visit = [self.edge_id(_edge_number(v), f"visit[{k}]") for k, v in enumerate(visit)]
         self.start = d.get("start") if isinstance(d.get("start"), str) else None
         if self.cycle:
             self.bounces = len(self.entry) + len(self.cycle)
@@ -1089,6 +1092,13 @@ class _PatrolReport(_View):
         if certificate_path:
             words += ["--certificate", certificate_path]
         return shlex.join(words)
+
+
+def _edge_number(name: object) -> object:
+    """The number of an edge named ``eK`` (or given as K); anything else unchanged, for the caller to refuse."""
+    if isinstance(name, str) and name[:1] == "e" and name[1:].isdigit():
+        return int(name[1:])
+    return name
 
 
 def _fixed_points(view: _View, raw: object) -> list[dict]:

@@ -22,7 +22,7 @@ ANSWER_COMMANDS: dict[str, list[str]] = {
     "plan": ["plan", "two_rooms", "--from", "e0:0.2:0.8", "--to", "e4:0.5:1", "--objective", "tolerance",
              "-o", "{dir}/plan.json", "--certificate", "{dir}/cert.json"],
     "pareto": ["plan", "l_shape", "--from", "e0:0.45:0.55", "--to", "e3", "--pareto", "--max-bounces", "4",
-               "-o", "{dir}/pareto.json"],
+               "-o", "{dir}/pareto.json", "--certificate", "{dir}/pareto_cert.json"],
     "patrol": ["patrol", "square", "--visit", "e0,e1,e2,e3", "-o", "{dir}/patrol.json",
                "--certificate", "{dir}/patrol_cert.json"],
     "funnel": ["funnel", "square", "--from", "e0", "--to", "e2:0.4:0.6", "-o", "{dir}/funnel.json",
@@ -40,8 +40,8 @@ ENVIRONMENTS = {"plan": "two_rooms", "pareto": "l_shape", "patrol": "square", "f
                 "cycle": "square", "controller": "l_shape", "study": None}
 OPTIONS = {"plan": "--plan", "pareto": "--plan", "patrol": "--patrol", "funnel": "--funnel", "localize": "--funnel",
            "cycle": "--cycle", "controller": "--cycle", "study": "--study"}
-CERTIFICATES = {"plan": "cert.json", "patrol": "patrol_cert.json", "funnel": "funnel_cert.json",
-                "localize": "localize_cert.json"}
+CERTIFICATES = {"plan": "cert.json", "pareto": "pareto_cert.json", "patrol": "patrol_cert.json",
+                "funnel": "funnel_cert.json", "localize": "localize_cert.json"}
 
 
 @pytest.fixture(scope="session")

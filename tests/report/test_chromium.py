@@ -122,7 +122,7 @@ def test_console_errors_are_seen(browser, tmp_path):
 # what each page must show once loaded (ids of the picture, tables and sections)
 EXPECTED = {
     "plan": ['id="scene"', 'id="stages"', 'class="hover cone"', 'id="certificate-status">VALID<', 'id="plan-stages"'],
-    "pareto": ['id="scene"', 'id="front"', 'id="stages"', 'id="certificate-status">NOT CERTIFIED<'],
+    "pareto": ['id="scene"', 'id="front"', 'id="stages"', 'id="certificate-status">VALID<'],
     "patrol": ['id="scene"', 'id="cycle-stages"', 'class="hover cone fan"', 'id="certificate-status">VALID<'],
     "funnel": ['id="scene"', 'id="funnel-positions"', 'id="certificate-status">VALID<'],
     "localize": ['id="scene"', 'id="funnel-positions"', 'id="certificate-status">VALID<'],
