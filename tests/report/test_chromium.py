@@ -81,6 +81,7 @@ class Browser:
         args = [self.binary, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
                 "--disable-default-apps", "--hide-scrollbars", f"--user-data-dir={profile}",
+                "--host-resolver-rules=MAP * ~NOTFOUND",  # no name resolves: a page that needed the network would fail
                 "--enable-logging=stderr", "--v=0", *extra, page.resolve().as_uri()]
         try:
             return subprocess.run(args, capture_output=True, text=True, timeout=BROWSER_TIMEOUT, check=False)
