@@ -29,7 +29,8 @@ demo: $(VENV)/.installed
 	$(BIN)/solverplan verify $(OUT)/certificate.json --env $(DEMO_ENV) $(DEMO_QUERY) --format text
 	$(BIN)/solverplan simulate $(DEMO_ENV) $(OUT)/plan.json --trials 10000 --seed 1 --sampling endpoints --format text
 	$(BIN)/solverplan render $(DEMO_ENV) --plan $(OUT)/plan.json --trajectories 100 --edge-ids -o $(OUT)/plan.png
-	@echo "demo: wrote $(OUT)/plan.json, $(OUT)/certificate.json (verified) and $(OUT)/plan.png"
+	$(BIN)/solverplan report $(DEMO_ENV) --plan $(OUT)/plan.json --certificate $(OUT)/certificate.json -o $(OUT)/report.html
+	@echo "demo: wrote $(OUT)/plan.json, $(OUT)/certificate.json (verified), $(OUT)/plan.png and $(OUT)/report.html"
 
 test: $(VENV)/.installed
 	$(BIN)/python -m pytest -q
