@@ -42,7 +42,7 @@ def test_tutorial_python_section_runs(tmp_path, monkeypatch):
 
     matplotlib.use("Agg")
     text = (DOCS / "tutorial" / "index.md").read_text(encoding="utf-8")
-    code = text.split("## 5. The same from Python", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+    code = text.split("## 6. The same from Python", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
     office = DOCS / "tutorial" / "office.json"
     code = code.replace('"docs/tutorial/office.json"', repr(str(office)))
     monkeypatch.chdir(tmp_path)
