@@ -33,6 +33,8 @@ from solverplan.render.explore import render_exploration
 from solverplan.render.figure import FigureFormat, SavedFigure, figure_bytes, figure_format, new_figure, save_figure
 from solverplan.render.graph import draw_graph, draw_safe_arcs
 from solverplan.render.heatmaps import draw_heatmap, render_heatmaps
+from solverplan.render.html import (ANSWER_KINDS, REPORT_OPTIONS, AnswerFile, HtmlReport, SavedReport, answer_kind,
+                                    html_report, load_answer, write_report)
 from solverplan.render.labels import LabelPlacer, draw_edge_ids, draw_vertex_ids
 from solverplan.render.partition import draw_partition
 from solverplan.render.plans import draw_plan, plan_title
@@ -82,4 +84,13 @@ __all__ = [
     "draw_cuts",
     "draw_cut_diagram",
     "render_cuts",
+    "ANSWER_KINDS",
+    "REPORT_OPTIONS",
+    "AnswerFile",
+    "HtmlReport",
+    "SavedReport",
+    "answer_kind",
+    "html_report",
+    "load_answer",
+    "write_report",
 ]
