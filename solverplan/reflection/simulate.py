@@ -254,7 +254,7 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     substeps = int(round(model.physics_rate / model.control_rate))
     dt = 1.0 / model.physics_rate
     ticks = int(np.ceil(model.max_time * model.control_rate))
-    t = 0.0
+    step_count = 0
     for _ in range(ticks):
         active = np.flatnonzero(~done)
         if not len(active):
@@ -278,7 +278,8 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
         magnitude[magnitude < model.dead_band] = 0.0
         command = rotated * magnitude[:, None]
         for _sub in range(substeps):
-            t += dt
+            step_count += 1
+            t = step_count * dt  # not a running sum: times stay multiples of dt
             rows = active[~done[active]]
             if not len(rows):
                 break
