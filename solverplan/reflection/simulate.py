@@ -172,7 +172,8 @@ class _Fields:
 
 
 def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model: RobotModel | None = None,
-                       trials: int = 25, seed: int = 0, keep: int = 0) -> dict[str, ScenarioRun]:
+                       trials: int = 25, seed: int = 0, keep: int = 0,
+                       starts: np.ndarray | None = None) -> dict[str, ScenarioRun]:
     """Run ``trials`` rollouts of each scenario from the plan's start to its goal.
 
     Parameters
@@ -189,6 +190,9 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
         The random seed; each scenario draws from its own stream of it.
     keep
         Keep the trajectories of the first ``keep`` trials of each scenario.
+    starts
+        Optional (trials, 2) float array: trial k of every scenario starts there instead of at the plan's start
+        (points of the free space; the composition drives every cell that reaches the goal).
 
     Returns
     -------
@@ -234,9 +238,20 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     edge_normal /= np.hypot(edge_normal[:, 0], edge_normal[:, 1])[:, None]
     scale = float(max(env.bounds[2] - env.bounds[0], env.bounds[3] - env.bounds[1]))
 
-    q = np.tile(start, (n, 1))
+    if starts is None:
+        q = np.tile(start, (n, 1))
+        cell = np.full(n, start_cell)
+    else:
+        points = np.asarray(starts, dtype=float)
+        if points.shape != (trials, 2) or not np.all(np.isfinite(points)):
+            raise InputError(f"starts must be a finite ({trials}, 2) array, got shape {points.shape}")
+        where = dec.inside(points)
+        if not where.any(axis=1).all():
+            k = int(np.flatnonzero(~where.any(axis=1))[0])
+            raise InputError(f"starts[{k}] = ({points[k, 0]:g}, {points[k, 1]:g}) is not in the free space")
+        q = np.tile(points, (len(scen), 1))
+        cell = np.tile(np.argmax(where, axis=1), len(scen))
     vel = np.zeros((n, 2))
-    cell = np.full(n, start_cell)
     done = np.zeros(n, dtype=bool)
     times = np.full(n, np.nan)
     collisions = np.zeros(n, dtype=np.int64)
@@ -247,7 +262,7 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     used[np.arange(n), cell] = reflecting
     kept = np.concatenate([np.arange(k * trials, k * trials + min(keep, trials)) for k in range(len(scen))]) \
         if keep > 0 else np.zeros(0, dtype=np.int64)
-    paths: list[list[np.ndarray]] = [[start.copy()] for _ in kept]
+    paths: list[list[np.ndarray]] = [[q[r].copy()] for r in kept]
     inside_everywhere = True
     polygon = env.to_shapely()
 
