@@ -75,7 +75,7 @@ class RobotModel:
                 raise InputError(f"{name} must be non-negative, got {getattr(self, name)}")
 
     def to_json(self) -> dict:
-        return {name: getattr(self, name) for name in self.__slots__}  # type: ignore[attr-defined]
+        return {name: getattr(self, name) for name in self.__slots__}
 
 
 @dataclass(frozen=True, slots=True)

@@ -42,9 +42,9 @@ def draw_cells(ax: Axes, plan: FieldPlan, *, ids: bool = True) -> None:
     outlines = [np.vstack([c.float_vertices, c.float_vertices[:1]]) for c in plan.cells]
     ax.add_collection(LineCollection(outlines, colors="#8c96a0", linewidths=0.7, zorder=1.2, gid="cells"))
     if ids:
-        for c in plan.cells:
-            x, y = c.centroid
-            ax.annotate(str(c.id), (x, y), fontsize=7, color="#555555", ha="center", va="center", zorder=1.3)
+        for cell in plan.cells:
+            x, y = cell.centroid
+            ax.annotate(str(cell.id), (x, y), fontsize=7, color="#555555", ha="center", va="center", zorder=1.3)
 
 
 def draw_cell_fields(ax: Axes, plan: FieldPlan, *, per_cell: int = 4) -> None:

@@ -57,12 +57,14 @@ def test_convex_decomposition_of_polygons_with_holes(env):
     _check_decomposition(env)
 
 
-def test_serpentine_cells_are_the_corridor_rectangles_and_corner_squares():
+def test_serpentine_cells_are_the_corridor_rectangles_and_corner_triangles():
     dec = decompose_free_space(load_environment("serpentine"))
-    assert len(dec.cells) == 9 and all(len(c.vertices) == 4 for c in dec.cells)
-    squares = [c.id for c in dec.cells if {v[0] for v in c.vertices} in ({0, Fraction(1, 2)}, {2, Fraction(5, 2)})
-               and max(v[1] for v in c.vertices) - min(v[1] for v in c.vertices) == Fraction(1, 2)]
-    assert len(squares) >= 4
+    sizes = sorted(len(c.vertices) for c in dec.cells)
+    assert sizes == [3, 3, 3, 3, 4, 4, 4, 4, 4]  # four cut corners, five straight stretches
+    for cell in dec.cells:
+        if len(cell.vertices) == 3:  # isosceles right triangles: the two legs are the facets, the hypotenuse a wall
+            legs = [s for s in cell.sides if not s.is_wall]
+            assert len(legs) == 2 and legs[0].normal[0] * legs[1].normal[0] + legs[0].normal[1] * legs[1].normal[1] == 0
     assert dec.sequence(dec.locate((3, "2.25")), dec.locate((3, "0.25"))) == (4, 2, 1, 0, 3, 7, 6, 5, 8)
 
 

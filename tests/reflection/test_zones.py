@@ -72,14 +72,13 @@ def test_zone_is_a_wall_minimising_the_corrected_eq4(points):
                 assert is_reflection_candidate(cell, inlet, outlet) and zone.check.verified
 
 
-def test_serpentine_reflection_cells_are_the_four_corner_squares():
+def test_serpentine_reflection_cells_are_the_four_cut_corners():
+    """Each corner is the paper's isosceles right triangle: the zone is the 45° wall, at cost 0."""
     plan = compose_fields(load_environment("serpentine"), (3, "2.25"), (3, "0.25"))
     assert plan.reflection_cells == (2, 0, 7, 5)
     for c in plan.reflection_cells:
         zone = plan.zones[c]
-        cell = plan.cells[c]
-        assert zone.alpha == pytest.approx(1.5707963267948966) and zone.cost == Fraction(1, 2)
-        # the zone continues the wall the robot came along: it lies opposite the outlet
-        assert cell.sides[zone.side].normal[0] * cell.sides[zone.outlet].normal[0] \
-            + cell.sides[zone.side].normal[1] * cell.sides[zone.outlet].normal[1] < 0
+        side = plan.cells[c].sides[zone.side]
+        assert zone.alpha == pytest.approx(1.5707963267948966) and zone.cost == 0
+        assert side.is_wall and abs(side.b[0] - side.a[0]) == abs(side.b[1] - side.a[1])
     assert plan.flow_through and plan.proved
