@@ -9,11 +9,13 @@ the limited control authority that makes it overshoot. Physics runs at ``physics
 
 **Collisions** are resolved against the real walls with the project's ray caster
 (:class:`~solverplan.geometry.raycast.RayCaster`): a step that leaves the robot's convex cell is cast from the robot's
-position; a hit before the step's end stops the robot just short of the hit (a millionth of the step, so that it
-stays in the open free space) and reflects its velocity on the hit wall: normal component × −``restitution``,
-tangential × (1 − ``friction``); a hit the floats cannot place (at a vertex, flagged uncertain) reverses the velocity
-× ``restitution``. A step within the convex cell cannot meet a wall (the segment stays in the cell). A collision is
-seen by the controller at the next control tick (the paper's detection delay).
+position (ties near vertices resolved exactly); a hit before the step's end stops the robot at the hit point and
+reflects its velocity on the hit wall: normal component × −``restitution``, tangential × (1 − ``friction``); a
+vertex hit reverses the velocity × ``restitution`` (its reflection is undefined). Robots keep a clearance of 10⁻⁷
+of the environment's size from the walls of their cell (they are pushed off along the walls' normals), so every
+position is strictly inside the free space. A step that stays in the convex cell, clear of its walls, cannot meet
+a wall (the segment stays in the cell). A collision is seen by the controller at the next control tick (the
+paper's detection delay).
 
 **Scenarios** (§IV): *constrained* — the nominal fields at a low speed, meant to avoid boundary contact;
 *unconstrained* — the same fields at a high constant speed; *reflection* — the high speed with the hybrid controller
@@ -173,7 +175,7 @@ class _Fields:
 
 def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model: RobotModel | None = None,
                        trials: int = 25, seed: int = 0, keep: int = 0,
-                       starts: np.ndarray | None = None) -> dict[str, ScenarioRun]:
+                       starts: np.ndarray | None = None, every_step: bool = False) -> dict[str, ScenarioRun]:
     """Run ``trials`` rollouts of each scenario from the plan's start to its goal.
 
     Parameters
@@ -193,6 +195,8 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     starts
         Optional (trials, 2) float array: trial k of every scenario starts there instead of at the plan's start
         (points of the free space; the composition drives every cell that reaches the goal).
+    every_step
+        Record the kept trajectories at every physics step instead of every control tick.
 
     Returns
     -------
@@ -238,6 +242,28 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     edge_normal /= np.hypot(edge_normal[:, 0], edge_normal[:, 1])[:, None]
     scale = float(max(env.bounds[2] - env.bounds[0], env.bounds[3] - env.bounds[1]))
 
+    # Robots keep a clearance from the walls (a 10⁻⁷ of the environment's size): far above float rounding, so a
+    # position is strictly inside the free space, and far below any length that matters to the dynamics.
+    clearance = 1e-7 * scale
+    locate_tolerance = 1e-9 * scale
+    n_sides = normals_all.shape[1]
+    wall_mask = np.zeros((len(plan.cells), n_sides), dtype=bool)
+    for c in plan.cells:
+        for i, side in enumerate(c.sides):
+            wall_mask[c.id, i] = side.is_wall
+    test_margin = np.where(wall_mask, 0.5 * clearance, 0.0)
+
+    def _clear_of_walls(points: np.ndarray, cells_of: np.ndarray) -> np.ndarray:
+        """Push points off the walls of their (convex) cells to the clearance, along the walls' normals."""
+        out = points.copy()
+        for _ in range(3):
+            values = np.einsum("kmj,kj->km", normals_all[cells_of], out) - offsets_all[cells_of]
+            deficit = np.where(wall_mask[cells_of], np.clip(clearance - values, 0.0, None), 0.0)
+            if not deficit.any():
+                break
+            out += np.einsum("km,kmj->kj", deficit, normals_all[cells_of])
+        return out
+
     if starts is None:
         q = np.tile(start, (n, 1))
         cell = np.full(n, start_cell)
@@ -251,6 +277,7 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
             raise InputError(f"starts[{k}] = ({points[k, 0]:g}, {points[k, 1]:g}) is not in the free space")
         q = np.tile(points, (len(scen), 1))
         cell = np.tile(np.argmax(where, axis=1), len(scen))
+    q = _clear_of_walls(q, cell)
     vel = np.zeros((n, 2))
     done = np.zeros(n, dtype=bool)
     times = np.full(n, np.nan)
@@ -311,26 +338,31 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
             moving = np.hypot(step[:, 0], step[:, 1]) > 1e-12 * scale
             new = q[rows] + step
             own = np.einsum("kmj,kj->km", normals_all[cell[rows]], new) - offsets_all[cell[rows]]
-            leaves = moving & np.any(own < 0, axis=1)
+            leaves = moving & np.any(own < test_margin[cell[rows]], axis=1)
             touching = np.zeros(len(rows), dtype=bool)
+            q[rows[~leaves]] = new[~leaves]  # within the convex cell, clear of its walls: no wall in between
             if leaves.any():
                 idx = np.flatnonzero(leaves)
-                hits = caster.cast(q[rows[idx]], step[idx])
-                hit = (hits.s <= 1.0) | hits.uncertain | (hits.edge < 0)
-                where = dec.inside(new[idx])
-                nowhere = ~where.any(axis=1)
-                hit |= nowhere
+                r_idx = rows[idx]
+                with np.errstate(over="ignore", divide="ignore"):  # the grid walk of nearly axis-parallel steps
+                    hits = caster.cast(q[r_idx], step[idx], exact_ties=True)
+                certain = (hits.edge >= 0) & (hits.vertex < 0) & ~hits.uncertain
+                hit = certain & (hits.s <= 1.0)
+                bad = ~certain  # a vertex, or a hit the floats cannot place: stay, and bounce back
+                target = new[idx].copy()
+                target[hit] = q[r_idx[hit]] + np.clip(hits.s[hit], 0.0, 1.0)[:, None] * step[idx[hit]]
+                target[bad] = q[r_idx[bad]]
+                where = dec.inside(target, tolerance=locate_tolerance)
+                lost = ~where.any(axis=1)  # floats place the point in no cell: stay
+                bad |= lost
+                hit &= ~lost
+                target[lost] = q[r_idx[lost]]
+                stays = where[np.arange(len(idx)), cell[r_idx]] | lost
+                new_cell = np.where(stays, cell[r_idx], np.argmax(where, axis=1))
+                q[r_idx] = _clear_of_walls(target, new_cell)
                 for j in np.flatnonzero(hit):
-                    r = rows[idx[j]]
-                    touching[idx[j]] = True
-                    e = int(hits.edge[j])
-                    certain = e >= 0 and not hits.uncertain[j] and hits.s[j] <= 1.0
-                    if certain:  # stop just short of the hit: the open segment before it is in the free space
-                        q[r] = q[r] + max(float(hits.s[j]), 0.0) * (1.0 - 1e-6) * step[idx[j]]
-                    if not certain:  # a vertex, or a hit the floats cannot place: stay, and bounce back
-                        vel[r] = -model.restitution * vel[r] if model.kind == "inertial" else 0.0 * vel[r]
-                        continue
-                    nrm = edge_normal[e]
+                    r = r_idx[j]
+                    nrm = edge_normal[int(hits.edge[j])]
                     vn = float(vel[r] @ nrm)
                     if vn < 0:
                         tangential = vel[r] - vn * nrm
@@ -338,33 +370,31 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
                             vel[r] = (1.0 - model.friction) * tangential - model.restitution * vn * nrm
                         else:
                             vel[r] = tangential
-                moved = idx[~hit]
-                if len(moved):
-                    sub = where[~hit]
-                    r = rows[moved]
-                    stays = sub[np.arange(len(moved)), cell[r]]
-                    new_cell = np.where(stays, cell[r], np.argmax(sub, axis=1))
-                    q[r] = new[moved]
-                    changed = new_cell != cell[r]
-                    if changed.any():
-                        rc = r[changed]
-                        nc = new_cell[changed]
-                        cell[rc] = nc
-                        arm = reflect_on[rc] & reflection_cells[nc] & ~used[rc, nc]
-                        reflecting[rc] = arm
-                        used[rc, nc] |= arm
-            inner = rows[~leaves]
-            q[inner] = new[~leaves]
+                back = r_idx[bad]
+                vel[back] = -model.restitution * vel[back] if model.kind == "inertial" else 0.0 * vel[back]
+                touching[idx] = hit | bad
+                changed = new_cell != cell[r_idx]
+                if changed.any():
+                    rc = r_idx[changed]
+                    nc = new_cell[changed]
+                    cell[rc] = nc
+                    arm = reflect_on[rc] & reflection_cells[nc] & ~used[rc, nc]
+                    reflecting[rc] = arm
+                    used[rc, nc] |= arm
             new_impacts = touching & ~in_contact[rows]
             collisions[rows[new_impacts]] += 1
             hit_since_tick[rows[touching]] = True
             in_contact[rows] = touching
+            if every_step:
+                for k, r in enumerate(kept):
+                    if not done[r] and r in active_set:
+                        paths[k].append(q[r].copy())
             arrived = np.hypot(q[rows, 0] - goal[0], q[rows, 1] - goal[1]) <= model.goal_radius
             if arrived.any():
                 times[rows[arrived]] = t
                 done[rows[arrived]] = True
         for k, r in enumerate(kept):
-            if r in active_set:
+            if r in active_set and not every_step:
                 paths[k].append(q[r].copy())
     import shapely
 
