@@ -293,6 +293,9 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     inside_everywhere = True
     polygon = env.to_shapely()
 
+    at_goal = np.hypot(q[:, 0] - goal[0], q[:, 1] - goal[1]) <= model.goal_radius
+    times[at_goal] = 0.0  # started within reach of the goal
+    done |= at_goal
     substeps = int(round(model.physics_rate / model.control_rate))
     dt = 1.0 / model.physics_rate
     ticks = int(np.ceil(model.max_time * model.control_rate))

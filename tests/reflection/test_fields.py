@@ -8,7 +8,6 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-import sympy as sp
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -178,8 +177,3 @@ def test_line_field_proof_fails_for_the_printed_eq4(monkeypatch):
     failed = [s.claim for s in line_proof.prove().failed_steps]
     assert failed and all("Eq. 4" in c for c in failed)
 
-
-def test_line_field_proof_passes():
-    result = line_proof.prove()
-    assert result.passed and len(result.errata) == 2
-    assert sp.Symbol  # the proof module imports sympy lazily enough to run here
