@@ -10,6 +10,8 @@
    inlet and outlet meet at a vertex (dense-sample check); the paper's line field from the inlet midpoint (the start
    point in the start cell, the vertex average off the sequence) to the outlet midpoint; the line field through the
    outlet midpoint along the outlet's outward normal. Each at the gain given, then 2×, ½×, 4×, ¼×, 8×, ⅛× of it;
+   failing those, any line field found by a linear program over its offset and gain for 15 directions about the
+   outlet's normal (:func:`~solverplan.reflection.fields.fit_line_field`, checked exactly);
 3. the goal cell's field, straight to the goal;
 4. the reflection zones of the candidate cells of the sequence (:mod:`~solverplan.reflection.zones`).
 
@@ -35,7 +37,8 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, to_fraction
 from solverplan.reflection.cells import Cell, Decomposition, decompose_free_space
-from solverplan.reflection.fields import Field, FlowCheck, GoalField, LineField, arc_turn, flows_through
+from solverplan.reflection.fields import (Field, FlowCheck, GoalField, LineField, arc_turn, fit_line_field,
+                                          flows_through)
 from solverplan.reflection.zones import ReflectionZone, select_zone
 
 __all__ = ["CellPolicy", "FieldPlan", "compose_fields", "field_kinds", "GAIN_STEPS"]
@@ -126,6 +129,9 @@ def _nominal(cell: Cell, origin: ExactPoint, inlet: int | None, outlet: int, gai
             if check.verified:
                 return field, check
             first = first or (field, check)
+    fitted = fit_line_field(cell, exits)  # any line (direction, offset, gain) that works: an LP per direction
+    if fitted is not None:
+        return fitted
     assert first is not None
     return first
 

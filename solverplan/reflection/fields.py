@@ -45,7 +45,7 @@ import numpy as np
 from solverplan.exact import ExactPoint, format_number
 from solverplan.reflection.cells import Cell
 
-__all__ = ["LineField", "ArcField", "GoalField", "Field", "FlowCheck", "line_flows_through", "dense_flows_through",
+__all__ = ["LineField", "ArcField", "GoalField", "Field", "FlowCheck", "line_flows_through", "dense_flows_through", "fit_line_field",
            "flows_through"]
 
 
@@ -296,3 +296,69 @@ def arc_turn(cell: Cell, inlet: int, outlet: int, gain: Fraction) -> ArcField | 
     radius = 0.5 * (math.hypot(*(p_in - c)) + math.hypot(*(p_out - c)))
     turn = (p_in - c)[0] * (p_out - c)[1] - (p_in - c)[1] * (p_out - c)[0]  # > 0: counter-clockwise from in to out
     return ArcField(centre, radius, gain, clockwise=bool(turn < 0))
+
+
+def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: int = 15,
+                   gain_range: tuple[float, float] = (0.05, 50.0)) -> tuple[LineField, FlowCheck] | None:
+    """A line field that flows through ``cell`` towards ``exits``, found by linear programming, or ``None``.
+
+    For a fixed direction d, write the line's point as q₀ = c d^⊥ (the cell's centroid as origin) and r = p c: the
+    condition "n_i·v > 0 at both ends of every other side" reads (n_i·d) + r (n_i·d^⊥) − p (n_i·(I − d dᵀ) q) > 0,
+    linear in (r, p). For ``directions`` directions spread over ±79° about the outward normal of the first exit
+    side, the LP maximising the smallest margin (scipy's HiGHS) gives the most robust (r, p) with p in
+    ``gain_range`` (1/length); the best direction's field is rounded to rationals and checked exactly
+    (:func:`line_flows_through`), so the answer never relies on the LP's floats.
+
+    Examples
+    --------
+    >>> from fractions import Fraction as F
+    >>> from solverplan.environment import Environment
+    >>> from solverplan.reflection.cells import decompose_free_space
+    >>> kite = decompose_free_space(Environment.from_coords([(0, 0), (4, 0), (5, 3), (0, 1)])).cells[0]
+    >>> field, check = fit_line_field(kite, {1})
+    >>> check.verified, check.method
+    (True, 'exact')
+    """
+    from scipy.optimize import linprog
+
+    if not exits:
+        return None
+    centre = cell.centroid
+    verts = cell.float_vertices - centre
+    others = [i for i in range(len(cell.sides)) if i not in exits]
+    normals = [cell.sides[i].unit_normal() for i in others]
+    ends = [(verts[i], verts[(i + 1) % len(verts)]) for i in others]
+    outward = -cell.sides[min(exits)].unit_normal()
+    base = math.atan2(outward[1], outward[0])
+    radius = float(np.hypot(verts[:, 0], verts[:, 1]).max())
+    best: tuple[float, np.ndarray, float, float] | None = None
+    for j in range(directions):
+        angle = base + (j - directions // 2) * (0.44 * math.pi / max(directions // 2, 1))
+        d = np.array([math.cos(angle), math.sin(angle)])
+        d_perp = np.array([-d[1], d[0]])
+        rows, rhs = [], []
+        for n, (a, b) in zip(normals, ends):
+            for q in (a, b):
+                across = q - (q @ d) * d
+                # a + u r + w p ≥ t  ⇔  −u r − w p + t ≤ a
+                rows.append([-(n @ d_perp), n @ across, 1.0])
+                rhs.append(n @ d)
+        lo, hi = gain_range
+        res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
+                      bounds=[(-hi * radius, hi * radius), (lo, hi), (None, 1.0)], method="highs")
+        if res.status == 0 and res.x[2] > 1e-6 and (best is None or res.x[2] > best[0]):
+            best = (float(res.x[2]), d, float(res.x[0]), float(res.x[1]))
+    if best is None:
+        return None
+    _, d, r, p = best
+    q0 = centre + (r / p) * np.array([-d[1], d[0]])
+    scale = max(radius, 1e-12)
+
+    def rational(x: float) -> Fraction:
+        return Fraction(x).limit_denominator(max(10**6, int(10**6 / scale)))
+
+    origin = (rational(q0[0]), rational(q0[1]))
+    target = (origin[0] + rational(d[0] * scale), origin[1] + rational(d[1] * scale))
+    field = LineField(origin, target, Fraction(p).limit_denominator(10**4))
+    check = line_flows_through(field, cell, exits)
+    return (field, check) if check.verified else None
