@@ -177,3 +177,31 @@ def test_line_field_proof_fails_for_the_printed_eq4(monkeypatch):
     failed = [s.claim for s in line_proof.prove().failed_steps]
     assert failed and all("Eq. 4" in c for c in failed)
 
+
+
+@settings(max_examples=25)
+@given(st.lists(st.tuples(st.integers(0, 20), st.integers(0, 20)), min_size=5, max_size=10, unique=True),
+       st.integers(0, 9))
+def test_fitted_line_field_flows_through_exactly_and_by_sample(points, outlet_pick):
+    """fit_line_field's answer is verified exactly, and sampled trajectories agree."""
+    from solverplan.reflection.fields import fit_line_field
+    from tests.strategies import convex_hull
+
+    hull = convex_hull(points)
+    if len(hull) < 3:
+        return
+    cell = decompose_free_space(Environment.from_coords(hull, name="cell")).cells[0]
+    outlet = outlet_pick % len(cell.sides)
+    fitted = fit_line_field(cell, {outlet})
+    if fitted is None:
+        return
+    field, check = fitted
+    assert check.verified and check.method == "exact"
+    assert dense_flows_through(field, cell, {outlet}, grid=8, per_side=8).verified
+
+
+def test_fitted_line_field_rescues_a_cell_the_paper_fields_cannot_cross():
+    from solverplan.reflection.compose import compose_fields
+
+    plan = compose_fields(load_environment("hallway"), ("0.5", "1"), ("49.5", "1"))
+    assert plan.flow_through and plan.proved
