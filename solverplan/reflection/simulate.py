@@ -363,16 +363,17 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
                 stays = where[np.arange(len(idx)), cell[r_idx]] | lost
                 new_cell = np.where(stays, cell[r_idx], np.argmax(where, axis=1))
                 q[r_idx] = _clear_of_walls(target, new_cell)
-                for j in np.flatnonzero(hit):
-                    r = r_idx[j]
-                    nrm = edge_normal[int(hits.edge[j])]
-                    vn = float(vel[r] @ nrm)
-                    if vn < 0:
-                        tangential = vel[r] - vn * nrm
-                        if model.kind == "inertial":
-                            vel[r] = (1.0 - model.friction) * tangential - model.restitution * vn * nrm
-                        else:
-                            vel[r] = tangential
+                if hit.any():  # reflect the velocities on the hit walls (only the parts going into them)
+                    rh = r_idx[hit]
+                    nrm = edge_normal[hits.edge[hit]]
+                    vn = np.einsum("kj,kj->k", vel[rh], nrm)
+                    tangential = vel[rh] - vn[:, None] * nrm
+                    if model.kind == "inertial":
+                        bounced = (1.0 - model.friction) * tangential - model.restitution * vn[:, None] * nrm
+                    else:
+                        bounced = tangential
+                    into = vn < 0
+                    vel[rh[into]] = bounced[into]
                 back = r_idx[bad]
                 vel[back] = -model.restitution * vel[back] if model.kind == "inertial" else 0.0 * vel[back]
                 touching[idx] = hit | bad

@@ -139,3 +139,18 @@ def test_sequential_composition_converges_from_sampled_starts_when_every_cell_fl
                        max_time=100.0, physics_rate=2000.0)
     run = simulate_scenarios(plan, [Scenario("nominal", scale / 10, False)], model=quiet, trials=12, starts=starts)
     assert run["nominal"].success == 1.0
+
+
+def test_hybrid_controller_hits_each_reflection_zone_then_follows_the_nominal_field():
+    """In the reflection scenario the robot reaches the chosen wall of every reflection cell (the switching
+    surface), and the run still converges; without reflection (integrator, no noise) no wall is touched."""
+    quiet = RobotModel(kind="integrator", heading_noise=0.0, speed_noise=0.0)
+    runs = simulate_scenarios(PLAN, [Scenario("reflect", 1.0, True), Scenario("nominal", 1.0, False)], model=quiet,
+                              trials=1, keep=1, every_step=True)
+    path = runs["reflect"].trajectories[0]
+    assert runs["reflect"].success == 1.0 and runs["reflect"].collisions[0] == len(PLAN.reflection_cells)
+    for c in PLAN.reflection_cells:
+        side = PLAN.cells[c].sides[PLAN.zones[c].side]
+        wall = shapely.LineString([tuple(map(float, side.a)), tuple(map(float, side.b))])
+        assert min(wall.distance(shapely.Point(p)) for p in path) < 1e-5
+    assert runs["nominal"].success == 1.0 and runs["nominal"].collisions[0] == 0
