@@ -59,6 +59,13 @@ _EXPORTS: dict[str, str] = {
     "CutOrdering": "solverplan.wallfollow.ordering",
     "WallWorld": "solverplan.wallfollow.world",
     "learn_cut_ordering": "solverplan.wallfollow.learning",
+    # composed potential fields with reflection (Stager and Tanner)
+    "decompose_free_space": "solverplan.reflection.cells",
+    "compose_fields": "solverplan.reflection.compose",
+    "simulate_scenarios": "solverplan.reflection.simulate",
+    "RobotModel": "solverplan.reflection.simulate",
+    "navigate_fields": "solverplan.reflection.navigation",
+    "FieldNavigation": "solverplan.reflection.navigation",
     # planners
     "find_plan": "solverplan.plan.search",
     "pareto_front": "solverplan.plan.search",
@@ -128,6 +135,10 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.wallfollow.learning import learn_cut_ordering
     from solverplan.wallfollow.ordering import CutOrdering
     from solverplan.wallfollow.world import WallWorld
+    from solverplan.reflection.cells import decompose_free_space
+    from solverplan.reflection.compose import compose_fields
+    from solverplan.reflection.navigation import FieldNavigation, navigate_fields
+    from solverplan.reflection.simulate import RobotModel, simulate_scenarios
     from solverplan.studies.rooms import compare_rules, simulate_rooms
 
 

@@ -271,3 +271,13 @@ def test_chambers_are_three_big_rooms_joined_by_doorways_one_and_three_wide():
     assert is_rectilinear(env) and env.holes == () and env.area == 3 * 900 + 4 * 1 + 4 * 3
     assert len(pieces_after_erosion(env, 0.6)) == 2  # the 1-wide doorway closes: chamber 1 | chambers 2, 3
     assert len(pieces_after_erosion(env, 1.6)) == 3  # the 3-wide one too
+
+
+def test_serpentine_is_a_half_metre_corridor_with_four_turns_cut_at_45_degrees():
+    env = model("serpentine")
+    # the stretches are 0.5 wide, the cut corners √2/4 ≈ 0.354 (reflex vertex to the 45° wall)
+    assert len(pieces_after_erosion(env, 0.17)) == 1 and len(pieces_after_erosion(env, 0.18)) == 5
+    assert all(piece.is_empty for piece in pieces_after_erosion(env, 0.26))
+    diagonal = [e for e in env.edges if abs(e.a[0] - e.b[0]) == abs(e.a[1] - e.b[1]) != 0]
+    assert len(diagonal) == 4 and all(abs(e.a[0] - e.b[0]) == Fraction(1, 2) for e in diagonal)
+    assert len(env.reflex_vertices) == 4

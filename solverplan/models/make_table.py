@@ -39,6 +39,7 @@ PURPOSES: dict[str, str] = {
     "narrow_door": "two rooms joined by a 0.2-wide doorway: funnels that shrink uncertainty to pass a door",
     "worst_case_t4": "the paper's worst case for Alg. 1 (§4.0.1, Fig. 3), `worst_case_polygon(4)`: O(n⁴) BVG",
     "degenerate": "collinear consecutive vertices, parallel edges, hole vertices on lines through outer edges: exact ties",
+    "serpentine": "corridor 0.5 wide with four turns cut at 45°: composed potential fields and reflection zones (`fields`)",
 }
 
 

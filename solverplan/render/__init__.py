@@ -6,7 +6,8 @@ ids), :mod:`~solverplan.render.environment`, :mod:`~solverplan.render.partition`
 :mod:`~solverplan.render.graph`, :mod:`~solverplan.render.trajectories`, :mod:`~solverplan.render.cycles`,
 :mod:`~solverplan.render.plans`, :mod:`~solverplan.render.answers`, :mod:`~solverplan.render.heatmaps`,
 :mod:`~solverplan.render.rooms` (rooms and doors of rectilinear polygons), :mod:`~solverplan.render.explore`
-(explorations with discrete views), :mod:`~solverplan.render.wallfollow` (the wall-following robot's cuts and cut
+(explorations with discrete views), :mod:`~solverplan.render.fields` (convex cells, composed fields and reflection
+trajectories), :mod:`~solverplan.render.wallfollow` (the wall-following robot's cuts and cut
 diagram),
 and :mod:`~solverplan.render.scenes`, whose :func:`scene` stacks the layers into a whole picture (what
 ``solverplan render`` draws). :mod:`~solverplan.render.html` writes self-contained HTML reports of answers (inline
@@ -30,6 +31,7 @@ from solverplan.render.environment import (
     render_environment,
 )
 from solverplan.render.explore import render_exploration
+from solverplan.render.fields import SCENARIO_COLORS, draw_cell_fields, draw_cells, render_fields
 from solverplan.render.figure import FigureFormat, SavedFigure, figure_bytes, figure_format, new_figure, save_figure
 from solverplan.render.graph import draw_graph, draw_safe_arcs
 from solverplan.render.heatmaps import draw_heatmap, render_heatmaps
@@ -45,6 +47,10 @@ from solverplan.render.wallfollow import CUT_COLORS, draw_cut_diagram, draw_cuts
 
 __all__ = [
     "render_exploration",
+    "render_fields",
+    "draw_cells",
+    "draw_cell_fields",
+    "SCENARIO_COLORS",
     "FigureFormat",
     "new_figure",
     "draw_free_space",

@@ -1,0 +1,223 @@
+"""Sequential composition of the cell fields, with the reflection zones of §III (Stager and Tanner).
+
+:func:`compose_fields` builds the whole policy for a start and a goal point:
+
+1. the convex cells (:func:`~solverplan.reflection.cells.decompose_free_space`) and the cell sequence from the
+   start's cell to the goal's cell (shortest path in the adjacency graph);
+2. for **every** cell that can reach the goal, an outlet — the facet to its next cell on a shortest path to the
+   goal's cell (so a robot knocked off the sequence still converges) — and a field that provably flows through
+   it (:mod:`~solverplan.reflection.fields`). Candidates, first verified wins: in ``arcs`` mode an arc field when
+   inlet and outlet meet at a vertex (dense-sample check); the paper's line field from the inlet midpoint (the start
+   point in the start cell, the vertex average off the sequence) to the outlet midpoint; the line field through the
+   outlet midpoint along the outlet's outward normal. Each at the gain given, then 2×, ½×, 4×, ¼×, 8×, ⅛× of it;
+   failing those, any line field found by a linear program over its offset and gain for 15 directions about the
+   outlet's normal (:func:`~solverplan.reflection.fields.fit_line_field`, checked exactly);
+3. the goal cell's field, straight to the goal;
+4. the reflection zones of the candidate cells of the sequence (:mod:`~solverplan.reflection.zones`).
+
+Convergence. Every cell's nominal field flows through its outlet into a cell one step closer (in the shortest-path
+tree) to the goal's cell, whose field ends at the goal: by induction every start converges (sequential composition).
+The hybrid controller of a reflection cell runs the reflection field until the robot hits a wall, then the nominal
+field; it is armed at most once per cell and run (the first entry), so after finitely many switches only nominal
+fields act and the argument above applies unchanged. ``flow_through`` is true when every cell's field was verified.
+
+>>> import solverplan as sp
+>>> plan = compose_fields(sp.load_environment("serpentine"), (3, "2.25"), (3, "0.25"))
+>>> plan.sequence, plan.reflection_cells, plan.flow_through
+((4, 2, 1, 0, 3, 7, 6, 5, 8), (2, 0, 7, 5), True)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Sequence
+
+from solverplan.environment import Environment
+from solverplan.errors import InputError
+from solverplan.exact import ExactPoint, exact_point, to_fraction
+from solverplan.reflection.cells import Cell, Decomposition, decompose_free_space
+from solverplan.reflection.fields import (Field, FlowCheck, GoalField, LineField, arc_turn, fit_line_field,
+                                          flows_through)
+from solverplan.reflection.zones import ReflectionZone, select_zone
+
+__all__ = ["CellPolicy", "FieldPlan", "compose_fields", "field_kinds", "GAIN_STEPS"]
+
+#: Multiples of the given gain tried, in order, until a field verifies.
+GAIN_STEPS = (Fraction(1), Fraction(2), Fraction(1, 2), Fraction(4), Fraction(1, 4), Fraction(8), Fraction(1, 8))
+
+
+@dataclass(frozen=True, slots=True)
+class CellPolicy:
+    """A cell's nominal field, where it leads (``outlet_side``/``next_cell``; ``None`` in the goal cell), its
+    ``inlet_side`` on the sequence (``None`` off it and in the start cell) and its flow-through ``check``."""
+
+    cell: int
+    field: Field
+    check: FlowCheck
+    next_cell: int | None
+    outlet_side: int | None
+    inlet_side: int | None
+
+    def to_json(self) -> dict:
+        return {"cell": self.cell, "next": self.next_cell, "inlet_side": self.inlet_side,
+                "outlet_side": self.outlet_side, "field": self.field.to_json(), "flow": self.check.to_json()}
+
+
+@dataclass(frozen=True)
+class FieldPlan:
+    """The composed policy: cells, sequence, one :class:`CellPolicy` per cell that reaches the goal (``policies``,
+    by cell id) and the reflection zones (``zones``, by cell id)."""
+
+    decomposition: Decomposition
+    start: ExactPoint
+    goal: ExactPoint
+    sequence: tuple[int, ...]
+    policies: dict[int, CellPolicy]
+    zones: dict[int, ReflectionZone]
+
+    @property
+    def env(self) -> Environment:
+        return self.decomposition.env
+
+    @property
+    def cells(self) -> tuple[Cell, ...]:
+        return self.decomposition.cells
+
+    @property
+    def reflection_cells(self) -> tuple[int, ...]:
+        """The cells of the sequence with a reflection zone, in sequence order."""
+        return tuple(c for c in self.sequence if c in self.zones)
+
+    @property
+    def flow_through(self) -> bool:
+        """Every cell's nominal field is verified to flow through (the composition converges)."""
+        return all(p.check.verified for p in self.policies.values())
+
+    @property
+    def proved(self) -> bool:
+        """Verified exactly (no dense-sample check among the fields)."""
+        return self.flow_through and all(p.check.method == "exact" for p in self.policies.values())
+
+    @property
+    def goal_cell(self) -> int:
+        return self.sequence[-1]
+
+
+def _vertex_average(cell: Cell) -> ExactPoint:
+    n = len(cell.vertices)
+    return (sum((v[0] for v in cell.vertices), Fraction(0)) / n, sum((v[1] for v in cell.vertices), Fraction(0)) / n)
+
+
+def _nominal(cell: Cell, origin: ExactPoint, inlet: int | None, outlet: int, gain_line: Fraction,
+             gain_arc: Fraction, arcs: bool) -> tuple[Field, FlowCheck]:
+    exits = frozenset({outlet})
+    out_side = cell.sides[outlet]
+    mid = out_side.midpoint
+    normal_target = (mid[0] - out_side.normal[0], mid[1] - out_side.normal[1])  # outward through the outlet
+    makers: list = []
+    if arcs and inlet is not None and arc_turn(cell, inlet, outlet, gain_arc) is not None:
+        makers.append(lambda g: arc_turn(cell, inlet, outlet, gain_arc * g))
+    if origin != mid:
+        makers.append(lambda g: LineField(origin, mid, gain_line * g))
+    makers.append(lambda g: LineField(mid, normal_target, gain_line * g))
+    first: tuple[Field, FlowCheck] | None = None
+    for make in makers:
+        for step in GAIN_STEPS:
+            field = make(step)
+            check = flows_through(field, cell, exits)
+            if check.verified:
+                return field, check
+            first = first or (field, check)
+    fitted = fit_line_field(cell, exits)  # any line (direction, offset, gain) that works: an LP per direction
+    if fitted is not None:
+        return fitted
+    assert first is not None
+    return first
+
+
+def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
+                   gain_line: object = Fraction(3), gain_arc: object = Fraction(1), arcs: bool = False,
+                   reflection: bool = True, decomposition: Decomposition | None = None) -> FieldPlan:
+    """The composed field policy from ``start`` to ``goal`` (points of the open free space, exact or decimal).
+
+    Parameters
+    ----------
+    env
+        The environment.
+    start, goal
+        Points (x, y); read exactly (``"0.1"`` is 1/10).
+    gain_line, gain_arc
+        The gains p of line and arc fields (1/length of the environment's units). The paper's 0.3 and 0.03 are for
+        its (unstated) workspace units; 3 and 1 suit corridors about half a unit wide.
+    arcs
+        Try an arc field in cells whose inlet and outlet meet at a vertex (the paper's "linear/arc" configuration).
+    reflection
+        Select the reflection zones of the sequence's candidate cells.
+    decomposition
+        Reuse a decomposition of ``env``.
+
+    Raises
+    ------
+    InputError
+        A point outside the free space or on a wall, a non-positive gain, or a goal that cannot be reached.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> plan = compose_fields(sp.load_environment("l_shape"), (8, 2), (2, 8))
+    >>> plan.sequence, sorted(plan.policies), plan.policies[plan.goal_cell].field.kind
+    ((1, 0), [0, 1], 'goal')
+    """
+    dec = decomposition or decompose_free_space(env)
+    p_line = to_fraction(gain_line, where="gain_line")
+    p_arc = to_fraction(gain_arc, where="gain_arc")
+    if p_line <= 0 or p_arc <= 0:
+        raise InputError(f"gains must be positive, got line {p_line} and arc {p_arc}")
+    s = exact_point(start, where="start")
+    g = exact_point(goal, where="goal")
+    start_cell = dec.locate(s, where="start")
+    goal_cell = dec.locate(g, where="goal")
+    sequence = dec.sequence(start_cell, goal_cell)
+    successors = dec.successors(goal_cell)
+    inlets = {c: dec.cells[c].facet_to(prev) for prev, c in zip(sequence, sequence[1:])}
+    policies: dict[int, CellPolicy] = {}
+    for cell in dec.cells:
+        nxt = successors[cell.id]
+        if cell.id == goal_cell:
+            goal_field = GoalField(g)
+            policies[cell.id] = CellPolicy(cell.id, goal_field, flows_through(goal_field, cell, frozenset()), None,
+                                           None, inlets.get(cell.id))
+            continue
+        if nxt is None:
+            continue  # cannot reach the goal (another component): no policy
+        outlet = cell.facet_to(nxt)
+        on_sequence = cell.id in sequence and sequence.index(cell.id) < len(sequence) - 1 and \
+            sequence[sequence.index(cell.id) + 1] == nxt
+        inlet = inlets.get(cell.id) if on_sequence else None
+        if cell.id == start_cell:
+            origin = s
+        elif inlet is not None:
+            origin = cell.sides[inlet].midpoint
+        else:
+            origin = _vertex_average(cell)
+        field, check = _nominal(cell, origin, inlet, outlet, p_line, p_arc, arcs)
+        policies[cell.id] = CellPolicy(cell.id, field, check, nxt, outlet, inlet)
+    zones: dict[int, ReflectionZone] = {}
+    if reflection:
+        for k in range(1, len(sequence) - 1):
+            c = sequence[k]
+            policy = policies[c]
+            if policy.inlet_side is None or policy.outlet_side is None:
+                continue
+            zone = select_zone(dec.cells[c], policy.inlet_side, policy.outlet_side,
+                               tuple(p_line * step for step in GAIN_STEPS))
+            if zone is not None:
+                zones[c] = zone
+    return FieldPlan(dec, s, g, sequence, policies, zones)
+
+
+def field_kinds(plan: FieldPlan) -> dict[int, str]:
+    """The kind of each cell's nominal field (``line``, ``arc``, ``goal``)."""
+    return {c: p.field.kind for c, p in plan.policies.items()}
+

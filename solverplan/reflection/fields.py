@@ -1,0 +1,370 @@
+"""Local vector fields in convex cells and the flow-through verifier (Stager and Tanner, §II, Eq. 2 and 3).
+
+**Line field (Eq. 2).** A point q₀, a unit direction d and a gain p (1/length):
+
+    v(q) = d + p (I − d dᵀ)(q₀ − q)
+
+Along the line q₀ + s d the field is d; across it the error e = d^⊥·(q − q₀) obeys ė = −p e (it decays as e^{−pt});
+d·v = 1 everywhere, so a robot following v advances at unit rate along d; and v = −∇φ with
+φ(q) = −d·(q − q₀) + (p/2)‖(I − d dᵀ)(q − q₀)‖². These are proved in ``solverplan.proofs.line_field``. Here d is
+the unit vector of an exact rational vector w = target − q₀, so d = w/|w| is irrational in general.
+
+**Arc field (Eq. 3, missing from the paper's text).** We use, with centre c, radius r, gain p and c_w = +1 for
+clockwise (the paper's convention), ρ = |q − c|, r̂ = (q − c)/ρ and t̂ the clockwise unit tangent (r̂ rotated by
+−π/2):
+
+    v(q) = c_w t̂ + p (r − ρ) r̂
+
+so ρ̇ = p (r − ρ) (the radial error decays as e^{−pt}) and the robot turns about c at unit speed along the arc.
+
+**Goal field.** In the goal's cell, v = (g − q)/|g − q|: the straight line to g stays in the convex cell.
+
+**Flow-through.** A field *flows through* a cell towards a set of exit sides when every trajectory from every point
+of the closed cell leaves it through an exit side in finite time. For a line field this is decided exactly
+(:func:`line_flows_through`): n_i·v is affine along side i, so it is positive on the whole closed side iff it is
+positive at both end points, and with v strictly inward on every other side no trajectory can cross them, while
+d·v = 1 makes every trajectory leave the bounded cell. The sign of n_i·v at a vertex is that of A√L + B with A, B,
+L rational (L = |w|²), decided exactly. Other fields are checked by a dense sample (:func:`dense_flows_through`):
+trajectories from a grid of the cell and points on its sides, integrated with RK4, must all leave through an exit.
+
+>>> from fractions import Fraction as F
+>>> f = LineField((F(0), F(0)), (F(1), F(0)), F(1, 2))
+>>> f.velocity(np.array([[0.0, 2.0]])).tolist()
+[[1.0, -1.0]]
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Sequence
+
+import numpy as np
+
+from solverplan.exact import ExactPoint, format_number
+from solverplan.reflection.cells import Cell
+
+__all__ = ["LineField", "ArcField", "GoalField", "Field", "FlowCheck", "line_flows_through", "dense_flows_through", "fit_line_field",
+           "flows_through"]
+
+
+def _f(p: Sequence[Fraction]) -> np.ndarray:
+    return np.array([float(p[0]), float(p[1])])
+
+
+@dataclass(frozen=True, slots=True)
+class LineField:
+    """Eq. 2: the line through ``origin`` towards ``target`` (exact points), gain ``gain`` (1/length)."""
+
+    origin: ExactPoint
+    target: ExactPoint
+    gain: Fraction
+
+    kind = "line"
+
+    def __post_init__(self) -> None:
+        if self.origin == self.target:
+            raise ValueError("a line field needs a target different from its origin")
+
+    @property
+    def direction(self) -> np.ndarray:
+        """The unit direction d (floats)."""
+        w = _f(self.target) - _f(self.origin)
+        return w / np.hypot(*w)
+
+    def velocity(self, points: np.ndarray) -> np.ndarray:
+        """v(q) for points of shape (k, 2)."""
+        d = self.direction
+        a = _f(self.origin)[None, :] - points
+        cross_track = a - (a @ d)[:, None] * d[None, :]
+        return d[None, :] + float(self.gain) * cross_track
+
+    def potential(self, points: np.ndarray) -> np.ndarray:
+        """φ(q) = −d·(q − q₀) + (p/2)‖(I − d dᵀ)(q − q₀)‖² (v = −∇φ)."""
+        d = self.direction
+        a = points - _f(self.origin)[None, :]
+        along = a @ d
+        across = a - along[:, None] * d[None, :]
+        return -along + 0.5 * float(self.gain) * np.einsum("ij,ij->i", across, across)
+
+    def to_json(self) -> dict:
+        return {"kind": "line", "origin": [float(c) for c in self.origin], "direction": self.direction.tolist(),
+                "target": [float(c) for c in self.target], "gain": float(self.gain),
+                "gain_exact": format_number(self.gain)}
+
+
+@dataclass(frozen=True, slots=True)
+class ArcField:
+    """Eq. 3 as we reconstruct it: turn about ``centre`` on the circle of ``radius``; ``clockwise`` is c_w = +1."""
+
+    centre: ExactPoint
+    radius: float
+    gain: Fraction
+    clockwise: bool
+
+    kind = "arc"
+
+    def velocity(self, points: np.ndarray) -> np.ndarray:
+        rel = points - _f(self.centre)[None, :]
+        rho = np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-12)
+        radial = rel / rho[:, None]
+        tangent_cw = np.stack([radial[:, 1], -radial[:, 0]], axis=1)
+        cw = 1.0 if self.clockwise else -1.0
+        return cw * tangent_cw + float(self.gain) * (self.radius - rho)[:, None] * radial
+
+    def to_json(self) -> dict:
+        return {"kind": "arc", "centre": [float(c) for c in self.centre], "radius": self.radius,
+                "gain": float(self.gain), "gain_exact": format_number(self.gain), "clockwise": self.clockwise}
+
+
+@dataclass(frozen=True, slots=True)
+class GoalField:
+    """The goal cell's field: unit speed straight to ``goal`` (zero at the goal)."""
+
+    goal: ExactPoint
+
+    kind = "goal"
+
+    def velocity(self, points: np.ndarray) -> np.ndarray:
+        a = _f(self.goal)[None, :] - points
+        norm = np.hypot(a[:, 0], a[:, 1])
+        return a / np.maximum(norm, 1e-12)[:, None]
+
+    def to_json(self) -> dict:
+        return {"kind": "goal", "goal": [float(c) for c in self.goal]}
+
+
+Field = LineField | ArcField | GoalField
+
+
+@dataclass(frozen=True, slots=True)
+class FlowCheck:
+    """The verdict of a flow-through check: ``verified``, how (``exact`` or ``dense-sample``), and the first side
+    the field fails on (``None`` when verified, or for a sampled trajectory that never left)."""
+
+    verified: bool
+    method: str
+    failing_side: int | None = None
+    samples: int = 0
+
+    def to_json(self) -> dict:
+        out: dict = {"verified": self.verified, "method": self.method}
+        if self.failing_side is not None:
+            out["failing_side"] = self.failing_side
+        if self.samples:
+            out["samples"] = self.samples
+        return out
+
+
+def _sign_a_sqrt_l_plus_b(a: Fraction, b: Fraction, l: Fraction) -> int:
+    """The exact sign of a·√l + b (l > 0)."""
+    sa = (a > 0) - (a < 0)
+    sb = (b > 0) - (b < 0)
+    if sa == sb or sb == 0:
+        return sa if sa else sb
+    if sa == 0:
+        return sb
+    lhs, rhs = a * a * l, b * b
+    return sa if lhs > rhs else sb if lhs < rhs else 0
+
+
+def line_inward_sign(field: LineField, normal: ExactPoint, q: ExactPoint) -> int:
+    """The exact sign of n·v(q) for the line field (n any positive multiple of a side's inward normal).
+
+    n·v·|w|² = (n·w)|w| + p(|w|² n·(q₀ − q) − (n·w)(w·(q₀ − q))), w = target − q₀.
+    """
+    wx, wy = field.target[0] - field.origin[0], field.target[1] - field.origin[1]
+    ax, ay = field.origin[0] - q[0], field.origin[1] - q[1]
+    nw = normal[0] * wx + normal[1] * wy
+    l2 = wx * wx + wy * wy
+    b = field.gain * (l2 * (normal[0] * ax + normal[1] * ay) - nw * (wx * ax + wy * ay))
+    return _sign_a_sqrt_l_plus_b(nw, b, l2)
+
+
+def line_flows_through(field: LineField, cell: Cell, exits: set[int] | frozenset[int]) -> FlowCheck:
+    """Exact flow-through of a line field: strictly inward at both ends of every side not in ``exits``.
+
+    Examples
+    --------
+    >>> from fractions import Fraction as F
+    >>> from solverplan.environment import load_environment
+    >>> from solverplan.reflection.cells import decompose_free_space
+    >>> cell = decompose_free_space(load_environment("square")).cells[0]
+    >>> [s.midpoint for s in cell.sides][:1]
+    [(Fraction(5, 1), Fraction(0, 1))]
+    >>> f = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, F(3, 10))
+    >>> line_flows_through(f, cell, {2}).verified, line_flows_through(f, cell, {1}).verified
+    (True, False)
+    """
+    if not isinstance(field, LineField):
+        raise TypeError(f"line_flows_through checks line fields; use dense_flows_through for {field.kind} fields")
+    for i, side in enumerate(cell.sides):
+        if i in exits:
+            continue
+        if any(line_inward_sign(field, side.normal, q) <= 0 for q in (side.a, side.b)):
+            return FlowCheck(False, "exact", i)
+    return FlowCheck(True, "exact")
+
+
+def dense_flows_through(field: Field, cell: Cell, exits: set[int] | frozenset[int], *, grid: int = 24,
+                        per_side: int = 24) -> FlowCheck:
+    """Flow-through by a dense sample: trajectories of ``v`` (RK4, step 1/400 of the cell's diameter) from a ``grid`` × ``grid`` lattice of the cell and ``per_side`` points on each side must all
+    leave through a side of ``exits`` (the crossed side is the first whose half-plane the last step leaves). The
+    step is at most 1/(4p) for a field of gain p (RK4 is accurate there), for up to 10 diameters of travel.
+
+    Examples
+    --------
+    >>> from fractions import Fraction as F
+    >>> from solverplan.environment import load_environment
+    >>> from solverplan.reflection.cells import decompose_free_space
+    >>> cell = decompose_free_space(load_environment("square")).cells[0]
+    >>> f = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, F(3, 10))
+    >>> dense_flows_through(f, cell, {2}).verified
+    True
+    """
+    verts = cell.float_vertices
+    normals = np.array([s.unit_normal() for s in cell.sides])
+    offsets = np.array([normals[i] @ _f(s.a) for i, s in enumerate(cell.sides)])
+    lo, hi = verts.min(axis=0), verts.max(axis=0)
+    diameter = float(np.hypot(*(hi - lo)))
+    xs = np.linspace(0, 1, grid + 2)[1:-1]
+    pts = np.stack(np.meshgrid(lo[0] + xs * (hi[0] - lo[0]), lo[1] + xs * (hi[1] - lo[1])), axis=-1).reshape(-1, 2)
+    pts = pts[np.all(pts @ normals.T - offsets >= 0, axis=1)]
+    ts = np.linspace(0, 1, per_side + 2)[1:-1]
+    on_sides = [(1 - t) * _f(s.a) + t * _f(s.b) for s in cell.sides for t in ts]
+    pts = np.vstack([pts, np.array(on_sides)])
+    n = len(pts)
+    gain = float(getattr(field, "gain", 0))
+    h = min(diameter / 400, 0.25 / gain) if gain > 0 else diameter / 400  # RK4 stays accurate for stiff gains
+    q = pts.copy()
+    alive = np.ones(n, dtype=bool)
+    crossed = np.full(n, -1)
+
+    def v(x: np.ndarray) -> np.ndarray:
+        return field.velocity(x)
+
+    for _ in range(int(np.ceil(10 * diameter / h))):
+        idx = np.flatnonzero(alive)
+        if not len(idx):
+            break
+        x = q[idx]
+        k1 = v(x)
+        k2 = v(x + 0.5 * h * k1)
+        k3 = v(x + 0.5 * h * k2)
+        k4 = v(x + h * k3)
+        new = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        before = x @ normals.T - offsets
+        after = new @ normals.T - offsets
+        out = np.any(after < -1e-12 * diameter, axis=1)
+        if out.any():
+            b, a = before[out], after[out]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                lam = np.where(a < 0, np.clip(b, 0, None) / (np.clip(b, 0, None) - a), np.inf)
+            crossed[idx[out]] = np.argmin(lam, axis=1)
+            alive[idx[out]] = False
+        q[idx] = new
+    if alive.any():
+        return FlowCheck(False, "dense-sample", None, n)
+    bad = np.flatnonzero(~np.isin(crossed, sorted(exits)))
+    if len(bad):
+        return FlowCheck(False, "dense-sample", int(crossed[bad[0]]), n)
+    return FlowCheck(True, "dense-sample", None, n)
+
+
+def flows_through(field: Field, cell: Cell, exits: set[int] | frozenset[int]) -> FlowCheck:
+    """:func:`line_flows_through` for line fields (exact), :func:`dense_flows_through` otherwise; a goal field
+    flows to its goal when the goal is in the closed cell (exact: the segment to it stays in the convex cell)."""
+    if isinstance(field, LineField):
+        return line_flows_through(field, cell, exits)
+    if isinstance(field, GoalField):
+        return FlowCheck(cell.contains(field.goal), "exact")
+    return dense_flows_through(field, cell, exits)
+
+
+def arc_turn(cell: Cell, inlet: int, outlet: int, gain: Fraction) -> ArcField | None:
+    """The arc field of a turning cell whose inlet and outlet sides meet at a vertex: centre that vertex, radius
+    the mean distance to the two midpoints, turning from the inlet to the outlet; ``None`` when they do not meet."""
+    m = len(cell.sides)
+    if (inlet + 1) % m == outlet:
+        centre = cell.sides[inlet].b
+    elif (outlet + 1) % m == inlet:
+        centre = cell.sides[outlet].b
+    else:
+        return None
+    c = _f(centre)
+    p_in, p_out = cell.sides[inlet].float_midpoint(), cell.sides[outlet].float_midpoint()
+    radius = 0.5 * (math.hypot(*(p_in - c)) + math.hypot(*(p_out - c)))
+    turn = (p_in - c)[0] * (p_out - c)[1] - (p_in - c)[1] * (p_out - c)[0]  # > 0: counter-clockwise from in to out
+    return ArcField(centre, radius, gain, clockwise=bool(turn < 0))
+
+
+def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: int = 15,
+                   gain_range: tuple[float, float] = (0.05, 50.0)) -> tuple[LineField, FlowCheck] | None:
+    """A line field that flows through ``cell`` towards ``exits``, found by linear programming, or ``None``.
+
+    For a fixed direction d, write the line's point as q₀ = c d^⊥ (the cell's centroid as origin) and r = p c: the
+    condition "n_i·v > 0 at both ends of every other side" reads (n_i·d) + r (n_i·d^⊥) − p (n_i·(I − d dᵀ) q) > 0,
+    linear in (r, p). For ``directions`` directions spread over ±79° about the outward normal of the first exit
+    side, the LP maximising the smallest margin (scipy's HiGHS) gives the most robust (r, p) with p in
+    ``gain_range`` (1/length); the best direction's field is rounded to rationals and checked exactly
+    (:func:`line_flows_through`), so the answer never relies on the LP's floats.
+
+    Examples
+    --------
+    >>> from fractions import Fraction as F
+    >>> from solverplan.environment import Environment
+    >>> from solverplan.reflection.cells import decompose_free_space
+    >>> kite = decompose_free_space(Environment.from_coords([(0, 0), (4, 0), (5, 3), (0, 1)])).cells[0]
+    >>> field, check = fit_line_field(kite, {1})
+    >>> check.verified, check.method
+    (True, 'exact')
+    """
+    from scipy.optimize import linprog
+
+    if not exits:
+        return None
+    centre = cell.centroid
+    verts = cell.float_vertices - centre
+    others = [i for i in range(len(cell.sides)) if i not in exits]
+    normals = [cell.sides[i].unit_normal() for i in others]
+    ends = [(verts[i], verts[(i + 1) % len(verts)]) for i in others]
+    outward = -cell.sides[min(exits)].unit_normal()
+    base = math.atan2(outward[1], outward[0])
+    radius = float(np.hypot(verts[:, 0], verts[:, 1]).max())
+    best: tuple[float, np.ndarray, float, float, np.ndarray, np.ndarray] | None = None
+    lo, hi = gain_range
+    for j in range(directions):
+        angle = base + (j - directions // 2) * (0.44 * math.pi / max(directions // 2, 1))
+        d = np.array([math.cos(angle), math.sin(angle)])
+        d_perp = np.array([-d[1], d[0]])
+        rows, rhs = [], []
+        for n, (a, b) in zip(normals, ends):
+            for q in (a, b):
+                across = q - (q @ d) * d
+                # a + u r + w p ≥ t  ⇔  −u r − w p + t ≤ a
+                rows.append([-(n @ d_perp), n @ across, 1.0])
+                rhs.append(n @ d)
+        res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
+                      bounds=[(-hi * radius, hi * radius), (lo, hi), (None, 1.0)], method="highs")
+        if res.status == 0 and res.x[2] > 1e-6 and (best is None or res.x[2] > best[0]):
+            best = (float(res.x[2]), d, float(res.x[0]), float(res.x[1]), np.array(rows), np.array(rhs))
+    if best is None:
+        return None
+    margin, d, r, p, rows_best, rhs_best = best
+    # the gentlest gain keeping half the best margin: a stiff field is as sound but makes robots chatter
+    gentle = linprog(c=[0.0, 1.0, 0.0], A_ub=rows_best, b_ub=rhs_best,
+                     bounds=[(-hi * radius, hi * radius), (lo, hi), (margin / 2, 1.0)], method="highs")
+    if gentle.status == 0:
+        r, p = float(gentle.x[0]), float(gentle.x[1])
+    q0 = centre + (r / p) * np.array([-d[1], d[0]])
+    scale = max(radius, 1e-12)
+
+    def rational(x: float) -> Fraction:
+        return Fraction(x).limit_denominator(max(10**6, int(10**6 / scale)))
+
+    origin = (rational(q0[0]), rational(q0[1]))
+    target = (origin[0] + rational(d[0] * scale), origin[1] + rational(d[1] * scale))
+    field = LineField(origin, target, Fraction(p).limit_denominator(10**4))
+    check = line_flows_through(field, cell, exits)
+    return (field, check) if check.verified else None

@@ -1,0 +1,80 @@
+"""The ``fields`` command: the contract's fields answer (exact field names, defaults), the picture, bad input as one
+line with exit code 2."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+import solverplan as sp
+from solverplan.cli import app
+
+runner = CliRunner()
+ARGS = ["fields", "serpentine", "--from", "3,2.25", "--to", "3,0.25"]
+
+
+def test_fields_answers_with_the_contract_fields(tmp_path):
+    picture = tmp_path / "fields.png"
+    result = runner.invoke(app, [*ARGS, "--trials", "3", "--seed", "1", "--trajectories", "2", "--picture", str(picture)])
+    assert result.exit_code == 0, result.output
+    answer = json.loads(result.stdout)
+    assert list(answer)[:5] == ["cells", "adjacency", "sequence", "reflection_cells", "scenarios"]
+    assert list(answer)[-3:] == ["optimality", "stats", "environment"]
+    assert all(set(c) == {"id", "polygon"} for c in answer["cells"]) and len(answer["cells"]) == 9
+    assert answer["adjacency"] == [[0, 1], [0, 3], [1, 2], [2, 4], [3, 7], [5, 6], [5, 8], [6, 7]]
+    assert answer["sequence"] == [4, 2, 1, 0, 3, 7, 6, 5, 8] and answer["reflection_cells"] == [2, 0, 7, 5]
+    assert list(answer["scenarios"]) == ["constrained", "unconstrained", "reflection"]  # --scenario all, the default
+    for run in answer["scenarios"].values():
+        assert list(run)[:6] == ["trials", "success", "time_mean", "time_var", "collisions_mean", "trajectories"]
+        assert run["trials"] == 3 and run["success"] == 1.0 and len(run["trajectories"]) == 2
+        assert run["trajectories"][0][0] == [3.0, 2.25]
+    assert answer["model"]["kind"] == "inertial"  # --model inertial, the default
+    assert answer["status"] == "found" and answer["flow_through"] is True
+    assert answer["optimality"]["method"] == "exact-check" and answer["optimality"]["proved"] is True
+    assert answer["environment"]["name"] == "serpentine"
+    assert picture.stat().st_size > 10_000
+
+
+def test_fields_matches_the_library():
+    result = runner.invoke(app, [*ARGS, "--scenario", "reflection", "--model", "integrator", "--trials", "4"])
+    assert result.exit_code == 0, result.output
+    nav = sp.navigate_fields(sp.load_environment("serpentine"), (3, "2.25"), (3, "0.25"), scenarios=["reflection"],
+                             model="integrator", trials=4)
+    assert json.loads(result.stdout)["scenarios"] == nav.to_json()["scenarios"]
+
+
+def test_fields_text_is_a_table_of_the_scenarios(tmp_path):
+    target = tmp_path / "answer.txt"
+    result = runner.invoke(app, [*ARGS, "--trials", "2", "--format", "text", "-o", str(target)])
+    assert result.exit_code == 0 and result.stdout == ""
+    text = target.read_text()
+    assert "sequence 4 → 2 → 1 → 0 → 3 → 7 → 6 → 5 → 8" in text and "reflection cells: 2, 0, 7, 5" in text
+    assert all(name in text for name in ("constrained", "unconstrained", "reflection"))
+
+
+def test_fields_with_arcs_verifies_them_by_sample():
+    result = runner.invoke(app, [*ARGS, "--trials", "1", "--scenario", "constrained", "--arcs"])
+    answer = json.loads(result.stdout)
+    kinds = {f["cell"]: f["field"]["kind"] for f in answer["fields"]}
+    assert [kinds[c] for c in (2, 0, 7, 5)] == ["arc"] * 4
+    assert answer["optimality"]["method"] == "heuristic" and answer["status"] == "found"
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--from", "1,1.75", "--to", "3,0.25"], "error: start (1, 1.75) is not in the free space of serpentine"),
+    (["--from", "3,2.25", "--to", "1,1"], "error: goal (1, 1) is on a wall: choose a point inside the free space"),
+    (["--from", "3,2.25", "--to", "x,1"], "error: --to: 'x' is not a number"),
+    (["--from", "3", "--to", "3,0.25"], "error: --from '3': expected X,Y (two numbers separated by a comma)"),
+    (["--from", "3,2.25", "--to", "3,0.25", "--trials", "2", "--trajectories", "3"],
+     "error: trajectories must be between 0 and the number of trials (2), got 3"),
+    (["--from", "3,2.25", "--to", "3,0.25", "--picture", "f.pdf"], "error: "),
+    (["--from", "3,2.25", "--to", "3,0.25", "--model", "wheeled"], "error: Invalid value for '--model'"),
+])
+def test_fields_bad_input_is_one_line_and_exit_2(args, message):
+    result = runner.invoke(app, ["fields", "serpentine", *args])
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(message), lines
+    assert result.stdout == ""
