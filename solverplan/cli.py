@@ -1461,7 +1461,7 @@ def fields_command(
     model: Annotated[FieldRobot, typer.Option("--model", help="The robot: a single integrator, or inertial (acceleration cap, restitution, dead band).")] = FieldRobot.INERTIAL,
     trials: Annotated[int, typer.Option("--trials", min=1, max=10_000, metavar="N", help="Rollouts per scenario (at most 10,000).")] = 25,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the motion noise.")] = 0,
-    trajectories: Annotated[int, typer.Option("--trajectories", min=0, max=MAX_TRAJECTORIES, metavar="K", help="Trajectories kept per scenario (at most --trials).")] = 0,
+    trajectories: Annotated[int | None, typer.Option("--trajectories", min=0, max=MAX_TRAJECTORIES, metavar="K", help="Trajectories kept per scenario (at most --trials; default 0, or 5 with --picture).")] = None,
     arcs: Annotated[bool, typer.Option("--arcs", help="Arc fields in turning cells where they verify (the paper's linear/arc configuration).")] = False,
     fast: Annotated[float, typer.Option("--fast", min=1e-9, max=1e6, metavar="V", help="Speed of the unconstrained and reflection scenarios (length/s).")] = 1.5,
     slow: Annotated[float, typer.Option("--slow", min=1e-9, max=1e6, metavar="V", help="Speed of the constrained scenario (length/s).")] = 0.8,
@@ -1478,6 +1478,8 @@ def fields_command(
         _check_picture(picture)
         environment = _load(env, env_format)
         names = ("constrained", "unconstrained", "reflection") if scenario is FieldScenario.ALL else (scenario.value,)
+        if trajectories is None:  # a picture without runs shows empty corridors: draw a few by default
+            trajectories = min(5, trials) if picture is not None else 0
         answer = navigate_fields(environment, _xy(start, "--from"), _xy(goal, "--to"), scenarios=names,
                                  model=model.value, trials=trials, seed=seed, trajectories=trajectories, arcs=arcs,
                                  fast=fast, slow=slow)
