@@ -81,7 +81,7 @@ class OccupancyMap:
     @property
     def shape(self) -> tuple[int, int]:
         """(rows, columns) of the grid."""
-        return self.free.shape  # type: ignore[return-value]
+        return self.free.shape
 
     def cell_of(self, point: tuple[Fraction, Fraction]) -> tuple[int, int] | None:
         """The (row, column) of the cell holding a world point (metres), or ``None`` outside the image."""
