@@ -51,14 +51,17 @@ def _ring_area(ring: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def snap_rectilinear(ring: FloatRing, degrees: float) -> tuple[FloatRing, int]:
+def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) -> tuple[FloatRing, int]:
     """Make the edges of ``ring`` within ``degrees`` of an axis exactly axis-parallel.
 
     Consecutive near-horizontal edges form a run that gets one y (their length-weighted mean); likewise
     near-vertical runs get one x. A vertex between a horizontal and a vertical run moves to their
     crossing; a vertex between a snapped run and an oblique edge moves only across the run (the oblique
-    edge follows it). Returns the new ring (vertices of a run's interior are left collinear, for the
-    rounding step to remove) and the number of edges snapped.
+    edge follows it). An oblique edge no longer than ``max_chamfer`` between a horizontal and a vertical run
+    is a cut-off corner (traced maps have them where a wall's raggedness met the simplification): both its
+    ends move to the runs' crossing. Returns the new ring (vertices of a run's interior, and the two ends of
+    a collapsed corner, are left collinear or repeated for the rounding step to remove) and the number of
+    edges snapped or collapsed.
 
     >>> ring = np.array([[0, 0], [4, 0.05], [4.02, 3], [0, 3]], float)
     >>> snapped, count = snap_rectilinear(ring, 2.0)
@@ -108,7 +111,19 @@ def snap_rectilinear(ring: FloatRing, degrees: float) -> tuple[FloatRing, int]:
                 out[i, 1] = values[run_of[edge % n]]
             elif k == "v":
                 out[i, 0] = values[run_of[edge % n]]
-    return out, int((kind != "o").sum())
+    collapsed = 0
+    if max_chamfer > 0:
+        for i in np.flatnonzero((kind == "o") & (lengths <= max_chamfer)):
+            before, after = kind[i - 1], kind[(i + 1) % n]
+            if {before, after} != {"h", "v"}:
+                continue
+            horizontal = (i - 1) % n if before == "h" else (i + 1) % n
+            vertical = (i + 1) % n if before == "h" else (i - 1) % n
+            corner = (values[run_of[vertical]], values[run_of[horizontal]])
+            out[i] = corner
+            out[(i + 1) % n] = corner
+            collapsed += 1
+    return out, int((kind != "o").sum()) + collapsed
 
 
 def _to_grid(ring: FloatRing, quantum: Decimal) -> np.ndarray:
@@ -163,7 +178,8 @@ def finish_outline(
     min_hole_area
         Holes of smaller area (output units squared), before or after simplification, are dropped.
     rectilinear
-        Snap edges within this many degrees of an axis (0: no snapping).
+        Snap edges within this many degrees of an axis (0: no snapping); oblique edges up to 4 ×
+        ``simplify`` long between a horizontal and a vertical edge are collapsed into their corner.
     name
         The environment's name.
     dropped
@@ -214,7 +230,7 @@ def finish_outline(
     if rectilinear > 0:
         snapped: list[np.ndarray] = []
         for ring in rings:
-            candidate, count = snap_rectilinear(ring, rectilinear)
+            candidate, count = snap_rectilinear(ring, rectilinear, max_chamfer=4 * simplify)
             snapped.append(candidate)
             counts["rectilinear_edges"] += count
         trial = shapely.Polygon(snapped[0], snapped[1:])
