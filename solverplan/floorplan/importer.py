@@ -25,7 +25,7 @@ __all__ = ["FloorplanImport", "import_floorplan", "PlanFormat"]
 PlanFormat = Literal["ros", "dxf", "svg"]
 _SUFFIXES: dict[str, PlanFormat] = {".yaml": "ros", ".yml": "ros", ".dxf": "dxf", ".svg": "svg"}
 _ALGORITHMS = {
-    "ros": "scikit-image labelling, opening and marching squares; GEOS topology-preserving simplification",
+    "ros": "SciPy labelling and opening, scikit-image marching squares, GEOS topology-preserving simplification",
     "dxf": "ezdxf: closed polylines and chained lines; largest ring outer, contained rings holes",
     "svg": "svgelements: closed sub-paths, curves flattened; largest ring outer, contained rings holes",
 }

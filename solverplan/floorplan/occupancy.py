@@ -11,8 +11,8 @@ World coordinates are metres: the lower-left corner of the lower-left pixel is a
 image is turned by the origin's yaw about that corner (radians, counter-clockwise), x grows to the right
 and y **up** (image rows grow down).
 
-The free space is traced with scikit-image: connected components (4-connected free cells, so two cells
-meeting at a corner are not a passage), morphological opening against spurs, and marching squares
+The free space is traced with SciPy's connected components (4-connected free cells, so two cells meeting at
+a corner are not a passage) and morphological opening against spurs, then scikit-image's marching squares
 (``skimage.measure.find_contours``) at the level halfway between free and not free, which puts every
 axis-parallel wall on the cell edges.
 """
@@ -254,9 +254,9 @@ def _largest_label(labels: np.ndarray, count: int) -> int:
 
 def _component(free: np.ndarray, seed_cell: tuple[int, int] | None) -> tuple[np.ndarray, int, int]:
     """The free component at ``seed_cell`` (else the largest); returns (mask, other components, their cells)."""
-    from skimage.measure import label
+    from scipy import ndimage
 
-    labels, count = label(free, connectivity=1, return_num=True)
+    labels, count = ndimage.label(free)  # the default structure is the cross: 4-connected
     if count == 0:
         raise InputError("the map has no free space (every cell is occupied or unknown)")
     chosen = _largest_label(labels, count) if seed_cell is None else int(labels[seed_cell])
@@ -350,7 +350,7 @@ def trace_free_space(
     (24.0, 1, (Fraction(11, 2), Fraction(1, 2)))
     """
     from scipy import ndimage
-    from skimage.measure import find_contours, label
+    from skimage.measure import find_contours
 
     res = float(grid.resolution)
     cell_area = res * res
@@ -376,7 +376,8 @@ def trace_free_space(
     dropped: dict[str, Any] = {"components": components, "component_area": component_cells * cell_area}
     # speckle: obstacle blobs (8-connected, the complement of 4-connected free space) not touching the border
     padded = np.pad(mask, 1, constant_values=False)
-    blobs, count = label(~padded, connectivity=2, return_num=True)
+    eight = np.ones((3, 3), bool)
+    blobs, count = ndimage.label(~padded, structure=eight)
     sizes = np.bincount(blobs.ravel(), minlength=count + 1)
     outside = blobs[0, 0]
     small = np.flatnonzero((sizes * cell_area < min_hole_area) & (np.arange(count + 1) != outside))
@@ -389,7 +390,7 @@ def trace_free_space(
     if side > 1:
         opened = ndimage.binary_opening(padded, structure=np.ones((side, side), bool))
         cut = padded & ~opened
-        dropped["spurs"] = int(label(cut, connectivity=2, return_num=True)[1]) if cut.any() else 0
+        dropped["spurs"] = int(ndimage.label(cut, structure=eight)[1]) if cut.any() else 0
         if not opened.any():
             raise InputError(f"the free space is narrower than --spur-width {spur_width:g} m everywhere")
         core = opened[1:-1, 1:-1]

@@ -113,7 +113,7 @@ def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) 
                 out[i, 0] = values[run_of[edge % n]]
     collapsed = 0
     if max_chamfer > 0:
-        for i in np.flatnonzero((kind == "o") & (lengths <= max_chamfer)):
+        for i in np.flatnonzero((kind == "o") & (lengths <= max_chamfer)).tolist():
             before, after = kind[i - 1], kind[(i + 1) % n]
             if {before, after} != {"h", "v"}:
                 continue
@@ -259,9 +259,16 @@ def finish_outline(
         grid_rings.append(grid)
     step = Fraction(quantum)
     ox, oy = offset
+    # one common denominator: each coordinate is then one Fraction built from two integers, not a sum of
+    # products of Fractions (a traced map has 10⁴–10⁵ coordinates; this was a fifth of a large import's time)
+    denominator = math.lcm(ox.denominator, oy.denominator, step.denominator)
+    base_x = ox.numerator * (denominator // ox.denominator)
+    base_y = oy.numerator * (denominator // oy.denominator)
+    unit = step.numerator * (denominator // step.denominator)
 
     def exact(ring: np.ndarray) -> list[tuple[Fraction, Fraction]]:
-        return [(ox + int(x) * step, oy + int(y) * step) for x, y in ring]
+        return [(Fraction(base_x + x * unit, denominator), Fraction(base_y + y * unit, denominator))
+                for x, y in ring.tolist()]
 
     environment = Environment.from_coords(exact(grid_rings[0]), [exact(r) for r in grid_rings[1:]], name=name)
     return environment, counts
