@@ -264,13 +264,13 @@ def _component(free: np.ndarray, seed_cell: tuple[int, int] | None) -> tuple[np.
     return mask, count - 1, int(free.sum() - mask.sum())
 
 
-def _restore_corners(ring: np.ndarray) -> np.ndarray:
-    """Put back the corners marching squares cuts off.
+def _cut_corners(ring: np.ndarray) -> list[tuple[int, tuple[float, float]]]:
+    """The corners marching squares cut off a contour: (index of the diagonal step's first point, the corner).
 
     Contour points are midpoints of cell edges, so where an axis-parallel run of the contour meets a
     perpendicular one the contour cuts the corner by one diagonal half-cell step. Such a step (diagonal,
-    between perpendicular axis-parallel steps) is replaced by the cell corner; diagonal steps between
-    parallel steps or other diagonal steps are a slanted wall and stay (there the midpoints lie on it).
+    between perpendicular axis-parallel steps) stands for the cell corner; diagonal steps between parallel
+    steps or other diagonal steps are a slanted wall and stay (there the midpoints lie on it).
     """
     step = np.roll(ring, -1, axis=0) - ring  # step k goes from point k to point k + 1
     axis_x = np.isclose(step[:, 1], 0.0) & ~np.isclose(step[:, 0], 0.0)
@@ -279,21 +279,41 @@ def _restore_corners(ring: np.ndarray) -> np.ndarray:
     before_x, before_y = np.roll(axis_x, 1), np.roll(axis_y, 1)
     after_x, after_y = np.roll(axis_x, -1), np.roll(axis_y, -1)
     cut = diagonal & ((before_x & after_y) | (before_y & after_x))
-    if not cut.any():
-        return ring
     n = len(ring)
-    out = ring.copy()
-    drop = np.zeros(n, bool)
-    for k in np.flatnonzero(cut):
+    corners = []
+    for k in np.flatnonzero(cut).tolist():
         nxt = (k + 1) % n
-        if drop[k] or drop[nxt]:
-            continue
         if before_x[k]:  # arriving along x (y constant), leaving along y (x constant)
-            out[k] = (ring[nxt, 0], ring[k, 1])
+            corners.append((k, (float(ring[nxt, 0]), float(ring[k, 1]))))
         else:
-            out[k] = (ring[k, 0], ring[nxt, 1])
-        drop[nxt] = True
-    return out[~drop]
+            corners.append((k, (float(ring[k, 0]), float(ring[nxt, 1]))))
+    return corners
+
+
+def _restore_corners(rings: list[np.ndarray]) -> list[np.ndarray]:
+    """Put back the corners marching squares cuts off (:func:`_cut_corners`), except at saddles.
+
+    At a saddle (two free cells meeting at a corner, diagonally, in the same component) two chamfers stand
+    for the same corner point: restoring both would make the outline touch itself there, so a corner claimed
+    twice keeps its chamfers (the outline passes the saddle at half a cell's distance, as traced).
+    """
+    from collections import Counter
+
+    found = [_cut_corners(ring) for ring in rings]
+    claims = Counter(corner for corners in found for _, corner in corners)
+    out = []
+    for ring, corners in zip(rings, found):
+        n = len(ring)
+        restored = ring.copy()
+        drop = np.zeros(n, bool)
+        for k, corner in corners:
+            nxt = (k + 1) % n
+            if claims[corner] > 1 or drop[k] or drop[nxt]:
+                continue
+            restored[k] = corner
+            drop[nxt] = True
+        out.append(restored[~drop])
+    return out
 
 
 def trace_free_space(
@@ -407,11 +427,10 @@ def trace_free_space(
     contours = find_contours(padded.astype(np.float32), 0.5, fully_connected="low")
     rows = grid.shape[0]
     c, s = math.cos(grid.yaw), math.sin(grid.yaw)
+    traced = [contour[:-1] if np.allclose(contour[0], contour[-1]) else contour for contour in contours
+              if len(contour) >= 4]
     rings = []
-    for contour in contours:
-        if len(contour) < 4:
-            continue
-        ring = _restore_corners(contour[:-1] if np.allclose(contour[0], contour[-1]) else contour)
+    for ring in _restore_corners(traced):
         # padded (row, column) at cell centres → map frame (metres, y up): centre of cell (r, k) is (k + ½, rows − r − ½)
         u = (ring[:, 1] - 0.5) * res
         v = (rows + 0.5 - ring[:, 0]) * res

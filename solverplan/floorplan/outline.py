@@ -126,9 +126,17 @@ def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) 
     return out, int((kind != "o").sum()) + collapsed
 
 
-def _to_grid(ring: FloatRing, quantum: Decimal) -> np.ndarray:
-    """Integer grid coordinates (units of ``quantum``) of a float ring."""
-    return np.rint(ring / float(quantum)).astype(np.int64)
+def _valid_rings(rings: Sequence[np.ndarray]) -> bool:
+    """Do the rings make a valid environment: a valid polygon whose rings do not even touch one another?
+
+    (GEOS accepts a hole touching the outer ring at a point; the environment validator does not.)
+    """
+    import shapely
+
+    if not shapely.Polygon(rings[0], rings[1:]).is_valid:
+        return False
+    closed = [np.vstack((ring, ring[:1])) for ring in rings]
+    return bool(shapely.MultiLineString(closed).is_simple)
 
 
 def _clean_grid_ring(ring: np.ndarray) -> tuple[np.ndarray, int]:
@@ -211,41 +219,48 @@ def finish_outline(
     counts = {"small_holes": 0, "simplified_vertices": 0, "collinear_vertices": 0, "degenerate_holes": 0,
               "rectilinear_skipped": 0, "rectilinear_edges": 0}
     counts = {**counts, **(dropped or {})}
+    # Everything below works in units of the grid, on integer coordinates (held as floats, exact below 2⁵³):
+    # GEOS's robust predicates are then exact, so a vertex that simplification leaves on another edge — common,
+    # traced vertices lie on a half-cell lattice — is seen as the touch it is, not hidden by binary rounding.
+    unit = float(quantum)
+    unit_area = unit * unit
     kept = [h for h in holes if abs(_ring_area(h)) >= min_hole_area]
     counts["small_holes"] += len(holes) - len(kept)
-    polygon = shapely.Polygon(outer, kept)
+    grid_outer, grid_holes = np.rint(outer / unit), [np.rint(h / unit) for h in kept]
+    polygon = shapely.Polygon(grid_outer, grid_holes)
     if not polygon.is_valid:
         # a traced outline is valid by construction; a drawn one may not be: say where, as the validator would
-        raise InvalidEnvironment(f"the outline is not a valid polygon: {shapely.is_valid_reason(polygon)}")
+        reason = shapely.is_valid_reason(shapely.Polygon(outer, kept))
+        raise InvalidEnvironment(f"the outline is not a valid polygon: {reason}")
     if simplify > 0:
         before = len(polygon.exterior.coords) + sum(len(r.coords) for r in polygon.interiors)
-        polygon = polygon.simplify(simplify, preserve_topology=True)
+        polygon = polygon.simplify(simplify / unit, preserve_topology=True)
         after = len(polygon.exterior.coords) + sum(len(r.coords) for r in polygon.interiors)
         counts["simplified_vertices"] += before - after
-        small = [r for r in polygon.interiors if shapely.Polygon(r).area < min_hole_area]
+        small = [r for r in polygon.interiors if shapely.Polygon(r).area * unit_area < min_hole_area]
         if small:
             counts["small_holes"] += len(small)
-            polygon = shapely.Polygon(polygon.exterior, [r for r in polygon.interiors if shapely.Polygon(r).area >= min_hole_area])
+            polygon = shapely.Polygon(polygon.exterior,
+                                      [r for r in polygon.interiors if shapely.Polygon(r).area * unit_area >= min_hole_area])
     rings = [np.asarray(polygon.exterior.coords[:-1], float)] + [np.asarray(r.coords[:-1], float) for r in polygon.interiors]
     if rectilinear > 0:
         snapped: list[np.ndarray] = []
         for ring in rings:
-            candidate, count = snap_rectilinear(ring, rectilinear, max_chamfer=4 * simplify)
-            snapped.append(candidate)
+            candidate, count = snap_rectilinear(ring, rectilinear, max_chamfer=4 * simplify / unit)
+            snapped.append(np.rint(candidate))
             counts["rectilinear_edges"] += count
-        trial = shapely.Polygon(snapped[0], snapped[1:])
-        if trial.is_valid:
+        if _valid_rings(snapped):
             rings = snapped
         else:  # snap ring by ring, keeping each snap that leaves the whole valid
             for index, candidate in enumerate(snapped):
                 attempt = [*rings[:index], candidate, *rings[index + 1:]]
-                if shapely.Polygon(attempt[0], attempt[1:]).is_valid:
+                if _valid_rings(attempt):
                     rings = attempt
                 else:
                     counts["rectilinear_skipped"] += 1
     grid_rings: list[np.ndarray] = []
     for index, ring in enumerate(rings):
-        grid = _to_grid(ring, quantum)
+        grid = ring.astype(np.int64)
         repeated = np.all(grid == np.roll(grid, 1, axis=0), axis=1)
         counts["collinear_vertices"] += int(repeated.sum())
         grid = grid[~repeated]
