@@ -215,6 +215,12 @@ def import_floorplan(
     started = time.perf_counter()
     path = Path(source)
     kind = _format_of(path, fmt)
+    if output is not None:  # say so before the work, not after it
+        if str(output) == "-":
+            raise InputError("-o - is not available for import: the summary goes to stdout; name an environment file")
+        if Path(output).suffix.lower() not in (".json", ".geojson", ".wkt"):
+            raise MalformedFile(f"{output}: cannot tell the environment format from the extension "
+                                f"{Path(output).suffix!r}: use .json, .geojson or .wkt")
     for option, value in (("--simplify", simplify), ("--min-hole-area", min_hole_area), ("--spur-width", spur_width),
                           ("--rectilinear", rectilinear), ("--tolerance", tolerance)):
         _non_negative(option, value)

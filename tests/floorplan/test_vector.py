@@ -133,3 +133,25 @@ def test_not_svg_is_a_malformed_file(tmp_path):
     file.write_text("<svg><path d=")
     with pytest.raises(MalformedFile):
         import_floorplan(file)
+
+
+def test_a_skewed_drawing_is_snapped_and_simplified_on_request(tmp_path):
+    doc = ezdxf.new(units=6)
+    # a 6 × 4 room drawn a little off square, with a wobble on the floor
+    doc.modelspace().add_lwpolyline([(0, 0), (3, 0.004), (6, 0.02), (6.03, 4), (0, 4.01)], close=True)
+    file = tmp_path / "skewed.dxf"
+    doc.saveas(file)
+    exact = import_floorplan(file).environment_value
+    assert len(exact.outer) == 5 and exact.outer[1] == (F(3), F(4, 1000))
+    done = import_floorplan(file, simplify=0.01, rectilinear=2)
+    outer = done.environment_value.outer
+    assert len(outer) == 4 and done.dropped["simplified_vertices"] == 1
+    assert all(a[0] == b[0] or a[1] == b[1] for a, b in zip(outer, outer[1:] + outer[:1]))
+
+
+@pytest.mark.parametrize("output,message", [("-", "-o - is not available"), ("env.txt", "use .json, .geojson or .wkt")])
+def test_the_output_must_be_an_environment_file(tmp_path, output, message):
+    file = tmp_path / "plan.svg"
+    file.write_text(SVG)
+    with pytest.raises((InputError, MalformedFile), match=message):
+        import_floorplan(file, output=tmp_path / output if output != "-" else output)
