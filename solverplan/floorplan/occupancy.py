@@ -31,13 +31,10 @@ import numpy as np
 from solverplan.environment import Environment
 from solverplan.errors import InputError, MalformedFile
 from solverplan.floorplan.outline import finish_outline, grid_quantum
-from solverplan.limits import MAX_FILE_BYTES, quote
+from solverplan.limits import MAX_FILE_BYTES, MAX_PIXELS, quote
 
-__all__ = ["OccupancyMap", "read_occupancy_map", "trace_free_space", "MAX_PIXELS", "DEFAULT_FREE_THRESH",
+__all__ = ["OccupancyMap", "read_occupancy_map", "trace_free_space", "DEFAULT_FREE_THRESH",
            "DEFAULT_OCCUPIED_THRESH"]
-
-MAX_PIXELS = 100_000_000
-"""Largest occupancy image read (pixels): 10⁸ cells (a 10 km² site at 10 cm), about 1 GB of working arrays."""
 
 DEFAULT_OCCUPIED_THRESH = 0.65
 """``occupied_thresh`` when the YAML gives none (the value of ROS's map_saver)."""
@@ -192,7 +189,7 @@ def read_occupancy_map(source: str | Path) -> OccupancyMap:
     MalformedFile
         When the YAML is not a mapping, a key is missing or malformed, the thresholds are out of order
         (0 ≤ ``free_thresh`` < ``occupied_thresh`` ≤ 1), ``mode`` is unknown, or the image is missing,
-        unreadable or larger than :data:`MAX_PIXELS`.
+        unreadable or larger than :data:`solverplan.limits.MAX_PIXELS`.
 
     Examples
     --------

@@ -25,6 +25,7 @@ import numpy as np
 
 from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
+from solverplan.limits import MAX_VERTICES
 
 __all__ = ["finish_outline", "snap_rectilinear", "grid_quantum"]
 
@@ -285,5 +286,9 @@ def finish_outline(
         return [(Fraction(base_x + x * unit, denominator), Fraction(base_y + y * unit, denominator))
                 for x, y in ring.tolist()]
 
+    total = sum(map(len, grid_rings))
+    if total > MAX_VERTICES:
+        raise InvalidEnvironment(f"the outline has {total} vertices (an environment has at most {MAX_VERTICES}): "
+                                 "simplify more (--simplify METRES)")
     environment = Environment.from_coords(exact(grid_rings[0]), [exact(r) for r in grid_rings[1:]], name=name)
     return environment, counts
