@@ -328,21 +328,32 @@ def _area2(ring: Sequence[tuple[Decimal, Decimal]]) -> Decimal:
 def arrange_rings(rings: Sequence[ExactRing], source: str) -> tuple[ExactRing, list[ExactRing], dict[str, int]]:
     """The largest ring (by exact area) as the outer ring, the rings inside it as holes.
 
-    A ring inside a hole (an island) or outside the outer ring is dropped; so is a ring of zero area. Returns
-    (outer, holes, counts of ``nested``, ``outside`` and ``zero_area`` rings).
+    A ring inside a hole (an island) or outside the outer ring is dropped; so is a ring of zero area and a
+    ring drawn twice. Returns (outer, holes, counts of ``nested``, ``outside``, ``zero_area`` and
+    ``duplicates`` rings).
 
     >>> D = Decimal
     >>> square = lambda x, y, s: [(D(x), D(y)), (D(x + s), D(y)), (D(x + s), D(y + s)), (D(x), D(y + s))]
     >>> outer, holes, counts = arrange_rings([square(1, 1, 1), square(0, 0, 10), square(20, 0, 1)], "plan")
     >>> outer == square(0, 0, 10), len(holes), counts
-    (True, 1, {'nested': 0, 'outside': 1, 'zero_area': 0})
+    (True, 1, {'nested': 0, 'outside': 1, 'zero_area': 0, 'duplicates': 0})
     """
     import shapely
 
-    counts = {"nested": 0, "outside": 0, "zero_area": 0}
+    counts = {"nested": 0, "outside": 0, "zero_area": 0, "duplicates": 0}
     areas = [abs(_area2(r)) for r in rings]
     kept = [(a, r) for a, r in zip(areas, rings) if a > 0]
     counts["zero_area"] = len(rings) - len(kept)
+    seen: set[tuple] = set()
+    unique = []
+    for area, ring in kept:  # a wall drawn twice (either direction, any start) is one ring
+        key = tuple(sorted(ring))
+        if key in seen:
+            counts["duplicates"] += 1
+            continue
+        seen.add(key)
+        unique.append((area, ring))
+    kept = unique
     if not kept:
         raise MalformedFile(f"{source}: no closed outline found (closed polylines, loops of lines, or closed paths)")
     kept.sort(key=lambda item: -item[0])

@@ -38,6 +38,8 @@ def test_dxf_polylines_and_chained_lines_read_back_exactly_in_metres(tmp_path):
     space.add_line((100, 100), (200, 300), dxfattribs={"layer": "WALLS"})  # dangling: no loop
     space.add_lwpolyline([(0, 0), (99999, 0), (99999, 99999)], close=True, dxfattribs={"layer": "FURNITURE"})
     space.add_circle((7000, 3000), 300, dxfattribs={"layer": "WALLS"})
+    space.add_lwpolyline([(2000, 1750), (2000, 1000), (1000, 1000), (1000, 1750)], close=True,
+                         dxfattribs={"layer": "WALLS"})  # the first hole drawn again, backwards
     file = tmp_path / "plan.dxf"
     doc.saveas(file)
     done = import_floorplan(file, layer="walls", output=tmp_path / "plan.json")
@@ -50,6 +52,7 @@ def test_dxf_polylines_and_chained_lines_read_back_exactly_in_metres(tmp_path):
     assert load_environment(tmp_path / "plan.json") == got
     assert done.units == "m" and done.area == 12.5 * 8.25 - 0.75 - 0.25
     assert done.dropped["open_chains"] == 1 and done.dropped["other_layers"] == 1 and done.dropped["unsupported"] == 1
+    assert done.dropped["duplicates"] == 1
 
 
 def test_dxf_units_come_from_the_header_and_units_overrides_them(tmp_path):
