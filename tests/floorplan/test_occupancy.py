@@ -161,3 +161,21 @@ def test_the_grid_of_the_coordinates_is_a_short_decimal():
 
     assert grid_quantum(Decimal("0.025")) == Decimal("0.001")
     assert grid_quantum(Decimal("0.5")) == Decimal("0.01")
+
+
+def test_sixteen_bit_and_colour_images_read_like_their_grey_versions(tmp_path):
+    from PIL import Image
+
+    grey = np.full((8, 10), OCCUPIED, np.uint8)
+    grey[2:6, 2:8] = FREE
+    grey[3, 4] = UNKNOWN
+    plain = read_occupancy_map(write_map(tmp_path, grey, (0.0, 0.0), 1.0, name="grey"))
+    Image.fromarray(grey.astype(np.uint16) * 257).save(tmp_path / "deep.png")  # 16 bits, full scale 65535
+    (tmp_path / "deep.yaml").write_text("image: deep.png\nresolution: 1\norigin: [0, 0, 0]\n")
+    deep = read_occupancy_map(tmp_path / "deep.yaml")
+    Image.fromarray(np.stack([grey] * 3, axis=2)).save(tmp_path / "colour.png")
+    (tmp_path / "colour.yaml").write_text("image: colour.png\nresolution: 1\norigin: [0, 0, 0]\n")
+    colour = read_occupancy_map(tmp_path / "colour.yaml")
+    for other in (deep, colour):
+        assert np.array_equal(other.free, plain.free) and np.array_equal(other.occupied, plain.occupied)
+    assert plain.free.sum() == 23
