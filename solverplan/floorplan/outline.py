@@ -140,6 +140,21 @@ def _valid_rings(rings: Sequence[np.ndarray]) -> bool:
     return bool(shapely.MultiLineString(closed).is_simple)
 
 
+def _bad_rings(rings: Sequence[np.ndarray]) -> set[int]:
+    """Rings that are not simple, or that cross or touch another ring (an STR-tree finds the pairs)."""
+    import shapely
+
+    lines = [shapely.LinearRing(r) for r in rings]
+    bad = {i for i, line in enumerate(lines) if not line.is_simple}
+    if len(lines) > 1:
+        tree = shapely.STRtree(lines)
+        pairs = tree.query(lines, predicate="intersects")
+        for i, j in zip(*pairs.tolist()):
+            if i != j:
+                bad.update((i, j))
+    return bad
+
+
 def _clean_grid_ring(ring: np.ndarray) -> tuple[np.ndarray, int]:
     """Remove repeated and exactly collinear vertices (integer arithmetic); returns the ring and how many went."""
     removed = 0
@@ -250,15 +265,20 @@ def finish_outline(
             candidate, count = snap_rectilinear(ring, rectilinear, max_chamfer=4 * simplify / unit)
             snapped.append(np.rint(candidate))
             counts["rectilinear_edges"] += count
-        if _valid_rings(snapped):
-            rings = snapped
-        else:  # snap ring by ring, keeping each snap that leaves the whole valid
-            for index, candidate in enumerate(snapped):
-                attempt = [*rings[:index], candidate, *rings[index + 1:]]
-                if _valid_rings(attempt):
-                    rings = attempt
-                else:
-                    counts["rectilinear_skipped"] += 1
+        chosen = list(snapped)
+        reverted: set[int] = set()
+        while True:  # revert the snaps that make a ring cross or touch itself or another, until none does
+            bad = _bad_rings(chosen) - reverted
+            if not bad:
+                break
+            for index in bad:
+                chosen[index] = rings[index]
+            reverted |= bad
+        if _valid_rings(chosen):
+            rings = chosen
+            counts["rectilinear_skipped"] += len(reverted)
+        else:  # e.g. a hole snapped out of the outer ring: keep the outline as simplified
+            counts["rectilinear_skipped"] += len(rings)
     grid_rings: list[np.ndarray] = []
     for index, ring in enumerate(rings):
         grid = ring.astype(np.int64)
