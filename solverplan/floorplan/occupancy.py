@@ -390,7 +390,8 @@ def trace_free_space(
             kind = "occupied" if grid.occupied[seed_cell] else "unknown"
             raise InputError(f"no free space at the seed point {where}: its cell is {kind}")
     mask, components, component_cells = _component(grid.free, seed_cell)
-    dropped: dict[str, Any] = {"components": components, "component_area": component_cells * cell_area}
+    exact_cell_area = grid.resolution * grid.resolution  # areas reported from cell counts, without binary noise
+    dropped: dict[str, Any] = {"components": components, "component_area": float(component_cells * exact_cell_area)}
     # speckle: obstacle blobs (8-connected, the complement of 4-connected free space) not touching the border
     padded = np.pad(mask, 1, constant_values=False)
     eight = np.ones((3, 3), bool)
@@ -417,7 +418,7 @@ def trace_free_space(
                              f"{spur_width:g} m")
         core, split, split_cells = _component(core, keep_cell)
         dropped["components"] += split
-        dropped["component_area"] += split_cells * cell_area
+        dropped["component_area"] = float(Decimal(repr(dropped["component_area"])) + split_cells * exact_cell_area)
         padded = np.pad(core, 1, constant_values=False)
     else:
         dropped["spurs"] = 0

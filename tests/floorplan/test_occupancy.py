@@ -9,6 +9,7 @@ from decimal import Decimal
 import numpy as np
 import pytest
 import shapely
+import shapely.affinity
 
 from solverplan.environment import load_environment
 from solverplan.floorplan import import_floorplan, read_occupancy_map, snap_rectilinear
