@@ -5,14 +5,14 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT := demo-output
 
-.PHONY: demo test bench clean
+.PHONY: demo test docs bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
 $(VENV)/.installed: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet -e '.[test,docs]'
 	touch $@
 
 # The demo query: from the middle of the left room's floor to the right half of the right room's floor,
@@ -29,14 +29,25 @@ demo: $(VENV)/.installed
 	$(BIN)/solverplan verify $(OUT)/certificate.json --env $(DEMO_ENV) $(DEMO_QUERY) --format text
 	$(BIN)/solverplan simulate $(DEMO_ENV) $(OUT)/plan.json --trials 10000 --seed 1 --sampling endpoints --format text
 	$(BIN)/solverplan render $(DEMO_ENV) --plan $(OUT)/plan.json --trajectories 100 --edge-ids -o $(OUT)/plan.png
-	@echo "demo: wrote $(OUT)/plan.json, $(OUT)/certificate.json (verified) and $(OUT)/plan.png"
+	$(BIN)/solverplan report $(DEMO_ENV) --plan $(OUT)/plan.json --certificate $(OUT)/certificate.json -o $(OUT)/report.html
+	@echo "demo: wrote $(OUT)/plan.json, $(OUT)/certificate.json (verified), $(OUT)/plan.png and $(OUT)/report.html"
 
 test: $(VENV)/.installed
 	$(BIN)/python -m pytest -q
 	$(BIN)/python -m mypy
+	$(MAKE) --no-print-directory docs
+
+# The documentation site: docs/_build/html, with site/ pointing at it. Always a full build (-E, and the gallery
+# re-runs every example), so the pages show what this tree answers; warnings are errors.
+DOCS_OUT := docs/_build/html
+
+docs: $(VENV)/.installed
+	$(BIN)/python -m sphinx -b html -E -W --keep-going -q docs $(DOCS_OUT)
+	ln -sfn $(DOCS_OUT) site
+	@echo "docs: open site/index.html"
 
 bench: $(VENV)/.installed
 	$(BIN)/python benchmarks/bench_raycast.py
 
 clean:
-	rm -rf $(VENV) $(OUT) .pytest_cache .hypothesis .mypy_cache
+	rm -rf $(VENV) $(OUT) .pytest_cache .hypothesis .mypy_cache site docs/_build docs/generated docs/auto_examples docs/api.rst docs/tutorial/out

@@ -11,7 +11,7 @@ of the composed return map, verified by exact ray casts, with exact basins (see
 - ``"theorem1"`` (default for a strictly convex polygon without holes): the sequence e_0, …, e_{n−1}. For θ in
   Lemma 3's range (:func:`~solverplan.bounce.dynamics.lemma3_max_heading`) every start converges (Lemma 3,
   Theorem 1); outside it the cycle is still checked exactly and reported with its status —
-  ``not-contracting`` (|α| ≥ 1: the periodic orbit exists but repels), ``edge-order-broken`` (the orbit of
+  ``not-contracting`` (``|α|`` ≥ 1: the periodic orbit exists but repels), ``edge-order-broken`` (the orbit of
   t* does not visit the edges in CCW order), or ``found`` with a local guarantee (its basin) and the reason
   Lemma 3 does not apply.
 - ``"iterate"`` (default otherwise): Prop. 4 made constructive. Iterate f_θ from a start in floats, detect
@@ -138,7 +138,7 @@ class LimitCycle:
     points
         The contact points (fixed points of the return maps, one per stage), exact, with basins.
     contraction_exact, contraction
-        |α| of the exact return map (= Π C_k, Def. 12), and as a float.
+        ``|α|`` of the exact return map (= Π C_k, Def. 12), and as a float.
     scope
         What is proved to converge: ``every-start`` (Theorem 1 with Lemma 3's edge order, or
         :func:`~solverplan.bounce.controller.constant_controller`'s proof), ``start+basin`` (``start`` provably enters the basins, iterate

@@ -19,7 +19,7 @@ edges).
 - ``contraction`` (a): for a required tolerance ε, the cycle through E *once* (one period) with the smallest
   worst-case contraction Π C_k. With h in the state the one-period product is a DAG, so dynamic programming over
   it is exact: the answer is optimal among all one-period patrols of the class (``search-exhausted``, gap
-  |value − bound| ≈ 0 over that class). A second DP without the bound on h (H = number of segments, enough
+  ``|value − bound|`` ≈ 0 over that class). A second DP without the bound on h (H = number of segments, enough
   when no within-layer cycle contracts: shortest walks are then simple) bounds all classes; if a cycle between
   two required visits contracts, repeating it drives the per-period contraction to 0 and the bound is 0 —
   reported as ``bound_all_classes`` (a wider class than the claim's scope, so not a gap).
@@ -143,7 +143,7 @@ class Patrol(OnPartition):
     optimality
         How the objective's optimum is established (:class:`~solverplan.result.Optimality`): its method,
         bound and ``scope`` (the class of patrols it holds for: at most ``max_between`` intermediate bounces
-        between required visits; for ``contraction`` one period), with ``gap`` = |value − bound| over that
+        between required visits; for ``contraction`` one period), with ``gap`` = ``|value − bound|`` over that
         same scope (the bisection bracket's width for ``tolerance``).
     bound_all_classes, bound_all_classes_note
         A bound over a *wider* class (any number of intermediate bounces) for ``contraction`` (one-period

@@ -9,7 +9,8 @@ ids), :mod:`~solverplan.render.environment`, :mod:`~solverplan.render.partition`
 (explorations with discrete views), :mod:`~solverplan.render.wallfollow` (the wall-following robot's cuts and cut
 diagram),
 and :mod:`~solverplan.render.scenes`, whose :func:`scene` stacks the layers into a whole picture (what
-``solverplan render`` draws). Each ``draw_*`` layer takes an Axes and returns the artists it added; every
+``solverplan render`` draws). :mod:`~solverplan.render.html` writes self-contained HTML reports of answers (inline
+SVG with hover details; ``solverplan report``). Each ``draw_*`` layer takes an Axes and returns the artists it added; every
 artist has a ``gid`` that becomes its ``id`` in SVG output.
 
 >>> from solverplan.environment import Environment
