@@ -1156,7 +1156,7 @@ def import_command(
     layer: Annotated[str | None, typer.Option("--layer", metavar="NAME", help="DXF: read only this layer.", show_default=False)] = None,
     units: Annotated[str | None, typer.Option("--units", metavar="UNIT", help="DXF: drawing unit (m, cm, mm, in, ft, ..., unitless), overriding $INSUNITS.", show_default=False)] = None,
     scale: Annotated[str, typer.Option("--scale", metavar="S", help="SVG: metres per SVG user unit.")] = "1",
-    tolerance: Annotated[float, typer.Option("--tolerance", metavar="M", help="DXF/SVG: largest distance between a curve and its chords (output units).")] = 0.01,
+    tolerance: Annotated[float | None, typer.Option("--tolerance", metavar="M", help="DXF/SVG: largest distance between a curve and its chords (output units; default 0.01).", show_default=False)] = None,
     input_format: Annotated[PlanInputFormat | None, typer.Option("--input-format", help="ros, dxf or svg, when the extension does not say.", show_default=False)] = None,
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,

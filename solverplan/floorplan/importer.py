@@ -149,7 +149,7 @@ def import_floorplan(
     layer: str | None = None,
     units: str | None = None,
     scale: str | Decimal = "1",
-    tolerance: float = 0.01,
+    tolerance: float | None = None,
     name: str | None = None,
 ) -> FloorplanImport:
     """Read a floor plan into a valid environment: a ROS occupancy map, a DXF drawing or an SVG drawing.
@@ -182,7 +182,7 @@ def import_floorplan(
     scale
         SVG: output units (metres) per SVG user unit, an exact decimal.
     tolerance
-        DXF and SVG: largest distance between a curve and the chords replacing it (output units).
+        DXF and SVG: largest distance between a curve and the chords replacing it (output units); default 0.01.
     name
         The environment's name (default: the file's stem).
 
@@ -226,8 +226,11 @@ def import_floorplan(
         _non_negative(option, value)
     if not 0 <= rectilinear < 45:
         raise InputError(f"--rectilinear must be below 45 degrees (an edge is near one axis only), got {rectilinear:g}")
-    if tolerance <= 0:
+    if tolerance is not None and tolerance <= 0:
         raise InputError(f"--tolerance must be positive, got {tolerance:g}")
+    if kind == "ros" and tolerance is not None:
+        raise InputError("--tolerance applies to DXF and SVG drawings (a map's outline has no curves)")
+    chord_tolerance = 0.01 if tolerance is None else tolerance
     if kind != "ros" and (seed_point is not None or spur_width is not None):
         raise InputError("--seed-point and --spur-width apply to occupancy maps (.yaml)")
     if kind != "dxf" and (layer is not None or units is not None):
@@ -253,10 +256,10 @@ def import_floorplan(
         resolution, unit = str(grid.resolution), "m"
     else:
         if kind == "dxf":
-            rings, info = read_dxf_rings(path, layer=layer, units=units, tolerance=tolerance)
+            rings, info = read_dxf_rings(path, layer=layer, units=units, tolerance=chord_tolerance)
             unit = "m" if info["units"] != "unitless" else "unitless"
         else:
-            rings, info = read_svg_rings(path, scale=scale_value, tolerance=tolerance)
+            rings, info = read_svg_rings(path, scale=scale_value, tolerance=chord_tolerance)
             unit = "scaled"
         outer, holes, counts = arrange_rings(rings, str(path))
         dropped = {k: v for k, v in info.items() if k != "units"} | counts

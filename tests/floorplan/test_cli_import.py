@@ -95,6 +95,7 @@ def test_a_seed_point_off_the_free_space_exits_2(tmp_path, point, message):
 
 @pytest.mark.parametrize("options,message", [(["--layer", "A"], "--layer and --units apply to DXF"),
                                              (["--scale", "2"], "--scale applies to SVG"),
+                                             (["--tolerance", "0.1"], "--tolerance applies to DXF and SVG"),
                                              (["--simplify", "-1"], "--simplify must be a non-negative"),
                                              (["--rectilinear", "50"], "--rectilinear must be below 45")])
 def test_options_that_do_not_fit_exit_2(tmp_path, options, message):
