@@ -98,6 +98,23 @@ def _chain_loops(segments: Iterable[tuple[tuple[Decimal, Decimal], tuple[Decimal
     return loops, open_chains
 
 
+def _flattened(entities: Iterable[Any], inherited: str | None = None, depth: int = 0) -> Iterable[tuple[Any, str]]:
+    """Model-space entities with block references (INSERT) expanded into their transformed entities, each with
+    its layer (an entity of a block on layer 0 takes the layer of the reference, as CAD programs draw it)."""
+    from ezdxf.entities import Insert
+
+    for entity in entities:
+        layer = entity.dxf.get("layer", "0")
+        if layer == "0" and inherited is not None:
+            layer = inherited
+        if isinstance(entity, Insert):
+            if depth >= 16:  # a block nested 16 deep (or referencing itself): refuse rather than recurse forever
+                raise MalformedFile("block references nested more than 16 deep")
+            yield from _flattened(entity.virtual_entities(), layer, depth + 1)
+        else:
+            yield entity, layer
+
+
 def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | None = None,
                    tolerance: float = 0.01) -> tuple[list[ExactRing], dict[str, Any]]:
     """The closed outlines of a DXF drawing's model space, in metres (or as drawn when unitless).
@@ -118,7 +135,8 @@ def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | N
     -------
     (rings, info)
         Closed rings of exact decimals: every closed LWPOLYLINE and POLYLINE, and the loops that LINEs and
-        open polylines close when chained end to end. ``info`` says ``units`` (the unit used), and counts
+        open polylines close when chained end to end; block references (INSERT) are expanded (their
+        transformed coordinates are exact only where the transformation keeps them so). ``info`` says ``units`` (the unit used), and counts
         ``open_chains`` (chains that do not close), ``other_layers`` (entities skipped by ``layer``) and
         ``unsupported`` (entities of other kinds: circles, splines, text, ...).
 
@@ -170,8 +188,8 @@ def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | N
     segments: list[tuple[tuple[Decimal, Decimal], tuple[Decimal, Decimal]]] = []
     counts = {"open_chains": 0, "other_layers": 0, "unsupported": 0}
     wanted = layer.lower() if layer is not None else None
-    for entity in doc.modelspace():
-        if wanted is not None and entity.dxf.get("layer", "0").lower() != wanted:
+    for entity, entity_layer in _flattened(doc.modelspace()):
+        if wanted is not None and entity_layer.lower() != wanted:
             counts["other_layers"] += 1
             continue
         if isinstance(entity, Line):

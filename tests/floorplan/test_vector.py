@@ -158,3 +158,20 @@ def test_the_output_must_be_an_environment_file(tmp_path, output, message):
     file.write_text(SVG)
     with pytest.raises((InputError, MalformedFile), match=message):
         import_floorplan(file, output=tmp_path / output if output != "-" else output)
+
+
+def test_dxf_block_references_are_expanded_on_their_layer(tmp_path):
+    doc = ezdxf.new(units=6)
+    column = doc.blocks.new(name="COLUMN")
+    column.add_lwpolyline([(0, 0), (0.5, 0), (0.5, 0.5), (0, 0.5)], close=True)  # layer 0: takes the INSERT's
+    space = doc.modelspace()
+    space.add_lwpolyline([(0, 0), (10, 0), (10, 6), (0, 6)], close=True, dxfattribs={"layer": "WALLS"})
+    space.add_blockref("COLUMN", (2, 2), dxfattribs={"layer": "WALLS"})
+    space.add_blockref("COLUMN", (7, 3), dxfattribs={"layer": "WALLS"})
+    space.add_blockref("COLUMN", (4, 4), dxfattribs={"layer": "FURNITURE"})
+    file = tmp_path / "columns.dxf"
+    doc.saveas(file)
+    done = import_floorplan(file, layer="WALLS")
+    holes = sorted(_canonical(h) for h in done.environment_value.holes)
+    assert [h[0] for h in holes] == [(F(2), F(2)), (F(7), F(3))]
+    assert done.area == 60 - 2 * 0.25 and done.dropped["other_layers"] == 1
