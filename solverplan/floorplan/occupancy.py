@@ -44,6 +44,15 @@ DEFAULT_FREE_THRESH = 0.196
 
 _MODES = ("trinary", "scale", "raw")
 
+MIN_RESOLUTION = Decimal("1e-9")
+"""Finest map cell read (metres): a nanometre; finer cells make coordinates past the environment's resolution."""
+
+MAX_RESOLUTION = Decimal("1e6")
+"""Coarsest map cell read (metres): 1,000 km, so that a map's coordinates stay far inside the coordinate bound."""
+
+MAX_ORIGIN = Decimal("1e12")
+"""Largest origin coordinate (and yaw) read: a billion kilometres, far beyond any map."""
+
 
 @dataclass(frozen=True)
 class OccupancyMap:
@@ -93,21 +102,35 @@ class OccupancyMap:
         return rows - 1 - up, column
 
 
-def _number(data: dict, key: str, source: Path, default: float | None = None) -> float:
+def _yaml_number(value: object) -> Decimal | None:
+    """A YAML scalar as an exact decimal, or None if it is not a finite number.
+
+    PyYAML follows YAML 1.1, which reads ``1e-3`` (no dot) as a string where ROS's yaml-cpp reads a number:
+    numeric strings are numbers here too. Floats are taken at their shortest repr (the text written).
+    """
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, int):
+        return Decimal(value)
+    if isinstance(value, float):
+        return Decimal(repr(value)) if math.isfinite(value) else None
+    if isinstance(value, str) and len(value) <= 100:
+        try:
+            number = Decimal(value.strip())
+        except InvalidOperation:
+            return None
+        return number if number.is_finite() else None
+    return None
+
+
+def _number(data: dict, key: str, source: Path, default: float | None = None) -> Decimal:
     value = data.get(key, default)
     if value is None:
         raise MalformedFile(f"{source}: missing {key!r} (a ROS map YAML has image, resolution and origin)")
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+    number = _yaml_number(value)
+    if number is None:
         raise MalformedFile(f"{source}: {key} must be a number, got {quote(str(value))}")
-    return float(value)
-
-
-def _exact(value: float | int) -> Decimal:
-    """A YAML number as the decimal it was written as (PyYAML reads floats; their shortest repr is the text)."""
-    try:
-        return Decimal(repr(value)) if isinstance(value, float) else Decimal(int(value))
-    except InvalidOperation:  # pragma: no cover - finite floats always have a decimal repr
-        raise MalformedFile(f"not a finite number: {value!r}") from None
+    return number
 
 
 def _read_yaml(source: Path) -> dict:
@@ -209,15 +232,20 @@ def read_occupancy_map(source: str | Path) -> OccupancyMap:
         raise MalformedFile(f"{source}: missing 'image' (a ROS map YAML has image, resolution and origin)")
     resolution = _number(data, "resolution", source)
     if resolution <= 0:
-        raise MalformedFile(f"{source}: resolution must be positive (metres per cell), got {resolution:g}")
+        raise MalformedFile(f"{source}: resolution must be positive (metres per cell), got {resolution}")
+    if not MIN_RESOLUTION <= resolution <= MAX_RESOLUTION:
+        raise MalformedFile(f"{source}: resolution must be between {MIN_RESOLUTION:g} and {MAX_RESOLUTION:g} metres "
+                            f"per cell, got {resolution:g}")
     origin = data.get("origin")
     if not isinstance(origin, list) or len(origin) not in (2, 3):
         raise MalformedFile(f"{source}: origin must be [x, y, yaw] (metres, metres, radians), got {quote(str(origin))}")
-    for value in origin:
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise MalformedFile(f"{source}: origin must be three numbers [x, y, yaw], got {quote(str(origin))}")
-    occupied_thresh = _number(data, "occupied_thresh", source, DEFAULT_OCCUPIED_THRESH)
-    free_thresh = _number(data, "free_thresh", source, DEFAULT_FREE_THRESH)
+    origin_numbers = [_yaml_number(value) for value in origin]
+    if any(n is None or abs(n) > MAX_ORIGIN for n in origin_numbers):
+        raise MalformedFile(f"{source}: origin must be three numbers [x, y, yaw] of magnitude at most {MAX_ORIGIN:g}, "
+                            f"got {quote(str(origin))}")
+    exact_origin_numbers = [n for n in origin_numbers if n is not None]
+    occupied_thresh = float(_number(data, "occupied_thresh", source, DEFAULT_OCCUPIED_THRESH))
+    free_thresh = float(_number(data, "free_thresh", source, DEFAULT_FREE_THRESH))
     if not 0 <= free_thresh < occupied_thresh <= 1:
         raise MalformedFile(f"{source}: thresholds out of order: need 0 <= free_thresh < occupied_thresh <= 1, got "
                             f"free_thresh {free_thresh:g} and occupied_thresh {occupied_thresh:g}")
@@ -238,9 +266,9 @@ def read_occupancy_map(source: str | Path) -> OccupancyMap:
         probability = values / 255.0 if negate else (255.0 - values) / 255.0
         free = (probability < free_thresh) & opaque
         occupied = (probability > occupied_thresh) & opaque
-    yaw = float(origin[2]) if len(origin) == 3 else 0.0
-    exact_origin = (Fraction(_exact(origin[0])), Fraction(_exact(origin[1])))
-    return OccupancyMap(free, occupied, _exact(resolution), exact_origin, yaw, source, image)
+    yaw = float(exact_origin_numbers[2]) if len(exact_origin_numbers) == 3 else 0.0
+    exact_origin = (Fraction(exact_origin_numbers[0]), Fraction(exact_origin_numbers[1]))
+    return OccupancyMap(free, occupied, resolution, exact_origin, yaw, source, image)
 
 
 def _largest_label(labels: np.ndarray, count: int) -> int:

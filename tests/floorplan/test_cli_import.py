@@ -115,3 +115,22 @@ def test_an_empty_dxf_and_an_unknown_extension_exit_2(tmp_path):
     assert result.exit_code == 2 and "use .yaml (ROS map), .dxf or .svg" in result.stderr
     result = runner.invoke(app, ["import", str(tmp_path / "none.yaml"), "-o", str(tmp_path / "e.json")])
     assert result.exit_code == 2 and "no such file" in result.stderr
+
+
+@pytest.mark.parametrize("yaml,message", [
+    ("image: m.pgm\nresolution: 1e300\norigin: [0, 0, 0]\n", "resolution must be between 1e-9 and 1e+6 metres per cell, got 1e+300"),
+    ("image: m.pgm\nresolution: 0.1\norigin: [1e99, 0, 0]\n", "origin must be three numbers [x, y, yaw] of magnitude at most 1e+12"),
+    ("image: m.pgm\nresolution: .nan\norigin: [0, 0, 0]\n", "resolution must be a number, got 'nan'"),
+])
+def test_numbers_out_of_range_exit_2(tmp_path, yaml, message):
+    source = _map(tmp_path, yaml, ROOM)
+    result = runner.invoke(app, ["import", str(source), "-o", str(tmp_path / "e.json")])
+    assert result.exit_code == 2 and message in result.stderr, result.stderr
+
+
+def test_numbers_yaml_1_1_reads_as_strings_are_numbers(tmp_path):
+    source = _map(tmp_path, "image: m.pgm\nresolution: 1e-1\norigin: ['0.5', 2e0, 0]\n", ROOM)
+    result = runner.invoke(app, ["import", str(source), "-o", str(tmp_path / "e.json"), "--spur-width", "0"])
+    assert result.exit_code == 0, result.output
+    environment = load_environment(tmp_path / "e.json")
+    assert min(float(x) for x, _ in environment.outer) == 0.7 and float(environment.area) == pytest.approx(2.56)
