@@ -134,3 +134,14 @@ def test_numbers_yaml_1_1_reads_as_strings_are_numbers(tmp_path):
     assert result.exit_code == 0, result.output
     environment = load_environment(tmp_path / "e.json")
     assert min(float(x) for x, _ in environment.outer) == 0.7 and float(environment.area) == pytest.approx(2.56)
+
+
+def test_input_format_names_the_kind_when_the_extension_does_not(tmp_path):
+    source = _map(tmp_path, GOOD, ROOM)
+    renamed = tmp_path / "map.conf"
+    renamed.write_text(source.read_text())
+    result = runner.invoke(app, ["import", str(renamed), "-o", str(tmp_path / "e.json"), "--input-format", "ros"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["format"] == "ros"
+    result = runner.invoke(app, ["import", str(renamed), "-o", str(tmp_path / "e.json")])
+    assert result.exit_code == 2 and "cannot tell the floor plan's format" in result.stderr
