@@ -66,6 +66,10 @@ _EXPORTS: dict[str, str] = {
     "RobotModel": "solverplan.reflection.simulate",
     "navigate_fields": "solverplan.reflection.navigation",
     "FieldNavigation": "solverplan.reflection.navigation",
+    # floor plans in: ROS occupancy maps, DXF and SVG drawings
+    "import_floorplan": "solverplan.floorplan.importer",
+    "FloorplanImport": "solverplan.floorplan.importer",
+    "read_occupancy_map": "solverplan.floorplan.occupancy",
     # planners
     "find_plan": "solverplan.plan.search",
     "pareto_front": "solverplan.plan.search",
@@ -121,6 +125,8 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.errors import (InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile, SolverFailed,
                                    SolverplanError)
     from solverplan.explore.depth_first import Exploration, explore_depth_first
+    from solverplan.floorplan.importer import FloorplanImport, import_floorplan
+    from solverplan.floorplan.occupancy import read_occupancy_map
     from solverplan.interval import Interval
     from solverplan.plan.funnel import Funnel, funnel
     from solverplan.plan.localize import localize

@@ -25,6 +25,7 @@ __all__ = [
     "MAX_TRAJECTORIES",
     "MAX_GENERATED_VERTICES",
     "MAX_ROOMS",
+    "MAX_PIXELS",
     "MAX_SEED",
     "MAX_QUOTED_CHARS",
     "quote",
@@ -77,6 +78,9 @@ MAX_TRIALS = 100_000_000
 
 MAX_TRAJECTORIES = 100_000
 """Most trajectories drawn in one picture (``render --trajectories``)."""
+
+MAX_PIXELS = 100_000_000
+"""Largest occupancy image ``import`` reads (pixels): 10⁸ cells (10 km² at 10 cm), about 1 GB of working arrays."""
 
 MAX_GENERATED_VERTICES = 10_000
 """Most vertices ``generate`` is asked for (``--n``, ``--hole-vertices``, ``--width``, ``--height``): a

@@ -25,6 +25,7 @@ LAYERS = {
     "environment": 2,
     "result": 3,
     "geometry": 3,
+    "floorplan": 3.5,  # floor plans in (ROS maps, DXF, SVG): they make environments (2) and answer like results (3)
     "models": 3,  # the shipped environments by name: they load through environment (2)
     "bounce": 4,
     "rectilinear": 4,

@@ -1,0 +1,474 @@
+"""ROS ``map_server`` occupancy maps: the YAML description, the image, and the free space traced out of them.
+
+A map is a YAML mapping (``image``, ``resolution``, ``origin``, ``negate``, ``occupied_thresh``,
+``free_thresh``, ``mode``) next to a PGM or PNG image. A pixel of value v (0–255; colour pixels are the
+mean of their channels) has occupancy p = (255 − v) / 255, or v / 255 with ``negate: 1``; it is **free**
+when p < ``free_thresh``, occupied when p > ``occupied_thresh`` and unknown in between — and unknown is
+never free. ``mode: raw`` reads v itself as the occupancy in percent (0 free, 100 occupied, above 100
+unknown), free when v < 100 · ``free_thresh``. A (partly) transparent pixel is unknown.
+
+World coordinates are metres: the lower-left corner of the lower-left pixel is at ``origin`` (x, y), the
+image is turned by the origin's yaw about that corner (radians, counter-clockwise), x grows to the right
+and y **up** (image rows grow down).
+
+The free space is traced with SciPy's connected components (4-connected free cells, so two cells meeting at
+a corner are not a passage) and morphological opening against spurs, then scikit-image's marching squares
+(``skimage.measure.find_contours``) at the level halfway between free and not free, which puts every
+axis-parallel wall on the cell edges.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from solverplan.environment import Environment
+from solverplan.errors import InputError, MalformedFile
+from solverplan.floorplan.outline import finish_outline, grid_quantum
+from solverplan.limits import MAX_FILE_BYTES, MAX_PIXELS, quote
+
+__all__ = ["OccupancyMap", "read_occupancy_map", "trace_free_space", "DEFAULT_FREE_THRESH",
+           "DEFAULT_OCCUPIED_THRESH"]
+
+DEFAULT_OCCUPIED_THRESH = 0.65
+"""``occupied_thresh`` when the YAML gives none (the value of ROS's map_saver)."""
+
+DEFAULT_FREE_THRESH = 0.196
+"""``free_thresh`` when the YAML gives none (the value of ROS's map_saver)."""
+
+_MODES = ("trinary", "scale", "raw")
+
+MIN_RESOLUTION = Decimal("1e-9")
+"""Finest map cell read (metres): a nanometre; finer cells make coordinates past the environment's resolution."""
+
+MAX_RESOLUTION = Decimal("1e6")
+"""Coarsest map cell read (metres): 1,000 km, so that a map's coordinates stay far inside the coordinate bound."""
+
+MAX_ORIGIN = Decimal("1e12")
+"""Largest origin coordinate (and yaw) read: a billion kilometres, far beyond any map."""
+
+
+@dataclass(frozen=True)
+class OccupancyMap:
+    """An occupancy grid read from a ROS map.
+
+    Attributes
+    ----------
+    free
+        Boolean array, rows top to bottom as in the image: the free cells.
+    occupied
+        Boolean array: the occupied cells (neither free nor occupied is unknown).
+    resolution
+        Metres per cell, exact as written in the YAML.
+    origin
+        World coordinates (metres, exact) of the lower-left corner of the lower-left cell.
+    yaw
+        Rotation of the image about ``origin`` (radians, counter-clockwise).
+    source
+        The YAML file.
+    image
+        The image file.
+    """
+
+    free: np.ndarray
+    occupied: np.ndarray
+    resolution: Decimal
+    origin: tuple[Fraction, Fraction]
+    yaw: float
+    source: Path
+    image: Path
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(rows, columns) of the grid."""
+        return self.free.shape
+
+    def cell_of(self, point: tuple[Fraction, Fraction]) -> tuple[int, int] | None:
+        """The (row, column) of the cell holding a world point (metres), or ``None`` outside the image."""
+        dx, dy = float(point[0] - self.origin[0]), float(point[1] - self.origin[1])
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        u, v = c * dx + s * dy, -s * dx + c * dy  # undo the yaw
+        res = float(self.resolution)
+        column, up = math.floor(u / res), math.floor(v / res)
+        rows, columns = self.shape
+        if not (0 <= column < columns and 0 <= up < rows):
+            return None
+        return rows - 1 - up, column
+
+
+def _yaml_number(value: object) -> Decimal | None:
+    """A YAML scalar as an exact decimal, or None if it is not a finite number.
+
+    PyYAML follows YAML 1.1, which reads ``1e-3`` (no dot) as a string where ROS's yaml-cpp reads a number:
+    numeric strings are numbers here too. Floats are taken at their shortest repr (the text written).
+    """
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, int):
+        return Decimal(value)
+    if isinstance(value, float):
+        return Decimal(repr(value)) if math.isfinite(value) else None
+    if isinstance(value, str) and len(value) <= 100:
+        try:
+            number = Decimal(value.strip())
+        except InvalidOperation:
+            return None
+        return number if number.is_finite() else None
+    return None
+
+
+def _number(data: dict, key: str, source: Path, default: float | None = None) -> Decimal:
+    value = data.get(key, default)
+    if value is None:
+        raise MalformedFile(f"{source}: missing {key!r} (a ROS map YAML has image, resolution and origin)")
+    number = _yaml_number(value)
+    if number is None:
+        raise MalformedFile(f"{source}: {key} must be a number, got {quote(str(value))}")
+    return number
+
+
+def _read_yaml(source: Path) -> dict:
+    import yaml
+
+    try:
+        size = source.stat().st_size
+    except FileNotFoundError:
+        raise MalformedFile(f"{source}: no such file") from None
+    except OSError as exc:
+        raise MalformedFile(f"{source}: cannot read ({exc.__class__.__name__})") from None
+    if size > MAX_FILE_BYTES:
+        raise MalformedFile(f"{source}: file is {size} bytes (at most {MAX_FILE_BYTES})")
+    try:
+        data = yaml.safe_load(source.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError) as exc:
+        raise MalformedFile(f"{source}: cannot read ({exc.__class__.__name__})") from None
+    except yaml.YAMLError as exc:
+        where = getattr(exc, "problem_mark", None)
+        at = f" at line {where.line + 1}" if where is not None else ""
+        raise MalformedFile(f"{source}: not valid YAML{at}") from None
+    if not isinstance(data, dict):
+        kind = "empty" if data is None else type(data).__name__
+        raise MalformedFile(f"{source}: not a ROS map: expected a YAML mapping with image, resolution and origin, "
+                            f"got {kind}")
+    return data
+
+
+def _read_image(path: Path, source: Path) -> tuple[np.ndarray, np.ndarray]:
+    """(value 0–255 as floats, opaque mask) of the image; colour averaged over channels as map_server does."""
+    from PIL import Image, UnidentifiedImageError
+
+    if not path.is_file():
+        raise MalformedFile(f"{source}: image {path} does not exist")
+    Image.MAX_IMAGE_PIXELS = None  # our own bound below says it in one line instead of a warning
+    try:
+        with Image.open(path) as image:
+            width, height = image.size
+            if width * height > MAX_PIXELS:
+                raise MalformedFile(f"{path}: image is {width} × {height} pixels (at most {MAX_PIXELS})")
+            image.load()
+            mode = image.mode
+            if mode in ("I;16", "I;16B", "I;16L", "I"):
+                values = np.asarray(image, dtype=np.float64) * (255.0 / 65535.0)  # 16-bit PGM: full scale 65535
+                opaque = np.ones(values.shape, bool)
+            else:
+                has_alpha = mode in ("LA", "RGBA", "PA") or (mode == "P" and "transparency" in image.info)
+                converted = image.convert("RGBA" if has_alpha else ("RGB" if mode not in ("L", "1") else "L"))
+                pixels = np.asarray(converted)
+                if pixels.ndim == 2:
+                    values, opaque = pixels.astype(np.float64), np.ones(pixels.shape, bool)
+                else:
+                    values = pixels[..., :3].astype(np.float64).mean(axis=2)
+                    opaque = pixels[..., 3] == 255 if has_alpha else np.ones(values.shape, bool)
+    except MalformedFile:
+        raise
+    except (UnidentifiedImageError, OSError, ValueError, SyntaxError) as exc:
+        raise MalformedFile(f"{path}: cannot read the image ({exc.__class__.__name__}: {str(exc)[:80]})") from None
+    if values.size == 0:
+        raise MalformedFile(f"{path}: the image is empty")
+    return values, opaque
+
+
+def read_occupancy_map(source: str | Path) -> OccupancyMap:
+    """Read a ROS ``map_server`` map: the YAML file and the image it names.
+
+    Parameters
+    ----------
+    source
+        The YAML file; its ``image`` is relative to the YAML's folder unless absolute.
+
+    Returns
+    -------
+    OccupancyMap
+        Free and occupied cells, resolution (metres per cell) and origin (metres).
+
+    Raises
+    ------
+    MalformedFile
+        When the YAML is not a mapping, a key is missing or malformed, the thresholds are out of order
+        (0 ≤ ``free_thresh`` < ``occupied_thresh`` ≤ 1), ``mode`` is unknown, or the image is missing,
+        unreadable or larger than :data:`solverplan.limits.MAX_PIXELS`.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from PIL import Image
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> Image.fromarray(np.array([[0, 254, 254], [0, 254, 205]], np.uint8)).save(folder / "m.pgm")
+    >>> _ = (folder / "m.yaml").write_text("image: m.pgm\\nresolution: 0.5\\norigin: [-1.0, 2.0, 0.0]\\n")
+    >>> grid = read_occupancy_map(folder / "m.yaml")
+    >>> grid.free.astype(int).tolist(), grid.occupied.astype(int).tolist(), grid.origin
+    ([[0, 1, 1], [0, 1, 0]], [[1, 0, 0], [1, 0, 0]], (Fraction(-1, 1), Fraction(2, 1)))
+    """
+    source = Path(source)
+    data = _read_yaml(source)
+    image_name = data.get("image")
+    if not isinstance(image_name, str) or not image_name.strip():
+        raise MalformedFile(f"{source}: missing 'image' (a ROS map YAML has image, resolution and origin)")
+    resolution = _number(data, "resolution", source)
+    if resolution <= 0:
+        raise MalformedFile(f"{source}: resolution must be positive (metres per cell), got {resolution}")
+    if not MIN_RESOLUTION <= resolution <= MAX_RESOLUTION:
+        raise MalformedFile(f"{source}: resolution must be between {MIN_RESOLUTION:g} and {MAX_RESOLUTION:g} metres "
+                            f"per cell, got {resolution:g}")
+    origin = data.get("origin")
+    if not isinstance(origin, list) or len(origin) not in (2, 3):
+        raise MalformedFile(f"{source}: origin must be [x, y, yaw] (metres, metres, radians), got {quote(str(origin))}")
+    origin_numbers = [_yaml_number(value) for value in origin]
+    if any(n is None or abs(n) > MAX_ORIGIN for n in origin_numbers):
+        raise MalformedFile(f"{source}: origin must be three numbers [x, y, yaw] of magnitude at most {MAX_ORIGIN:g}, "
+                            f"got {quote(str(origin))}")
+    exact_origin_numbers = [n for n in origin_numbers if n is not None]
+    occupied_thresh = float(_number(data, "occupied_thresh", source, DEFAULT_OCCUPIED_THRESH))
+    free_thresh = float(_number(data, "free_thresh", source, DEFAULT_FREE_THRESH))
+    if not 0 <= free_thresh < occupied_thresh <= 1:
+        raise MalformedFile(f"{source}: thresholds out of order: need 0 <= free_thresh < occupied_thresh <= 1, got "
+                            f"free_thresh {free_thresh:g} and occupied_thresh {occupied_thresh:g}")
+    negate = data.get("negate", 0)
+    if negate not in (0, 1) or isinstance(negate, float):
+        raise MalformedFile(f"{source}: negate must be 0 or 1, got {quote(str(negate))}")
+    mode = data.get("mode", "trinary")
+    if mode not in _MODES:
+        raise MalformedFile(f"{source}: unknown mode {quote(str(mode))}: use trinary, scale or raw")
+    image = Path(image_name)
+    if not image.is_absolute():
+        image = source.parent / image
+    values, opaque = _read_image(image, source)
+    if mode == "raw":
+        free = (values < 100.0 * free_thresh) & opaque
+        occupied = (values > 100.0 * occupied_thresh) & (values <= 100.0) & opaque
+    else:
+        probability = values / 255.0 if negate else (255.0 - values) / 255.0
+        free = (probability < free_thresh) & opaque
+        occupied = (probability > occupied_thresh) & opaque
+    yaw = float(exact_origin_numbers[2]) if len(exact_origin_numbers) == 3 else 0.0
+    exact_origin = (Fraction(exact_origin_numbers[0]), Fraction(exact_origin_numbers[1]))
+    return OccupancyMap(free, occupied, resolution, exact_origin, yaw, source, image)
+
+
+def _largest_label(labels: np.ndarray, count: int) -> int:
+    sizes = np.bincount(labels.ravel(), minlength=count + 1)
+    sizes[0] = 0
+    return int(np.argmax(sizes))
+
+
+def _component(free: np.ndarray, seed_cell: tuple[int, int] | None) -> tuple[np.ndarray, int, int]:
+    """The free component at ``seed_cell`` (else the largest); returns (mask, other components, their cells)."""
+    from scipy import ndimage
+
+    labels, count = ndimage.label(free)  # the default structure is the cross: 4-connected
+    if count == 0:
+        raise InputError("the map has no free space (every cell is occupied or unknown)")
+    chosen = _largest_label(labels, count) if seed_cell is None else int(labels[seed_cell])
+    mask = labels == chosen
+    return mask, count - 1, int(free.sum() - mask.sum())
+
+
+def _cut_corners(ring: np.ndarray) -> list[tuple[int, tuple[float, float]]]:
+    """The corners marching squares cut off a contour: (index of the diagonal step's first point, the corner).
+
+    Contour points are midpoints of cell edges, so where an axis-parallel run of the contour meets a
+    perpendicular one the contour cuts the corner by one diagonal half-cell step. Such a step (diagonal,
+    between perpendicular axis-parallel steps) stands for the cell corner; diagonal steps between parallel
+    steps or other diagonal steps are a slanted wall and stay (there the midpoints lie on it).
+    """
+    step = np.roll(ring, -1, axis=0) - ring  # step k goes from point k to point k + 1
+    axis_x = np.isclose(step[:, 1], 0.0) & ~np.isclose(step[:, 0], 0.0)
+    axis_y = np.isclose(step[:, 0], 0.0) & ~np.isclose(step[:, 1], 0.0)
+    diagonal = ~(axis_x | axis_y)
+    before_x, before_y = np.roll(axis_x, 1), np.roll(axis_y, 1)
+    after_x, after_y = np.roll(axis_x, -1), np.roll(axis_y, -1)
+    cut = diagonal & ((before_x & after_y) | (before_y & after_x))
+    n = len(ring)
+    corners = []
+    for k in np.flatnonzero(cut).tolist():
+        nxt = (k + 1) % n
+        if before_x[k]:  # arriving along x (y constant), leaving along y (x constant)
+            corners.append((k, (float(ring[nxt, 0]), float(ring[k, 1]))))
+        else:
+            corners.append((k, (float(ring[k, 0]), float(ring[nxt, 1]))))
+    return corners
+
+
+def _restore_corners(rings: list[np.ndarray]) -> list[np.ndarray]:
+    """Put back the corners marching squares cuts off (:func:`_cut_corners`), except at saddles.
+
+    At a saddle (two free cells meeting at a corner, diagonally, in the same component) two chamfers stand
+    for the same corner point: restoring both would make the outline touch itself there, so a corner claimed
+    twice keeps its chamfers (the outline passes the saddle at half a cell's distance, as traced).
+    """
+    from collections import Counter
+
+    found = [_cut_corners(ring) for ring in rings]
+    claims = Counter(corner for corners in found for _, corner in corners)
+    out = []
+    for ring, corners in zip(rings, found):
+        n = len(ring)
+        restored = ring.copy()
+        drop = np.zeros(n, bool)
+        for k, corner in corners:
+            nxt = (k + 1) % n
+            if claims[corner] > 1 or drop[k] or drop[nxt]:
+                continue
+            restored[k] = corner
+            drop[nxt] = True
+        out.append(restored[~drop])
+    return out
+
+
+def trace_free_space(
+    grid: OccupancyMap,
+    *,
+    seed_point: tuple[Fraction, Fraction] | None = None,
+    min_hole_area: float | None = None,
+    spur_width: float | None = None,
+    simplify: float | None = None,
+    rectilinear: float = 0.0,
+) -> tuple[Environment, dict[str, Any]]:
+    """The free-space component of an occupancy map as a valid environment in world coordinates (metres).
+
+    Parameters
+    ----------
+    grid
+        The map (:func:`read_occupancy_map`).
+    seed_point
+        A world point (metres) in the component to keep; ``None`` keeps the largest component.
+    min_hole_area
+        Obstacles inside the free space smaller than this (m²) are speckle and removed, in the raster and
+        again after simplification; ``None``: 9 cells (9 × resolution²).
+    spur_width
+        Free protrusions narrower than this (metres) are removed by a morphological opening with a square
+        of side ``spur_width`` + one cell; ``None``: 2 cells; 0: none removed.
+    simplify
+        Topology-preserving simplification tolerance (metres); ``None``: half a cell (more would turn a
+        2 × 2-cell obstacle into a diamond); 0: no simplification.
+    rectilinear
+        Snap edges within this many degrees of an axis (0: no snapping).
+
+    Returns
+    -------
+    (Environment, dict)
+        The environment (outer ring and holes, exact decimals on a grid of
+        :func:`~solverplan.floorplan.outline.grid_quantum` of the resolution) and the counts of what was
+        dropped: ``components`` (other free components) and ``component_area`` (their area, m²),
+        ``speckle`` (obstacle blobs filled), ``spurs`` (free protrusions cut), then those of
+        :func:`~solverplan.floorplan.outline.finish_outline`.
+
+    Raises
+    ------
+    InputError
+        When the map has no free space, the seed point is outside the image or not on a free cell.
+    InvalidEnvironment
+        When the traced outline is not a valid environment.
+
+    Examples
+    --------
+    >>> cells = np.zeros((12, 12), bool); cells[1:11, 1:11] = True; cells[5:7, 5:7] = False
+    >>> grid = OccupancyMap(cells, ~cells, Decimal("0.5"), (Fraction(0), Fraction(0)), 0.0, Path("m.yaml"), Path("m.pgm"))
+    >>> env, dropped = trace_free_space(grid, min_hole_area=0.5)
+    >>> float(env.area), len(env.holes), env.outer[0]
+    (24.0, 1, (Fraction(11, 2), Fraction(1, 2)))
+    """
+    from scipy import ndimage
+    from skimage.measure import find_contours
+
+    res = float(grid.resolution)
+    cell_area = res * res
+    min_hole_area = 9 * cell_area if min_hole_area is None else float(min_hole_area)
+    spur_width = 2 * res if spur_width is None else float(spur_width)
+    simplify = res / 2 if simplify is None else float(simplify)
+    for name, value in (("--min-hole-area", min_hole_area), ("--spur-width", spur_width), ("--simplify", simplify),
+                        ("--rectilinear", rectilinear)):
+        if not math.isfinite(value) or value < 0:
+            raise InputError(f"{name} must be a non-negative number, got {value:g}")
+    if rectilinear >= 45:
+        raise InputError(f"--rectilinear must be below 45 degrees (an edge is near one axis only), got {rectilinear:g}")
+    seed_cell = None
+    if seed_point is not None:
+        seed_cell = grid.cell_of(seed_point)
+        where = f"({float(seed_point[0]):g}, {float(seed_point[1]):g})"
+        if seed_cell is None:
+            raise InputError(f"--seed-point {where} is outside the map")
+        if not grid.free[seed_cell]:
+            kind = "occupied" if grid.occupied[seed_cell] else "unknown"
+            raise InputError(f"no free space at the seed point {where}: its cell is {kind}")
+    mask, components, component_cells = _component(grid.free, seed_cell)
+    exact_cell_area = grid.resolution * grid.resolution  # areas reported from cell counts, without binary noise
+    dropped: dict[str, Any] = {"components": components, "component_area": float(component_cells * exact_cell_area)}
+    # speckle: obstacle blobs (8-connected, the complement of 4-connected free space) not touching the border
+    padded = np.pad(mask, 1, constant_values=False)
+    eight = np.ones((3, 3), bool)
+    blobs, count = ndimage.label(~padded, structure=eight)
+    sizes = np.bincount(blobs.ravel(), minlength=count + 1)
+    outside = blobs[0, 0]
+    small = np.flatnonzero((sizes * cell_area < min_hole_area) & (np.arange(count + 1) != outside))
+    small = small[small != 0]
+    if small.size:
+        padded |= np.isin(blobs, small)
+    dropped["speckle"] = int(small.size)
+    # spurs: free protrusions narrower than the opening's square; the opening may split the component
+    side = int(round(spur_width / res)) + 1 if spur_width > 0 else 1
+    if side > 1:
+        opened = ndimage.binary_opening(padded, structure=np.ones((side, side), bool))
+        cut = padded & ~opened
+        dropped["spurs"] = int(ndimage.label(cut, structure=eight)[1]) if cut.any() else 0
+        if not opened.any():
+            raise InputError(f"the free space is narrower than --spur-width {spur_width:g} m everywhere")
+        core = opened[1:-1, 1:-1]
+        keep_cell = seed_cell if seed_cell is not None and core[seed_cell] else None
+        if seed_cell is not None and keep_cell is None:
+            raise InputError(f"no free space at the seed point: it lies in a spur narrower than --spur-width "
+                             f"{spur_width:g} m")
+        core, split, split_cells = _component(core, keep_cell)
+        dropped["components"] += split
+        dropped["component_area"] = float(Decimal(repr(dropped["component_area"])) + split_cells * exact_cell_area)
+        padded = np.pad(core, 1, constant_values=False)
+    else:
+        dropped["spurs"] = 0
+    contours = find_contours(padded.astype(np.float32), 0.5, fully_connected="low")
+    rows = grid.shape[0]
+    c, s = math.cos(grid.yaw), math.sin(grid.yaw)
+    traced = [contour[:-1] if np.allclose(contour[0], contour[-1]) else contour for contour in contours
+              if len(contour) >= 4]
+    rings = []
+    for ring in _restore_corners(traced):
+        # padded (row, column) at cell centres → map frame (metres, y up): centre of cell (r, k) is (k + ½, rows − r − ½)
+        u = (ring[:, 1] - 0.5) * res
+        v = (rows + 0.5 - ring[:, 0]) * res
+        rings.append(np.column_stack((c * u - s * v, s * u + c * v)))
+    if not rings:
+        raise InputError("the free space traced to nothing (the component is too small)")
+    areas = [abs(0.5 * float(np.dot(r[:, 0], np.roll(r[:, 1], -1)) - np.dot(np.roll(r[:, 0], -1), r[:, 1])))
+             for r in rings]
+    outer_index = int(np.argmax(areas))
+    outer = rings[outer_index]
+    holes = [r for k, r in enumerate(rings) if k != outer_index]
+    quantum = grid_quantum(grid.resolution)
+    return finish_outline(outer, holes, quantum=quantum, offset=grid.origin, simplify=simplify,
+                          min_hole_area=min_hole_area, rectilinear=rectilinear, name=grid.source.stem,
+                          dropped=dropped)

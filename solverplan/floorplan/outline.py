@@ -1,0 +1,314 @@
+"""From a traced or drawn outline to a valid environment: holes, simplification, snapping, exact rounding.
+
+Every reader of :mod:`solverplan.floorplan` ends here. A traced outline (floats, in metres) goes through
+
+1. dropping holes smaller than ``min_hole_area`` (speckle that survived the raster stage),
+2. topology-preserving simplification with a distance tolerance (GEOS's ``TopologyPreservingSimplifier``
+   through :meth:`shapely.Polygon.simplify`: rings never cross, holes never leave the outer ring),
+3. optional rectilinear snapping of the edges within a given angle of an axis,
+4. rounding every coordinate to a decimal grid (``quantum``), so that the environment written is made of
+   short terminating decimals and reads back exactly; exactly collinear and repeated vertices are removed
+   in integer arithmetic on that grid,
+5. validation by :meth:`solverplan.environment.Environment.from_coords` (the project's one validator).
+
+What each step removed is counted in a ``dropped`` dictionary, reported by the import's summary.
+"""
+
+from __future__ import annotations
+
+import math
+from decimal import Decimal
+from fractions import Fraction
+from typing import Sequence
+
+import numpy as np
+
+from solverplan.environment import Environment
+from solverplan.errors import InvalidEnvironment
+from solverplan.limits import MAX_VERTICES
+
+__all__ = ["finish_outline", "snap_rectilinear", "grid_quantum"]
+
+FloatRing = np.ndarray  # (n, 2) float coordinates, not closed
+
+
+def grid_quantum(resolution: Decimal) -> Decimal:
+    """The rounding step of traced coordinates: the largest power of ten at most ``resolution / 8``.
+
+    An eighth of a cell keeps the rounding error (at most half the step) below a sixteenth of a cell, far
+    inside the tracing's own error, while the coordinates stay short decimals (5 cm cells → millimetres).
+
+    >>> grid_quantum(Decimal("0.05")), grid_quantum(Decimal("0.1")), grid_quantum(Decimal("2"))
+    (Decimal('0.001'), Decimal('0.01'), Decimal('0.1'))
+    """
+    if resolution <= 0:
+        raise InvalidEnvironment(f"the rounding grid needs a positive resolution, got {resolution}")
+    exponent = math.floor(math.log10(float(resolution / 8)))
+    return Decimal(1).scaleb(exponent)
+
+
+def _ring_area(ring: np.ndarray) -> float:
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) -> tuple[FloatRing, int]:
+    """Make the edges of ``ring`` within ``degrees`` of an axis exactly axis-parallel.
+
+    Consecutive near-horizontal edges form a run that gets one y (their length-weighted mean); likewise
+    near-vertical runs get one x. A vertex between a horizontal and a vertical run moves to their
+    crossing; a vertex between a snapped run and an oblique edge moves only across the run (the oblique
+    edge follows it). An oblique edge no longer than ``max_chamfer`` between a horizontal and a vertical run
+    is a cut-off corner (traced maps have them where a wall's raggedness met the simplification): both its
+    ends move to the runs' crossing. Returns the new ring (vertices of a run's interior, and the two ends of
+    a collapsed corner, are left collinear or repeated for the rounding step to remove) and the number of
+    edges snapped or collapsed.
+
+    >>> ring = np.array([[0, 0], [4, 0.05], [4.02, 3], [0, 3]], float)
+    >>> snapped, count = snap_rectilinear(ring, 2.0)
+    >>> count, snapped.round(3).tolist()
+    (4, [[0.0, 0.025], [4.01, 0.025], [4.01, 3.0], [0.0, 3.0]])
+    """
+    n = len(ring)
+    if n < 3 or degrees <= 0:
+        return ring.copy(), 0
+    starts, ends = ring, np.roll(ring, -1, axis=0)
+    delta = ends - starts
+    lengths = np.hypot(delta[:, 0], delta[:, 1])
+    angle = np.degrees(np.arctan2(delta[:, 1], delta[:, 0])) % 180.0  # undirected: [0, 180)
+    kind = np.full(n, "o")
+    kind[(angle <= degrees) | (angle >= 180.0 - degrees)] = "h"
+    kind[np.abs(angle - 90.0) <= degrees] = "v"
+    if (kind == "o").all():
+        return ring.copy(), 0
+    # runs of one kind, cyclically: start the walk just after a change of kind (there is one unless all edges
+    # share a kind, impossible for a closed ring of h edges only or v edges only with non-zero area)
+    changes = [i for i in range(n) if kind[i] != kind[i - 1]]
+    if not changes:
+        return ring.copy(), 0
+    run_of = np.empty(n, int)
+    values: list[float] = []
+    first = changes[0]
+    run = -1
+    weights: list[tuple[float, float]] = []
+    for step in range(n):
+        i = (first + step) % n
+        if step == 0 or kind[i] != kind[i - 1]:
+            run += 1
+            weights.append((0.0, 0.0))
+        run_of[i] = run
+        if kind[i] != "o":
+            axis = 1 if kind[i] == "h" else 0  # the coordinate a run shares
+            middle = 0.5 * (starts[i, axis] + ends[i, axis])
+            total, weighted = weights[run]
+            weights[run] = (total + lengths[i], weighted + lengths[i] * middle)
+    for total, weighted in weights:
+        values.append(weighted / total if total > 0 else 0.0)
+    out = ring.astype(float).copy()
+    for i in range(n):  # vertex i sits between edge i - 1 and edge i
+        for edge in (i - 1, i):
+            k = kind[edge % n]
+            if k == "h":
+                out[i, 1] = values[run_of[edge % n]]
+            elif k == "v":
+                out[i, 0] = values[run_of[edge % n]]
+    collapsed = 0
+    if max_chamfer > 0:
+        for i in np.flatnonzero((kind == "o") & (lengths <= max_chamfer)).tolist():
+            before, after = kind[i - 1], kind[(i + 1) % n]
+            if {before, after} != {"h", "v"}:
+                continue
+            horizontal = (i - 1) % n if before == "h" else (i + 1) % n
+            vertical = (i + 1) % n if before == "h" else (i - 1) % n
+            corner = (values[run_of[vertical]], values[run_of[horizontal]])
+            out[i] = corner
+            out[(i + 1) % n] = corner
+            collapsed += 1
+    return out, int((kind != "o").sum()) + collapsed
+
+
+def _valid_rings(rings: Sequence[np.ndarray]) -> bool:
+    """Do the rings make a valid environment: a valid polygon whose rings do not even touch one another?
+
+    (GEOS accepts a hole touching the outer ring at a point; the environment validator does not.)
+    """
+    import shapely
+
+    if not shapely.Polygon(rings[0], rings[1:]).is_valid:
+        return False
+    closed = [np.vstack((ring, ring[:1])) for ring in rings]
+    return bool(shapely.MultiLineString(closed).is_simple)
+
+
+def _bad_rings(rings: Sequence[np.ndarray]) -> set[int]:
+    """Rings that are not simple, or that cross or touch another ring (an STR-tree finds the pairs)."""
+    import shapely
+
+    lines = [shapely.LinearRing(r) for r in rings]
+    bad = {i for i, line in enumerate(lines) if not line.is_simple}
+    if len(lines) > 1:
+        tree = shapely.STRtree(lines)
+        pairs = tree.query(lines, predicate="intersects")
+        for i, j in zip(*pairs.tolist()):
+            if i != j:
+                bad.update((i, j))
+    return bad
+
+
+def _clean_grid_ring(ring: np.ndarray) -> tuple[np.ndarray, int]:
+    """Remove repeated and exactly collinear vertices (integer arithmetic); returns the ring and how many went."""
+    removed = 0
+    while len(ring) >= 3:
+        prev, nxt = np.roll(ring, 1, axis=0), np.roll(ring, -1, axis=0)
+        a, b = ring - prev, nxt - ring
+        cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]  # exact: grid integers well inside int64
+        keep = cross != 0
+        if keep.all():
+            break
+        if not keep.any():
+            return ring[:0], removed + len(ring)
+        # drop one vertex of each run of collinear ones at a time would be slow; dropping all of them at once
+        # is right: a vertex collinear with its neighbours is not a corner of the ring, and the corners stay
+        removed += int((~keep).sum())
+        ring = ring[keep]
+    return ring, removed
+
+
+def finish_outline(
+    outer: FloatRing,
+    holes: Sequence[FloatRing],
+    *,
+    quantum: Decimal,
+    offset: tuple[Fraction, Fraction] = (Fraction(0), Fraction(0)),
+    simplify: float = 0.0,
+    min_hole_area: float = 0.0,
+    rectilinear: float = 0.0,
+    name: str = "",
+    dropped: dict | None = None,
+) -> tuple[Environment, dict]:
+    """Simplify, snap, round and validate an outline with holes into an :class:`Environment`.
+
+    Parameters
+    ----------
+    outer, holes
+        Float rings (``(n, 2)`` arrays, not closed, any orientation), in output units (metres for maps)
+        relative to ``offset``.
+    quantum
+        The decimal grid every output coordinate lies on (relative to ``offset``).
+    offset
+        An exact point added to every rounded coordinate (a map's origin), so the grid follows the map.
+    simplify
+        Topology-preserving simplification tolerance (output units); 0 keeps every vertex.
+    min_hole_area
+        Holes of smaller area (output units squared), before or after simplification, are dropped.
+    rectilinear
+        Snap edges within this many degrees of an axis (0: no snapping); oblique edges up to 4 ×
+        ``simplify`` long between a horizontal and a vertical edge are collapsed into their corner.
+    name
+        The environment's name.
+    dropped
+        Counts of what earlier stages dropped; this stage adds its own.
+
+    Returns
+    -------
+    (Environment, dict)
+        The validated environment and the ``dropped`` counts: ``small_holes``, ``simplified_vertices``,
+        ``collinear_vertices``, ``degenerate_holes`` (holes the rounding flattened), ``rectilinear_skipped``
+        (rings whose snapping would have made them invalid, kept unsnapped), and ``rectilinear_edges`` (edges
+        snapped; not a loss, but reported with the rest).
+
+    Raises
+    ------
+    InvalidEnvironment
+        When the outline, after these steps, is not a valid environment (the validator's one line).
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [2, 0], [2, 0.0004], [2, 2], [0, 2]], float)
+    >>> hole = np.array([[0.5, 0.5], [0.5, 0.6], [0.6, 0.6], [0.6, 0.5]], float)
+    >>> env, dropped = finish_outline(square, [hole], quantum=Decimal("0.001"), min_hole_area=0.05)
+    >>> env.outer, dropped["small_holes"], dropped["collinear_vertices"]
+    (((Fraction(0, 1), Fraction(0, 1)), (Fraction(2, 1), Fraction(0, 1)), (Fraction(2, 1), Fraction(2, 1)), (Fraction(0, 1), Fraction(2, 1))), 1, 1)
+    """
+    import shapely
+
+    counts = {"small_holes": 0, "simplified_vertices": 0, "collinear_vertices": 0, "degenerate_holes": 0,
+              "rectilinear_skipped": 0, "rectilinear_edges": 0}
+    counts = {**counts, **(dropped or {})}
+    # Everything below works in units of the grid, on integer coordinates (held as floats, exact below 2⁵³):
+    # GEOS's robust predicates are then exact, so a vertex that simplification leaves on another edge — common,
+    # traced vertices lie on a half-cell lattice — is seen as the touch it is, not hidden by binary rounding.
+    unit = float(quantum)
+    unit_area = unit * unit
+    kept = [h for h in holes if abs(_ring_area(h)) >= min_hole_area]
+    counts["small_holes"] += len(holes) - len(kept)
+    grid_outer, grid_holes = np.rint(outer / unit), [np.rint(h / unit) for h in kept]
+    polygon = shapely.Polygon(grid_outer, grid_holes)
+    if not polygon.is_valid:
+        # a traced outline is valid by construction; a drawn one may not be: say where, as the validator would
+        reason = shapely.is_valid_reason(shapely.Polygon(outer, kept))
+        raise InvalidEnvironment(f"the outline is not a valid polygon: {reason}")
+    if simplify > 0:
+        before = len(polygon.exterior.coords) + sum(len(r.coords) for r in polygon.interiors)
+        polygon = polygon.simplify(simplify / unit, preserve_topology=True)
+        after = len(polygon.exterior.coords) + sum(len(r.coords) for r in polygon.interiors)
+        counts["simplified_vertices"] += before - after
+        small = [r for r in polygon.interiors if shapely.Polygon(r).area * unit_area < min_hole_area]
+        if small:
+            counts["small_holes"] += len(small)
+            polygon = shapely.Polygon(polygon.exterior,
+                                      [r for r in polygon.interiors if shapely.Polygon(r).area * unit_area >= min_hole_area])
+    rings = [np.asarray(polygon.exterior.coords[:-1], float)] + [np.asarray(r.coords[:-1], float) for r in polygon.interiors]
+    if rectilinear > 0:
+        snapped: list[np.ndarray] = []
+        for ring in rings:
+            candidate, count = snap_rectilinear(ring, rectilinear, max_chamfer=4 * simplify / unit)
+            snapped.append(np.rint(candidate))
+            counts["rectilinear_edges"] += count
+        chosen = list(snapped)
+        reverted: set[int] = set()
+        while True:  # revert the snaps that make a ring cross or touch itself or another, until none does
+            bad = _bad_rings(chosen) - reverted
+            if not bad:
+                break
+            for index in bad:
+                chosen[index] = rings[index]
+            reverted |= bad
+        if _valid_rings(chosen):
+            rings = chosen
+            counts["rectilinear_skipped"] += len(reverted)
+        else:  # e.g. a hole snapped out of the outer ring: keep the outline as simplified
+            counts["rectilinear_skipped"] += len(rings)
+    grid_rings: list[np.ndarray] = []
+    for index, ring in enumerate(rings):
+        grid = ring.astype(np.int64)
+        repeated = np.all(grid == np.roll(grid, 1, axis=0), axis=1)
+        counts["collinear_vertices"] += int(repeated.sum())
+        grid = grid[~repeated]
+        grid, removed = _clean_grid_ring(grid)
+        counts["collinear_vertices"] += removed
+        if len(grid) < 3:
+            if index == 0:
+                raise InvalidEnvironment("the outline vanished when rounded to the coordinate grid: it is too small")
+            counts["degenerate_holes"] += 1
+            continue
+        grid_rings.append(grid)
+    step = Fraction(quantum)
+    ox, oy = offset
+    # one common denominator: each coordinate is then one Fraction built from two integers, not a sum of
+    # products of Fractions (a traced map has 10⁴–10⁵ coordinates; this was a fifth of a large import's time)
+    denominator = math.lcm(ox.denominator, oy.denominator, step.denominator)
+    base_x = ox.numerator * (denominator // ox.denominator)
+    base_y = oy.numerator * (denominator // oy.denominator)
+    unit = step.numerator * (denominator // step.denominator)
+
+    def exact(ring: np.ndarray) -> list[tuple[Fraction, Fraction]]:
+        return [(Fraction(base_x + x * unit, denominator), Fraction(base_y + y * unit, denominator))
+                for x, y in ring.tolist()]
+
+    total = sum(map(len, grid_rings))
+    if total > MAX_VERTICES:
+        raise InvalidEnvironment(f"the outline has {total} vertices (an environment has at most {MAX_VERTICES}): "
+                                 "simplify more (--simplify METRES)")
+    environment = Environment.from_coords(exact(grid_rings[0]), [exact(r) for r in grid_rings[1:]], name=name)
+    return environment, counts

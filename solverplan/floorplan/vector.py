@@ -1,0 +1,391 @@
+"""Drawn floor plans: DXF (ezdxf) and SVG (svgelements) outlines into rings, the largest one outer.
+
+Both readers produce closed rings of **exact decimals** (the coordinates as written, times the unit factor),
+so a plan drawn with round numbers reads back exactly. A drawing's rings are sorted by area: the largest
+is the outer ring, the rings inside it are holes, rings inside a hole (islands, unreachable) and rings
+outside the outer ring are dropped and counted.
+"""
+
+from __future__ import annotations
+
+import math
+from decimal import Decimal
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+from solverplan.errors import InputError, MalformedFile
+from solverplan.limits import MAX_FILE_BYTES, quote
+
+__all__ = ["read_dxf_rings", "read_svg_rings", "arrange_rings", "DXF_UNITS", "UNIT_NAMES", "ExactRing"]
+
+ExactRing = list[tuple[Decimal, Decimal]]
+
+DXF_UNITS: dict[int, tuple[str, Decimal | None]] = {
+    0: ("unitless", None),
+    1: ("in", Decimal("0.0254")),
+    2: ("ft", Decimal("0.3048")),
+    3: ("mi", Decimal("1609.344")),
+    4: ("mm", Decimal("0.001")),
+    5: ("cm", Decimal("0.01")),
+    6: ("m", Decimal("1")),
+    7: ("km", Decimal("1000")),
+    8: ("uin", Decimal("0.0000000254")),
+    9: ("mil", Decimal("0.0000254")),
+    10: ("yd", Decimal("0.9144")),
+    13: ("um", Decimal("0.000001")),
+    14: ("dm", Decimal("0.1")),
+}
+"""``$INSUNITS`` codes of the DXF header read, with their exact size in metres (``None``: unitless, kept as drawn)."""
+
+UNIT_NAMES: dict[str, Decimal | None] = {name: factor for name, factor in DXF_UNITS.values()}
+"""The names ``--units`` accepts and their size in metres."""
+
+
+def _decimal(value: float) -> Decimal:
+    """A float coordinate as the decimal it prints as (what the file said, for files written with round numbers)."""
+    if not math.isfinite(value):
+        raise MalformedFile(f"coordinate {value!r} is not a finite number")
+    return Decimal(repr(float(value)))
+
+
+def _dedupe(ring: ExactRing) -> ExactRing:
+    out: ExactRing = []
+    for p in ring:
+        if not out or out[-1] != p:
+            out.append(p)
+    while len(out) > 1 and out[0] == out[-1]:
+        out.pop()
+    return out
+
+
+def _check_size(path: Path) -> None:
+    try:
+        size = path.stat().st_size
+    except FileNotFoundError:
+        raise MalformedFile(f"{path}: no such file") from None
+    except OSError as exc:
+        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
+    if size > MAX_FILE_BYTES:
+        raise MalformedFile(f"{path}: file is {size} bytes (at most {MAX_FILE_BYTES})")
+
+
+def _chain_loops(segments: Iterable[tuple[tuple[Decimal, Decimal], tuple[Decimal, Decimal]]]) -> tuple[list[ExactRing], int]:
+    """Close line segments that share end points into loops; returns (loops, chains that do not close)."""
+    import networkx as nx
+
+    graph = nx.Graph()
+    for a, b in segments:
+        if a != b:
+            graph.add_edge(a, b)
+    loops: list[ExactRing] = []
+    open_chains = 0
+    for nodes in nx.connected_components(graph):
+        sub = graph.subgraph(nodes)
+        if any(degree != 2 for _, degree in sub.degree()):
+            open_chains += 1  # a dangling line, or a junction of three walls: no single loop to take
+            continue
+        start = next(iter(nodes))
+        ring = [start]
+        previous, current = None, start
+        while True:
+            following = [n for n in sub.neighbors(current) if n != previous]
+            step = following[0] if following else next(iter(sub.neighbors(current)))
+            if step == start:
+                break
+            ring.append(step)
+            previous, current = current, step
+        loops.append(ring)
+    return loops, open_chains
+
+
+def _flattened(entities: Iterable[Any], inherited: str | None = None, depth: int = 0) -> Iterable[tuple[Any, str]]:
+    """Model-space entities with block references (INSERT) expanded into their transformed entities, each with
+    its layer (an entity of a block on layer 0 takes the layer of the reference, as CAD programs draw it)."""
+    from ezdxf.entities import Insert
+
+    for entity in entities:
+        layer = entity.dxf.get("layer", "0")
+        if layer == "0" and inherited is not None:
+            layer = inherited
+        if isinstance(entity, Insert):
+            if depth >= 16:  # a block nested 16 deep (or referencing itself): refuse rather than recurse forever
+                raise MalformedFile("block references nested more than 16 deep")
+            yield from _flattened(entity.virtual_entities(), layer, depth + 1)
+        else:
+            yield entity, layer
+
+
+def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | None = None,
+                   tolerance: float = 0.01) -> tuple[list[ExactRing], dict[str, Any]]:
+    """The closed outlines of a DXF drawing's model space, in metres (or as drawn when unitless).
+
+    Parameters
+    ----------
+    path
+        The DXF file.
+    layer
+        Read only entities on this layer (DXF layer names compare case-insensitively); ``None``: every layer.
+    units
+        The drawing unit (``m``, ``cm``, ``mm``, ``in``, ``ft``, ... see :data:`UNIT_NAMES`), overriding the
+        header's ``$INSUNITS``; ``unitless`` keeps the numbers as drawn.
+    tolerance
+        Largest distance (output units) between an arc of a polyline (a bulge) and the chords replacing it.
+
+    Returns
+    -------
+    (rings, info)
+        Closed rings of exact decimals: every closed LWPOLYLINE and POLYLINE, and the loops that LINEs and
+        open polylines close when chained end to end; block references (INSERT) are expanded (their
+        transformed coordinates are exact only where the transformation keeps them so). ``info`` says ``units`` (the unit used), and counts
+        ``open_chains`` (chains that do not close), ``other_layers`` (entities skipped by ``layer``) and
+        ``unsupported`` (entities of other kinds: circles, splines, text, ...).
+
+    Raises
+    ------
+    MalformedFile
+        When the file is not a DXF file, or names an unknown ``$INSUNITS`` code without ``units``.
+    InputError
+        When ``units`` is not a known unit.
+
+    Examples
+    --------
+    >>> import ezdxf, tempfile, pathlib
+    >>> doc = ezdxf.new(units=4)  # millimetres
+    >>> _ = doc.modelspace().add_lwpolyline([(0, 0), (2500, 0), (2500, 1500), (0, 1500)], close=True)
+    >>> file = pathlib.Path(tempfile.mkdtemp()) / "room.dxf"; doc.saveas(file)
+    >>> rings, info = read_dxf_rings(file)
+    >>> [tuple(map(float, p)) for p in rings[0]], info["units"]
+    ([(0.0, 0.0), (2.5, 0.0), (2.5, 1.5), (0.0, 1.5)], 'mm')
+    """
+    import ezdxf
+    from ezdxf import path as dxf_path
+    from ezdxf.entities import Line, LWPolyline, Polyline
+
+    path = Path(path)
+    _check_size(path)
+    if units is not None and units not in UNIT_NAMES:
+        raise InputError(f"--units {quote(units)}: use one of {', '.join(UNIT_NAMES)}")
+    try:
+        doc = ezdxf.readfile(path)
+    except (OSError, UnicodeDecodeError) as exc:
+        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
+    except ezdxf.DXFError as exc:
+        raise MalformedFile(f"{path}: not a valid DXF file ({str(exc)[:80] or exc.__class__.__name__})") from None
+    if units is None:
+        code = doc.header.get("$INSUNITS", 0)
+        if code not in DXF_UNITS:
+            raise MalformedFile(f"{path}: $INSUNITS {code} is not a length unit solverplan reads: say --units")
+        unit_name, factor = DXF_UNITS[code]
+    else:
+        unit_name, factor = units, UNIT_NAMES[units]
+
+    def scaled(x: float, y: float) -> tuple[Decimal, Decimal]:
+        px, py = _decimal(x), _decimal(y)
+        return (px, py) if factor is None else (px * factor, py * factor)
+
+    drawing_tolerance = tolerance / float(factor) if factor else tolerance
+    rings: list[ExactRing] = []
+    segments: list[tuple[tuple[Decimal, Decimal], tuple[Decimal, Decimal]]] = []
+    counts = {"open_chains": 0, "other_layers": 0, "unsupported": 0}
+    wanted = layer.lower() if layer is not None else None
+    for entity, entity_layer in _flattened(doc.modelspace()):
+        if wanted is not None and entity_layer.lower() != wanted:
+            counts["other_layers"] += 1
+            continue
+        if isinstance(entity, Line):
+            start, end = entity.dxf.start, entity.dxf.end
+            segments.append((scaled(start.x, start.y), scaled(end.x, end.y)))
+            continue
+        if isinstance(entity, LWPolyline):
+            closed = bool(entity.closed)
+            bulged = any(b for *_, b in entity.get_points("xyb"))
+            points = [(x, y) for x, y, *_ in entity.get_points("xy")]
+        elif isinstance(entity, Polyline) and not (entity.is_polygon_mesh or entity.is_poly_face_mesh):
+            closed = bool(entity.is_closed)
+            bulged = any(v.dxf.get("bulge", 0) for v in entity.vertices)
+            points = [(p.x, p.y) for p in entity.points()]
+        else:
+            counts["unsupported"] += 1
+            continue
+        if bulged:  # arcs between vertices: chords within the tolerance (these points are not exact input)
+            flat = list(dxf_path.make_path(entity).flattening(drawing_tolerance))
+            points = [(p.x, p.y) for p in flat]
+            if closed and len(points) > 1 and points[0] == points[-1]:
+                points.pop()
+        ring = _dedupe([scaled(x, y) for x, y in points])
+        if closed:
+            if len(ring) >= 3:
+                rings.append(ring)
+        else:
+            segments.extend(zip(ring, ring[1:]))
+    loops, counts["open_chains"] = _chain_loops(segments)
+    rings.extend(loops)
+    return rings, {"units": unit_name, **counts}
+
+
+def _flatten(segment: Any, tolerance: float, depth: int = 0, t0: float = 0.0, t1: float = 1.0) -> list[tuple[float, float]]:
+    """Points of a curve segment after its start, up to its end: chords within ``tolerance`` of the curve.
+
+    A piece [t0, t1] is split in two while the curve at t = ¼, ½ and ¾ of it lies farther than ``tolerance``
+    from the chord (at most 16 halvings: 65,536 chords per segment).
+    """
+    a, b = segment.point(t0), segment.point(t1)
+    ax, ay, bx, by = float(a.x), float(a.y), float(b.x), float(b.y)
+    length = math.hypot(bx - ax, by - ay)
+    worst = 0.0
+    for fraction in (0.25, 0.5, 0.75):
+        p = segment.point(t0 + fraction * (t1 - t0))
+        px, py = float(p.x), float(p.y)
+        if length > 0:
+            worst = max(worst, abs((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / length)
+        else:
+            worst = max(worst, math.hypot(px - ax, py - ay))
+    if worst <= tolerance or depth >= 16:
+        return [(bx, by)]
+    middle = 0.5 * (t0 + t1)
+    return _flatten(segment, tolerance, depth + 1, t0, middle) + _flatten(segment, tolerance, depth + 1, middle, t1)
+
+
+def read_svg_rings(path: str | Path, *, scale: Decimal = Decimal(1), tolerance: float = 0.01) -> tuple[list[ExactRing], dict[str, Any]]:
+    """The closed sub-paths of an SVG drawing (paths, rectangles, polygons, circles, ...), y up, scaled.
+
+    Parameters
+    ----------
+    path
+        The SVG file; transforms and the viewBox are applied (svgelements), so coordinates are in the
+        document's user units (px).
+    scale
+        Output units (metres) per user unit.
+    tolerance
+        Largest distance (output units) between a curve (arc, Bézier) and the chords replacing it.
+
+    Returns
+    -------
+    (rings, info)
+        Closed rings of exact decimals: x' = scale · x and y' = scale · (height − y), with ``height`` the
+        document's height (0 when it has none), so the drawing keeps its look with y pointing up. Line
+        end points are exact; curve points are rounded to a power of ten at most ``tolerance`` / 8.
+        ``info`` counts ``open_paths`` (sub-paths that do not close).
+
+    Raises
+    ------
+    MalformedFile
+        When the file is not SVG.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> file = pathlib.Path(tempfile.mkdtemp()) / "plan.svg"
+    >>> _ = file.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="30">'
+    ...                     '<path d="M 0 0 H 40 V 30 H 0 Z M 10 10 h 5 v 5 h -5 z"/></svg>')
+    >>> rings, info = read_svg_rings(file, scale=Decimal("0.1"))
+    >>> [[tuple(map(float, p)) for p in ring] for ring in rings]  # doctest: +NORMALIZE_WHITESPACE
+    [[(0.0, 3.0), (4.0, 3.0), (4.0, 0.0), (0.0, 0.0)], [(1.0, 2.0), (1.5, 2.0), (1.5, 1.5), (1.0, 1.5)]]
+    """
+    import xml.etree.ElementTree as ElementTree
+
+    import svgelements as svg
+
+    from solverplan.floorplan.outline import grid_quantum
+
+    path = Path(path)
+    _check_size(path)
+    if not scale > 0:
+        raise InputError(f"--scale must be positive, got {scale}")
+    try:
+        document = svg.SVG.parse(str(path), reify=True)
+    except (OSError, UnicodeDecodeError) as exc:
+        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
+    except (ElementTree.ParseError, ValueError, TypeError, AttributeError) as exc:
+        raise MalformedFile(f"{path}: not a valid SVG file ({str(exc)[:80] or exc.__class__.__name__})") from None
+    height = _decimal(float(document.height)) if getattr(document, "height", None) else Decimal(0)
+    drawing_tolerance = tolerance / float(scale)
+    quantum = grid_quantum(Decimal(repr(float(tolerance))))
+
+    def exact(x: float, y: float) -> tuple[Decimal, Decimal]:
+        return _decimal(x) * scale, (height - _decimal(y)) * scale
+
+    def rounded(x: float, y: float) -> tuple[Decimal, Decimal]:
+        px, py = exact(x, y)
+        return px.quantize(quantum), py.quantize(quantum)
+
+    rings: list[ExactRing] = []
+    open_paths = 0
+    for element in document.elements():
+        if not isinstance(element, svg.Shape):
+            continue
+        shape = element if isinstance(element, svg.Path) else svg.Path(element)
+        for sub in shape.as_subpaths():
+            points: ExactRing = []
+            closed = False
+            for segment in sub:
+                if isinstance(segment, svg.Move):
+                    points.append(exact(segment.end.x, segment.end.y))
+                elif isinstance(segment, svg.Close):
+                    closed = True
+                elif isinstance(segment, svg.Line):
+                    points.append(exact(segment.end.x, segment.end.y))
+                else:  # arcs and Bézier curves
+                    chords = _flatten(segment, drawing_tolerance)
+                    points.extend(rounded(x, y) for x, y in chords[:-1])
+                    points.append(exact(segment.end.x, segment.end.y))
+            ring = _dedupe(points)
+            if not closed and points and points[0] == points[-1]:
+                closed = True  # drawn back to its start without a Z
+            if closed and len(ring) >= 3:
+                rings.append(ring)
+            elif points:
+                open_paths += 1
+    return rings, {"open_paths": open_paths}
+
+
+def _area2(ring: Sequence[tuple[Decimal, Decimal]]) -> Decimal:
+    return sum((ring[i - 1][0] * ring[i][1] - ring[i][0] * ring[i - 1][1] for i in range(len(ring))), Decimal(0))
+
+
+def arrange_rings(rings: Sequence[ExactRing], source: str) -> tuple[ExactRing, list[ExactRing], dict[str, int]]:
+    """The largest ring (by exact area) as the outer ring, the rings inside it as holes.
+
+    A ring inside a hole (an island) or outside the outer ring is dropped; so is a ring of zero area and a
+    ring drawn twice. Returns (outer, holes, counts of ``nested``, ``outside``, ``zero_area`` and
+    ``duplicates`` rings).
+
+    >>> D = Decimal
+    >>> square = lambda x, y, s: [(D(x), D(y)), (D(x + s), D(y)), (D(x + s), D(y + s)), (D(x), D(y + s))]
+    >>> outer, holes, counts = arrange_rings([square(1, 1, 1), square(0, 0, 10), square(20, 0, 1)], "plan")
+    >>> outer == square(0, 0, 10), len(holes), counts
+    (True, 1, {'nested': 0, 'outside': 1, 'zero_area': 0, 'duplicates': 0})
+    """
+    import shapely
+
+    counts = {"nested": 0, "outside": 0, "zero_area": 0, "duplicates": 0}
+    areas = [abs(_area2(r)) for r in rings]
+    kept = [(a, r) for a, r in zip(areas, rings) if a > 0]
+    counts["zero_area"] = len(rings) - len(kept)
+    seen: set[tuple] = set()
+    unique = []
+    for area, ring in kept:  # a wall drawn twice (either direction, any start) is one ring
+        key = tuple(sorted(ring))
+        if key in seen:
+            counts["duplicates"] += 1
+            continue
+        seen.add(key)
+        unique.append((area, ring))
+    kept = unique
+    if not kept:
+        raise MalformedFile(f"{source}: no closed outline found (closed polylines, loops of lines, or closed paths)")
+    kept.sort(key=lambda item: -item[0])
+    outer = kept[0][1]
+    outer_shape = shapely.Polygon([(float(x), float(y)) for x, y in outer])
+    holes: list[ExactRing] = []
+    hole_shapes: list[Any] = []
+    for _, ring in kept[1:]:
+        shape = shapely.Polygon([(float(x), float(y)) for x, y in ring])
+        if not outer_shape.covers(shape):
+            counts["outside"] += 1
+        elif any(h.covers(shape) for h in hole_shapes):
+            counts["nested"] += 1
+        else:
+            holes.append(ring)
+            hole_shapes.append(shape)
+    return outer, holes, counts
