@@ -86,6 +86,20 @@ class FloorplanImport:
         """Area of the free space (output units squared)."""
         return float(self.environment_value.area)
 
+    @property
+    def advice(self) -> str | None:
+        """What to change before planning on the result, or None.
+
+        The bounce planner's graph grows as n⁴ in the number of vertices n, and a traced map keeps a vertex every
+        few cells until simplified: past :data:`PLANNING_VERTICES` vertices, ``plan`` takes tens of seconds.
+        """
+        n = self.environment_value.n_vertices
+        if n <= PLANNING_VERTICES:
+            return None
+        hint = f"--simplify {2 * float(self.resolution):g} (two cells)" if self.resolution else "a larger --simplify"
+        return (f"{n} vertices: planning time grows as n^4, so plans on this environment will be slow; "
+                f"for planning, import with {hint}, and --rectilinear 10 for an indoor map")
+
     def to_json(self) -> dict:
         """The import summary of docs/contract.md."""
         out: dict[str, Any] = {
@@ -104,6 +118,8 @@ class FloorplanImport:
         }
         if self.resolution is not None:
             out["resolution"] = self.resolution
+        if self.advice is not None:
+            out["advice"] = self.advice
         out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
@@ -116,7 +132,13 @@ class FloorplanImport:
         ]
         dropped = ", ".join(f"{k} {v:.6g}" if isinstance(v, float) else f"{k} {v}" for k, v in self.dropped.items() if v)
         lines.append(f"dropped: {dropped or 'nothing'}"[:width])
+        if self.advice is not None:
+            lines.append(f"advice: {self.advice}")
         return "\n".join(lines) + "\n"
+
+
+PLANNING_VERTICES = 150
+"""Vertices above which an import's summary advises more simplification (``plan`` then takes over ~10 s)."""
 
 
 def _format_of(path: Path, fmt: str | None) -> PlanFormat:
