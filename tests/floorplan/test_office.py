@@ -33,3 +33,11 @@ def test_the_readme_tutorial_imports_and_plans_through_the_door(tmp_path):
     assert {round(float(x), 1) for x, _ in (env.edge(0).a, env.edge(0).b)} == {10.0}
     plan = find_plan(env, "e8", "e0")
     assert plan.status.answered and plan.bounces >= 2  # no straight line joins the two walls: through the door
+
+
+def test_a_fine_import_advises_the_simplification_that_planning_needs(tmp_path):
+    fine = import_floorplan(MODELS / "office.yaml", output=tmp_path / "fine.json")  # half a cell: ~400 vertices
+    assert fine.environment_value.n_vertices > 150 and "--simplify 0.1 (two cells)" in fine.to_json()["advice"]
+    assert "advice:" in fine.to_text()
+    coarse = import_floorplan(MODELS / "office.yaml", output=tmp_path / "coarse.json", simplify=0.1, rectilinear=10)
+    assert coarse.advice is None and "advice" not in coarse.to_json()
