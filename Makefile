@@ -42,6 +42,7 @@ test: $(VENV)/.installed
 DOCS_OUT := docs/_build/html
 
 docs: $(VENV)/.installed
+	rm -rf docs/generated  # autosummary's pages of names since renamed or unexported would warn (not in a toctree)
 	$(BIN)/python -m sphinx -b html -E -W --keep-going -q docs $(DOCS_OUT)
 	ln -sfn $(DOCS_OUT) site
 	@echo "docs: open site/index.html"

@@ -50,7 +50,9 @@ def api_page(sections: list[tuple[str, list[str]]]) -> str:
               "   :toctree: generated", ""]
     import solverplan.render as render
 
-    lines += [f"   {name}" for name in render.__all__ if callable(getattr(render, name)) and not name.isupper()]
+    listed = set(solverplan._EXPORTS)  # e.g. the HTML report's names: documented once, under sp
+    lines += [f"   {name}" for name in render.__all__
+              if callable(getattr(render, name)) and not name.isupper() and name not in listed]
     lines.append("")
     return "\n".join(lines)
 
