@@ -32,15 +32,6 @@ if shutil.which("solverplan") is None:
     raise RuntimeError(f"no 'solverplan' command next to {sys.executable}: install the project (pip install '.[docs]')")
 (DOCS / "tutorial" / "out").mkdir(exist_ok=True)
 
-# Pages about parts that land on their own branches: each is built only when the tree holds the code it describes;
-# otherwise the page is excluded and its line is taken out of its parent's toctree (see setup below).
-# page → (the code it describes, the parent document, the toctree line)
-OPTIONAL_PAGES = {
-    "models/reflection.md": ("solverplan/reflection/navigation.py", "models/index", "reflection"),
-    "floorplans.md": ("solverplan/floorplan/importer.py", "index", "floorplans"),
-}
-ABSENT_PAGES = [page for page, (source, _, _) in OPTIONAL_PAGES.items() if not (ROOT / source).exists()]
-
 project = "solverplan"
 author = "the solverplan authors"
 copyright = "the solverplan authors, MIT licence"
@@ -58,7 +49,7 @@ extensions = [
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = [*ABSENT_PAGES, "_build", "tutorial/out", "Thumbs.db", ".DS_Store", "_ext", "**/sg_execution_times.rst"]
+exclude_patterns = ["_build", "tutorial/out", "Thumbs.db", ".DS_Store", "_ext", "**/sg_execution_times.rst"]
 templates_path = ["_templates"]
 
 # MyST: docs/contract.md is a page as it stands; its headings become link targets.
@@ -121,11 +112,3 @@ def setup(app):
     from sphinxcontrib.programoutput import run_programs
 
     app.connect("doctree-read", run_programs, priority=100)
-    app.connect("source-read", _drop_absent_pages)
-
-
-def _drop_absent_pages(app, docname, source):
-    for page in ABSENT_PAGES:
-        _, parent, line = OPTIONAL_PAGES[page]
-        if docname == parent:
-            source[0] = source[0].replace(f"\n{line}\n", "\n")

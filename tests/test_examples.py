@@ -71,6 +71,17 @@ def _wall_following(ns):
     assert len(ns["ordering"].labels) == ns["env"].n_vertices + 2 * len(ns["ordering"].reflex)
 
 
+def _reflection_fields(ns):
+    runs = ns["nav"].runs
+    assert all(run.success == 1.0 for run in runs.values())  # every rollout reached the goal
+    assert runs["reflection"].time_mean < runs["unconstrained"].time_mean < runs["constrained"].time_mean
+
+
+def _floorplan_import(ns):
+    assert ns["imported"].holes == 1  # the cupboard; the speckle was filled
+    assert ns["plan"].status.value == "found"
+
+
 CHECKS = {
     "plot_01_certified_plan.py": _certified_plan,
     "plot_02_pareto_front.py": _pareto_front,
@@ -80,6 +91,8 @@ CHECKS = {
     "plot_06_rooms_and_doors.py": _rooms_and_doors,
     "plot_07_exploration.py": _exploration,
     "plot_08_wall_following.py": _wall_following,
+    "plot_09_reflection_fields.py": _reflection_fields,
+    "plot_10_floorplan_import.py": _floorplan_import,
 }
 
 
