@@ -44,6 +44,17 @@ MODELS = ("integrator", "inertial")
 SCENARIOS = ("constrained", "unconstrained", "reflection")
 
 
+def _time_limit(model: RobotModel, plan: FieldPlan, speed: float) -> float:
+    """The model's ``max_time``, or by default 60 s or ten times the route at ``speed``, whichever is longer (s)."""
+    if model.max_time is not None:
+        return model.max_time
+    stops = [np.array([float(plan.start[0]), float(plan.start[1])])]
+    stops += [plan.cells[c].float_vertices.mean(axis=0) for c in plan.sequence]
+    stops.append(np.array([float(plan.goal[0]), float(plan.goal[1])]))
+    route = float(sum(np.hypot(*(b - a)) for a, b in zip(stops, stops[1:])))
+    return max(60.0, 10.0 * route / speed)
+
+
 @dataclass(frozen=True, slots=True)
 class RobotModel:
     """The robot and its controller; lengths in the environment's units, times in seconds."""
@@ -58,7 +69,9 @@ class RobotModel:
     heading_noise: float = 0.15  #: standard deviation of the commanded heading (radians)
     speed_noise: float = 0.05  #: relative standard deviation of the commanded speed
     goal_radius: float = 0.1  #: the goal is reached within this distance (length)
-    max_time: float = 60.0  #: a trial that has not reached the goal by then failed (s)
+    #: a trial that has not reached the goal by then failed (s); None: 60 s, or ten times the time the scenario's
+    #: speed takes along the cell sequence's centres when that is longer (a 100 m route at 0.8 m/s takes 125 s)
+    max_time: float | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in MODELS:
@@ -67,7 +80,7 @@ class RobotModel:
         if self.control_rate <= 0 or substeps < 1 or abs(substeps - round(substeps)) > 1e-9:
             raise InputError("physics_rate must be a positive multiple of control_rate")
         for name in ("accel", "goal_radius", "max_time"):
-            if not getattr(self, name) > 0:
+            if getattr(self, name) is not None and not getattr(self, name) > 0:
                 raise InputError(f"{name} must be positive, got {getattr(self, name)}")
         for name in ("restitution", "friction"):
             if not 0 <= getattr(self, name) <= 1:
@@ -298,7 +311,7 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     done |= at_goal
     substeps = int(round(model.physics_rate / model.control_rate))
     dt = 1.0 / model.physics_rate
-    ticks = int(np.ceil(model.max_time * model.control_rate))
+    ticks = int(np.ceil(_time_limit(model, plan, min(s.speed for s in scen)) * model.control_rate))
     step_count = 0
     for _ in range(ticks):
         active = np.flatnonzero(~done)

@@ -49,10 +49,14 @@ def draw_cells(ax: Axes, plan: FieldPlan, *, ids: bool = True) -> None:
 
 def draw_cell_fields(ax: Axes, plan: FieldPlan, *, per_cell: int = 4) -> None:
     """Each cell's nominal field as unit arrows on one square grid for the whole picture, ``per_cell`` arrows across
-    the narrowest cell (gid ``field-<cell>``), and the reflection zones (gid ``zone-<cell>``)."""
+    the narrowest cell but at most ~40 across the picture (gid ``field-<cell>``), and the reflection zones (gid ``zone-<cell>``)."""
     normals, offsets = plan.decomposition.halfplanes
     spacing = min(float(min(c.float_vertices.max(axis=0) - c.float_vertices.min(axis=0))) for c in plan.cells)
     spacing = spacing / per_cell if spacing > 0 else 1.0
+    # a sliver cell (a door's diagonal) must not make the grid so fine that the arrows become a hatch: at most
+    # about 40 arrows across the picture's longer side
+    every = np.concatenate([c.float_vertices for c in plan.cells])
+    spacing = max(spacing, float(np.max(every.max(axis=0) - every.min(axis=0))) / 40)
     for c, policy in plan.policies.items():
         verts = plan.cells[c].float_vertices
         lo, hi = verts.min(axis=0), verts.max(axis=0)

@@ -154,3 +154,13 @@ def test_hybrid_controller_hits_each_reflection_zone_then_follows_the_nominal_fi
         wall = shapely.LineString([tuple(map(float, side.a)), tuple(map(float, side.b))])
         assert min(wall.distance(shapely.Point(p)) for p in path) < 1e-5
     assert runs["nominal"].success == 1.0 and runs["nominal"].collisions[0] == 0
+
+
+def test_a_long_route_gets_a_time_limit_that_fits_it():
+    # three_chambers is 100 long: at 0.8/s the route takes ~125 s, past the 60 s floor of the default limit
+    import solverplan as sp
+
+    nav = sp.navigate_fields(sp.load_environment("three_chambers"), ("4.02", "0.5"), ("96.01", "29.22"),
+                             scenarios=("constrained",), trials=2, seed=0)
+    run = nav.runs["constrained"]
+    assert run.success == 1.0 and run.time_mean > 60
