@@ -7,7 +7,10 @@ The bounds sit far above any floor plan in practice; each says why it exists.
 
 from __future__ import annotations
 
-from solverplan.errors import InputError
+from pathlib import Path
+from typing import Any
+
+from solverplan.errors import InputError, MalformedFile
 
 __all__ = [
     "MAX_FILE_BYTES",
@@ -34,6 +37,8 @@ __all__ = [
     "set_memory_limit",
     "reset_memory_limit",
     "refuse_beyond_memory",
+    "checked_file_size",
+    "read_text_within_limits",
 ]
 
 MAX_FILE_BYTES = 64 * 1024 * 1024
@@ -178,3 +183,48 @@ def refuse_beyond_memory(estimate_bytes: float, what: str) -> None:
     if limit is not None and estimate_bytes > limit:
         raise InputError(f"{what} would need about {estimate_bytes / 2**30:.1f} GiB of memory, more than {source} "
                          f"({limit / 2**30:.1f} GiB; see --max-memory)")
+
+
+def checked_file_size(path: Any) -> int:
+    """The size of the input file ``path`` in bytes, refused past :data:`MAX_FILE_BYTES`.
+
+    Raises
+    ------
+    MalformedFile
+        The file is missing, unreadable or larger than the limit (one line naming the file).
+
+    Examples
+    --------
+    >>> checked_file_size("/no/such/file.json")
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.MalformedFile: /no/such/file.json: no such file
+    """
+    file = Path(path)
+    try:
+        size = file.stat().st_size
+    except FileNotFoundError:
+        raise MalformedFile(f"{file}: no such file") from None
+    except OSError as exc:
+        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None
+    if size > MAX_FILE_BYTES:
+        raise MalformedFile(f"{file}: file is {size} bytes (at most {MAX_FILE_BYTES})")
+    return size
+
+
+def read_text_within_limits(path: Any) -> str:
+    """The UTF-8 text of the input file ``path``, within :data:`MAX_FILE_BYTES`.
+
+    Raises
+    ------
+    MalformedFile
+        The file is missing, unreadable, not UTF-8 or larger than the limit (one line naming the file).
+    """
+    file = Path(path)
+    checked_file_size(file)
+    try:
+        return file.read_text(encoding="utf-8")
+    except FileNotFoundError:  # removed since the size was read
+        raise MalformedFile(f"{file}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None

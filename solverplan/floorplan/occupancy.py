@@ -31,7 +31,7 @@ import numpy as np
 from solverplan.environment import Environment
 from solverplan.errors import InputError, MalformedFile
 from solverplan.floorplan.outline import finish_outline, grid_quantum
-from solverplan.limits import MAX_FILE_BYTES, MAX_PIXELS, quote
+from solverplan.limits import MAX_PIXELS, quote, read_text_within_limits
 
 __all__ = ["OccupancyMap", "read_occupancy_map", "trace_free_space", "DEFAULT_FREE_THRESH",
            "DEFAULT_OCCUPIED_THRESH"]
@@ -136,18 +136,9 @@ def _number(data: dict, key: str, source: Path, default: float | None = None) ->
 def _read_yaml(source: Path) -> dict:
     import yaml
 
+    text = read_text_within_limits(source)
     try:
-        size = source.stat().st_size
-    except FileNotFoundError:
-        raise MalformedFile(f"{source}: no such file") from None
-    except OSError as exc:
-        raise MalformedFile(f"{source}: cannot read ({exc.__class__.__name__})") from None
-    if size > MAX_FILE_BYTES:
-        raise MalformedFile(f"{source}: file is {size} bytes (at most {MAX_FILE_BYTES})")
-    try:
-        data = yaml.safe_load(source.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{source}: cannot read ({exc.__class__.__name__})") from None
+        data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
         where = getattr(exc, "problem_mark", None)
         at = f" at line {where.line + 1}" if where is not None else ""

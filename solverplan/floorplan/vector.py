@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any, Iterable, Sequence
 
 from solverplan.errors import InputError, MalformedFile
-from solverplan.limits import MAX_FILE_BYTES, quote
+from solverplan.limits import checked_file_size, quote
 
 __all__ = ["read_dxf_rings", "read_svg_rings", "arrange_rings", "DXF_UNITS", "UNIT_NAMES", "ExactRing"]
 
@@ -58,15 +58,6 @@ def _dedupe(ring: ExactRing) -> ExactRing:
     return out
 
 
-def _check_size(path: Path) -> None:
-    try:
-        size = path.stat().st_size
-    except FileNotFoundError:
-        raise MalformedFile(f"{path}: no such file") from None
-    except OSError as exc:
-        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
-    if size > MAX_FILE_BYTES:
-        raise MalformedFile(f"{path}: file is {size} bytes (at most {MAX_FILE_BYTES})")
 
 
 def _chain_loops(segments: Iterable[tuple[tuple[Decimal, Decimal], tuple[Decimal, Decimal]]]) -> tuple[list[ExactRing], int]:
@@ -162,7 +153,7 @@ def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | N
     from ezdxf.entities import Line, LWPolyline, Polyline
 
     path = Path(path)
-    _check_size(path)
+    checked_file_size(path)
     if units is not None and units not in UNIT_NAMES:
         raise InputError(f"--units {quote(units)}: use one of {', '.join(UNIT_NAMES)}")
     try:
@@ -289,7 +280,7 @@ def read_svg_rings(path: str | Path, *, scale: Decimal = Decimal(1), tolerance: 
     from solverplan.floorplan.outline import grid_quantum
 
     path = Path(path)
-    _check_size(path)
+    checked_file_size(path)
     if not scale > 0:
         raise InputError(f"--scale must be positive, got {scale}")
     try:

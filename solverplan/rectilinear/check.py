@@ -39,7 +39,7 @@ from pathlib import Path
 
 from solverplan.environment import Environment, read_json
 from solverplan.errors import MalformedFile
-from solverplan.limits import MAX_FILE_BYTES
+from solverplan.limits import read_text_within_limits
 from solverplan.exact import ExactPoint, format_number, format_point, on_segment, orient, point_in_ring, segment_intersection, to_fraction
 
 __all__ = ["RoomsCheck", "check_rooms", "load_rooms_answer"]
@@ -69,14 +69,9 @@ def load_rooms_answer(path: str | PathLike[str]) -> dict:
     """Read a rooms answer file (the JSON of ``solverplan rooms -o FILE``), numbers exact, within the input
     limits; :class:`~solverplan.errors.MalformedFile` for a missing, unreadable or non-JSON file."""
     file = Path(path)
+    text = read_text_within_limits(file)
     try:
-        if file.stat().st_size > MAX_FILE_BYTES:
-            raise MalformedFile(f"{file}: file is larger than {MAX_FILE_BYTES} bytes")
-        data = read_json(file.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise MalformedFile(f"{file}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None
+        data = read_json(text)
     except ValueError as exc:  # json.JSONDecodeError
         raise MalformedFile(f"{file}: not valid JSON ({str(exc).splitlines()[0][:80]})") from None
     if not isinstance(data, dict) or "rooms" not in data or "doors" not in data:

@@ -49,7 +49,7 @@ import numpy as np
 from solverplan._io import atomic_write_text
 from solverplan.environment import Environment, read_json
 from solverplan.errors import InputError, MalformedFile
-from solverplan.limits import MAX_FILE_BYTES, quote
+from solverplan.limits import quote, read_text_within_limits
 from solverplan.render._swept import swept_regions
 from solverplan.render.figure import (
     BOUNDARY_COLOR,
@@ -151,15 +151,7 @@ def load_answer(path: str | os.PathLike[str], *, option: str | None = None) -> A
         answer of a kind ``option`` does not take (the message names the option that does).
     """
     file = Path(path)
-    try:
-        size = file.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise MalformedFile(f"{file}: file is {size} bytes (at most {MAX_FILE_BYTES})")
-        text = file.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise MalformedFile(f"{file}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None
+    text = read_text_within_limits(file)
     try:
         data = read_json(text, exact=False)
     except json.JSONDecodeError as exc:
