@@ -122,8 +122,10 @@ def _pursuit_panel(ax: Axes, env: Environment, check, upto: int) -> None:
         xy = np.array([[float(x), float(y)] for x, y in ring])
         ax.add_patch(Patch(xy, closed=True, facecolor=SHADOW_COLORS[label], alpha=0.55 if label else 0.4,
                            edgecolor=SHADOW_COLORS[label], linewidth=0.6, zorder=2, gid=f"shadow-v{g}-{label}"))
-        centre = xy.mean(axis=0)
-        ax.text(centre[0], centre[1], str(label), fontsize=8, color="#222222", ha="center", va="center", zorder=7,
+        from shapely.geometry import Polygon as Shape
+
+        spot = Shape(xy).buffer(0).representative_point()
+        ax.text(spot.x, spot.y, str(label), fontsize=8, color="#222222", ha="center", va="center", zorder=7,
                 gid=f"shadow-label-v{g}")
     draw_boundary(ax, env)
     path = [check.steps[0].point] + [s.point for s in check.steps[1:upto + 1]]

@@ -27,7 +27,7 @@ every plan found; the tests compare the two action by action.
 >>> room = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])
 >>> plan = pursuit_plan(room, start="v1")
 >>> plan.status.value, plan.actions, plan.verified
-('found', ('RFOLLOW', 'RFOLLOW'), True)
+('found', ('LFOLLOW',), True)
 """
 
 from __future__ import annotations
@@ -323,10 +323,12 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     gap = GapSensor(env)
     t1 = time.perf_counter()
     start_index = order.index(start)
-    first = (start_index, None, frozenset(gap.gaps(points[start])))
-    parent: dict[tuple, tuple | None] = {first: None}
-    queue = deque([first])
-    goal = first if not first[2] else None
+    # a derived I-state: (index in the ordering, "R"/"L" = the follow that reached a vertex, the gaps labelled 1)
+    IState = tuple[int, str | None, frozenset[int]]
+    first: IState = (start_index, None, frozenset(gap.gaps(points[start])))
+    parent: dict[IState, tuple[IState, str] | None] = {first: None}
+    queue: deque[IState] = deque([first])
+    goal: IState | None = first if not first[2] else None
     limits: tuple[str, ...] = ()
     while queue and goal is None:
         if len(parent) >= max_states:
@@ -342,7 +344,7 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
             moves.append(("JUMP", order.index(f"{arrived.lower()}{k}"), None))
         for action, target, arrival in moves:
             transfer = gap.transfer(points[label], points[order.labels[target]])
-            nxt = (target, arrival, frozenset(g for g, src in transfer.items() if src & ones))
+            nxt: IState = (target, arrival, frozenset(g for g, src in transfer.items() if src & ones))
             if nxt in parent:
                 continue
             parent[nxt] = (state, action)
@@ -362,7 +364,7 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
         return PursuitPlan(status, (), start, sensor, (start,), states, order, None, reason, limits, record, stats)
     actions: list[str] = []
     positions: list[str] = []
-    node: tuple | None = goal
+    node: IState | None = goal
     while node is not None:
         positions.append(order.labels[node[0]])
         back = parent[node]

@@ -24,10 +24,12 @@ seen). Labels are also followed symbolically (each label as the set of start com
 is how the tests compare a strategy's bookkeeping with the ground truth action by action.
 
 >>> from solverplan.environment import Environment
->>> ell = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])   # an L, reflex vertex 3
->>> check = check_pursuit(ell, ["RFOLLOW", "RFOLLOW"])   # v0 → v1 → v2: from v2 the whole L is seen
+>>> room = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])   # reflex vertex 3
+>>> check = check_pursuit(room, ["RFOLLOW", "RFOLLOW"], start="v1")   # v1 → v2 → v3
 >>> check.verified, check.cleared_after, [sorted(step.labels) for step in check.steps]
 (True, 2, [[3], [3], []])
+>>> check_pursuit(room, ["RFOLLOW"], start="v1").verified   # at v2 the top left is still hidden
+False
 """
 
 from __future__ import annotations
@@ -97,9 +99,9 @@ def shadow_components(env: Environment, p: Sequence[object],
         If the exact areas do not add up (the pockets would not partition the shadow).
 
     >>> from solverplan.environment import Environment
-    >>> ell = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])
-    >>> shadow_components(ell, (3, 1))      # the upper arm beyond the window from the reflex vertex (2, 2)
-    {3: ((Fraction(2, 1), Fraction(4, 1)), (Fraction(0, 1), Fraction(4, 1)), (Fraction(0, 1), Fraction(3, 1)), (Fraction(2, 1), Fraction(2, 1)))}
+    >>> room = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])
+    >>> shadow_components(room, (9, 1))     # on the right wall: a triangle behind reflex vertex 3 = (4, 5)
+    {3: ((Fraction(4, 1), Fraction(5, 1)), (Fraction(3, 1), Fraction(9, 1)), (Fraction(3, 17), Fraction(137, 17)))}
     """
     vis = vis if vis is not None else visibility_polygon(env, p)
     out: dict[int, tuple[ExactPoint, ...]] = {}

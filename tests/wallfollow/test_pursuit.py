@@ -1,0 +1,193 @@
+"""Pursuit-evasion of the wall-following robot: the geometric ground-truth checker and Strategy 2 (gap sensor).
+
+The checker and Strategy 2 compute the labels independently (exact shadow polygons and overlaps; events of cuts
+and bitangents), so the main property test compares them motion by motion, and every plan found is replayed.
+"""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from solverplan.environment import Environment
+from solverplan.errors import InputError
+from solverplan.models import load
+from solverplan.result import Status
+from solverplan.wallfollow import cut_ordering, cuts
+from solverplan.wallfollow.pursuit import GapSensor, pursuit_plan
+from solverplan.wallfollow.pursuit_check import (check_pursuit, motion_samples, motion_transfer, shadow_components,
+                                                 _signed_area)
+
+from tests.wallfollow._polygons import general_position_polygons
+from tests.wallfollow.test_bitangents import SPIKES
+
+ROOM = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])  # one reflex vertex, 3
+
+
+def _points(env):
+    pts = {f"v{k}": p for k, p in enumerate(env.exact_vertices)}
+    pts.update({c.label: c.point for c in cuts(env)})
+    return pts
+
+
+def _motions(env):
+    """Every action from every point of the cut ordering: (from, to) point names."""
+    order = cut_ordering(env)
+    labels = order.labels
+    size = len(labels)
+    for i, label in enumerate(labels):
+        for step in (1, -1):
+            j = (i + step) % size
+            while labels[j][0] != "v":
+                j = (j + step) % size
+            yield label, labels[j]
+        if label[0] == "v" and int(label[1:]) in order.reflex:
+            yield label, f"r{label[1:]}"
+            yield label, f"l{label[1:]}"
+
+
+# ---------------------------------------------------------------------- the checker
+def test_shadow_components_are_exact_pockets_that_fill_the_shadow():
+    comps = shadow_components(ROOM, (9, 1))  # on the right wall: the top left behind v3 is hidden
+    assert set(comps) == {3}
+    assert _signed_area(comps[3]) > 0
+    from solverplan.geometry import visibility_polygon
+    assert visibility_polygon(ROOM, (9, 1)).area + _signed_area(comps[3]) == ROOM.area
+    assert shadow_components(ROOM, (0, 0)) == {}  # v0 sees the whole room
+
+
+def test_checker_follows_labels_and_rejects_a_plan_that_leaves_the_evader_hidden():
+    assert check_pursuit(ROOM, [], "v0").verified  # nothing hidden from v0
+    stuck = check_pursuit(ROOM, ["RFOLLOW"], "v1")  # v1 → v2: the arm behind v3 stays hidden
+    assert not stuck.verified and [sorted(s.labels) for s in stuck.steps] == [[3], [3]]
+    good = check_pursuit(ROOM, ["LFOLLOW"], "v1")  # v1 → v0: seen
+    assert good.verified and good.cleared_after == 1
+
+
+def test_no_prefix_of_a_shortest_plan_clears_the_three_arms():
+    env = load("three_arms")
+    plan = pursuit_plan(env)
+    assert plan.status is Status.FOUND and plan.verified and plan.check.cleared_after == len(plan.actions) == 5
+    # a shorter plan does not exist, and the checker agrees that the plan without its last action fails
+    assert not check_pursuit(env, plan.actions[:-1]).verified
+
+
+#: Five arms bent at right angles round a hub: one wall-following pursuer cannot clear them.
+FIVE_ARMS = Environment.from_coords([
+    (-62, 34), (-106, -24), (-118, -11), (-66, 61), (-4, 16), (14, 69), (-52, 90), (-48, 109), (35, 85), (14, 12),
+    (72, 9), (70, 78), (88, 80), (91, -8), (12, -10), (32, -63), (100, -43), (106, -60), (19, -87), (-5, -18),
+    (-49, -51), (-12, -105), (-28, -116), (-78, -45), (-18, 0)])
+
+
+def test_prop8_failure_is_reported_when_the_reachable_i_space_has_no_all_zero_state():
+    plan = pursuit_plan(FIVE_ARMS)
+    assert plan.status is Status.INFEASIBLE and plan.actions == () and plan.verified is None
+    assert plan.optimality.proved and "Prop. 8" in plan.reason and plan.states > 50
+
+
+def test_motion_samples_lie_between_every_vertex_pair_line_crossing():
+    p0, p1 = ROOM.exact_vertices[1], ROOM.exact_vertices[2]
+    samples = motion_samples(ROOM, p0, p1)
+    assert samples[0] == p0 and samples[-1] == p1 and len(samples) >= 3
+
+
+def test_checker_bad_input():
+    with pytest.raises(InputError, match="not a pursuit action"):
+        check_pursuit(ROOM, ["GRAB"])
+    with pytest.raises(InputError, match="JUMP needs"):
+        check_pursuit(ROOM, ["JUMP"])
+    with pytest.raises(InputError, match="not a point of the cut ordering"):
+        check_pursuit(ROOM, [], "r1")
+
+
+# ---------------------------------------------------------------------- Strategy 2 against the ground truth
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=5, max_vertices=10, spiky=True))
+def test_gap_sensor_label_transfer_equals_the_ground_truth_on_every_action(env):
+    """Strategy 2's bookkeeping (events of inflections, sliding cuts and bitangent rays) moves the labels exactly
+    as the geometric checker (exact shadow pockets, overlaps) does, for every action from every point."""
+    sensor = GapSensor(env)
+    pts = _points(env)
+    for a, b in _motions(env):
+        assert sensor.transfer(pts[a], pts[b]) == motion_transfer(env, pts[a], pts[b]), (a, b)
+
+
+def test_gap_sensor_sees_the_split_and_merge_of_a_bitangent():
+    sensor = GapSensor(SPIKES)  # one bitangent between the spike tips 4 and 7
+    kinds = sorted({event[0] for *_, event in sensor.rays})
+    assert kinds == ["bitangent", "inflection"]
+    pts = _points(SPIKES)
+    for a, b in _motions(SPIKES):
+        assert sensor.transfer(pts[a], pts[b]) == motion_transfer(SPIKES, pts[a], pts[b]), (a, b)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=5, max_vertices=11, spiky=True), st.integers(0, 30))
+def test_prop8_every_strategy2_plan_is_verified_by_the_ground_truth(env, start_at):
+    """Prop. 8: the search finds a plan whenever one exists (it is exhaustive over the finite I-space, so a
+    ``found`` plan is the shortest) — and every plan it finds leaves the evader nowhere to hide."""
+    order = cut_ordering(env)
+    start = order.labels[start_at % len(order.labels)]
+    plan = pursuit_plan(env, start=start, max_states=5000)
+    assert plan.status in (Status.FOUND, Status.INFEASIBLE, Status.NOT_FOUND)
+    if plan.status is Status.FOUND:
+        assert plan.verified, (start, plan.actions)
+        assert plan.optimality.proved and plan.optimality.bound == len(plan.actions)
+        # shortest: no shorter prefix of the plan already ends all-0 at an action end
+        replay = plan.check
+        assert all(replay.steps[k].labels for k in range(len(plan.actions)))
+
+
+# ---------------------------------------------------------------------- shipped models
+SHIPPED = {"square": 0, "triangle": 0, "hexagon": 0, "irregular_convex": 0, "l_shape": 0, "star": 3,
+           "worst_case_t4": 2, "three_arms": 5}
+
+
+@pytest.mark.parametrize("name", sorted(SHIPPED))
+def test_pursuit_plans_on_shipped_models_are_verified(name):
+    plan = pursuit_plan(load(name))
+    assert plan.status is Status.FOUND and plan.verified is True
+    assert len(plan.actions) == SHIPPED[name]
+    data = plan.to_json()
+    assert data["plan"] == list(plan.actions) and data["verified"] is True and data["optimality"]["proved"]
+
+
+def test_the_cap_on_states_gives_not_found_with_the_limit():
+    plan = pursuit_plan(load("three_arms"), max_states=5)
+    assert plan.status is Status.NOT_FOUND and plan.limits == ("max_states=5",)
+    assert not plan.optimality.proved and plan.to_json()["plan"] == [] and plan.verified is None
+
+
+def test_pursuit_bad_input():
+    with pytest.raises(InputError, match="not implemented"):
+        pursuit_plan(ROOM, sensor="contact")
+    with pytest.raises(InputError, match="unknown sensor"):
+        pursuit_plan(ROOM, sensor="radar")
+    with pytest.raises(InputError, match="not a point"):
+        pursuit_plan(ROOM, start="r9")
+    with pytest.raises(InputError, match="max_states"):
+        pursuit_plan(ROOM, max_states=0)
+
+
+# ---------------------------------------------------------------------- the command
+def test_cli_pursuit_plan_is_verified_and_pictured(tmp_path):
+    from tests.wallfollow.test_cli_wallfollow import answer
+
+    data = answer("wallfollow", "three_arms", "--pursuit", "--picture", tmp_path / "plan.png")
+    assert data["status"] == "found" and data["verified"] is True and data["sensor"] == "gap"
+    assert data["plan"] == ["RFOLLOW", "JUMP", "LFOLLOW", "RFOLLOW", "RFOLLOW"] and data["plan_length"] == 5
+    assert data["start"] == "v0" and data["positions"][0] == "v0" and data["states"] == data["stats"]["expanded"]
+    assert data["shadow_labels"][-1] == [] and data["cleared_after"] == 5
+    assert (tmp_path / "plan.png").stat().st_size > 10_000
+    other = answer("wallfollow", "three_arms", "--pursuit", "--from", "v4", "--max-states", "1000")
+    assert other["start"] == "v4" and other["verified"] is True
+
+
+def test_cli_pursuit_errors_are_one_line():
+    from tests.wallfollow.test_cli_wallfollow import one_line_error, run
+
+    one_line_error(run("wallfollow", "star", "--pursuit", "--sensor", "contact"), "not implemented")
+    one_line_error(run("wallfollow", "star", "--pursuit", "--from", "x1"), "not a point of the cut ordering")
+    one_line_error(run("wallfollow", "star", "--sensor", "gap", "--from", "v1"), "belong to --pursuit")
+    one_line_error(run("wallfollow", "star", "--pursuit", "--learn"), "choose one of")
