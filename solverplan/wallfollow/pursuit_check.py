@@ -131,9 +131,11 @@ def _line_crossing(p0: ExactPoint, p1: ExactPoint, a: ExactPoint, b: ExactPoint)
     return s if 0 <= s <= 1 else None
 
 
-def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint) -> list[ExactPoint]:
-    """Where the checker looks along the segment p0 → p1: the ends and the middle of every piece between
-    consecutive crossings with lines through two vertices (exact points)."""
+def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint, per_piece: int = 1) -> list[ExactPoint]:
+    """Where the checker looks along the segment p0 → p1: the ends and ``per_piece`` evenly spaced points inside
+    every piece between consecutive crossings with lines through two vertices (exact points)."""
+    if per_piece < 1:
+        raise InputError(f"per_piece must be at least 1, got {per_piece}")
     pts = env.exact_vertices
     params = {Fraction(0), Fraction(1)}
     for a, b in combinations(pts, 2):
@@ -143,8 +145,9 @@ def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint) -> list[Exa
     ordered = sorted(params)
     out = [p0]
     for s0, s1 in zip(ordered, ordered[1:]):
-        m = (s0 + s1) / 2
-        out.append((p0[0] + m * (p1[0] - p0[0]), p0[1] + m * (p1[1] - p0[1])))
+        for k in range(1, per_piece + 1):
+            m = s0 + (s1 - s0) * k / (per_piece + 1)
+            out.append((p0[0] + m * (p1[0] - p0[0]), p0[1] + m * (p1[1] - p0[1])))
     out.append(p1)
     return out
 
@@ -169,14 +172,14 @@ def propagate(labels: dict[int, frozenset[int]], transfer: Transfer) -> dict[int
     return {g: frozenset().union(*(labels.get(h, frozenset()) for h in src)) for g, src in transfer.items()}
 
 
-def motion_transfer(env: Environment, p0: ExactPoint, p1: ExactPoint) -> Transfer:
+def motion_transfer(env: Environment, p0: ExactPoint, p1: ExactPoint, per_piece: int = 1) -> Transfer:
     """The ground truth over one straight motion p0 → p1: every shadow component at p1 → the components at p0
     whose labels it ORs (composed over :func:`motion_samples`, by overlap)."""
     tol = OVERLAP_FRACTION * float(env.area)
     comps = shadow_components(env, p0)
     total: Transfer = {g: frozenset({g}) for g in comps}
     polys = {g: _shapely(r) for g, r in comps.items()}
-    for q in motion_samples(env, p0, p1)[1:]:
+    for q in motion_samples(env, p0, p1, per_piece)[1:]:
         new_polys = {g: _shapely(r) for g, r in shadow_components(env, q).items()}
         total = propagate(total, _overlap_transfer(polys, new_polys, tol))
         polys = new_polys

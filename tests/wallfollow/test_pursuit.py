@@ -191,3 +191,13 @@ def test_cli_pursuit_errors_are_one_line():
     one_line_error(run("wallfollow", "star", "--pursuit", "--from", "x1"), "not a point of the cut ordering")
     one_line_error(run("wallfollow", "star", "--sensor", "gap", "--from", "v1"), "belong to --pursuit")
     one_line_error(run("wallfollow", "star", "--pursuit", "--learn"), "choose one of")
+
+
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=5, max_vertices=9, spiky=True))
+def test_checker_sampling_is_fine_enough_three_samples_per_piece_change_nothing(env):
+    """Between two crossings of lines through vertices the shadow keeps its topology, so one sample per piece is
+    enough: three per piece give the same label transfer on every action."""
+    pts = _points(env)
+    for a, b in _motions(env):
+        assert motion_transfer(env, pts[a], pts[b]) == motion_transfer(env, pts[a], pts[b], per_piece=3), (a, b)
