@@ -54,6 +54,9 @@ __all__ = ["GapSensor", "PursuitPlan", "pursuit_plan", "SENSORS", "DEFAULT_MAX_S
 #: The sensors ``pursuit_plan`` knows; only the gap sensor (Strategy 2) is implemented.
 SENSORS = ("gap", "bitangent", "pebble", "contact")
 
+#: The strategy of each implemented sensor.
+STRATEGY = {"gap": "Strategy 2", "bitangent": "Strategy 3"}
+
 #: The cap on derived I-states a search expands (the I-space is exponential in the number of gaps).
 DEFAULT_MAX_STATES = 200_000
 
@@ -240,12 +243,13 @@ class PursuitPlan:
 
     @property
     def optimality(self) -> Optimality:
-        scope = "plans of RFOLLOW, LFOLLOW and JUMP actions from the start, judged at action ends by the gap sensor"
+        scope = (f"plans of RFOLLOW, LFOLLOW and JUMP actions from the start, judged at action ends by the "
+                 f"{self.sensor} sensor")
+        algorithm = f"{STRATEGY[self.sensor]} (BFS)"
         if self.limits:
-            return Optimality(Method.HEURISTIC, False, None, scope=scope, algorithm="Strategy 2 (BFS)",
-                              limits=self.limits)
+            return Optimality(Method.HEURISTIC, False, None, scope=scope, algorithm=algorithm, limits=self.limits)
         bound = float(len(self.actions)) if self.status is Status.FOUND else None
-        return Optimality(Method.SEARCH_EXHAUSTED, True, bound, scope=scope, algorithm="Strategy 2 (BFS)")
+        return Optimality(Method.SEARCH_EXHAUSTED, True, bound, scope=scope, algorithm=algorithm)
 
     def to_json(self) -> dict:
         out: dict[str, Any] = {"status": self.status.value, "plan": list(self.actions), "verified": self.verified,
@@ -308,8 +312,9 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     """
     if sensor not in SENSORS:
         raise InputError(f"unknown sensor {sensor!r}: use one of {', '.join(SENSORS)}")
-    if sensor != "gap":
-        raise InputError(f"the {sensor} sensor's pursuit strategy is not implemented: use --sensor gap (Strategy 2)")
+    if sensor not in ("gap", "bitangent"):
+        raise InputError(f"the {sensor} sensor's pursuit strategy is not implemented: use --sensor gap (Strategy 2) "
+                         f"or bitangent (Strategy 3)")
     if isinstance(max_states, bool) or not isinstance(max_states, int) or max_states < 1:
         raise InputError(f"max_states must be a positive integer, got {max_states!r}")
     t0 = time.perf_counter()
@@ -320,22 +325,44 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     points: dict[str, ExactPoint] = {f"v{k}": p for k, p in enumerate(pts)}
     points.update({c.label: c.point for c in cuts(env)})
     reflex = set(order.reflex)
-    gap = GapSensor(env)
+    # the pursuit status of an I-state, how an action changes it, and whether it is won
+    status0: Any
+    if sensor == "gap":
+        gap = GapSensor(env)
+        status0 = frozenset(gap.gaps(points[start]))
+
+        def step(x: str, y: str, ones: Any) -> Any:
+            transfer = gap.transfer(points[x], points[y])
+            return frozenset(g for g, src in transfer.items() if src & ones)
+
+        def won(ones: Any) -> bool:
+            return not ones
+    else:
+        from solverplan.wallfollow.pursuit_primitives import BitangentSensor
+
+        primitives = BitangentSensor(env)
+        status0 = (frozenset(), primitives.active(start))
+
+        def step(x: str, y: str, status: Any) -> Any:
+            return primitives.apply(x, y, points[x], points[y], status)
+
+        def won(status: Any) -> bool:
+            return not status[1]
     t1 = time.perf_counter()
     start_index = order.index(start)
-    # a derived I-state: (index in the ordering, "R"/"L" = the follow that reached a vertex, the gaps labelled 1)
-    IState = tuple[int, str | None, frozenset[int]]
-    first: IState = (start_index, None, frozenset(gap.gaps(points[start])))
+    # a derived I-state: (index in the ordering, "R"/"L" = the follow that reached a vertex, the pursuit status)
+    IState = tuple[int, str | None, Any]
+    first: IState = (start_index, None, status0)
     parent: dict[IState, tuple[IState, str] | None] = {first: None}
     queue: deque[IState] = deque([first])
-    goal: IState | None = first if not first[2] else None
+    goal: IState | None = first if won(status0) else None
     limits: tuple[str, ...] = ()
     while queue and goal is None:
         if len(parent) >= max_states:
             limits = (f"max_states={max_states}",)
             break
         state = queue.popleft()
-        index, arrived, ones = state
+        index, arrived, status = state
         label = order.labels[index]
         moves: list[tuple[str, int, str | None]] = [("RFOLLOW", _vertex_after(order, index, 1), "R"),
                                                     ("LFOLLOW", _vertex_after(order, index, -1), "L")]
@@ -343,12 +370,11 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
         if kind == "v" and k in reflex and arrived is not None:
             moves.append(("JUMP", order.index(f"{arrived.lower()}{k}"), None))
         for action, target, arrival in moves:
-            transfer = gap.transfer(points[label], points[order.labels[target]])
-            nxt: IState = (target, arrival, frozenset(g for g, src in transfer.items() if src & ones))
+            nxt: IState = (target, arrival, step(label, order.labels[target], status))
             if nxt in parent:
                 continue
             parent[nxt] = (state, action)
-            if not nxt[2]:
+            if won(nxt[2]):
                 goal = nxt
                 break
             queue.append(nxt)
@@ -360,7 +386,7 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
         status = Status.NOT_FOUND if limits else Status.INFEASIBLE
         reason = (f"the cap of {max_states} I-states was reached" if limits else
                   f"every one of the {states} reachable I-states (position, labels) keeps a label 1: no plan exists "
-                  f"for this cut ordering with the gap sensor (Prop. 8)")
+                  f"for this cut ordering with the {sensor} sensor ({'Prop. 8' if sensor == 'gap' else 'Prop. 10'})")
         return PursuitPlan(status, (), start, sensor, (start,), states, order, None, reason, limits, record, stats)
     actions: list[str] = []
     positions: list[str] = []
