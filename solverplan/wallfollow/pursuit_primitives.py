@@ -127,6 +127,16 @@ class BitangentSensor:
                 return other if d[0] * edge[0] + d[1] * edge[1] < 0 else None
         return right if _cot(d, back) > _cot(d, ahead) else left
 
+    def _blocked(self, ray: BitangentRay, m: ExactPoint) -> bool:
+        """From v_near + εm (ε → 0), do the walls at the near vertex hide the far vertex?"""
+        pts = self.env.exact_vertices
+        n = len(pts)
+        v = pts[ray.near]
+        d = (pts[ray.far][0] - v[0], pts[ray.far][1] - v[1])
+        walls = [(pts[(ray.near + k) % n][0] - v[0], pts[(ray.near + k) % n][1] - v[1]) for k in (-1, 1)]
+        u, w = (m, d) if _cross(m, d) > 0 else (d, m)  # the sweep from p's direction to the far one, CCW
+        return any(_cross(u, e) > 0 and _cross(e, w) > 0 for e in walls)
+
     def active(self, label: str) -> frozenset[str]:
         """The primitives active at a point of the cut ordering."""
         k = self.ordering.index(label)
@@ -167,15 +177,15 @@ class BitangentSensor:
             # there the pursuer sees the far shadow on its own: leaving it to the merge side merges, arriving
             # from the merge side splits
             # (there the near shadow is the one behind the near vertex seen along the motion, not along the ray)
-            # — and the near vertex hides the far one only from points beyond it (on the ray's side of it)
+            # — and from a point p next to it, the near vertex hides the far one exactly when the walls at the
+            # near vertex lie between the directions to p and to the far vertex
             near_primitive = ray.near_primitive
             m = (p1[0] - p0[0], p1[1] - p0[1])
-            towards_far = (far[0] - near[0]) * m[0] + (far[1] - near[1]) * m[1]
             if s == 0:
-                kind = "merge" if side1 == -ray.split_side and towards_far < 0 else ""
+                kind = "merge" if self._blocked(ray, m) else ""
                 look = (-m[0], -m[1])
             elif s == 1:
-                kind = "split" if side0 == -ray.split_side and towards_far > 0 else ""
+                kind = "split" if self._blocked(ray, (-m[0], -m[1])) else ""
                 look = m
             else:
                 kind = "split" if side1 == ray.split_side else "merge"
