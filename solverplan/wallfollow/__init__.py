@@ -18,7 +18,8 @@ interior, on an edge, at a convex or at a reflex vertex, and whether it is at th
 - :mod:`~solverplan.wallfollow.pursuit_check` — the geometric ground truth of pursuit-evasion: exact shadow
   components along a plan and their labels.
 - :mod:`~solverplan.wallfollow.pursuit` — Strategy 2 (gap sensor): shortest pursuit plans, or a proof that
-  none exists (Prop. 8).
+  none exists (Prop. 8); :mod:`~solverplan.wallfollow.pursuit_primitives` — Strategy 3 (bitangent sensor:
+  primitives and compounds, Prop. 10).
 
 The command is ``solverplan wallfollow``.
 

@@ -1,4 +1,5 @@
-"""Pursuit-evasion plans for the wall-following robot: Strategy 2, the gap sensor (§VI-B of the paper).
+"""Pursuit-evasion plans for the wall-following robot: Strategy 2, the gap sensor (§VI-B of the paper), and the
+search shared with Strategy 3 (the bitangent sensor, :mod:`~solverplan.wallfollow.pursuit_primitives`).
 
 The pursuer moves by RFOLLOW, LFOLLOW and JUMP between the points of the cut ordering. The **gap sensor**
 reports the gaps of its view — one per shadow component, named here by the reflex vertex the gap's window
@@ -51,7 +52,7 @@ from solverplan.wallfollow.world import Action
 
 __all__ = ["GapSensor", "PursuitPlan", "pursuit_plan", "SENSORS", "DEFAULT_MAX_STATES"]
 
-#: The sensors ``pursuit_plan`` knows; only the gap sensor (Strategy 2) is implemented.
+#: The sensors ``pursuit_plan`` knows; the gap (Strategy 2) and bitangent (Strategy 3) sensors are implemented.
 SENSORS = ("gap", "bitangent", "pebble", "contact")
 
 #: The strategy of each implemented sensor.
@@ -296,8 +297,9 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     env
         A simple polygon in general position.
     sensor
-        ``"gap"`` (Strategy 2). The bitangent, pebble-visibility and contact strategies (3–6) are not
-        implemented: they raise :class:`~solverplan.errors.InputError`.
+        ``"gap"`` (Strategy 2) or ``"bitangent"`` (Strategy 3,
+        :mod:`~solverplan.wallfollow.pursuit_primitives`). The pebble-visibility and contact strategies (4–6)
+        are not implemented: they raise :class:`~solverplan.errors.InputError`.
     start
         The pursuer's start point in the cut ordering (``v0``, ``r3``); the evader may be anywhere out of sight.
     max_states
@@ -331,12 +333,12 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
         gap = GapSensor(env)
         status0 = frozenset(gap.gaps(points[start]))
 
-        def step(x: str, y: str, ones: Any) -> Any:
+        def step(x: str, y: str, status: Any) -> Any:
             transfer = gap.transfer(points[x], points[y])
-            return frozenset(g for g, src in transfer.items() if src & ones)
+            return frozenset(g for g, src in transfer.items() if src & status)
 
-        def won(ones: Any) -> bool:
-            return not ones
+        def won(status: Any) -> bool:
+            return not status
     else:
         from solverplan.wallfollow.pursuit_primitives import BitangentSensor
 

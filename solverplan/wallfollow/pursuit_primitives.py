@@ -23,8 +23,8 @@ truth (:func:`~solverplan.wallfollow.pursuit_check.check_pursuit`) verifies ever
 >>> room = Environment.from_coords([[0, 0], [20, 0], [21, 9], [14, 10], [13, 4], [12, 11], [7, 13], [6, 5],
 ...                                 [5, 12], [0, 11]])             # two spikes hang from the ceiling: tips 4 and 7
 >>> sensor = BitangentSensor(room)
->>> sensor.primitives, sensor.active("v0"), sensor.active("v5")
-(('R4', 'L4', 'R7', 'L7'), frozenset({'L7', 'L4'}), frozenset({'R4', 'L7'}))
+>>> sensor.primitives, sorted(sensor.active("v0")), sorted(sensor.active("v5"))
+(('R4', 'L4', 'R7', 'L7'), ['R4', 'R7'], ['L7', 'R4'])
 """
 
 from __future__ import annotations
@@ -100,7 +100,7 @@ class BitangentSensor:
             self.inflection_rays[f"R{first}"] = (pts[first], cut_at[(first, "r")].point)
             self.inflection_rays[f"L{last}"] = (pts[last], cut_at[(last, "l")].point)
         self._size = size
-        rays = []
+        rays: list[BitangentRay] = []
         for b in bitangents(env):
             for near, far, end in ((b.i, b.j, b.point_ij), (b.j, b.i, b.point_ji)):
                 edges_side = orient(pts[far], pts[near], pts[(near - 1) % n])
@@ -208,14 +208,18 @@ class BitangentSensor:
         active = set(self.active(x))
         for _, _, kind, what in self.events(x, y, p0, p1):
             if kind == "appear":
-                active.add(what)  # type: ignore[arg-type]
-                ones.discard(what)  # type: ignore[arg-type]
+                assert isinstance(what, str)
+                active.add(what)
+                ones.discard(what)
             elif kind == "disappear":
-                active.discard(what)  # type: ignore[arg-type]
-                ones.discard(what)  # type: ignore[arg-type]
+                assert isinstance(what, str)
+                active.discard(what)
+                ones.discard(what)
                 merges = {m for m in merges if what not in m[1:]}
             else:
-                ray, near = what  # type: ignore[misc]
+                assert isinstance(what, tuple)
+                ray: BitangentRay = what[0]
+                near: str = what[1]
                 if kind == "split":
                     merges = {m for m in merges if m[0] != ray.index}
                 elif ray.far_primitive in active and near in active:

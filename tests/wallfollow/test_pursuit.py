@@ -139,15 +139,62 @@ def test_prop8_every_strategy2_plan_is_verified_by_the_ground_truth(env, start_a
         assert all(replay.steps[k].labels for k in range(len(plan.actions)))
 
 
+# ---------------------------------------------------------------------- Strategy 3 (bitangent sensor)
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=5, max_vertices=11, spiky=True), st.integers(0, 30))
+def test_prop10_strategy3_finds_a_plan_exactly_when_strategy2_does(env, start_at):
+    """Prop. 10 (= Prop. 8 for the bitangent sensor): Strategy 3's compounds of primitives carry the same pursuit
+    status as Strategy 2's gaps, so both searches succeed on the same polygons and starts, with plans of the same
+    length; every Strategy 3 plan is verified by the ground truth."""
+    order = cut_ordering(env)
+    start = order.labels[start_at % len(order.labels)]
+    gap = pursuit_plan(env, start=start, max_states=5000, check=False)
+    bitangent = pursuit_plan(env, start=start, sensor="bitangent", max_states=5000)
+    assert bitangent.status is gap.status
+    assert len(bitangent.actions) == len(gap.actions)
+    if bitangent.status is Status.FOUND:
+        assert bitangent.verified, (start, bitangent.actions)
+
+
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=5, max_vertices=11, spiky=True))
+def test_active_primitives_from_the_ordering_hide_the_edge_next_to_their_vertex(env):
+    """A primitive read off the cut ordering as active has a shadow: the wall just before its chain's first vertex
+    (R) or just after its last (L) is hidden from the pursuer, by the exact visibility polygon."""
+    from fractions import Fraction
+
+    from solverplan.exact import point_in_ring
+    from solverplan.wallfollow.pursuit_primitives import BitangentSensor
+
+    sensor = BitangentSensor(env)
+    n = env.n_vertices
+    witness = {}
+    for prim in sensor.primitives:
+        v = int(prim[1:])
+        witness[prim] = (env.exact_point_at((v - 1) % n, Fraction(999, 1000)) if prim[0] == "R"
+                         else env.exact_point_at(v, Fraction(1, 1000)))
+    pts = _points(env)
+    for label in cut_ordering(env).labels:
+        pockets = shadow_components(env, pts[label]).values()
+        for prim in sensor.active(label):
+            assert any(point_in_ring(witness[prim], ring) >= 0 for ring in pockets), (label, prim)
+
+
+def test_strategy3_on_the_five_arms_is_infeasible_too():
+    plan = pursuit_plan(FIVE_ARMS, sensor="bitangent")
+    assert plan.status is Status.INFEASIBLE and "Prop. 10" in plan.reason
+
+
 # ---------------------------------------------------------------------- shipped models
 SHIPPED = {"square": 0, "triangle": 0, "hexagon": 0, "irregular_convex": 0, "l_shape": 0, "star": 3,
            "worst_case_t4": 2, "three_arms": 5}
 
 
+@pytest.mark.parametrize("sensor", ["gap", "bitangent"])
 @pytest.mark.parametrize("name", sorted(SHIPPED))
-def test_pursuit_plans_on_shipped_models_are_verified(name):
-    plan = pursuit_plan(load(name))
-    assert plan.status is Status.FOUND and plan.verified is True
+def test_pursuit_plans_on_shipped_models_are_verified(name, sensor):
+    plan = pursuit_plan(load(name), sensor=sensor)
+    assert plan.status is Status.FOUND and plan.verified is True and plan.sensor == sensor
     assert len(plan.actions) == SHIPPED[name]
     data = plan.to_json()
     assert data["plan"] == list(plan.actions) and data["verified"] is True and data["optimality"]["proved"]
@@ -160,8 +207,9 @@ def test_the_cap_on_states_gives_not_found_with_the_limit():
 
 
 def test_pursuit_bad_input():
-    with pytest.raises(InputError, match="not implemented"):
-        pursuit_plan(ROOM, sensor="contact")
+    for sensor in ("contact", "pebble"):
+        with pytest.raises(InputError, match="not implemented"):
+            pursuit_plan(ROOM, sensor=sensor)
     with pytest.raises(InputError, match="unknown sensor"):
         pursuit_plan(ROOM, sensor="radar")
     with pytest.raises(InputError, match="not a point"):
@@ -182,6 +230,9 @@ def test_cli_pursuit_plan_is_verified_and_pictured(tmp_path):
     assert (tmp_path / "plan.png").stat().st_size > 10_000
     other = answer("wallfollow", "three_arms", "--pursuit", "--from", "v4", "--max-states", "1000")
     assert other["start"] == "v4" and other["verified"] is True
+    strategy3 = answer("wallfollow", "three_arms", "--pursuit", "--sensor", "bitangent")
+    assert strategy3["sensor"] == "bitangent" and strategy3["verified"] is True and strategy3["plan_length"] == 5
+    assert strategy3["optimality"]["algorithm"] == "Strategy 3 (BFS)"
 
 
 def test_cli_pursuit_errors_are_one_line():
