@@ -56,7 +56,10 @@ __all__ = ["GapSensor", "PursuitPlan", "pursuit_plan", "SENSORS", "DEFAULT_MAX_S
 SENSORS = ("gap", "bitangent", "pebble", "contact")
 
 #: The strategy of each implemented sensor.
-STRATEGY = {"gap": "Strategy 2", "bitangent": "Strategy 3"}
+STRATEGY = {"gap": "Strategy 2", "bitangent": "Strategy 3", "contact": "Strategy 6"}
+
+#: The strategies whose search is complete (a failure proves that no plan exists).
+COMPLETE = ("gap", "bitangent")
 
 #: The cap on derived I-states a search expands (the I-space is exponential in the number of gaps).
 DEFAULT_MAX_STATES = 200_000
@@ -249,6 +252,8 @@ class PursuitPlan:
         algorithm = f"{STRATEGY[self.sensor]} (BFS)"
         if self.limits:
             return Optimality(Method.HEURISTIC, False, None, scope=scope, algorithm=algorithm, limits=self.limits)
+        if self.sensor not in COMPLETE:  # shortest under its own pessimism only; failure proves nothing
+            return Optimality(Method.HEURISTIC, False, None, scope=scope, algorithm=algorithm)
         bound = float(len(self.actions)) if self.status is Status.FOUND else None
         return Optimality(Method.SEARCH_EXHAUSTED, True, bound, scope=scope, algorithm=algorithm)
 
@@ -314,9 +319,9 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     """
     if sensor not in SENSORS:
         raise InputError(f"unknown sensor {sensor!r}: use one of {', '.join(SENSORS)}")
-    if sensor not in ("gap", "bitangent"):
-        raise InputError(f"the {sensor} sensor's pursuit strategy is not implemented: use --sensor gap (Strategy 2) "
-                         f"or bitangent (Strategy 3)")
+    if sensor not in STRATEGY:
+        raise InputError(f"the {sensor} sensor's pursuit strategy is not implemented: use --sensor gap (Strategy 2), "
+                         f"bitangent (Strategy 3) or contact (Strategy 6)")
     if isinstance(max_states, bool) or not isinstance(max_states, int) or max_states < 1:
         raise InputError(f"max_states must be a positive integer, got {max_states!r}")
     t0 = time.perf_counter()
@@ -339,6 +344,17 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
 
         def won(status: Any) -> bool:
             return not status
+    elif sensor == "contact":
+        from solverplan.wallfollow.pursuit_contact import ContactPursuit
+
+        contact = ContactPursuit(order)  # the cut ordering alone
+        status0 = contact.start(start)
+
+        def step(x: str, y: str, status: Any) -> Any:
+            return contact.apply(x, y, status)
+
+        def won(status: Any) -> bool:
+            return contact.won(status)
     else:
         from solverplan.wallfollow.pursuit_primitives import BitangentSensor
 
@@ -385,10 +401,16 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     stats = Stats(seconds_setup=t1 - t0, seconds_search=t2 - t1, expanded=states)
     record = EnvironmentRecord.of(env)
     if goal is None:
-        status = Status.NOT_FOUND if limits else Status.INFEASIBLE
-        reason = (f"the cap of {max_states} I-states was reached" if limits else
-                  f"every one of the {states} reachable I-states (position, labels) keeps a label 1: no plan exists "
-                  f"for this cut ordering with the {sensor} sensor ({'Prop. 8' if sensor == 'gap' else 'Prop. 10'})")
+        status = Status.NOT_FOUND if limits or sensor not in COMPLETE else Status.INFEASIBLE
+        if limits:
+            reason = f"the cap of {max_states} I-states was reached"
+        elif sensor in COMPLETE:
+            reason = (f"every one of the {states} reachable I-states (position, labels) keeps a label 1: no plan "
+                      f"exists for this cut ordering with the {sensor} sensor "
+                      f"({'Prop. 8' if sensor == 'gap' else 'Prop. 10'})")
+        else:
+            reason = (f"every one of the {states} reachable I-states keeps a label 1 under Strategy 6's pessimistic "
+                      f"bookkeeping; Strategy 6 is sound but not known to be complete, so a plan may still exist")
         return PursuitPlan(status, (), start, sensor, (start,), states, order, None, reason, limits, record, stats)
     actions: list[str] = []
     positions: list[str] = []
