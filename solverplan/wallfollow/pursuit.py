@@ -338,7 +338,7 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
         gap = GapSensor(env)
         status0 = frozenset(gap.gaps(points[start]))
 
-        def step(x: str, y: str, status: Any) -> Any:
+        def step(x: str, y: str, status: Any, action: str) -> Any:
             transfer = gap.transfer(points[x], points[y])
             return frozenset(g for g, src in transfer.items() if src & status)
 
@@ -350,8 +350,8 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
         contact = ContactPursuit(order)  # the cut ordering alone
         status0 = contact.start(start)
 
-        def step(x: str, y: str, status: Any) -> Any:
-            return contact.apply(x, y, status)
+        def step(x: str, y: str, status: Any, action: str) -> Any:
+            return contact.apply(x, y, status, action)
 
         def won(status: Any) -> bool:
             return contact.won(status)
@@ -361,7 +361,7 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
         primitives = BitangentSensor(env)
         status0 = (frozenset(), primitives.active(start))
 
-        def step(x: str, y: str, status: Any) -> Any:
+        def step(x: str, y: str, status: Any, action: str) -> Any:
             return primitives.apply(x, y, points[x], points[y], status)
 
         def won(status: Any) -> bool:
@@ -388,7 +388,7 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
         if kind == "v" and k in reflex and arrived is not None:
             moves.append(("JUMP", order.index(f"{arrived.lower()}{k}"), None))
         for action, target, arrival in moves:
-            nxt: IState = (target, arrival, step(label, order.labels[target], status))
+            nxt: IState = (target, arrival, step(label, order.labels[target], status, action))
             if nxt in parent:
                 continue
             parent[nxt] = (state, action)

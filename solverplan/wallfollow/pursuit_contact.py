@@ -15,8 +15,8 @@ treats every possibility pessimistically. Nothing here looks at the geometry: th
   b_ji ∈ [v_j, b̂_ji] (tested), so the boundary stretches [b̂_ij, v_i) and (v_j, b̂_ji] contain every point
   of the ordering on the side of a ray where the far shadow is merged into the near one (at the near vertex
   itself the pursuer sees the far shadow on its own).
-- **Labels**: a shadow component is a compound (a set of primitives) with a label. Entering a stretch where a
-  candidate may merge two shadows merges *every* active primitive of the near vertex's chain with every active
+- **Labels**: a shadow component is a compound (a set of primitives) with a label. An action that passes a
+  stretch where a candidate may merge two shadows merges *every* active primitive of the near vertex's chain with every active
   one of the far vertex's chain (the pursuer cannot tell which shadows they are) — a merge ORs the labels;
   splits are never assumed (a compound only shrinks when a primitive disappears: its label stays with the
   rest); a primitive that appears is a new compound labelled 0. Within one action: appearances, then merges,
@@ -81,12 +81,14 @@ class ContactPursuit:
             self._interval[f"R{c[0]}"] = (self._at[f"v{c[0]}"], self._at[f"r{c[0]}"])
             self._interval[f"L{c[-1]}"] = (self._at[f"l{c[-1]}"], self._at[f"v{c[-1]}"])
         self.candidates = tuple(self._candidates(sorted(reflex)))
-        # each candidate's two rays: (near, far, the stretch of possible merging from a to b, the end that is the
-        # near vertex excluded: standing at it the pursuer sees the far shadow on its own)
-        self._rays: list[tuple[int, int, int, int]] = []
+        # The boundary as 2|M| cells: cell 2k is the k-th point of the ordering, cell 2k + 1 the open stretch to the
+        # next. Each candidate's two rays: (near, far, the cells where the far shadow may be merged into the near
+        # one) — [b̂_ij, v_i) and (v_j, b̂_ji]: at the near vertex itself the far shadow is seen on its own.
+        self._cells = 2 * self._size
+        self._rays: list[tuple[int, int, frozenset[int]]] = []
         for cand in self.candidates:
-            self._rays.append((cand.i, cand.j, self._at[cand.b_ij], self._at[f"v{cand.i}"]))
-            self._rays.append((cand.j, cand.i, self._at[f"v{cand.j}"], self._at[cand.b_ji]))
+            self._rays.append((cand.i, cand.j, self._cell_range(2 * self._at[cand.b_ij], 2 * self._at[f"v{cand.i}"] - 1)))
+            self._rays.append((cand.j, cand.i, self._cell_range(2 * self._at[f"v{cand.j}"] + 1, 2 * self._at[cand.b_ji])))
 
     # ------------------------------------------------------------------ the ordering as a circle
     def _walk(self, a: int, x: int) -> int:
@@ -127,8 +129,20 @@ class ContactPursuit:
                             b_ji = s if self._walk(vj, s) < self._walk(vj, b_ji) else b_ji
                 yield Candidate(i, j, self.ordering.labels[b_ij], self.ordering.labels[b_ji])
 
-    def _in_stretch(self, a: int, b: int, near: int, x: int) -> bool:
-        return x != near and self._closed(a, b, x)
+    def _cell_range(self, a: int, b: int) -> frozenset[int]:
+        """Cells a, a + 1, …, b (cyclically)."""
+        return frozenset((a + k) % self._cells for k in range((b - a) % self._cells + 1))
+
+    def _path(self, x: str, y: str, action: str) -> frozenset[int]:
+        """The cells a motion passes: the boundary between x and y for a follow, the two ends for a JUMP (its
+        inside crosses a ray's possible positions only if an end lies on the merging side: chords that do not
+        alternate do not cross)."""
+        cx, cy = 2 * self._at[x], 2 * self._at[y]
+        if action == "RFOLLOW":
+            return self._cell_range(cx, cy)
+        if action == "LFOLLOW":
+            return self._cell_range(cy, cx)
+        return frozenset({cx, cy})
 
     # ------------------------------------------------------------------ status
     def active(self, label: str) -> frozenset[str]:
@@ -144,18 +158,17 @@ class ContactPursuit:
         chain = self._chain[v]
         return {f"R{chain[0]}", f"L{chain[-1]}"}
 
-    def apply(self, x: str, y: str, status: ContactStatus) -> ContactStatus:
-        """The status after the action from point x to point y of the ordering."""
+    def apply(self, x: str, y: str, status: ContactStatus, action: str) -> ContactStatus:
+        """The status after ``action`` (RFOLLOW, LFOLLOW or JUMP) from point x to point y of the ordering."""
         before, after = self.active(x), self.active(y)
         compounds = [(set(c), label) for c, label in status]
         for p in after - before:  # appearances: new, seen a moment ago
             compounds.append(({p}, False))
-        kx, ky = self._at[x], self._at[y]
         live = set(before | after)
-        for near, far, a, b in self._rays:
-            v = self._at[f"v{near}"]
-            if self._in_stretch(a, b, v, kx) or not self._in_stretch(a, b, v, ky):
-                continue  # not entering the stretch where the far shadow may merge into the near one
+        path = self._path(x, y, action)
+        for near, far, cells in self._rays:
+            if not path & cells:
+                continue  # nowhere near a place where the far shadow may merge into the near one
             near_prims = self._chain_primitives(near) & live
             far_prims = self._chain_primitives(far) & live
             if not near_prims or not far_prims:
