@@ -19,7 +19,8 @@ interior, on an edge, at a convex or at a reflex vertex, and whether it is at th
   components along a plan and their labels.
 - :mod:`~solverplan.wallfollow.pursuit` — Strategy 2 (gap sensor): shortest pursuit plans, or a proof that
   none exists (Prop. 8); :mod:`~solverplan.wallfollow.pursuit_primitives` — Strategy 3 (bitangent sensor:
-  primitives and compounds, Prop. 10).
+  primitives and compounds, Prop. 10); :mod:`~solverplan.wallfollow.pursuit_contact` — Strategy 6 (touch and
+  pebble sensors only, from the cut ordering alone: sound, Prop. 17).
 
 The command is ``solverplan wallfollow``.
 

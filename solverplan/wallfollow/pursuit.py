@@ -52,7 +52,7 @@ from solverplan.wallfollow.world import Action
 
 __all__ = ["GapSensor", "PursuitPlan", "pursuit_plan", "SENSORS", "DEFAULT_MAX_STATES"]
 
-#: The sensors ``pursuit_plan`` knows; the gap (Strategy 2) and bitangent (Strategy 3) sensors are implemented.
+#: The sensors ``pursuit_plan`` knows; all but the pebble-visibility sensor (Strategies 4–5) are implemented.
 SENSORS = ("gap", "bitangent", "pebble", "contact")
 
 #: The strategy of each implemented sensor.
@@ -209,8 +209,8 @@ class PursuitPlan:
     Attributes
     ----------
     status
-        ``found``; ``infeasible`` (the reachable I-space was exhausted: no plan exists, Prop. 8); ``not-found``
-        (the cap on I-states was hit).
+        ``found``; ``infeasible`` (the reachable I-space was exhausted: no plan exists, Props. 8 and 10);
+        ``not-found`` (the cap on I-states was hit, or Strategy 6 found none).
     actions
         The plan (RFOLLOW, LFOLLOW, JUMP), fewest actions; empty when not found.
     start
@@ -302,9 +302,10 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     env
         A simple polygon in general position.
     sensor
-        ``"gap"`` (Strategy 2) or ``"bitangent"`` (Strategy 3,
-        :mod:`~solverplan.wallfollow.pursuit_primitives`). The pebble-visibility and contact strategies (4–6)
-        are not implemented: they raise :class:`~solverplan.errors.InputError`.
+        ``"gap"`` (Strategy 2), ``"bitangent"`` (Strategy 3, :mod:`~solverplan.wallfollow.pursuit_primitives`)
+        or ``"contact"`` (Strategy 6, :mod:`~solverplan.wallfollow.pursuit_contact`: sound, not complete — no
+        plan found is ``not-found``). The pebble-visibility strategies (4–5) are not implemented:
+        ``"pebble"`` raises :class:`~solverplan.errors.InputError`.
     start
         The pursuer's start point in the cut ordering (``v0``, ``r3``); the evader may be anywhere out of sight.
     max_states

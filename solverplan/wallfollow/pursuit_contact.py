@@ -16,8 +16,9 @@ treats every possibility pessimistically. Nothing here looks at the geometry: th
   of the ordering on the side of a ray where the far shadow is merged into the near one (at the near vertex
   itself the pursuer sees the far shadow on its own).
 - **Labels**: a shadow component is a compound (a set of primitives) with a label. An action that passes a
-  stretch where a candidate may merge two shadows merges *every* active primitive of the near vertex's chain with every active
-  one of the far vertex's chain (the pursuer cannot tell which shadows they are) — a merge ORs the labels;
+  stretch where a candidate may merge two shadows merges *every* active primitive of the near vertex's chain
+  with every active one of the far vertex's chain (the pursuer cannot tell which shadows they are) — a merge
+  ORs the labels;
   splits are never assumed (a compound only shrinks when a primitive disappears: its label stays with the
   rest); a primitive that appears is a new compound labelled 0. Within one action: appearances, then merges,
   then disappearances (Lemma 16).
@@ -87,8 +88,9 @@ class ContactPursuit:
         self._cells = 2 * self._size
         self._rays: list[tuple[int, int, frozenset[int]]] = []
         for cand in self.candidates:
-            self._rays.append((cand.i, cand.j, self._cell_range(2 * self._at[cand.b_ij], 2 * self._at[f"v{cand.i}"] - 1)))
-            self._rays.append((cand.j, cand.i, self._cell_range(2 * self._at[f"v{cand.j}"] + 1, 2 * self._at[cand.b_ji])))
+            vi, vj = 2 * self._at[f"v{cand.i}"], 2 * self._at[f"v{cand.j}"]
+            self._rays.append((cand.i, cand.j, self._cell_range(2 * self._at[cand.b_ij], vi - 1)))
+            self._rays.append((cand.j, cand.i, self._cell_range(vj + 1, 2 * self._at[cand.b_ji])))
 
     # ------------------------------------------------------------------ the ordering as a circle
     def _walk(self, a: int, x: int) -> int:

@@ -14,7 +14,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.models import load
 from solverplan.result import Status
-from solverplan.wallfollow import cut_ordering, cuts
+from solverplan.wallfollow import bitangents, cut_ordering, cuts
 from solverplan.wallfollow.pursuit import GapSensor, pursuit_plan
 from solverplan.wallfollow.pursuit_check import (check_pursuit, motion_samples, motion_transfer, shadow_components,
                                                  _signed_area)
@@ -185,6 +185,49 @@ def test_strategy3_on_the_five_arms_is_infeasible_too():
     assert plan.status is Status.INFEASIBLE and "Prop. 10" in plan.reason
 
 
+# ---------------------------------------------------------------------- Strategy 6 (contact and pebble sensors)
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=6, max_vertices=18, scale=100_000, spiky=True))
+def test_props_11_13_14_15_every_bitangent_is_a_candidate_with_its_ends_inside_the_approximation(env):
+    """Strategy 6 reasons from the cut ordering alone: every true bitangent must be among its candidates (Prop.
+    11), and its end points must lie between the approximations and the vertices (Props. 13–15):
+    b_ij ∈ [b̂_ij, v_i] and b_ji ∈ [v_j, b̂_ji] — else a merge could be missed."""
+    from solverplan.wallfollow.pursuit_contact import ContactPursuit
+
+    order = cut_ordering(env)
+    pursuer = ContactPursuit(order)
+    by_pair = {(c.i, c.j): c for c in pursuer.candidates}
+    size = len(order.labels)
+
+    def walk(a, b):
+        return (order.index(b) - order.index(a)) % size
+
+    for b in bitangents(env):
+        cand = by_pair[(b.i, b.j)]
+        # the point of the ordering just before b_ij lies in [b̂_ij, v_i); the one before b_ji in [v_j, b̂_ji)
+        assert walk(cand.b_ij, b.after_ij) < walk(cand.b_ij, f"v{b.i}"), (cand, b)
+        assert walk(f"v{b.j}", b.after_ji) < walk(f"v{b.j}", cand.b_ji), (cand, b)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=5, max_vertices=12, spiky=True), st.integers(0, 30))
+def test_prop17_every_strategy6_plan_is_verified_by_the_ground_truth(env, start_at):
+    """Prop. 17: a plan Strategy 6 finds from the cut ordering alone is correct — the geometric checker agrees."""
+    order = cut_ordering(env)
+    start = order.labels[start_at % len(order.labels)]
+    plan = pursuit_plan(env, start=start, sensor="contact", max_states=5000)
+    assert plan.status in (Status.FOUND, Status.NOT_FOUND)
+    if plan.status is Status.FOUND:
+        assert plan.verified, (start, plan.actions)
+        assert not plan.optimality.proved  # shortest under its own pessimism only
+
+
+def test_strategy6_may_fail_where_a_plan_exists_and_says_so():
+    plan = pursuit_plan(load("three_arms"), sensor="contact")
+    assert plan.status is Status.NOT_FOUND and "not known to be complete" in plan.reason
+    assert not plan.optimality.proved and plan.verified is None
+
+
 # ---------------------------------------------------------------------- shipped models
 SHIPPED = {"square": 0, "triangle": 0, "hexagon": 0, "irregular_convex": 0, "l_shape": 0, "star": 3,
            "worst_case_t4": 2, "three_arms": 5}
@@ -200,6 +243,17 @@ def test_pursuit_plans_on_shipped_models_are_verified(name, sensor):
     assert data["plan"] == list(plan.actions) and data["verified"] is True and data["optimality"]["proved"]
 
 
+#: Strategy 6's plans on the shipped models (from the cut ordering alone; three_arms: none found).
+SHIPPED_CONTACT = {"square": 0, "l_shape": 0, "star": 3, "worst_case_t4": 4}
+
+
+@pytest.mark.parametrize("name", sorted(SHIPPED_CONTACT))
+def test_strategy6_plans_on_shipped_models_are_verified(name):
+    plan = pursuit_plan(load(name), sensor="contact")
+    assert plan.status is Status.FOUND and plan.verified is True
+    assert len(plan.actions) == SHIPPED_CONTACT[name] >= SHIPPED[name]
+
+
 def test_the_cap_on_states_gives_not_found_with_the_limit():
     plan = pursuit_plan(load("three_arms"), max_states=5)
     assert plan.status is Status.NOT_FOUND and plan.limits == ("max_states=5",)
@@ -207,9 +261,8 @@ def test_the_cap_on_states_gives_not_found_with_the_limit():
 
 
 def test_pursuit_bad_input():
-    for sensor in ("contact", "pebble"):
-        with pytest.raises(InputError, match="not implemented"):
-            pursuit_plan(ROOM, sensor=sensor)
+    with pytest.raises(InputError, match="not implemented"):
+        pursuit_plan(ROOM, sensor="pebble")
     with pytest.raises(InputError, match="unknown sensor"):
         pursuit_plan(ROOM, sensor="radar")
     with pytest.raises(InputError, match="not a point"):
@@ -233,12 +286,15 @@ def test_cli_pursuit_plan_is_verified_and_pictured(tmp_path):
     strategy3 = answer("wallfollow", "three_arms", "--pursuit", "--sensor", "bitangent")
     assert strategy3["sensor"] == "bitangent" and strategy3["verified"] is True and strategy3["plan_length"] == 5
     assert strategy3["optimality"]["algorithm"] == "Strategy 3 (BFS)"
+    strategy6 = answer("wallfollow", "star", "--pursuit", "--sensor", "contact")
+    assert strategy6["status"] == "found" and strategy6["verified"] is True
+    assert strategy6["optimality"]["proved"] is False and strategy6["optimality"]["algorithm"] == "Strategy 6 (BFS)"
 
 
 def test_cli_pursuit_errors_are_one_line():
     from tests.wallfollow.test_cli_wallfollow import one_line_error, run
 
-    one_line_error(run("wallfollow", "star", "--pursuit", "--sensor", "contact"), "not implemented")
+    one_line_error(run("wallfollow", "star", "--pursuit", "--sensor", "pebble"), "not implemented")
     one_line_error(run("wallfollow", "star", "--pursuit", "--from", "x1"), "not a point of the cut ordering")
     one_line_error(run("wallfollow", "star", "--sensor", "gap", "--from", "v1"), "belong to --pursuit")
     one_line_error(run("wallfollow", "star", "--pursuit", "--learn"), "choose one of")
