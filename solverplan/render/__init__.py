@@ -7,7 +7,7 @@ ids), :mod:`~solverplan.render.environment`, :mod:`~solverplan.render.partition`
 :mod:`~solverplan.render.plans`, :mod:`~solverplan.render.answers`, :mod:`~solverplan.render.heatmaps`,
 :mod:`~solverplan.render.rooms` (rooms and doors of rectilinear polygons), :mod:`~solverplan.render.explore`
 (explorations with discrete views), :mod:`~solverplan.render.wallfollow` (the wall-following robot's cuts and cut
-diagram),
+diagram, pursuit plans),
 and :mod:`~solverplan.render.scenes`, whose :func:`scene` stacks the layers into a whole picture (what
 ``solverplan render`` draws). Each ``draw_*`` layer takes an Axes and returns the artists it added; every
 artist has a ``gid`` that becomes its ``id`` in SVG output.
@@ -38,7 +38,8 @@ from solverplan.render.plans import draw_plan, plan_title
 from solverplan.render.rooms import ROOM_COLORS, RULE_COLORS, draw_doors, draw_room_paths, draw_rooms, render_rooms
 from solverplan.render.scenes import scene
 from solverplan.render.trajectories import draw_trajectories
-from solverplan.render.wallfollow import CUT_COLORS, draw_cut_diagram, draw_cuts, render_cuts
+from solverplan.render.wallfollow import (CUT_COLORS, SHADOW_COLORS, draw_cut_diagram, draw_cuts, render_cuts,
+                                          render_pursuit)
 
 __all__ = [
     "render_exploration",
@@ -81,4 +82,6 @@ __all__ = [
     "draw_cuts",
     "draw_cut_diagram",
     "render_cuts",
+    "SHADOW_COLORS",
+    "render_pursuit",
 ]
