@@ -151,7 +151,8 @@ def render_pursuit(env: Environment, plan, *, panels: int = 4, title: str | None
     """
     check = getattr(plan, "check", plan)
     if check is None:
-        fig, ax = new_figure(env, title=title or f"{env.name or 'polygon'}: no pursuit plan")
+        why = f" ({plan.status.value}, {plan.sensor} sensor)" if hasattr(plan, "sensor") else ""
+        fig, ax = new_figure(env, title=title or f"{env.name or 'polygon'}: no pursuit plan{why}")
         draw_free_space(ax, env)
         draw_boundary(ax, env)
         return fig
