@@ -282,7 +282,7 @@ class PursuitPlan:
         else:
             lines = [f"no pursuit plan ({self.status.value}, {self.sensor} sensor) from {self.start}: {self.reason}",
                      f"{self.states} I-states explored"]
-        return "\n".join(lines)
+        return "\n".join(lines) + "\n"
 
 
 def _vertex_after(order: CutOrdering, index: int, step: int) -> int:

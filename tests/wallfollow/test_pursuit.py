@@ -308,3 +308,13 @@ def test_checker_sampling_is_fine_enough_three_samples_per_piece_change_nothing(
     pts = _points(env)
     for a, b in _motions(env):
         assert motion_transfer(env, pts[a], pts[b]) == motion_transfer(env, pts[a], pts[b], per_piece=3), (a, b)
+
+
+def test_cli_pursuit_text_output():
+    from tests.wallfollow.test_cli_wallfollow import run
+
+    result = run("wallfollow", "three_arms", "--pursuit", "--format", "text")
+    assert result.exit_code == 0 and result.stdout.endswith("\n")
+    assert "5 actions" in result.stdout and "verified by the ground-truth checker" in result.stdout
+    failed = run("wallfollow", "three_arms", "--pursuit", "--sensor", "contact", "--format", "text")
+    assert failed.exit_code == 0 and "not known to be complete" in failed.stdout
