@@ -8,7 +8,10 @@ treats every possibility pessimistically. Nothing here looks at the geometry: th
 - **Primitives** and their activity are those of Strategy 3 (:mod:`~solverplan.wallfollow.pursuit_primitives`):
   ``R{c₁}`` active strictly inside (v_{c₁}, r_{c₁}), ``L{c_k}`` strictly inside (ℓ_{c_k}, v_{c_k}).
 - **Candidates** (Prop. 11): reflex vertices v_i, v_j of different chains, right-handed (v_j ∈ [v_i, r_i]),
-  with v_i ∉ (r_j, ℓ_j) and v_j ∉ (r_i, ℓ_i). Every candidate is assumed to be a bitangent.
+  with v_i ∉ (r_j, ℓ_j) and v_j ∉ (r_i, ℓ_i). Every candidate is assumed to be a bitangent. The paper says
+  every bitangent is right-handed from one of its ends; with reflex chains it need not be (the tests have
+  polygons where it is from neither), so the candidates right-handed in the **mirror image** (clockwise order,
+  left and right cuts swapped) are taken too, with the propositions applied there.
 - **Approximate end points** (Props. 13–15): b̂_ij starts as whichever of ℓ_i, ℓ_j is nearer before v_i,
   and moves towards v_i past the end s of any cut whose other end lies in (v_i, v_j) (a cut's two ends see
   each other); b̂_ji likewise from r_i, r_j after v_j. The true end points satisfy b_ij ∈ [b̂_ij, v_i] and
@@ -49,12 +52,18 @@ ContactStatus = frozenset[tuple[frozenset[str], bool]]
 @dataclass(frozen=True, slots=True)
 class Candidate:
     """A bitangent candidate ``(i, j)`` (right-handed) and the approximate end points of its two rays, as
-    points of the cut ordering: ``b_ij`` before v_i, ``b_ji`` after v_j."""
+    points of the cut ordering: ``b_ij`` before v_i, ``b_ji`` after v_j — counter-clockwise, or clockwise when
+    ``mirrored`` (right-handed in the mirror image)."""
 
     i: int
     j: int
     b_ij: str
     b_ji: str
+    mirrored: bool = False
+
+
+def _unmirror(label: str) -> str:
+    return {"l": "r", "r": "l"}.get(label[0], label[0]) + label[1:]
 
 
 class ContactPursuit:
@@ -81,16 +90,35 @@ class ContactPursuit:
         for c in chains:
             self._interval[f"R{c[0]}"] = (self._at[f"v{c[0]}"], self._at[f"r{c[0]}"])
             self._interval[f"L{c[-1]}"] = (self._at[f"l{c[-1]}"], self._at[f"v{c[-1]}"])
-        self.candidates = tuple(self._candidates(sorted(reflex)))
+        # Candidates right-handed as the paper states them, and those right-handed in the mirror image (clockwise
+        # order, left and right swapped): with reflex chains a bitangent may be right-handed from neither end
+        # in the counter-clockwise order (the tests show such polygons), and the paper's Props. 11–15 hold for it
+        # in the mirror.
+        mirror = {f"{ {'l': 'r', 'r': 'l', 'v': 'v'}[label[0]] }{label[1:]}": self._size - 1 - k
+                  for k, label in enumerate(labels)}
+        found = [(c, False) for c in self._candidates(sorted(reflex), self._at)]
+        found += [(c, True) for c in self._candidates(sorted(reflex), mirror)]
+        self.candidates = tuple(Candidate(c.i, c.j, _unmirror(c.b_ij) if flip else c.b_ij,
+                                          _unmirror(c.b_ji) if flip else c.b_ji, flip) for c, flip in found)
         # The boundary as 2|M| cells: cell 2k is the k-th point of the ordering, cell 2k + 1 the open stretch to the
         # next. Each candidate's two rays: (near, far, the cells where the far shadow may be merged into the near
-        # one) — [b̂_ij, v_i) and (v_j, b̂_ji]: at the near vertex itself the far shadow is seen on its own.
+        # one) — [b̂_ij, v_i) and (v_j, b̂_ji] (in the mirror for a mirrored candidate): at the near vertex itself the
+        # far shadow is seen on its own.
         self._cells = 2 * self._size
         self._rays: list[tuple[int, int, frozenset[int]]] = []
-        for cand in self.candidates:
-            vi, vj = 2 * self._at[f"v{cand.i}"], 2 * self._at[f"v{cand.j}"]
-            self._rays.append((cand.i, cand.j, self._cell_range(2 * self._at[cand.b_ij], vi - 1)))
-            self._rays.append((cand.j, cand.i, self._cell_range(vj + 1, 2 * self._at[cand.b_ji])))
+        for cand, flip in found:
+            at = mirror if flip else self._at
+            vi, vj = 2 * at[f"v{cand.i}"], 2 * at[f"v{cand.j}"]
+            for near, far, cells in ((cand.i, cand.j, self._cell_range(2 * at[cand.b_ij], vi - 1)),
+                                     (cand.j, cand.i, self._cell_range(vj + 1, 2 * at[cand.b_ji]))):
+                self._rays.append((near, far, frozenset(self._unmirror_cell(c) for c in cells) if flip else cells))
+
+    def _unmirror_cell(self, cell: int) -> int:
+        """The cell of the ordering that is ``cell`` of the mirror image."""
+        k = cell // 2
+        if cell % 2 == 0:
+            return 2 * (self._size - 1 - k)
+        return 2 * ((self._size - 2 - k) % self._size) + 1
 
     # ------------------------------------------------------------------ the ordering as a circle
     def _walk(self, a: int, x: int) -> int:
@@ -103,8 +131,10 @@ class ContactPursuit:
     def _open(self, a: int, b: int, x: int) -> bool:
         return 0 < self._walk(a, x) < self._walk(a, b)
 
-    def _candidates(self, reflex: list[int]):
-        at = self._at
+    def _candidates(self, reflex: list[int], at: dict[str, int]):
+        """Right-handed candidates in the counter-clockwise order whose positions are ``at`` (labels of that
+        order)."""
+        names = {k: label for label, k in at.items()}
         cut_pairs = [(at[f"v{w}"], at[f"{side}{w}"]) for w in reflex for side in "lr"]
         for i in reflex:
             for j in reflex:
@@ -129,7 +159,7 @@ class ContactPursuit:
                     for s, t in ((e, w), (w, e)):
                         if self._open(vi, vj, t) and self._closed(vj, b_ji, s) and s != vj:
                             b_ji = s if self._walk(vj, s) < self._walk(vj, b_ji) else b_ji
-                yield Candidate(i, j, self.ordering.labels[b_ij], self.ordering.labels[b_ji])
+                yield Candidate(i, j, names[b_ij], names[b_ji])
 
     def _cell_range(self, a: int, b: int) -> frozenset[int]:
         """Cells a, a + 1, …, b (cyclically)."""

@@ -6,6 +6,8 @@ and bitangents), so the main property test compares them motion by motion, and e
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -19,7 +21,7 @@ from solverplan.wallfollow.pursuit import GapSensor, pursuit_plan
 from solverplan.wallfollow.pursuit_check import (check_pursuit, motion_samples, motion_transfer, shadow_components,
                                                  _signed_area)
 
-from tests.wallfollow._polygons import general_position_polygons
+from tests.wallfollow._polygons import bent_arms, general_position_polygons
 from tests.wallfollow.test_bitangents import SPIKES
 
 ROOM = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])  # one reflex vertex, 3
@@ -186,27 +188,82 @@ def test_strategy3_on_the_five_arms_is_infeasible_too():
 
 
 # ---------------------------------------------------------------------- Strategy 6 (contact and pebble sensors)
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
-@given(general_position_polygons(min_vertices=6, max_vertices=18, scale=100_000, spiky=True))
-def test_props_11_13_14_15_every_bitangent_is_a_candidate_with_its_ends_inside_the_approximation(env):
-    """Strategy 6 reasons from the cut ordering alone: every true bitangent must be among its candidates (Prop.
-    11), and its end points must lie between the approximations and the vertices (Props. 13–15):
-    b_ij ∈ [b̂_ij, v_i] and b_ji ∈ [v_j, b̂_ji] — else a merge could be missed."""
+def _merge_cells_cover_every_bitangent(env):
+    """Every true bitangent ray's merging side (the boundary cells on the side of the ray away from the far
+    vertex, its near vertex excluded) lies inside the stretches Strategy 6 merges on for that pair."""
     from solverplan.wallfollow.pursuit_contact import ContactPursuit
 
     order = cut_ordering(env)
     pursuer = ContactPursuit(order)
-    by_pair = {(c.i, c.j): c for c in pursuer.candidates}
-    size = len(order.labels)
+    size = 2 * len(order.labels)
 
-    def walk(a, b):
-        return (order.index(b) - order.index(a)) % size
+    def cells(a, b):  # cells a … b counter-clockwise
+        return {(a + k) % size for k in range((b - a) % size + 1)}
 
     for b in bitangents(env):
-        cand = by_pair[(b.i, b.j)]
-        # the point of the ordering just before b_ij lies in [b̂_ij, v_i); the one before b_ji in [v_j, b̂_ji)
-        assert walk(cand.b_ij, b.after_ij) < walk(cand.b_ij, f"v{b.i}"), (cand, b)
-        assert walk(f"v{b.j}", b.after_ji) < walk(f"v{b.j}", cand.b_ji), (cand, b)
+        for near, far, after in ((b.i, b.j, b.after_ij), (b.j, b.i, b.after_ji)):
+            v, end, other = 2 * order.index(f"v{near}"), 2 * order.index(after) + 1, 2 * order.index(f"v{far}")
+            side = cells(end, v - 1)
+            if other in side:
+                side = cells(v + 1, end)
+            covered = set().union(*(c for n, f, c in pursuer._rays if (n, f) == (near, far)))
+            assert side <= covered, (near, far, sorted(side - covered))
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=6, max_vertices=18, scale=100_000, spiky=True))
+def test_props_11_13_14_15_every_bitangent_is_a_candidate_with_its_ends_inside_the_approximation(env):
+    """Strategy 6 reasons from the cut ordering alone: every true bitangent must be among its candidates (Prop.
+    11), and the side of each of its rays where the far shadow is merged must lie inside the stretch the
+    approximate end points give (Props. 13–15: b_ij ∈ [b̂_ij, v_i], b_ji ∈ [v_j, b̂_ji]) — else a merge could
+    be missed."""
+    _merge_cells_cover_every_bitangent(env)
+
+
+def test_a_bitangent_of_reflex_chains_right_handed_from_neither_end_is_covered_in_the_mirror():
+    """In this polygon of bent arms the bitangents (17, 1) and (16, 12) are right-handed from neither end in
+    the counter-clockwise order (the paper says one end always is); Strategy 6 takes them from the mirror image,
+    and the plan it finds is verified (without the mirror it was not)."""
+    from solverplan.wallfollow.bitangents import boundary_between
+
+    order = cut_ordering(BENT_ARMS)
+    at = {c.label: (c.edge, c.t) for c in cuts(BENT_ARMS)}
+
+    def right_handed(i, j):
+        return boundary_between((i, Fraction(0)), at[f"r{i}"], (j, Fraction(0)))
+
+    pairs = {(b.i, b.j) for b in bitangents(BENT_ARMS)}
+    assert {(17, 1), (16, 12)} <= pairs
+    assert not any(right_handed(i, j) or right_handed(j, i) for i, j in [(17, 1), (16, 12)])
+    _merge_cells_cover_every_bitangent(BENT_ARMS)
+    plan = pursuit_plan(BENT_ARMS, sensor="contact", start="v14")
+    assert plan.status is Status.NOT_FOUND or plan.verified
+    assert check_pursuit(BENT_ARMS, BENT_ARMS_UNSOUND, "v14").verified is False  # the plan without the mirror
+
+
+@pytest.mark.parametrize("seed", range(25))
+def test_bent_arms_every_bitangent_is_covered_by_strategy6s_stretches(seed):
+    _merge_cells_cover_every_bitangent(bent_arms(seed))
+
+
+def test_prop17_on_bent_arms_every_plan_of_strategy6_is_verified():
+    found = 0
+    for seed in range(12):
+        env = bent_arms(seed)
+        for start in cut_ordering(env).labels[::7]:
+            plan = pursuit_plan(env, start=start, sensor="contact", max_states=5000)
+            assert plan.status is Status.NOT_FOUND or plan.verified, (seed, start, plan.actions)
+            found += plan.status is Status.FOUND
+    assert found >= 3  # not vacuous (Strategy 6 is pessimistic here: most starts find nothing)
+
+
+#: Bent arms round a hub (a random member of the family of ``three_arms``), and the plan Strategy 6 found for it
+#: before it considered mirrored candidates — the ground truth rejects it.
+BENT_ARMS = Environment.from_coords([
+    (-102, -17), (-125, 23), (-103, 34), (-89, 6), (-11, 11), (-17, 94), (69, 93), (69, 68), (9, 70), (10, 14),
+    (88, 31), (120, 36), (123, 11), (93, 4), (10, -9), (3, -40), (17, -69), (-5, -81), (-23, -47), (-14, -12)])
+BENT_ARMS_UNSOUND = ["LFOLLOW", "LFOLLOW", "LFOLLOW", "JUMP", "LFOLLOW", "JUMP", "LFOLLOW", "LFOLLOW", "RFOLLOW",
+                     "JUMP"]
 
 
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
