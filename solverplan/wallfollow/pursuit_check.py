@@ -9,15 +9,18 @@ and follows the labels **continuously** along every motion, independently of any
 - every motion is a straight segment (a follow runs along one edge, a JUMP along a cut); the shadow can change
   its topology only where the pursuer crosses a line through two vertices (inflections, bitangents and the
   extensions of edges are all such lines), so the checker cuts the segment at **every** crossing with a line
-  through two vertices (exact) and looks at the shadow at the middle of each piece and at the ends;
+  through two vertices (exact) and looks at the shadow just after the start and just before the end of each
+  piece (a millionth of its length in) and at the segment's ends;
 - the shadow is computed exactly: the project's exact visibility polygon
   (:func:`~solverplan.geometry.visibility.visibility_polygon`) has one *window* per shadow component (in a
   simple polygon each window cuts off one pocket, and the pockets are the components), so each component is the
   exact polygon bounded by its window and the piece of the boundary beyond it — and it is named by the window's
   reflex vertex. The areas are checked exactly: area(V) + Σ area(pockets) = area(P);
-- from one sample to the next, a component inherits the OR of the labels of the previous components it
-  overlaps (a new one, overlapping none, gets 0): appear → 0, split → both inherit, merge → OR. The overlaps are
-  measured by shapely on the exact pockets (an overlap counts when its area exceeds 1e-9 of the polygon's).
+- inside a piece every component keeps its window's vertex (checked), so it keeps its label; across a crossing a
+  component inherits the OR of the labels of the components it overlaps by at least half the smaller one's area
+  (so close to the crossing a component that continues another covers nearly all of it, while one that vanished
+  or appeared meets the others only in a sliver); one overlapping none gets 0: appear → 0, split → both
+  inherit, merge → OR. The areas are measured by shapely on the exact pockets.
 
 The plan is *verified* when at some instant every label is 0 (no component may hold the evader: it has been
 seen). Labels are also followed symbolically (each label as the set of start components it comes from), which
@@ -131,11 +134,22 @@ def _line_crossing(p0: ExactPoint, p1: ExactPoint, a: ExactPoint, b: ExactPoint)
     return s if 0 <= s <= 1 else None
 
 
-def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint, per_piece: int = 1) -> list[ExactPoint]:
-    """Where the checker looks along the segment p0 → p1: the ends and ``per_piece`` evenly spaced points inside
-    every piece between consecutive crossings with lines through two vertices (exact points)."""
-    if per_piece < 1:
-        raise InputError(f"per_piece must be at least 1, got {per_piece}")
+#: How close to the ends of a piece (as a fraction of its length) the checker looks: across a crossing the shadow
+#: then deforms by a vanishing amount, so overlaps say exactly which components continue which.
+NEAR = Fraction(1, 10**6)
+
+
+def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint,
+                   per_piece: int = 0) -> list[tuple[ExactPoint, bool]]:
+    """Where the checker looks along the segment p0 → p1: ``(point, across)`` with ``across`` true when a line
+    through two vertices lies between the point and the one before it (exact points).
+
+    The segment is cut at every crossing with a line through two vertices; in each piece the checker looks just
+    after its start and just before its end (a fraction :data:`NEAR` of its length in) and at ``per_piece``
+    evenly spaced points between; the segment's ends come first and last.
+    """
+    if per_piece < 0:
+        raise InputError(f"per_piece must be at least 0, got {per_piece}")
     pts = env.exact_vertices
     params = {Fraction(0), Fraction(1)}
     for a, b in combinations(pts, 2):
@@ -143,12 +157,13 @@ def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint, per_piece: 
         if s is not None:
             params.add(s)
     ordered = sorted(params)
-    out = [p0]
+    out = [(p0, False)]
     for s0, s1 in zip(ordered, ordered[1:]):
-        for k in range(1, per_piece + 1):
-            m = s0 + (s1 - s0) * k / (per_piece + 1)
-            out.append((p0[0] + m * (p1[0] - p0[0]), p0[1] + m * (p1[1] - p0[1])))
-    out.append(p1)
+        inside = [s0 + (s1 - s0) * NEAR] + [s0 + (s1 - s0) * k / (per_piece + 1) for k in range(1, per_piece + 1)]
+        inside.append(s1 - (s1 - s0) * NEAR)
+        for k, m in enumerate(inside):
+            out.append(((p0[0] + m * (p1[0] - p0[0]), p0[1] + m * (p1[1] - p0[1])), k == 0))
+    out.append((p1, True))
     return out
 
 
@@ -158,13 +173,26 @@ def _shapely(ring: Sequence[ExactPoint]) -> Polygon:
 
 
 def _overlap_transfer(before: dict[int, Polygon], after: dict[int, Polygon], tol: float) -> Transfer:
+    """Across a crossing: a component continues those it overlaps by at least half the smaller one's area (a
+    component that continues another covers nearly all of it, this close to the crossing; one that vanished or
+    appeared meets the others in a vanishing sliver)."""
     out: Transfer = {}
     for g, poly in after.items():
         out[g] = frozenset(h for h, old in before.items()
                            if old.bounds[0] <= poly.bounds[2] and poly.bounds[0] <= old.bounds[2]
                            and old.bounds[1] <= poly.bounds[3] and poly.bounds[1] <= old.bounds[3]
-                           and old.intersection(poly).area > tol)
+                           and (area := old.intersection(poly).area) > tol
+                           and area >= 0.5 * min(old.area, poly.area))
     return out
+
+
+def _step(before: dict[int, Polygon], after: dict[int, Polygon], across: bool, tol: float, where: ExactPoint) -> Transfer:
+    if across:
+        return _overlap_transfer(before, after, tol)
+    if set(before) != set(after):  # pragma: no cover - between crossings the windows stay at their vertices
+        raise SolverFailed(f"shadow near {format_point(where)}: windows at {sorted(before)} became {sorted(after)} "
+                           f"without a crossing")
+    return {g: frozenset({g}) for g in after}
 
 
 def propagate(labels: dict[int, frozenset[int]], transfer: Transfer) -> dict[int, frozenset[int]]:
@@ -172,16 +200,16 @@ def propagate(labels: dict[int, frozenset[int]], transfer: Transfer) -> dict[int
     return {g: frozenset().union(*(labels.get(h, frozenset()) for h in src)) for g, src in transfer.items()}
 
 
-def motion_transfer(env: Environment, p0: ExactPoint, p1: ExactPoint, per_piece: int = 1) -> Transfer:
+def motion_transfer(env: Environment, p0: ExactPoint, p1: ExactPoint, per_piece: int = 0) -> Transfer:
     """The ground truth over one straight motion p0 → p1: every shadow component at p1 → the components at p0
     whose labels it ORs (composed over :func:`motion_samples`, by overlap)."""
     tol = OVERLAP_FRACTION * float(env.area)
     comps = shadow_components(env, p0)
     total: Transfer = {g: frozenset({g}) for g in comps}
     polys = {g: _shapely(r) for g, r in comps.items()}
-    for q in motion_samples(env, p0, p1, per_piece)[1:]:
+    for q, across in motion_samples(env, p0, p1, per_piece)[1:]:
         new_polys = {g: _shapely(r) for g, r in shadow_components(env, q).items()}
-        total = propagate(total, _overlap_transfer(polys, new_polys, tol))
+        total = propagate(total, _step(polys, new_polys, across, tol, q))
         polys = new_polys
     return total
 
@@ -299,10 +327,10 @@ def check_pursuit(env: Environment, actions: Sequence[Action | str], start: str 
         world.act(action)
         after = world.point
         samples = motion_samples(env, before, after)[1:]
-        for q in samples:
+        for q, across in samples:
             comps = shadow_components(env, q)
             new_polys = {g: _shapely(r) for g, r in comps.items()}
-            sources = propagate(sources, _overlap_transfer(polys, new_polys, tol))
+            sources = propagate(sources, _step(polys, new_polys, across, tol, q))
             polys = new_polys
             if cleared is None and not any(sources.values()):
                 cleared = index
