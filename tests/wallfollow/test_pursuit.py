@@ -382,7 +382,8 @@ def test_cli_pursuit_errors_are_one_line():
     one_line_error(run("wallfollow", "star", "--pursuit", "--learn"), "choose one of")
 
 
-@settings(max_examples=4, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@pytest.mark.slow
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(general_position_polygons(min_vertices=5, max_vertices=9, spiky=True))
 def test_checker_sampling_is_fine_enough_more_samples_per_piece_change_nothing(env):
     """Between two crossings of lines through vertices the shadow keeps its topology (the checker raises if a
