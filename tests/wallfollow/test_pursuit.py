@@ -116,7 +116,7 @@ def test_gap_sensor_label_transfer_equals_the_ground_truth_on_every_action(env):
         assert sensor.transfer(pts[a], pts[b]) == motion_transfer(env, pts[a], pts[b]), (a, b)
 
 
-@pytest.mark.parametrize("seed", [1, 5])
+@pytest.mark.parametrize("seed", [1])
 def test_gap_sensor_label_transfer_equals_the_ground_truth_on_bent_arms(seed):
     """As above on corridors round a hub: chains of reflex vertices that see each other, many bitangents."""
     env = bent_arms(seed)
