@@ -59,6 +59,10 @@ _EXPORTS: dict[str, str] = {
     "CutOrdering": "solverplan.wallfollow.ordering",
     "WallWorld": "solverplan.wallfollow.world",
     "learn_cut_ordering": "solverplan.wallfollow.learning",
+    "pursuit_plan": "solverplan.wallfollow.pursuit",
+    "PursuitPlan": "solverplan.wallfollow.pursuit",
+    "check_pursuit": "solverplan.wallfollow.pursuit_check",
+    "PursuitCheck": "solverplan.wallfollow.pursuit_check",
     # composed potential fields with reflection (Stager and Tanner)
     "decompose_free_space": "solverplan.reflection.cells",
     "compose_fields": "solverplan.reflection.compose",
@@ -140,6 +144,8 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.wallfollow.cuts import cut_ordering
     from solverplan.wallfollow.learning import learn_cut_ordering
     from solverplan.wallfollow.ordering import CutOrdering
+    from solverplan.wallfollow.pursuit import PursuitPlan, pursuit_plan
+    from solverplan.wallfollow.pursuit_check import PursuitCheck, check_pursuit
     from solverplan.wallfollow.world import WallWorld
     from solverplan.reflection.cells import decompose_free_space
     from solverplan.reflection.compose import compose_fields

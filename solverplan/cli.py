@@ -1075,6 +1075,13 @@ class Comparisons(StrEnum):
     SORT = "sort"
 
 
+class PursuitSensor(StrEnum):
+    GAP = "gap"
+    BITANGENT = "bitangent"
+    PEBBLE = "pebble"
+    CONTACT = "contact"
+
+
 def _pair(text: str | None, name: str) -> tuple[str, str] | None:
     """``"X,Y"`` → two number strings (read exactly by the library), or ``None``."""
     if text is None:
@@ -1097,20 +1104,26 @@ def wallfollow_command(
     transcript: Annotated[bool, typer.Option("--transcript", help="With --learn: include every action and observation.")] = False,
     steps: Annotated[int, typer.Option("--steps", min=0, max=10_000_000, metavar="K", help="With --count: follows of the random walk (at most 10,000,000).")] = 1000,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="With --count: seed of the random walk.")] = 0,
+    pursuit: Annotated[bool, typer.Option("--pursuit", help="A shortest pursuit-evasion plan, replayed by the geometric ground-truth checker.")] = False,
+    sensor: Annotated[PursuitSensor, typer.Option("--sensor", help="With --pursuit: the pursuer's extra sensor (gap: Strategy 2; bitangent: Strategy 3; contact: Strategy 6, touch and pebble only).")] = PursuitSensor.GAP,
+    origin: Annotated[str, typer.Option("--from", metavar="POINT", help="With --pursuit: the pursuer's start, a point of the cut ordering (v0, r3).")] = "v0",
+    max_states: Annotated[int, typer.Option("--max-states", min=1, max=10_000_000, metavar="N", help="With --pursuit: cap on the derived I-states searched.")] = 200_000,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,
     verbose: VerboseOpt = 0,
 ) -> None:
-    """The wall-following robot (Yershova et al.): cut ordering, Strategy 1, vertex counting."""
+    """The wall-following robot (Yershova et al.): cut ordering, Strategy 1, vertex counting, pursuit-evasion."""
     from solverplan.wallfollow.cuts import cut_ordering as exact_cut_ordering
     from solverplan.wallfollow.filters import count_random_walk
     from solverplan.wallfollow.learning import learn_cut_ordering
 
     with exit_codes(verbose):
-        if cut_ordering + learn + count > 1:
-            raise InputError("choose one of --cut-ordering, --learn and --count")
+        if cut_ordering + learn + count + pursuit > 1:
+            raise InputError("choose one of --cut-ordering, --learn, --count and --pursuit")
+        if not pursuit and (sensor is not PursuitSensor.GAP or origin != "v0" or max_states != 200_000):
+            raise InputError("--sensor, --from and --max-states belong to --pursuit")
         if not learn and (transcript or comparisons is not Comparisons.PAIRWISE):
             raise InputError("--comparisons and --transcript belong to --learn")
         if not (learn or count) and (start is not None or heading is not None):
@@ -1126,13 +1139,18 @@ def wallfollow_command(
                                              transcript=transcript)
         elif count:
             answer = count_random_walk(environment, steps, seed, where, towards)
+        elif pursuit:
+            from solverplan.wallfollow.pursuit import pursuit_plan
+
+            answer = pursuit_plan(environment, sensor=sensor.value, start=origin, max_states=max_states)
         else:
             answer = exact_cut_ordering(environment)
         if picture is not None:
             from solverplan.render import save_figure
-            from solverplan.render.wallfollow import render_cuts
+            from solverplan.render.wallfollow import render_cuts, render_pursuit
 
-            save_figure(render_cuts(environment, answer.ordering.relabel(answer.pebble_vertex) if learn else None),
+            save_figure(render_pursuit(environment, answer) if pursuit else
+                        render_cuts(environment, answer.ordering.relabel(answer.pebble_vertex) if learn else None),
                         picture)
         emit(answer, fmt, out)
 

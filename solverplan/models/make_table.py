@@ -38,6 +38,7 @@ PURPOSES: dict[str, str] = {
     "hallway": "50 × 2 hallway with two door alcoves: contraction and localisation along a corridor",
     "narrow_door": "two rooms joined by a 0.2-wide doorway: funnels that shrink uncertainty to pass a door",
     "worst_case_t4": "the paper's worst case for Alg. 1 (§4.0.1, Fig. 3), `worst_case_polygon(4)`: O(n⁴) BVG",
+    "three_arms": "three bent arms round a hub, in general position: a wall-following pursuit plan clears them in turn (5 actions)",
     "degenerate": "collinear consecutive vertices, parallel edges, hole vertices on lines through outer edges: exact ties",
     "serpentine": "corridor 0.5 wide with four turns cut at 45°: composed potential fields and reflection zones (`fields`)",
 }

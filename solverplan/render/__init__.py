@@ -8,7 +8,7 @@ ids), :mod:`~solverplan.render.environment`, :mod:`~solverplan.render.partition`
 :mod:`~solverplan.render.rooms` (rooms and doors of rectilinear polygons), :mod:`~solverplan.render.explore`
 (explorations with discrete views), :mod:`~solverplan.render.fields` (convex cells, composed fields and reflection
 trajectories), :mod:`~solverplan.render.wallfollow` (the wall-following robot's cuts and cut
-diagram),
+diagram, pursuit plans),
 and :mod:`~solverplan.render.scenes`, whose :func:`scene` stacks the layers into a whole picture (what
 ``solverplan render`` draws). :mod:`~solverplan.render.html` writes self-contained HTML reports of answers (inline
 SVG with hover details; ``solverplan report``). Each ``draw_*`` layer takes an Axes and returns the artists it added; every
@@ -43,7 +43,8 @@ from solverplan.render.plans import draw_plan, plan_title
 from solverplan.render.rooms import ROOM_COLORS, RULE_COLORS, draw_doors, draw_room_paths, draw_rooms, render_rooms
 from solverplan.render.scenes import scene
 from solverplan.render.trajectories import draw_trajectories
-from solverplan.render.wallfollow import CUT_COLORS, draw_cut_diagram, draw_cuts, render_cuts
+from solverplan.render.wallfollow import (CUT_COLORS, SHADOW_COLORS, draw_cut_diagram, draw_cuts, render_cuts,
+                                          render_pursuit)
 
 __all__ = [
     "render_exploration",
@@ -99,4 +100,6 @@ __all__ = [
     "html_report",
     "load_answer",
     "write_report",
+    "SHADOW_COLORS",
+    "render_pursuit",
 ]

@@ -21,11 +21,12 @@ from matplotlib.figure import Figure
 
 from solverplan.environment import Environment
 from solverplan.render.environment import draw_boundary, draw_free_space, draw_reflex_vertices
-from solverplan.render.figure import BOUNDARY_COLOR, _style_axes, new_figure
+from solverplan.render.figure import (BOUNDARY_COLOR, TRAJECTORY_COLOR, TRAJECTORY_START_COLOR, _style_axes,
+                                      new_figure)
 from solverplan.wallfollow.cuts import Cut, cut_ordering, cuts
 from solverplan.wallfollow.ordering import CutOrdering
 
-__all__ = ["CUT_COLORS", "draw_cuts", "draw_cut_diagram", "render_cuts"]
+__all__ = ["CUT_COLORS", "SHADOW_COLORS", "draw_cuts", "draw_cut_diagram", "render_cuts", "render_pursuit"]
 
 CUT_COLORS = {"l": "#1f5fbf", "r": "#d95f02"}
 _STYLES = {"l": "--", "r": "-"}
@@ -102,5 +103,73 @@ def render_cuts(env: Environment, ordering: CutOrdering | None = None, *, title:
     right = fig.add_subplot(1, 2, 2)
     _style_axes(right, "cut diagram")
     draw_cut_diagram(right, ordering)
+    fig.tight_layout()
+    return fig
+
+
+# ---------------------------------------------------------------------- pursuit plans (Yershova et al., Figs. 14–15)
+SHADOW_COLORS = {1: "#d1495b", 0: "#9aa5b1"}  #: label 1 (the evader may be there): red; label 0: grey
+
+
+def _pursuit_panel(ax: Axes, env: Environment, check, upto: int) -> None:
+    """The polygon, the path up to step ``upto``, the pursuer there, its shadow components shaded by label."""
+    from matplotlib.patches import Polygon as Patch
+
+    step = check.steps[upto]
+    draw_free_space(ax, env)
+    for g, ring in sorted(step.components.items()):
+        label = 1 if g in step.labels else 0
+        xy = np.array([[float(x), float(y)] for x, y in ring])
+        ax.add_patch(Patch(xy, closed=True, facecolor=SHADOW_COLORS[label], alpha=0.55 if label else 0.4,
+                           edgecolor=SHADOW_COLORS[label], linewidth=0.6, zorder=2, gid=f"shadow-v{g}-{label}"))
+        from shapely.geometry import Polygon as Shape
+
+        spot = Shape(xy).buffer(0).representative_point()
+        ax.text(spot.x, spot.y, str(label), fontsize=8, color="#222222", ha="center", va="center", zorder=7,
+                gid=f"shadow-label-v{g}")
+    draw_boundary(ax, env)
+    path = [check.steps[0].point] + [s.point for s in check.steps[1:upto + 1]]
+    for k, (a, b) in enumerate(zip(path, path[1:]), start=1):
+        jump = check.steps[k].action is not None and check.steps[k].action.value == "JUMP"
+        ax.plot([float(a[0]), float(b[0])], [float(a[1]), float(b[1])], ":" if jump else "-", color=TRAJECTORY_COLOR,
+                linewidth=2.0, zorder=4, gid=f"path-{k}")
+    start, here = path[0], path[-1]
+    ax.scatter([float(start[0])], [float(start[1])], s=30, color=TRAJECTORY_START_COLOR, zorder=5, gid="start")
+    ax.scatter([float(here[0])], [float(here[1])], s=45, marker="*", color="#111111", zorder=6, gid="pursuer")
+    action = "start" if upto == 0 else f"after {upto} action{'s' if upto > 1 else ''} ({check.steps[upto].action})"
+    ax.set_title(f"{action}: at {step.label}, {len(step.labels)} of {len(step.components)} shadow(s) labelled 1",
+                 fontsize=8)
+
+
+def render_pursuit(env: Environment, plan, *, panels: int = 4, title: str | None = None) -> Figure:
+    """A pursuit plan as up to ``panels`` snapshots (the start, evenly spaced steps, the end): the path so far
+    (follows solid, JUMPs dotted), the pursuer (star) and its shadow components, red when labelled 1 (the evader
+    may be there), grey when 0, by the ground-truth checker.
+
+    ``plan`` is a :class:`~solverplan.wallfollow.pursuit.PursuitPlan` (with its check) or a
+    :class:`~solverplan.wallfollow.pursuit_check.PursuitCheck`.
+    """
+    check = getattr(plan, "check", plan)
+    if check is None:
+        why = f" ({plan.status.value}, {plan.sensor} sensor)" if hasattr(plan, "sensor") else ""
+        fig, ax = new_figure(env, title=title or f"{env.name or 'polygon'}: no pursuit plan{why}")
+        draw_free_space(ax, env)
+        draw_boundary(ax, env)
+        return fig
+    last = len(check.steps) - 1
+    count = max(1, min(panels, last + 1))
+    picks = sorted({round(k * last / max(count - 1, 1)) for k in range(count)})
+    fig, ax = new_figure(env)
+    width, height = fig.get_size_inches()
+    size = max(min(width, height), 3.5)
+    fig.set_size_inches(size * len(picks), size + 0.6)
+    ax.remove()
+    verdict = "verified" if check.verified else "NOT verified"
+    fig.suptitle(title or f"{env.name or 'polygon'}: pursuit plan of {len(check.actions)} actions from {check.start} "
+                          f"({verdict} by the ground-truth checker)", fontsize=10)
+    for k, upto in enumerate(picks, start=1):
+        panel = fig.add_subplot(1, len(picks), k)
+        _style_axes(panel, None)
+        _pursuit_panel(panel, env, check, upto)
     fig.tight_layout()
     return fig

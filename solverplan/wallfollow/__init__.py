@@ -15,6 +15,12 @@ interior, on an edge, at a convex or at a reflex vertex, and whether it is at th
 - :mod:`~solverplan.wallfollow.learning` — Strategy 1: learning the cut ordering from sensing alone.
 - :mod:`~solverplan.wallfollow.bitangents` — inflections and bitangents (exact), their end points in the cut
   ordering: the events of pursuit-evasion (Props. 11, 13, 18 hold and are tested).
+- :mod:`~solverplan.wallfollow.pursuit_check` — the geometric ground truth of pursuit-evasion: exact shadow
+  components along a plan and their labels.
+- :mod:`~solverplan.wallfollow.pursuit` — Strategy 2 (gap sensor): shortest pursuit plans, or a proof that
+  none exists (Prop. 8); :mod:`~solverplan.wallfollow.pursuit_primitives` — Strategy 3 (bitangent sensor:
+  primitives and compounds, Prop. 10); :mod:`~solverplan.wallfollow.pursuit_contact` — Strategy 6 (touch and
+  pebble sensors only, from the cut ordering alone: sound, Prop. 17).
 
 The command is ``solverplan wallfollow``.
 
@@ -33,10 +39,13 @@ from solverplan.wallfollow.filters import (CountingFilter, count_walk, printed_v
                                            step_value)
 from solverplan.wallfollow.learning import LearnedOrdering, Robot, learn_cut_ordering, strategy1
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
+from solverplan.wallfollow.pursuit import GapSensor, PursuitPlan, pursuit_plan
+from solverplan.wallfollow.pursuit_check import PursuitCheck, PursuitStep, check_pursuit
 from solverplan.wallfollow.world import Action, ActionNotApplicable, Observation, Touch, WallWorld, parse_action
 
-__all__ = ["Action", "ActionNotApplicable", "Bitangent", "CountingFilter", "Cut", "CutOrdering", "LearnedOrdering",
-           "Observation", "OrderingWorld", "Robot", "Touch", "WallWorld", "bitangents", "check_general_position",
+__all__ = ["Action", "ActionNotApplicable", "Bitangent", "CountingFilter", "Cut", "CutOrdering", "GapSensor",
+           "LearnedOrdering", "Observation", "OrderingWorld", "PursuitCheck", "PursuitPlan", "PursuitStep", "Robot",
+           "Touch", "WallWorld", "bitangents", "check_general_position", "check_pursuit", "pursuit_plan",
            "collinear_triple", "count_walk", "cut_ordering", "cuts", "inflections", "learn_cut_ordering",
            "mutually_visible", "parse_action", "parse_label", "printed_vertex_count", "printed_winding",
            "reflex_chains", "step_value", "strategy1"]

@@ -59,3 +59,38 @@ def comb(teeth: int, seed: int = 0) -> Environment:
         except InvalidEnvironment:
             continue
     raise AssertionError("no comb in general position found")
+
+
+def bent_arms(seed: int) -> Environment:
+    """Two to four corridors bent at random angles round a hub (seeded; the family of the ``three_arms`` model):
+    reflex chains that see each other, bitangents that are right-handed from neither end. A seed whose polygon
+    breaks general position or is not simple is replaced by the next attempt."""
+    import random
+
+    from shapely.geometry import LineString
+    from shapely.ops import unary_union
+
+    for attempt in range(100):
+        rng = random.Random(seed * 1000 + attempt)
+        lines = []
+        arms = rng.randint(2, 4)
+        for a in range(arms):
+            out = 2 * math.pi * a / arms + rng.uniform(-0.3, 0.3)
+            bend = out + rng.uniform(-2.2, 2.2)
+            first, second = rng.uniform(4, 10), rng.uniform(3, 10)
+            knee = (first * math.cos(out), first * math.sin(out))
+            foot = (knee[0] + second * math.cos(bend), knee[1] + second * math.sin(bend))
+            lines.append(LineString([(0, 0), knee, foot]))
+        width = rng.uniform(0.8, 1.6)
+        shape = unary_union(lines).buffer(width, cap_style=2, join_style=2, mitre_limit=5).simplify(0.01)
+        if shape.geom_type != "Polygon" or len(shape.interiors):
+            continue
+        ring = [(round(x * 10) + rng.randint(-2, 2), round(y * 10) + rng.randint(-2, 2))
+                for x, y in list(shape.exterior.coords)[:-1]]
+        try:
+            env = Environment.from_coords(ring)
+            cuts(env)
+            return env
+        except InvalidEnvironment:
+            continue
+    raise AssertionError("no bent arms in general position found")

@@ -71,7 +71,7 @@ def test_text_output():
 @pytest.mark.parametrize("args,fragment", [
     (["comb"], "the right cut of reflex vertex 5 runs into vertex 8 at (12, 3): vertices 4, 5 and 8 are collinear"),
     (["one_hole"], "needs a polygon without holes: one_hole has 1 hole"),
-    (["l_shape", "--learn", "--count"], "choose one of --cut-ordering, --learn and --count"),
+    (["l_shape", "--learn", "--count"], "choose one of --cut-ordering, --learn, --count and --pursuit"),
     (["l_shape", "--transcript"], "--comparisons and --transcript belong to --learn"),
     (["l_shape", "--learn", "--start", "1"], "--start must be two numbers X,Y"),
     (["l_shape", "--learn", "--start", "100,100"], "start (100, 100) is outside the polygon"),
