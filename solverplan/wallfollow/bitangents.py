@@ -29,6 +29,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
@@ -143,8 +144,17 @@ def _place_in(order: CutOrdering, cut_places: dict[str, Place], place: Place) ->
     return before
 
 
-def bitangents(env: Environment) -> tuple[Bitangent, ...]:
+def bitangents(env: Environment, pairs: Sequence[tuple[int, int]] | None = None) -> tuple[Bitangent, ...]:
     """Every bitangent of ``env``, right-handed, with exact end points placed in the cut ordering.
+
+    Parameters
+    ----------
+    env
+        A simple polygon in general position.
+    pairs
+        The bitangents' vertex pairs (i, j), right-handed, when they are already known — learned by Strategy 4
+        (:mod:`~solverplan.wallfollow.pebble`) — so that only their rays are cast; default: found here from the
+        geometry (tangent at both ends, mutually visible).
 
     Raises
     ------
@@ -160,24 +170,28 @@ def bitangents(env: Environment) -> tuple[Bitangent, ...]:
     reflex = env.reflex_vertices
     right_end = {c.vertex: (c.edge, c.t) for c in all_cuts if c.side == "r"}
     cut_places = {c.label: (c.edge, c.t) for c in all_cuts}
+    if pairs is None:
+        found = []
+        for x in range(len(reflex)):
+            for y in range(x + 1, len(reflex)):
+                a, b = reflex[x], reflex[y]
+                if not (_tangent_at(pts, a, b) and _tangent_at(pts, b, a) and mutually_visible(env, a, b)):
+                    continue
+                # right-handed: v_j ∈ [v_i, r_i]
+                found.append((a, b) if boundary_between((a, Fraction(0)), right_end[a], (b, Fraction(0))) else (b, a))
+        pairs = found
     out = []
-    for x in range(len(reflex)):
-        for y in range(x + 1, len(reflex)):
-            a, b = reflex[x], reflex[y]
-            if not (_tangent_at(pts, a, b) and _tangent_at(pts, b, a) and mutually_visible(env, a, b)):
-                continue
-            # right-handed: v_j ∈ [v_i, r_i]
-            i, j = (a, b) if boundary_between((a, Fraction(0)), right_end[a], (b, Fraction(0))) else (b, a)
-            ends = []
-            for v, w in ((i, j), (j, i)):
-                hit = cast_ray(env, pts[v], (pts[v][0] - pts[w][0], pts[v][1] - pts[w][1]))
-                place = (hit.edge, hit.t)
-                if hit.vertex is not None or place in cut_places.values():
-                    raise InvalidEnvironment(f"the bitangent of reflex vertices {i} and {j} ends at "
-                                             f"{format_point(hit.point)}, a vertex or cut end point: the "
-                                             f"wall-following model needs general position")
-                ends.append((place, hit.point))
-            (b_ij, p_ij), (b_ji, p_ji) = ends
-            out.append(Bitangent(i, j, b_ij, b_ji, p_ij, p_ji, _place_in(order, cut_places, b_ij),
-                                 _place_in(order, cut_places, b_ji)))
+    for i, j in pairs:
+        ends = []
+        for v, w in ((i, j), (j, i)):
+            hit = cast_ray(env, pts[v], (pts[v][0] - pts[w][0], pts[v][1] - pts[w][1]))
+            place = (hit.edge, hit.t)
+            if hit.vertex is not None or place in cut_places.values():
+                raise InvalidEnvironment(f"the bitangent of reflex vertices {i} and {j} ends at "
+                                         f"{format_point(hit.point)}, a vertex or cut end point: the "
+                                         f"wall-following model needs general position")
+            ends.append((place, hit.point))
+        (b_ij, p_ij), (b_ji, p_ji) = ends
+        out.append(Bitangent(i, j, b_ij, b_ji, p_ij, p_ji, _place_in(order, cut_places, b_ij),
+                             _place_in(order, cut_places, b_ji)))
     return tuple(out)

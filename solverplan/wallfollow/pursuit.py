@@ -52,14 +52,14 @@ from solverplan.wallfollow.world import Action
 
 __all__ = ["GapSensor", "PursuitPlan", "pursuit_plan", "SENSORS", "DEFAULT_MAX_STATES"]
 
-#: The sensors ``pursuit_plan`` knows; all but the pebble-visibility sensor (Strategies 4–5) are implemented.
+#: The sensors ``pursuit_plan`` knows.
 SENSORS = ("gap", "bitangent", "pebble", "contact")
 
 #: The strategy of each implemented sensor.
-STRATEGY = {"gap": "Strategy 2", "bitangent": "Strategy 3", "contact": "Strategy 6"}
+STRATEGY = {"gap": "Strategy 2", "bitangent": "Strategy 3", "pebble": "Strategy 5", "contact": "Strategy 6"}
 
 #: The strategies whose search is complete (a failure proves that no plan exists).
-COMPLETE = ("gap", "bitangent")
+COMPLETE = ("gap", "bitangent", "pebble")
 
 #: The cap on derived I-states a search expands (the I-space is exponential in the number of gaps).
 DEFAULT_MAX_STATES = 200_000
@@ -225,6 +225,9 @@ class PursuitPlan:
         The ground-truth replay of the plan (:func:`~solverplan.wallfollow.pursuit_check.check_pursuit`).
     reason
         Why there is no plan, in words (``infeasible`` / ``not-found``).
+    learning
+        With the pebble-visibility sensor: what Strategy 4 learned first, and its cost
+        (:class:`~solverplan.wallfollow.pebble.LearnedBitangents`).
     """
 
     status: Status
@@ -239,6 +242,7 @@ class PursuitPlan:
     limits: tuple[str, ...] = ()
     environment: EnvironmentRecord | None = None
     stats: Stats = field(default_factory=Stats)
+    learning: Any = None
 
     @property
     def verified(self) -> bool | None:
@@ -268,6 +272,10 @@ class PursuitPlan:
             out["shadow_labels"] = [sorted(f"v{g}" for g in step.labels) for step in self.check.steps]
         if self.reason:
             out["reason"] = self.reason
+        if self.learning is not None:
+            out["learning_actions"] = self.learning.actions
+            out["visibility_queries"] = self.learning.visibility_queries
+            out["bitangents"] = [[f"v{b.i}", f"v{b.j}", b.after_ij, b.after_ji] for b in self.learning.bitangents]
         out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
@@ -303,9 +311,10 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
         A simple polygon in general position.
     sensor
         ``"gap"`` (Strategy 2), ``"bitangent"`` (Strategy 3, :mod:`~solverplan.wallfollow.pursuit_primitives`)
-        or ``"contact"`` (Strategy 6, :mod:`~solverplan.wallfollow.pursuit_contact`: sound, not complete — no
-        plan found is ``not-found``). The pebble-visibility strategies (4–5) are not implemented:
-        ``"pebble"`` raises :class:`~solverplan.errors.InputError`.
+        ``"pebble"`` (Strategy 5: Strategy 4, :func:`~solverplan.wallfollow.pebble.learn_bitangents`, learns the
+        bitangents with the pebble-visibility sensor, then Strategy 3's search runs on them) or ``"contact"``
+        (Strategy 6, :mod:`~solverplan.wallfollow.pursuit_contact`: sound, not complete — no plan found is
+        ``not-found``).
     start
         The pursuer's start point in the cut ordering (``v0``, ``r3``); the evader may be anywhere out of sight.
     max_states
@@ -320,9 +329,6 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     """
     if sensor not in SENSORS:
         raise InputError(f"unknown sensor {sensor!r}: use one of {', '.join(SENSORS)}")
-    if sensor not in STRATEGY:
-        raise InputError(f"the {sensor} sensor's pursuit strategy is not implemented: use --sensor gap (Strategy 2), "
-                         f"bitangent (Strategy 3) or contact (Strategy 6)")
     if isinstance(max_states, bool) or not isinstance(max_states, int) or max_states < 1:
         raise InputError(f"max_states must be a positive integer, got {max_states!r}")
     t0 = time.perf_counter()
@@ -335,6 +341,7 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     reflex = set(order.reflex)
     # the pursuit status of an I-state, how an action changes it, and whether it is won
     status0: Any
+    learning = None
     if sensor == "gap":
         gap = GapSensor(env)
         status0 = frozenset(gap.gaps(points[start]))
@@ -359,7 +366,13 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     else:
         from solverplan.wallfollow.pursuit_primitives import BitangentSensor
 
-        primitives = BitangentSensor(env)
+        pairs = None
+        if sensor == "pebble":
+            from solverplan.wallfollow.pebble import learn_bitangents, learned_pairs
+
+            learning = learn_bitangents(env, order)
+            pairs = learned_pairs(env, learning)
+        primitives = BitangentSensor(env, pairs)
         status0 = (frozenset(), primitives.active(start))
 
         def step(x: str, y: str, status: Any, action: str) -> Any:
@@ -409,10 +422,13 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
             reason = (f"every one of the {states} reachable I-states (position, labels) keeps a label 1: no plan "
                       f"exists for this cut ordering with the {sensor} sensor "
                       f"({'Prop. 8' if sensor == 'gap' else 'Prop. 10'})")
+            if sensor == "pebble":
+                reason += " (Strategy 5: as complete as Strategy 3)"
         else:
             reason = (f"every one of the {states} reachable I-states keeps a label 1 under Strategy 6's pessimistic "
                       f"bookkeeping; Strategy 6 is sound but not known to be complete, so a plan may still exist")
-        return PursuitPlan(status, (), start, sensor, (start,), states, order, None, reason, limits, record, stats)
+        return PursuitPlan(status, (), start, sensor, (start,), states, order, None, reason, limits, record, stats,
+                           learning)
     actions: list[str] = []
     positions: list[str] = []
     node: IState | None = goal
@@ -429,4 +445,4 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     t3 = time.perf_counter()
     stats = stats.with_(seconds_check=t3 - t2)
     return PursuitPlan(Status.FOUND, tuple(actions), start, sensor, tuple(positions), states, order, replay, "",
-                       (), record, stats)
+                       (), record, stats, learning)

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import SolverFailed
@@ -79,7 +80,9 @@ def _cot(d: ExactPoint, w: ExactPoint) -> Fraction:
 class BitangentSensor:
     """Primitives, their activity along the cut ordering and the bitangent sensor's reports, for one polygon."""
 
-    def __init__(self, env: Environment) -> None:
+    def __init__(self, env: Environment, pairs: Sequence[tuple[int, int]] | None = None) -> None:
+        """``pairs``: the bitangents' vertex pairs when learned (Strategy 5, :mod:`~solverplan.wallfollow.pebble`);
+        default: the exact geometry's (:func:`~solverplan.wallfollow.bitangents.bitangents`)."""
         self.env = env
         self.ordering = cut_ordering(env)
         n = env.n_vertices
@@ -101,7 +104,7 @@ class BitangentSensor:
             self.inflection_rays[f"L{last}"] = (pts[last], cut_at[(last, "l")].point)
         self._size = size
         rays: list[BitangentRay] = []
-        for b in bitangents(env):
+        for b in bitangents(env, pairs):
             for near, far, end in ((b.i, b.j, b.point_ij), (b.j, b.i, b.point_ji)):
                 edges_side = orient(pts[far], pts[near], pts[(near - 1) % n])
                 d = (pts[far][0] - pts[near][0], pts[far][1] - pts[near][1])  # looking past near towards far
