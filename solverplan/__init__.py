@@ -63,6 +63,8 @@ _EXPORTS: dict[str, str] = {
     "PursuitPlan": "solverplan.wallfollow.pursuit",
     "check_pursuit": "solverplan.wallfollow.pursuit_check",
     "PursuitCheck": "solverplan.wallfollow.pursuit_check",
+    "learn_bitangents": "solverplan.wallfollow.pebble",
+    "PebbleWorld": "solverplan.wallfollow.pebble",
     # composed potential fields with reflection (Stager and Tanner)
     "decompose_free_space": "solverplan.reflection.cells",
     "compose_fields": "solverplan.reflection.compose",
@@ -146,6 +148,7 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.wallfollow.ordering import CutOrdering
     from solverplan.wallfollow.pursuit import PursuitPlan, pursuit_plan
     from solverplan.wallfollow.pursuit_check import PursuitCheck, check_pursuit
+    from solverplan.wallfollow.pebble import PebbleWorld, learn_bitangents
     from solverplan.wallfollow.world import WallWorld
     from solverplan.reflection.cells import decompose_free_space
     from solverplan.reflection.compose import compose_fields

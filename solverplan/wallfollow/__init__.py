@@ -39,6 +39,7 @@ from solverplan.wallfollow.filters import (CountingFilter, count_walk, printed_v
                                            step_value)
 from solverplan.wallfollow.learning import LearnedOrdering, Robot, learn_cut_ordering, strategy1
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
+from solverplan.wallfollow.pebble import LearnedBitangent, LearnedBitangents, PebbleWorld, learn_bitangents
 from solverplan.wallfollow.pursuit import GapSensor, PursuitPlan, pursuit_plan
 from solverplan.wallfollow.pursuit_check import PursuitCheck, PursuitStep, check_pursuit
 from solverplan.wallfollow.world import Action, ActionNotApplicable, Observation, Touch, WallWorld, parse_action
@@ -48,4 +49,5 @@ __all__ = ["Action", "ActionNotApplicable", "Bitangent", "CountingFilter", "Cut"
            "Touch", "WallWorld", "bitangents", "check_general_position", "check_pursuit", "pursuit_plan",
            "collinear_triple", "count_walk", "cut_ordering", "cuts", "inflections", "learn_cut_ordering",
            "mutually_visible", "parse_action", "parse_label", "printed_vertex_count", "printed_winding",
-           "reflex_chains", "step_value", "strategy1"]
+           "reflex_chains", "step_value", "strategy1",
+           "LearnedBitangent", "LearnedBitangents", "PebbleWorld", "learn_bitangents"]

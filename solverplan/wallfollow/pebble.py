@@ -87,8 +87,9 @@ class PebbleWorld(WallWorld):
 
     def pebble_visible(self) -> bool:
         """h_p now: do the robot and the pebble on the floor see each other (closed visibility)?"""
+        q = self._pebble_point()
         self.visibility_queries += 1
-        return sees(self.env, self.point, self._pebble_point())
+        return sees(self.env, self.point, q)
 
     def pebble_trace(self) -> tuple[int, ...]:
         """The values h_p took along the last motion, in order, repeats merged: ``(0, 1)`` = seen from some
@@ -101,9 +102,9 @@ class PebbleWorld(WallWorld):
         """
         if self._last_path is None:
             raise InputError("pebble trace: needs a straight last motion (RFOLLOW, LFOLLOW, JUMP, GRAB, DROP)")
-        self.visibility_queries += 1
         p0, p1 = self._last_path
         q = self._pebble_point()
+        self.visibility_queries += 1
         if p0 == p1:
             return (int(sees(self.env, p0, q)),)
         # h_p can change only where the line from the pebble through a vertex meets the path: test there and

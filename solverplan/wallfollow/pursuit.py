@@ -290,6 +290,10 @@ class PursuitPlan:
         else:
             lines = [f"no pursuit plan ({self.status.value}, {self.sensor} sensor) from {self.start}: {self.reason}",
                      f"{self.states} I-states explored"]
+        if self.learning is not None:
+            lines.append(f"Strategy 4 learned {len(self.learning.bitangents)} bitangents first: "
+                         f"{self.learning.actions} actions, {self.learning.visibility_queries} pebble-visibility "
+                         f"readings")
         return "\n".join(lines) + "\n"
 
 

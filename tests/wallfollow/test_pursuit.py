@@ -343,8 +343,6 @@ def test_the_cap_on_states_gives_not_found_with_the_limit():
 
 
 def test_pursuit_bad_input():
-    with pytest.raises(InputError, match="not implemented"):
-        pursuit_plan(ROOM, sensor="pebble")
     with pytest.raises(InputError, match="unknown sensor"):
         pursuit_plan(ROOM, sensor="radar")
     with pytest.raises(InputError, match="not a point"):
@@ -376,7 +374,7 @@ def test_cli_pursuit_plan_is_verified_and_pictured(tmp_path):
 def test_cli_pursuit_errors_are_one_line():
     from tests.wallfollow.test_cli_wallfollow import one_line_error, run
 
-    one_line_error(run("wallfollow", "star", "--pursuit", "--sensor", "pebble"), "not implemented")
+    one_line_error(run("wallfollow", "star", "--pursuit", "--sensor", "radar"), "radar")
     one_line_error(run("wallfollow", "star", "--pursuit", "--from", "x1"), "not a point of the cut ordering")
     one_line_error(run("wallfollow", "star", "--sensor", "gap", "--from", "v1"), "belong to --pursuit")
     one_line_error(run("wallfollow", "star", "--pursuit", "--learn"), "choose one of")
