@@ -78,11 +78,11 @@ class PebbleWorld(WallWorld):
         return obs
 
     def _pebble_point(self) -> ExactPoint:
-        where = self.pebble
-        if where is None:
+        if self._pebble is None:
             raise InputError("pebble visibility: the robot holds the pebble (DROP it first)")
-        if len(where) == 2 and isinstance(where[1], Fraction) and isinstance(where[0], int):
-            return self.env.exact_point_at(*where)  # a boundary position (edge, t)
+        kind, where = self._pebble
+        if kind == "boundary":
+            return self.env.exact_point_at(*where)  # type: ignore[misc]
         return where  # type: ignore[return-value]
 
     def pebble_visible(self) -> bool:
