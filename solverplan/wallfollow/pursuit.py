@@ -1,5 +1,7 @@
 """Pursuit-evasion plans for the wall-following robot: Strategy 2, the gap sensor (§VI-B of the paper), and the
-search shared with Strategy 3 (the bitangent sensor, :mod:`~solverplan.wallfollow.pursuit_primitives`).
+search shared with Strategy 3 (the bitangent sensor, :mod:`~solverplan.wallfollow.pursuit_primitives`) and
+Strategy 5 (Strategy 3 on the bitangents that Strategy 4 learns with the pebble-visibility sensor,
+:mod:`~solverplan.wallfollow.pebble`).
 
 The pursuer moves by RFOLLOW, LFOLLOW and JUMP between the points of the cut ordering. The **gap sensor**
 reports the gaps of its view — one per shadow component, named here by the reflex vertex the gap's window
