@@ -346,9 +346,14 @@ def learn_bitangents(env: Environment, order: CutOrdering | None = None) -> Lear
 
 
 def learned_pairs(env: Environment, learned: LearnedBitangents) -> list[tuple[int, int]]:
-    """The learned bitangents' vertex pairs, for Strategy 3's search (Strategy 5). The search replays each
-    bitangent ray as a segment of the polygon to time its crossings along a motion (as it does the
-    inflections); that ray's end points must lie where Strategy 4 placed them in the cut ordering.
+    """The learned bitangents' vertex pairs, for Strategy 3's search (Strategy 5).
+
+    The places Strategy 4 learned decide *which* motions cross which bitangent rays (a follow crosses a ray
+    where it passes its end point; a JUMP crosses it iff their end points alternate along the boundary, tested
+    in ``tests/wallfollow/test_pebble.py``), but not the *order* of several crossings along one JUMP — the
+    paper's "enough to generate the same output as the bitangent sensor" glosses over that. So the search
+    replays each learned bitangent ray as a segment of the polygon to time its crossings (as it does the
+    inflections'), and that segment's end points must lie where Strategy 4 placed them.
 
     Raises
     ------

@@ -138,3 +138,36 @@ def test_cli_pursuit_with_the_pebble_sensor():
     assert data["optimality"]["algorithm"] == "Strategy 5 (BFS)" and data["optimality"]["proved"] is True
     assert data["learning_actions"] == 256 and data["visibility_queries"] == 39
     assert data["bitangents"] == [["v0", "v11", "l0", "l11"], ["v1", "v5", "l1", "l5"], ["v6", "v10", "l6", "l10"]]
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=6, max_vertices=13, spiky=True))
+@example(bent_arms(0))
+def test_learned_places_decide_which_jumps_cross_each_bitangent_ray(env):
+    """What Strategy 4 learns is enough to tell which JUMPs cross which bitangent rays (as Prop. 4 does for two
+    cuts): a cut and a bitangent ray, both chords of the polygon, cross iff their end points alternate along the
+    boundary — with each bitangent end point placed just after the point of the ordering Strategy 4 found."""
+    from solverplan.exact import segment_intersection
+    from solverplan.wallfollow import cuts
+
+    order = cut_ordering(env)
+    size = len(order.labels)
+    pts = env.exact_vertices
+    learned = learn_bitangents(env)
+
+    def key(label, after=False):
+        return 2 * order.index(label) + (1 if after else 0)
+
+    def inside(a, b, x):  # x strictly inside the counter-clockwise interval (a, b)
+        return 0 < (x - a) % (2 * size) < (b - a) % (2 * size)
+
+    for b, ray in zip(learned.bitangents, bitangents(env)):
+        for near, after, end in ((b.i, b.after_ij, ray.point_ij), (b.j, b.after_ji, ray.point_ji)):
+            r0, r1 = key(f"v{near}"), key(after, after=True)
+            for c in cuts(env):
+                if c.vertex == near:
+                    continue  # they share the vertex: no crossing inside
+                c0, c1 = key(f"v{c.vertex}"), key(c.label)
+                alternate = inside(r0, r1, c0) != inside(r0, r1, c1)
+                meet = segment_intersection(pts[near], end, pts[c.vertex], c.point)
+                assert alternate == (meet is not None), (near, after, c.label)
