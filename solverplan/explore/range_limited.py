@@ -180,13 +180,14 @@ def covers_every_segment(env: Environment, range_: object) -> bool:
     return all((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 <= R2 for i, p in enumerate(verts) for q in verts[i + 1:])
 
 
-def range_covered_fraction(env: Environment, views: Sequence[RangeView], sagitta: float = DEFAULT_SAGITTA) -> float:
+def range_covered_fraction(env: Environment, views: Sequence[RangeView], sagitta: float = DEFAULT_SAGITTA,
+                           shapes: Sequence | None = None) -> float:
     """Area of the union of the inscribed views over the free space's area (floats, shapely): a lower estimate,
-    within a relative 2·sagitta of the true union's."""
+    within a relative 2·sagitta of the true union's. ``shapes``: the views' polygons, when already made."""
     import shapely
 
     free = env.to_shapely()
-    union = shapely.union_all([v.to_shapely(sagitta) for v in views])
+    union = shapely.union_all(shapes if shapes is not None else [v.to_shapely(sagitta) for v in views])
     return float(union.intersection(free).area / free.area)
 
 
@@ -225,6 +226,10 @@ class _Explorer:
         offsets = env.ring_offsets
         self.ring_edges = [list(range(offsets[k], offsets[k + 1])) for k in range(len(env.rings))]
         self.edge_ring = {e: k for k, es in enumerate(self.ring_edges) for e in es}
+        verts, nxt = env.exact_vertices, env.next_vertex
+        self.edge_lines = [shapely.LineString([tuple(map(float, verts[e])), tuple(map(float, verts[int(nxt[e])]))])
+                           for e in range(env.n_edges)]
+        self.edge_left = list(self.edge_lines)  # the part of each edge not yet in CP (shapely lines)
 
     # ------------------------------------------------------------------ views
     def add_view(self, z: ExactPoint, parent: int, phase: str, ring: int) -> None:
@@ -235,6 +240,10 @@ class _Explorer:
         self.views.append(rv)
         self.shapes.append(shape)
         self.covered = shapely.union(self.covered, shape)
+        grown = shape.buffer(10 * self.tol, quad_segs=1)
+        for e, left in enumerate(self.edge_left):
+            if not left.is_empty and grown.intersects(left):
+                self.edge_left[e] = left.difference(grown)
         if self.path:
             self.path.extend(self._route(self.path[-1], z, parent))
         self.path.append(z)
@@ -265,20 +274,15 @@ class _Explorer:
         rest = self.free.difference(self.covered)
         return [g for g in getattr(rest, "geoms", [rest]) if g.geom_type == "Polygon" and g.area > self.area_tol]
 
-    def unseen_runs(self, covered_buf) -> dict[int, list[tuple[int, float, float]]]:
+    def unseen_runs(self) -> dict[int, list[tuple[int, float, float]]]:
         """For each ring, its unseen intervals (edge, t0, t1) in ring order; an edge with none is marked."""
         import shapely
 
-        verts = self.env.exact_vertices
-        nxt = self.env.next_vertex
         out: dict[int, list[tuple[int, float, float]]] = {}
         for k, edges in enumerate(self.ring_edges):
             runs = []
             for e in edges:
-                a = tuple(map(float, verts[e]))
-                b = tuple(map(float, verts[int(nxt[e])]))
-                line = shapely.LineString([a, b])
-                left = line.difference(covered_buf)
+                line, left = self.edge_lines[e], self.edge_left[e]
                 L = line.length
                 for g in getattr(left, "geoms", [left]):
                     if g.is_empty or g.length <= 10 * self.tol:
@@ -288,36 +292,37 @@ class _Explorer:
             out[k] = sorted(runs, key=lambda r: (edges.index(r[0]), r[1]))
         return out
 
+    def ring_seen(self, k: int) -> bool:
+        """Is some part of ring k in CP?"""
+        return any(self.edge_left[e].length < self.edge_lines[e].length - 10 * self.tol for e in self.ring_edges[k])
+
     # ------------------------------------------------------------------ placing a viewpoint
-    def _inward(self, edge: int, t: float) -> tuple[float, float, int | None]:
-        """The inward direction at the boundary point (edge, t): the free angle's bisector at a vertex (when the
-        point is within tol of it), the left normal on an edge; and the vertex, if any."""
+    def _inward(self, edge: int, t: float) -> list[tuple[float, float]]:
+        """Directions into the free space at the boundary point (edge, t), best first: at a vertex (within ε/4
+        of it: the chords of CP end a little short of corners) the free angle's bisector, then the two edges'
+        inward normals; on an edge its inward (left) normal."""
         env = self.env
         verts, nxt, prv = env.exact_vertices, env.next_vertex, env.prev_vertex
         a, b = verts[edge], verts[int(nxt[edge])]
         L = math.dist(tuple(map(float, a)), tuple(map(float, b)))
-        v = None
-        if t * L <= 10 * self.tol:
-            v = edge
-        elif (1 - t) * L <= 10 * self.tol:
-            v = int(nxt[edge])
+        snap = float(self.eps) / 4
+        v = edge if t * L <= snap else (int(nxt[edge]) if (1 - t) * L <= snap else None)
         if v is None:
-            dx, dy = float(b[0] - a[0]) / L, float(b[1] - a[1]) / L
-            return -dy, dx, None
+            return [(-float(b[1] - a[1]) / L, float(b[0] - a[0]) / L)]
         p, x, n = verts[int(prv[v])], verts[v], verts[int(nxt[v])]
-        u1 = (float(p[0] - x[0]), float(p[1] - x[1]))
-        u2 = (float(n[0] - x[0]), float(n[1] - x[1]))
-        u1 = (u1[0] / math.hypot(*u1), u1[1] / math.hypot(*u1))
-        u2 = (u2[0] / math.hypot(*u2), u2[1] / math.hypot(*u2))
+
+        def unit(d: tuple[float, float]) -> tuple[float, float]:
+            norm = math.hypot(*d)
+            return d[0] / norm, d[1] / norm
+
+        u1 = unit((float(p[0] - x[0]), float(p[1] - x[1])))
+        u2 = unit((float(n[0] - x[0]), float(n[1] - x[1])))
+        normals = [(-u2[1], u2[0]), (u1[1], -u1[0])]  # left normals of the edge out of v and the edge into v
         turn = orient(p, x, n)
         if turn == 0:
-            return -u2[1], u2[0], v
+            return normals[:1]
         s = 1.0 if turn > 0 else -1.0  # convex: the bisector u1 + u2 points into the free angle; reflex: away
-        bx, by = s * (u1[0] + u2[0]), s * (u1[1] + u2[1])
-        norm = math.hypot(bx, by)
-        if norm < 1e-12:  # pragma: no cover - only at angle exactly π, handled above
-            return -u2[1], u2[0], v
-        return bx / norm, by / norm, v
+        return [unit((s * (u1[0] + u2[0]), s * (u1[1] + u2[1]))), *normals]
 
     def _grid_point(self, x: float, y: float) -> ExactPoint:
         g = self.grid
@@ -336,14 +341,14 @@ class _Explorer:
         near = [k for k, shape in enumerate(self.shapes) if shape.distance(q) <= 1e-6 * self.scale]
         return near[::-1]  # the most recent view first: shorter moves
 
-    def place(self, s: tuple[float, float], direction: tuple[float, float] | None) -> tuple[ExactPoint, int] | None:
-        """A viewpoint near the point s of CP's boundary: ε inside the free space along ``direction`` (or pulled
-        back towards the view that sees s), exactly inside an earlier view. ``None`` if no candidate passes."""
+    def place(self, s: tuple[float, float], directions: Sequence[tuple[float, float]]) -> tuple[ExactPoint, int] | None:
+        """A viewpoint near the point s of CP's boundary: ε inside the free space along one of ``directions`` (or
+        pulled back towards the view that sees s), exactly inside an earlier view. ``None`` if none passes."""
         eps = float(self.eps)
         for j in self._parents_of(s):
             pj = tuple(map(float, self.viewpoints[j]))
             candidates: list[tuple[float, float]] = []
-            if direction is not None:
+            for direction in directions:
                 for k in (1, 2, 4, 8):
                     c = (s[0] + k * eps * direction[0], s[1] + k * eps * direction[1])
                     candidates.append(c)
@@ -369,8 +374,7 @@ class _Explorer:
         """Steps 3–5 first (the ring being followed, then any partially seen ring), else Steps 2/6 (an arc)."""
         import shapely
 
-        covered_buf = self.covered.buffer(10 * self.tol)
-        runs = self.unseen_runs(covered_buf)
+        runs = self.unseen_runs()
         env = self.env
         verts, nxt = env.exact_vertices, env.next_vertex
         here = tuple(map(float, self.path[-1]))
@@ -393,16 +397,11 @@ class _Explorer:
                     starts.append((e, t0))
             return starts
 
-        def ring_seen(k: int) -> bool:
-            return any(covered_buf.intersects(shapely.LineString([tuple(map(float, verts[e])),
-                                                                   tuple(map(float, verts[int(nxt[e])]))]))
-                       for e in self.ring_edges[k])
-
         order: list[int] = []
         if state.get("ring") is not None and runs[state["ring"]]:
             order.append(state["ring"])
-        others = [k for k in runs if runs[k] and k not in order and ring_seen(k)]
-        others.sort(key=lambda k: covered_buf.intersection(self.ring_line(k)).distance(shapely.Point(here)))
+        others = [k for k in runs if runs[k] and k not in order and self.ring_seen(k)]
+        others.sort(key=lambda k: min(math.dist(point_of(e, t), here) for e, t, _ in runs[k]))
         order += others
         for k in order:
             starts = [st for st in run_starts(k) if point_of(*st) not in self.blocked]
@@ -417,8 +416,7 @@ class _Explorer:
                 starts.sort(key=lambda st: math.dist(point_of(*st), here))
             for e, t in starts:
                 s = point_of(e, t)
-                dx, dy, _ = self._inward(e, t)
-                placed = self.place(s, (dx, dy))
+                placed = self.place(s, self._inward(e, t))
                 if placed is None:
                     self.blocked.add(s)
                     continue
@@ -437,22 +435,16 @@ class _Explorer:
             coords = np.array([c for g in pieces for c in g.exterior.coords])
         seen_from = np.array([[float(x), float(y)] for x, y in self.viewpoints])
         spread = np.min(np.linalg.norm(coords[:, None, :] - seen_from[None, :, :], axis=2), axis=1)
-        arc_phase = "open" if all(not runs[k] for k in runs if ring_seen(k)) else "frontier"
+        arc_phase = "open" if all(not runs[k] for k in runs if self.ring_seen(k)) else "frontier"
         for i in np.argsort(-spread, kind="stable")[:64].tolist():
             s = (float(coords[i][0]), float(coords[i][1]))
             if s in self.blocked:
                 continue
-            placed = self.place(s, None)
+            placed = self.place(s, ())
             if placed is not None:
                 return placed[0], placed[1], arc_phase, -1, s
             self.blocked.add(s)
         return None
-
-    def ring_line(self, k: int):
-        import shapely
-
-        ring = self.env.rings[k]
-        return shapely.LinearRing([tuple(map(float, p)) for p in ring])
 
 
 def explore_range_limited(env: Environment, start: Sequence[object], range_: object, *,
@@ -542,7 +534,7 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     limits = (f"max_views={limit}",) if hit_limit else (("no admissible viewpoint",) if stuck else ())
     optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
                             algorithm="Algorithm B (range-limited views, boundary by boundary)", limits=limits)
-    covered = range_covered_fraction(env, ex.views)
+    covered = range_covered_fraction(env, ex.views, shapes=ex.shapes)
     return RangeExploration(Status.FOUND if found else Status.NOT_FOUND, tuple(ex.viewpoints), tuple(ex.views),
                             tuple(ex.parents), tuple(ex.path), tuple(ex.phases), tuple(ex.rings),
                             len(env.reflex_vertices), len(env.holes), bound, lower, ratio_bound, covered, R, eps,
