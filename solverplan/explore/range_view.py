@@ -25,7 +25,7 @@ arc between their angles. When no side meets the disc the view is the whole disc
 >>> [piece.kind for piece in rv.pieces]
 ['partial', 'arc']
 >>> round(rv.area, 6), rv.contains((5, 3)), rv.contains((5, 3.01))    # the disc minus the segment below y = 0
-(8.10566, True, False)
+(10.109631, True, False)
 """
 
 from __future__ import annotations
