@@ -42,7 +42,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_point, orient, to_fraction
 from solverplan.explore.bounds import Cost, exploration_cost, range_ratio_bound, range_views_bound, range_views_lower_bound
-from solverplan.explore.depth_first import explore_depth_first
+from solverplan.explore.depth_first import CHOICES, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
@@ -448,7 +448,8 @@ class _Explorer:
 
 
 def explore_range_limited(env: Environment, start: Sequence[object], range_: object, *,
-                          epsilon: object | None = None, max_views: int | None = None) -> RangeExploration:
+                          epsilon: object | None = None, max_views: int | None = None, choice: str = "first",
+                          seed: int | None = None) -> RangeExploration:
     """Explore ``env`` from ``start`` with views of range R (Algorithm B; Algorithm A when Theorem 3 applies).
 
     Parameters
@@ -464,6 +465,9 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
         clearance of P)/100, rounded to two significant digits.
     max_views
         Stop after this many views (default 2·(Lemma 4's bound) + 10); hitting it gives ``not-found``.
+    choice, seed
+        Algorithm A's z-choice rule and its seed, used when Theorem 3 hands over to Algorithm A (Algorithm B
+        itself has no choice to make).
 
     Returns
     -------
@@ -491,7 +495,7 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     p = exact_point(start, where="start")
     t0 = time.perf_counter()
     if covers_every_segment(env, R):  # Theorem 3: every view is a whole visibility polygon
-        run = explore_depth_first(env, p, max_views=limit)
+        run = explore_depth_first(env, p, max_views=limit, choice=choice, seed=seed)  # type: ignore[arg-type]
         views = tuple(range_visibility(env, q, R) for q in run.viewpoints)
         eps = Fraction(0) if epsilon is None else to_fraction(epsilon, where="epsilon")
         optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
@@ -501,7 +505,11 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
                                 ("start",) + ("frontier",) * (run.n_views - 1), (-1,) * run.n_views, run.reflex,
                                 len(env.holes), bound, lower, ratio_bound, run.covered_fraction, R, eps, optimality,
                                 Stats(seconds_search=time.perf_counter() - t0, counts=dict(run.stats.counts)),
-                                EnvironmentRecord.of(env), algorithm="A")
+                                EnvironmentRecord.of(env), algorithm="A", choice=run.choice)
+    if choice not in CHOICES:
+        raise InputError(f"unknown z-choice rule {choice!r}: use {', '.join(CHOICES)}")
+    if seed is not None and choice != "random":
+        raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
     eps = _default_epsilon(env, R) if epsilon is None else to_fraction(epsilon, where="epsilon")
     if eps <= 0:
         raise InputError(f"epsilon must be > 0, got {epsilon!r}")
