@@ -1057,11 +1057,12 @@ def explore_command(
 ) -> None:
     """Explore an unknown polygon with discrete views (Ghosh et al.): Algorithm A (at most r + 1 views), or with
     --range R Algorithm B (at most Lemma 4's bound)."""
-    from solverplan.explore import explore_depth_first, explore_range_limited
+    from solverplan.explore import Exploration, RangeExploration, explore_depth_first, explore_range_limited
 
     with exit_codes(verbose):
         _check_picture(picture)
         environment = _load(env, env_format)
+        run: Exploration | RangeExploration
         if range_ is None:
             run = explore_depth_first(environment, _xy(start, "--start"), choice=choice.value, seed=seed)
         else:

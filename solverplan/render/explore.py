@@ -15,6 +15,7 @@ True
 from __future__ import annotations
 
 import math
+from typing import Sequence
 
 import numpy as np
 from matplotlib.collections import LineCollection
@@ -27,6 +28,7 @@ from solverplan.environment import Environment
 from solverplan.explore.depth_first import Exploration
 from solverplan.explore.range_limited import RangeExploration
 from solverplan.explore.range_view import Arc, RangeView
+from solverplan.geometry.visibility import VisibilityPolygon
 from solverplan.render.environment import draw_boundary
 from solverplan.render.figure import new_figure
 
@@ -49,20 +51,16 @@ def _view_path(view: RangeView) -> Path:
         if isinstance(piece, Arc):
             unit = Path.arc(math.degrees(piece.start_angle), math.degrees(piece.end_angle))
             r = float(piece.radius)
-            pts = [(cx + r * x, cy + r * y) for x, y in unit.vertices]
-            if not verts:
-                verts.append(pts[0])
-                codes.append(Path.MOVETO)
-            else:
-                verts.append(pts[0])
-                codes.append(Path.LINETO)
-            verts.extend(pts[1:])
-            codes.extend(int(c) for c in unit.codes[1:])
+            xy = np.asarray(unit.vertices, dtype=float) * r + np.array([cx, cy])
+            unit_codes = [int(c) for c in np.asarray(unit.codes)]
+            verts.extend((float(x), float(y)) for x, y in xy)
+            codes.append(int(Path.MOVETO) if len(codes) == 0 else int(Path.LINETO))
+            codes.extend(unit_codes[1:])
         else:
+            codes.append(int(Path.MOVETO) if len(codes) == 0 else int(Path.LINETO))
             verts.append(piece.a)
-            codes.append(Path.MOVETO if not verts[:-1] else Path.LINETO)
     verts.append(verts[0])
-    codes.append(Path.CLOSEPOLY)
+    codes.append(int(Path.CLOSEPOLY))
     return Path(verts, codes)
 
 
@@ -89,8 +87,7 @@ def render_exploration(run: Exploration | RangeExploration, env: Environment, *,
     """The views (gid ``view-<k>``), their windows (gid ``windows``), range arcs (gid ``arc-<k>-<i>``), the
     triangulation of the explored region (gid ``triangulation``), the path (gid ``path``) and the viewpoints
     p1, p2, … (gid ``viewpoints``) of ``run`` over ``env``'s walls."""
-    ranged = isinstance(run, RangeExploration)
-    what = f"R = {float(run.range):.3g}, " if ranged else ""
+    what = f"R = {float(run.range):.3g}, " if isinstance(run, RangeExploration) else ""
     heading = title or (f"{env.name or 'exploration'}: Algorithm {run.algorithm}, {what}{run.n_views} views "
                         f"(bound {run.bound}), path {run.path_length:.3g}")
     fig, ax = new_figure(env, title=heading)
@@ -104,7 +101,8 @@ def render_exploration(run: Exploration | RangeExploration, env: Environment, *,
         ax.add_collection(LineCollection(edges, colors=TRIANGLE_COLOR, linewidths=0.4, zorder=0.8,
                                          gid="triangulation"))
     windows = []
-    for k, view in enumerate(run.views):
+    views: Sequence[RangeView | VisibilityPolygon] = run.views
+    for k, view in enumerate(views):
         color = VIEW_COLORS[k % len(VIEW_COLORS)]
         if isinstance(view, RangeView):
             ax.add_patch(PathPatch(_view_path(view), facecolor=color, edgecolor="none", alpha=0.35, zorder=0.5,
