@@ -49,6 +49,10 @@ from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Stat
 
 __all__ = ["RangeExploration", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]
 
+MAX_VIEWS = 1000
+"""The default cap on the views of one run (about a minute of CPU): a range tiny against the polygon answers
+``not-found`` instead of running for hours; ``max_views`` lifts it."""
+
 PHASES = ("start", "open", "boundary", "frontier")
 """Why each viewpoint was taken: ``start`` p₁; ``open`` on an arc with no unexplored wall in sight (Steps 2, 6);
 ``boundary`` following a ring (Steps 3–5); ``frontier`` any other part of CP's frontier (constructed edges)."""
@@ -215,7 +219,8 @@ class _Explorer:
         self.grid = eps / 16
         self.views: list[RangeView] = []
         self.shapes: list = []
-        self.covered = shapely.Polygon()
+        self._covered = shapely.Polygon()
+        self._covered_views = 0  # how many views the cached union holds
         self.viewpoints: list[ExactPoint] = []
         self.parents: list[int] = []
         self.phases: list[str] = []
@@ -239,7 +244,7 @@ class _Explorer:
         shape = rv.to_shapely()
         self.views.append(rv)
         self.shapes.append(shape)
-        self.covered = shapely.union(self.covered, shape)
+        self.gained = self._gain(shape, z)
         grown = shape.buffer(10 * self.tol, quad_segs=1)
         for e, left in enumerate(self.edge_left):
             if not left.is_empty and grown.intersects(left):
@@ -268,6 +273,31 @@ class _Explorer:
         meet = down[-1]
         legs = up[1:up.index(meet) + 1] + down[::-1][1:]
         return [self.viewpoints[k] for k in legs]
+
+    @property
+    def covered(self):
+        """CP, the union of the views' shapes (computed when asked: most steps need only the new view)."""
+        import shapely
+
+        if self._covered_views < len(self.shapes):
+            self._covered = shapely.union_all([self._covered, *self.shapes[self._covered_views:]])
+            self._covered_views = len(self.shapes)
+        return self._covered
+
+    def _gain(self, shape, z: ExactPoint) -> float:
+        """The area the new view (``shape``, last in ``shapes``, from z) adds to CP: its difference with the
+        earlier views whose viewpoints lie within 2R of z (no other view can overlap it)."""
+        import numpy as np
+        import shapely
+
+        if not self.viewpoints:
+            return float(shape.area)
+        centres = np.array([[float(x), float(y)] for x, y in self.viewpoints])
+        d = np.hypot(centres[:, 0] - float(z[0]), centres[:, 1] - float(z[1]))
+        near = np.flatnonzero(d <= 2 * float(self.R) * (1 + 1e-9)).tolist()
+        if not near:
+            return float(shape.area)
+        return float(shape.difference(shapely.union_all([self.shapes[k] for k in near])).area)
 
     # ------------------------------------------------------------------ what is left
     def uncovered(self) -> list:
@@ -337,8 +367,12 @@ class _Explorer:
     def _parents_of(self, s: tuple[float, float]) -> list[int]:
         import shapely
 
+        import numpy as np
+
         q = shapely.Point(s)
-        near = [k for k, shape in enumerate(self.shapes) if shape.distance(q) <= 1e-6 * self.scale]
+        centres = np.array([[float(x), float(y)] for x, y in self.viewpoints])
+        reach = np.flatnonzero(np.hypot(centres[:, 0] - s[0], centres[:, 1] - s[1]) <= float(self.R) * (1 + 1e-6))
+        near = [k for k in reach.tolist() if self.shapes[k].distance(q) <= 1e-6 * self.scale]
         return near[::-1]  # the most recent view first: shorter moves
 
     def place(self, s: tuple[float, float], directions: Sequence[tuple[float, float]]) -> tuple[ExactPoint, int] | None:
@@ -433,6 +467,8 @@ class _Explorer:
         coords = np.array([c for g in getattr(frontier, "geoms", [frontier]) if not g.is_empty for c in g.coords])
         if not len(coords):
             coords = np.array([c for g in pieces for c in g.exterior.coords])
+        if len(coords) > 2000:  # the chords of the arcs are dense: an even subsample is enough to aim at
+            coords = coords[np.linspace(0, len(coords) - 1, 2000).astype(int)]
         seen_from = np.array([[float(x), float(y)] for x, y in self.viewpoints])
         spread = np.min(np.linalg.norm(coords[:, None, :] - seen_from[None, :, :], axis=2), axis=1)
         arc_phase = "open" if all(not runs[k] for k in runs if self.ring_seen(k)) else "frontier"
@@ -464,7 +500,8 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
         ε > 0, how far inside the free space boundary viewpoints sit (length units); default min(R, minimum
         clearance of P)/100, rounded to two significant digits.
     max_views
-        Stop after this many views (default 2·(Lemma 4's bound) + 10); hitting it gives ``not-found``.
+        Stop after this many views (default 2·(Lemma 4's bound) + 10, at most :data:`MAX_VIEWS`); hitting it
+        gives ``not-found``.
     choice, seed
         Algorithm A's z-choice rule and its seed, used when Theorem 3 hands over to Algorithm A (Algorithm B
         itself has no choice to make).
@@ -489,7 +526,7 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     bound = range_views_bound(env, float(R))
     lower = range_views_lower_bound(env, float(R))
     ratio_bound = range_ratio_bound(env, float(R))
-    limit = 2 * bound + 10 if max_views is None else max_views
+    limit = min(2 * bound + 10, MAX_VIEWS) if max_views is None else max_views
     if isinstance(limit, bool) or not isinstance(limit, int) or limit < 1:
         raise InputError(f"max_views must be >= 1, got {max_views}")
     p = exact_point(start, where="start")
@@ -522,20 +559,17 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     state: dict = {"ring": None, "position": None}
     hit_limit = False
     stuck = False
-    left = ex.uncovered()
-    while left:
+    while True:
+        nxt = ex.next_viewpoint(state)  # None when nothing is left to aim at: CP covers P, or no viewpoint fits
+        if nxt is None:
+            stuck = bool(ex.uncovered())
+            break
         if len(ex.viewpoints) >= limit:
             hit_limit = True
             break
-        nxt = ex.next_viewpoint(state)
-        if nxt is None:
-            stuck = True
-            break
         z, parent, phase, ring, target = nxt
-        before = sum(g.area for g in left)
         ex.add_view(z, parent, phase, ring)
-        left = ex.uncovered()
-        if before - sum(g.area for g in left) <= ex.area_tol:  # the view added nothing: never aim there again
+        if ex.gained <= ex.area_tol:  # the view added nothing: never aim there again
             ex.blocked.add(target)
     seconds = time.perf_counter() - t0
     found = not hit_limit and not stuck
