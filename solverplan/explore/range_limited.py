@@ -4,9 +4,11 @@ Ghosh, Burdick, Bhattacharya and Sarkar, "Online algorithms with discrete visibi
 Algorithm with Range Restriction". The robot sees only RVP(z) = VP(z) ∩ disc(z, R)
 (:func:`~solverplan.explore.range_view.range_visibility`). CP is the union of the views so far. The procedure:
 
-* **Steps 2 and 6 (open space)** — while no wall is in sight, or every wall in sight is explored, the next
-  viewpoint is taken on a circular arc of CP's boundary (the frontier point farthest from every viewpoint so
-  far, so views spread out like the grid of Lemma 4's proof).
+* **Steps 2 and 6 (open space)** — while no wall is in sight the robot goes straight on (along
+  :data:`HEADING`), each next viewpoint on the arc of the last view, until a wall comes in sight (Bug1 heads for
+  the boundary); when every wall in sight is explored but CP does not cover P yet, the next viewpoint is taken
+  on CP's frontier (its arcs and constructed edges), at the point farthest from every viewpoint so far, so views
+  spread out like the grid of Lemma 4's proof.
 * **Steps 3–5 (a boundary, hole by hole)** — as soon as part of a boundary ring (a hole or the outer ring) is in
   sight, the robot follows that ring: the next viewpoint is where the explored part of the ring ends going
   forward (free space on the left) — the start of a circular arc or a constructed edge of CP — and an edge is
@@ -48,6 +50,9 @@ from solverplan.geometry.visibility import sees
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
 
 __all__ = ["RangeExploration", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]
+
+HEADING = (1.0, 0.0)
+"""The direction the robot keeps while no wall is in sight (Step 2): any fixed one will do."""
 
 MAX_VIEWS = 1000
 """The default cap on the views of one run (about a minute of CPU): a range tiny against the polygon answers
@@ -457,11 +462,26 @@ class _Explorer:
                 state["ring"], state["position"] = k, self.ring_edges[k].index(e) + t
                 return placed[0], placed[1], "boundary", k, s
         state["ring"] = state["position"] = None
+        import numpy as np
+
+        if not any(self.ring_seen(k) for k in runs):
+            # Step 2, no wall in sight yet: straight on (Bug1 heads for the boundary), along the heading HEADING,
+            # from the arc of the last view that reaches farthest that way
+            last = self.views[-1]
+            ring = np.array(last.boundary_points(1e-4))
+            ahead = ring @ np.array(HEADING)
+            for i in np.argsort(-ahead, kind="stable")[:16].tolist():
+                s = (float(ring[i][0]), float(ring[i][1]))
+                if s in self.blocked:
+                    continue
+                placed = self.place(s, ())
+                if placed is not None:
+                    return placed[0], placed[1], "open", -1, s
+                self.blocked.add(s)
         # Steps 2 and 6: a point of CP's frontier (arcs, constructed edges) farthest from every viewpoint
         pieces = self.uncovered()
         if not pieces:
             return None
-        import numpy as np
 
         frontier = shapely.union_all([g.boundary for g in pieces]).difference(self.walls.buffer(10 * self.tol))
         coords = np.array([c for g in getattr(frontier, "geoms", [frontier]) if not g.is_empty for c in g.coords])
