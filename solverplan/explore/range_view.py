@@ -182,7 +182,9 @@ class RangeView:
         """An inscribed :class:`shapely.Polygon` (floats): within ``sagitta``·R of the true region, inside it."""
         import shapely
 
-        shape = shapely.Polygon(self.boundary_points(sagitta))
+        import numpy as np
+
+        shape = shapely.Polygon(np.array(self.boundary_points(sagitta), dtype=float))
         return shape if shape.is_valid else shapely.make_valid(shape).buffer(0)
 
     def to_json(self) -> dict:
