@@ -376,7 +376,8 @@ class _Explorer:
 
         q = shapely.Point(s)
         centres = np.array([[float(x), float(y)] for x, y in self.viewpoints])
-        reach = np.flatnonzero(np.hypot(centres[:, 0] - s[0], centres[:, 1] - s[1]) <= float(self.R) * (1 + 1e-6))
+        reach = np.flatnonzero(np.hypot(centres[:, 0] - s[0], centres[:, 1] - s[1]) <= float(self.R) + 1e-6 * self.scale)
+        # s may lie up to the marking buffer (10·tol) outside the view it was seen from: 1e-6·scale covers that
         near = [k for k in reach.tolist() if self.shapes[k].distance(q) <= 1e-6 * self.scale]
         return near[::-1]  # the most recent view first: shorter moves
 

@@ -118,14 +118,14 @@ def _check_theorem_4_lemma_4(run, env):
     _check_chain_and_path(run, env)
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=20, deadline=None)
 @given(range_instances(holes=False))
 def test_theorem_4_lemma_4_simple_polygons(case):
     env, start, R = case
     _check_theorem_4_lemma_4(explore_range_limited(env, start, R), env)
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=20, deadline=None)
 @given(range_instances(holes=True))
 def test_theorem_4_lemma_4_polygons_with_holes(case):
     env, start, R = case
