@@ -32,7 +32,7 @@ from solverplan.geometry.visibility import VisibilityPolygon
 from solverplan.render.environment import draw_boundary
 from solverplan.render.figure import new_figure
 
-__all__ = ["render_exploration", "explored_triangles"]
+__all__ = ["render_exploration"]
 
 VIEW_COLORS = ("#9ecae1", "#fdae6b", "#a1d99b", "#bcbddc", "#fdd0a2", "#c7e9c0", "#dadaeb", "#fcbba1")
 PATH_COLOR = "#08306b"
