@@ -143,6 +143,8 @@ def emit(answer: Answer, fmt: OutputFormat, out: Path | None) -> None:
                 gc.enable()
     else:
         text = answer.to_text(width=_text_width(out))
+        if not text.endswith("\n"):  # a report is whole lines: the shell prompt must not follow on the last one
+            text += "\n"
     if out is None:
         sys.stdout.write(text)
         sys.stdout.flush()
