@@ -163,7 +163,7 @@ class RangeView:
         return total / 2
 
     def contains(self, q: Sequence[object]) -> bool:
-        """Is q in the closed RVP(z)? Exact: in the closed visibility polygon and |q − z| ≤ R."""
+        """Is q in the closed RVP(z)? Exact: in the closed visibility polygon and ``|q − z| ≤ R``."""
         q = exact_point(q, where="point")
         dx, dy = q[0] - self.viewpoint[0], q[1] - self.viewpoint[1]
         return dx * dx + dy * dy <= self.radius * self.radius and point_in_ring(q, self.polygon.ring) >= 0
