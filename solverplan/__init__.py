@@ -54,6 +54,10 @@ _EXPORTS: dict[str, str] = {
     # online exploration with discrete views (Ghosh, Burdick, Bhattacharya and Sarkar)
     "explore_depth_first": "solverplan.explore.depth_first",
     "Exploration": "solverplan.explore.depth_first",
+    "explore_range_limited": "solverplan.explore.range_limited",
+    "RangeExploration": "solverplan.explore.range_limited",
+    "range_visibility": "solverplan.explore.range_view",
+    "RangeView": "solverplan.explore.range_view",
     # the wall-following robot (Yershova, Tovar, Katsev, Ghrist and LaValle)
     "cut_ordering": "solverplan.wallfollow.cuts",
     "CutOrdering": "solverplan.wallfollow.ordering",
@@ -133,6 +137,8 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.explore.depth_first import Exploration, explore_depth_first
     from solverplan.floorplan.importer import FloorplanImport, import_floorplan
     from solverplan.floorplan.occupancy import read_occupancy_map
+    from solverplan.explore.range_limited import RangeExploration, explore_range_limited
+    from solverplan.explore.range_view import RangeView, range_visibility
     from solverplan.interval import Interval
     from solverplan.plan.funnel import Funnel, funnel
     from solverplan.plan.localize import localize

@@ -143,6 +143,8 @@ def emit(answer: Answer, fmt: OutputFormat, out: Path | None) -> None:
                 gc.enable()
     else:
         text = answer.to_text(width=_text_width(out))
+        if not text.endswith("\n"):  # a report is whole lines: the shell prompt must not follow on the last one
+            text += "\n"
     if out is None:
         sys.stdout.write(text)
         sys.stdout.flush()
@@ -1048,19 +1050,25 @@ def explore_command(
     start: Annotated[str, typer.Option("--start", metavar="X,Y", help="The robot's start p1, a point of the free space.")],
     choice: Annotated[ZChoice, typer.Option("--choice", help="Which unexplored constructed edge the next view is taken on: first, random (with --seed) or far.")] = ZChoice.FIRST,
     seed: Annotated[int | None, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Seed of --choice random (default 0).", show_default=False)] = None,
+    range_: Annotated[str | None, typer.Option("--range", metavar="R", help="Sensing range R > 0: range-limited views and Algorithm B (Algorithm A when R reaches across the polygon).", show_default=False)] = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,
     verbose: VerboseOpt = 0,
 ) -> None:
-    """Explore an unknown polygon with discrete views (Algorithm A of Ghosh et al.): at most r + 1 views."""
-    from solverplan.explore import explore_depth_first
+    """Explore an unknown polygon with discrete views (Ghosh et al.): Algorithm A (at most r + 1 views), or with
+    --range R Algorithm B (at most Lemma 4's bound)."""
+    from solverplan.explore import Exploration, RangeExploration, explore_depth_first, explore_range_limited
 
     with exit_codes(verbose):
         _check_picture(picture)
         environment = _load(env, env_format)
-        run = explore_depth_first(environment, _xy(start, "--start"), choice=choice.value, seed=seed)
+        run: Exploration | RangeExploration
+        if range_ is None:
+            run = explore_depth_first(environment, _xy(start, "--start"), choice=choice.value, seed=seed)
+        else:
+            run = explore_range_limited(environment, _xy(start, "--start"), range_, choice=choice.value, seed=seed)
         if picture is not None:
             from solverplan.render import save_figure
             from solverplan.render.explore import render_exploration

@@ -108,3 +108,11 @@ def test_emit_outside_the_command_keeps_unicode_and_chooses_by_size(capsys, monk
     monkeypatch.setattr(cli, "JSON_INDENT_LIMIT", 5)
     cli.emit(_Fixed({"name": "P′", "x": [1, 2]}), cli.OutputFormat.JSON, None)
     assert capsys.readouterr().out == '{"name":"P′","x":[1,2]}\n'
+
+
+@pytest.mark.parametrize("args", [["explore", "two_holes", "--start", "1,1"], ["info", "square"],
+                                  ["wallfollow", "star", "--pursuit"], ["rooms", "l_shape"]])
+def test_text_answers_end_with_a_newline(args):
+    # explore's report ended without one: the shell prompt followed on its last line
+    result = runner.invoke(cli.app, [*args, "--format", "text"])
+    assert result.exit_code == 0 and result.stdout.endswith("\n") and not result.stdout.endswith("\n\n\n")

@@ -82,6 +82,11 @@ def _floorplan_import(ns):
     assert ns["plan"].status.value == "found"
 
 
+def _pursuit(ns):
+    assert ns["plan"].status.value == "found" and ns["replay"].verified
+    assert len(ns["weaker"].actions) == len(ns["plan"].actions) == 5  # Prop. 10: the same length as Strategy 2
+
+
 CHECKS = {
     "plot_01_certified_plan.py": _certified_plan,
     "plot_02_pareto_front.py": _pareto_front,
@@ -93,6 +98,7 @@ CHECKS = {
     "plot_08_wall_following.py": _wall_following,
     "plot_09_reflection_fields.py": _reflection_fields,
     "plot_10_floorplan_import.py": _floorplan_import,
+    "plot_11_pursuit.py": _pursuit,
 }
 
 

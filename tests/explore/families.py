@@ -9,7 +9,8 @@ the shapes below are readings of those pictures that scale with a size parameter
   vertex on the inner wall, so r = k, and p₁ is the centre of the dead-end cell at its outer end.
 * :func:`one_hole` — a ring-shaped corridor between a convex (k + 2)-gon hole and the same polygon scaled by
   5/4 about its centre; the hole's vertices are the r = k + 2 reflex vertices, the outer ring is convex, and
-  p₁ is the centroid of the first arm's four corners.
+  p₁ is the centroid of the first arm's four corners. The paper's "r + 1 views are necessary" does not hold
+  for this shape: r views suffice (an exact chain over the outer corners, ``test_families.py``).
 
 Every coordinate is an exact :class:`~fractions.Fraction`, so views and coverage are computed without
 rounding.

@@ -46,3 +46,43 @@ def test_explore_bad_input_is_one_line_exit_2(args, message):
     assert result.exit_code == 2
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0]
+
+
+def test_explore_with_a_range_is_algorithm_b_within_lemma_4(tmp_path):
+    picture = tmp_path / "range.png"
+    result = runner.invoke(app, ["explore", "two_holes", "--start", "1,1", "--range", "3", "--picture", str(picture)])
+    assert result.exit_code == 0, result.output
+    answer = json.loads(result.stdout)
+    assert answer["algorithm"] == "B" and answer["status"] == "found" and answer["range"] == 3.0
+    assert answer["lower_bound"] <= answer["views"] <= answer["bound"]
+    env = sp.load_environment("two_holes")
+    assert answer["bound"] == sp.explore.range_views_bound(env, 3.0) and answer["holes"] == 2
+    assert answer["ratio"] == answer["views"] / answer["lower_bound"] <= answer["ratio_bound"]
+    assert 1 - answer["covered_fraction"] < 1e-6 and len(answer["arcs"]) == answer["views"]
+    assert picture.stat().st_size > 1000
+
+
+def test_explore_with_a_range_across_the_polygon_is_algorithm_a():
+    result = runner.invoke(app, ["explore", "comb", "--start", "1,1", "--range", "100", "--choice", "far"])
+    assert result.exit_code == 0, result.output
+    answer = json.loads(result.stdout)
+    run = sp.explore_depth_first(sp.load_environment("comb"), (1, 1), choice="far")
+    assert answer["algorithm"] == "A" and answer["views"] == run.n_views and answer["arcs"] == [[]] * run.n_views
+
+
+def test_explore_range_text():
+    result = runner.invoke(app, ["explore", "l_shape", "--start", "2,7", "--range", "3", "--format", "text"])
+    assert result.exit_code == 0 and "Algorithm B, range R = 3" in result.stdout and "Lemma 4 bound" in result.stdout
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--range", "0"], "range R must be a finite number > 0"),
+    (["--range", "abc"], "'abc' is not a number"),
+    (["--range", "nan"], "not finite"),
+    (["--range", "2", "--seed", "1"], "--seed only applies to the random z-choice rule"),
+])
+def test_explore_bad_range_is_one_line_exit_2(args, message):
+    result = runner.invoke(app, ["explore", "comb", "--start", "1,1", *args])
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], lines

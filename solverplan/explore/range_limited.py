@@ -1,0 +1,605 @@
+"""Algorithm B: exploration with range-limited views, boundary by boundary (Bug1-like).
+
+Ghosh, Burdick, Bhattacharya and Sarkar, "Online algorithms with discrete visibility", section "An Exploration
+Algorithm with Range Restriction". The robot sees only RVP(z) = VP(z) ∩ disc(z, R)
+(:func:`~solverplan.explore.range_view.range_visibility`). CP is the union of the views so far. The procedure:
+
+* **Steps 2 and 6 (open space)** — while no wall is in sight the robot goes straight on (along
+  :data:`HEADING`), each next viewpoint on the arc of the last view, until a wall comes in sight (Bug1 heads for
+  the boundary); when every wall in sight is explored but CP does not cover P yet, the next viewpoint is taken
+  on CP's frontier (its arcs and constructed edges), at the point farthest from every viewpoint so far, so views
+  spread out like the grid of Lemma 4's proof.
+* **Steps 3–5 (a boundary, hole by hole)** — as soon as part of a boundary ring (a hole or the outer ring) is in
+  sight, the robot follows that ring: the next viewpoint is where the explored part of the ring ends going
+  forward (free space on the left) — the start of a circular arc or a constructed edge of CP — and an edge is
+  *marked* once it lies wholly in CP. The ring is done when all its edges are marked; then the next partially
+  seen ring is taken, and so on.
+* **Step 8** — stop when CP covers the free space: no uncovered region is left (Theorem 4).
+
+Viewpoints ε inside the free space. The paper takes viewpoints "arbitrarily close to the boundary rather than on
+the polygonal edges to avoid collision". Here a viewpoint for a boundary point s is s + ε·b (b the inward
+bisector of the free angle at a vertex, the inward normal on an edge), with a clearance of at least ε/4 from
+every wall, a rational point on a grid of ε/16, and exactly inside an earlier view (the chain). ε is
+min(R, the polygon's minimum clearance)/100 unless given: small against R, so a view from there still sees about
+R along the wall, and small against the narrowest passage, so the point exists on the free side of the wall.
+
+Floats decide, exact arithmetic checks: the union CP and the uncovered region are shapely geometry (arcs as
+chords within 10⁻⁷·R, inscribed, so CP is never over-estimated), uncovered pieces smaller than 10⁻⁹·min(R²,
+Area) are chord slivers and are ignored; every viewpoint is checked exactly to lie in the earlier view it is
+taken from (exact visibility polygon and exact |z − p|² ≤ R²) and every move is an exact straight line of sight.
+
+When R is at least the largest distance between two vertices, every segment inside P is shorter than R (P lies
+in the hull of its vertices), so RVP = VP and Algorithm A is used (Theorem 3).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Sequence
+
+from solverplan.environment import Environment
+from solverplan.errors import InputError
+from solverplan.exact import ExactPoint, exact_point, format_point, orient, to_fraction
+from solverplan.explore.bounds import Cost, exploration_cost, range_ratio_bound, range_views_bound, range_views_lower_bound
+from solverplan.explore.depth_first import CHOICES, explore_depth_first
+from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
+from solverplan.geometry.visibility import sees
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+
+__all__ = ["RangeExploration", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]
+
+HEADING = (1.0, 0.0)
+"""The direction the robot keeps while no wall is in sight (Step 2): any fixed one will do."""
+
+MAX_VIEWS = 1000
+"""The default cap on the views of one run (about a minute of CPU): a range tiny against the polygon answers
+``not-found`` instead of running for hours; ``max_views`` lifts it."""
+
+PHASES = ("start", "open", "boundary", "frontier")
+"""Why each viewpoint was taken: ``start`` p₁; ``open`` on an arc with no unexplored wall in sight (Steps 2, 6);
+``boundary`` following a ring (Steps 3–5); ``frontier`` any other part of CP's frontier (constructed edges)."""
+
+
+@dataclass(frozen=True)
+class RangeExploration:
+    """An exploration with range-limited views (Algorithm B, or Algorithm A when Theorem 3 applies).
+
+    Attributes
+    ----------
+    status
+        ``found`` when the views cover the free space; ``not-found`` when the view limit was hit first.
+    viewpoints, parents, path
+        As in :class:`~solverplan.explore.depth_first.Exploration`: exact viewpoints in visiting order, the
+        index of the earlier view each lies in (−1 for p₁), and the robot's straight legs.
+    views
+        RVP of every viewpoint, arcs explicit.
+    phases
+        For each viewpoint, why it was taken (:data:`PHASES`).
+    rings
+        For each viewpoint, the boundary ring it was placed on (0 the outer ring, k the k-th hole), or −1.
+    reflex, holes
+        r and h of the free space.
+    bound
+        Lemma 4: ⌊8·Area/(3R²)⌋ + ⌊Perimeter/R⌋ + r + h + 1.
+    lower_bound
+        Theorem 5's premise ⌈Area/(πR²)⌉: no exploration takes fewer views.
+    ratio_bound
+        Theorem 5: 8π/3 + πR·Perimeter/Area + (r + h + 1)·πR²/Area.
+    covered_fraction
+        Area of the union of the (inscribed) views over the free space's area (floats).
+    range, epsilon
+        R and ε (length units).
+    algorithm
+        ``"B"``, or ``"A"`` when R reaches across P (Theorem 3).
+    """
+
+    status: Status
+    viewpoints: tuple[ExactPoint, ...]
+    views: tuple[RangeView, ...]
+    parents: tuple[int, ...]
+    path: tuple[ExactPoint, ...]
+    phases: tuple[str, ...]
+    rings: tuple[int, ...]
+    reflex: int
+    holes: int
+    bound: int
+    lower_bound: int
+    ratio_bound: float
+    covered_fraction: float
+    range: Fraction
+    epsilon: Fraction
+    optimality: Optimality
+    stats: Stats = field(default_factory=Stats)
+    environment: EnvironmentRecord | None = None
+    algorithm: str = "B"
+    choice: str = "first"
+
+    @property
+    def n_views(self) -> int:
+        return len(self.viewpoints)
+
+    @property
+    def moves(self) -> int:
+        return max(0, len(self.path) - 1)
+
+    @property
+    def path_length(self) -> float:
+        return sum(math.dist(tuple(map(float, p)), tuple(map(float, q))) for p, q in zip(self.path, self.path[1:]))
+
+    @property
+    def ratio(self) -> float:
+        """Views over Theorem 5's lower bound: an upper estimate of the competitive ratio on this instance."""
+        return self.n_views / self.lower_bound
+
+    def cost(self, *, t_move: float = 1.0, t_sense: float = 1.0, speed: float = 1.0) -> Cost:
+        return exploration_cost(self.moves, self.n_views, self.path_length, t_move=t_move, t_sense=t_sense,
+                                speed=speed)
+
+    def to_json(self) -> dict:
+        """The exploration answer of ``docs/contract.md`` with the range fields."""
+        out: dict = {
+            "status": self.status.value,
+            "algorithm": self.algorithm,
+            "viewpoints": [[float(x), float(y)] for x, y in self.viewpoints],
+            "views": self.n_views,
+            "reflex": self.reflex,
+            "bound": self.bound,
+            "path_length": self.path_length,
+            "covered_fraction": self.covered_fraction,
+            "moves": self.moves,
+            "cost": self.cost().to_json(),
+            "parents": list(self.parents),
+            "path": [[float(x), float(y)] for x, y in self.path],
+            "choice": self.choice,
+            "range": float(self.range),
+            "holes": self.holes,
+            "lower_bound": self.lower_bound,
+            "ratio": self.ratio,
+            "ratio_bound": self.ratio_bound,
+            "epsilon": float(self.epsilon),
+            "phases": list(self.phases),
+            "arcs": [[a.to_json() for a in v.arcs] for v in self.views],
+        }
+        out.update(protocol_json(self.optimality, self.stats, self.environment))
+        return out
+
+    def to_text(self, *, width: int = 100) -> str:
+        lines = [
+            f"exploration (Algorithm {self.algorithm}, range R = {float(self.range):.6g}): {self.status.value}",
+            f"views {self.n_views} (Lemma 4 bound {self.bound}, Theorem 5 lower bound {self.lower_bound}, "
+            f"ratio {self.ratio:.3g} <= {self.ratio_bound:.3g}), r = {self.reflex}, h = {self.holes}",
+            f"moves {self.moves}, path length {self.path_length:.6g}, covered {self.covered_fraction:.12g}",
+            f"optimality: {self.optimality.to_text()}",
+        ]
+        for k, p in enumerate(self.viewpoints):
+            via = "" if self.parents[k] < 0 else f"  (in the view of p{self.parents[k] + 1}, {self.phases[k]})"
+            lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via}"[:width])
+        return "\n".join(lines)
+
+
+def covers_every_segment(env: Environment, range_: object) -> bool:
+    """Is R at least the largest distance between two vertices (exact)? Then every segment inside P is at most
+    R long (P lies in the convex hull of its vertices, whose diameter is attained at vertices) and RVP = VP."""
+    R = check_range(range_)
+    verts = env.exact_vertices
+    R2 = R * R
+    return all((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 <= R2 for i, p in enumerate(verts) for q in verts[i + 1:])
+
+
+def range_covered_fraction(env: Environment, views: Sequence[RangeView], sagitta: float = DEFAULT_SAGITTA,
+                           shapes: Sequence | None = None) -> float:
+    """Area of the union of the inscribed views over the free space's area (floats, shapely): a lower estimate,
+    within a relative 2·sagitta of the true union's. ``shapes``: the views' polygons, when already made."""
+    import shapely
+
+    free = env.to_shapely()
+    union = shapely.union_all(shapes if shapes is not None else [v.to_shapely(sagitta) for v in views])
+    return float(union.intersection(free).area / free.area)
+
+
+def _default_epsilon(env: Environment, R: Fraction) -> Fraction:
+    import shapely
+
+    clearance = float(shapely.minimum_clearance(env.to_shapely()))
+    raw = min(float(R), clearance if math.isfinite(clearance) and clearance > 0 else float(R)) / 100
+    return Fraction(f"{raw:.2g}")
+
+
+class _Explorer:
+    """The state of one run of Algorithm B (floats decide, exact checks)."""
+
+    def __init__(self, env: Environment, R: Fraction, eps: Fraction, limit: int):
+        import shapely
+
+        self.env, self.R, self.eps, self.limit = env, R, eps, limit
+        self.free = env.to_shapely()
+        self.walls = self.free.boundary
+        xmin, ymin, xmax, ymax = env.bounds
+        self.scale = max(xmax - xmin, ymax - ymin, float(R))
+        self.tol = 1e-9 * self.scale
+        self.area_tol = 1e-9 * min(float(R) ** 2, self.free.area)
+        self.grid = eps / 16
+        self.views: list[RangeView] = []
+        self.shapes: list = []
+        self._covered = shapely.Polygon()
+        self._covered_views = 0  # how many views the cached union holds
+        self.viewpoints: list[ExactPoint] = []
+        self.parents: list[int] = []
+        self.phases: list[str] = []
+        self.rings: list[int] = []
+        self.path: list[ExactPoint] = []
+        self.blocked: set[tuple[float, float]] = set()
+        # ring structure: for each ring its global edge ids in order
+        offsets = env.ring_offsets
+        self.ring_edges = [list(range(offsets[k], offsets[k + 1])) for k in range(len(env.rings))]
+        self.edge_ring = {e: k for k, es in enumerate(self.ring_edges) for e in es}
+        verts, nxt = env.exact_vertices, env.next_vertex
+        self.edge_lines = [shapely.LineString([tuple(map(float, verts[e])), tuple(map(float, verts[int(nxt[e])]))])
+                           for e in range(env.n_edges)]
+        self.edge_left = list(self.edge_lines)  # the part of each edge not yet in CP (shapely lines)
+
+    # ------------------------------------------------------------------ views
+    def add_view(self, z: ExactPoint, parent: int, phase: str, ring: int) -> None:
+        import shapely
+
+        rv = range_visibility(self.env, z, self.R)
+        shape = rv.to_shapely()
+        self.views.append(rv)
+        self.shapes.append(shape)
+        self.gained = self._gain(shape, z)
+        grown = shape.buffer(10 * self.tol, quad_segs=1)
+        for e, left in enumerate(self.edge_left):
+            if not left.is_empty and grown.intersects(left):
+                self.edge_left[e] = left.difference(grown)
+        if self.path:
+            self.path.extend(self._route(self.path[-1], z, parent))
+        self.path.append(z)
+        self.viewpoints.append(z)
+        self.parents.append(parent)
+        self.phases.append(phase)
+        self.rings.append(ring)
+
+    def _route(self, here: ExactPoint, z: ExactPoint, parent: int) -> list[ExactPoint]:
+        """Intermediate positions from ``here`` to ``z``: straight if ``here`` sees z, else through the chain
+        tree (up from here to the common ancestor with z's parent, down to it): every leg was a forward move."""
+        if sees(self.env, here, z):
+            return []
+        k_here = self.viewpoints.index(here)
+        k_to = parent
+        up = [k_here]
+        while self.parents[up[-1]] >= 0:
+            up.append(self.parents[up[-1]])
+        down = [k_to]
+        while down[-1] not in up:
+            down.append(self.parents[down[-1]])
+        meet = down[-1]
+        legs = up[1:up.index(meet) + 1] + down[::-1][1:]
+        return [self.viewpoints[k] for k in legs]
+
+    @property
+    def covered(self):
+        """CP, the union of the views' shapes (computed when asked: most steps need only the new view)."""
+        import shapely
+
+        if self._covered_views < len(self.shapes):
+            self._covered = shapely.union_all([self._covered, *self.shapes[self._covered_views:]])
+            self._covered_views = len(self.shapes)
+        return self._covered
+
+    def _gain(self, shape, z: ExactPoint) -> float:
+        """The area the new view (``shape``, last in ``shapes``, from z) adds to CP: its difference with the
+        earlier views whose viewpoints lie within 2R of z (no other view can overlap it)."""
+        import numpy as np
+        import shapely
+
+        if not self.viewpoints:
+            return float(shape.area)
+        centres = np.array([[float(x), float(y)] for x, y in self.viewpoints])
+        d = np.hypot(centres[:, 0] - float(z[0]), centres[:, 1] - float(z[1]))
+        near = np.flatnonzero(d <= 2 * float(self.R) * (1 + 1e-9)).tolist()
+        if not near:
+            return float(shape.area)
+        return float(shape.difference(shapely.union_all([self.shapes[k] for k in near])).area)
+
+    # ------------------------------------------------------------------ what is left
+    def uncovered(self) -> list:
+        rest = self.free.difference(self.covered)
+        return [g for g in getattr(rest, "geoms", [rest]) if g.geom_type == "Polygon" and g.area > self.area_tol]
+
+    def unseen_runs(self) -> dict[int, list[tuple[int, float, float]]]:
+        """For each ring, its unseen intervals (edge, t0, t1) in ring order; an edge with none is marked."""
+        import shapely
+
+        out: dict[int, list[tuple[int, float, float]]] = {}
+        for k, edges in enumerate(self.ring_edges):
+            runs = []
+            for e in edges:
+                line, left = self.edge_lines[e], self.edge_left[e]
+                L = line.length
+                for g in getattr(left, "geoms", [left]):
+                    if g.is_empty or g.length <= 10 * self.tol:
+                        continue
+                    ts = sorted(line.project(shapely.Point(c)) / L for c in g.coords)
+                    runs.append((e, ts[0], ts[-1]))
+            out[k] = sorted(runs, key=lambda r: (edges.index(r[0]), r[1]))
+        return out
+
+    def ring_seen(self, k: int) -> bool:
+        """Is some part of ring k in CP?"""
+        return any(self.edge_left[e].length < self.edge_lines[e].length - 10 * self.tol for e in self.ring_edges[k])
+
+    # ------------------------------------------------------------------ placing a viewpoint
+    def _inward(self, edge: int, t: float) -> list[tuple[float, float]]:
+        """Directions into the free space at the boundary point (edge, t), best first: at a vertex (within ε/4
+        of it: the chords of CP end a little short of corners) the free angle's bisector, then the two edges'
+        inward normals; on an edge its inward (left) normal."""
+        env = self.env
+        verts, nxt, prv = env.exact_vertices, env.next_vertex, env.prev_vertex
+        a, b = verts[edge], verts[int(nxt[edge])]
+        L = math.dist(tuple(map(float, a)), tuple(map(float, b)))
+        snap = float(self.eps) / 4
+        v = edge if t * L <= snap else (int(nxt[edge]) if (1 - t) * L <= snap else None)
+        if v is None:
+            return [(-float(b[1] - a[1]) / L, float(b[0] - a[0]) / L)]
+        p, x, n = verts[int(prv[v])], verts[v], verts[int(nxt[v])]
+
+        def unit(d: tuple[float, float]) -> tuple[float, float]:
+            norm = math.hypot(*d)
+            return d[0] / norm, d[1] / norm
+
+        u1 = unit((float(p[0] - x[0]), float(p[1] - x[1])))
+        u2 = unit((float(n[0] - x[0]), float(n[1] - x[1])))
+        normals = [(-u2[1], u2[0]), (u1[1], -u1[0])]  # left normals of the edge out of v and the edge into v
+        turn = orient(p, x, n)
+        if turn == 0:
+            return normals[:1]
+        s = 1.0 if turn > 0 else -1.0  # convex: the bisector u1 + u2 points into the free angle; reflex: away
+        return [unit((s * (u1[0] + u2[0]), s * (u1[1] + u2[1]))), *normals]
+
+    def _grid_point(self, x: float, y: float) -> ExactPoint:
+        g = self.grid
+        return (round(Fraction(x) / g) * g, round(Fraction(y) / g) * g)
+
+    def _clear(self, z: ExactPoint) -> bool:
+        import shapely
+
+        q = shapely.Point(float(z[0]), float(z[1]))
+        return self.free.contains(q) and self.walls.distance(q) >= float(self.eps) / 4
+
+    def _parents_of(self, s: tuple[float, float]) -> list[int]:
+        import shapely
+
+        import numpy as np
+
+        q = shapely.Point(s)
+        centres = np.array([[float(x), float(y)] for x, y in self.viewpoints])
+        reach = np.flatnonzero(np.hypot(centres[:, 0] - s[0], centres[:, 1] - s[1]) <= float(self.R) + 1e-6 * self.scale)
+        # s may lie up to the marking buffer (10·tol) outside the view it was seen from: 1e-6·scale covers that
+        near = [k for k in reach.tolist() if self.shapes[k].distance(q) <= 1e-6 * self.scale]
+        return near[::-1]  # the most recent view first: shorter moves
+
+    def place(self, s: tuple[float, float], directions: Sequence[tuple[float, float]]) -> tuple[ExactPoint, int] | None:
+        """A viewpoint near the point s of CP's boundary: ε inside the free space along one of ``directions`` (or
+        pulled back towards the view that sees s), exactly inside an earlier view. ``None`` if none passes."""
+        eps = float(self.eps)
+        for j in self._parents_of(s):
+            pj = tuple(map(float, self.viewpoints[j]))
+            candidates: list[tuple[float, float]] = []
+            for direction in directions:
+                for k in (1, 2, 4, 8):
+                    c = (s[0] + k * eps * direction[0], s[1] + k * eps * direction[1])
+                    candidates.append(c)
+                    # the same, pulled back towards p_j when the range would be exceeded
+                    d = math.dist(c, pj)
+                    if d > 0:
+                        back = min(1.0, 4 * k * eps / d)
+                        candidates.append((c[0] + back * (pj[0] - c[0]), c[1] + back * (pj[1] - c[1])))
+            d = math.dist(s, pj)
+            for k in (1, 2, 4, 8, 16, 64):
+                lam = max(0.0, 1 - k * eps / d) if d > 0 else 0.0
+                candidates.append((pj[0] + lam * (s[0] - pj[0]), pj[1] + lam * (s[1] - pj[1])))
+            for c in candidates:
+                z = self._grid_point(*c)
+                if z in self.viewpoints or not self._clear(z):
+                    continue
+                if self.views[j].contains(z):
+                    return z, j
+        return None
+
+    # ------------------------------------------------------------------ the next target
+    def next_viewpoint(self, state: dict) -> tuple[ExactPoint, int, str, int, tuple[float, float]] | None:
+        """Steps 3–5 first (the ring being followed, then any partially seen ring), else Steps 2/6 (an arc)."""
+        import shapely
+
+        runs = self.unseen_runs()
+        env = self.env
+        verts, nxt = env.exact_vertices, env.next_vertex
+        here = tuple(map(float, self.path[-1]))
+
+        def point_of(e: int, t: float) -> tuple[float, float]:
+            a, b = verts[e], verts[int(nxt[e])]
+            return (float(a[0]) + t * float(b[0] - a[0]), float(a[1]) + t * float(b[1] - a[1]))
+
+        def run_starts(k: int) -> list[tuple[int, float]]:
+            """Starts of the unseen runs of ring k (edge, t): unseen intervals not continuing an unseen one."""
+            rs = runs[k]
+            edges = self.ring_edges[k]
+            starts = []
+            for i, (e, t0, _) in enumerate(rs):
+                pe, _, p1 = rs[i - 1]  # the interval before, cyclically
+                prev_edge = edges[(edges.index(e) - 1) % len(edges)]
+                continues = (len(rs) > 1 or len(edges) == 1) and (
+                    (t0 <= 1e-9 and pe == prev_edge and p1 >= 1 - 1e-9) or (pe == e and abs(p1 - t0) < 1e-9))
+                if not continues:
+                    starts.append((e, t0))
+            return starts
+
+        order: list[int] = []
+        if state.get("ring") is not None and runs[state["ring"]]:
+            order.append(state["ring"])
+        others = [k for k in runs if runs[k] and k not in order and self.ring_seen(k)]
+        others.sort(key=lambda k: min(math.dist(point_of(e, t), here) for e, t, _ in runs[k]))
+        order += others
+        for k in order:
+            starts = [st for st in run_starts(k) if point_of(*st) not in self.blocked]
+            if not starts:
+                continue
+            if k == state.get("ring") and state.get("position") is not None:
+                edges = self.ring_edges[k]
+                total = len(edges)
+                pos = state["position"]
+                starts.sort(key=lambda st: ((edges.index(st[0]) + st[1]) - pos) % total)
+            else:
+                starts.sort(key=lambda st: math.dist(point_of(*st), here))
+            for e, t in starts:
+                s = point_of(e, t)
+                placed = self.place(s, self._inward(e, t))
+                if placed is None:
+                    self.blocked.add(s)
+                    continue
+                state["ring"], state["position"] = k, self.ring_edges[k].index(e) + t
+                return placed[0], placed[1], "boundary", k, s
+        state["ring"] = state["position"] = None
+        import numpy as np
+
+        if not any(self.ring_seen(k) for k in runs):
+            # Step 2, no wall in sight yet: straight on (Bug1 heads for the boundary), along the heading HEADING,
+            # from the arc of the last view that reaches farthest that way
+            last = self.views[-1]
+            ring = np.array(last.boundary_points(1e-4))
+            ahead = ring @ np.array(HEADING)
+            for i in np.argsort(-ahead, kind="stable")[:16].tolist():
+                s = (float(ring[i][0]), float(ring[i][1]))
+                if s in self.blocked:
+                    continue
+                placed = self.place(s, ())
+                if placed is not None:
+                    return placed[0], placed[1], "open", -1, s
+                self.blocked.add(s)
+        # Steps 2 and 6: a point of CP's frontier (arcs, constructed edges) farthest from every viewpoint
+        pieces = self.uncovered()
+        if not pieces:
+            return None
+
+        frontier = shapely.union_all([g.boundary for g in pieces]).difference(self.walls.buffer(10 * self.tol))
+        coords = np.array([c for g in getattr(frontier, "geoms", [frontier]) if not g.is_empty for c in g.coords])
+        if not len(coords):
+            coords = np.array([c for g in pieces for c in g.exterior.coords])
+        if len(coords) > 2000:  # the chords of the arcs are dense: an even subsample is enough to aim at
+            coords = coords[np.linspace(0, len(coords) - 1, 2000).astype(int)]
+        seen_from = np.array([[float(x), float(y)] for x, y in self.viewpoints])
+        spread = np.min(np.linalg.norm(coords[:, None, :] - seen_from[None, :, :], axis=2), axis=1)
+        arc_phase = "open" if all(not runs[k] for k in runs if self.ring_seen(k)) else "frontier"
+        for i in np.argsort(-spread, kind="stable")[:64].tolist():
+            s = (float(coords[i][0]), float(coords[i][1]))
+            if s in self.blocked:
+                continue
+            placed = self.place(s, ())
+            if placed is not None:
+                return placed[0], placed[1], arc_phase, -1, s
+            self.blocked.add(s)
+        return None
+
+
+def explore_range_limited(env: Environment, start: Sequence[object], range_: object, *,
+                          epsilon: object | None = None, max_views: int | None = None, choice: str = "first",
+                          seed: int | None = None) -> RangeExploration:
+    """Explore ``env`` from ``start`` with views of range R (Algorithm B; Algorithm A when Theorem 3 applies).
+
+    Parameters
+    ----------
+    env
+        The free space (outer ring and holes).
+    start
+        p₁, a point of the closed free space (length units).
+    range_
+        R > 0, the sensing range (length units), read exactly.
+    epsilon
+        ε > 0, how far inside the free space boundary viewpoints sit (length units); default min(R, minimum
+        clearance of P)/100, rounded to two significant digits.
+    max_views
+        Stop after this many views (default 2·(Lemma 4's bound) + 10, at most :data:`MAX_VIEWS`); hitting it
+        gives ``not-found``.
+    choice, seed
+        Algorithm A's z-choice rule and its seed, used when Theorem 3 hands over to Algorithm A (Algorithm B
+        itself has no choice to make).
+
+    Returns
+    -------
+    RangeExploration
+        Status ``found`` when CP covers the free space (Theorem 4), with the views and the bounds.
+
+    Raises
+    ------
+    InputError
+        If ``start`` is not in the free space, or R, ε or ``max_views`` is out of range.
+
+    >>> from solverplan.environment import Environment
+    >>> square = Environment.from_coords([[0, 0], [8, 0], [8, 8], [0, 8]])
+    >>> run = explore_range_limited(square, (4, 4), 3)
+    >>> run.algorithm, run.status.value, run.lower_bound <= run.n_views <= run.bound, run.covered_fraction > 1 - 1e-6
+    ('B', 'found', True, True)
+    """
+    R = check_range(range_)
+    bound = range_views_bound(env, float(R))
+    lower = range_views_lower_bound(env, float(R))
+    ratio_bound = range_ratio_bound(env, float(R))
+    limit = min(2 * bound + 10, MAX_VIEWS) if max_views is None else max_views
+    if isinstance(limit, bool) or not isinstance(limit, int) or limit < 1:
+        raise InputError(f"max_views must be >= 1, got {max_views}")
+    p = exact_point(start, where="start")
+    t0 = time.perf_counter()
+    if covers_every_segment(env, R):  # Theorem 3: every view is a whole visibility polygon
+        run = explore_depth_first(env, p, max_views=limit, choice=choice, seed=seed)  # type: ignore[arg-type]
+        views = tuple(range_visibility(env, q, R) for q in run.viewpoints)
+        eps = Fraction(0) if epsilon is None else to_fraction(epsilon, where="epsilon")
+        optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
+                                algorithm="Algorithm A (Theorem 3: R reaches across P, RVP = VP)",
+                                limits=run.optimality.limits)
+        return RangeExploration(run.status, run.viewpoints, views, run.parents, run.path,
+                                ("start",) + ("frontier",) * (run.n_views - 1), (-1,) * run.n_views, run.reflex,
+                                len(env.holes), bound, lower, ratio_bound, run.covered_fraction, R, eps, optimality,
+                                Stats(seconds_search=time.perf_counter() - t0, counts=dict(run.stats.counts)),
+                                EnvironmentRecord.of(env), algorithm="A", choice=run.choice)
+    if choice not in CHOICES:
+        raise InputError(f"unknown z-choice rule {choice!r}: use {', '.join(CHOICES)}")
+    if seed is not None and choice != "random":
+        raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
+    eps = _default_epsilon(env, R) if epsilon is None else to_fraction(epsilon, where="epsilon")
+    if eps <= 0:
+        raise InputError(f"epsilon must be > 0, got {epsilon!r}")
+    try:
+        range_visibility(env, p, R)
+    except InputError:
+        raise InputError(f"start {format_point(p)} is not in the free space of {env.name or 'the environment'}") from None
+    ex = _Explorer(env, R, eps, limit)
+    ex.add_view(p, -1, "start", -1)
+    state: dict = {"ring": None, "position": None}
+    hit_limit = False
+    stuck = False
+    while True:
+        nxt = ex.next_viewpoint(state)  # None when nothing is left to aim at: CP covers P, or no viewpoint fits
+        if nxt is None:
+            stuck = bool(ex.uncovered())
+            break
+        if len(ex.viewpoints) >= limit:
+            hit_limit = True
+            break
+        z, parent, phase, ring, target = nxt
+        ex.add_view(z, parent, phase, ring)
+        if ex.gained <= ex.area_tol:  # the view added nothing: never aim there again
+            ex.blocked.add(target)
+    seconds = time.perf_counter() - t0
+    found = not hit_limit and not stuck
+    limits = (f"max_views={limit}",) if hit_limit else (("no admissible viewpoint",) if stuck else ())
+    optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
+                            algorithm="Algorithm B (range-limited views, boundary by boundary)", limits=limits)
+    covered = range_covered_fraction(env, ex.views, shapes=ex.shapes)
+    return RangeExploration(Status.FOUND if found else Status.NOT_FOUND, tuple(ex.viewpoints), tuple(ex.views),
+                            tuple(ex.parents), tuple(ex.path), tuple(ex.phases), tuple(ex.rings),
+                            len(env.reflex_vertices), len(env.holes), bound, lower, ratio_bound, covered, R, eps,
+                            optimality, Stats(seconds_search=seconds, counts={"blocked_targets": len(ex.blocked)}),
+                            EnvironmentRecord.of(env))
