@@ -23,4 +23,12 @@ weaker = sp.pursuit_plan(env, sensor="bitangent")
 replay = sp.check_pursuit(env, plan.actions)
 print("bitangent sensor:", " ".join(weaker.actions), "| verified by the geometric replay:", replay.verified)
 
+# %%
+# Weaker still: a pebble-visibility sensor. Strategy 4 first learns the bitangents by dropping the pebble and
+# looking for it; Strategy 5 then runs Strategy 3's search on what it learned.
+learned = sp.learn_bitangents(env)
+weakest = sp.pursuit_plan(env, sensor="pebble")
+print(f"pebble sensor: {' '.join(weakest.actions)} after {learned.actions} learning actions "
+      f"({len(learned.bitangents)} bitangents)")
+
 fig = render_pursuit(env, plan)
