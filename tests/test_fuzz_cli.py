@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, example, given, settings
@@ -145,6 +146,11 @@ _BASE = {
     "simulate": ["simulate", "square", "PLAN"],
     "verify": ["verify", "CERT"],
     "prove": ["prove", "--only", "lemma2_contraction"],
+    "explore": ["explore", "l_shape", "--start", "1,1"],
+    "wallfollow": ["wallfollow", "star", "--pursuit"],
+    "fields": ["fields", "serpentine", "--from", "3,2.25", "--to", "3,0.25", "--trials", "2"],
+    "import": ["import", "OFFICE"],
+    "report": ["report", "square", "--plan", "PLAN"],
 }
 _OPTIONS = {
     "graph": ["--from", "--heading"],
@@ -161,6 +167,11 @@ _OPTIONS = {
     "prove": ["--only"],
     "info": ["--env-format", "--format"],
     "partition": ["--env-format", "--format"],
+    "explore": ["--start", "--range", "--choice", "--seed"],
+    "wallfollow": ["--sensor", "--from", "--max-states"],
+    "fields": ["--from", "--to", "--trials", "--seed", "--trajectories", "--fast", "--slow", "--scenario", "--model"],
+    "import": ["--seed-point", "--simplify", "--min-hole-area", "--spur-width", "--rectilinear", "--tolerance"],
+    "report": ["--plan", "--certificate"],
 }
 _VALUES = st.one_of(
     st.sampled_from(["0", "-0", "-1", "1", "2", "0.3", "1e-300", "5e-324", "1e300", "1e400", "nan", "inf", "-inf",
@@ -211,7 +222,9 @@ def test_fuzzed_option_values_are_answered_or_refused_in_one_line(tmp_path_facto
                                                                   data):
     folder = tmp_path_factory.mktemp("fuzz")
     out = folder / "answer.json"
-    args = [{"PLAN": plan_and_certificate[0], "CERT": plan_and_certificate[1]}.get(a, a) for a in _BASE[command]]
+    office = str(Path(__file__).resolve().parent.parent / "models" / "office.yaml")
+    files = {"PLAN": plan_and_certificate[0], "CERT": plan_and_certificate[1], "OFFICE": office}
+    args = [files.get(a, a) for a in _BASE[command]]
     if data is None:
         pairs = [("--max-bounces", "10000000"), ("--epsilon", "1e-300")]
     else:
@@ -222,9 +235,9 @@ def test_fuzzed_option_values_are_answered_or_refused_in_one_line(tmp_path_facto
             args[args.index(option) + 1] = value
         else:
             args += [option, value]
-    if command == "render":
-        args += ["-o", str(folder / "picture.png")]
-        out = folder / "picture.png"
+    if command in ("render", "report"):
+        out = folder / ("picture.png" if command == "render" else "report.html")
+        args += ["-o", str(out)]
     elif command != "verify":
         args += ["-o", str(out)]
     result = _invoke_bounded(args)

@@ -262,6 +262,21 @@ def read_occupancy_map(source: str | Path) -> OccupancyMap:
     return OccupancyMap(free, occupied, resolution, exact_origin, yaw, source, image)
 
 
+def _open_square(mask: np.ndarray, side: int) -> np.ndarray:
+    """Morphological opening of ``mask`` by a ``side`` × ``side`` square, outside counted as background.
+
+    Equal to ``ndimage.binary_opening(mask, structure=np.ones((side, side)))`` (tested), but as separable minimum and
+    maximum filters: time independent of ``side`` (a 201-cell square on 2,000² cells: 0.05 s) and no structure
+    array (``binary_opening`` ran out of memory on a 321-cell square). For an even side the dilation's window is
+    shifted by one cell so that it is the erosion's reflected, as in ``binary_dilation``.
+    """
+    from scipy import ndimage
+
+    eroded = ndimage.minimum_filter(mask.view(np.uint8), size=side, mode="constant", cval=0)
+    return ndimage.maximum_filter(eroded, size=side, mode="constant", cval=0,
+                                  origin=-1 if side % 2 == 0 else 0).astype(bool)
+
+
 def _largest_label(labels: np.ndarray, count: int) -> int:
     sizes = np.bincount(labels.ravel(), minlength=count + 1)
     sizes[0] = 0
@@ -423,9 +438,10 @@ def trace_free_space(
         padded |= np.isin(blobs, small)
     dropped["speckle"] = int(small.size)
     # spurs: free protrusions narrower than the opening's square; the opening may split the component
-    side = int(round(spur_width / res)) + 1 if spur_width > 0 else 1
+    # (a square wider than the map removes everything: clamp, so a huge width is an error, not a huge array)
+    side = min(int(round(min(spur_width / res, 1e9))) + 1, max(padded.shape) + 1) if spur_width > 0 else 1
     if side > 1:
-        opened = ndimage.binary_opening(padded, structure=np.ones((side, side), bool))
+        opened = _open_square(padded, side)
         cut = padded & ~opened
         dropped["spurs"] = int(ndimage.label(cut, structure=eight)[1]) if cut.any() else 0
         if not opened.any():

@@ -44,15 +44,19 @@ MODELS = ("integrator", "inertial")
 SCENARIOS = ("constrained", "unconstrained", "reflection")
 
 
+MAX_AUTO_TIME = 600.0
+"""Longest default time limit (s): trials × limit × control rate bounds the work of runs that never arrive."""
+
+
 def _time_limit(model: RobotModel, plan: FieldPlan, speed: float) -> float:
-    """The model's ``max_time``, or by default 60 s or ten times the route at ``speed``, whichever is longer (s)."""
+    """The model's ``max_time``, or by default ten times the route at ``speed``, within [60 s, MAX_AUTO_TIME]."""
     if model.max_time is not None:
         return model.max_time
     stops = [np.array([float(plan.start[0]), float(plan.start[1])])]
     stops += [plan.cells[c].float_vertices.mean(axis=0) for c in plan.sequence]
     stops.append(np.array([float(plan.goal[0]), float(plan.goal[1])]))
     route = float(sum(np.hypot(*(b - a)) for a, b in zip(stops, stops[1:])))
-    return max(60.0, 10.0 * route / speed)
+    return max(60.0, min(10.0 * route / speed, MAX_AUTO_TIME))
 
 
 @dataclass(frozen=True, slots=True)
@@ -69,8 +73,8 @@ class RobotModel:
     heading_noise: float = 0.15  #: standard deviation of the commanded heading (radians)
     speed_noise: float = 0.05  #: relative standard deviation of the commanded speed
     goal_radius: float = 0.1  #: the goal is reached within this distance (length)
-    #: a trial that has not reached the goal by then failed (s); None: 60 s, or ten times the time the scenario's
-    #: speed takes along the cell sequence's centres when that is longer (a 100 m route at 0.8 m/s takes 125 s)
+    #: a trial that has not reached the goal by then failed (s); None: ten times the time the scenario's speed takes
+    #: along the cell sequence's centres, at least 60 s and at most 600 s (a 100 m route at 0.8 m/s takes 125 s)
     max_time: float | None = None
 
     def __post_init__(self) -> None:
@@ -232,8 +236,9 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     if len(set(names)) != len(names):
         raise InputError(f"scenario names must differ: {names}")
     for s in scen:
-        if not s.speed > 0:
-            raise InputError(f"scenario {s.name}: speed must be positive, got {s.speed}")
+        if not s.speed > model.dead_band:  # below it the robot never moves: every trial would run to the limit
+            raise InputError(f"scenario {s.name}: speed {s.speed:g} must exceed the robot's dead band "
+                             f"{model.dead_band:g} (length/s)")
     env = plan.env
     dec = plan.decomposition
     caster = RayCaster(env)
