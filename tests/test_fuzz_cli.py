@@ -218,6 +218,8 @@ def test_a_long_bad_choice_is_quoted_short(value):  # found by the fuzz profile:
 @FUZZ
 @given(command=st.sampled_from(sorted(_OPTIONS)), data=st.data())
 @example(command="localize", data=None).via("found by fuzzing: ten million bounces, ε below float resolution (a hang)")
+@example(command="wallfollow", data=None).via("found by fuzzing: a bad --from listed the whole cut ordering (250 chars)")
+@example(command="import", data=None).via("found by fuzzing: --spur-width 16 ran scipy out of memory")
 def test_fuzzed_option_values_are_answered_or_refused_in_one_line(tmp_path_factory, plan_and_certificate, command,
                                                                   data):
     folder = tmp_path_factory.mktemp("fuzz")
@@ -225,8 +227,9 @@ def test_fuzzed_option_values_are_answered_or_refused_in_one_line(tmp_path_facto
     office = str(Path(__file__).resolve().parent.parent / "models" / "office.yaml")
     files = {"PLAN": plan_and_certificate[0], "CERT": plan_and_certificate[1], "OFFICE": office}
     args = [files.get(a, a) for a in _BASE[command]]
-    if data is None:
-        pairs = [("--max-bounces", "10000000"), ("--epsilon", "1e-300")]
+    if data is None:  # the explicit examples found by fuzzing
+        pairs = {"wallfollow": [("--from", "\U00018cd6\U0002ebe1\U0002fa1e")],
+                 "import": [("--spur-width", "16")]}.get(command, [("--max-bounces", "10000000"), ("--epsilon", "1e-300")])
     else:
         options = data.draw(st.lists(st.sampled_from(_OPTIONS[command]), min_size=1, max_size=2, unique=True))
         pairs = [(option, data.draw(_VALUES)) for option in options]

@@ -43,6 +43,7 @@ from typing import Any
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
+from solverplan.limits import quote
 from solverplan.exact import ExactPoint, format_point, segment_intersection
 from solverplan.geometry.visibility import visibility_polygon
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
@@ -340,7 +341,8 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     t0 = time.perf_counter()
     order = cut_ordering(env)
     if start not in order.labels:
-        raise InputError(f"start {start!r} is not a point of the cut ordering ({' '.join(order.labels)})")
+        names = " ".join(order.labels[:8]) + (" ..." if len(order.labels) > 8 else "")  # one short line
+        raise InputError(f"start {quote(start)} is not a point of the cut ordering ({names})")
     pts = env.exact_vertices
     points: dict[str, ExactPoint] = {f"v{k}": p for k, p in enumerate(pts)}
     points.update({c.label: c.point for c in cuts(env)})

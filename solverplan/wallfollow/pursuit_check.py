@@ -47,6 +47,7 @@ from shapely.geometry import Polygon
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, format_point
+from solverplan.limits import quote
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
 from solverplan.wallfollow.world import Action, WallWorld, parse_action
 
@@ -287,7 +288,7 @@ def _start_world(env: Environment, start: str) -> WallWorld:
     world = WallWorld(env)
     cut = next((c for c in world.cuts if c.label == start), None)
     if cut is None:
-        raise InputError(f"start {start!r} is not a point of the cut ordering")
+        raise InputError(f"start {quote(start)} is not a point of the cut ordering")
     return WallWorld(env, cut.point)
 
 
