@@ -116,8 +116,9 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     if not 0 <= trajectories <= trials:
         raise InputError(f"trajectories must be between 0 and the number of trials ({trials}), got {trajectories}")
     for name, value in (("fast", fast), ("slow", slow)):
-        if not value > 0:
-            raise InputError(f"the {name} speed must be positive, got {value}")
+        if not value > robot.dead_band:  # below it the robot never moves: every trial would run to the time limit
+            raise InputError(f"the {name} speed must exceed the robot's dead band {robot.dead_band:g} "
+                             f"(length/s), got {value:g}")
     plan = compose_fields(env, start, goal, arcs=arcs)
     composed = time.perf_counter()
     table = default_scenarios(fast, slow)
