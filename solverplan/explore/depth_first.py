@@ -39,8 +39,63 @@ CHOICES: tuple[str, ...] = ("first", "random", "far")
 current viewpoint. On the chosen part the viewpoint is the simplest rational point of its middle third."""
 
 
+class ViewpointRun:
+    """What every exploration answer derives from its viewpoints and path: the counts, the path's length, the
+    cost T and the answer fields they share (Algorithm A's :class:`Exploration` and Algorithm B's
+    :class:`~solverplan.explore.range_limited.RangeExploration`)."""
+
+    __slots__ = ()
+    status: Status
+    algorithm: str
+    viewpoints: tuple[ExactPoint, ...]
+    parents: tuple[int, ...]
+    path: tuple[ExactPoint, ...]
+    reflex: int
+    bound: int
+    covered_fraction: float
+    choice: str
+
+    @property
+    def n_views(self) -> int:
+        """N_S, the number of views."""
+        return len(self.viewpoints)
+
+    @property
+    def moves(self) -> int:
+        """N_M, the number of straight moves (forward and backward)."""
+        return max(0, len(self.path) - 1)
+
+    @property
+    def path_length(self) -> float:
+        """d, the length of the path (float, length units)."""
+        return sum(math.dist(tuple(map(float, p)), tuple(map(float, q))) for p, q in zip(self.path, self.path[1:]))
+
+    def cost(self, *, t_move: float = 1.0, t_sense: float = 1.0, speed: float = 1.0) -> Cost:
+        """T = t_M·N_M + t_S·N_S + d/r of this exploration (:func:`~solverplan.explore.bounds.exploration_cost`)."""
+        return exploration_cost(self.moves, self.n_views, self.path_length, t_move=t_move, t_sense=t_sense,
+                                speed=speed)
+
+    def _answer_json(self) -> dict:
+        """The contract's exploration fields, then the counts, the cost, the chain and the path."""
+        return {
+            "status": self.status.value,
+            "algorithm": self.algorithm,
+            "viewpoints": [[float(x), float(y)] for x, y in self.viewpoints],
+            "views": self.n_views,
+            "reflex": self.reflex,
+            "bound": self.bound,
+            "path_length": self.path_length,
+            "covered_fraction": self.covered_fraction,
+            "moves": self.moves,
+            "cost": self.cost().to_json(),
+            "parents": list(self.parents),
+            "path": [[float(x), float(y)] for x, y in self.path],
+            "choice": self.choice,
+        }
+
+
 @dataclass(frozen=True)
-class Exploration:
+class Exploration(ViewpointRun):
     """An exploration: viewpoints in visiting order, the views, the path and what they cost.
 
     Attributes
@@ -83,49 +138,12 @@ class Exploration:
     stats: Stats = field(default_factory=Stats)
     environment: EnvironmentRecord | None = None
     algorithm: str = "A"
-    range: float | None = None
-
-    @property
-    def n_views(self) -> int:
-        """N_S, the number of views."""
-        return len(self.viewpoints)
-
-    @property
-    def moves(self) -> int:
-        """N_M, the number of straight moves (forward and backward)."""
-        return max(0, len(self.path) - 1)
-
-    @property
-    def path_length(self) -> float:
-        """d, the length of the path (float, length units)."""
-        return sum(math.dist(tuple(map(float, p)), tuple(map(float, q))) for p, q in zip(self.path, self.path[1:]))
-
-    def cost(self, *, t_move: float = 1.0, t_sense: float = 1.0, speed: float = 1.0) -> Cost:
-        """T = t_M·N_M + t_S·N_S + d/r of this exploration (:func:`~solverplan.explore.bounds.exploration_cost`)."""
-        return exploration_cost(self.moves, self.n_views, self.path_length, t_move=t_move, t_sense=t_sense,
-                                speed=speed)
 
     def to_json(self) -> dict:
         """The exploration answer of ``docs/contract.md``."""
-        out: dict = {
-            "status": self.status.value,
-            "algorithm": self.algorithm,
-            "viewpoints": [[float(x), float(y)] for x, y in self.viewpoints],
-            "views": self.n_views,
-            "reflex": self.reflex,
-            "bound": self.bound,
-            "path_length": self.path_length,
-            "covered_fraction": self.covered_fraction,
-            "moves": self.moves,
-            "cost": self.cost().to_json(),
-            "parents": list(self.parents),
-            "path": [[float(x), float(y)] for x, y in self.path],
-            "choice": self.choice,
-        }
+        out = self._answer_json()
         if self.seed is not None:
             out["seed"] = self.seed
-        if self.range is not None:
-            out["range"] = self.range
         out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 

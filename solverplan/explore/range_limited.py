@@ -43,8 +43,8 @@ from typing import Sequence
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_point, orient, to_fraction
-from solverplan.explore.bounds import Cost, exploration_cost, range_ratio_bound, range_views_bound, range_views_lower_bound
-from solverplan.explore.depth_first import CHOICES, explore_depth_first
+from solverplan.explore.bounds import range_ratio_bound, range_views_bound, range_views_lower_bound
+from solverplan.explore.depth_first import CHOICES, ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
@@ -64,7 +64,7 @@ PHASES = ("start", "open", "boundary", "frontier")
 
 
 @dataclass(frozen=True)
-class RangeExploration:
+class RangeExploration(ViewpointRun):
     """An exploration with range-limited views (Algorithm B, or Algorithm A when Theorem 3 applies).
 
     Attributes
@@ -118,42 +118,14 @@ class RangeExploration:
     choice: str = "first"
 
     @property
-    def n_views(self) -> int:
-        return len(self.viewpoints)
-
-    @property
-    def moves(self) -> int:
-        return max(0, len(self.path) - 1)
-
-    @property
-    def path_length(self) -> float:
-        return sum(math.dist(tuple(map(float, p)), tuple(map(float, q))) for p, q in zip(self.path, self.path[1:]))
-
-    @property
     def ratio(self) -> float:
         """Views over Theorem 5's lower bound: an upper estimate of the competitive ratio on this instance."""
         return self.n_views / self.lower_bound
 
-    def cost(self, *, t_move: float = 1.0, t_sense: float = 1.0, speed: float = 1.0) -> Cost:
-        return exploration_cost(self.moves, self.n_views, self.path_length, t_move=t_move, t_sense=t_sense,
-                                speed=speed)
-
     def to_json(self) -> dict:
         """The exploration answer of ``docs/contract.md`` with the range fields."""
-        out: dict = {
-            "status": self.status.value,
-            "algorithm": self.algorithm,
-            "viewpoints": [[float(x), float(y)] for x, y in self.viewpoints],
-            "views": self.n_views,
-            "reflex": self.reflex,
-            "bound": self.bound,
-            "path_length": self.path_length,
-            "covered_fraction": self.covered_fraction,
-            "moves": self.moves,
-            "cost": self.cost().to_json(),
-            "parents": list(self.parents),
-            "path": [[float(x), float(y)] for x, y in self.path],
-            "choice": self.choice,
+        out = self._answer_json()
+        out.update({
             "range": float(self.range),
             "holes": self.holes,
             "lower_bound": self.lower_bound,
@@ -162,7 +134,7 @@ class RangeExploration:
             "epsilon": float(self.epsilon),
             "phases": list(self.phases),
             "arcs": [[a.to_json() for a in v.arcs] for v in self.views],
-        }
+        })
         out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
