@@ -23,6 +23,7 @@ import numpy as np
 
 from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
+from solverplan.studies.generators import spiked_comb
 from solverplan.wallfollow import cuts
 from solverplan.wallfollow.learning import learn_cut_ordering
 
@@ -43,25 +44,6 @@ def random_polygon(n: int, seed: int, radius: int = 1_000_000) -> Environment:
             continue
 
 
-def comb(teeth: int, seed: int = 0) -> Environment:
-    rng = random.Random(seed)
-    while True:
-        # wide random ranges (integers up to ~10⁶) make collinear triples rare even for many teeth
-        width = 10_000 * teeth + 10_000
-        ring = [(0, 0), (width, 0), (width, 1_000_000 + rng.randint(0, 50_000))]
-        for i in reversed(range(teeth)):
-            x = 10_000 * i + 5_000
-            ring += [(x + 8_000 + rng.randint(-500, 500), 1_000_000 + rng.randint(0, 50_000)),
-                     (x + 4_000 + rng.randint(-500, 500), 300_000 + rng.randint(0, 200_000))]
-        ring += [(5_000, 1_000_000 + rng.randint(0, 50_000)), (0, 1_000_000 + rng.randint(0, 50_000))]
-        try:
-            env = Environment.from_coords(ring)
-            cuts(env)
-            return env
-        except InvalidEnvironment:
-            continue
-
-
 def slope(ns: list[int], values: list[float]) -> float:
     return float(np.polyfit(np.log(ns), np.log(values), 1)[0])
 
@@ -74,7 +56,7 @@ def run(family: str, sizes: list[int], per_size: int) -> None:
     for size in sizes:
         rows = []
         for s in range(per_size):
-            env = random_polygon(size, s) if family == "random" else comb((size - 5) // 2, s)
+            env = random_polygon(size, s) if family == "random" else spiked_comb((size - 5) // 2, s)
             ends = [c.edge for c in cuts(env)]
             crowd = max([ends.count(e) for e in set(ends)] or [0])
             t0 = time.perf_counter()

@@ -37,6 +37,7 @@ __all__ = [
     "rectilinear_floor_plan",
     "rectilinear_polygon",
     "worst_case_polygon",
+    "spiked_comb",
     "GENERATORS",
     "generate",
     "GeneratedEnvironment",
@@ -377,6 +378,45 @@ def star_polygon_with_holes(
 # ---------------------------------------------------------------------- the paper's worst case
 _WORST_CASE_RADIUS = 10
 _WORST_CASE_DECIMALS = 6
+
+
+def spiked_comb(teeth: int, seed: int = 0, max_attempts: int = 100) -> Environment:
+    """A room whose ceiling has ``teeth`` spikes hanging down, in general position for the wall-following robot.
+
+    Both cuts of every spike's tip (a reflex vertex) land on the floor, so one edge receives 2·teeth cut end points
+    (n = 2·teeth + 5 vertices): the case where Strategy 1's comparisons dominate. Integer vertices up to ~10⁶;
+    heights are perturbed (seeded) to keep general position, and a perturbation that breaks it is replaced by the
+    next attempt's.
+
+    Examples
+    --------
+    >>> spiked_comb(3).n_vertices
+    11
+    """
+    import random
+
+    from solverplan.wallfollow.cuts import cuts
+
+    teeth = _check_int("teeth", teeth, 1)
+    problem = "no candidate tried"
+    for attempt in range(max_attempts):
+        rng = random.Random(seed * 1000 + attempt)
+        # wide random ranges make collinear triples rare even for many teeth
+        width = 10_000 * teeth + 10_000
+        ring = [(0, 0), (width, 0), (width, 1_000_000 + rng.randint(0, 50_000))]
+        for i in reversed(range(teeth)):
+            x = 10_000 * i + 5_000
+            ring += [(x + 8_000 + rng.randint(-500, 500), 1_000_000 + rng.randint(0, 50_000)),
+                     (x + 4_000 + rng.randint(-500, 500), 300_000 + rng.randint(0, 200_000))]
+        ring += [(5_000, 1_000_000 + rng.randint(0, 50_000)), (0, 1_000_000 + rng.randint(0, 50_000))]
+        try:
+            env = Environment.from_coords(ring, name=f"spiked_comb(teeth={teeth}, seed={seed})")
+            cuts(env)
+            return env
+        except InvalidEnvironment as exc:
+            problem = str(exc)
+    raise InvalidEnvironment(f"no spiked comb with {teeth} teeth in general position in {max_attempts} attempts "
+                             f"(last: {problem})")
 
 
 def worst_case_polygon(t: int) -> Environment:

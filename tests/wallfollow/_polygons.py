@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
+from solverplan.studies.generators import spiked_comb
 from solverplan.wallfollow import cuts
 
 
@@ -36,29 +37,7 @@ def general_position_polygons(draw, min_vertices: int = 3, max_vertices: int = 1
     return env
 
 
-def comb(teeth: int, seed: int = 0) -> Environment:
-    """A room whose ceiling has ``teeth`` spikes hanging down: both cuts of every spike's tip (a reflex vertex)
-    land on the floor, so one edge receives 2·teeth cut end points (n = 2·teeth + 5 vertices). Heights are
-    perturbed (seeded) to keep general position; a perturbation that breaks it is replaced by the next seed's."""
-    import random
-
-    for attempt in range(100):
-        rng = random.Random(seed * 1000 + attempt)
-        # wide random ranges (integers up to ~10⁶) make collinear triples rare even for many teeth
-        width = 10_000 * teeth + 10_000
-        ring = [(0, 0), (width, 0), (width, 1_000_000 + rng.randint(0, 50_000))]
-        for i in reversed(range(teeth)):
-            x = 10_000 * i + 5_000
-            ring += [(x + 8_000 + rng.randint(-500, 500), 1_000_000 + rng.randint(0, 50_000)),
-                     (x + 4_000 + rng.randint(-500, 500), 300_000 + rng.randint(0, 200_000))]
-        ring += [(5_000, 1_000_000 + rng.randint(0, 50_000)), (0, 1_000_000 + rng.randint(0, 50_000))]
-        try:
-            env = Environment.from_coords(ring)
-            cuts(env)
-            return env
-        except InvalidEnvironment:
-            continue
-    raise AssertionError("no comb in general position found")
+comb = spiked_comb  # the tests' name for the studies' generator
 
 
 def bent_arms(seed: int) -> Environment:
