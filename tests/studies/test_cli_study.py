@@ -144,7 +144,9 @@ def _console_script() -> list[str]:
 
 @pytest.mark.parametrize("sig, workers", [(signal.SIGTERM, 2), (signal.SIGINT, 1)], ids=["sigterm-pool", "sigint-serial"])
 def test_killed_study_finishes_only_the_rest_when_run_again(tmp_path, sig, workers):
-    args = ["study", "reachability", "--grid", "n=12", "--per-cell", "4", "--out-dir", str(tmp_path / "run"), "--no-figure"]
+    # n = 30: ~20 ms a row, so the 90 rows after the 10th outlast the lag of reading stderr in 8 KB chunks (with
+    # n = 12 a loaded machine let the study finish before the signal arrived: exit 0, seen in a clean-clone run)
+    args = ["study", "reachability", "--grid", "n=30", "--per-cell", "4", "--out-dir", str(tmp_path / "run"), "--no-figure"]
     proc = subprocess.Popen([*_console_script(), *args, "--workers", str(workers), "-vv"], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
     assert proc.stderr is not None
