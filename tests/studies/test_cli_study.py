@@ -147,8 +147,11 @@ def test_killed_study_finishes_only_the_rest_when_run_again(tmp_path, sig, worke
     # n = 30: ~20 ms a row, so the 90 rows after the 10th outlast the lag of reading stderr in 8 KB chunks (with
     # n = 12 a loaded machine let the study finish before the signal arrived: exit 0, seen in a clean-clone run)
     args = ["study", "reachability", "--grid", "n=30", "--per-cell", "4", "--out-dir", str(tmp_path / "run"), "--no-figure"]
+    # the child starts with SIGINT at its default whatever the test process inherited (an inherited SIG_IGN would
+    # make Python install no KeyboardInterrupt handler, as for a background job, and the study would run to the end)
     proc = subprocess.Popen([*_console_script(), *args, "--workers", str(workers), "-vv"], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+                            stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"},
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     assert proc.stderr is not None
     for line in proc.stderr:  # blocks until the study reports its 10th row (no sleeping, no timing)
         if line.startswith("DEBUG solverplan.studies.execute: row 10 of 100"):
