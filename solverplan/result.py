@@ -352,13 +352,18 @@ class Stage:
     What the strategy knows besides, when it knows it:
 
     ``moves``
-        For each possible source segment, the segment it lands on (belief plans).
+        For each possible source segment, the segment it lands on (belief plans). Where a plan's stage leaves
+        from part of a segment only (a start set ending inside it), ``sources`` holds each move's exact source
+        piece, aligned with ``moves``.
     ``positions``
         The exact pieces of boundary the robot may be on after the stage (funnels, localisation);
         ``sources``, ``cones`` and ``target_edges`` are the exact pieces before it, the exact world-frame
         cone (d_lo, d_hi) each was pushed through, and the edge each landed on.
     ``affine``
         The exact affine map of the stage's nominal heading (cycles and patrols), :class:`AffineStep`.
+    ``margins``
+        ``(lo, hi)``, radians: how far the interval's ends lie inside the exact safe sets of its moves (the smallest
+        over the moves) — the margin the planner actually left (belief plans).
     """
 
     from_segments: tuple[int, ...]
@@ -370,6 +375,7 @@ class Stage:
     cones: tuple[tuple[ExactPoint, ExactPoint], ...] = ()
     target_edges: tuple[int, ...] = ()
     affine: AffineStep | None = None
+    margins: tuple[float, float] | None = None
 
     @property
     def width(self) -> float:
@@ -400,8 +406,12 @@ class Stage:
             "interval": [self.interval.lo, self.interval.hi],
             "width": self.interval.width,
         }
+        if self.margins is not None:
+            out["margins"] = [self.margins[0], self.margins[1]]
         if self.moves:
             out["moves"] = [[i, j] for i, j in self.moves]
+            if self.sources and not self.cones:  # a plan stage leaving from parts of segments: the exact parts
+                out["sources"] = [piece_json(p) for p in self.sources]
         if self.positions:
             out["positions"] = [piece_json(p) for p in self.positions]
         if self.affine is not None:

@@ -35,7 +35,7 @@ from solverplan.exact import to_fraction
 from solverplan.plan import find_plan
 from tests.exact_reference import (Rings, frame_direction, heading_is_safe, reference_arcs, reference_partition,
                                    reference_segments, rotate)
-from tests.plan.brute import EPS, admissible, enumerate_plans, start_segments
+from tests.plan.brute import EPS, admissible, enumerate_plans, start_elements, start_segments
 
 F = Fraction
 TINY = F(1, 10**9)
@@ -317,7 +317,8 @@ def test_a_single_safe_heading_gives_no_plan_and_a_proof():
     one = find_plan(env, "e3", "e1", objective="fewest", max_bounces=1, graph=g)
     assert not one.found and one.optimality.proved
     best = find_plan(env, "e3", "e1", objective="fewest", graph=g)
-    brute = enumerate_plans(admissible(g), start_segments(g, [(3, F(0), F(1))]), {1}, 3)
+    start, parts = start_elements(g, [(3, F(0), F(1))])
+    brute = enumerate_plans(admissible(g, pieces=parts), start, {1}, 3)
     assert best.found and best.bounces == brute.fewest()
 
 
@@ -332,10 +333,10 @@ def _pieces(env: Environment, spec: str):
 def test_plans_equal_the_brute_force(name):
     env, p, g = built(name)
     case = CASES[name]
-    start = start_segments(g, _pieces(env, case.start))
+    start, parts = start_elements(g, _pieces(env, case.start))
     goal = set(start_segments(g, _pieces(env, case.goal)))
     K = 3
-    brute = enumerate_plans(admissible(g), start, goal, K)
+    brute = enumerate_plans(admissible(g, pieces=parts), start, goal, K)
     fewest = find_plan(env, case.start, case.goal, objective="fewest", graph=g)
     if brute.fewest() is None:
         assert not fewest.found or fewest.bounces > K
@@ -663,9 +664,9 @@ def test_grids_of_aligned_pillars(n):
     if n == 2:  # the brute-force BVG and safe ends cost minutes beyond that
         assert arcs_of(g) == reference_arcs(env.rings, [(s.a, s.b) for s in p.segments])
         assert check_safe_ends(env, p, g) > 0
-    start = start_segments(g, _pieces(env, case.start))
+    start, parts = start_elements(g, _pieces(env, case.start))
     goal = set(start_segments(g, _pieces(env, case.goal)))
-    brute = enumerate_plans(admissible(g), start, goal, 2)
+    brute = enumerate_plans(admissible(g, pieces=parts), start, goal, 2)
     plan = find_plan(env, case.start, case.goal, objective="tolerance", max_bounces=2, graph=g)
     front = brute.front(2)
     if front:

@@ -156,7 +156,7 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certif
                                why="the plan has no stages (certificates certify plans)")
     part = part if part is not None else make_partition(env)
     plan.check_environment(env, len(part.segments))
-    stages = [StageSpec(stage.interval, _plan_moves(part, stage.moves)) for stage in plan.stages]
+    stages = [StageSpec(stage.interval, _plan_moves(part, stage.moves, stage.sources)) for stage in plan.stages]
     partial = set(plan.stats.counts.get("partial_goal_segments", ())) if plan.stats else set()
     if not plan.stats and plan.goal:
         partial = _partial_goal_segments(env, part, plan.goal)
@@ -174,13 +174,16 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certif
                              optimality=claimed, targets=targets, margin=_PLAN_MARGIN)
 
 
-def _plan_moves(part: Partition, moves: tuple[tuple[int, int], ...]) -> tuple[MoveSpec, ...]:
-    """One certificate move per source segment of a plan stage. A source with several targets lands on a run of
-    consecutive collinear segments (one straight wall: the planner merges collinear vertices): its move names
-    the target edge of the run's first segment and no segment, and claims its exact image on the wall."""
-    targets: dict[int, list[int]] = {}
-    for i, j in moves:
-        targets.setdefault(i, []).append(j)
+def _plan_moves(part: Partition, moves: tuple[tuple[int, int], ...],
+                sources: tuple[BoundaryPiece, ...] = ()) -> tuple[MoveSpec, ...]:
+    """One certificate move per source of a plan stage: a segment, or the exact part of one that a stage leaves from
+    (``sources``, aligned with ``moves``: a start set that ends inside a segment). A source with several targets
+    lands on a run of consecutive collinear segments (one straight wall: the planner merges collinear vertices):
+    its move names the target edge of the run's first segment and no segment, and claims its exact image on the
+    wall."""
+    targets: dict[int | BoundaryPiece, list[int]] = {}
+    for k, (i, j) in enumerate(moves):
+        targets.setdefault(sources[k] if sources else i, []).append(j)
     out = []
     for i, js in targets.items():
         if len(js) == 1:
@@ -189,7 +192,7 @@ def _plan_moves(part: Partition, moves: tuple[tuple[int, int], ...]) -> tuple[Mo
         ends = {part.segments[j].b for j in js}
         first = [j for j in js if part.segments[j].a not in ends]
         if len(first) != 1:
-            raise InputError(f"plan move from segment {i}: its targets {sorted(js)} are not one run of consecutive segments")
+            raise InputError(f"plan move from {i}: its targets {sorted(js)} are not one run of consecutive segments")
         out.append(MoveSpec(source=i, target_edge=part.segments[first[0]].edge))
     return tuple(out)
 
@@ -221,7 +224,7 @@ def _patrol(result: Patrol, env: Environment | None, part: Partition | None) -> 
     env, part = _own_environment(result, env, part)
     stages: list[StageSpec] = []
     for st in result.entry:
-        stages.append(StageSpec(st.interval, tuple(MoveSpec(source=s, target=t) for s, t in st.moves)))
+        stages.append(StageSpec(st.interval, _plan_moves(part, st.moves, st.sources)))
     for cs in result.cycle:
         stages.append(StageSpec(cs.interval, (MoveSpec(source=cs.from_segment, target=cs.to_segment),)))
     start = result.start if result.start is not None else [result.cycle[0].from_segment]

@@ -2,13 +2,15 @@
 
 Belief states
 -------------
-A *belief* is the set of P′ segments the robot may be on (sorted tuple of elements: segment ids, tagged when
-the robot arrived near one of the segment's corners, see :meth:`Problem.segment`). The start
-belief is every segment that the start set S overlaps in a piece of positive length: a piece covering
-part of a segment counts as that whole segment (a plan that works from every point of the segment
-works from the piece; this is conservative, never wrong). Positions exactly on a partition point
-are limits of both neighbouring segments and have measure zero; like the paper we do not treat them
-separately (the certificate checker covers them by closure).
+A *belief* is the set of places the robot may be on (a sorted tuple of elements: segment ids of P′, tagged when
+the robot arrived near one of the segment's corners, see :meth:`Problem.segment`). The start belief is the start
+set **as given**: every segment of P′ it covers whole, and every part of a segment it covers in part as an element
+of its own, a *start piece* (:attr:`Problem.start_pieces`), whose admissible intervals are computed for the piece
+itself (the exact safe sets of :func:`~solverplan.bounce.safe.safe_set`, cut by the same margins): a plan must work
+from every point of the start set, and need not work from the rest of a segment it touches. After the first stage
+the robot is on whole segments of P′ (the abstraction of the paper); start pieces occur only in the start belief.
+Positions exactly on a partition point are limits of both neighbouring segments and have measure zero; like the
+paper we do not treat them separately (the certificate checker covers them by closure).
 
 A *stage* from belief B executes one heading interval I (radians, measured from the wall the robot
 is on) that is admissible from **every** segment of B: for each source i ∈ B there is a target j_i
@@ -53,14 +55,30 @@ from typing import Callable, NamedTuple, Sequence
 import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
-from solverplan.environment import BoundarySet
+from solverplan.environment import BoundaryPiece, BoundarySet
 from solverplan.plan._walls import Walls
+from solverplan.interval import Interval
+from solverplan.result import Stage
 from solverplan.plan.margins import (DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins, admissible_intervals,
-                                     corner_arcs)
+                                     corner_arcs, cut_to_margins)
 
-__all__ = ["Option", "Problem", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "merged_pieces", "belief_of"]
+__all__ = ["Option", "Problem", "StartPiece", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "merged_pieces"]
 
 Belief = tuple[int, ...]
+
+
+PIECE_CODES = 4
+"""Belief elements ≥ ``PIECE_CODES`` × n_segments are start pieces (below: segment ids with corner tags s + n·k, k < 4)."""
+
+
+class StartPiece(NamedTuple):
+    """A part of segment ``host`` that the start set covers (not the whole segment): ``piece`` on the search's edge,
+    from exact point ``a`` to ``b`` (the free space on the left, as on every segment)."""
+
+    host: int
+    piece: BoundaryPiece
+    a: tuple
+    b: tuple
 
 
 class Option(NamedTuple):
@@ -80,18 +98,6 @@ class Option(NamedTuple):
 def merged_pieces(bset: BoundarySet) -> dict[int, list[tuple[Fraction, Fraction]]]:
     """The pieces of a boundary set merged per edge (overlapping or touching pieces joined), exact."""
     return bset.by_edge()
-
-
-def belief_of(graph: SafeBVG, bset: BoundarySet) -> Belief:
-    """The segments a boundary set overlaps in pieces of positive length (sorted)."""
-    part = graph.partition
-    segs = set()
-    for edge, pieces in merged_pieces(bset).items():
-        for k in part.edge_segments[edge]:
-            s = part.segments[k]
-            if any(s.t0 < q and p < s.t1 for p, q in pieces):
-                segs.add(k)
-    return tuple(sorted(segs))
 
 
 def _angle(e: tuple[float, float], w: tuple[float, float]) -> float:
@@ -133,7 +139,8 @@ class Problem:
         self.heading_margin = self.margins.heading_margin
         self.safe_margin = self.margins.safe_margin
         self._build_intervals()
-        self.start_belief: Belief = belief_of(graph, start)
+        self.start_pieces: tuple[StartPiece, ...] = ()
+        self.start_belief: Belief = self._start_belief(start)
         self._goal_pieces = merged_pieces(goal) if goal is not None else {}
         whole, partial = set(), {}
         for edge, pieces in self._goal_pieces.items():
@@ -175,22 +182,97 @@ class Problem:
         self._restricted: dict[int, tuple[list[float], list[float], list[int]]] = {}
         self.n_admissible = int(len(lo))
 
+    # ------------------------------------------------------------------ the start set as given
+    def _start_belief(self, start: BoundarySet) -> Belief:
+        """The start belief: the segments the start set covers whole, and a start piece for every part of a
+        segment it covers in part (module docstring)."""
+        part, n = self.partition, self.n_segments
+        elements: set[int] = set()
+        pieces: list[StartPiece] = []
+        for edge, items in merged_pieces(start).items():
+            for k in part.edge_segments[edge]:
+                seg = part.segments[k]
+                for p, q in items:
+                    lo, hi = max(p, seg.t0), min(q, seg.t1)
+                    if lo >= hi:
+                        continue
+                    if lo == seg.t0 and hi == seg.t1:
+                        elements.add(k)
+                        continue
+                    pieces.append(StartPiece(k, BoundaryPiece(edge, lo, hi), _point_on(seg, lo), _point_on(seg, hi)))
+                    elements.add(PIECE_CODES * n + len(pieces) - 1)
+        self.start_pieces = tuple(pieces)
+        self._piece_safe: dict[tuple[int, int], list[tuple[float, float]]] = {}
+        self._piece_lists = [self._piece_intervals(PIECE_CODES * n + k, piece) for k, piece in enumerate(pieces)]
+        return tuple(sorted(elements))
+
+    def _piece_intervals(self, code: int, piece: StartPiece) -> tuple[list[float], list[float], list[int]]:
+        """The admissible intervals of a start piece: the exact safe sets from the piece to every segment its host
+        segment sees (a part sees no more than the whole), cut by the margins as every arc is."""
+        from solverplan.bounce.safe import safe_set
+
+        part, n = self.partition, self.n_segments
+        a, b = piece.a, piece.b
+        rows: list[tuple[float, float, int, int]] = []  # (lo, hi, target, shared) shared: 1 c = b, 2 d = a
+        for j in self.graph.successors(piece.host).tolist():
+            t = part.segments[j]
+            shared = 1 if t.a == b else 2 if t.b == a else 0
+            found = [(iv.lo, iv.hi) for iv in safe_set(self.env, (a, b), (t.a, t.b)).intervals]
+            if found:
+                self._piece_safe[(code, j)] = found
+            rows.extend((lo, hi, j, shared) for lo, hi in found)
+        if not rows:
+            return [], [], []
+        lo = np.array([r[0] for r in rows])
+        hi = np.array([r[1] for r in rows])
+        tgt = np.array([r[2] for r in rows], dtype=np.int64)
+        shared = np.array([r[3] for r in rows])
+
+        def vectors(pairs) -> np.ndarray:
+            return np.array([(float(q[0] - p[0]), float(q[1] - p[1])) for p, q in pairs]).reshape(-1, 2)
+
+        targets = [part.segments[j] for j in tgt.tolist()]
+        lo, hi = cut_to_margins(lo, hi, self.margins, edge=vectors([(a, b)] * len(rows)),
+                                target=vectors([(t.a, t.b) for t in targets]), cb=vectors([(b, t.a) for t in targets]),
+                                da=vectors([(a, t.b) for t in targets]), shared_c=shared == 1, shared_d=shared == 2)
+        # arcs into a corner the piece shares with the target arrive near it (the corner tags of corner_arcs)
+        arrival = np.where(shared == 1, 1, np.where(shared == 2, 2, 0))
+        keep = np.flatnonzero(hi > lo)
+        keep = keep[np.argsort(lo[keep], kind="stable")]
+        return lo[keep].tolist(), hi[keep].tolist(), (tgt[keep] + n * arrival[keep]).tolist()
+
+    def is_piece(self, code: int) -> bool:
+        """Is this belief element a start piece (module docstring) rather than a segment?"""
+        return code >= PIECE_CODES * self.n_segments
+
+    def piece(self, code: int) -> StartPiece:
+        """The start piece of a belief element (:meth:`is_piece`)."""
+        return self.start_pieces[code - PIECE_CODES * self.n_segments]
+
     # ------------------------------------------------------------------ belief elements
     def segment(self, code: int) -> int:
         """The segment of a belief element. Elements are segment ids, plus ``n_segments`` × k where the bits of k
         say the robot may have arrived by an arc into the segment's start (1) or end (2) corner: positions near
         that corner, from which a second arc into the same corner is not admissible (the corner ping-pong of
-        :mod:`solverplan.plan.margins`)."""
+        :mod:`solverplan.plan.margins`). A start piece's segment is the segment it is part of."""
+        if self.is_piece(code):
+            return self.piece(code).host
         return code % self.n_segments
 
     def segments(self, belief: Belief) -> tuple[int, ...]:
-        """The segments of a belief (sorted, distinct)."""
-        return tuple(sorted({c % self.n_segments for c in belief}))
+        """The segments of a belief (sorted, distinct; a start piece counts as its segment)."""
+        return tuple(sorted({self.segment(c) for c in belief}))
+
+    def place(self, code: int) -> int:
+        """A belief element without its corner tags: a segment id, or ``n_segments + k`` for start piece k (the index
+        of :attr:`user_pieces` and :attr:`runs`)."""
+        if self.is_piece(code):
+            return code - (PIECE_CODES - 1) * self.n_segments
+        return code % self.n_segments
 
     def moves(self, moves: tuple[tuple[int, int], ...]) -> tuple[tuple[int, int], ...]:
-        """An option's (source, target) moves as segment ids (distinct)."""
-        n = self.n_segments
-        return tuple(dict.fromkeys((i % n, j % n) for i, j in moves))
+        """An option's (source, target) moves as places (:meth:`place`: segment ids, start pieces after them), distinct."""
+        return tuple(dict.fromkeys((self.place(i), self.place(j)) for i, j in moves))
 
     # ------------------------------------------------------------------ the user's numbering
     @property
@@ -199,8 +281,23 @@ class Problem:
         each, unless collinear vertices were merged (:mod:`solverplan.plan._walls`)."""
         cached = getattr(self, "_runs", None)
         if cached is None:
-            cached = self._runs = (self.walls.runs(self.partition) if self.walls is not None
-                                   else tuple((k,) for k in range(self.n_segments)))
+            cached = self._runs = tuple(tuple(u for u, _ in pieces) for pieces in self.user_pieces)
+        return cached
+
+    @property
+    def user_pieces(self):
+        """For every place of the search (:meth:`place`: segments, then start pieces), the user segments it overlaps
+        with the exact overlap of each (a piece of the user's edge): :meth:`Walls.user_pieces`, or each segment itself
+        when no walls were given."""
+        cached = getattr(self, "_user_pieces", None)
+        if cached is None:
+            if self.walls is not None:
+                cached = self.walls.user_pieces(self.partition) + tuple(self.walls.pieces_of(p.piece)
+                                                                         for p in self.start_pieces)
+            else:
+                cached = (tuple(((k, BoundaryPiece(s.edge, s.t0, s.t1)),) for k, s in enumerate(self.partition.segments))
+                          + tuple(((p.host, p.piece),) for p in self.start_pieces))
+            self._user_pieces = cached
         return cached
 
     @property
@@ -211,7 +308,7 @@ class Problem:
     def user_segments(self, segments) -> tuple[int, ...]:
         """The user's segments making up some segments of the search (sorted, distinct)."""
         runs = self.runs
-        return tuple(sorted({u for s in segments for u in runs[s % self.n_segments]}))
+        return tuple(sorted({u for s in segments for u in runs[self.place(s)]}))
 
     def user_moves(self, moves: tuple[tuple[int, int], ...]) -> tuple[tuple[int, int], ...]:
         """An option's moves in the user's segments: every user segment of a source with every user segment of
@@ -219,10 +316,62 @@ class Problem:
         runs = self.runs
         return tuple(dict.fromkeys((u, v) for i, j in self.moves(moves) for u in runs[i] for v in runs[j]))
 
+    def user_stage(self, belief: Belief, option: Option, interval: Interval, *, last: bool = False) -> Stage:
+        """A stage of a path (``option`` taken from ``belief`` with heading ``interval``) in the user's numbering:
+        the user segments the robot may be on and lands on, every move (a move onto a run of collinear segments
+        lists each segment of the run). Where the stage leaves from part of a user segment only (a start piece),
+        ``sources`` gives each move's exact source piece (a user segment may then appear in several moves).
+        ``last``: the goal stage, whose moves land inside the goal set — where it lands on a run that the goal
+        covers in part, not on the run's other segments (its interval was cut for it)."""
+        runs, user = self.runs, self.user_partition.segments
+        goal = self.user_goal_set.by_edge() if last and self.user_goal_set is not None else {}
+
+        def lands(v: int) -> bool:
+            seg = user[v]
+            return not last or any(seg.t0 < q and p < seg.t1 for p, q in goal.get(seg.edge, ()))
+
+        items = {(u, v, piece): None for i, j in self.moves(option.moves)
+                 for u, piece in self.user_pieces[i] for v in runs[j] if lands(v)}
+        if {u for u, _, _ in items} != set(self.user_segments(belief)):  # pragma: no cover - every source lands
+            raise AssertionError("a stage has a source that lands nowhere (outside the goal set in a last stage)")
+        moves = tuple(dict.fromkeys((u, v) for u, v, _ in items))
+        sources: tuple[BoundaryPiece, ...] = ()
+        if not all(piece.t0 == user[u].t0 and piece.t1 == user[u].t1 for u, _, piece in items):
+            moves = tuple((u, v) for u, v, _ in items)
+            sources = tuple(piece for _, _, piece in items)
+        return Stage(self.user_segments(belief), tuple(sorted({v for _, v in moves})), interval, moves=moves,
+                     sources=sources, margins=self.margins_left(option, interval))
+
+    def margins_left(self, option: Option, interval: Interval) -> tuple[float, float] | None:
+        """How far (radians) the ends of ``interval`` lie inside the exact safe sets of ``option``'s moves, the
+        smallest over the moves: (lo − safe lo, safe hi − hi). ``None`` if a move's safe set does not hold the
+        interval (never for the planners' own options)."""
+        lo_left = hi_left = math.inf
+        for i, j in option.moves:
+            found = None
+            for l, h in self._exact_safe(i, j % self.n_segments):
+                if l <= interval.lo and interval.hi <= h:
+                    found = (interval.lo - l, h - interval.hi)
+            if found is None:
+                return None
+            lo_left, hi_left = min(lo_left, found[0]), min(hi_left, found[1])
+        return (lo_left, hi_left) if option.moves else None
+
+    def _exact_safe(self, source: int, target: int) -> list[tuple[float, float]]:
+        """The exact safe set (float ends, radians) of a belief element ``source`` towards segment ``target``."""
+        if self.is_piece(source):
+            return self._piece_safe.get((source, target), [])
+        g = self.graph
+        k = g.arc_index(source % self.n_segments, target)
+        if k is None:
+            return []
+        rows = range(int(g.set_offsets[k]), int(g.set_offsets[k + 1]))
+        return [(float(g.set_lo[r]), float(g.set_hi[r])) for r in rows]
+
     def segment_text(self, segment: int) -> str:
         """A segment of the search named in the user's numbering: ``segment 3 (on e2)``, or a run of them."""
         part = self.user_partition
-        users = self.runs[segment % self.n_segments]
+        users = self.runs[self.place(segment)]
         edges = sorted({part.segments[u].edge for u in users})
         ids = ", ".join(map(str, users))
         on = ", ".join(f"e{e}" for e in edges)
@@ -231,6 +380,8 @@ class Problem:
     def intervals(self, source: int) -> tuple[list[float], list[float], list[int]]:
         """The admissible intervals of belief element ``source`` (sorted, disjoint): lows, highs, target
         elements. An element that arrived near a corner has no interval of an arc into that corner."""
+        if self.is_piece(source):
+            return self._piece_lists[source - PIECE_CODES * self.n_segments]
         s, k = source % self.n_segments, source // self.n_segments
         a, b = self._off[s], self._off[s + 1]
         if k == 0:
@@ -249,7 +400,7 @@ class Problem:
             return cached
         los, his, tgts = self.intervals(source)
         items = []
-        seg = self.partition.segments[source % self.n_segments]
+        seg = self.piece(source) if self.is_piece(source) else self.partition.segments[source % self.n_segments]
         e = (float(seg.b[0] - seg.a[0]), float(seg.b[1] - seg.a[1]))
         for lo, hi, j in zip(los, his, tgts):
             if j % self.n_segments in self.goal_whole:
@@ -416,7 +567,24 @@ class Problem:
         """(lower bound on the stages, upper bound on the min width) of any plan from ``belief``."""
         dist, best = self.singleton_bounds
         n = self.n_segments
-        return max(dist[s % n] for s in belief), min(best[s % n] for s in belief)
+        d, h = 0.0, math.inf
+        for s in belief:
+            ds, hs = self._piece_bounds(s) if self.is_piece(s) else (dist[s % n], best[s % n])
+            d, h = max(d, ds), min(h, hs)
+        return d, h
+
+    def _piece_bounds(self, code: int) -> tuple[float, float]:
+        """:meth:`belief_bounds` of a start piece alone, one stage ahead of the segments' bounds: its own goal
+        intervals, or its options followed by the best from their targets."""
+        dist, best = self.singleton_bounds
+        n = self.n_segments
+        glo, ghi, _ = self.goal_intervals(code)
+        d = 1.0 if glo else math.inf
+        h = max((hi - lo for lo, hi in zip(glo, ghi)), default=0.0)
+        for lo, hi, j in zip(*self.intervals(code)):
+            d = min(d, 1 + dist[j % n])
+            h = max(h, min(hi - lo, best[j % n]))
+        return d, h
 
     # ------------------------------------------------------------------ facts for reasons
     def goal_has_incoming(self) -> bool:
@@ -424,6 +592,8 @@ class Problem:
         targets = set(self.goal_whole) | set(self.goal_partial)
         if not targets:
             return False
+        if any(self.goal_intervals(c)[0] for c in self.start_belief if self.is_piece(c)):
+            return True
         g = self.graph
         tgt_arr = np.asarray(self._tgt)
         if np.isin(tgt_arr, sorted(self.goal_whole)).any():

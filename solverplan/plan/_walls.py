@@ -35,7 +35,7 @@ from solverplan.bounce.partition import Partition, partition as make_partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.exact import ExactPoint, orient
 
-__all__ = ["Walls", "collinear_vertices", "set_ends"]
+__all__ = ["Walls", "collinear_vertices"]
 
 
 def _straight(p: ExactPoint, v: ExactPoint, q: ExactPoint) -> bool:
@@ -54,25 +54,6 @@ def collinear_vertices(env: Environment) -> tuple[int, ...]:
         out.extend(base + i for i in range(n) if _straight(ring[i - 1], ring[i], ring[(i + 1) % n]))
         base += n
     return tuple(out)
-
-
-def set_ends(env: Environment, *sets: BoundarySet | None) -> frozenset[int]:
-    """Global indices of the vertices where one of ``sets`` ends: it holds the boundary on one side of the
-    vertex (the end t = 1 of the edge into it, or the start t = 0 of the edge out of it) but not on the other."""
-    out: set[int] = set()
-    for bset in sets:
-        if bset is None:
-            continue
-        arriving, leaving = set(), set()  # vertices the set reaches from the edge before / after them
-        for piece in bset.pieces:
-            ring = int(env.ring_of[piece.edge])
-            first, size = env.ring_offsets[ring], env.ring_offsets[ring + 1] - env.ring_offsets[ring]
-            if piece.t0 == 0:
-                leaving.add(piece.edge)
-            if piece.t1 == 1:
-                arriving.add(first + (piece.edge - first + 1) % size)
-        out |= arriving ^ leaving
-    return frozenset(out)
 
 
 def _param(a: ExactPoint, b: ExactPoint, x: ExactPoint) -> Fraction:
@@ -94,23 +75,19 @@ class Walls:
         For every user edge k: ``(m, s0, s1)``, the merged edge it lies on and the merged parameters of its
         two ends (user t ↦ s0 + t·(s1 − s0)).
 
-    ``keep`` lists collinear vertices (global indices) to keep as vertices: those where a start or goal set
-    ends. Merging them would make the query coarser, not finer — the planner's beliefs are whole segments, and
-    a start set that ends at a collinear vertex would grow to the whole merged segment around it.
+    Every collinear vertex is merged, wherever a query's sets end (the planners take the sets as they are, parts
+    of segments included: :mod:`solverplan.plan._problem`), so the walls, their partition and every answer are
+    the same however the walls are written.
     """
 
-    def __init__(self, env: Environment, keep: Iterable[int] = ()) -> None:
+    def __init__(self, env: Environment) -> None:
         self.env = env
-        keep_global = frozenset(keep)
         rings: list[tuple[ExactPoint, ...]] = []
         edge_map: list[tuple[int, Fraction, Fraction]] = []
         merged_base = 0
-        user_base = 0
         for ring in env.rings:
             n = len(ring)
-            keep = [i for i in range(n)
-                    if user_base + i in keep_global or not _straight(ring[i - 1], ring[i], ring[(i + 1) % n])]
-            user_base += n
+            keep = [i for i in range(n) if not _straight(ring[i - 1], ring[i], ring[(i + 1) % n])]
             rings.append(tuple(ring[i] for i in keep))
             # the merged edge of user edge i starts at the last kept vertex at or before i (cyclically)
             owner = [0] * n
@@ -188,20 +165,39 @@ class Walls:
         """The partition P′ of the user's environment (the ids answers are reported in)."""
         return make_partition(self.env)
 
-    def runs(self, merged_partition: Partition) -> tuple[tuple[int, ...], ...]:
-        """For every segment of ``merged_partition`` (the P′ of :attr:`merged`), the user segments inside it, in
-        boundary order. Raises :class:`AssertionError` if a user segment is not inside one merged segment
-        (the user's P′ always refines the merged one)."""
+    @cached_property
+    def _user_segments_by_edge(self) -> tuple[tuple[tuple[Fraction, Fraction, int], ...], ...]:
+        """For every merged edge: the user segments on it as ``(s0, s1, id)``, their merged parameter ranges, in order."""
         user = self.user_partition
-        if self.identity:
-            return tuple((k,) for k in range(len(user.segments)))
-        found: list[list[tuple[Fraction, int]]] = [[] for _ in merged_partition.segments]
+        by_edge: list[list[tuple[Fraction, Fraction, int]]] = [[] for _ in range(self.merged.n_edges)]
         for seg in user.segments:
             m, s0, s1 = self.edge_map[seg.edge]
-            lo, hi = s0 + seg.t0 * (s1 - s0), s0 + seg.t1 * (s1 - s0)
-            j = merged_partition.segment_at(m, (lo + hi) / 2)
-            host = merged_partition.segments[j]
-            if not (host.edge == m and host.t0 <= lo and hi <= host.t1):  # pragma: no cover - P′ refines
-                raise AssertionError(f"user segment {seg.id} is not inside one segment of the merged partition")
-            found[j].append((lo, seg.id))
-        return tuple(tuple(k for _, k in sorted(items)) for items in found)
+            by_edge[m].append((s0 + seg.t0 * (s1 - s0), s0 + seg.t1 * (s1 - s0), seg.id))
+        return tuple(tuple(sorted(items)) for items in by_edge)
+
+    def pieces_of(self, piece: BoundaryPiece) -> tuple[tuple[int, BoundaryPiece], ...]:
+        """A piece of a merged edge (positive length) as the user segments it overlaps, in order along it, each with
+        the exact overlap as a piece of the user's edge."""
+        user = self.user_partition
+        out = []
+        for s0, s1, u in self._user_segments_by_edge[piece.edge]:
+            if s0 >= piece.t1:
+                break
+            lo, hi = max(s0, piece.t0), min(s1, piece.t1)
+            if lo < hi:
+                edge = user.segments[u].edge
+                _, e0, e1 = self.edge_map[edge]
+                out.append((u, BoundaryPiece(edge, (lo - e0) / (e1 - e0), (hi - e0) / (e1 - e0))))
+        return tuple(out)
+
+    def user_pieces(self, search: Partition) -> tuple[tuple[tuple[int, BoundaryPiece], ...], ...]:
+        """For every segment of ``search`` (P′ of :attr:`merged`): the user segments it overlaps, in boundary order,
+        each with the exact overlap as a piece of the user's edge (:meth:`pieces_of`; the user's P′ refines the
+        merged one, so these are whole user segments)."""
+        if search.env != self.merged:
+            raise ValueError("the partition is not one of the merged environment of these walls")
+        return tuple(self.pieces_of(BoundaryPiece(seg.edge, seg.t0, seg.t1)) for seg in search.segments)
+
+    def runs(self, search: Partition) -> tuple[tuple[int, ...], ...]:
+        """For every segment of ``search`` (:meth:`user_pieces`), the user segments it overlaps, in boundary order."""
+        return tuple(tuple(u for u, _ in pieces) for pieces in self.user_pieces(search))

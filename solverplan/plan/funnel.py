@@ -42,7 +42,8 @@ from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import deadline_of
 from solverplan.plan._positions import Flat, SearchOutcome, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan._walls import Walls, set_ends
+from solverplan.plan._walls import Walls
+from solverplan.plan.search import straight_walls_graph
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
 
 __all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "DEFAULT_MAX_ROWS", "NARROW_PASSES", "safe_plan_exists"]
@@ -213,17 +214,13 @@ def funnel(
     if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or not 1 <= max_bounces <= MAX_BOUNCES:
         raise InputError(f"max_bounces must be an integer in [1, {MAX_BOUNCES:,}], got {quote(max_bounces)}")
     deadline = deadline_of(timeout)
-    # Collinear vertices are no corners: search the straight walls (the same free space with them merged, but
-    # where the start or goal set ends) and answer in the user's edges (plan._walls, to_user_stages)
-    walls = Walls(env, keep=set_ends(env, start_set, goal_set))
+    # Collinear vertices are no corners: search the straight walls (the same free space with them merged) and
+    # answer in the user's edges (plan._walls, to_user_stages)
+    walls = Walls(env)
     user_start, user_goal = start_set, goal_set
-    if walls.identity:
-        g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
-    else:
-        g = (graph if graph is not None and graph.partition.env == walls.merged
-             else safe_bounce_visibility_graph(partition(walls.merged)))
-        env, start_set, goal_set = walls.merged, walls.to_merged(start_set), walls.to_merged(goal_set)
+    g = straight_walls_graph(walls, graph)
     part = g.partition
+    env, start_set, goal_set = walls.merged, walls.to_merged(start_set), walls.to_merged(goal_set)
     goal_f = [(p.edge, float(p.t0), float(p.t1)) for p in goal_set.pieces]
 
     def inside(flat: Flat) -> np.ndarray:

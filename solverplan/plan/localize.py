@@ -52,7 +52,7 @@ from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import deadline_of
 from solverplan.plan._positions import Flat, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan._walls import Walls, set_ends
+from solverplan.plan._walls import Walls
 from solverplan.plan.funnel import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, position_scope,
                                     search_optimality, search_stats)
 from solverplan.result import EnvironmentRecord, Method, Optimality, Status
@@ -179,10 +179,10 @@ def localize(
     else:
         raise InputError(f"start set {start!r}: expected a boundary set such as 'e3:0.25:0.75,e4'")
     deadline = deadline_of(timeout)
-    # Collinear vertices are no corners: search the straight walls (the same free space with them merged, but
-    # where the start set ends) and answer in the user's edges (plan._walls, to_user_stages). A final interval
-    # may then straddle a collinear vertex: it is one interval of one straight wall.
-    walls = Walls(env, keep=set_ends(env, start_set))
+    # Collinear vertices are no corners: search the straight walls (the same free space with them merged) and
+    # answer in the user's edges (plan._walls, to_user_stages). A final interval may then straddle a collinear
+    # vertex: it is one interval of one straight wall.
+    walls = Walls(env)
     user_start = start_set
     if walls.identity:
         g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))

@@ -11,14 +11,15 @@ localisation) builds its heading intervals under the same three margins:
 ``safe_margin`` μ (radians, default :data:`DEFAULT_SAFE_MARGIN` = 10⁻⁹)
     Every interval lies at least μ inside the exact safe set it was taken from (the float ends of the exact
     safe sets are off by ~10⁻¹⁵).
-``corner_clearance`` κ (a length, default :func:`default_corner_clearance`: 10⁻⁴ × the diagonal of the
-environment's bounding box)
+``corner_clearance`` κ (a length, default :func:`default_corner_clearance`: 10⁻⁴ × the environment's
+diameter D, the largest distance between two of its vertices — unchanged by rotations, translations and by how
+the walls are written, unlike a bounding box)
     No contact point of any stage's possible positions comes within κ of a segment end (a vertex of P or an
     inserted point of P′, where the next stage would not know its segment) — except the end a stage's target
     shares with its source, where positions near the corner come from positions near it and the map contracts
     towards it (paper Cor. 1's corners). For arcs of the safe BVG from source (a, b) to target (c, d) this is
     Prop. 2's cone with the target pulled in by κ: θ ≥ ang(c′ − b), θ ≤ ang(d′ − a). Interval ends that come
-    from an obstruction (a vertex the corner rays touch) are moved κ / D radians inwards (D the diagonal), so
+    from an obstruction (a vertex the corner rays touch) are moved κ / D radians inwards (D the diameter), so
     that no ray of an interval end passes nearer than that angle to the touching ray.
 
 **No corner ping-pong.** The exemption at shared corners is sound one stage at a time, but two consecutive
@@ -34,6 +35,8 @@ coefficient of an admissible heading): 10⁻⁷ D with the defaults, a hundred t
 >>> m = Margins.for_environment(square)
 >>> m.heading_margin, round(m.corner_clearance / math.hypot(4, 4), 12), round(m.end_margin, 12)
 (0.001, 0.0001, 0.0001)
+>>> m.to_json()["end"] == m.end_margin   # what every interval end actually moves inwards, in radians
+True
 >>> Margins.for_environment(square, heading_margin=0.0)
 Traceback (most recent call last):
 ...
@@ -53,36 +56,68 @@ from solverplan.errors import InputError
 from solverplan.interval import DEFAULT_HEADING_MARGIN
 
 __all__ = ["DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "CORNER_CLEARANCE_FRACTION", "Margins",
-           "default_corner_clearance", "AdmissibleIntervals", "admissible_intervals", "corner_arcs"]
+           "environment_diameter", "default_corner_clearance", "AdmissibleIntervals", "admissible_intervals", "corner_arcs"]
 
 DEFAULT_SAFE_MARGIN = 1e-9
 """μ (radians): intervals stay μ inside the exact safe sets (floats → sound plans)."""
 
 CORNER_CLEARANCE_FRACTION = 1e-4
-"""κ / D of the default corner clearance: 10⁻⁴ of the bounding-box diagonal D (1 mm in a 10 m room). One arc into
+"""κ / D of the default corner clearance: 10⁻⁴ of the environment's diameter D (1 mm in a 10 m room). One arc into
 a corner at the heading margin shrinks distances to it by ≈ δ = 10⁻³, so contact points stay ≥ 10⁻⁷ D from
 vertices: far above double rounding (10⁻¹⁶ D) and the float caster's tie tolerance (10⁻⁹ D)."""
 
 
-def _diagonal(env: Environment) -> float:
-    xmin, ymin, xmax, ymax = (float(v) for v in env.bounds)
-    return math.hypot(xmax - xmin, ymax - ymin)
+def environment_diameter(env: Environment) -> float:
+    """The largest distance between two vertices of ``env`` (its length units): the diameter of its outer ring's
+    convex hull, by rotating calipers. A size that rotations, translations, ring start indices, vertex order and
+    collinear vertices leave unchanged (to rounding), so the margins scaled by it are too.
+
+    >>> from solverplan.environment import Environment
+    >>> environment_diameter(Environment.from_coords([[0, 0], [4, 0], [4, 3], [2, 3], [0, 3]]))
+    5.0
+    """
+    pts = sorted({(float(x), float(y)) for x, y in env.rings[0]})
+    if len(pts) < 3:  # pragma: no cover - an environment has a proper outer ring
+        return math.dist(pts[0], pts[-1])
+
+    def chain(points):
+        out: list[tuple[float, float]] = []
+        for p in points:
+            while len(out) >= 2 and _turn(out[-2], out[-1], p) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    hull = chain(pts)[:-1] + chain(pts[::-1])[:-1]  # counter-clockwise, no repeated point
+    h = len(hull)
+    best, j = 0.0, 1
+    for i in range(h):
+        p, q = hull[i], hull[(i + 1) % h]
+        while _turn(p, q, hull[(j + 1) % h]) > _turn(p, q, hull[j]):
+            j = (j + 1) % h
+        best = max(best, math.dist(p, hull[j]), math.dist(q, hull[j]))
+    return best
+
+
+def _turn(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 
 
 def default_corner_clearance(env: Environment) -> float:
-    """The default κ (length units of ``env``): :data:`CORNER_CLEARANCE_FRACTION` × the bounding-box diagonal."""
-    return CORNER_CLEARANCE_FRACTION * _diagonal(env)
+    """The default κ (length units of ``env``): :data:`CORNER_CLEARANCE_FRACTION` × :func:`environment_diameter`."""
+    return CORNER_CLEARANCE_FRACTION * environment_diameter(env)
 
 
 @dataclass(frozen=True, slots=True)
 class Margins:
-    """The margins of one query (module docstring): δ and μ in radians, κ in length units; ``end_margin`` =
-    max(μ, κ / D) radians is what interval ends move inwards."""
+    """The margins of one query (module docstring): δ and μ in radians, κ in length units, ``size`` the
+    environment's size D (:func:`environment_diameter`); ``end_margin`` = max(μ, κ / D) radians is what interval
+    ends move inwards."""
 
     heading_margin: float
     safe_margin: float
     corner_clearance: float
-    diagonal: float
+    size: float
 
     @classmethod
     def for_environment(cls, env: Environment, *, heading_margin: float = DEFAULT_HEADING_MARGIN,
@@ -93,25 +128,29 @@ class Margins:
             raise InputError(f"heading_margin must be in (0, π/4) radians, got {heading_margin!r}")
         if isinstance(safe_margin, bool) or not (isinstance(safe_margin, (int, float)) and 0 <= safe_margin < 0.1):
             raise InputError(f"safe_margin must be in [0, 0.1) radians, got {safe_margin!r}")
-        diagonal = _diagonal(env)
+        size = environment_diameter(env)
         if corner_clearance is None:
-            kappa = CORNER_CLEARANCE_FRACTION * diagonal
+            kappa = CORNER_CLEARANCE_FRACTION * size
         elif isinstance(corner_clearance, bool) or not (isinstance(corner_clearance, (int, float))
                                                         and math.isfinite(corner_clearance)
-                                                        and 0 <= corner_clearance < 0.01 * diagonal):
-            raise InputError(f"corner_clearance must be a length in [0, {0.01 * diagonal:.6g}) (1% of the "
-                             f"environment's diagonal), got {corner_clearance!r}")
+                                                        and 0 <= corner_clearance < 0.01 * size):
+            raise InputError(f"corner_clearance must be a length in [0, {0.01 * size:.6g}) (1% of the "
+                             f"environment's diameter), got {corner_clearance!r}")
         else:
             kappa = float(corner_clearance)
-        return cls(float(heading_margin), float(safe_margin), kappa, diagonal)
+        return cls(float(heading_margin), float(safe_margin), kappa, size)
 
     @property
     def end_margin(self) -> float:
         """Radians every interval end moves inside its exact safe set: max(μ, κ / D)."""
-        return max(self.safe_margin, self.corner_clearance / self.diagonal if self.diagonal > 0 else 0.0)
+        return max(self.safe_margin, self.corner_clearance / self.size if self.size > 0 else 0.0)
 
     def to_json(self) -> dict:
-        return {"heading": self.heading_margin, "safe": self.safe_margin, "corner_clearance": self.corner_clearance}
+        """The margins as answers report them: ``heading`` δ, ``safe`` μ and ``end`` max(μ, κ/D) in radians (``end``
+        is what every interval end is actually moved inside its exact safe set), ``corner_clearance`` κ and
+        ``size`` D in the environment's length units."""
+        return {"heading": self.heading_margin, "safe": self.safe_margin, "end": self.end_margin,
+                "corner_clearance": self.corner_clearance, "size": self.size}
 
 
 @dataclass(frozen=True)
@@ -164,33 +203,49 @@ def admissible_intervals(graph: SafeBVG, margins: Margins) -> AdmissibleInterval
     arc = np.repeat(np.arange(graph.n_arcs), counts)
     src = np.asarray(graph.source, dtype=np.int64)[arc]
     tgt = np.asarray(graph.target, dtype=np.int64)[arc]
-    mu = margins.end_margin
-    lo = np.maximum(np.asarray(graph.set_lo, dtype=float) + mu, margins.heading_margin)
-    hi = np.minimum(np.asarray(graph.set_hi, dtype=float) - mu, math.pi - margins.heading_margin)
-    kappa = margins.corner_clearance
-    if kappa > 0 and len(arc):
+    lo = np.asarray(graph.set_lo, dtype=float)
+    hi = np.asarray(graph.set_hi, dtype=float)
+    if margins.corner_clearance > 0 and len(arc):
         part = graph.partition
         a = np.array([[float(s.a[0]), float(s.a[1])] for s in part.segments])
         b = np.array([[float(s.b[0]), float(s.b[1])] for s in part.segments])
         A, B, C, D = a[src], b[src], a[tgt], b[tgt]
-        dc = part.point_vectors(tgt, part.next_segment[tgt])
-        length = np.hypot(*dc.T)
-        u = dc / np.where(length > 0, length, 1.0)[:, None]
-        # the end shared with the source is exempt (Cor. 1's corners); floats of one exact point are equal
-        shared_c = np.all(C == B, axis=1)
-        shared_d = np.all(D == A, axis=1)
-        # the directions from differences of the exact points (c_in − b = (c − b) + κu), accurate
-        # however far from 0 the environment lies (differences of its rounded points are not)
         nxt = part.next_segment
-        ex, ey = part.point_vectors(src, nxt[src]).T
-        cb = part.point_vectors(nxt[src], tgt) + kappa * u
-        da = part.point_vectors(src, nxt[tgt]) - kappa * u
-        cone_lo = np.where(shared_c, 0.0, _angle_from(ex, ey, cb[:, 0], cb[:, 1]))
-        cone_hi = np.where(shared_d, math.pi, _angle_from(ex, ey, da[:, 0], da[:, 1]))
-        # a target too short for the clearance at both (unshared) ends cannot be used at all
-        needed = kappa * ((~shared_c).astype(float) + (~shared_d).astype(float))
-        lo = np.maximum(lo, cone_lo + margins.safe_margin)
-        hi = np.minimum(hi, cone_hi - margins.safe_margin)
-        hi = np.where(length > needed, hi, -np.inf)
+        # the directions from differences of the exact points, accurate however far from 0 the environment
+        # lies (differences of its rounded points are not)
+        lo, hi = cut_to_margins(lo, hi, margins, edge=part.point_vectors(src, nxt[src]),
+                                target=part.point_vectors(tgt, nxt[tgt]), cb=part.point_vectors(nxt[src], tgt),
+                                da=part.point_vectors(src, nxt[tgt]),
+                                shared_c=np.all(C == B, axis=1), shared_d=np.all(D == A, axis=1))
+    else:
+        lo, hi = cut_to_margins(lo, hi, margins)
     keep = hi > lo
     return AdmissibleIntervals(arc[keep], src[keep], tgt[keep], lo[keep], hi[keep])
+
+
+def cut_to_margins(lo: np.ndarray, hi: np.ndarray, margins: Margins, *, edge: np.ndarray | None = None,
+                   target: np.ndarray | None = None, cb: np.ndarray | None = None, da: np.ndarray | None = None,
+                   shared_c: np.ndarray | None = None, shared_d: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Safe intervals [lo, hi] (radians, rows) cut by ``margins`` (module docstring); empty rows get hi ≤ lo.
+
+    For the corner clearance κ each row also needs its geometry as float vectors: ``edge`` = b − a of the source
+    (a, b), ``target`` = d − c of the target (c, d), ``cb`` = c − b, ``da`` = d − a, and whether the target's end c
+    (``shared_c``: c = b) or d (``shared_d``: d = a) is the corner it shares with the source (exempt, Cor. 1)."""
+    mu = margins.end_margin
+    lo = np.maximum(lo + mu, margins.heading_margin)
+    hi = np.minimum(hi - mu, math.pi - margins.heading_margin)
+    kappa = margins.corner_clearance
+    if kappa <= 0 or edge is None or not len(lo):
+        return lo, hi
+    assert target is not None and cb is not None and da is not None and shared_c is not None and shared_d is not None
+    length = np.hypot(*target.T)
+    u = target / np.where(length > 0, length, 1.0)[:, None]
+    ex, ey = edge.T
+    cb, da = cb + kappa * u, da - kappa * u  # the target's ends pulled in by κ: c_in − b = (c − b) + κu
+    cone_lo = np.where(shared_c, 0.0, _angle_from(ex, ey, cb[:, 0], cb[:, 1]))
+    cone_hi = np.where(shared_d, math.pi, _angle_from(ex, ey, da[:, 0], da[:, 1]))
+    # a target too short for the clearance at both (unshared) ends cannot be used at all
+    needed = kappa * ((~shared_c).astype(float) + (~shared_d).astype(float))
+    lo = np.maximum(lo, cone_lo + margins.safe_margin)
+    hi = np.minimum(hi, cone_hi - margins.safe_margin)
+    return lo, np.where(length > needed, hi, -np.inf)

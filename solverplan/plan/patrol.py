@@ -376,9 +376,7 @@ class _Entry:
         path, _ = _search.bfs(problem, threshold=2 * eps, accept=accept, deadline=self.deadline)
         if path is None:
             return None
-        stages = tuple(Stage(from_segments=problem.segments(belief), to_segments=problem.segments(o.next),
-                             interval=Interval(o.lo, o.hi), moves=problem.moves(o.moves))
-                       for belief, o in _search.walk(problem, path))
+        stages = tuple(problem.user_stage(belief, o, Interval(o.lo, o.hi)) for belief, o in _search.walk(problem, path))
         return stages, stages[-1].to_segments[0]
 
 

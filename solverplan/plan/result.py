@@ -30,8 +30,9 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
 
-from solverplan.environment import Environment, read_json
+from solverplan.environment import BoundaryPiece, Environment, read_json
 from solverplan.errors import InputError, MalformedFile
+from solverplan.exact import to_fraction
 from solverplan.interval import Interval
 from solverplan.limits import quote
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
@@ -377,11 +378,14 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
             if not isinstance(raw_moves, list) or not all(isinstance(m, list) and len(m) == 2 for m in raw_moves):
                 raise MalformedFile(f"{where}.moves: expected a list of [source, target] pairs")
             moves = tuple((int(m[0]), int(m[1])) for m in raw_moves)
-            # one pair per source, or one per segment of the run of collinear segments it lands on
-            if {i for i, _ in moves} != set(frm) or {j for _, j in moves} != set(to) or len(set(moves)) != len(moves):
+        sources = _sources(raw.get("sources"), moves, f"{where}.sources")
+        if raw_moves is not None:
+            # one pair per source (piece), or one per segment of the run of collinear segments it lands on
+            keys = list(zip(moves, sources)) if sources else moves
+            if {i for i, _ in moves} != set(frm) or {j for _, j in moves} != set(to) or len(set(keys)) != len(keys):
                 raise MalformedFile(f"{where}.moves: the pairs must use every from_segment, reach exactly to_segments "
                                     "and not repeat")
-        stages.append(Stage(frm, tuple(sorted(set(to))), Interval(lo, hi), moves=moves))
+        stages.append(Stage(frm, tuple(sorted(set(to))), Interval(lo, hi), moves=moves, sources=sources))
     for k in range(1, len(stages)):
         if set(stages[k].from_segments) != set(stages[k - 1].to_segments):
             raise MalformedFile(f"{source}: stages[{k}].from_segments must be stages[{k - 1}].to_segments")
@@ -407,6 +411,26 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
         environment=environment,
         margins=data.get("margins") or {},
     )
+
+
+def _sources(raw: object, moves: tuple[tuple[int, int], ...], where: str) -> tuple[BoundaryPiece, ...]:
+    """A plan stage's exact source pieces (``[{"edge", "t0_exact", "t1_exact", ...}]``, one per move), or ``()``."""
+    if raw is None:
+        return ()
+    if not isinstance(raw, list) or len(raw) != len(moves):
+        raise MalformedFile(f"{where}: expected one piece per move ({len(moves)})")
+    out = []
+    for k, item in enumerate(raw):
+        if not isinstance(item, dict) or not isinstance(item.get("edge"), int) or isinstance(item.get("edge"), bool):
+            raise MalformedFile(f"{where}[{k}]: expected an object with edge, t0_exact, t1_exact")
+        try:
+            t0, t1 = (to_fraction(item.get(key), where=f"{where}[{k}].{key}") for key in ("t0_exact", "t1_exact"))
+        except InputError as exc:
+            raise MalformedFile(str(exc)) from None
+        if not 0 <= t0 < t1 <= 1:
+            raise MalformedFile(f"{where}[{k}]: needs 0 ≤ t0 < t1 ≤ 1")
+        out.append(BoundaryPiece(item["edge"], t0, t1))
+    return tuple(out)
 
 
 def load_plan(path: str | Path) -> Plan:

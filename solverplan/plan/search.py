@@ -33,10 +33,11 @@ optimality is over such plans. Stages land on segments of P′ of the environmen
 vertex with an angle of exactly π is no corner, so the search runs on the environment with those vertices
 merged (:mod:`solverplan.plan._walls`; the same free space) and the answer names the user's edges and
 segments — a stage onto a run of collinear segments lists every segment of the run. Inserting collinear
-vertices never changes an answer. Partial segments: a start piece covering part of a segment counts as
-the whole segment; the goal is reached on segments lying wholly in the goal set, or — in the last
-stage only — on the part of a segment the goal set covers, with the interval cut so that every
-landing point is inside it.
+vertices never changes an answer, wherever they are. The query is answered as asked: a start set that covers
+part of a segment makes that part a source of its own (a *start piece*, with the exact safe sets of the piece:
+the plan works from every point of the start set, not from the whole segment; the stage lists the pieces in
+``sources``); the goal is reached on segments lying wholly in the goal set, or — in the last stage only — on the
+part of a segment the goal set covers, with the interval cut so that every landing point is inside it.
 
 Timeouts
 --------
@@ -81,7 +82,7 @@ from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan import _search
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
-from solverplan.plan._walls import Walls, set_ends
+from solverplan.plan._walls import Walls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
@@ -144,48 +145,27 @@ def planning_problem(
                                       corner_clearance=corner_clearance)
     start_set = _boundary(env, start, "start")
     goal_set = _boundary(env, goal, "goal")
-    walls = Walls(env, keep=set_ends(env, start_set, goal_set))
+    walls = Walls(env)
     if graph is not None and graph.partition.env not in (env, walls.merged):
         raise InputError("the safe BVG given was built for another environment")
-    if walls.identity:
-        return Problem(graph or safe_bounce_visibility_graph(env), start_set, goal_set, margins=margins)
-    # Collinear vertices are no corners: search the same free space with them merged (module docstring)
-    if graph is None or graph.partition.env != walls.merged:
-        graph = safe_bounce_visibility_graph(walls.merged)
-    return Problem(graph, start_set, goal_set, margins=margins, walls=walls)
+    return Problem(straight_walls_graph(walls, graph), start_set, goal_set, margins=margins, walls=walls)
+
+
+def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
+    """The safe BVG the planners search: the one of P′ of the straight walls (collinear vertices merged, the same
+    free space: :mod:`solverplan.plan._walls`), so that it does not depend on how the walls are written; ``graph``
+    when it is that graph already."""
+    if graph is not None and graph.partition.env == walls.merged:
+        return graph
+    return safe_bounce_visibility_graph(walls.merged)
 
 
 # ---------------------------------------------------------------------- results
 def _stages(problem: Problem, path: _search.Path, constant: tuple[float, float] | None = None) -> tuple[Stage, ...]:
-    """The stages of a path, in the user's segment ids (a move onto a run of collinear segments lists each)."""
-    out = []
+    """The stages of a path, in the user's segment ids (:meth:`Problem.user_stage`)."""
     steps = list(_search.walk(problem, path))
-    for k, (belief, o) in enumerate(steps):
-        lo, hi = constant if constant is not None else (o.lo, o.hi)
-        moves = problem.user_moves(o.moves)
-        if k == len(steps) - 1 and problem.walls is not None:
-            moves = _in_goal(problem, moves)
-        out.append(Stage(problem.user_segments(problem.segments(belief)), tuple(sorted({j for _, j in moves})),
-                         Interval(lo, hi), moves=moves))
-    return tuple(out)
-
-
-def _in_goal(problem: Problem, moves: tuple[tuple[int, int], ...]) -> tuple[tuple[int, int], ...]:
-    """The last stage's moves onto user segments the goal set overlaps: where a last stage lands on a run that
-    the goal covers in part, it lands inside the goal (the interval was cut for it), hence not on the run's
-    other segments."""
-    part = problem.user_partition
-    pieces = problem.user_goal_set.by_edge() if problem.user_goal_set is not None else {}
-
-    def meets(u: int) -> bool:
-        seg = part.segments[u]
-        return any(seg.t0 < q and p < seg.t1 for p, q in pieces.get(seg.edge, ()))
-
-    kept = tuple(m for m in moves if meets(m[1]))
-    sources = {i for i, _ in moves}
-    if {i for i, _ in kept} != sources:  # pragma: no cover - every source lands in the goal
-        raise AssertionError("a last stage has a source that lands outside the goal set")
-    return kept
+    return tuple(problem.user_stage(belief, o, Interval(*(constant or (o.lo, o.hi))), last=k == len(steps) - 1)
+                 for k, (belief, o) in enumerate(steps))
 
 
 def _common(problem: Problem, max_bounces: int | None) -> dict:
@@ -202,10 +182,12 @@ def _scope(problem: Problem, max_bounces: int | None) -> str:
     """The class of plans every optimality claim of :func:`find_plan` and :func:`pareto_front` is about."""
     budget = f" with at most {max_bounces} bounces" if max_bounces is not None else ""
     m = problem.margins
-    return (f"plans{budget} whose stages each land on one segment of P′ of the straight walls (collinear vertices "
-            f"merged: a run of collinear segments is one landing unit) with intervals in the admissible intervals of "
-            f"the safe BVG (heading margin {m.heading_margin:g} rad, safe margin {m.safe_margin:g} rad, corner "
-            f"clearance {m.corner_clearance:.3g} at real corners, no two consecutive arcs into one corner)")
+    return (f"plans{budget} whose first stage works from every point of the start set as given, whose later stages "
+            f"leave from whole segments of P′ of the straight walls (collinear vertices merged) and whose stages each "
+            f"land on one such segment (a run of collinear segments is one landing unit; the last stage inside the "
+            f"goal set), with intervals in the admissible intervals of the exact safe sets (heading margin "
+            f"{m.heading_margin:g} rad, interval ends {m.end_margin:.3g} rad inside, corner clearance "
+            f"{m.corner_clearance:.3g} at real corners, no two consecutive arcs into one corner)")
 
 
 def _claim(method: Method, proved: bool, bound: float | None, algorithm: str, problem: Problem,
@@ -519,7 +501,7 @@ def _fewest(problem: Problem, k_max: int | None, common: dict, deadline: Deadlin
     else:
         algorithm = ("belief-state A* with single-segment bounds (fewest stages L), then layered labels within L "
                      "(the most tolerant of the fewest-bounce plans)")
-        dist, _ = problem.singleton_bounds
+        dist = {s: problem.belief_bounds((s,))[0] for s in start}
         lone = [s for s in start if dist[s] == math.inf]
         if lone:
             reason = (f"start {problem.segment_text(lone[0])} has no plan to the goal even on its own, so no plan "

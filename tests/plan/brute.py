@@ -17,10 +17,11 @@ from solverplan.plan.margins import CORNER_CLEARANCE_FRACTION, DEFAULT_HEADING_M
 EPS = 1e-9
 
 
-def _clearance_cone(graph: SafeBVG, i: int, j: int, kappa: float) -> tuple[float, float]:
-    """Headings whose landings from every point of segment i stay κ away from the ends of segment j (except the
-    end j shares with i): Prop. 2's cone towards the target pulled in by κ, computed point by point."""
-    src, dst = graph.partition.segments[i], graph.partition.segments[j]
+def _clearance_cone(graph: SafeBVG, src, j: int, kappa: float) -> tuple[float, float]:
+    """Headings whose landings from every point of ``src`` (a segment or a start piece: anything with ends ``a``,
+    ``b``) stay κ away from the ends of segment j (except the end j shares with src): Prop. 2's cone towards the
+    target pulled in by κ, computed point by point."""
+    dst = graph.partition.segments[j]
     ax, ay, bx, by = (float(v) for v in (*src.a, *src.b))
     cx, cy, dx, dy = (float(v) for v in (*dst.a, *dst.b))
     length = math.hypot(dx - cx, dy - cy)
@@ -38,9 +39,10 @@ def _clearance_cone(graph: SafeBVG, i: int, j: int, kappa: float) -> tuple[float
     return low, high
 
 
-def _corner(graph: SafeBVG, i: int, j: int) -> tuple[int, int]:
-    """(end of i, end of j) of the vertex segments i and j share — 1 start, 2 end — or (0, 0)."""
-    a, b = graph.partition.segments[i], graph.partition.segments[j]
+def _corner(graph: SafeBVG, a, j: int) -> tuple[int, int]:
+    """(end of a, end of j) of the vertex a (a segment or a start piece) and segment j share — 1 start, 2 end —
+    or (0, 0)."""
+    b = graph.partition.segments[j]
     if a.b == b.a:
         return 2, 1
     if a.a == b.b:
@@ -48,25 +50,81 @@ def _corner(graph: SafeBVG, i: int, j: int) -> tuple[int, int]:
     return 0, 0
 
 
+def diameter(env) -> float:
+    """The largest distance between two vertices (all pairs: independent of the planners' calipers)."""
+    pts = [(float(x), float(y)) for ring in env.rings for x, y in ring]
+    return max(math.dist(p, q) for p in pts for q in pts)
+
+
+@dataclass(frozen=True)
+class Piece:
+    """A start piece: part [t0, t1] of segment ``host`` (the key of its admissible intervals)."""
+
+    host: int
+    t0: Fraction
+    t1: Fraction
+    a: tuple
+    b: tuple
+
+
 def admissible(graph: SafeBVG, delta: float = DEFAULT_HEADING_MARGIN, mu: float = DEFAULT_SAFE_MARGIN,
-               kappa: float | None = None):
-    """The admissible intervals of every source: safe intervals cut by the margin policy (δ, μ, κ), each with
-    the corner it runs into (``dive``: the source's end, ``arrival``: the target's end; 0 for none)."""
-    xmin, ymin, xmax, ymax = graph.partition.env.bounds
-    diagonal = math.hypot(xmax - xmin, ymax - ymin)
-    kappa = CORNER_CLEARANCE_FRACTION * diagonal if kappa is None else kappa
-    end = max(mu, kappa / diagonal)
-    out: dict[int, list[tuple[float, float, int]]] = {s: [] for s in range(graph.n_segments)}
+               kappa: float | None = None, pieces: tuple[Piece, ...] = ()):
+    """The admissible intervals of every source (every segment, and every start piece in ``pieces``): safe
+    intervals cut by the margin policy (δ, μ, κ), each with the corner it runs into (``dive``: the source's end,
+    ``arrival``: the target's end; 0 for none). A piece's safe sets are the exact reference
+    :func:`~solverplan.bounce.safe.safe_set`, towards every segment."""
+    from solverplan.bounce.safe import safe_set
+
+    size = diameter(graph.partition.env)
+    kappa = CORNER_CLEARANCE_FRACTION * size if kappa is None else kappa
+    end = max(mu, kappa / size)
+    out: dict = {s: [] for s in range(graph.n_segments)}
+
+    def add(key, src, j, intervals):
+        low, high = _clearance_cone(graph, src, j, kappa)
+        dive, arrival = _corner(graph, src, j)
+        for l0, h0 in intervals:
+            lo = max(l0 + end, delta, low + mu)
+            hi = min(h0 - end, math.pi - delta, high - mu)
+            if hi > lo:
+                out[key].append((lo, hi, j, dive, arrival))
+
     for k in range(graph.n_arcs):
         i, j = int(graph.source[k]), int(graph.target[k])
-        low, high = _clearance_cone(graph, i, j, kappa)
-        dive, arrival = _corner(graph, i, j)
-        for r in range(int(graph.set_offsets[k]), int(graph.set_offsets[k + 1])):
-            lo = max(float(graph.set_lo[r]) + end, delta, low + mu)
-            hi = min(float(graph.set_hi[r]) - end, math.pi - delta, high - mu)
-            if hi > lo:
-                out[i].append((lo, hi, j, dive, arrival))
+        rows = range(int(graph.set_offsets[k]), int(graph.set_offsets[k + 1]))
+        add(i, graph.partition.segments[i], j, [(float(graph.set_lo[r]), float(graph.set_hi[r])) for r in rows])
+    for piece in pieces:
+        out[piece] = []
+        for j, seg in enumerate(graph.partition.segments):
+            if j != piece.host and seg.edge != graph.partition.segments[piece.host].edge:
+                found = safe_set(graph.partition.env, (piece.a, piece.b), (seg.a, seg.b))
+                add(piece, piece, j, [(iv.lo, iv.hi) for iv in found.intervals])
     return out
+
+
+def start_elements(graph: SafeBVG, pieces: list[tuple[int, Fraction, Fraction]]) -> tuple[tuple, tuple[Piece, ...]]:
+    """The start set as given: the segments it covers whole and the :class:`Piece` s it covers in part (pieces of
+    one edge merged first)."""
+    merged: dict[int, list[list[Fraction]]] = {}
+    for e, a, b in sorted(pieces):
+        items = merged.setdefault(e, [])
+        if items and a <= items[-1][1]:
+            items[-1][1] = max(items[-1][1], b)
+        else:
+            items.append([a, b])
+    whole, parts = [], []
+    for seg in graph.partition.segments:
+        for a, b in merged.get(seg.edge, ()):
+            lo, hi = max(a, seg.t0), min(b, seg.t1)
+            if lo >= hi:
+                continue
+            if (lo, hi) == (seg.t0, seg.t1):
+                whole.append(seg.id)
+                continue
+            lam0, lam1 = (lo - seg.t0) / (seg.t1 - seg.t0), (hi - seg.t0) / (seg.t1 - seg.t0)
+            point = lambda lam: tuple(p + lam * (q - p) for p, q in zip(seg.a, seg.b))  # noqa: E731
+            parts.append(Piece(seg.id, lo, hi, point(lam0), point(lam1)))
+    return tuple(whole) + tuple(parts), tuple(parts)
 
 
 def start_segments(graph: SafeBVG, pieces: list[tuple[int, Fraction, Fraction]]) -> tuple[int, ...]:

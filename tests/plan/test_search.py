@@ -15,7 +15,7 @@ from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.plan import find_plan, pareto_front, planning_problem
-from tests.plan.brute import EPS, admissible, enumerate_plans, start_segments
+from tests.plan.brute import EPS, admissible, enumerate_plans, start_elements
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
 
 K = 3
@@ -49,9 +49,9 @@ def test_planners_are_optimal_against_brute_force_enumeration(query):
     """fewest, tolerance (with budget and the whole Pareto front), sum and constant, all ≤ K stages."""
     env, pieces, goal_edge = query
     graph = safe_bounce_visibility_graph(env)
-    start = start_segments(graph, pieces)
+    start, parts = start_elements(graph, pieces)  # the start set as given: segments and parts of segments
     goal = set(graph.partition.edge_segments[goal_edge])
-    brute = enumerate_plans(admissible(graph), start, goal, K)
+    brute = enumerate_plans(admissible(graph, pieces=parts), start, goal, K)
     S, G = _spec(pieces), f"e{goal_edge}"
     event(f"start segments: {min(len(start), 3)}{'+' if len(start) >= 3 else ''}")
     event(f"plans with ≤ {K} stages: {'none' if not brute.plans else 'some'}")
@@ -173,18 +173,28 @@ def test_options_wider_than_a_threshold_are_exactly_the_wide_options(two_rooms):
 
 
 def test_belief_state_plan_from_a_start_spanning_segments(two_rooms):
-    """e0:0.2:0.8 covers segments 2–5 of e0: one interval must work from all four (conformant plan)."""
+    """e0:0.2:0.8 covers segments 2–5 of e0 — 3 and 4 whole, 2 and 5 in part: one interval must work from every
+    point of the start set (conformant plan), and only from those (the parts of 2 and 5 are the sources)."""
+    from solverplan.bounce.safe import safe_set
+
     env, graph = two_rooms
     plan = find_plan(env, "e0:0.2:0.8", "e4:0.5:1", graph=graph)
     first = plan.stages[0]
     assert first.from_segments == (2, 3, 4, 5)
     assert sorted(i for i, _ in first.moves) == [2, 3, 4, 5]
     assert set(first.to_segments) == {j for _, j in first.moves}
+    assert (0, Fraction(1, 5), graph.partition.segments[2].t1) in [(p.edge, p.t0, p.t1) for p in first.sources]
+    assert min(p.t0 for p in first.sources) == Fraction(1, 5) and max(p.t1 for p in first.sources) == Fraction(4, 5)
     for stage, nxt in zip(plan.stages, plan.stages[1:]):
         assert nxt.from_segments == stage.to_segments
-    for stage in plan.stages:  # the interval is inside an admissible interval of every move's arc
-        for i, j in stage.moves:
-            assert any(s.lo < stage.interval.lo and stage.interval.hi < s.hi for s in graph.safe_set(i, j).intervals)
+    for stage in plan.stages:  # the interval is inside the exact safe set of every move (from its source piece)
+        for k, (i, j) in enumerate(stage.moves):
+            if stage.sources:
+                p, seg = stage.sources[k], graph.partition.segments[j]
+                found = safe_set(env, (env.exact_point_at(p.edge, p.t0), env.exact_point_at(p.edge, p.t1)), (seg.a, seg.b))
+            else:
+                found = graph.safe_set(i, j)
+            assert any(s.lo < stage.interval.lo and stage.interval.hi < s.hi for s in found.intervals)
 
 
 def test_belief_spanning_the_outer_ring_and_a_hole():
