@@ -644,7 +644,7 @@ TimeoutOpt = Annotated[
 CornerClearanceOpt = Annotated[
     float | None,
     typer.Option("--corner-clearance", metavar="K", help="Keep every landing point this far (a length) from segment ends, "
-                 "but the corner a stage's segments share (default: 1e-4 of the bounding box's diagonal).", show_default=False),
+                 "but the corner a stage's segments share (default: 1e-4 of the environment's diameter).", show_default=False),
 ]
 
 

@@ -35,6 +35,7 @@ from solverplan.exact import to_fraction
 from solverplan.plan import find_plan
 from tests.exact_reference import (Rings, frame_direction, heading_is_safe, reference_arcs, reference_partition,
                                    reference_segments, rotate)
+from solverplan.plan._walls import Walls
 from tests.plan.brute import EPS, admissible, enumerate_plans, start_elements, start_segments
 
 F = Fraction
@@ -331,19 +332,27 @@ def _pieces(env: Environment, spec: str):
 
 @pytest.mark.parametrize("name", slow_if_big(sorted(CASES)))
 def test_plans_equal_the_brute_force(name):
+    """Brute force on the straight walls (collinear vertices merged, the sets mapped onto them: what the planners
+    search) against the planners on the environment as written."""
     env, p, g = built(name)
     case = CASES[name]
-    start, parts = start_elements(g, _pieces(env, case.start))
-    goal = set(start_segments(g, _pieces(env, case.goal)))
+    walls = Walls(env)
+    g = safe_bounce_visibility_graph(walls.merged)
+
+    def merged(spec: str):
+        return [(q.edge, q.t0, q.t1) for q in walls.to_merged(env.boundary_set(spec)).pieces]
+
+    start, parts = start_elements(g, merged(case.start))
+    goal = set(start_segments(g, merged(case.goal)))
     K = 3
     brute = enumerate_plans(admissible(g, pieces=parts), start, goal, K)
-    fewest = find_plan(env, case.start, case.goal, objective="fewest", graph=g)
+    fewest = find_plan(env, case.start, case.goal, objective="fewest")
     if brute.fewest() is None:
         assert not fewest.found or fewest.bounces > K
     else:
         assert fewest.found and fewest.optimality.proved and fewest.bounces == brute.fewest()
         assert abs(fewest.min_width - brute.best_min_width(brute.fewest())) <= EPS
-    tolerance = find_plan(env, case.start, case.goal, objective="tolerance", max_bounces=K, graph=g)
+    tolerance = find_plan(env, case.start, case.goal, objective="tolerance", max_bounces=K)
     front = brute.front(K)
     if front:
         assert (tolerance.bounces, tolerance.min_width) == (front[-1][0], pytest.approx(front[-1][1], abs=EPS))
@@ -515,7 +524,7 @@ def answer(*args) -> dict:
 
 COORDINATE_FIELDS = {"a", "b", "point", "vertices", "bounds", "area", "area_exact", "perimeter", "length",
                      "corner_clearance", "sha256", "name", "stats", "seconds", "reoriented", "notes",
-                     "scope"}  # a plan's scope quotes the corner clearance, a length
+                     "size", "scope"}  # a plan's scope quotes the corner clearance, a length; size is one
 
 
 def without(doc, fields=COORDINATE_FIELDS):

@@ -213,10 +213,13 @@ class Problem:
 
         part, n = self.partition, self.n_segments
         a, b = piece.a, piece.b
+        host = part.segments[piece.host]
         rows: list[tuple[float, float, int, int]] = []  # (lo, hi, target, shared) shared: 1 c = b, 2 d = a
         for j in self.graph.successors(piece.host).tolist():
             t = part.segments[j]
-            shared = 1 if t.a == b else 2 if t.b == a else 0
+            # the corners the target shares with the piece's segment: exempt from the clearance as they are for the
+            # segment (the piece's landings are some of the segment's), so a piece never does worse than its segment
+            shared = 1 if t.a == host.b else 2 if t.b == host.a else 0
             found = [(iv.lo, iv.hi) for iv in safe_set(self.env, (a, b), (t.a, t.b)).intervals]
             if found:
                 self._piece_safe[(code, j)] = found
@@ -401,6 +404,9 @@ class Problem:
         los, his, tgts = self.intervals(source)
         items = []
         seg = self.piece(source) if self.is_piece(source) else self.partition.segments[source % self.n_segments]
+        # a start piece is exempt from the clearance at the corners of its segment, as the segment is (the landings
+        # from the piece are some of the segment's: never nearer the corner), so that it never does worse
+        host = self.partition.segments[self.segment(source)]
         e = (float(seg.b[0] - seg.a[0]), float(seg.b[1] - seg.a[1]))
         for lo, hi, j in zip(los, his, tgts):
             if j % self.n_segments in self.goal_whole:
@@ -411,11 +417,11 @@ class Problem:
                 continue
             tseg = self.partition.segments[j % self.n_segments]
             for t0, t1 in pieces:
-                g0, g1 = _pulled_in(tseg, t0, t1, self.margins.corner_clearance, seg)
+                g0, g1 = _pulled_in(tseg, t0, t1, self.margins.corner_clearance, host)
                 if g0 is None:
                     continue
-                cone_lo = 0.0 if g0 == seg.b else _angle(e, (float(g0[0] - seg.b[0]), float(g0[1] - seg.b[1]))) + self.safe_margin
-                cone_hi = math.pi if g1 == seg.a else _angle(e, (float(g1[0] - seg.a[0]), float(g1[1] - seg.a[1]))) - self.safe_margin
+                cone_lo = 0.0 if g0 == host.b else _angle(e, (float(g0[0] - seg.b[0]), float(g0[1] - seg.b[1]))) + self.safe_margin
+                cone_hi = math.pi if g1 == host.a else _angle(e, (float(g1[0] - seg.a[0]), float(g1[1] - seg.a[1]))) - self.safe_margin
                 l2, h2 = max(lo, cone_lo), min(hi, cone_hi)
                 if h2 > l2:
                     items.append((l2, h2, j))

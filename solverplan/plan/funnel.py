@@ -248,7 +248,7 @@ def funnel(
     safe = safe_plan_exists(g, start_set, goal_set)
     status, optimality = search_optimality(
         outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
-        scope=position_scope(eps, max_bounces, walls))
+        scope=position_scope(eps, max_bounces))
     user_part = walls.user_partition if not walls.identity else part
     return Funnel(status=status, optimality=optimality, environment=EnvironmentRecord.of(walls.env, user_part.n_segments),
                   start=user_start, goal=user_goal, tolerance=eps, partition=user_part,
@@ -256,11 +256,9 @@ def funnel(
                   reason="" if outcome.stages is not None else outcome.reason, safe_plan=safe, stats=stats)
 
 
-def position_scope(eps: float, max_bounces: int, walls: Walls) -> str:
-    """The class of strategies a search over position sets is about (``optimality.scope``); on an environment
-    with collinear vertices it says that its pieces are carried onto straight walls, not single edges."""
-    scope = f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces"
-    if not walls.identity:
-        scope += (", each stage carrying every piece whole onto one straight wall (collinear vertices merged: a run "
-                  "of collinear edges is one landing unit)")
-    return scope
+def position_scope(eps: float, max_bounces: int) -> str:
+    """The class of strategies a search over position sets is about (``optimality.scope``): its pieces are carried
+    onto straight walls, not single edges (the same words however the walls are written)."""
+    return (f"open-loop strategies of intervals {2 * eps:g} rad wide over exact position sets, ≤ {max_bounces} bounces, "
+            "each stage carrying every piece whole onto one straight wall (collinear vertices merged: a run of "
+            "collinear edges is one landing unit)")

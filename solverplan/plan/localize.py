@@ -236,7 +236,7 @@ def localize(
     stats = search_stats(outcome, time.perf_counter() - t0)
     status, optimality = search_optimality(
         outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
-        scope=position_scope(eps, max_bounces, walls))
+        scope=position_scope(eps, max_bounces))
     goal = None
     if outcome.stages is not None:
         final = outcome.stages[-1].positions if outcome.stages else start_set.pieces

@@ -17,10 +17,10 @@ from solverplan.plan.margins import CORNER_CLEARANCE_FRACTION, DEFAULT_HEADING_M
 EPS = 1e-9
 
 
-def _clearance_cone(graph: SafeBVG, src, j: int, kappa: float) -> tuple[float, float]:
+def _clearance_cone(graph: SafeBVG, src, j: int, kappa: float, corner) -> tuple[float, float]:
     """Headings whose landings from every point of ``src`` (a segment or a start piece: anything with ends ``a``,
-    ``b``) stay κ away from the ends of segment j (except the end j shares with src): Prop. 2's cone towards the
-    target pulled in by κ, computed point by point."""
+    ``b``) stay κ away from the ends of segment j (except the end j shares with ``corner``, src's segment): Prop.
+    2's cone towards the target pulled in by κ, computed point by point."""
     dst = graph.partition.segments[j]
     ax, ay, bx, by = (float(v) for v in (*src.a, *src.b))
     cx, cy, dx, dy = (float(v) for v in (*dst.a, *dst.b))
@@ -32,9 +32,9 @@ def _clearance_cone(graph: SafeBVG, src, j: int, kappa: float) -> tuple[float, f
         angle = math.atan2(qy - py, qx - px) - base
         return math.atan2(math.sin(angle), math.cos(angle))
 
-    low = 0.0 if dst.a == src.b else heading_to(bx, by, cx + kappa * ux, cy + kappa * uy)
-    high = math.pi if dst.b == src.a else heading_to(ax, ay, dx - kappa * ux, dy - kappa * uy)
-    if length <= kappa * ((dst.a != src.b) + (dst.b != src.a)):
+    low = 0.0 if dst.a == corner.b else heading_to(bx, by, cx + kappa * ux, cy + kappa * uy)
+    high = math.pi if dst.b == corner.a else heading_to(ax, ay, dx - kappa * ux, dy - kappa * uy)
+    if length <= kappa * ((dst.a != corner.b) + (dst.b != corner.a)):
         return 1.0, 0.0  # empty
     return low, high
 
@@ -81,8 +81,10 @@ def admissible(graph: SafeBVG, delta: float = DEFAULT_HEADING_MARGIN, mu: float 
     out: dict = {s: [] for s in range(graph.n_segments)}
 
     def add(key, src, j, intervals):
-        low, high = _clearance_cone(graph, src, j, kappa)
-        dive, arrival = _corner(graph, src, j)
+        # a start piece keeps the clearance exemptions of its segment at the segment's corners
+        corner = graph.partition.segments[src.host] if isinstance(src, Piece) else src
+        low, high = _clearance_cone(graph, src, j, kappa, corner)
+        dive, arrival = _corner(graph, corner, j)
         for l0, h0 in intervals:
             lo = max(l0 + end, delta, low + mu)
             hi = min(h0 - end, math.pi - delta, high - mu)

@@ -35,8 +35,8 @@ def test_contract_fields_and_numbers():
                                   "scope": data["optimality"]["scope"], "gap": 0.0,
                                   "algorithm": data["optimality"]["algorithm"]}
     scope = data["optimality"]["scope"]
-    assert scope.startswith("plans whose stages each land on one segment of P′ of the straight walls")
-    assert "collinear vertices merged" in scope and "admissible intervals" in scope
+    assert scope.startswith("plans whose first stage works from every point of the start set as given")
+    assert "straight walls (collinear vertices merged)" in scope and "admissible intervals" in scope
     assert all(stage["width"] == stage["interval"][1] - stage["interval"][0] for stage in data["stages"])
 
 

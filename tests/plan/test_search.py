@@ -341,3 +341,27 @@ def test_options_are_exactly_the_cells_where_every_source_has_an_interval(lists)
     assert got == sorted(expected)
     for o in Problem._combine(belief, lists):
         assert o.next == tuple(sorted({j for _, j in o.moves}))
+
+
+@settings(max_examples=40)
+@given(queries())
+def test_start_pieces_are_never_worse_than_their_whole_segments(query):
+    """A plan that works from whole segments works from every part of them: answering the start set as given
+    (start pieces, with their own safe sets) never needs more bounces nor gives a narrower optimum than the same
+    query with the start set grown to the whole segments it touches — and it can do better."""
+    env, pieces, goal_edge = query
+    graph = safe_bounce_visibility_graph(env)
+    S, G = _spec(pieces), f"e{goal_edge}"
+    touched = sorted({s.id for s in graph.partition.segments for e, a, b in pieces
+                      if s.edge == e and s.t0 < b and a < s.t1})
+    segs = graph.partition.segments
+    grown = ",".join(f"e{segs[k].edge}:{segs[k].t0}:{segs[k].t1}" for k in touched)
+    for objective in ("fewest", "tolerance"):
+        exact = find_plan(env, S, G, objective=objective, max_bounces=K, graph=graph)
+        whole = find_plan(env, grown, G, objective=objective, max_bounces=K, graph=graph)
+        if whole.found:
+            assert exact.found
+            if objective == "fewest":
+                assert exact.bounces <= whole.bounces
+            else:
+                assert exact.min_width >= whole.min_width - EPS
