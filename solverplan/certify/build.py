@@ -185,15 +185,15 @@ def _plan_moves(part: Partition, moves: tuple[tuple[int, int], ...],
     for k, (i, j) in enumerate(moves):
         targets.setdefault(sources[k] if sources else i, []).append(j)
     out = []
-    for i, js in targets.items():
+    for source, js in targets.items():
         if len(js) == 1:
-            out.append(MoveSpec(source=i, target=js[0]))
+            out.append(MoveSpec(source=source, target=js[0]))
             continue
         ends = {part.segments[j].b for j in js}
         first = [j for j in js if part.segments[j].a not in ends]
         if len(first) != 1:
-            raise InputError(f"plan move from {i}: its targets {sorted(js)} are not one run of consecutive segments")
-        out.append(MoveSpec(source=i, target_edge=part.segments[first[0]].edge))
+            raise InputError(f"plan move from {source}: its targets {sorted(js)} are not one run of consecutive segments")
+        out.append(MoveSpec(source=source, target_edge=part.segments[first[0]].edge))
     return tuple(out)
 
 

@@ -219,11 +219,11 @@ class Problem:
             t = part.segments[j]
             # the corners the target shares with the piece's segment: exempt from the clearance as they are for the
             # segment (the piece's landings are some of the segment's), so a piece never does worse than its segment
-            shared = 1 if t.a == host.b else 2 if t.b == host.a else 0
+            corner = 1 if t.a == host.b else 2 if t.b == host.a else 0
             found = [(iv.lo, iv.hi) for iv in safe_set(self.env, (a, b), (t.a, t.b)).intervals]
             if found:
                 self._piece_safe[(code, j)] = found
-            rows.extend((lo, hi, j, shared) for lo, hi in found)
+            rows.extend((lo, hi, j, corner) for lo, hi in found)
         if not rows:
             return [], [], []
         lo = np.array([r[0] for r in rows])

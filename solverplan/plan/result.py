@@ -385,7 +385,13 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
             if {i for i, _ in moves} != set(frm) or {j for _, j in moves} != set(to) or len(set(keys)) != len(keys):
                 raise MalformedFile(f"{where}.moves: the pairs must use every from_segment, reach exactly to_segments "
                                     "and not repeat")
-        stages.append(Stage(frm, tuple(sorted(set(to))), Interval(lo, hi), moves=moves, sources=sources))
+        left = raw.get("margins")
+        margins = None
+        if left is not None:
+            if not isinstance(left, list) or len(left) != 2:
+                raise MalformedFile(f"{where}.margins: expected [lo, hi] (radians)")
+            margins = (_number(left[0], f"{where}.margins[0]"), _number(left[1], f"{where}.margins[1]"))
+        stages.append(Stage(frm, tuple(sorted(set(to))), Interval(lo, hi), moves=moves, sources=sources, margins=margins))
     for k in range(1, len(stages)):
         if set(stages[k].from_segments) != set(stages[k - 1].to_segments):
             raise MalformedFile(f"{source}: stages[{k}].from_segments must be stages[{k - 1}].to_segments")

@@ -60,7 +60,7 @@ A room whose ceiling is wider than its floor: one bounce, every heading in [ang(
 >>> room = Environment.from_coords([[0, 0], [4, 0], [6, 3], [-2, 3]], name="room")
 >>> plan = find_plan(room, "e0", "e2", objective="fewest")
 >>> plan.bounces, plan.stages[0].moves, round(plan.stages[0].interval.lo, 6), round(plan.min_width, 6)
-(1, ((0, 2),), 0.982991, 1.175611)
+(1, ((0, 2),), 0.982978, 1.175636)
 >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 >>> plan = find_plan(square, "e0", "e2", objective="tolerance")
 >>> plan.bounces, [s.moves for s in plan.stages], plan.optimality.method.value, plan.optimality.proved

@@ -365,3 +365,22 @@ def test_start_pieces_are_never_worse_than_their_whole_segments(query):
                 assert exact.bounces <= whole.bounces
             else:
                 assert exact.min_width >= whole.min_width - EPS
+
+
+@pytest.mark.parametrize("name", ["two_rooms", "one_hole"])
+def test_answers_do_not_change_under_an_exact_rotation(name):
+    """A rotation by atan2(4, 3) (exact: rational cosine and sine) and a translation change no answer: the margins
+    are scaled by the environment's diameter, not by its bounding box (which a rotation changes: proved optima
+    moved by ~1e-6 when they were)."""
+    from solverplan.plan.margins import Margins
+
+    env = load_environment(MODELS / f"{name}.json")
+    c, s = Fraction(3, 5), Fraction(4, 5)
+    turned = Environment(tuple(tuple((c * x - s * y + 7, s * x + c * y - 3) for x, y in ring) for ring in env.rings))
+    assert Margins.for_environment(turned).size == pytest.approx(Margins.for_environment(env).size, rel=1e-15)
+    start, goal = ("e0:0.2:0.8", "e4:0.5:1") if name == "two_rooms" else ("e0:0.1:0.7", "e2")
+    for objective in ("fewest", "tolerance"):
+        a = find_plan(env, start, goal, objective=objective)
+        b = find_plan(turned, start, goal, objective=objective)
+        assert a.found and b.found and a.bounces == b.bounces
+        assert b.min_width == pytest.approx(a.min_width, abs=1e-9)
