@@ -35,7 +35,7 @@ from solverplan.bounce.partition import Partition, partition as make_partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.exact import ExactPoint, orient
 
-__all__ = ["Walls", "collinear_vertices"]
+__all__ = ["Walls", "canonical_start", "collinear_vertices"]
 
 
 def _straight(p: ExactPoint, v: ExactPoint, q: ExactPoint) -> bool:
@@ -54,6 +54,44 @@ def collinear_vertices(env: Environment) -> tuple[int, ...]:
         out.extend(base + i for i in range(n) if _straight(ring[i - 1], ring[i], ring[(i + 1) % n]))
         base += n
     return tuple(out)
+
+
+def canonical_start(ring: list[ExactPoint]) -> int:
+    """The index a ring's vertex list starts at in the straight walls: the vertex whose sequence of shapes (per
+    vertex from there on: the squared length of the edge into it, and the dot and cross products of the edges into
+    and out of it, all exact) is lexicographically least among the ring's rotations (Booth's least rotation, O(n)).
+    Rotations, translations and the first vertex of the input do not change the sequence, and a uniform scaling
+    multiplies every term by one positive factor, which keeps the order: so the planners number the walls the same
+    however the environment is written, and break ties the same way. A symmetric ring has several least rotations,
+    which the symmetry maps onto each other: any of them gives the same answers.
+
+    >>> canonical_start([(0, 0), (4, 0), (4, 1), (0, 2)]), canonical_start([(4, 1), (0, 2), (0, 0), (4, 0)])
+    (2, 0)
+    """
+    n = len(ring)
+    shape = []
+    for i in range(n):
+        p, v, q = ring[i - 1], ring[i], ring[(i + 1) % n]
+        ux, uy, wx, wy = v[0] - p[0], v[1] - p[1], q[0] - v[0], q[1] - v[1]
+        shape.append((ux * ux + uy * uy, ux * wx + uy * wy, ux * wy - uy * wx))
+    # Booth's algorithm on the doubled sequence
+    seq = shape + shape
+    fail = [-1] * len(seq)
+    k = 0
+    for j in range(1, len(seq)):
+        sj = seq[j]
+        i = fail[j - k - 1]
+        while i != -1 and sj != seq[k + i + 1]:
+            if sj < seq[k + i + 1]:
+                k = j - i - 1
+            i = fail[i]
+        if sj != seq[k + i + 1]:
+            if sj < seq[k]:
+                k = j
+            fail[j - k] = -1
+        else:
+            fail[j - k] = i + 1
+    return k % n
 
 
 def _param(a: ExactPoint, b: ExactPoint, x: ExactPoint) -> Fraction:
@@ -88,10 +126,12 @@ class Walls:
         for ring in env.rings:
             n = len(ring)
             keep = [i for i in range(n) if not _straight(ring[i - 1], ring[i], ring[(i + 1) % n])]
+            first = canonical_start([ring[i] for i in keep])
+            keep = keep[first:] + keep[:first]
             rings.append(tuple(ring[i] for i in keep))
             # the merged edge of user edge i starts at the last kept vertex at or before i (cyclically)
             owner = [0] * n
-            last = keep[-1]
+            last = max(keep)  # the last kept vertex before vertex 0, cyclically
             kept = set(keep)
             for i in range(n):
                 if i in kept:
@@ -106,7 +146,7 @@ class Walls:
                 edge_map.append((merged_base + k, s0, s1))
             merged_base += len(keep)
         self.edge_map: tuple[tuple[int, Fraction, Fraction], ...] = tuple(edge_map)
-        self.identity = merged_base == env.n_edges
+        self.identity = all(m == k and s0 == 0 and s1 == 1 for k, (m, s0, s1) in enumerate(edge_map))
         self.merged = env if self.identity else Environment(tuple(rings), name=env.name, reoriented=env.reoriented)
 
     # ------------------------------------------------------------------ sets

@@ -201,15 +201,15 @@ def test_belief_spanning_the_outer_ring_and_a_hole():
     env = load_environment(MODELS / "one_hole.json")  # edges 0-3: outer ring; 4-7: the hole
     plan = find_plan(env, "e1,e5", "e3", objective="tolerance")
     problem = planning_problem(env, "e1,e5", "e3")
-    rings = {problem.partition.ring_of_segment(s) for s in plan.stages[0].from_segments}
-    assert plan.found and rings == {0, 1} and plan.stages[0].from_segments == problem.start_belief
+    rings = {problem.user_partition.ring_of_segment(s) for s in plan.stages[0].from_segments}
+    assert plan.found and rings == {0, 1} and plan.stages[0].from_segments == problem.user_segments(problem.start_belief)
 
 
 def test_a_goal_inside_one_segment_is_reached_by_cutting_the_last_interval(two_rooms):
     """e0:0.6:0.8 lies inside segment 5 (e0, t in [0.4, 1]): the last stage lands there, inside the piece."""
     env, graph = two_rooms
     problem = planning_problem(env, "e5", "e0:0.6:0.8", graph=graph)
-    assert problem.goal_whole == frozenset() and list(problem.goal_partial) == [5]
+    assert problem.goal_whole == frozenset() and problem.user_segments(problem.goal_partial) == (5,)
     plan = find_plan(env, "e5", "e0:0.6:0.8", objective="fewest", graph=graph)
     assert plan.found and plan.stages[-1].to_segments == (5,)
     last = plan.stages[-1]
