@@ -1,0 +1,158 @@
+"""Negative certificates and certified bounds, planner side: the invariant of :mod:`solverplan.certify.invariant`.
+
+The planner answers ``infeasible`` and optimality claims (fewest bounces, widest tolerance) by exhausting its
+search. This module turns such answers into proofs the exact checker re-derives: a ``bound`` block (schema
+version 3) whose invariant says that **no plan exists** in a stated class —
+
+- an ``infeasible`` answer (any objective, budget K or none): no plan with ≤ K stages (of positive width);
+- a ``fewest`` plan with k bounces: no plan with ≤ k − 1 stages;
+- a ``tolerance`` (or ``constant``) plan of min width W* within budget K: no plan with ≤ K stages whose every
+  interval is wider than w = W* + 2·end margin + 10⁻⁹ (the planner's intervals lie ``end_margin`` inside the
+  exact safe sets at both ends, the checker's cells do not: w is what the margin-free class can prove).
+
+The class is over the **segment table** P′ of the environment's straight walls (collinear vertices merged, as
+the planner searches), refined at the ends of the query's start and goal sets (so that both are unions of whole
+segments), and the heading margin δ of the query — and *margin-free* otherwise: no safe margin, no corner
+clearance, no ban on consecutive arcs into one corner. Those margins only remove options, so the class contains
+every plan the planner considers, and the statement proved is stronger than the planner's.
+
+The invariant is computed with the checker's own exact successor relation (:class:`~.invariant.Closure`):
+breadth-first over beliefs from the start belief, up to depth K. There are therefore no float-versus-exact
+disagreements to repair; the price is that the builder does the checker's work once more. When the exact
+closure reaches the goal although the planner said there is no plan, the planner's answer holds only within its
+margins: :class:`~solverplan.certify.build.NothingToCertify` says so, with the stage count the margin-free class
+needs.
+"""
+
+from __future__ import annotations
+
+import re
+from fractions import Fraction
+from solverplan.bounce.partition import partition as make_partition
+from solverplan.certify.invariant import Closure, Geometry
+from solverplan.certify.schema import BeliefRecord, BoundClaim, Point
+from solverplan.environment import BoundaryPiece, BoundarySet, Environment
+from solverplan.plan._walls import Walls, set_ends
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
+
+__all__ = ["NoBound", "segment_table", "bound_claim", "TABLE_SOURCE", "tolerance_threshold", "heading_margin_of"]
+
+TABLE_SOURCE = "P′ of the straight walls (collinear vertices merged) refined at the query's set ends"
+
+MAX_BELIEFS = 20_000
+"""Most beliefs an invariant may list before the builder gives up (the certificate would be unreadable)."""
+
+
+class NoBound(Exception):
+    """No invariant proves the bound: ``why`` says why in a few words (the margin-free class has a plan)."""
+
+    def __init__(self, why: str) -> None:
+        super().__init__(why)
+        self.why = why
+
+
+Piece3 = tuple[int, Fraction, Fraction]
+
+
+def _edges(env: Environment) -> tuple[list[tuple[Point, Point]], list[int]]:
+    edges: list[tuple[Point, Point]] = []
+    nxt: list[int] = []
+    for ring in env.rings:
+        first = len(edges)
+        for i in range(len(ring)):
+            a, b = ring[i], ring[(i + 1) % len(ring)]
+            edges.append(((Fraction(a[0]), Fraction(a[1])), (Fraction(b[0]), Fraction(b[1]))))
+            nxt.append(first + (i + 1) % len(ring))
+    return edges, nxt
+
+
+def segment_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> list[list[Piece3]]:
+    """The table of the certificates: P′ of the straight walls of ``env`` (:mod:`solverplan.plan._walls`), each
+    segment as pieces of the user's edges, cut at every end of the start and goal sets' pieces."""
+    walls = Walls(env, keep=set_ends(env, start, goal))
+    part = make_partition(walls.merged)
+    table: list[list[Piece3]] = []
+    for seg in part.segments:
+        pieces = walls.to_user([BoundaryPiece(seg.edge, seg.t0, seg.t1)])
+        table.append([(p.edge, Fraction(p.t0), Fraction(p.t1)) for p in pieces])
+    cuts: dict[int, set[Fraction]] = {}
+    for bset in (start, goal):
+        for p in bset.merged().pieces:
+            cuts.setdefault(p.edge, set()).update((Fraction(p.t0), Fraction(p.t1)))
+    out: list[list[Piece3]] = []
+    for pieces in table:
+        current: list[Piece3] = []
+        for edge, t0, t1 in pieces:
+            lo = t0
+            for c in sorted(x for x in cuts.get(edge, ()) if t0 < x < t1):
+                current.append((edge, lo, c))
+                out.append(current)
+                current, lo = [], c
+            current.append((edge, lo, t1))
+        out.append(current)  # (a set ending at a collinear vertex keeps it as a vertex: ``set_ends``)
+    return out
+
+
+def heading_margin_of(margins: dict | None, scope: str | None = None) -> Fraction:
+    """The query's heading margin δ as an exact rational (its shortest decimal text): from an answer's ``margins``,
+    else from the text of its optimality scope, else the default."""
+    value: float | None = None
+    if margins and "heading" in margins:
+        value = float(margins["heading"])
+    elif scope:
+        found = re.search(r"heading margin ([0-9.eE+-]+) rad", scope)
+        if found:
+            value = float(found.group(1))
+    return Fraction(repr(value if value is not None else DEFAULT_HEADING_MARGIN))
+
+
+def tolerance_threshold(env: Environment, width: float, margins: dict | None) -> Fraction:
+    """w = W* + 2·end margin + 10⁻⁹, rounded up to 12 decimals: what the margin-free class can prove about a plan
+    of min width W* found with the margins of ``margins`` (see the module docstring)."""
+    m = Margins.for_environment(env, heading_margin=float((margins or {}).get("heading", DEFAULT_HEADING_MARGIN)),
+                                safe_margin=float((margins or {}).get("safe", 1e-9)),
+                                corner_clearance=(margins or {}).get("corner_clearance"))
+    w = Fraction(width) + 2 * Fraction(m.end_margin) + Fraction(1, 10**9)
+    scale = 10**12
+    return Fraction(-((-w.numerator * scale) // w.denominator), scale)
+
+
+def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budget: int | None,
+                threshold: Fraction = Fraction(0), heading_margin: Fraction) -> BoundClaim:
+    """The invariant proving that no plan of the class (module docstring) with ≤ ``budget`` stages (None: any
+    number) whose intervals are wider than ``threshold`` takes ``start`` to ``goal``.
+
+    Raises :class:`NoBound` when the exact closure reaches the goal (naming the stage count), or lists more than
+    :data:`MAX_BELIEFS` beliefs."""
+    table = segment_table(env, start, goal)
+    edges, nxt = _edges(env)
+    geo = Geometry(edges, nxt, table)
+    start_pieces = [(p.edge, Fraction(p.t0), Fraction(p.t1)) for p in start.merged().pieces]
+    goal_pieces = [(p.edge, Fraction(p.t0), Fraction(p.t1)) for p in goal.merged().pieces]
+    start_belief = tuple(sorted(geo.overlapping(start_pieces)))
+    goal_set = geo.overlapping(goal_pieces)
+    if all(any(lo <= p[1] and p[2] <= hi for e, lo, hi in goal_pieces if e == p[0]) for p in start_pieces):
+        raise NoBound("the start set lies in the goal set")
+    closure = Closure(geo, heading_margin, threshold)
+    depth_of: dict[tuple[int, ...], int] = {start_belief: 0}
+    frontier = [start_belief]
+    depth = 0
+    while frontier and (budget is None or depth < budget):
+        nxt_frontier = []
+        for belief in frontier:
+            for targets, _ in closure.successors(belief):
+                nb = tuple(sorted(set(targets)))
+                if set(nb) <= goal_set:
+                    stages = depth + 1
+                    raise NoBound(f"a margin-free plan of {stages} stage{'s' if stages > 1 else ''} exists (the exact "
+                                  f"closure over the table reaches the goal{'' if threshold == 0 else ' with every interval wider than ' + str(float(threshold))})")
+                if nb not in depth_of:
+                    depth_of[nb] = depth + 1
+                    nxt_frontier.append(nb)
+                    if len(depth_of) > MAX_BELIEFS:
+                        raise NoBound(f"the invariant would list more than {MAX_BELIEFS:,} beliefs")
+        frontier = nxt_frontier
+        depth += 1
+    beliefs = tuple(BeliefRecord(b, d) for b, d in depth_of.items())
+    return BoundClaim(tuple(tuple(p) for p in table), heading_margin, threshold, budget, beliefs, TABLE_SOURCE)
+
