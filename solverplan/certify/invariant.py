@@ -106,6 +106,28 @@ def _lcm(a: int, b: int) -> int:
     return a // x * b
 
 
+def _primitive(x: Fraction, y: Fraction) -> IPoint:
+    """The positive multiple of the rational vector (x, y) with coprime integer coordinates."""
+    den = _lcm(x.denominator, y.denominator)
+    X, Y = int(x * den), int(y * den)
+    g = _gcd(abs(X), abs(Y)) or 1
+    return (X // g, Y // g)
+
+
+def _gcd(a: int, b: int) -> int:
+    while b:
+        a, b = b, a % b
+    return a
+
+
+def _functional(u: Point, o: Point, grid: int) -> tuple[int, int, int]:
+    """Integers (α, β, γ) with α·X + β·Y + γ a positive multiple of cross(u, x − o) at x = (X, Y)/grid."""
+    ax, ay = -u[1], u[0]
+    g = -grid * (u[0] * o[1] - u[1] * o[0])
+    den = _lcm(_lcm(Fraction(ax).denominator, Fraction(ay).denominator), Fraction(g).denominator)
+    return (int(ax * den), int(ay * den), int(g * den))
+
+
 @dataclass(frozen=True, slots=True)
 class _Piece:
     t0: Fraction
@@ -167,32 +189,23 @@ class Geometry:
                                                 "edge exactly once")
         self.per_edge = per_edge
         self.table = [tuple(p) for p in table]
-        # the common integer grid: every vertex and every segment end, doubled (so that midpoints are integral)
-        scale = 1
+        # The vertices on one integer grid (the lcm of their denominators: small, the environment's own numbers).
+        # Segment ends keep their exact rationals (their denominators differ; a common grid of all of them would
+        # hold integers of thousands of digits): every test against the vertices is a linear functional with
+        # integer coefficients, a positive multiple of the exact one (:func:`_functional`).
+        grid = 1
         for (a, b) in edges:
             for x in (*a, *b):
-                scale = _lcm(scale, Fraction(x).denominator)
-        for (a, b) in ends:
-            for x in (*a, *b):
-                scale = _lcm(scale, Fraction(x).denominator)
-        scale *= 2
-        self.scale = scale
-
-        def grid(p: Point) -> IPoint:
-            return (int(p[0] * scale), int(p[1] * scale))
-
-        self.vertices: list[IPoint] = [grid(a) for a, _ in edges]
-        self.edge_ends: list[tuple[int, int]] = []
-        index = {v: i for i, v in enumerate(self.vertices)}
-        for a, b in edges:
-            self.edge_ends.append((index[grid(a)], index[grid(b)]))
-        self.ends: list[tuple[IPoint, IPoint]] = [(grid(a), grid(b)) for a, b in ends]
-        points = set(self.vertices)
-        for a, b in self.ends:
+                grid = _lcm(grid, Fraction(x).denominator)
+        self.grid = grid
+        self.vertices: list[IPoint] = [(int(a[0] * grid), int(a[1] * grid)) for a, _ in edges]
+        self.edge_ends: list[tuple[int, int]] = [(i, nxt[i]) for i in range(n)]
+        self.ends: list[tuple[Point, Point]] = ends
+        points: set[Point] = {(Fraction(a[0]), Fraction(a[1])) for a, _ in edges}
+        for a, b in ends:
             points.add(a)
             points.add(b)
         self.points = sorted(points)
-        self.edge_params = [(_fsub(b, a)) for a, b in edges]
 
     def segment_of(self, edge: int, t: Fraction) -> int | None:
         """The table segment holding parameter t of ``edge`` other than at an end of a segment, else None."""
@@ -304,26 +317,28 @@ class Closure:
         g = self.g
         self.counts["sources"] += 1
         a, b = g.ends[s]
-        E = _isub(b, a)
-        keys: dict[Fraction, IPoint] = {}
+        E = (b[0] - a[0], b[1] - a[1])
+        keys: dict[Fraction, tuple[Fraction, Fraction]] = {}
         for p in g.points:
             for o in (a, b):
-                v = _isub(p, o)
-                y = _icross(E, v)
+                vx, vy = p[0] - o[0], p[1] - o[1]
+                y = E[0] * vy - E[1] * vx
                 if y <= 0:
                     continue
-                h = (_idot(E, v), y)
-                keys.setdefault(Fraction(-h[0], h[1]), h)
-        keys.setdefault(_ZERO, (0, 1))  # π/2: no cell spans [0, π]
-        events: list[IPoint] = [(1, 0)] + [keys[k] for k in sorted(keys)] + [(-1, 0)]
+                x = E[0] * vx + E[1] * vy
+                keys.setdefault(-x / y, (x, y))
+        keys.pop(_ZERO, None)
+        events: list[IPoint] = [(1, 0)] + [_primitive(*keys[k]) for k in sorted(keys) if k < 0]
+        events += [(0, 1)] + [_primitive(*keys[k]) for k in sorted(keys) if k > 0] + [(-1, 0)]  # π/2 always: no cell spans [0, π]
         n = (-E[1], E[0])
+        f1 = self._values(_functional(E, a, g.grid))
         out: list[Run] = []
         for i in range(len(events) - 1):
             h0, h1 = events[i], events[i + 1]
             hx, hy = h0[0] + h1[0], h0[1] + h1[1]
-            d = (hx * E[0] + hy * n[0], hx * E[1] + hy * n[1])
+            d = _primitive(hx * E[0] + hy * n[0], hx * E[1] + hy * n[1])
             self.counts["cells"] += 1
-            t = self._target(s, a, b, E, d)
+            t = self._target(s, a, b, d, f1)
             if t is None:
                 continue
             if out and out[-1][2] == t and out[-1][1] == h0:
@@ -332,25 +347,28 @@ class Closure:
                 out.append((h0, h1, t))
         return out
 
-    def _target(self, s: int, a: IPoint, b: IPoint, E: IPoint, d: IPoint) -> int | None:
+    def _values(self, f: tuple[int, int, int]) -> list[int]:
+        al, be, ga = f
+        return [al * x + be * y + ga for x, y in self.g.vertices]
+
+    def _target(self, s: int, a: Point, b: Point, d: IPoint, f1: list[int]) -> int | None:
         """The segment every point of open s lands in at direction d, or None (exact)."""
         g = self.g
-        m = ((a[0] + b[0]) // 2, (a[1] + b[1]) // 2)
+        m = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+        phi = self._values(_functional(d, m, g.grid))  # side of the ray's line
+        psi = self._values(_functional((d[1], -d[0]), m, g.grid))  # a positive multiple of dot(d, x − m)
         best_num, best_den, best_edge, best_u = 0, 0, -1, (0, 1)
-        verts = g.vertices
         for e, (i, j) in enumerate(g.edge_ends):
-            p, q = verts[i], verts[j]
-            f = _isub(q, p)
-            den = _icross(d, f)
-            if den == 0:
-                continue
-            pm = _isub(p, m)
-            num = _icross(pm, f)  # μ = num / den
-            u_num = _icross(pm, d)  # u = u_num / den
+            fp, fq = phi[i], phi[j]
+            if (fp > 0 and fq > 0) or (fp < 0 and fq < 0) or fp == fq:
+                continue  # the edge does not cross the ray's line (or lies on it)
+            den = fp - fq
+            num = fp * psi[j] - fq * psi[i]
+            u_num = fp
             if den < 0:
                 den, num, u_num = -den, -num, -u_num
-            if num <= 0 or u_num < 0 or u_num > den:
-                continue
+            if num <= 0:
+                continue  # behind the start of the ray
             if best_edge < 0 or num * best_den < best_num * den:
                 best_num, best_den, best_edge, best_u = num, den, e, (u_num, den)
         if best_edge < 0:
@@ -359,53 +377,41 @@ class Closure:
         if t is None or t == s:
             return None
         c, e_pt = g.ends[t]
-        T = _isub(e_pt, c)
-        ctd = _icross(T, d)
+        T = (e_pt[0] - c[0], e_pt[1] - c[1])
+        ctd = T[0] * d[1] - T[1] * d[0]
         if ctd >= 0:
             return None
         for o in (a, b):
-            if _icross(_isub(c, o), T) < 0:
-                return None  # behind the ray's start
-            oc = _icross(_isub(o, c), d)
+            if (c[0] - o[0]) * T[1] - (c[1] - o[1]) * T[0] < 0:
+                return None  # the corner ray meets the line of t behind its start
+            oc = (o[0] - c[0]) * d[1] - (o[1] - c[1]) * d[0]
             if not (ctd <= oc <= 0):
-                return None  # outside the closed target
+                return None  # the corner ray lands outside the closed target
         self.counts["region_tests"] += 1
-        return t if self._region_empty(a, b, E, d, c, T) else None
+        return t if self._region_empty(a, b, d, c, T, f1) else None
 
-    def _region_empty(self, a: IPoint, b: IPoint, E: IPoint, d: IPoint, c: IPoint, T: IPoint) -> bool:
+    def _region_empty(self, a: Point, b: Point, d: IPoint, c: Point, T: Point, f1: list[int]) -> bool:
         """Does no edge meet the open region R° (module docstring)?"""
-        g = self.g
-        vals = []
-        for v in g.vertices:
-            va, vb, vc = _isub(v, a), _isub(v, b), _isub(v, c)
-            vals.append((_icross(E, va), _icross(va, d), _icross(d, vb), _icross(T, vc)))
-        for i, j in g.edge_ends:
-            fp, fq = vals[i], vals[j]
-            # lower / upper bounds on the edge parameter λ as fractions num/den (den > 0), strict
-            lo_n, lo_d = 0, 1
-            hi_n, hi_d = 1, 1
-            lo_open = hi_open = False
-            ok = True
-            for k in range(4):
-                x, y = fp[k], fq[k]
+        grid = self.g.grid
+        vals = (f1, self._values(_functional((-d[0], -d[1]), a, grid)), self._values(_functional(d, b, grid)),
+                self._values(_functional(T, c, grid)))
+        for i, j in self.g.edge_ends:
+            # strict bounds on the edge parameter λ ∈ [0, 1] as fractions num/den (den > 0)
+            lo_n, lo_d, hi_n, hi_d = 0, 1, 1, 1
+            for f in vals:
+                x, y = f[i], f[j]
                 if x > 0 and y > 0:
                     continue
                 if x <= 0 and y <= 0:
-                    ok = False
                     break
-                if x <= 0:  # λ > -x / (y - x)
-                    n_, d_ = -x, y - x
-                    if n_ * lo_d > lo_n * d_ or (n_ * lo_d == lo_n * d_):
-                        lo_n, lo_d, lo_open = n_, d_, True
-                else:  # λ < x / (x - y)
-                    n_, d_ = x, x - y
-                    if n_ * hi_d < hi_n * d_ or (n_ * hi_d == hi_n * d_):
-                        hi_n, hi_d, hi_open = n_, d_, True
-            if not ok:
-                continue
-            cmp = lo_n * hi_d - hi_n * lo_d
-            if cmp < 0 or (cmp == 0 and not lo_open and not hi_open):
-                return False
+                if x <= 0:  # λ > −x / (y − x)
+                    if -x * lo_d > lo_n * (y - x):
+                        lo_n, lo_d = -x, y - x
+                elif x * hi_d < hi_n * (x - y):  # λ < x / (x − y)
+                    hi_n, hi_d = x, x - y
+            else:
+                if lo_n * hi_d < hi_n * lo_d:
+                    return False  # the open interval of λ is not empty: the edge meets R°
         return True
 
     # ------------------------------------------------------------------ beliefs
