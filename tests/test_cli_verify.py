@@ -107,7 +107,7 @@ def test_single_failure_has_no_more_suffix(tmp_path):
     "mutate,fragment",
     [
         (lambda d: d.update(schema="something-else"), "not a solverplan certificate: schema is 'something-else'"),
-        (lambda d: d.update(version=3), "certificate version 3 is not supported (this solverplan reads versions 1 and 2)"),
+        (lambda d: d.update(version=4), "certificate version 4 is not supported (this solverplan reads versions 1, 2 and 3)"),
         (lambda d: d["claims"].update(min_width="abc"), "claims.min_width: 'abc' is not a number"),
         (lambda d: d["claims"].update(tolerance="1/0"), "claims.tolerance: '1/0' divides by zero"),
         (lambda d: d["stages"][0]["moves"][0].update(d_lo=[1]), "stages[0].moves[0].d_lo: expected a pair [x, y], got [1]"),
@@ -202,6 +202,11 @@ def test_a_cut_start_set_stays_valid_and_the_report_shows_the_small_set(tmp_path
     data = json.loads(cert.read_text())
     assert data["start"] == [{"edge": 0, "t0": 0, "t1": 1}]
     data["start"] = [{"edge": 0, "t0": "0.45", "t1": "0.55"}]  # a tenth of edge 0
+    assert "bound" in data  # its fewest-bounces bound is about the whole start set: with a cut start it fails
+    assert_one_line_error(run("verify", write(tmp_path, "cut_bound.json", data)), 1,
+                          "bound.beliefs[0].segments: the start belief's segments make up e0:[0, 1], but the start set "
+                          "is e0:[0.45, 0.55]", stdout_empty=False)
+    del data["bound"]
     cut = write(tmp_path, "cut.json", data)
     result = run("verify", cut)
     assert result.exit_code == 0, result.stderr

@@ -241,7 +241,7 @@ def _with_bound(cert: Certificate, plan: Plan, env: Environment, budget: int | N
         if plan.objective == "fewest":
             bound = bound_claim(env, start_set, goal_set, budget=len(plan.stages) - 1, heading_margin=delta)
         else:
-            w = max(tolerance_threshold(env, plan.min_width, plan.margins), cert.claims.min_width)
+            w = max(tolerance_threshold(env, plan.min_width or 0.0, plan.margins), cert.claims.min_width)
             bound = bound_claim(env, start_set, goal_set, budget=budget, threshold=w, heading_margin=delta)
     except NoBound as exc:
         logger.warning("no bound block for the %s plan's optimality: %s", plan.objective, exc.why)

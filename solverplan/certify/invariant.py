@@ -120,7 +120,7 @@ def _gcd(a: int, b: int) -> int:
     return a
 
 
-def _functional(u: Point, o: Point, grid: int) -> tuple[int, int, int]:
+def _functional(u: Point | IPoint, o: Point, grid: int) -> tuple[int, int, int]:
     """Integers (α, β, γ) with α·X + β·Y + γ a positive multiple of cross(u, x − o) at x = (X, Y)/grid."""
     ax, ay = -u[1], u[0]
     g = -grid * (u[0] * o[1] - u[1] * o[0])

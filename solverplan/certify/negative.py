@@ -73,16 +73,16 @@ def segment_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> li
     part = make_partition(walls.merged)
     table: list[list[Piece3]] = []
     for seg in part.segments:
-        pieces = walls.to_user([BoundaryPiece(seg.edge, seg.t0, seg.t1)])
-        table.append([(p.edge, Fraction(p.t0), Fraction(p.t1)) for p in pieces])
+        user = walls.to_user([BoundaryPiece(seg.edge, seg.t0, seg.t1)])
+        table.append([(p.edge, Fraction(p.t0), Fraction(p.t1)) for p in user])
     cuts: dict[int, set[Fraction]] = {}
     for bset in (start, goal):
         for p in bset.merged().pieces:
             cuts.setdefault(p.edge, set()).update((Fraction(p.t0), Fraction(p.t1)))
     out: list[list[Piece3]] = []
-    for pieces in table:
+    for seg_pieces in table:
         current: list[Piece3] = []
-        for edge, t0, t1 in pieces:
+        for edge, t0, t1 in seg_pieces:
             lo = t0
             for c in sorted(x for x in cuts.get(edge, ()) if t0 < x < t1):
                 current.append((edge, lo, c))
