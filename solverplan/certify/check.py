@@ -79,13 +79,26 @@ What is checked
    monotonicity of the contraction coefficient C(θ, φ) (paper, Lemma 2). Choices at different
    bounces are independent and |α| of a composition is the product, so the worst case of the cycle
    is the product of the per-stage worst cases.
-8. **Optimality.** The bound of a search or LP is not re-derived here (that would mean re-running the
-   planner); its consistency with the checked claims is, and the report lists it as not checked.
+8. **Optimality.** Without a ``bound`` block the bound of a search or LP is not re-derived here (that would
+   mean re-running the planner); its consistency with the checked claims is, and the report lists it as not
+   checked. With a valid ``bound`` block (10.) it is re-derived: a ``fewest`` plan of k bounces needs K = k − 1,
+   w = 0 (then no plan has fewer bounces); a ``tolerance`` / ``constant`` plan needs w ≥ its certified min width
+   and K ≥ its bounces (then no plan within K is wider than w: optimal within w − min width, reported).
 9. **Localisation** (``localize``): the final position set (the last stage's positions) lies on one
    edge, or on one straight wall (consecutive collinear edges), and the interval from its lowest to its
    highest parameter (along the wall's line) is shorter than ``claims.epsilon`` in arc length:
    (t_hi − t_lo)² · |E|² < ε², exactly (no square root). A version-1 localisation
    certificate has no ε: the report says so and lists the claim as not checked.
+
+10. **Bounds** (``bound`` blocks; ``infeasible`` certificates have nothing else): an inductive invariant over
+    belief states proving that no plan exists in a class, with the exact successor relation of
+    :mod:`solverplan.certify.invariant` (its docstring has the semantics and why the cells are exact). Checked:
+    the table covers every edge exactly once with contiguous straight segments; δ ∈ [0, 3/4), w ≥ 0, K ≥ 0;
+    the beliefs are non-empty, ascending, distinct sets of table segments; the first is the start set exactly,
+    at depth 0, and the start set does not lie in the goal set (no plan of 0 stages); every successor of a
+    belief of depth < K (any depth when K is null) contains a listed belief of depth ≤ its depth + 1 and none is
+    a goal stage (every landing segment meets the goal set). By induction on the stages left, no plan of the
+    class with ≤ K stages takes the start set to the goal set; the report states this under ``proved``.
 
 What is certified
 -----------------
@@ -100,7 +113,8 @@ and the report shows the smaller set.
 Exactness
 ---------
 Everything above is rational arithmetic on the certificate's numbers (``fractions.Fraction``) with
-the exact predicates of :mod:`solverplan.certify.exact2d`, except the angles of 5. Those are decided
+the exact predicates of :mod:`solverplan.certify.exact2d` (and integer linear functionals in 10.), except the
+angles of 5. and the comparisons of 10. with δ and w. Those are decided
 with the rigorous rational arctangent enclosures of :mod:`solverplan.certify.rational_atan`, refined
 until each comparison is decided (it always is: see that module).
 

@@ -61,6 +61,8 @@ from solverplan.certify.schema import Point
 __all__ = ["Geometry", "TableError", "Closure", "Run"]
 
 IPoint = tuple[int, int]
+HPoint = tuple[int, int, int]
+"""A rational point (X/W, Y/W) as the integers (X, Y, W), W > 0."""
 Run = tuple[IPoint, IPoint, int]
 """A merged run of one source: (heading vector of its low end, of its high end, target segment)."""
 
@@ -120,12 +122,28 @@ def _gcd(a: int, b: int) -> int:
     return a
 
 
-def _functional(u: Point | IPoint, o: Point, grid: int) -> tuple[int, int, int]:
-    """Integers (α, β, γ) with α·X + β·Y + γ a positive multiple of cross(u, x − o) at x = (X, Y)/grid."""
-    ax, ay = -u[1], u[0]
-    g = -grid * (u[0] * o[1] - u[1] * o[0])
-    den = _lcm(_lcm(Fraction(ax).denominator, Fraction(ay).denominator), Fraction(g).denominator)
-    return (int(ax * den), int(ay * den), int(g * den))
+def _homogeneous(p: Point) -> HPoint:
+    w = _lcm(Fraction(p[0]).denominator, Fraction(p[1]).denominator)
+    return (int(p[0] * w), int(p[1] * w), w)
+
+
+def _functional(u: IPoint, o: HPoint, grid: int) -> tuple[int, int, int]:
+    """Integers (α, β, γ) with α·X + β·Y + γ = grid·W·cross(u, x − o) at the grid point x = (X, Y)/grid, for an
+    integer vector u and o = (O_x, O_y)/W."""
+    ox, oy, w = o
+    return (-w * u[1], w * u[0], -grid * (u[0] * oy - u[1] * ox))
+
+
+def _hvector(p: HPoint, q: HPoint) -> IPoint:
+    """An integer positive multiple of q − p."""
+    return (q[0] * p[2] - p[0] * q[2], q[1] * p[2] - p[1] * q[2])
+
+
+def _side(u: IPoint, o: HPoint, p: HPoint) -> int:
+    """Sign of cross(u, p − o)."""
+    v = _hvector(o, p)
+    c = u[0] * v[1] - u[1] * v[0]
+    return (c > 0) - (c < 0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -201,20 +219,31 @@ class Geometry:
         self.vertices: list[IPoint] = [(int(a[0] * grid), int(a[1] * grid)) for a, _ in edges]
         self.edge_ends: list[tuple[int, int]] = [(i, nxt[i]) for i in range(n)]
         self.ends: list[tuple[Point, Point]] = ends
-        points: set[Point] = {(Fraction(a[0]), Fraction(a[1])) for a, _ in edges}
-        for a, b in ends:
-            points.add(a)
-            points.add(b)
-        self.points = sorted(points)
+        self.hends: list[tuple[HPoint, HPoint]] = [(_homogeneous(a), _homogeneous(b)) for a, b in ends]
+        # the event points: every vertex and every segment end, each as (edge, n, d): the point t = n/d of the edge
+        # (a value of a linear functional there is ((d − n)·f(start) + n·f(end)) / d, from the vertices' values)
+        params: dict[Point, tuple[int, int, int]] = {}
+        for i, (a, _) in enumerate(edges):
+            params[(Fraction(a[0]), Fraction(a[1]))] = (i, 0, 1)
+        for k, pieces in enumerate(table):
+            for (edge, t), point in (((pieces[0][0], pieces[0][1]), ends[k][0]), ((pieces[-1][0], pieces[-1][2]), ends[k][1])):
+                params.setdefault(point, (edge, Fraction(t).numerator, Fraction(t).denominator))
+        self.points: list[tuple[int, int, int]] = list(params.values())
 
     def segment_of(self, edge: int, t: Fraction) -> int | None:
         """The table segment holding parameter t of ``edge`` other than at an end of a segment, else None."""
+        return self._segment_at(edge, t.numerator, t.denominator)
+
+    def _segment_at(self, edge: int, num: int, den: int) -> int | None:
+        """:meth:`segment_of` at t = num/den (den > 0), in integers."""
         for p in self.per_edge[edge]:
-            if p.t0 < t < p.t1:
-                return p.segment
-            if t == p.t0:
+            lo = num * p.t0.denominator - p.t0.numerator * den
+            if lo == 0:
                 return None if p.first else p.segment
-            if t == p.t1:
+            hi = num * p.t1.denominator - p.t1.numerator * den
+            if lo > 0 and hi < 0:
+                return p.segment
+            if hi == 0:
                 return None if p.last else p.segment
         return None
 
@@ -316,29 +345,36 @@ class Closure:
     def _compute_runs(self, s: int) -> list[Run]:
         g = self.g
         self.counts["sources"] += 1
-        a, b = g.ends[s]
-        E = (b[0] - a[0], b[1] - a[1])
-        keys: dict[Fraction, tuple[Fraction, Fraction]] = {}
-        for p in g.points:
-            for o in (a, b):
-                vx, vy = p[0] - o[0], p[1] - o[1]
-                y = E[0] * vy - E[1] * vx
+        a, b = g.hends[s]
+        E = _hvector(a, b)
+        n = (-E[1], E[0])
+        keys: set[Fraction] = set()
+        verts = g.vertices
+        for o in (a, b):
+            # heading vectors of x − o in the frame of E, both coordinates scaled alike: (dot(E, ·), cross(E, ·))
+            fy = _functional(E, o, g.grid)
+            fx = _functional(n, o, g.grid)  # cross(n, v) = −dot(E, v) for the left normal n
+            ys = [fy[0] * x + fy[1] * y + fy[2] for x, y in verts]
+            xs = [-(fx[0] * x + fx[1] * y + fx[2]) for x, y in verts]
+            for edge, num, den in g.points:
+                i, j = g.edge_ends[edge]
+                y = (den - num) * ys[i] + num * ys[j]
                 if y <= 0:
                     continue
-                x = E[0] * vx + E[1] * vy
-                keys.setdefault(-x / y, (x, y))
-        keys.pop(_ZERO, None)
-        events: list[IPoint] = [(1, 0)] + [_primitive(*keys[k]) for k in sorted(keys) if k < 0]
-        events += [(0, 1)] + [_primitive(*keys[k]) for k in sorted(keys) if k > 0] + [(-1, 0)]  # π/2 always: no cell spans [0, π]
-        n = (-E[1], E[0])
+                keys.add(Fraction(-((den - num) * xs[i] + num * xs[j]), y))
+        keys.discard(_ZERO)
+        ordered = sorted(keys)
+        events: list[IPoint] = [(1, 0)] + [(-k.numerator, k.denominator) for k in ordered if k < 0]
+        events += [(0, 1)] + [(-k.numerator, k.denominator) for k in ordered if k > 0] + [(-1, 0)]  # π/2 always: no cell spans [0, π]
         f1 = self._values(_functional(E, a, g.grid))
         out: list[Run] = []
         for i in range(len(events) - 1):
             h0, h1 = events[i], events[i + 1]
             hx, hy = h0[0] + h1[0], h0[1] + h1[1]
-            d = _primitive(hx * E[0] + hy * n[0], hx * E[1] + hy * n[1])
+            dx, dy = hx * E[0] + hy * n[0], hx * E[1] + hy * n[1]
+            k = _gcd(abs(dx), abs(dy)) or 1
             self.counts["cells"] += 1
-            t = self._target(s, a, b, d, f1)
+            t = self._target(s, a, b, (dx // k, dy // k), f1)
             if t is None:
                 continue
             if out and out[-1][2] == t and out[-1][1] == h0:
@@ -351,10 +387,10 @@ class Closure:
         al, be, ga = f
         return [al * x + be * y + ga for x, y in self.g.vertices]
 
-    def _target(self, s: int, a: Point, b: Point, d: IPoint, f1: list[int]) -> int | None:
+    def _target(self, s: int, a: HPoint, b: HPoint, d: IPoint, f1: list[int]) -> int | None:
         """The segment every point of open s lands in at direction d, or None (exact)."""
         g = self.g
-        m = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+        m = (a[0] * b[2] + b[0] * a[2], a[1] * b[2] + b[1] * a[2], 2 * a[2] * b[2])
         phi = self._values(_functional(d, m, g.grid))  # side of the ray's line
         psi = self._values(_functional((d[1], -d[0]), m, g.grid))  # a positive multiple of dot(d, x − m)
         best_num, best_den, best_edge, best_u = 0, 0, -1, (0, 1)
@@ -373,24 +409,22 @@ class Closure:
                 best_num, best_den, best_edge, best_u = num, den, e, (u_num, den)
         if best_edge < 0:
             return None
-        t = g.segment_of(best_edge, Fraction(*best_u))
+        t = g._segment_at(best_edge, *best_u)
         if t is None or t == s:
             return None
-        c, e_pt = g.ends[t]
-        T = (e_pt[0] - c[0], e_pt[1] - c[1])
-        ctd = T[0] * d[1] - T[1] * d[0]
-        if ctd >= 0:
-            return None
+        c, e_pt = g.hends[t]
+        T = _hvector(c, e_pt)
+        if T[0] * d[1] - T[1] * d[0] >= 0:
+            return None  # d does not enter t from its free side
         for o in (a, b):
-            if (c[0] - o[0]) * T[1] - (c[1] - o[1]) * T[0] < 0:
-                return None  # the corner ray meets the line of t behind its start
-            oc = (o[0] - c[0]) * d[1] - (o[1] - c[1]) * d[0]
-            if not (ctd <= oc <= 0):
-                return None  # the corner ray lands outside the closed target
+            if _side(T, o, c) > 0:  # o on the wall's side of the line of t: its ray meets the line behind o
+                return None
+            if _side(d, o, c) * _side(d, o, e_pt) > 0:
+                return None  # c and e on one side of the corner ray: it lands outside the closed target
         self.counts["region_tests"] += 1
         return t if self._region_empty(a, b, d, c, T, f1) else None
 
-    def _region_empty(self, a: Point, b: Point, d: IPoint, c: Point, T: Point, f1: list[int]) -> bool:
+    def _region_empty(self, a: HPoint, b: HPoint, d: IPoint, c: HPoint, T: IPoint, f1: list[int]) -> bool:
         """Does no edge meet the open region R° (module docstring)?"""
         grid = self.g.grid
         vals = (f1, self._values(_functional((-d[0], -d[1]), a, grid)), self._values(_functional(d, b, grid)),
