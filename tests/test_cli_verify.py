@@ -254,3 +254,49 @@ def test_a_certificate_with_a_number_of_too_many_digits_is_bad_input(tmp_path):
     path.write_text('{"schema": "solverplan-certificate", "version": ' + "1" * 5000 + "}")
     result = CliRunner().invoke(app, ["verify", str(path)])
     assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1 and len(result.stderr) < 200, result.stderr
+
+
+# ---------------------------------------------------------------------- negative answers (issue #22)
+def test_issue_22_an_infeasible_plan_writes_a_certificate_that_verify_proves(tmp_path):
+    cert = tmp_path / "none.cert.json"
+    made = run("plan", "comb", "--from", "e3:0.15:1,e4:0:0.25", "--to", "e3:0.4:1,e4:0:0.05", "--pareto",
+               "--max-bounces", "4", "--certificate", cert)
+    assert made.exit_code == 0 and made.stderr == "", made.stderr
+    assert json.loads(made.stdout)["status"] == "infeasible"
+    data = json.loads(cert.read_text())
+    assert data["version"] == 3 and data["kind"] == "infeasible" and data["stages"] == []
+    assert data["bound"]["budget"] == 4 and data["bound"]["heading_margin"] == "0.001"
+    report = json.loads(run("verify", cert).stdout)
+    assert report["valid"] is True and report["kind"] == "infeasible"
+    assert report["proved"][0].startswith("no plan with at most 4 stages takes the start set to the goal set")
+    text = run("verify", cert, "--format", "text")
+    assert text.exit_code == 0
+    lines = text.stdout.splitlines()
+    assert lines[0] == "certificate (infeasible): VALID"
+    assert any(line.startswith("bound: no plan with at most 4 stages, every interval wider than 0 rad") for line in lines)
+    assert any(line.startswith("proved: no plan with at most 4 stages") for line in lines)
+    data["bound"]["beliefs"] = data["bound"]["beliefs"][:1]  # the start belief alone is not closed
+    assert_one_line_error(run("verify", write(tmp_path, "cut.json", data)), 1, "the invariant is not closed",
+                          stdout_empty=False)
+
+
+def test_issue_22_a_fewest_plan_certificate_proves_no_plan_has_fewer_bounces(tmp_path):
+    cert = tmp_path / "plan.cert.json"
+    made = run("plan", "two_rooms", "--from", "e0:0.2:0.8", "--to", "e4:0.5:1", "--certificate", cert)
+    assert made.exit_code == 0, made.stderr
+    bounces = json.loads(made.stdout)["bounces"]
+    report = json.loads(run("verify", cert).stdout)
+    assert report["valid"] and report["proved"][-1] == (f"hence every such plan has at least {bounces} bounces: this "
+                                                        f"plan's {bounces} is the fewest")
+    assert not any("not re-derived" in item for item in report["not_checked"])
+
+
+def test_issue_22_an_infeasible_answer_that_holds_only_within_the_margins_writes_nothing(tmp_path):
+    cert = tmp_path / "none.cert.json"
+    made = run("plan", "square", "--from", "e3:0.5:0.75", "--to", "e0:0.1:0.6", "--max-bounces", "2",
+               "--certificate", cert)
+    assert made.exit_code == 0
+    if json.loads(made.stdout)["status"] == "infeasible":  # the planner's start segment is the whole edge e3
+        assert made.stderr.startswith(f"warning: no certificate written to {cert}: infeasible within 2 bounces only "
+                                      "within the planner's corner clearance")
+        assert not cert.exists()
