@@ -43,6 +43,12 @@ exact ray cast from the middle of s, then the condition is tested. Consecutive c
 are merged into one closed *run* (which over-approximates the safe set at the event directions between
 them: a larger successor relation only makes the invariant harder to satisfy, never unsound).
 
+Arithmetic: integers only. The vertices sit on one integer grid (the lcm of their own denominators); segment
+ends are homogeneous integer triples (X, Y, W); every test of the vertices against a line (the ray cast's sides
+and positions, the four inequalities of R°, the event directions' heading vectors) is a linear functional with
+integer coefficients, a positive multiple of the exact one, and a segment end's value is interpolated from its
+edge's two vertices (t = n/d: ((d − n)·f(start) + n·f(end)) / d). The corner-ray conditions are sign tests.
+
 Headings are compared across different source edges without angles: a heading θ of direction d from edge E
 is the angle of the *heading vector* (E·d, E×d) (upper half-plane), and angle(h₁) < angle(h₂) iff
 cross(h₁, h₂) > 0. Only the comparisons with δ and w need arctangents (:mod:`.rational_atan`, rigorous).
@@ -87,10 +93,6 @@ def _idot(u: IPoint, v: IPoint) -> int:
     return u[0] * v[0] + u[1] * v[1]
 
 
-def _isub(u: IPoint, v: IPoint) -> IPoint:
-    return (u[0] - v[0], u[1] - v[1])
-
-
 def heading_cmp(h1: IPoint, h2: IPoint) -> int:
     """Sign of angle(h1) − angle(h2) for heading vectors with angles in [0, π] (y ≥ 0, non-zero)."""
     c = _icross(h1, h2)
@@ -106,14 +108,6 @@ def _lcm(a: int, b: int) -> int:
     while y:
         x, y = y, x % y
     return a // x * b
-
-
-def _primitive(x: Fraction, y: Fraction) -> IPoint:
-    """The positive multiple of the rational vector (x, y) with coprime integer coordinates."""
-    den = _lcm(x.denominator, y.denominator)
-    X, Y = int(x * den), int(y * den)
-    g = _gcd(abs(X), abs(Y)) or 1
-    return (X // g, Y // g)
 
 
 def _gcd(a: int, b: int) -> int:
