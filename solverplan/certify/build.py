@@ -28,7 +28,8 @@ Negative answers and bounds (schema version 3, :mod:`solverplan.certify.negative
   at the query's set ends;
 - a **fewest** plan of k bounces carries a ``bound`` block proving that no plan has ≤ k − 1 bounces; a
   **tolerance** / **constant** plan (or front) of min width W* one proving that no plan (within its budget) is
-  wider than W* + 2·end margin + 10⁻⁹ (the planner's margins are not the checker's: the gap is stated).
+  wider than some w ≥ W*: W* + 2·end margin + 10⁻⁹ when that holds, else just above the widest margin-free plan
+  the exact closure finds (the planner's margins are not the checker's: the gap w − W* is stated).
 
 An answer with nothing to certify raises :class:`NothingToCertify`: a patrol or funnel not found, an answer
 stopped by a timeout, or an infeasible answer that holds only within the planner's margins (the exact closure
@@ -230,7 +231,7 @@ def _infeasible(status: Status, objective: str, start: str | None, goal: str | N
 
 def _with_bound(cert: Certificate, plan: Plan, env: Environment, budget: int | None) -> Certificate:
     """``cert`` with the bound block proving its optimality claim, when the exact closure proves one."""
-    from solverplan.certify.negative import NoBound, bound_claim, heading_margin_of, tolerance_threshold
+    from solverplan.certify.negative import NoBound, bound_claim, heading_margin_of, tolerance_bound
 
     opt = plan.optimality
     if not opt.proved or plan.start is None or plan.goal is None or plan.objective not in ("fewest", "tolerance", "constant"):
@@ -241,8 +242,8 @@ def _with_bound(cert: Certificate, plan: Plan, env: Environment, budget: int | N
         if plan.objective == "fewest":
             bound = bound_claim(env, start_set, goal_set, budget=len(plan.stages) - 1, heading_margin=delta)
         else:
-            w = max(tolerance_threshold(env, plan.min_width or 0.0, plan.margins), cert.claims.min_width)
-            bound = bound_claim(env, start_set, goal_set, budget=budget, threshold=w, heading_margin=delta)
+            bound = tolerance_bound(env, start_set, goal_set, width=plan.min_width or 0.0, floor=cert.claims.min_width,
+                                    margins=plan.margins, budget=budget, heading_margin=delta)
     except NoBound as exc:
         logger.warning("no bound block for the %s plan's optimality: %s", plan.objective, exc.why)
         return cert

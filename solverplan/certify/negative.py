@@ -7,8 +7,11 @@ version 3) whose invariant says that **no plan exists** in a stated class —
 - an ``infeasible`` answer (any objective, budget K or none): no plan with ≤ K stages (of positive width);
 - a ``fewest`` plan with k bounces: no plan with ≤ k − 1 stages;
 - a ``tolerance`` (or ``constant``) plan of min width W* within budget K: no plan with ≤ K stages whose every
-  interval is wider than w = W* + 2·end margin + 10⁻⁹ (the planner's intervals lie ``end_margin`` inside the
-  exact safe sets at both ends, the checker's cells do not: w is what the margin-free class can prove).
+  interval is wider than w ≥ W*: first w = W* + 2·end margin + 10⁻⁹ (the planner's intervals lie ``end_margin``
+  inside the exact safe sets at both ends, the checker's cells do not); when the margin-free class still has a
+  wider plan (the corner clearance can cut far more than the end margin off an interval near a corner, and the
+  planner takes no two consecutive arcs into one corner), w rises just above that plan's narrowest stage, until
+  no plan is wider (:func:`tolerance_bound`). The checker states the gap w − W*.
 
 The class is over the **segment table** P′ of the environment's straight walls (collinear vertices merged, as
 the planner searches), refined at the ends of the query's start and goal sets (so that both are unions of whole
@@ -26,6 +29,7 @@ needs.
 
 from __future__ import annotations
 
+import math
 import re
 from fractions import Fraction
 from solverplan.bounce.partition import partition as make_partition
@@ -35,7 +39,8 @@ from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.plan._walls import Walls, set_ends
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 
-__all__ = ["NoBound", "segment_table", "bound_claim", "TABLE_SOURCE", "tolerance_threshold", "heading_margin_of"]
+__all__ = ["NoBound", "segment_table", "bound_claim", "TABLE_SOURCE", "tolerance_threshold", "tolerance_bound",
+           "heading_margin_of", "ceil12"]
 
 TABLE_SOURCE = "P′ of the straight walls (collinear vertices merged) refined at the query's set ends"
 
@@ -44,11 +49,20 @@ MAX_BELIEFS = 20_000
 
 
 class NoBound(Exception):
-    """No invariant proves the bound: ``why`` says why in a few words (the margin-free class has a plan)."""
+    """No invariant proves the bound: ``why`` says why in a few words (the margin-free class has a plan).
+    ``width``: the narrowest stage width of that plan (radians, a float within 10⁻¹² of the exact value), when
+    one was found."""
 
-    def __init__(self, why: str) -> None:
+    def __init__(self, why: str, width: float | None = None) -> None:
         super().__init__(why)
         self.why = why
+        self.width = width
+
+
+def _stage_width(lo: tuple[int, int], hi: tuple[int, int], delta: float) -> float:
+    """The width of [lo, hi] ∩ [δ, π − δ] (heading vectors), in floats."""
+    a, b = math.atan2(lo[1], lo[0]), math.atan2(hi[1], hi[0])
+    return min(b, math.pi - delta) - max(a, delta)
 
 
 Piece3 = tuple[int, Fraction, Fraction]
@@ -106,15 +120,39 @@ def heading_margin_of(margins: dict | None, scope: str | None = None) -> Fractio
     return Fraction(repr(value if value is not None else DEFAULT_HEADING_MARGIN))
 
 
+def ceil12(x: Fraction | float) -> Fraction:
+    """x rounded up to 12 decimals (exact)."""
+    q = Fraction(x)
+    scale = 10**12
+    return Fraction(-((-q.numerator * scale) // q.denominator), scale)
+
+
+def tolerance_bound(env: Environment, start: BoundarySet, goal: BoundarySet, *, width: float, floor: Fraction,
+                    margins: dict | None, budget: int | None, heading_margin: Fraction,
+                    max_rounds: int = 40) -> BoundClaim:
+    """The smallest threshold this builder can prove for a most-tolerant plan of min width ``width``: first
+    :func:`tolerance_threshold` (at least ``floor``, the certified min width); while the exact margin-free closure
+    still finds a plan wider than the threshold, the threshold rises just above that plan's narrowest stage (so
+    each round excludes the plan found) — the answer's gap is then the price of the planner's margins, stated by
+    the checker. Raises :class:`NoBound` after ``max_rounds`` rounds."""
+    w = max(tolerance_threshold(env, width, margins), floor)
+    for _ in range(max_rounds):
+        try:
+            return bound_claim(env, start, goal, budget=budget, threshold=w, heading_margin=heading_margin)
+        except NoBound as exc:
+            if exc.width is None or not math.isfinite(exc.width):
+                raise
+            w = max(w + Fraction(1, 10**12), ceil12(exc.width + 1e-9))
+    raise NoBound(f"no threshold proved in {max_rounds} rounds (the last tried: {float(w):.12g} rad)")
+
+
 def tolerance_threshold(env: Environment, width: float, margins: dict | None) -> Fraction:
     """w = W* + 2·end margin + 10⁻⁹, rounded up to 12 decimals: what the margin-free class can prove about a plan
     of min width W* found with the margins of ``margins`` (see the module docstring)."""
     m = Margins.for_environment(env, heading_margin=float((margins or {}).get("heading", DEFAULT_HEADING_MARGIN)),
                                 safe_margin=float((margins or {}).get("safe", 1e-9)),
                                 corner_clearance=(margins or {}).get("corner_clearance"))
-    w = Fraction(width) + 2 * Fraction(m.end_margin) + Fraction(1, 10**9)
-    scale = 10**12
-    return Fraction(-((-w.numerator * scale) // w.denominator), scale)
+    return ceil12(Fraction(width) + 2 * Fraction(m.end_margin) + Fraction(1, 10**9))
 
 
 def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budget: int | None,
@@ -135,19 +173,24 @@ def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budg
         raise NoBound("the start set lies in the goal set")
     closure = Closure(geo, heading_margin, threshold)
     depth_of: dict[tuple[int, ...], int] = {start_belief: 0}
+    narrowest: dict[tuple[int, ...], float] = {start_belief: math.inf}  # along the path that reached the belief
     frontier = [start_belief]
     depth = 0
+    delta = float(heading_margin)
     while frontier and (budget is None or depth < budget):
         nxt_frontier = []
         for belief in frontier:
-            for targets, _ in closure.successors(belief):
+            for targets, (lo, hi) in closure.successors(belief):
                 nb = tuple(sorted(set(targets)))
+                width = min(narrowest[belief], _stage_width(lo, hi, delta))
                 if set(nb) <= goal_set:
                     stages = depth + 1
+                    wider = "" if threshold == 0 else f" with every interval wider than {float(threshold):.12g} rad"
                     raise NoBound(f"a margin-free plan of {stages} stage{'s' if stages > 1 else ''} exists (the exact "
-                                  f"closure over the table reaches the goal{'' if threshold == 0 else ' with every interval wider than ' + str(float(threshold))})")
+                                  f"closure over the table reaches the goal{wider})", width)
                 if nb not in depth_of:
                     depth_of[nb] = depth + 1
+                    narrowest[nb] = width
                     nxt_frontier.append(nb)
                     if len(depth_of) > MAX_BELIEFS:
                         raise NoBound(f"the invariant would list more than {MAX_BELIEFS:,} beliefs")
