@@ -91,9 +91,10 @@ value, and the certified widths are up to 4·10⁻¹⁰ below the plan's."""
 
 
 class NothingToCertify(InputError):
-    """The answer has nothing a certificate could claim: an infeasible plan, a plan without stages, a
-    patrol or funnel that was not found. ``why`` is the reason in a few words, for warnings
-    (``"the answer is infeasible (certificates certify plans)"``)."""
+    """The answer has nothing a certificate could claim: a plan without stages, an answer stopped by a timeout,
+    an infeasible answer that holds only within the planner's margins, a patrol or funnel that was not found.
+    ``why`` is the reason in a few words, for warnings (``"the answer has status 'not-found', not a proved
+    infeasible"``)."""
 
     def __init__(self, message: str, *, why: str) -> None:
         super().__init__(message)
