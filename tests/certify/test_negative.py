@@ -345,3 +345,17 @@ def test_infeasibility_certificate_agrees_with_exhaustive_search(query):
     cert = certificate(plan, env=env)
     assert cert.bound == bound
     assert check_certificate(cert).valid
+
+
+def test_lowering_a_tolerance_threshold_breaks_the_invariant():
+    """two_holes e1 → e11 within 4 bounces: the margin-free class has a plan wider than the planner's W* + 2·end
+    margin (the price of the corner clearance), so the bound's threshold sits higher; lowered, it is not closed."""
+    env = load_environment(MODELS / "two_holes.json")
+    plan = find_plan(env, "e1", "e11", objective="tolerance", max_bounces=4)
+    cert = certificate(plan, env=env)
+    assert cert.bound is not None and cert.bound.threshold - cert.claims.min_width > Fraction(1, 100)
+    assert check_certificate(cert).valid
+    data = data_of(cert)
+    data["bound"]["threshold"] = str(cert.claims.min_width + Fraction(3, 10000))
+    report = check(data)
+    assert not report.valid and report.failures[0].claim.startswith("bound.beliefs[")
