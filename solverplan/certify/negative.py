@@ -36,7 +36,7 @@ from solverplan.bounce.partition import partition as make_partition
 from solverplan.certify.invariant import Closure, Geometry
 from solverplan.certify.schema import BeliefRecord, BoundClaim, Point
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
-from solverplan.plan._walls import Walls, set_ends
+from solverplan.plan._walls import Walls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 
 __all__ = ["NoBound", "segment_table", "bound_claim", "TABLE_SOURCE", "tolerance_threshold", "tolerance_bound",
@@ -83,7 +83,7 @@ def _edges(env: Environment) -> tuple[list[tuple[Point, Point]], list[int]]:
 def segment_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> list[list[Piece3]]:
     """The table of the certificates: P′ of the straight walls of ``env`` (:mod:`solverplan.plan._walls`), each
     segment as pieces of the user's edges, cut at every end of the start and goal sets' pieces."""
-    walls = Walls(env, keep=set_ends(env, start, goal))
+    walls = Walls(env)  # every collinear vertex merged; the set ends are cut below (at joints too)
     part = make_partition(walls.merged)
     table: list[list[Piece3]] = []
     for seg in part.segments:
@@ -97,13 +97,16 @@ def segment_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> li
     for seg_pieces in table:
         current: list[Piece3] = []
         for edge, t0, t1 in seg_pieces:
+            if current and (t0 in cuts.get(edge, ()) or current[-1][2] in cuts.get(current[-1][0], ())):
+                out.append(current)  # a set ends at the collinear vertex between two pieces of the segment
+                current = []
             lo = t0
             for c in sorted(x for x in cuts.get(edge, ()) if t0 < x < t1):
                 current.append((edge, lo, c))
                 out.append(current)
                 current, lo = [], c
             current.append((edge, lo, t1))
-        out.append(current)  # (a set ending at a collinear vertex keeps it as a vertex: ``set_ends``)
+        out.append(current)
     return out
 
 
@@ -149,10 +152,13 @@ def tolerance_bound(env: Environment, start: BoundarySet, goal: BoundarySet, *, 
 def tolerance_threshold(env: Environment, width: float, margins: dict | None) -> Fraction:
     """w = W* + 2·end margin + 10⁻⁹, rounded up to 12 decimals: what the margin-free class can prove about a plan
     of min width W* found with the margins of ``margins`` (see the module docstring)."""
-    m = Margins.for_environment(env, heading_margin=float((margins or {}).get("heading", DEFAULT_HEADING_MARGIN)),
-                                safe_margin=float((margins or {}).get("safe", 1e-9)),
-                                corner_clearance=(margins or {}).get("corner_clearance"))
-    return ceil12(Fraction(width) + 2 * Fraction(m.end_margin) + Fraction(1, 10**9))
+    if margins and "end" in margins:  # answers that record the end margin as applied
+        end = float(margins["end"])
+    else:
+        end = Margins.for_environment(env, heading_margin=float((margins or {}).get("heading", DEFAULT_HEADING_MARGIN)),
+                                      safe_margin=float((margins or {}).get("safe", 1e-9)),
+                                      corner_clearance=(margins or {}).get("corner_clearance")).end_margin
+    return ceil12(Fraction(width) + 2 * Fraction(end) + Fraction(1, 10**9))
 
 
 def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budget: int | None,
