@@ -107,7 +107,7 @@ def test_single_failure_has_no_more_suffix(tmp_path):
     "mutate,fragment",
     [
         (lambda d: d.update(schema="something-else"), "not a solverplan certificate: schema is 'something-else'"),
-        (lambda d: d.update(version=3), "certificate version 3 is not supported (this solverplan reads versions 1 and 2)"),
+        (lambda d: d.update(version=4), "certificate version 4 is not supported (this solverplan reads versions 1, 2 and 3)"),
         (lambda d: d["claims"].update(min_width="abc"), "claims.min_width: 'abc' is not a number"),
         (lambda d: d["claims"].update(tolerance="1/0"), "claims.tolerance: '1/0' divides by zero"),
         (lambda d: d["stages"][0]["moves"][0].update(d_lo=[1]), "stages[0].moves[0].d_lo: expected a pair [x, y], got [1]"),
@@ -202,6 +202,11 @@ def test_a_cut_start_set_stays_valid_and_the_report_shows_the_small_set(tmp_path
     data = json.loads(cert.read_text())
     assert data["start"] == [{"edge": 0, "t0": 0, "t1": 1}]
     data["start"] = [{"edge": 0, "t0": "0.45", "t1": "0.55"}]  # a tenth of edge 0
+    assert "bound" in data  # its fewest-bounces bound is about the whole start set: with a cut start it fails
+    assert_one_line_error(run("verify", write(tmp_path, "cut_bound.json", data)), 1,
+                          "bound.beliefs[0].segments: the start belief's segments make up e0:[0, 1], but the start set "
+                          "is e0:[0.45, 0.55]", stdout_empty=False)
+    del data["bound"]
     cut = write(tmp_path, "cut.json", data)
     result = run("verify", cut)
     assert result.exit_code == 0, result.stderr
@@ -249,3 +254,49 @@ def test_a_certificate_with_a_number_of_too_many_digits_is_bad_input(tmp_path):
     path.write_text('{"schema": "solverplan-certificate", "version": ' + "1" * 5000 + "}")
     result = CliRunner().invoke(app, ["verify", str(path)])
     assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1 and len(result.stderr) < 200, result.stderr
+
+
+# ---------------------------------------------------------------------- negative answers (issue #22)
+def test_issue_22_an_infeasible_plan_writes_a_certificate_that_verify_proves(tmp_path):
+    cert = tmp_path / "none.cert.json"
+    made = run("plan", "comb", "--from", "e3:0.15:1,e4:0:0.25", "--to", "e3:0.4:1,e4:0:0.05", "--pareto",
+               "--max-bounces", "4", "--certificate", cert)
+    assert made.exit_code == 0 and made.stderr == "", made.stderr
+    assert json.loads(made.stdout)["status"] == "infeasible"
+    data = json.loads(cert.read_text())
+    assert data["version"] == 3 and data["kind"] == "infeasible" and data["stages"] == []
+    assert data["bound"]["budget"] == 4 and data["bound"]["heading_margin"] == "0.001"
+    report = json.loads(run("verify", cert).stdout)
+    assert report["valid"] is True and report["kind"] == "infeasible"
+    assert report["proved"][0].startswith("no plan with at most 4 stages takes the start set to the goal set")
+    text = run("verify", cert, "--format", "text")
+    assert text.exit_code == 0
+    lines = text.stdout.splitlines()
+    assert lines[0] == "certificate (infeasible): VALID"
+    assert any(line.startswith("bound: no plan with at most 4 stages, every interval wider than 0 rad") for line in lines)
+    assert any(line.startswith("proved: no plan with at most 4 stages") for line in lines)
+    data["bound"]["beliefs"] = data["bound"]["beliefs"][:1]  # the start belief alone is not closed
+    assert_one_line_error(run("verify", write(tmp_path, "cut.json", data)), 1, "the invariant is not closed",
+                          stdout_empty=False)
+
+
+def test_issue_22_a_fewest_plan_certificate_proves_no_plan_has_fewer_bounces(tmp_path):
+    cert = tmp_path / "plan.cert.json"
+    made = run("plan", "two_rooms", "--from", "e0:0.2:0.8", "--to", "e4:0.5:1", "--certificate", cert)
+    assert made.exit_code == 0, made.stderr
+    bounces = json.loads(made.stdout)["bounces"]
+    report = json.loads(run("verify", cert).stdout)
+    assert report["valid"] and report["proved"][-1] == (f"hence every such plan has at least {bounces} bounces: this "
+                                                        f"plan's {bounces} is the fewest")
+    assert not any("not re-derived" in item for item in report["not_checked"])
+
+
+def test_issue_22_an_infeasible_answer_that_holds_only_within_the_margins_writes_nothing(tmp_path):
+    cert = tmp_path / "none.cert.json"
+    made = run("plan", "square", "--from", "e3:0.5:0.75", "--to", "e0:0.1:0.6", "--max-bounces", "2",
+               "--certificate", cert)
+    assert made.exit_code == 0
+    if json.loads(made.stdout)["status"] == "infeasible":  # the planner's start segment is the whole edge e3
+        assert made.stderr.startswith(f"warning: no certificate written to {cert}: infeasible within 2 bounces only "
+                                      "within the planner's corner clearance")
+        assert not cert.exists()

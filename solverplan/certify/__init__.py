@@ -1,7 +1,9 @@
 """Certificates: the format (:mod:`.schema`), the independent exact checker (:mod:`.check`, with its
-exact predicates :mod:`.exact2d` and rigorous angles :mod:`.rational_atan`), the writer that turns
-floating-point planner output into certificates (:mod:`.writer`) and the one call from a planner's
-answer to a checked certificate file (:mod:`.build`: :func:`certificate`, :func:`write_certificate`).
+exact predicates :mod:`.exact2d`, rigorous angles :mod:`.rational_atan` and the exact belief-state
+successors of negative certificates :mod:`.invariant`), the writer that turns floating-point planner output
+into certificates (:mod:`.writer`), the invariants of infeasible answers and optimality bounds
+(:mod:`.negative`) and the one call from a planner's answer to a checked certificate file (:mod:`.build`:
+:func:`certificate`, :func:`write_certificate`).
 
 The schema and the checker import only the standard library, so importing this package does not load
 the planner or numpy; the names of the writer and of :mod:`.build` are loaded on first use.

@@ -20,8 +20,21 @@ by its type (it reads the answers only through their public attributes, all of t
   images the checker recomputes are the positions the planner tracked, and each stage claims them; a
   localisation certificate also claims the strategy's ε (the final interval is shorter than it).
 
-An answer with nothing to certify (an infeasible plan, a patrol or funnel not found) raises
-:class:`NothingToCertify`: the checker certifies answers, not proofs that there is none.
+Negative answers and bounds (schema version 3, :mod:`solverplan.certify.negative`):
+
+- an **infeasible** plan or Pareto front (proved by an exhausted search) is an ``infeasible`` certificate: an
+  inductive invariant over belief states proving that no plan with ≤ K stages exists (K the budget, or any
+  number), over the exact, margin-free class of plans landing on segments of P′ of the straight walls refined
+  at the query's set ends;
+- a **fewest** plan of k bounces carries a ``bound`` block proving that no plan has ≤ k − 1 bounces; a
+  **tolerance** / **constant** plan (or front) of min width W* one proving that no plan (within its budget) is
+  wider than some w ≥ W*: W* + 2·end margin + 10⁻⁹ when that holds, else just above the widest margin-free plan
+  the exact closure finds (the planner's margins are not the checker's: the gap w − W* is stated).
+
+An answer with nothing to certify raises :class:`NothingToCertify`: a patrol or funnel not found, an answer
+stopped by a timeout, or an infeasible answer that holds only within the planner's margins (the exact closure
+reaches the goal). A bound that cannot be proved is left out (the optimality claim is then reported as not
+re-derived), with a warning in the log.
 
 :func:`write_certificate` checks a certificate with the independent exact checker first and writes it
 only if every claim holds (atomically: whole or not at all); otherwise it raises
@@ -39,8 +52,10 @@ Then ``write_certificate(cert, "square.cert.json")`` checks it again and writes 
 
 from __future__ import annotations
 
+import logging
 import math
 import os
+from dataclasses import replace
 from fractions import Fraction
 from pathlib import Path
 from typing import Any, Callable, Literal
@@ -48,7 +63,8 @@ from typing import Any, Callable, Literal
 from solverplan._io import atomic_write_text
 from solverplan.bounce.partition import Partition, partition as make_partition
 from solverplan.certify.check import CheckReport, Failure, check_certificate
-from solverplan.certify.schema import Certificate, Optimality as ClaimedOptimality, dumps_certificate
+from solverplan.certify.schema import (Certificate, Claims, EnvironmentRecord, Optimality as ClaimedOptimality, Piece,
+                                       dumps_certificate)
 from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_certificate
 from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, SolverplanError
@@ -56,8 +72,11 @@ from solverplan.plan._results import PositionStrategy
 from solverplan.plan.localize import Localization
 from solverplan.plan.patrol import Patrol
 from solverplan.plan.result import ParetoFront, Plan
+from solverplan.result import Status
 
 __all__ = ["certificate", "write_certificate", "NothingToCertify", "CertificateRejected"]
+
+logger = logging.getLogger(__name__)
 
 _PLAN_MARGIN = 2e-10
 """Radians: the window next to each end of a plan interval in which its exact end is chosen (inside the
@@ -72,9 +91,10 @@ value, and the certified widths are up to 4·10⁻¹⁰ below the plan's."""
 
 
 class NothingToCertify(InputError):
-    """The answer has nothing a certificate could claim: an infeasible plan, a plan without stages, a
-    patrol or funnel that was not found. ``why`` is the reason in a few words, for warnings
-    (``"the answer is infeasible (certificates certify plans)"``)."""
+    """The answer has nothing a certificate could claim: a plan without stages, an answer stopped by a timeout,
+    an infeasible answer that holds only within the planner's margins, a patrol or funnel that was not found.
+    ``why`` is the reason in a few words, for warnings (``"the answer has status 'not-found', not a proved
+    infeasible"``)."""
 
     def __init__(self, message: str, *, why: str) -> None:
         super().__init__(message)
@@ -145,12 +165,12 @@ def write_certificate(cert: Certificate, path: str | os.PathLike[str], *, check:
 
 
 # ---------------------------------------------------------------------- plans
-def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certificate:
+def _plan(plan: Plan, env: Environment | None, part: Partition | None, budget: Any = "plan") -> Certificate:
     if env is None:
         raise TypeError("a plan does not carry its environment: call certificate(plan, env=...)")
     if not plan.found:
-        raise NothingToCertify(f"the plan is infeasible ({plan.reason}): the checker certifies plans, not infeasibility",
-                               why="the answer is infeasible (certificates certify plans)")
+        return _infeasible(plan.status, plan.objective, plan.start, plan.goal, plan.max_bounces, plan.optimality,
+                           plan.reason, env, plan.margins)
     if not plan.stages:
         raise NothingToCertify("the plan has no stages (its start set lies in its goal set): there is nothing to certify",
                                why="the plan has no stages (certificates certify plans)")
@@ -170,9 +190,65 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None) -> Certif
     claimed = ClaimedOptimality(method=str(opt.method), proved=proved, bound=None if opt.bound is None else Fraction(opt.bound))
     start = plan.start if plan.start else list(plan.stages[0].from_segments)
     goal = plan.goal if plan.goal else list(plan.stages[-1].to_segments)
-    return build_certificate(env, part, stages, start=start, goal=goal, kind="plan", objective=plan.objective,
+    cert = build_certificate(env, part, stages, start=start, goal=goal, kind="plan", objective=plan.objective,
                              optimality=claimed, targets=targets, margin=_PLAN_MARGIN)
+    return _with_bound(cert, plan, env, plan.max_bounces if budget == "plan" else budget)
 
+
+def _infeasible(status: Status, objective: str, start: str | None, goal: str | None, budget: int | None,
+                optimality: Any, reason: str | None, env: Environment, margins: dict | None) -> Certificate:
+    """The ``infeasible`` certificate of an exhausted search (module docstring)."""
+    from solverplan.certify.negative import NoBound, bound_claim, heading_margin_of
+
+    if status != Status.INFEASIBLE or not optimality.proved:
+        raise NothingToCertify(f"the answer has status {status.value!r} ({reason}): not a proof that there is no plan",
+                               why=f"the answer has status {status.value!r}, not a proved infeasible")
+    if start is None or goal is None:
+        raise NothingToCertify("the answer does not record its start and goal sets", why="no start and goal sets recorded")
+    start_set, goal_set = env.boundary_set(start), env.boundary_set(goal)
+    try:
+        bound = bound_claim(env, start_set, goal_set, budget=budget,
+                            heading_margin=heading_margin_of(margins, getattr(optimality, "scope", None)))
+    except NoBound as exc:
+        within = "" if budget is None else f" within {budget} bounces"
+        if objective == "constant":
+            why = f"no constant plan exists{within}, but plans with changing intervals do ({exc.why})"
+        else:
+            why = (f"infeasible{within} only within the planner's corner clearance, safe margin, corner rule or landing "
+                   f"units: {exc.why}")
+        raise NothingToCertify(f"no infeasibility certificate: {why}", why=why) from None
+    return Certificate(
+        kind="infeasible",
+        environment=EnvironmentRecord(env.rings, env.name),
+        segments=(),
+        start=tuple(Piece(p.edge, p.t0, p.t1) for p in start_set.merged().pieces),
+        goal=tuple(Piece(p.edge, p.t0, p.t1) for p in goal_set.merged().pieces),
+        stages=(),
+        claims=Claims(bounces=0, min_width=Fraction(0), tolerance=Fraction(0), objective=objective),
+        producer="solverplan",
+        bound=bound,
+    )
+
+
+def _with_bound(cert: Certificate, plan: Plan, env: Environment, budget: int | None) -> Certificate:
+    """``cert`` with the bound block proving its optimality claim, when the exact closure proves one."""
+    from solverplan.certify.negative import NoBound, bound_claim, heading_margin_of, tolerance_bound
+
+    opt = plan.optimality
+    if not opt.proved or plan.start is None or plan.goal is None or plan.objective not in ("fewest", "tolerance", "constant"):
+        return cert
+    delta = heading_margin_of(plan.margins, opt.scope)
+    start_set, goal_set = env.boundary_set(plan.start), env.boundary_set(plan.goal)
+    try:
+        if plan.objective == "fewest":
+            bound = bound_claim(env, start_set, goal_set, budget=len(plan.stages) - 1, heading_margin=delta)
+        else:
+            bound = tolerance_bound(env, start_set, goal_set, width=plan.min_width or 0.0, floor=cert.claims.min_width,
+                                    margins=plan.margins, budget=budget, heading_margin=delta)
+    except NoBound as exc:
+        logger.warning("no bound block for the %s plan's optimality: %s", plan.objective, exc.why)
+        return cert
+    return replace(cert, bound=bound)
 
 def _plan_moves(part: Partition, moves: tuple[tuple[int, int], ...],
                 sources: tuple[BoundaryPiece, ...] = ()) -> tuple[MoveSpec, ...]:
@@ -200,9 +276,12 @@ def _plan_moves(part: Partition, moves: tuple[tuple[int, int], ...],
 def _pareto(front: ParetoFront, env: Environment | None, part: Partition | None) -> Certificate:
     best = front.best()
     if best is None:
-        raise NothingToCertify(f"the Pareto front is empty ({front.reason}): there is no plan to certify",
-                               why="the answer is infeasible (certificates certify plans)")
-    return _plan(best.plan, env, part)
+        if env is None:
+            raise TypeError("a Pareto front does not carry its environment: call certificate(front, env=...)")
+        status = Status.INFEASIBLE if front.optimality.proved and not front.optimality.limits else Status.NOT_FOUND
+        return _infeasible(status, "tolerance", front.start, front.goal, front.max_bounces, front.optimality,
+                           front.reason, env, None)
+    return _plan(best.plan, env, part, budget=front.max_bounces)
 
 
 def _partial_goal_segments(env: Environment, part: Partition, goal: str) -> set[int]:

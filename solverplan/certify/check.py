@@ -79,13 +79,26 @@ What is checked
    monotonicity of the contraction coefficient C(θ, φ) (paper, Lemma 2). Choices at different
    bounces are independent and |α| of a composition is the product, so the worst case of the cycle
    is the product of the per-stage worst cases.
-8. **Optimality.** The bound of a search or LP is not re-derived here (that would mean re-running the
-   planner); its consistency with the checked claims is, and the report lists it as not checked.
+8. **Optimality.** Without a ``bound`` block the bound of a search or LP is not re-derived here (that would
+   mean re-running the planner); its consistency with the checked claims is, and the report lists it as not
+   checked. With a valid ``bound`` block (10.) it is re-derived: a ``fewest`` plan of k bounces needs K = k − 1,
+   w = 0 (then no plan has fewer bounces); a ``tolerance`` / ``constant`` plan needs w ≥ its certified min width
+   and K ≥ its bounces (then no plan within K is wider than w: optimal within w − min width, reported).
 9. **Localisation** (``localize``): the final position set (the last stage's positions) lies on one
    edge, or on one straight wall (consecutive collinear edges), and the interval from its lowest to its
    highest parameter (along the wall's line) is shorter than ``claims.epsilon`` in arc length:
    (t_hi − t_lo)² · |E|² < ε², exactly (no square root). A version-1 localisation
    certificate has no ε: the report says so and lists the claim as not checked.
+
+10. **Bounds** (``bound`` blocks; ``infeasible`` certificates have nothing else): an inductive invariant over
+    belief states proving that no plan exists in a class, with the exact successor relation of
+    :mod:`solverplan.certify.invariant` (its docstring has the semantics and why the cells are exact). Checked:
+    the table covers every edge exactly once with contiguous straight segments; δ ∈ [0, 3/4), w ≥ 0, K ≥ 0;
+    the beliefs are non-empty, ascending, distinct sets of table segments; the first is the start set exactly,
+    at depth 0, and the start set does not lie in the goal set (no plan of 0 stages); every successor of a
+    belief of depth < K (any depth when K is null) contains a listed belief of depth ≤ its depth + 1 and none is
+    a goal stage (every landing segment meets the goal set). By induction on the stages left, no plan of the
+    class with ≤ K stages takes the start set to the goal set; the report states this under ``proved``.
 
 What is certified
 -----------------
@@ -100,7 +113,8 @@ and the report shows the smaller set.
 Exactness
 ---------
 Everything above is rational arithmetic on the certificate's numbers (``fractions.Fraction``) with
-the exact predicates of :mod:`solverplan.certify.exact2d`, except the angles of 5. Those are decided
+the exact predicates of :mod:`solverplan.certify.exact2d` (and integer linear functionals in 10.), except the
+angles of 5. and the comparisons of 10. with δ and w. Those are decided
 with the rigorous rational arctangent enclosures of :mod:`solverplan.certify.rational_atan`, refined
 until each comparison is decided (it always is: see that module).
 
@@ -142,8 +156,9 @@ from solverplan.certify.rational_atan import (
     difference_vector,
     heading_vector,
 )
-from solverplan.certify.schema import (Certificate, CycleClaim, Move, Piece, Point, SegmentRecord, Stage, _terminating_decimal,
-                                       number_text)
+from solverplan.certify.invariant import Closure, Geometry, TableError
+from solverplan.certify.schema import (BoundClaim, Certificate, CycleClaim, Move, Piece, Point, SegmentRecord, Stage,
+                                       _terminating_decimal, number_text)
 
 __all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]
 
@@ -217,6 +232,7 @@ class CheckReport:
     start: dict[str, Any] | None = None
     goal: dict[str, Any] | None = None
     claims: dict[str, Any] = field(default_factory=dict)
+    proved: tuple[str, ...] = ()
 
     def to_json(self) -> dict:
         return {
@@ -230,6 +246,7 @@ class CheckReport:
             "failures": [{"claim": f.claim, "message": f.message} for f in self.failures],
             "checked": dict(self.checked),
             "not_checked": list(self.not_checked),
+            "proved": list(self.proved),
         }
 
     def to_text(self, *, width: int = 100) -> str:
@@ -245,6 +262,9 @@ class CheckReport:
         for line in _claim_lines(self.claims):
             lines.append(line)
         lines.append(f"checked exactly: {counts}")
+        if self.valid:
+            for statement in self.proved:
+                lines.append(f"proved: {statement}")
         for failure in self.failures:
             lines.append(f"FAIL {failure}")
         for item in self.not_checked:
@@ -269,7 +289,13 @@ def _claim_lines(claims: dict[str, Any]) -> list[str]:
     """The claims of :attr:`CheckReport.claims` as text lines (``claims: bounces 2, min_width …``)."""
     main = [f"{key} {claims[key] if key == 'objective' else _short(claims[key])}"
             for key in ("bounces", "min_width", "tolerance", "sum_width", "objective") if key in claims]
-    lines = ["claims: " + ", ".join(main)]
+    lines = ["claims: " + (", ".join(main) or "none")]
+    if "bound" in claims:
+        b = claims["bound"]
+        budget = "any number of stages" if b["budget"] is None else f"at most {b['budget']} stages"
+        lines.append(f"bound: no plan with {budget}, every interval wider than {_short(b['threshold'])} rad inside "
+                     f"[δ, π − δ], δ = {_short(b['heading_margin'])} rad (table of {b['table_segments']} segments"
+                     f"{': ' + b['table_source'] if b.get('table_source') else ''}; invariant of {b['beliefs']} beliefs)")
     if "cycle" in claims:
         c = claims["cycle"]
         visits = f", visits {c['visits']}" if "visits" in c else ""
@@ -369,6 +395,8 @@ class _Checker:
         }
         self.edges: list[_Edge] = []
         self.segments: dict[int, SegmentRecord] = {}
+        self.proved: list[str] = []
+        self.bound_ok = False
 
     def fail(self, claim: str, message: str) -> None:
         self.failures.append(Failure(claim, message))
@@ -378,7 +406,8 @@ class _Checker:
         return CheckReport(
             valid=not self.failures,
             failures=tuple(self.failures),
-            checked=tuple(self.counts.items()),
+            checked=tuple((k, v) for k, v in self.counts.items()
+                          if self.cert.kind != "infeasible" or k.startswith("bound_") or k == "angle_decisions"),
             not_checked=tuple(self.not_checked),
             kind=self.cert.kind,
             version=self.cert.version,
@@ -386,6 +415,7 @@ class _Checker:
             start=summary["start"],
             goal=summary["goal"],
             claims=summary["claims"],
+            proved=tuple(self.proved),
         )
 
     # ------------------------------------------------------------------ the run
@@ -399,6 +429,10 @@ class _Checker:
         self.check_pieces(cert.start, "start")
         if cert.goal is not None:
             self.check_pieces(cert.goal, "goal")
+        if cert.bound is not None:
+            self.check_bound(cert.bound)
+        if cert.kind == "infeasible":
+            return
         results: list[list[_MoveResult | None]] = []
         for k, stage in enumerate(cert.stages):
             self.counts["stages"] += 1
@@ -495,6 +529,7 @@ class _Checker:
                     self.fail(f"environment.rings[{h}]", f"the hole lies inside hole ring {g}")
                     return False
         self.edges = edges
+        self.nxt = nxt
         self._find_walls(nxt)
         return True
 
@@ -926,6 +961,105 @@ class _Checker:
         parts = [f"e{e}:[{_num(a)}, {_num(b)}]" for e in sorted(pieces) for a, b in pieces[e]]
         return ", ".join(parts) if parts else "nothing"
 
+    # ------------------------------------------------------------------ bounds (negative certificates)
+    def check_bound(self, bound: BoundClaim) -> None:
+        """10.: the invariant of a ``bound`` block (schema *Bounds*; semantics in :mod:`.invariant`)."""
+        before = len(self.failures)
+        delta, w, budget = bound.heading_margin, bound.threshold, bound.budget
+        if not _ZERO <= delta < Fraction(3, 4):
+            self.fail("bound.heading_margin", f"δ = {_num(delta)} is not in [0, 3/4) radians")
+        if w < 0:
+            self.fail("bound.threshold", f"w = {_num(w)} < 0")
+        if budget is not None and budget < 0:
+            self.fail("bound.budget", f"K = {budget} < 0")
+        if len(self.failures) > before:
+            return
+        try:
+            geo = Geometry([(e.a, e.b) for e in self.edges], self.nxt, bound.table)
+        except TableError as exc:
+            self.fail(exc.claim, exc.message)
+            return
+        m = len(bound.table)
+        seen: dict[tuple[int, ...], int] = {}
+        for i, rec in enumerate(bound.beliefs):
+            where = f"bound.beliefs[{i}]"
+            segs = rec.segments
+            if not segs:
+                self.fail(f"{where}.segments", "a belief has at least one segment")
+                return
+            if any(not 0 <= k < m for k in segs):
+                bad = next(k for k in segs if not 0 <= k < m)
+                self.fail(f"{where}.segments", f"segment {bad} is not in the table (segments 0..{m - 1})")
+                return
+            if any(x >= y for x, y in zip(segs, segs[1:])):
+                self.fail(f"{where}.segments", f"{list(segs)} is not strictly ascending")
+                return
+            if segs in seen:
+                self.fail(f"{where}.segments", f"{list(segs)} is listed twice (also beliefs[{seen[segs]}])")
+                return
+            seen[segs] = i
+        # the start belief is the start set, exactly; the start set is not inside the goal (no 0-stage plan)
+        first = bound.beliefs[0]
+        if first.depth != 0:
+            self.fail("bound.beliefs[0].depth", f"the start belief has depth {first.depth}, not 0")
+            return
+        have = geo.pieces_of(first.segments)
+        want = _merged((p.edge, p.t0, p.t1) for p in self.cert.start)
+        if have != want:
+            self.fail("bound.beliefs[0].segments", f"the start belief's segments make up {self._pieces_text(have)}, but the "
+                                                   f"start set is {self._pieces_text(want)}")
+            return
+        goal_pieces = [(p.edge, p.t0, p.t1) for p in (self.cert.goal or ())]
+        goal_by_edge = _merged(goal_pieces)
+        if all(uncovered(p.t0, p.t1, goal_by_edge.get(p.edge, [])) is None for p in self.cert.start):
+            self.fail("start", "the start set lies in the goal set: the plan with no stages reaches it")
+            return
+        goal = geo.overlapping(goal_pieces)
+        closure = Closure(geo, delta, w)
+        by_depth = sorted(range(len(bound.beliefs)), key=lambda j: bound.beliefs[j].depth)
+        listed = [(frozenset(bound.beliefs[j].segments), bound.beliefs[j].depth, j) for j in by_depth]
+        checked = 0
+        for i, rec in enumerate(bound.beliefs):
+            if budget is not None and rec.depth >= budget:
+                continue
+            checked += 1
+            for targets, (lo, hi) in closure.successors(rec.segments):
+                nxt = frozenset(targets)
+                if nxt <= goal:
+                    moves = ", ".join(f"{s}→{t}" for s, t in zip(rec.segments, targets))
+                    self.fail(f"bound.beliefs[{i}]", f"has a goal stage: headings {self._heading_range(lo, hi)} take its "
+                                                     f"segments into goal segments ({moves}) at depth {rec.depth}")
+                    return
+                limit = None if budget is None else rec.depth + 1
+                exact = seen.get(tuple(sorted(nxt)))
+                if exact is not None and (limit is None or bound.beliefs[exact].depth <= limit):
+                    continue
+                if not any(seg <= nxt and (limit is None or depth <= limit) for seg, depth, _ in listed):
+                    moves = ", ".join(f"{s}→{t}" for s, t in zip(rec.segments, targets))
+                    depth_text = "" if limit is None else f" of depth ≤ {limit}"
+                    self.fail(f"bound.beliefs[{i}]", f"its successor {sorted(nxt)} (headings {self._heading_range(lo, hi)}: "
+                                                     f"{moves}) contains no listed belief{depth_text}: the invariant is not closed")
+                    return
+        for key in ("sources", "cells", "region_tests", "successors"):
+            self.counts[f"bound_{key}"] = closure.counts[key]
+        self.counts["bound_beliefs"] = checked
+        self.counts["angle_decisions"] += closure.counts["angle_decisions"]
+        self.bound_ok = True
+        budget_text = "any number of stages" if budget is None else f"at most {budget} stage{'s' if budget != 1 else ''}"
+        width_text = "positive width" if w == 0 else f"width > {_num(w)} rad"
+        self.proved.append(
+            f"no plan with {budget_text} takes the start set to the goal set, among plans whose every stage is one "
+            f"heading interval of {width_text} inside [δ, π − δ] (δ = {_num(delta)} rad) and lands, from every "
+            f"possible segment, inside one segment of the certificate's table ({m} segments"
+            f"{': ' + bound.table_source if bound.table_source else ''}); goal segments are the {len(goal)} table "
+            f"segments that meet the goal set")
+
+    @staticmethod
+    def _heading_range(lo: tuple[int, int], hi: tuple[int, int]) -> str:
+        def one(h: tuple[int, int]) -> str:
+            return _heading((Fraction(h[0]), Fraction(h[1])))
+        return f"[{one(lo)}, {one(hi)}] rad"
+
     # ------------------------------------------------------------------ claims
     def check_claims(self, widths: Sequence[list[Point] | None]) -> None:
         cert = self.cert
@@ -981,14 +1115,61 @@ class _Checker:
                 return
             bits *= 2
 
+    def check_bound_claim(self, bound: BoundClaim) -> bool:
+        """What a valid bound block proves about this plan's objective (10.); ``True`` if it re-derives the
+        optimality claim (fully, or within a stated gap)."""
+        claims = self.cert.claims
+        objective, k = claims.objective, claims.bounces
+        budget, w = bound.budget, bound.threshold
+        opt = claims.optimality
+        if objective == "fewest":
+            if w != 0:
+                self.fail("bound.threshold", f"w = {_num(w)}: a bound on the fewest bounces is about every plan (w = 0)")
+            elif budget is None or budget >= k:
+                self.fail("bound.budget", f"K = {budget}: this plan itself has {k} stages, so no invariant can exclude every "
+                                          f"plan with at most K stages (a fewest-bounces bound has K < {k})")
+            else:
+                tight = budget + 1 == k
+                self.proved.append(f"hence every such plan has at least {budget + 1} bounces"
+                                   + (f": this plan's {k} is the fewest" if tight else f" (this plan has {k})"))
+                if not tight and opt is not None and opt.proved:
+                    self.not_checked.append(f"claims.optimality: the bound block proves only ≥ {budget + 1} bounces, "
+                                            f"not the {k} claimed optimal")
+                return True
+            return False
+        if objective in ("tolerance", "constant"):
+            if w < claims.min_width:
+                self.fail("bound.threshold", f"w = {_num(w)} is below this plan's certified min_width {_num(claims.min_width)}: "
+                                             "the plan itself is wider than the bound")
+            elif budget is not None and budget < k:
+                self.fail("bound.budget", f"K = {budget} < this plan's {k} stages: the bound is not about a class of plans "
+                                          "that holds this plan")
+            else:
+                gap = w - claims.min_width
+                within = "" if budget is None else f" with at most {budget} stages"
+                self.proved.append(f"hence every such plan{within} has min width ≤ {_num(w)} rad; this plan's certified "
+                                   f"min width is {_num(claims.min_width)} rad: optimal to within {_approx(gap, 9)} rad")
+                if opt is not None and opt.proved and gap > WIDTH_SLACK:
+                    self.not_checked.append(f"claims.optimality: optimality within 1e-9 (the planner's, over its margins) is "
+                                            f"re-derived only to within {_approx(gap, 9)} rad: the checker's cells are "
+                                            "margin-free, the planner's intervals are not")
+                return True
+            return False
+        self.fail("bound", f"a bound block proves optimality for the objectives fewest, tolerance and constant, not {objective!r}")
+        return False
+
     def check_optimality(self) -> None:
         claims = self.cert.claims
         opt = claims.optimality
+        rederived = False
+        if self.cert.bound is not None and self.bound_ok:
+            rederived = self.check_bound_claim(self.cert.bound)
         if opt is None:
             return
-        self.not_checked.append(
-            f"claims.optimality: the bound of method {opt.method!r} is not re-derived (only its consistency with the checked claims)"
-        )
+        if not rederived:
+            self.not_checked.append(
+                f"claims.optimality: the bound of method {opt.method!r} is not re-derived (only its consistency with the checked claims)"
+            )
         if opt.proved and opt.bound is None:
             self.fail("claims.optimality.bound", "a proved optimality claim must state its bound")
             return
@@ -1143,8 +1324,9 @@ def certified(cert: Certificate) -> dict[str, Any]:
     n = sum(len(ring) for ring in rings)
     environment = {"name": cert.environment.name, "sha256": digest, "vertices": n, "edges": n, "holes": max(len(rings) - 1, 0)}
     squared = _squared_lengths(rings)
-    claims: dict[str, Any] = {"bounces": cert.claims.bounces, "min_width": number_text(cert.claims.min_width),
-                              "tolerance": number_text(cert.claims.tolerance)}
+    claims: dict[str, Any] = {} if cert.kind == "infeasible" else {
+        "bounces": cert.claims.bounces, "min_width": number_text(cert.claims.min_width),
+        "tolerance": number_text(cert.claims.tolerance)}
     if cert.claims.sum_width is not None:
         claims["sum_width"] = number_text(cert.claims.sum_width)
     if cert.claims.objective is not None:
@@ -1164,6 +1346,10 @@ def certified(cert: Certificate) -> dict[str, Any]:
     if cert.claims.optimality is not None:
         o = cert.claims.optimality
         claims["optimality"] = {"method": str(o.method), "proved": o.proved, "bound": None if o.bound is None else number_text(o.bound)}
+    if cert.bound is not None:
+        b = cert.bound
+        claims["bound"] = {"budget": b.budget, "threshold": number_text(b.threshold), "heading_margin": number_text(b.heading_margin),
+                           "table_segments": len(b.table), "beliefs": len(b.beliefs), "table_source": b.table_source}
     return {
         "environment": environment,
         "start": _set_summary(cert.start, squared),

@@ -1,4 +1,4 @@
-"""The certificate format (version 2; version 1 is still read): frozen dataclasses, and JSON in and out.
+"""The certificate format (version 3; versions 1 and 2 are still read): frozen dataclasses, and JSON in and out.
 
 A certificate is a self-contained statement that :mod:`solverplan.certify.check` re-derives in exact
 rational arithmetic: the environment, the partition segments it names, the start and goal sets, and
@@ -27,15 +27,28 @@ Conventions
   on, so the stage's action interval is the set of headings common to all its moves' cones, each
   measured from its own source edge; ``interval`` (optional, radians) claims a part of it.
   ``positions`` (funnels) claims the exact set of positions after the stage.
-- ``kind``: ``plan`` (start → goal), ``funnel`` (a plan whose stages carry ``positions``),
+- ``kind``: ``plan`` (start → goal), ``infeasible`` (no plan from start to goal within the ``bound`` block's
+  budget: no stages, the proof is the bound block), ``funnel`` (a plan whose stages carry ``positions``),
   ``localize`` (a funnel whose final positions lie in one interval of one edge shorter than
   ``claims.epsilon``, arc length) or ``cycle`` (``stages[cycle.stages[0]:]`` repeat forever; the block
   claims the exact affine return map of the nominal directions, its fixed point and the worst-case
   contraction over the cones).
 
+Bounds (version 3)
+------------------
+A ``bound`` block proves that **no plan exists** in a stated class, by an inductive invariant over belief
+states (:mod:`solverplan.certify.invariant` has the semantics): ``table`` partitions the boundary into straight
+segments (each a list of consecutive pieces ``[edge, t0, t1]`` of the edges, exact), ``heading_margin`` δ and
+``threshold`` w (radians, exact) and ``budget`` K (stages; ``null``: any number) state the class — plans of at
+most K stages, every stage's interval wider than w inside [δ, π − δ], every stage landing inside one table
+segment — and ``beliefs`` lists the invariant: sets of table segments (``segments``, ascending ids = indices
+into ``table``) with their ``depth``, the first being the start belief at depth 0. An ``infeasible``
+certificate has the block and no stages (w = 0); a ``plan`` certificate may carry one as the proof of its
+optimality bound (``fewest`` with k bounces: K = k − 1, w = 0; ``tolerance``: no plan wider than w).
+
 Versions
 --------
-Version 2 (written) added the ``localize`` kind and its ``claims.epsilon``. Version 1 (still read) had
+Version 3 (written) added the ``infeasible`` kind and the ``bound`` block. Version 2 added the ``localize`` kind and its ``claims.epsilon``. Version 1 (still read) had
 neither: a localisation strategy was a ``funnel`` whose ``claims.objective`` starts with ``localize``; it
 is read as a ``localize`` certificate without an ε claim (``claims.epsilon`` is ``None``,
 :attr:`Certificate.version` is 1) and written back as version 1, unchanged.
@@ -45,10 +58,10 @@ is read as a ``localize`` certificate without an ε claim (``claims.epsilon`` is
 ('plan', 1, (Fraction(1, 1), Fraction(20, 1)))
 >>> Certificate.from_json(cert.to_json()) == cert
 True
->>> parse_certificate('{"schema": "solverplan-certificate", "version": 3}')
+>>> parse_certificate('{"schema": "solverplan-certificate", "version": 4}')
 Traceback (most recent call last):
 ...
-solverplan.certify.schema.CertificateFormatError: certificate version 3 is not supported (this solverplan reads versions 1 and 2)
+solverplan.certify.schema.CertificateFormatError: certificate version 4 is not supported (this solverplan reads versions 1, 2 and 3)
 """
 
 from __future__ import annotations
@@ -79,6 +92,8 @@ __all__ = [
     "Optimality",
     "Claims",
     "CycleClaim",
+    "BeliefRecord",
+    "BoundClaim",
     "Certificate",
     "parse_number",
     "json_value",
@@ -99,14 +114,15 @@ def _q(value: object, limit: int = 40) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 SCHEMA = "solverplan-certificate"
-VERSION = 2
+VERSION = 3
 """The version this solverplan writes."""
-READ_VERSIONS = (1, 2)
+READ_VERSIONS = (1, 2, 3)
 """The versions this solverplan reads."""
-KINDS = ("plan", "cycle", "funnel", "localize")
+KINDS = ("plan", "cycle", "funnel", "localize", "infeasible")
 _KINDS_V1 = ("plan", "cycle", "funnel")
+_KINDS_V2 = ("plan", "cycle", "funnel", "localize")
 
-Kind = Literal["plan", "cycle", "funnel", "localize"]
+Kind = Literal["plan", "cycle", "funnel", "localize", "infeasible"]
 Point = tuple[Fraction, Fraction]
 """An exact point or direction vector."""
 
@@ -326,6 +342,30 @@ class CycleClaim:
 
 
 @dataclass(frozen=True, slots=True)
+class BeliefRecord:
+    """One belief of a bound's invariant: table segment ids (ascending) and its depth (stages from the start)."""
+
+    segments: tuple[int, ...]
+    depth: int
+
+
+@dataclass(frozen=True, slots=True)
+class BoundClaim:
+    """A proof that no plan exists in a class (module docstring, *Bounds*): the segment ``table`` (per segment,
+    its pieces ``(edge, t0, t1)``), ``heading_margin`` δ, ``threshold`` w (radians), ``budget`` K (None: any
+    number of stages) and the invariant's ``beliefs`` (the first is the start belief, depth 0)."""
+
+    table: tuple[tuple[tuple[int, Fraction, Fraction], ...], ...]
+    heading_margin: Fraction
+    threshold: Fraction
+    budget: int | None
+    beliefs: tuple[BeliefRecord, ...]
+    table_source: str = ""
+    """What the table is, in words (``P′ of the straight walls refined at the query's set ends``): stated by the
+    producer, not checked (the statement proved is about this table, whatever its origin)."""
+
+
+@dataclass(frozen=True, slots=True)
 class Certificate:
     """A certificate; see the module docstring. Build with :mod:`solverplan.certify.writer` or
     :meth:`from_json`; check with :func:`solverplan.certify.check.check_certificate`. ``version``: the
@@ -341,6 +381,7 @@ class Certificate:
     cycle: CycleClaim | None = None
     producer: str = ""
     version: int = VERSION
+    bound: BoundClaim | None = None
 
     # ------------------------------------------------------------------ JSON out
     def to_json(self) -> dict:
@@ -362,7 +403,7 @@ class Certificate:
         data["start"] = [_piece_json(p) for p in self.start]
         data["goal"] = None if self.goal is None else [_piece_json(p) for p in self.goal]
         data["stages"] = [_stage_json(s) for s in self.stages]
-        claims: dict[str, Any] = {
+        claims: dict[str, Any] = {} if self.kind == "infeasible" else {
             "bounces": self.claims.bounces,
             "min_width": json_value(self.claims.min_width),
             "tolerance": json_value(self.claims.tolerance),
@@ -394,6 +435,8 @@ class Certificate:
             if c.visits is not None:
                 cycle["visits"] = list(c.visits)
             data["cycle"] = cycle
+        if self.bound is not None:
+            data["bound"] = _bound_json(self.bound)
         return data
 
     # ------------------------------------------------------------------ JSON in
@@ -413,14 +456,11 @@ class Certificate:
             raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
         version = top.get("version")
         if isinstance(version, bool) or version not in READ_VERSIONS:
-            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1 and 2)")
-        _known(
-            top,
-            {"schema", "version", "kind", "producer", "environment", "segments", "start", "goal", "stages", "claims", "cycle"},
-            "certificate",
-        )
+            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1, 2 and 3)")
+        fields = {"schema", "version", "kind", "producer", "environment", "segments", "start", "goal", "stages", "claims", "cycle"}
+        _known(top, fields | {"bound"} if version >= 3 else fields, "certificate")
         kind = _field(top, "kind", "certificate")
-        kinds = KINDS if version >= 2 else _KINDS_V1
+        kinds = KINDS if version >= 3 else _KINDS_V2 if version == 2 else _KINDS_V1
         if kind not in kinds:
             raise CertificateFormatError(f"kind: {_q(kind)} is not one of {', '.join(kinds)}")
         producer = top.get("producer", "")
@@ -434,10 +474,19 @@ class Certificate:
         goal_raw = top.get("goal")
         goal = None if goal_raw is None else _pieces(goal_raw, "goal")
         stages_raw = _list(_field(top, "stages", "certificate"), "stages")
-        if not stages_raw:
+        if kind == "infeasible":
+            if stages_raw:
+                raise CertificateFormatError("stages: an infeasible certificate has no stages (its proof is the bound block)")
+        elif not stages_raw:
             raise CertificateFormatError("stages: a certificate has at least one stage")
         stages = tuple(_stage(s, f"stages[{i}]") for i, s in enumerate(stages_raw))
-        claims = _claims(_field(top, "claims", "certificate"), version)
+        claims = _claims(_field(top, "claims", "certificate"), version, infeasible=kind == "infeasible")
+        bound_raw = top.get("bound")
+        bound = None if bound_raw is None else _bound(bound_raw)
+        if kind == "infeasible" and bound is None:
+            raise CertificateFormatError("bound: an infeasible certificate needs the bound block (its proof)")
+        if bound is not None and kind not in ("plan", "infeasible"):
+            raise CertificateFormatError(f"bound: a {kind} certificate has no bound block (only plan and infeasible ones)")
         if version == 1 and kind == "funnel" and (claims.objective or "").startswith("localize"):
             kind = "localize"  # a version-1 localisation strategy: read as what it is, without an ε claim
         elif kind == "localize" and claims.epsilon is None:
@@ -460,7 +509,7 @@ class Certificate:
             for i, stage in enumerate(stages):
                 if stage.positions is None:
                     raise CertificateFormatError(f"stages[{i}].positions: a {kind} certificate claims the positions after every stage")
-        return cls(kind, environment, segments, start, goal, stages, claims, cycle, producer, version)
+        return cls(kind, environment, segments, start, goal, stages, claims, cycle, producer, version, bound)
 
 
 # ---------------------------------------------------------------------- text in and out
@@ -685,9 +734,15 @@ def _stage(value: object, where: str) -> Stage:
     return Stage(moves, interval, positions)
 
 
-def _claims(value: object, version: int = VERSION) -> Claims:
+def _claims(value: object, version: int = VERSION, *, infeasible: bool = False) -> Claims:
     where = "claims"
     obj = _object(value, where)
+    if infeasible:  # no plan: nothing but the objective asked for
+        _known(obj, {"objective"}, where)
+        objective = obj.get("objective")
+        if objective is not None and not isinstance(objective, str):
+            raise CertificateFormatError(f"claims.objective: expected a string, got {_q(objective)}")
+        return Claims(bounces=0, min_width=Fraction(0), tolerance=Fraction(0), objective=objective)
     keys = {"bounces", "min_width", "tolerance", "objective", "sum_width", "optimality"}
     _known(obj, keys | {"epsilon"} if version >= 2 else keys, where)
     epsilon_raw = obj.get("epsilon")
@@ -740,6 +795,49 @@ def _cycle(value: object) -> CycleClaim:
         contraction=parse_number(_field(obj, "contraction", where), "cycle.contraction"),
         visits=visits,
     )
+
+
+def _bound(value: object) -> BoundClaim:
+    where = "bound"
+    obj = _object(value, where)
+    _known(obj, {"budget", "threshold", "heading_margin", "table_source", "table", "beliefs"}, where)
+    source = obj.get("table_source", "")
+    if not isinstance(source, str):
+        raise CertificateFormatError(f"bound.table_source: expected a string, got {_q(source)}")
+    budget_raw = _field(obj, "budget", where)
+    budget = None if budget_raw is None else _integer(budget_raw, "bound.budget")
+    threshold = parse_number(_field(obj, "threshold", where), "bound.threshold")
+    delta = parse_number(_field(obj, "heading_margin", where), "bound.heading_margin")
+    table = []
+    for k, seg in enumerate(_list(_field(obj, "table", where), "bound.table")):
+        pieces = []
+        for i, piece in enumerate(_list(seg, f"bound.table[{k}]")):
+            w = f"bound.table[{k}][{i}]"
+            if not isinstance(piece, list) or len(piece) != 3:
+                raise CertificateFormatError(f"{w}: expected a piece [edge, t0, t1], got {_q(piece)}")
+            pieces.append((_integer(piece[0], w), parse_number(piece[1], w), parse_number(piece[2], w)))
+        table.append(tuple(pieces))
+    beliefs = []
+    for i, item in enumerate(_list(_field(obj, "beliefs", where), "bound.beliefs")):
+        w = f"bound.beliefs[{i}]"
+        b = _object(item, w)
+        _known(b, {"depth", "segments"}, w)
+        segs = tuple(_integer(x, f"{w}.segments") for x in _list(_field(b, "segments", w), f"{w}.segments"))
+        beliefs.append(BeliefRecord(segs, _integer(_field(b, "depth", w), f"{w}.depth")))
+    if not beliefs:
+        raise CertificateFormatError("bound.beliefs: the invariant lists at least the start belief")
+    return BoundClaim(tuple(table), delta, threshold, budget, tuple(beliefs), source)
+
+
+def _bound_json(b: BoundClaim) -> dict:
+    return {
+        "budget": b.budget,
+        "threshold": json_value(b.threshold),
+        "heading_margin": json_value(b.heading_margin),
+        **({"table_source": b.table_source} if b.table_source else {}),
+        "beliefs": [{"depth": r.depth, "segments": list(r.segments)} for r in b.beliefs],
+        "table": [[[e, json_value(t0), json_value(t1)] for e, t0, t1 in seg] for seg in b.table],
+    }
 
 
 EXAMPLE: dict = {

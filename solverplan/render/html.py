@@ -558,7 +558,10 @@ def _stats_block(data: dict) -> str:
 
 
 def _no_certificate(kind: str, answered: bool = True) -> str:
-    if kind in _CERTIFICATE_KINDS and not answered:
+    if kind in ("plan", "pareto") and not answered:
+        why = ("No certificate was given: an infeasible plan's certificate (--certificate FILE when solving) proves "
+               "that there is no plan; without it, what the answer proves rests on its search (see optimality below).")
+    elif kind in _CERTIFICATE_KINDS and not answered:
         why = ("An answer that found no strategy has no certificate: what it proves rests on its search "
                "(see optimality below).")
     elif kind in _CERTIFICATE_KINDS:
@@ -591,10 +594,12 @@ def _certificate_section(answer: AnswerFile, env: Environment, view: _View, cert
         raise InputError(f"{cert_path}: the certificate is about another environment ({said['environment']['name']!r}, "
                          f"sha256 {said['environment']['sha256'][:12]}…), not {env.name!r} (sha256 {mine[:12]}…)")
     wanted = _CERTIFICATE_KINDS[answer.kind]
+    if wanted == "plan" and answer.data.get("status") == "infeasible":
+        wanted = "infeasible"  # a proof that there is no plan (issue #22)
     have = cert.kind
     if have != wanted and not (wanted == "localize" and have == "funnel" and str(cert.claims.objective or "").startswith("localize")):
         raise InputError(f"{cert_path}: a {have} certificate does not certify {ANSWER_KINDS[answer.kind]}")
-    if view.bounces is not None and cert.claims.bounces != view.bounces:
+    if have != "infeasible" and view.bounces is not None and cert.claims.bounces != view.bounces:
         raise InputError(f"{cert_path}: the certificate claims {cert.claims.bounces} bounces, the answer has {view.bounces}: "
                          "it certifies another answer")
     query: dict[str, Any] = {}
@@ -627,6 +632,7 @@ def _certificate_section(answer: AnswerFile, env: Environment, view: _View, cert
         rows.append(("claims.cycle", f"return map t ↦ {c['alpha']} t + {c['beta']}; fixed point {c['fixed_point']}; "
                                      f"contraction {c['contraction']}"))
     rows.append(("checked exactly", ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in report.checked)))
+    rows.extend(("proved", statement) for statement in report.proved)
     failures = "".join(f'<li class="failure">{_e(f)}</li>' for f in report.failures)
     trusted = "".join(f"<li>{_e(item)}</li>" for item in report.not_checked)
     body = (f'<section id="certificate" class="{state}"><h2>Certificate</h2>'

@@ -18,6 +18,7 @@ from solverplan.errors import InputError, SolverplanError
 from solverplan.plan import find_plan, pareto_front
 from solverplan.plan.funnel import Funnel, funnel
 from solverplan.plan.patrol import patrol
+from solverplan.result import Status
 from tests.certify.cases import MODELS
 
 SQUARE = load_environment(MODELS / "square.json")
@@ -83,14 +84,15 @@ def test_a_funnel_gives_a_funnel_certificate_and_subclasses_dispatch_like_their_
 
 
 def test_answers_with_nothing_to_certify_raise_a_clear_input_error():
-    infeasible = find_plan(TWO_ROOMS, "e0", "e4", max_bounces=2)
-    with pytest.raises(NothingToCertify, match="the checker certifies plans, not infeasibility") as caught:
-        certificate(infeasible, env=TWO_ROOMS)
-    assert isinstance(caught.value, InputError) and caught.value.why.startswith("the answer is infeasible")
+    infeasible = find_plan(TWO_ROOMS, "e0", "e4", max_bounces=2)  # proved infeasible: certified (test_negative.py)
+    assert certificate(infeasible, env=TWO_ROOMS).kind == "infeasible"
+    assert certificate(pareto_front(TWO_ROOMS, "e0", "e4", max_bounces=2), env=TWO_ROOMS).kind == "infeasible"
+    stopped = replace(infeasible, status=Status.NOT_FOUND)
+    with pytest.raises(NothingToCertify, match="not a proof that there is no plan") as caught:
+        certificate(stopped, env=TWO_ROOMS)
+    assert isinstance(caught.value, InputError) and caught.value.why.startswith("the answer has status 'not-found'")
     with pytest.raises(NothingToCertify, match="nothing to certify"):
         certificate(find_plan(TWO_ROOMS, "e0:0.1:0.2", "e0"), env=TWO_ROOMS)
-    with pytest.raises(NothingToCertify, match="there is no plan to certify"):
-        certificate(pareto_front(TWO_ROOMS, "e0", "e4", max_bounces=2), env=TWO_ROOMS)
     not_found = patrol(load_environment(MODELS / "narrow_door.json"), "e0,e4")
     assert not not_found.found
     with pytest.raises(NothingToCertify, match="there is no cycle to certify"):

@@ -219,6 +219,22 @@ def test_certificate_of_a_changed_claim_is_caught_by_the_checker(answers):
     assert any(f.startswith("claims.min_width") for f in page.certificate["failures"])
 
 
+def test_issue_22_an_infeasible_plan_with_its_certificate_shows_what_is_proved(tmp_path):
+    plan, cert, out = tmp_path / "none.json", tmp_path / "none_cert.json", tmp_path / "none.html"
+    made = run("plan", "comb", "--from", "e3:0.15:1,e4:0:0.25", "--to", "e3:0.4:1,e4:0:0.05", "--max-bounces", "4",
+               "-o", plan, "--certificate", cert)
+    assert made.exit_code == 0, made.stderr
+    result = run("report", "comb", "--plan", plan, "--certificate", cert, "-o", out)
+    assert result.exit_code == 0, result.stderr
+    assert json.loads(result.stdout)["certificate"] == {**json.loads(result.stdout)["certificate"], "valid": True,
+                                                        "kind": "infeasible"}
+    text = out.read_text(encoding="utf-8")
+    parse(text)
+    assert 'id="certificate-status">VALID<' in text and "no plan with at most 4 stages takes the start set" in text
+    other = run("report", "two_rooms", "--plan", tmp_path / "none.json", "--certificate", cert, "-o", out)
+    assert other.exit_code == 2  # another environment
+
+
 # ---------------------------------------------------------------------- escaping
 HOSTILE = '<script>alert("x")</script><img src=x onerror=alert(1)>'
 
