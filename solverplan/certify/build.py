@@ -250,6 +250,7 @@ def _with_bound(cert: Certificate, plan: Plan, env: Environment, budget: int | N
         return cert
     return replace(cert, bound=bound)
 
+
 def _plan_moves(part: Partition, moves: tuple[tuple[int, int], ...],
                 sources: tuple[BoundaryPiece, ...] = ()) -> tuple[MoveSpec, ...]:
     """One certificate move per source of a plan stage: a segment, or the exact part of one that a stage leaves from
