@@ -559,7 +559,8 @@ def mirror(env: Environment, *sets: SetLike) -> Rewritten:
 def answer_summary(answer: Any, *, length_scale: object = 1) -> dict[str, Any]:
     """What of a planner's answer must not change under a rewriting, as a flat dict.
 
-    Plans (:class:`~solverplan.plan.Plan`): status, proof, bounces, min width and sum of widths (radians);
+    Plans (:class:`~solverplan.plan.Plan`): status, proof, bounces and the objective's value (radians: the min
+    width, or the sum of widths for ``sum``; for ``fewest`` the min width, its documented tie-break);
     Pareto fronts: status, proof and the points (bounces, min width); patrols: status, proof, cycle and entry
     bounces, periods, contraction, rate and tolerance; funnels and localisation: status, bounces, tolerance and
     the widths (arc length) of the position sets, divided by ``length_scale`` (lengths in the old environment's
@@ -573,8 +574,12 @@ def answer_summary(answer: Any, *, length_scale: object = 1) -> dict[str, Any]:
     status = answer.status.value
     proved = bool(answer.optimality.proved)
     if isinstance(answer, Plan):
+        # the objective's value and the documented tie-break (fewest: the most tolerant of the fewest-bounce plans;
+        # tolerance and constant: the fewest bounces among the widest); other widths are one optimal plan's, not the
+        # answer's (a sum of widths of a most tolerant plan may differ between equally good plans)
+        value = "sum_width" if answer.objective == "sum" else "min_width"
         return {"kind": f"plan/{answer.objective}", "status": status, "proved": proved, "bounces": answer.bounces,
-                "min_width": answer.min_width, "sum_width": answer.sum_width}
+                value: answer.value if answer.objective != "fewest" else answer.min_width}
     if isinstance(answer, ParetoFront):
         return {"kind": "pareto", "status": status, "proved": proved,
                 "front": [(p.bounces, p.min_width) for p in answer.points]}
@@ -599,7 +604,7 @@ def answer_differences(a: Any, b: Any, *, length_scale: object = 1, tol: float =
     >>> answer_differences(find_plan(room, "e0", "e2"), find_plan(r.env, *r.sets))
     []
     >>> answer_differences(find_plan(room, "e0", "e2"), find_plan(r.env, "e0", "e1"))   # another question
-    ['min_width: 1.175610815 != 0.462547609', 'sum_width: 1.175610815 != 0.462547609']
+    ['min_width: 1.175610815 != 0.462547609']
     """
     sa, sb = answer_summary(a), answer_summary(b, length_scale=length_scale)
     out = []
