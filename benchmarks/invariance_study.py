@@ -56,6 +56,7 @@ class Outcome:
     query: str
     verdicts: dict[tuple[str, str], str] = field(default_factory=dict)
     changes: list[tuple[str, str, list[str], str, str]] = field(default_factory=list)
+    kinds: dict[tuple[str, str], tuple[str, float]] = field(default_factory=dict)
     seconds: float = 0.0
 
 
@@ -127,6 +128,20 @@ def _brief(answer) -> str:
     return ", ".join(f"{k}={rw._show(v)}" for k, v in summary.items() if k != "kind")
 
 
+def _kind(a, b, length_scale) -> tuple[str, float]:
+    """How an answer changed: ``status`` (or proof), ``bounces`` (or the front's points), else ``value`` with the
+    largest difference of a width (radians)."""
+    sa, sb = rw.answer_summary(a), rw.answer_summary(b, length_scale=length_scale)
+    if sa["status"] != sb["status"] or sa.get("proved") != sb.get("proved"):
+        return "status", 0.0
+    if sa.get("bounces") != sb.get("bounces") or [p[0] for p in sa.get("front", [])] != [p[0] for p in sb.get("front", [])]:
+        return "bounces", 0.0
+    deltas = [abs(x - y) for key in ("min_width", "sum_width") if isinstance(x := sa.get(key), float)
+              and isinstance(y := sb.get(key), float)]
+    deltas += [abs(p[1] - q[1]) for p, q in zip(sa.get("front", []), sb.get("front", []))]
+    return "value", max(deltas, default=0.0)
+
+
 def run_query(index: int, seed: int, rewritings: tuple[str, ...], timeout: float) -> Outcome:
     rng = random.Random(f"{seed}:{index}")
     t0 = time.perf_counter()
@@ -153,6 +168,7 @@ def run_query(index: int, seed: int, rewritings: tuple[str, ...], timeout: float
             diff = rw.answer_differences(a, b, length_scale=r.length_scale)
             out.verdicts[(name, what)] = "changed" if diff else "same"
             if diff:
+                out.kinds[(name, what)] = _kind(a, b, r.length_scale)
                 mapped = f"--from {r.sets[0]} --to {r.sets[1]}"
                 out.changes.append((name, what, diff, _brief(a), f"{_brief(b)}   [{r.description}: {mapped}]"))
     out.seconds = time.perf_counter() - t0
@@ -191,16 +207,23 @@ def main(argv: list[str] | None = None) -> int:
             cells.append(f"{changed} / {changed + same}" + (f" ({', '.join(extra)})" if extra else ""))
         anyc = sum(any(o.verdicts.get((name, w)) in ("changed", "error") for w in ANSWERS) for o in outcomes)
         print(f"| {name} | " + " | ".join(cells) + f" | {anyc} / {len(outcomes)} |")
-    print()
+    print("\nHow they changed (all answers of the table together): status or proof / bounce counts or front points / "
+          "only a width (largest |Δ| in radians):\n")
+    print("| rewriting | status | bounces | width only | largest width Δ |")
+    print("|---|---:|---:|---:|---:|")
     for name in rewritings:
-        shown = 0
-        for o in outcomes:
-            for (rname, what, diff, before, after) in o.changes:
-                if rname != name or shown >= args.examples:
-                    continue
-                shown += 1
-                print(f"- {name} / {what}: query {o.index} in {o.env_name}: `{o.query}`\n"
-                      f"    differences: {'; '.join(diff)}\n    before: {before}\n    after:  {after}")
+        kinds = [k for o in outcomes for (rname, _), k in o.kinds.items() if rname == name]
+        by = Counter(k for k, _ in kinds)
+        largest = max((d for k, d in kinds if k == "value"), default=0.0)
+        print(f"| {name} | {by['status']} | {by['bounces']} | {by['value']} | {largest:.3g} |")
+    print("\nExamples (status changes first):\n")
+    severity = {"status": 0, "bounces": 1, "value": 2}
+    for name in rewritings:
+        ranked = sorted(((severity[o.kinds.get((c[0], c[1]), ("status", 0.0))[0]], o.index, o, c)
+                         for o in outcomes for c in o.changes if c[0] == name), key=lambda x: x[:2])
+        for _, _, o, (_, what, diff, before, after) in ranked[:args.examples]:
+            print(f"- {name} / {what}: query {o.index} in {o.env_name}: `{o.query}`\n"
+                  f"    differences: {'; '.join(diff)}\n    before: {before}\n    after:  {after}")
     total = time.perf_counter() - t0
     slowest = max(outcomes, key=lambda o: o.seconds) if outcomes else None
     print(f"\ntotal {total:.1f} s" + (f"; slowest query {slowest.index} ({slowest.env_name}) {slowest.seconds:.1f} s"

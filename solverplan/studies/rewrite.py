@@ -76,6 +76,9 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, format_number, to_fraction
+from solverplan.plan._results import PositionStrategy
+from solverplan.plan.patrol import Patrol
+from solverplan.plan.result import ParetoFront, Plan
 
 __all__ = [
     "Rewritten",
@@ -566,10 +569,6 @@ def answer_summary(answer: Any, *, length_scale: object = 1) -> dict[str, Any]:
     the widths (arc length) of the position sets, divided by ``length_scale`` (lengths in the old environment's
     units). Ids of segments and edges are left out: they change with the numbering.
     """
-    from solverplan.plan._results import PositionStrategy
-    from solverplan.plan.patrol import Patrol
-    from solverplan.plan.result import ParetoFront, Plan
-
     unit = float(to_fraction(length_scale, where="length_scale"))
     status = answer.status.value
     proved = bool(answer.optimality.proved)
