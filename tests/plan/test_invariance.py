@@ -27,6 +27,7 @@ from solverplan.certify.build import certificate
 from solverplan.certify.check import check_certificate
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
+from solverplan.exact import format_number
 from solverplan.plan import find_plan, pareto_front
 from solverplan.plan.funnel import funnel
 from solverplan.plan.localize import localize
@@ -75,7 +76,7 @@ class Query:
 
 
 def _num(x: Fraction) -> str:
-    return str(x.numerator) if x.denominator == 1 else f"'{x}'"
+    return str(x.numerator) if x.denominator == 1 else f"'{format_number(x)}'"
 
 
 T = st.fractions(F(1, 10), F(9, 10), max_denominator=10)
@@ -149,6 +150,12 @@ FUNNEL_ENDS = Query.of([[24, 0], [-15, 27], [-12, -21]], [], "e0:0.6:1,e1:0:2/7"
                        [(0, "9/10"), (0, "2/3")])
 FUNNEL_ROLLED = Query.of([[28, 7], [0, 21], [-36, 0], [0, -38]], [], "e3:5/6:1,e0:0:0.875", "e1:5/6:1",
                          [(3, "3/10"), (2, "1/10")])
+# benchmarks/invariance_study.py: a rotation turns a found 4-bounce plan (width 0.001545417133) into a proved
+# "infeasible" (fewest, tolerance, sum, Pareto); vertices at the set ends turn a proved "infeasible" into a 3-bounce plan
+# of width 0.3386246037 (star_polygon(6, 0.3, 0.3, radius=10, seed=486369, decimals=3))
+T4_ROTATED = Query.model("worst_case_t4", "e3:0.3:1,e4:0:0.2", "e8:0.65:0.95")
+STAR_ENDS = Query.of([["5.094", "4.926"], ["-1.942", "13.233"], ["-9.866", "3.557"], ["-8.024", "-6.256"],
+                      ["-1.276", "-10.967"], ["3.573", "-2.046"]], [], "e0:0.4:1", "e1:0.1:0.55", [(0, "1/2")], budget=5)
 # localisation (heuristic beam search): another ring start 12 → 4 bounces
 LOCALIZE_ROLLED = Query.of([[21, 0], [0, 20], [-20, 0], [0, -20]], [], "e0:0.1:1,e1:0:0.1", "e0:0.1:1", [(0, "1/10")])
 FUNNEL_REVERSED = Query.of([[28, 9], [3, 23], [-29, 0], [12, -25]], [], "e0:5/9:1,e1:0:2/9", "e0:5/9:1,e1:0:2/9",
@@ -226,6 +233,7 @@ NO_SHRINK = (Phase.explicit, Phase.reuse, Phase.generate)
 @example(query=L_ROOM)
 @example(query=L_SPLIT)
 @example(query=QUAD)
+@example(query=STAR_ENDS)
 def test_plan_invariant_under_collinear_vertices_at_set_ends(query):
     assert_plans_invariant(query, at_set_ends)
 
@@ -254,6 +262,7 @@ def test_plan_invariant_under_edges_split_at_midpoints(query):
 @example(query=WORST_CASE_T4)
 @example(query=TRIANGLE)
 @example(query=QUAD)
+@example(query=T4_ROTATED)
 def test_plan_invariant_under_rational_rotation(query):
     assert_plans_invariant(query, rotation_only)
 
@@ -262,6 +271,7 @@ def test_plan_invariant_under_rational_rotation(query):
 @given(query=queries())
 @example(query=WORST_CASE_T4)
 @example(query=DIAMOND)
+@example(query=T4_ROTATED)
 def test_plan_invariant_under_rotation_translation_and_scaling(query):
     assert_plans_invariant(query, rotation_translation_scale)
 
