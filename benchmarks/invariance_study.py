@@ -209,19 +209,25 @@ def main(argv: list[str] | None = None) -> int:
         print(f"| {name} | " + " | ".join(cells) + f" | {anyc} / {len(outcomes)} |")
     print("\nHow they changed (all answers of the table together): status or proof / bounce counts or front points / "
           "only a width (largest |Δ| in radians):\n")
-    print("| rewriting | status | bounces | width only | largest width Δ |")
+    print("| rewriting | status | bounces | width only | largest width Δ (query, answer) |")
     print("|---|---:|---:|---:|---:|")
     for name in rewritings:
-        kinds = [k for o in outcomes for (rname, _), k in o.kinds.items() if rname == name]
-        by = Counter(k for k, _ in kinds)
-        largest = max((d for k, d in kinds if k == "value"), default=0.0)
-        print(f"| {name} | {by['status']} | {by['bounces']} | {by['value']} | {largest:.3g} |")
-    print("\nExamples (status changes first):\n")
+        kinds = [(k, o.index, what) for o in outcomes for (rname, what), k in o.kinds.items() if rname == name]
+        by = Counter(k for (k, _), _, _ in kinds)
+        widths = [(d, i, what) for (k, d), i, what in kinds if k == "value"]
+        largest = max(widths, default=(0.0, None, ""))
+        where = f" (query {largest[1]}, {largest[2]})" if largest[1] is not None else ""
+        print(f"| {name} | {by['status']} | {by['bounces']} | {by['value']} | {largest[0]:.3g}{where} |")
+    print("\nExamples (status changes first; one answer per query):\n")
     severity = {"status": 0, "bounces": 1, "value": 2}
     for name in rewritings:
         ranked = sorted(((severity[o.kinds.get((c[0], c[1]), ("status", 0.0))[0]], o.index, o, c)
                          for o in outcomes for c in o.changes if c[0] == name), key=lambda x: x[:2])
-        for _, _, o, (_, what, diff, before, after) in ranked[:args.examples]:
+        seen: set[int] = set()
+        for _, index, o, (_, what, diff, before, after) in ranked:
+            if index in seen or len(seen) >= args.examples:
+                continue
+            seen.add(index)
             print(f"- {name} / {what}: query {o.index} in {o.env_name}: `{o.query}`\n"
                   f"    differences: {'; '.join(diff)}\n    before: {before}\n    after:  {after}")
     total = time.perf_counter() - t0
