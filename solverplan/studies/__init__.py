@@ -12,6 +12,9 @@
 - :mod:`~solverplan.studies.execute` — :func:`run_study`: in process, on a local process pool or on a
   Dask cluster, written row by row so an interrupted study resumes (:mod:`~solverplan.studies.store`).
 - :mod:`~solverplan.studies.catalog` — the named studies of ``solverplan study``.
+- :mod:`~solverplan.studies.rewrite` — the same walls written differently (collinear vertices, split edges,
+  exact rotations, another ring start, the opposite vertex order) with the query mapped exactly, and answer
+  summaries to compare: issue #22's invariance tests and ``benchmarks/invariance_study.py``.
 - :mod:`~solverplan.studies.rooms` — robots bouncing through the rooms and doors of a rectilinear polygon
   (Çağırıcı, Bahoo and LaValle): the smart, random and billiard rules side by side (their Table I), with door
   control and exact detection of periodic orbits.
