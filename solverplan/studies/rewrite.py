@@ -565,11 +565,10 @@ def answer_summary(answer: Any, *, length_scale: object = 1) -> dict[str, Any]:
     Plans (:class:`~solverplan.plan.Plan`): status, proof, bounces and the objective's value (radians: the min
     width, or the sum of widths for ``sum``; for ``fewest`` the min width, its documented tie-break);
     Pareto fronts: status, proof and the points (bounces, min width); patrols: status, proof, cycle and entry
-    bounces, periods, contraction, rate and tolerance; funnels and localisation: status, bounces, tolerance and
-    the widths (arc length) of the position sets, divided by ``length_scale`` (lengths in the old environment's
-    units). Ids of segments and edges are left out: they change with the numbering.
+    bounces, periods, contraction, rate and tolerance; funnels and localisation (beam searches for the fewest
+    bounces): status, bounces and tolerance (``length_scale`` is then unused). Ids of segments and edges are left out: they change with the numbering.
     """
-    unit = float(to_fraction(length_scale, where="length_scale"))
+    to_fraction(length_scale, where="length_scale")  # checked, for every kind
     status = answer.status.value
     proved = bool(answer.optimality.proved)
     if isinstance(answer, Plan):
@@ -587,8 +586,9 @@ def answer_summary(answer: Any, *, length_scale: object = 1) -> dict[str, Any]:
                 "bounces": len(answer.cycle), "entry": len(answer.entry), "periods": answer.periods,
                 "contraction": answer.contraction, "rate": answer.rate, "tolerance": answer.tolerance}
     if isinstance(answer, PositionStrategy):
-        return {"kind": answer.kind, "status": status, "bounces": answer.bounces, "tolerance": answer.tolerance,
-                "widths": [w / unit for w in answer.widths] if answer.found else None}
+        # a beam search's answer: its status and bounces (what it minimises) and its interval width; the position
+        # widths are one strategy's among equally short ones, which float ties of a rotated copy may pick otherwise
+        return {"kind": answer.kind, "status": status, "bounces": answer.bounces, "tolerance": answer.tolerance}
     raise InputError(f"answer_summary: no summary for a {type(answer).__name__}")
 
 
