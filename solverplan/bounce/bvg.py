@@ -63,6 +63,8 @@ import numpy as np
 from solverplan._arrays import ragged_arange
 from solverplan.bounce import _cache, _sweep
 from solverplan.bounce._cache import (
+    DEFAULT_MAX_BYTES,
+    DEFAULT_MIN_ARCS,
     GraphCacheReport,
     clear_graph_cache,
     default_cache_directory,
@@ -88,7 +90,7 @@ if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only the conversions below
 __all__ = ["SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph", "GraphTooLarge", "estimate_graph",
            "check_graph_memory", "set_graph_cache", "clear_graph_cache",
            "graph_cache_directory", "default_cache_directory", "graph_cache_report", "purge_graph_cache",
-           "GraphCacheReport", "partition_digest", "discard_graphs", "fresh_graphs"]
+           "GraphCacheReport", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "partition_digest", "discard_graphs", "fresh_graphs"]
 
 logger = logging.getLogger(__name__)
 
