@@ -77,7 +77,7 @@ if TYPE_CHECKING:
 
 __all__ = ["FORMAT_VERSION", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "GraphCacheReport", "set_graph_cache",
            "graph_cache_directory", "clear_graph_cache", "default_cache_directory", "partition_digest",
-           "purge_graph_cache", "graph_cache_report", "discard_graphs", "fresh_graphs"]
+           "purge_graph_cache", "graph_cache_report", "discard_graphs", "fresh_graphs", "read_from_disk"]
 
 logger = logging.getLogger(__name__)
 
@@ -193,6 +193,12 @@ def discard_graphs() -> int:
         except OSError as exc:
             logger.info("graph cache: cannot delete %s (%s)", path, exc.strerror or exc)
     return deleted
+
+
+def read_from_disk() -> bool:
+    """Whether this process has used a graph read from the disk cache (since the last :func:`discard_graphs`)."""
+    with _lock:
+        return bool(_read_here)
 
 
 @contextlib.contextmanager

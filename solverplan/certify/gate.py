@@ -31,7 +31,7 @@ import time
 from dataclasses import dataclass
 from typing import Any, Callable, Generic, TypeVar
 
-from solverplan.bounce._cache import discard_graphs, fresh_graphs
+from solverplan.bounce._cache import discard_graphs, fresh_graphs, read_from_disk
 from solverplan.certify import build
 from solverplan.certify.build import NothingToCertify
 from solverplan.certify.check import CheckReport, check_certificate
@@ -104,7 +104,20 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
     AnswerNotVerified
         The answer failed its check twice (the second time with freshly built graphs).
     """
-    answer = compute()
+    try:
+        answer = compute()
+    except InputError:
+        raise  # bad input is bad input, whatever the cache holds
+    except Exception as exc:
+        if not read_from_disk():
+            raise
+        # a graph read from the disk cache may be what broke the query: answer again without it
+        logger.warning("the query failed with graphs read from the cache (%s: %s): discarding them and answering again",
+                       type(exc).__name__, exc)
+        discard_graphs()
+        with fresh_graphs():
+            answer = compute()
+        return _accept(answer, _verify(answer, env, start, goal), retried=True)
     verdict = _verify(answer, env, start, goal)
     if verdict.failure is None:
         return verdict.result(answer)
@@ -113,11 +126,14 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
     discard_graphs()
     with fresh_graphs():
         answer = compute()
-    verdict = _verify(answer, env, start, goal)
+    return _accept(answer, _verify(answer, env, start, goal), retried=True)
+
+
+def _accept(answer: T, verdict: _Verdict, *, retried: bool) -> Checked[T]:
     if verdict.failure is not None:
         raise AnswerNotVerified(_what(answer), verdict.failure)
     logger.info("the %s computed with freshly built graphs passed its exact check", _what(answer))
-    return verdict.result(answer, retried=True)
+    return verdict.result(answer, retried=retried)
 
 
 def check_infeasibility(answer: Any, env: Environment | None) -> CheckReport | None:
@@ -180,8 +196,9 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
             if isinstance(answer, ParetoFront) and answer.points:
                 continue  # a point whose start lies in its goal: checked by _nothing_to_certify
             return _Verdict(None, None, checked, unchecked.unchecked, time.perf_counter() - t0)
-        except InputError as exc:  # the answer does not even make a certificate (moves that are no run, ...)
-            return _Verdict(f"{where}no certificate can be made of it: {exc}", seconds=time.perf_counter() - t0)
+        except Exception as exc:  # noqa: BLE001 - an answer that cannot even be certified is not given
+            return _Verdict(f"{where}no certificate can be made of it ({type(exc).__name__}: {exc})",
+                            seconds=time.perf_counter() - t0)
         report = check_certificate(cert, **query)
         checked += 1
         if not report.valid:
