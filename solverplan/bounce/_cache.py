@@ -319,7 +319,7 @@ def _save(directory: Path, digest: str, graph: SafeBVG) -> Path | None:
         if a.shape != (length,):
             logger.info("graph cache: not writing %s (array %s has shape %s, expected (%d,))", name, key, a.shape, length)
             return None
-        chunks.append(memoryview(a).cast("B"))
+        chunks.append(a.data.cast("B"))
     tmp = directory / f".{name[:16]}.{secrets.token_hex(8)}.tmp"
     final = directory / f"{name}{_SUFFIX}"
     try:
@@ -370,7 +370,9 @@ def _load(directory: Path, digest: str, p: Partition) -> SafeBVG | None:
     with _lock:
         _read_here[digest] = path
     logger.debug("graph cache: read %s (%d arcs)", path.name, header["n_arcs"])
-    return SafeBVG(partition=p, **{k: arrays[k] for k in _ARRAYS},
+    return SafeBVG(partition=p, source=arrays["source"], target=arrays["target"], lo=arrays["lo"], hi=arrays["hi"],
+                   n_intervals=arrays["n_intervals"], set_offsets=arrays["set_offsets"], set_lo=arrays["set_lo"],
+                   set_hi=arrays["set_hi"], transition=arrays["transition"], phi=arrays["phi"],
                    _set_ends=(arrays["lo_from"], arrays["lo_to"], arrays["hi_from"], arrays["hi_to"]), stats=stats)
 
 

@@ -120,6 +120,8 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
         return _accept(answer, _verify(answer, env, start, goal), retried=True)
     verdict = _verify(answer, env, start, goal)
     if verdict.failure is None:
+        logger.debug("the %s passed its exact check (%d certificates, %.3f s)", _what(answer), verdict.checked,
+                     verdict.seconds)
         return verdict.result(answer)
     logger.warning("the %s failed its exact check (%s): discarding the cached graphs and answering again",
                    _what(answer), verdict.failure)
