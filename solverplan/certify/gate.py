@@ -21,7 +21,7 @@ for consistency only (a bound the search proved is not re-derived): see ``not_ch
 >>> square = Environment.from_coords([[0, 0], [10, 0], [10, 10], [0, 10]], name="square")
 >>> checked = checked_answer(lambda: find_plan(square, "e0", "e2"), env=square, start="e0", goal="e2")
 >>> checked.answer.bounces, checked.checked, checked.retried, checked.unchecked
-(1, 1, False, None)
+(2, 1, False, None)
 """
 
 from __future__ import annotations
@@ -103,6 +103,14 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
     ------
     AnswerNotVerified
         The answer failed its check twice (the second time with freshly built graphs).
+    TypeError
+        A plan or Pareto front without ``env``.
+
+    Notes
+    -----
+    If ``compute`` itself raises (anything but :class:`~solverplan.errors.InputError`) after using a graph read from
+    the disk cache, the graphs are discarded and ``compute`` runs once more with fresh ones: a forged graph may break
+    the planner rather than its answer. Without a graph read from disk, the error propagates unchanged.
     """
     try:
         answer = compute()
@@ -184,6 +192,8 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
         query["expected_start"] = expected_start
     if expected_goal is not None:
         query["expected_goal"] = expected_goal
+    if env is None and isinstance(answer, (Plan, ParetoFront)):
+        raise TypeError("a plan does not carry its environment: call checked_answer(..., env=...)")
     plans: list[Any] = [p.plan for p in answer.points] if isinstance(answer, ParetoFront) else [answer]
     last: Certificate | None = None
     checked = 0
