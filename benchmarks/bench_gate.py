@@ -37,8 +37,9 @@ def run(tree: Path, args: list[str]) -> tuple[float, float, int]:
     """Wall seconds, CPU seconds (user + system) and peak RSS (KiB) of one subprocess, as /usr/bin/time reports them."""
     env = {**os.environ, "PYTHONPATH": str(tree)}
     with tempfile.NamedTemporaryFile("r") as report:
+        # cwd=tree: ``python -c`` puts the working folder before PYTHONPATH on sys.path
         subprocess.run(["/usr/bin/time", "-f", "%e %U %S %M", "-o", report.name, sys.executable, "-c", CODE, *args],
-                       env=env, stdout=subprocess.DEVNULL, check=True)
+                       env=env, cwd=tree, stdout=subprocess.DEVNULL, check=True)
         wall, user, system, rss = report.read().split()[-4:]
     return float(wall), float(user) + float(system), int(rss)
 
@@ -67,7 +68,7 @@ def main() -> None:
                                         "import sys; from solverplan.bounce import bvg; from solverplan.environment import "
                                         "load_environment as L; bvg.set_graph_cache(sys.argv[1], min_seconds=0.0); "
                                         "bvg.safe_bounce_visibility_graph(L('two_rooms'))", str(where)],
-                                       env={**os.environ, "PYTHONPATH": str(tree)}, check=True)
+                                       env={**os.environ, "PYTHONPATH": str(tree)}, cwd=tree, check=True)
                     run(tree, [*options[tree_name], *command])  # warm-up (and cache fill)
                 load = os.getloadavg()[0]
                 for _ in range(args.repeat):
