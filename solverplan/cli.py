@@ -320,7 +320,17 @@ def _root(
     graph_cache: Annotated[
         str | None,
         typer.Option("--graph-cache", metavar="DIR", envvar="SOLVERPLAN_GRAPH_CACHE", show_default=False,
-                     help="Keep safe BVGs that took over a second to build in DIR and reuse them ('off': never; default: $XDG_CACHE_HOME/solverplan/graphs)."),
+                     help="Keep large safe BVGs in DIR and reuse them, integrity-checked ('off': never; default: $XDG_CACHE_HOME/solverplan/graphs)."),
+    ] = None,
+    graph_cache_min_arcs: Annotated[
+        int | None,
+        typer.Option("--graph-cache-min-arcs", metavar="N", min=0, envvar="SOLVERPLAN_GRAPH_CACHE_MIN_ARCS", show_default=False,
+                     help="Write only graphs of at least N arcs to the graph cache (default 100000; 0: every graph)."),
+    ] = None,
+    graph_cache_size: Annotated[
+        str | None,
+        typer.Option("--graph-cache-size", metavar="SIZE", envvar="SOLVERPLAN_GRAPH_CACHE_SIZE", show_default=False,
+                     help="Cap the graph cache at SIZE bytes (e.g. 500M; default 2G): least recently used graphs go first."),
     ] = None,
     max_memory: Annotated[
         str | None,
@@ -337,15 +347,17 @@ def _root(
     _json_indent = -1 if compact else indent
     cache = bvg.default_cache_directory() if graph_cache is None else None if graph_cache in ("", "off") else Path(graph_cache)
     limit = _parse_size(max_memory) if max_memory is not None else None
-    bvg.set_graph_cache(cache)
+    cap = _parse_size(graph_cache_size, "--graph-cache-size") if graph_cache_size is not None else bvg.DEFAULT_MAX_BYTES
+    bvg.set_graph_cache(cache, min_arcs=bvg.DEFAULT_MIN_ARCS if graph_cache_min_arcs is None else graph_cache_min_arcs,
+                        max_bytes=cap)
     if limit is not None:
         set_memory_limit(limit)
     # the layout, cache and limit belong to this one command line (tests run many in one process)
     ctx.call_on_close(_reset_json_layout)
 
 
-def _parse_size(text: str) -> int:
-    """``SIZE`` of --max-memory: bytes, or a number with K, M, G or T (powers of 1024)."""
+def _parse_size(text: str, option: str = "--max-memory") -> int:
+    """``SIZE`` of --max-memory (or ``option``): bytes, or a number with K, M, G or T (powers of 1024)."""
     units = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
     t = text.strip().upper().removesuffix("B")
     unit = t[-1:] if t[-1:] in units and t[-1:] else ""
@@ -354,7 +366,7 @@ def _parse_size(text: str) -> int:
     except ValueError:
         value = float("nan")
     if not (1 <= value * units[unit] < 2**62):
-        raise typer.BadParameter(f"expected a size such as 2G, 500M or 1000000 bytes, got {text[:40]!r}", param_hint="'--max-memory'")
+        raise typer.BadParameter(f"expected a size such as 2G, 500M or 1000000 bytes, got {text[:40]!r}", param_hint=f"'{option}'")
     return int(value * units[unit])
 
 
@@ -689,7 +701,7 @@ def patrol_command(
     _contraction_answer(env, env_format, lambda environment: patrol(
         environment, visit, start=start, objective=objective.value, tolerance=tolerance, max_between=max_between,
         epsilon=epsilon, heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=timeout),
-        certificate, picture, fmt, out, verbose)
+        certificate, picture, fmt, out, verbose, start=start)
 
 
 @app.command(name="funnel")
@@ -714,7 +726,7 @@ def funnel_command(
 
     _contraction_answer(env, env_format, lambda environment: funnel(
         environment, start, goal, tolerance=tolerance, max_bounces=max_bounces, heading_margin=heading_margin,
-        corner_clearance=corner_clearance, timeout=timeout), certificate, picture, fmt, out, verbose)
+        corner_clearance=corner_clearance, timeout=timeout), certificate, picture, fmt, out, verbose, start=start, goal=goal)
 
 
 @app.command(name="localize")
@@ -743,43 +755,48 @@ def localize_command(
     _contraction_answer(env, env_format, lambda environment: localize(
         environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces,
         heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=timeout), certificate, picture, fmt,
-        out, verbose)
+        out, verbose, start=start)
 
 
 def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, certificate: Path | None,
-                        picture: Path | None, fmt: OutputFormat, out: Path | None, verbose: int) -> None:
-    """Load the environment, ``solve`` it (patrol, funnel, localize), write the --certificate and --picture of
-    a found answer, emit the answer."""
+                        picture: Path | None, fmt: OutputFormat, out: Path | None, verbose: int, *,
+                        start: str | None = None, goal: str | None = None) -> None:
+    """Load the environment, ``solve`` it (patrol, funnel, localize) and check the answer exactly, write the
+    --certificate and --picture of a found answer, emit the answer."""
+    from solverplan.certify.gate import checked_answer
+
     with exit_codes(verbose):
         _check_picture(picture)
-        result = solve(_load(env, env_format))
+        environment = _load(env, env_format)
+        checked = checked_answer(lambda: solve(environment), env=environment, start=start, goal=goal)
+        result = checked.answer
         if result.found:
-            _write_extras(result, certificate, picture)
+            _write_extras(result, certificate, picture, checked.certificate)
         emit(result, fmt, out)
 
 
-def _write_extras(result: Any, certificate: Path | None, picture: Path | None) -> None:
+def _write_extras(result: Any, certificate: Path | None, picture: Path | None, checked: Any = None) -> None:
     """The --certificate and --picture files of a contraction answer (patrol, funnel, localize)."""
     if certificate is not None:
-        _write_certificate_file(result, certificate)
+        _write_certificate_file(result, certificate, checked=checked)
     if picture is not None:
         from solverplan.render import render_answer, save_figure
 
         save_figure(render_answer(result), picture)
 
 
-def _write_certificate_file(answer: Any, path: Path, env: Any = None) -> None:
+def _write_certificate_file(answer: Any, path: Path, env: Any = None, checked: Any = None) -> None:
     """--certificate: the answer's certificate, checked exactly, then written (a warning, and no file, for an
-    answer with nothing to certify; exit 1 if the check fails)."""
+    answer with nothing to certify; exit 1 if the check fails). ``checked``: the certificate, already checked."""
     from solverplan.certify.build import NothingToCertify, certificate, write_certificate
 
     try:
-        cert = certificate(answer, env=env)
+        cert = checked if checked is not None else certificate(answer, env=env)
     except NothingToCertify as exc:
         sys.stderr.write(f"warning: no certificate written to {path}: {exc.why}\n")
         return
     try:
-        write_certificate(cert, path)
+        write_certificate(cert, path, check=checked is None)
     except OSError as exc:
         raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
     logger.info("wrote certificate %s (verified)", path)
@@ -838,21 +855,26 @@ def plan_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """An optimal plan from one boundary set to another (paper §7–8), or a proof that there is none (exit 0)."""
+    from solverplan.certify.gate import checked_answer
     from solverplan.plan.search import find_plan, pareto_front
 
     with exit_codes(verbose):
         environment = _load(env, env_format)
-        if pareto:
-            if objective not in (None, PlanObjective.TOLERANCE) or method != "auto":
-                raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
-            answer: Any = pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin,
-                                       corner_clearance=corner_clearance, timeout=timeout)
-        else:
-            answer = find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
-                               max_bounces=max_bounces, method=method, heading_margin=heading_margin,
-                               corner_clearance=corner_clearance, timeout=timeout)
+        if pareto and (objective not in (None, PlanObjective.TOLERANCE) or method != "auto"):
+            raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
+
+        def solve() -> Any:
+            if pareto:
+                return pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin,
+                                    corner_clearance=corner_clearance, timeout=timeout)
+            return find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
+                             max_bounces=max_bounces, method=method, heading_margin=heading_margin,
+                             corner_clearance=corner_clearance, timeout=timeout)
+
+        checked = checked_answer(solve, env=environment, start=start, goal=goal)  # exact check before it leaves
+        answer = checked.answer
         if certificate is not None:
-            _write_certificate_file(answer, certificate, environment)
+            _write_certificate_file(answer, certificate, environment, checked.certificate)
         emit(answer, fmt, out)
 
 
@@ -1556,6 +1578,42 @@ def fields_command(
 def _terminate(signum: int, frame: Any) -> None:
     """SIGTERM unwinds like SIGINT, so output files half-written are removed (exit 128 + 15)."""
     raise SystemExit(128 + signum)
+
+
+# ---------------------------------------------------------------------- cache (the safe-BVG disk cache)
+cache_app = typer.Typer(
+    name="cache", cls=_Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
+    help="The disk cache of safe BVGs (the folder of the global --graph-cache option): its size, or empty it.",
+)
+app.add_typer(cache_app, name="cache")
+
+
+def _cache_folder() -> Path:
+    from solverplan.bounce import bvg
+
+    folder = bvg.graph_cache_directory()
+    if folder is None:
+        raise InputError("the graph cache is off (--graph-cache off or SOLVERPLAN_GRAPH_CACHE=off): "
+                         "name its folder, e.g. 'solverplan --graph-cache DIR cache clear'")
+    return folder
+
+
+@cache_app.command(name="info")
+def cache_info_command(fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None, verbose: VerboseOpt = 0) -> None:
+    """The graph cache's folder, its entries and bytes, its size cap and write threshold."""
+    from solverplan.bounce import bvg
+
+    with exit_codes(verbose):
+        emit(bvg.graph_cache_report(_cache_folder()), fmt, out)
+
+
+@cache_app.command(name="clear")
+def cache_clear_command(fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None, verbose: VerboseOpt = 0) -> None:
+    """Remove every graph of the cache (its own files only: nothing else in the folder is touched)."""
+    from solverplan.bounce import bvg
+
+    with exit_codes(verbose):
+        emit(bvg.purge_graph_cache(_cache_folder()), fmt, out)
 
 
 def main() -> None:

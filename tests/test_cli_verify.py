@@ -149,7 +149,8 @@ def test_installed_script_verifies(tmp_path):
 
 # ---------------------------------------------------------------------- --certificate of the planning commands
 def test_plan_certificate_that_fails_the_check_exits_1_and_writes_nothing(tmp_path, monkeypatch):
-    """The check before the write: a certificate the exact checker refuses is not written (exit 1, one line)."""
+    """The check before the answer leaves (solverplan.certify.gate): a plan whose certificate the exact checker
+    refuses, even when computed again with fresh graphs, is neither printed nor written (exit 1, one line)."""
     from dataclasses import replace
 
     from solverplan.certify import build
@@ -163,7 +164,7 @@ def test_plan_certificate_that_fails_the_check_exits_1_and_writes_nothing(tmp_pa
     monkeypatch.setattr(build, "certificate", inflated)
     cert = tmp_path / "plan.cert.json"
     result = run("plan", MODELS / "two_rooms.json", "--from", "e0", "--to", "e4", "--certificate", cert)
-    assert_one_line_error(result, 1, "error: the plan's certificate does not verify: claims.bounces: claims ")
+    assert_one_line_error(result, 1, "error: the plan failed its exact check, even with freshly built graphs: claims.bounces: claims ")
     assert not cert.exists() and list(tmp_path.iterdir()) == []
 
 

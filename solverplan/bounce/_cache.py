@@ -1,38 +1,70 @@
 """Reuse of built safe bounce visibility graphs: in memory per process, on disk when asked.
 
-A safe BVG depends only on the environment's exact rings (the partition P′ is a function of them)
-and on the construction's version, so a built graph is reused whenever the same rings come again:
+A safe BVG is a function of its partition P′ alone: the environment's exact rings and the exact cut
+points of every segment (Algorithm 1's, and any extra cut a planner refines the partition with). So a
+graph is keyed by the **partition digest** (:func:`partition_digest`): the SHA-256 of the rings and of
+every segment's exact ``(edge, t0, t1)``. Computing it reads the partition the caller already has; it
+never rebuilds one.
 
-- **in memory** (always): the last few graphs built in this process, keyed by the environment
-  (exact rings) — a second query on one environment in one process does not rebuild it;
+- **in memory** (always): the last few graphs built or read in this process, by partition digest (and,
+  for a call with an environment, by the environment, so that a second query on it does not even
+  partition it again);
 - **on disk** (when a directory is set, :func:`set_graph_cache`; the command line sets one by
-  default, see docs/contract.md): one ``.npz`` file of plain numpy arrays per graph (no pickle),
-  named by the SHA-256 of (format version, the environment's SHA-256, the construction
-  parameters), written atomically (temporary file + rename). Only graphs that took at least
-  ``min_seconds`` to build are written: smaller ones are faster to rebuild than to read.
+  default, see docs/contract.md): one file per graph, ``<name>.spg``, where the name is the SHA-256
+  of (format version, construction parameters, partition digest).
 
-A disk entry is never trusted blindly: it must carry the same format version, environment digest
-and construction parameters, its partition's fingerprint (the float start points and edge ids of
-every segment) must equal the partition rebuilt from the environment, and its arrays must have the
-shapes, types and invariants of a graph (sorted unique arcs, consistent interval offsets). An entry
-that fails any check — stale, truncated, corrupt, or of another version — is ignored and rebuilt
-(and overwritten).
+The disk format (version :data:`FORMAT_VERSION`) is plain bytes, no pickle, no zip::
+
+    MAGIC | header length (8 bytes, little endian) | header (JSON, padded to 8 bytes)
+          | the arrays, raw little-endian, in the fixed order of _LAYOUT
+          | SHA-256 of everything before it (32 bytes, written last)
+
+The header names the format version, the construction parameters, the partition digest it was built
+for, the number of segments, arcs and safe intervals; the loader computes every array's place from
+those counts (the file says nothing else about its layout) and requires the file size to match.
+
+**What is checked on load, and what a failed check does.** An entry is used only if it is a regular
+file (not a symlink, not a device), no larger than the cache's size cap, starts with the magic, its
+trailing SHA-256 matches its bytes (a truncated, corrupted or partially edited file fails here), its
+header names this format version, these parameters and *this* partition digest (an entry of another
+polygon or partition copied under this name fails here), its sizes match the partition (segment
+count, at most N(N − 1) arcs, the exact file size), and its arrays have the invariants of a graph
+(sorted unique arcs, ids in range, consistent interval offsets). Anything else is a **miss**: logged
+(INFO: ``-v`` shows it), rebuilt, and the entry overwritten — never an error, never trusted.
+
+**What it does not protect against**: someone who rewrites an entry *and* its digest (the digest is
+not a signature: anyone who can write the folder can forge one). That is why every answer the command
+line gives is checked by the independent exact checker before it leaves
+(:mod:`solverplan.certify.gate`), whatever the cache said; a failed check discards the cached graphs
+(:func:`discard_graphs`) and answers again with freshly built ones (:func:`fresh_graphs`).
+
+Writes are atomic (a temporary file in the folder, flushed, then renamed over the entry), with the
+permissions of a plain ``open(path, "w")`` (``0o666 & ~umask``), so concurrent processes sharing a
+folder see either a whole entry or none. Only graphs of at least ``min_arcs`` arcs are written (smaller
+ones are faster to rebuild than to read: the threshold is the graph's size, not the build's wall time,
+so whether a graph is kept does not depend on the machine's load). The folder is capped at
+``max_bytes``: after a write, the least recently used entries (a hit refreshes an entry's time) are
+removed until it fits. :func:`purge_graph_cache` empties it (``solverplan cache clear``).
 
 The arrays of a cached graph are shared by every caller that gets it, so they are read-only.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import logging
 import os
-import tempfile
+import re
+import secrets
+import stat
 import threading
+import time
 from collections import OrderedDict
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Iterator
 
 import numpy as np
 
@@ -43,28 +75,60 @@ if TYPE_CHECKING:
     from solverplan.bounce.partition import Partition
     from solverplan.environment import Environment
 
-__all__ = ["FORMAT_VERSION", "set_graph_cache", "graph_cache_directory", "clear_graph_cache", "default_cache_directory"]
+__all__ = ["FORMAT_VERSION", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "GraphCacheReport", "set_graph_cache",
+           "graph_cache_directory", "clear_graph_cache", "default_cache_directory", "partition_digest",
+           "purge_graph_cache", "graph_cache_report", "discard_graphs", "fresh_graphs", "read_from_disk"]
 
 logger = logging.getLogger(__name__)
 
-FORMAT_VERSION = 2  # 2: float ends refined where rounding could show (translated or tiny features)
+FORMAT_VERSION = 3  # 3: own format with a trailing SHA-256, keyed by the partition's exact content
 """Version of the cached arrays and of the construction that made them: bump it whenever either
-changes, and every older entry is ignored."""
+changes, and every older entry is ignored.
 
-_PARAMETERS = "partition=algorithm1;safe=exact"
-"""The construction parameters a graph depends on (none can be chosen yet; part of every key)."""
+2: float ends refined where rounding could show (translated or tiny features)."""
 
+_PARAMETERS = "partition=given;safe=exact"
+"""The construction parameters a graph depends on besides its partition (part of every key)."""
+
+_MAGIC = b"solverplan safe-bvg\n"
+_SUFFIX = ".spg"
+_DIGEST = 32
+_MAX_HEADER = 1 << 20
+
+# (name, dtype, length: "n" arcs, "n+1", "m" safe intervals), in file order
+_LAYOUT: tuple[tuple[str, str, str], ...] = (
+    ("source", "<i8", "n"), ("target", "<i8", "n"), ("lo", "<f8", "n"), ("hi", "<f8", "n"),
+    ("n_intervals", "<i8", "n"), ("set_offsets", "<i8", "n+1"), ("set_lo", "<f8", "m"), ("set_hi", "<f8", "m"),
+    ("transition", "|i1", "n"), ("phi", "<f8", "n"),
+    ("lo_from", "<i8", "m"), ("lo_to", "<i8", "m"), ("hi_from", "<i8", "m"), ("hi_to", "<i8", "m"),
+)
 _ARRAYS = ("source", "target", "lo", "hi", "n_intervals", "set_offsets", "set_lo", "set_hi", "transition", "phi")
 _END_ARRAYS = ("lo_from", "lo_to", "hi_from", "hi_to")
+
+DEFAULT_MIN_ARCS = 100_000
+"""Graphs with fewer arcs are not written to disk: they build in about 0.15 s or less (≈ 1.5 µs per arc on the
+project's machine, benchmarks/README.md) and reading is not worth a file."""
+
+DEFAULT_MAX_BYTES = 2 << 30
+"""The disk cache's size cap (bytes): least recently used entries go first. Also the largest entry read."""
+
+_STALE_TEMPORARY = 3600.0  # seconds after which a temporary file left by a killed writer is removed
 
 # in memory: at most this many graphs and this many arcs in all (about 110 bytes per arc)
 _MEMORY_GRAPHS = 4
 _MEMORY_ARCS = 4_000_000
 
 _lock = threading.Lock()
-_memory: OrderedDict[Environment, SafeBVG] = OrderedDict()
+_memory: OrderedDict[str, SafeBVG] = OrderedDict()
+_aliases: OrderedDict[Environment, str] = OrderedDict()  # environment → digest of its plain P′
+_read_here: dict[str, Path] = {}  # digests of the graphs this process read from disk → their files
+_fresh = 0  # > 0 inside fresh_graphs(): no graph is reused
 _directory: Path | None = None
-_min_seconds = 1.0
+_min_arcs = DEFAULT_MIN_ARCS
+_min_seconds: float | None = None
+_max_bytes = DEFAULT_MAX_BYTES
+
+_OURS = re.compile(r"[0-9a-f]{64}\.(spg|npz)|\.[0-9a-f]{16}\.[0-9a-z_]+\.tmp")
 
 
 def default_cache_directory() -> Path:
@@ -73,19 +137,29 @@ def default_cache_directory() -> Path:
     return Path(base) / "solverplan" / "graphs"
 
 
-def set_graph_cache(directory: str | os.PathLike[str] | None, *, min_seconds: float = 1.0) -> None:
+def set_graph_cache(directory: str | os.PathLike[str] | None, *, min_arcs: int = DEFAULT_MIN_ARCS,
+                    min_seconds: float | None = None, max_bytes: int = DEFAULT_MAX_BYTES) -> None:
     """Keep built safe BVGs on disk in ``directory`` (created when first written), or nowhere (``None``).
 
     Parameters
     ----------
     directory
-        Where the ``.npz`` entries live; ``None`` turns the disk cache off (the in-memory one stays).
+        Where the entries live; ``None`` turns the disk cache off (the in-memory one stays).
+    min_arcs
+        Only graphs with at least this many arcs are written (0: every graph).
     min_seconds
-        Only graphs whose build took at least this long (seconds) are written.
+        Also write graphs whose build took at least this long (seconds); ``None`` (default): the size
+        alone decides, so the same graphs are kept whatever the machine's load.
+    max_bytes
+        The folder's size cap: after a write, least recently used entries are removed until it fits.
     """
-    global _directory, _min_seconds
+    global _directory, _min_arcs, _min_seconds, _max_bytes
+    if min_arcs < 0 or max_bytes < 1:
+        raise ValueError(f"expected min_arcs >= 0 and max_bytes >= 1, got min_arcs={min_arcs}, max_bytes={max_bytes}")
     _directory = None if directory is None else Path(directory)
-    _min_seconds = float(min_seconds)
+    _min_arcs = int(min_arcs)
+    _min_seconds = None if min_seconds is None else float(min_seconds)
+    _max_bytes = int(max_bytes)
 
 
 def graph_cache_directory() -> Path | None:
@@ -94,159 +168,391 @@ def graph_cache_directory() -> Path | None:
 
 
 def clear_graph_cache() -> None:
-    """Forget the graphs kept in memory (the disk entries stay)."""
+    """Forget the graphs kept in memory (the disk entries stay; :func:`purge_graph_cache` removes them)."""
     with _lock:
         _memory.clear()
+        _aliases.clear()
+
+
+def discard_graphs() -> int:
+    """Forget every graph kept in memory and delete the disk entries this process read (a graph that
+    gave an answer the exact checker refused is not to be reused). Returns the number of files deleted."""
+    with _lock:
+        _memory.clear()
+        _aliases.clear()
+        files = list(_read_here.values())
+        _read_here.clear()
+    deleted = 0
+    for path in files:
+        try:
+            os.unlink(path)
+            deleted += 1
+            logger.info("graph cache: deleted %s", path.name)
+        except FileNotFoundError:
+            pass
+        except OSError as exc:
+            logger.info("graph cache: cannot delete %s (%s)", path, exc.strerror or exc)
+    return deleted
+
+
+def read_from_disk() -> bool:
+    """Whether this process has used a graph read from the disk cache (since the last :func:`discard_graphs`)."""
+    with _lock:
+        return bool(_read_here)
+
+
+@contextlib.contextmanager
+def fresh_graphs() -> Iterator[None]:
+    """Within this block no graph is reused (neither from memory nor from disk): every one is built; built
+    graphs are still kept (and written) as usual."""
+    global _fresh
+    with _lock:
+        _fresh += 1
+    try:
+        yield
+    finally:
+        with _lock:
+            _fresh -= 1
+
+
+# ---------------------------------------------------------------------- the key
+def partition_digest(p: Partition) -> str:
+    """SHA-256 (hex) of a partition's exact content: the environment's exact rings, the ring offsets and every
+    segment's exact ``(edge, t0, t1)``. Equal digests mean equal partitions (whatever the objects or the
+    environment's name), so equal safe BVGs. Cost: one pass over the segments (no geometry)."""
+    h = hashlib.sha256(b"solverplan partition/1\n")
+    h.update(EnvironmentRecord.of(p.env).sha256.encode())
+    h.update(("\n" + ",".join(map(str, p.ring_offsets)) + "\n").encode())
+    h.update("".join(f"{s.edge} {s.t0.numerator}/{s.t0.denominator} {s.t1.numerator}/{s.t1.denominator}\n"
+                     for s in p.segments).encode())
+    return h.hexdigest()
+
+
+def _entry_name(digest: str) -> str:
+    return hashlib.sha256(f"solverplan-safe-bvg/{FORMAT_VERSION}/{_PARAMETERS}/{digest}".encode()).hexdigest()
 
 
 # ---------------------------------------------------------------------- lookup and store
-def lookup(env: Environment, partition: Partition | None) -> SafeBVG | None:
-    """The cached graph of ``env`` (for ``partition`` when given: it must be P′ of ``env``), or ``None``."""
+def lookup_environment(env: Environment) -> SafeBVG | None:
+    """The graph of ``env``'s plain partition P′ if it is in memory (no partition is made), else ``None``."""
     with _lock:
-        graph = _memory.get(env)
+        if _fresh:
+            return None
+        digest = _aliases.get(env)
+        graph = _memory.get(digest) if digest is not None else None
+        if graph is None:
+            return None
+        _memory.move_to_end(digest)  # type: ignore[arg-type]
+    if env is graph.partition.env:
+        return graph
+    return replace(graph, partition=replace(graph.partition, env=env))
+
+
+def lookup(p: Partition, digest: str, *, plain: bool = False) -> SafeBVG | None:
+    """The cached graph of partition ``p`` (``digest`` = :func:`partition_digest` of it), or ``None``.
+    ``plain``: ``p`` is ``partition(p.env)`` (then later calls with the environment find it too)."""
+    with _lock:
+        if _fresh:
+            return None
+        graph = _memory.get(digest)
         if graph is not None:
-            _memory.move_to_end(env)
+            _memory.move_to_end(digest)
     if graph is None and _directory is not None:
-        graph = _load(env, partition)
-        if graph is not None:
-            _remember(env, graph)
+        graph = _load(_directory, digest, p)
+        if graph is None:
+            return None
+        _remember(digest, graph, p.env if plain else None)
+    elif graph is not None and plain:
+        _remember(digest, graph, p.env)
     if graph is None:
         return None
-    return _for(graph, env, partition)
+    return graph if graph.partition is p else replace(graph, partition=p)
 
 
-def store(env: Environment, graph: SafeBVG, seconds: float) -> SafeBVG:
-    """Keep ``graph`` (built for ``env`` in ``seconds``); returns it with its arrays read-only."""
+def store(p: Partition, digest: str, graph: SafeBVG, seconds: float, *, plain: bool = False) -> SafeBVG:
+    """Keep ``graph`` (the safe BVG of ``p``, built in ``seconds``); returns it with its arrays read-only."""
     for name in (*_ARRAYS, "_set_ends"):
         arrays = getattr(graph, name)
         for a in arrays if isinstance(arrays, tuple) else (arrays,):
             a.setflags(write=False)
-    _remember(env, graph)
-    if _directory is not None and seconds >= _min_seconds:
-        _save(env, graph)
+    _remember(digest, graph, p.env if plain else None)
+    directory = _directory
+    if directory is not None and (graph.n_arcs >= _min_arcs or (_min_seconds is not None and seconds >= _min_seconds)):
+        written = _save(directory, digest, graph)
+        if written is not None:
+            _evict(directory, _max_bytes, keep=written)
     return graph
 
 
-def _remember(env: Environment, graph: SafeBVG) -> None:
+def _remember(digest: str, graph: SafeBVG, env: Environment | None) -> None:
     with _lock:
-        _memory[env] = graph
-        _memory.move_to_end(env)
+        _memory[digest] = graph
+        _memory.move_to_end(digest)
+        if env is not None:
+            _aliases[env] = digest
+            _aliases.move_to_end(env)
         while len(_memory) > _MEMORY_GRAPHS or (len(_memory) > 1 and sum(g.n_arcs for g in _memory.values()) > _MEMORY_ARCS):
             _memory.popitem(last=False)
-
-
-def _for(graph: SafeBVG, env: Environment, partition: Partition | None) -> SafeBVG | None:
-    """``graph`` answering for this environment object and partition (names and identities matter
-    to the answers; the arrays are shared)."""
-    p = graph.partition
-    if partition is not None and partition is not p:
-        if partition.segments != p.segments or partition.ring_offsets != p.ring_offsets:
-            return None  # another partition of these rings: not the graph asked for
-        return replace(graph, partition=partition)
-    if env is not p.env:
-        return replace(graph, partition=replace(p, env=env))
-    return graph
+        while len(_aliases) > 2 * _MEMORY_GRAPHS:
+            _aliases.popitem(last=False)
 
 
 # ---------------------------------------------------------------------- the disk format
-def _key(env: Environment) -> tuple[str, str]:
-    digest = EnvironmentRecord.of(env).sha256
-    name = hashlib.sha256(f"solverplan-safe-bvg/{FORMAT_VERSION}/{_PARAMETERS}/{digest}".encode()).hexdigest()
-    return name, digest
+def _lengths(n: int, m: int) -> list[int]:
+    return [{"n": n, "n+1": n + 1, "m": m}[kind] for _, _, kind in _LAYOUT]
 
 
-def _fingerprint(partition: Partition) -> str:
-    h = hashlib.sha256()
-    h.update(np.ascontiguousarray(partition.seg_start, dtype=np.float64).tobytes())
-    h.update(np.ascontiguousarray(partition.seg_edge, dtype=np.int64).tobytes())
-    h.update(np.asarray(partition.ring_offsets, dtype=np.int64).tobytes())
-    return h.hexdigest()
-
-
-def _save(env: Environment, graph: SafeBVG) -> None:
-    assert _directory is not None
-    name, digest = _key(env)
-    meta = {"version": FORMAT_VERSION, "parameters": _PARAMETERS, "environment": digest,
-            "partition": _fingerprint(graph.partition), "n_segments": graph.n_segments, "n_arcs": graph.n_arcs,
-            "stats": {k: v for k, v in graph.stats.items() if isinstance(v, (int, float))}}
+def _save(directory: Path, digest: str, graph: SafeBVG) -> Path | None:
+    """Write ``graph``'s entry atomically; the path written, or ``None`` when the folder cannot be written."""
+    name = _entry_name(digest)
     arrays = {k: getattr(graph, k) for k in _ARRAYS}
     arrays.update(zip(_END_ARRAYS, graph._set_ends))
-    tmp = None
+    n, m = graph.n_arcs, len(graph.set_lo)
+    header = {"format": FORMAT_VERSION, "parameters": _PARAMETERS, "partition": digest,
+              "n_segments": graph.n_segments, "n_arcs": n, "n_intervals": m,
+              "stats": {k: v for k, v in graph.stats.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}}
+    text = json.dumps(header, sort_keys=True, separators=(",", ":")).encode()
+    text += b" " * (-(len(_MAGIC) + 8 + len(text)) % 8)
+    chunks: list[bytes | memoryview] = [_MAGIC, len(text).to_bytes(8, "little"), text]
+    for (key, dtype, _), length in zip(_LAYOUT, _lengths(n, m)):
+        a = np.ascontiguousarray(arrays[key], dtype=np.dtype(dtype))
+        if a.shape != (length,):
+            logger.info("graph cache: not writing %s (array %s has shape %s, expected (%d,))", name, key, a.shape, length)
+            return None
+        chunks.append(a.data.cast("B"))
+    tmp = directory / f".{name[:16]}.{secrets.token_hex(8)}.tmp"
+    final = directory / f"{name}{_SUFFIX}"
     try:
-        _directory.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{name[:16]}.", suffix=".tmp", dir=_directory)
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, meta=np.array(json.dumps(meta, sort_keys=True)), **arrays)
-        os.replace(tmp, _directory / f"{name}.npz")
-        tmp = None
-        logger.debug("graph cache: wrote %s (%d arcs)", name, graph.n_arcs)
-    except OSError as exc:  # a cache that cannot be written is no error: the answer stands
-        logger.info("graph cache: cannot write in %s (%s)", _directory, exc.strerror or exc)
-    finally:
-        if tmp is not None:
-            try:
+        directory.mkdir(parents=True, exist_ok=True)
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_BINARY", 0),
+                     0o666)  # the umask applies, as for open(path, "w")
+        try:
+            with os.fdopen(fd, "wb") as fh:
+                h = hashlib.sha256()
+                for chunk in chunks:
+                    h.update(chunk)
+                    fh.write(chunk)
+                fh.write(h.digest())  # last: a file cut short anywhere fails its digest
+                fh.flush()
+                os.fsync(fh.fileno())
+            os.replace(tmp, final)  # a symlink planted at `final` is replaced, never followed
+        except BaseException:
+            with contextlib.suppress(OSError):
                 os.unlink(tmp)
-            except OSError:
-                pass
+            raise
+    except OSError as exc:  # a cache that cannot be written is no error: the answer stands
+        logger.info("graph cache: cannot write in %s (%s)", directory, exc.strerror or exc)
+        return None
+    logger.debug("graph cache: wrote %s (%d arcs)", final.name, n)
+    return final
 
 
-def _load(env: Environment, partition: Partition | None) -> SafeBVG | None:
-    assert _directory is not None
-    name, digest = _key(env)
-    path = _directory / f"{name}.npz"
-    if not path.is_file():
+def _load(directory: Path, digest: str, p: Partition) -> SafeBVG | None:
+    """The graph of entry ``digest`` if it passes every check (module docstring), else ``None`` (a miss)."""
+    path = directory / f"{_entry_name(digest)}{_SUFFIX}"
+    try:
+        data = _read(path)
+    except FileNotFoundError:
+        logger.debug("graph cache: no entry %s", path.name)
+        return None
+    except (OSError, ValueError) as exc:
+        logger.info("graph cache: ignoring %s (%s)", path.name, getattr(exc, "strerror", None) or exc)
         return None
     try:
-        with np.load(path, allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-            if (meta.get("version") != FORMAT_VERSION or meta.get("parameters") != _PARAMETERS
-                    or meta.get("environment") != digest):
-                raise ValueError("another version, parameters or environment")
-            arrays = {k: data[k] for k in (*_ARRAYS, *_END_ARRAYS)}
-    except Exception as exc:  # noqa: BLE001 - any unreadable entry is rebuilt, whatever broke it
+        header, arrays = _parse(data, digest, len(p.segments))
+    except ValueError as exc:
         logger.info("graph cache: ignoring %s (%s)", path.name, exc)
         return None
     from solverplan.bounce.bvg import SafeBVG
-    from solverplan.bounce.partition import partition as make_partition
 
-    p = partition if partition is not None else make_partition(env)
-    problem = _check(arrays, meta, p)
-    if problem:
-        logger.info("graph cache: ignoring %s (%s)", path.name, problem)
-        return None
-    for a in arrays.values():
-        a.setflags(write=False)
-    stats = dict(meta.get("stats") or {})
+    stats = {k: v for k, v in (header.get("stats") or {}).items() if isinstance(v, (int, float))}
     stats["cached"] = True
-    logger.debug("graph cache: read %s (%d arcs)", name, meta["n_arcs"])
-    return SafeBVG(partition=p, **{k: arrays[k] for k in _ARRAYS},
-                   _set_ends=tuple(arrays[k] for k in _END_ARRAYS), stats=stats)
+    with _lock:
+        _read_here[digest] = path
+    logger.debug("graph cache: read %s (%d arcs)", path.name, header["n_arcs"])
+    return SafeBVG(partition=p, source=arrays["source"], target=arrays["target"], lo=arrays["lo"], hi=arrays["hi"],
+                   n_intervals=arrays["n_intervals"], set_offsets=arrays["set_offsets"], set_lo=arrays["set_lo"],
+                   set_hi=arrays["set_hi"], transition=arrays["transition"], phi=arrays["phi"],
+                   _set_ends=(arrays["lo_from"], arrays["lo_to"], arrays["hi_from"], arrays["hi_to"]), stats=stats)
 
 
-def _check(arrays: dict[str, np.ndarray], meta: dict, p: Partition) -> str | None:
-    """Why these arrays are not the safe BVG of ``p`` (``None`` when they pass every check)."""
-    N = len(p.segments)
-    if meta.get("n_segments") != N or meta.get("partition") != _fingerprint(p):
-        return "its partition differs from this environment's"
-    n = meta.get("n_arcs")
-    kinds = {"source": "i", "target": "i", "n_intervals": "i", "set_offsets": "i", "transition": "i",
-             "lo": "f", "hi": "f", "set_lo": "f", "set_hi": "f", "phi": "f",
-             "lo_from": "i", "lo_to": "i", "hi_from": "i", "hi_to": "i"}
-    for k, kind in kinds.items():
-        if arrays[k].ndim != 1 or arrays[k].dtype.kind != kind:
-            return f"array {k} has the wrong type or shape"
-    if not isinstance(n, int) or any(len(arrays[k]) != n for k in ("source", "target", "lo", "hi", "n_intervals", "transition", "phi")):
-        return "arc arrays of different lengths"
-    off = arrays["set_offsets"]
-    m = len(arrays["set_lo"])
-    if len(off) != n + 1 or off[0] != 0 or off[-1] != m or (np.diff(off) != arrays["n_intervals"]).any():
+def _read(path: Path) -> bytes:
+    """The bytes of a regular file no larger than the cap (not through a symlink); refreshes its time (LRU)."""
+    if stat.S_ISLNK(os.lstat(path).st_mode):
+        raise ValueError("a symbolic link, not an entry")
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_BINARY", 0) | getattr(os, "O_NONBLOCK", 0))
+    with os.fdopen(fd, "rb") as fh:
+        st = os.fstat(fh.fileno())
+        if not stat.S_ISREG(st.st_mode):
+            raise ValueError("not a regular file")
+        if st.st_size > _max_bytes:
+            raise ValueError(f"{st.st_size} bytes, more than the cache's cap of {_max_bytes}")
+        data = fh.read(st.st_size + 1)
+        if len(data) != st.st_size:
+            raise ValueError("its size changed while it was read")
+        with contextlib.suppress(OSError, NotImplementedError):
+            os.utime(fh.fileno() if os.utime in os.supports_fd else path)
+    return data
+
+
+def _parse(data: bytes, digest: str, n_segments: int) -> tuple[dict, dict[str, np.ndarray]]:
+    """Header and arrays of an entry's bytes; ``ValueError`` saying what is wrong when any check fails."""
+    start = len(_MAGIC) + 8
+    if len(data) < start + _DIGEST or data[: len(_MAGIC)] != _MAGIC:
+        raise ValueError("not an entry of this cache (no magic)")
+    if hashlib.sha256(memoryview(data)[:-_DIGEST]).digest() != data[-_DIGEST:]:
+        raise ValueError("its SHA-256 does not match its content (truncated or edited)")
+    size = int.from_bytes(data[len(_MAGIC) : start], "little")
+    if size > _MAX_HEADER or start + size + _DIGEST > len(data):
+        raise ValueError("bad header length")
+    try:
+        header = json.loads(data[start : start + size])
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"unreadable header ({exc})") from None
+    if not isinstance(header, dict):
+        raise ValueError("unreadable header")
+    if header.get("format") != FORMAT_VERSION or header.get("parameters") != _PARAMETERS:
+        raise ValueError(f"format {header.get('format')!r}, not {FORMAT_VERSION}")
+    if not isinstance(header.get("stats", {}), dict):
+        raise ValueError("unreadable header")
+    if header.get("partition") != digest:
+        raise ValueError("written for another partition (copied under this name?)")
+    n, m, N = header.get("n_arcs"), header.get("n_intervals"), header.get("n_segments")
+    if N != n_segments:
+        raise ValueError(f"{N!r} segments, not {n_segments}")
+    if not (isinstance(n, int) and isinstance(m, int) and 0 <= n <= N * (N - 1) and m >= 0):
+        raise ValueError(f"impossible counts: {n!r} arcs, {m!r} safe intervals")
+    lengths = _lengths(n, m)
+    offset = start + size
+    if offset + sum(length * np.dtype(dt).itemsize for (_, dt, _), length in zip(_LAYOUT, lengths)) + _DIGEST != len(data):
+        raise ValueError("its size does not match its counts")
+    arrays = {}
+    for (key, dtype, _), length in zip(_LAYOUT, lengths):
+        arrays[key] = np.frombuffer(data, dtype=np.dtype(dtype), count=length, offset=offset)  # read-only views
+        offset += length * np.dtype(dtype).itemsize
+    problem = _check(arrays, n_segments)
+    if problem:
+        raise ValueError(problem)
+    return header, arrays
+
+
+def _check(arrays: dict[str, np.ndarray], N: int) -> str | None:
+    """Why these arrays are not a safe BVG on N segments (``None`` when they pass every check)."""
+    off, counts = arrays["set_offsets"], arrays["n_intervals"]
+    if off[0] != 0 or off[-1] != len(arrays["set_lo"]) or (np.diff(off) != counts).any():
         return "inconsistent interval offsets"
-    if any(len(arrays[k]) != m for k in ("set_hi", *_END_ARRAYS)):
-        return "interval arrays of different lengths"
     s, t = arrays["source"], arrays["target"]
-    if n and (s.min() < 0 or t.min() < 0 or s.max() >= N or t.max() >= N):
+    if len(s) and (s.min() < 0 or t.min() < 0 or s.max() >= N or t.max() >= N):
         return "segment ids out of range"
-    keys = s.astype(np.int64) * N + t
-    if n > 1 and not (np.diff(keys) > 0).all():
+    keys = s * N + t
+    if len(s) > 1 and not (np.diff(keys) > 0).all():
         return "arcs not sorted and unique"
+    if (s == t).any():
+        return "a self-loop"
+    if not np.isin(arrays["transition"], (-1, 0, 1)).all():
+        return "unknown transition"
     return None
+
+
+# ---------------------------------------------------------------------- the folder: size cap, report, purge
+@dataclass(frozen=True, slots=True)
+class GraphCacheReport:
+    """The disk cache's folder: entries (and bytes) in it, or removed from it by :func:`purge_graph_cache`."""
+
+    directory: str | None
+    entries: int
+    bytes: int
+    removed: int | None = None
+    max_bytes: int = DEFAULT_MAX_BYTES
+    min_arcs: int = DEFAULT_MIN_ARCS
+
+    def to_json(self) -> dict:
+        out: dict = {"directory": self.directory, "entries": self.entries, "bytes": self.bytes,
+                     "max_bytes": self.max_bytes, "min_arcs": self.min_arcs, "format": FORMAT_VERSION}
+        if self.removed is not None:
+            out["removed"] = self.removed
+        return out
+
+    def to_text(self, *, width: int = 100) -> str:
+        where = self.directory or "(off)"
+        if self.removed is not None:
+            return f"graph cache {where}: removed {self.removed} files, {self.entries} entries left ({self.bytes} bytes)\n"
+        return (f"graph cache {where}: {self.entries} entries, {self.bytes} bytes "
+                f"(cap {self.max_bytes} bytes; graphs of at least {self.min_arcs} arcs are written)\n")
+
+
+def _files(directory: Path) -> list[tuple[Path, os.stat_result]]:
+    """The cache's own files in ``directory`` (entries, older formats' entries, temporary files), unfollowed."""
+    out = []
+    try:
+        names = os.listdir(directory)
+    except FileNotFoundError:
+        return []
+    except OSError as exc:
+        logger.info("graph cache: cannot list %s (%s)", directory, exc.strerror or exc)
+        return []
+    for name in names:
+        if _OURS.fullmatch(name):
+            path = directory / name
+            try:
+                out.append((path, os.lstat(path)))
+            except FileNotFoundError:
+                pass
+    return out
+
+
+def _evict(directory: Path, max_bytes: int, *, keep: Path | None = None) -> int:
+    """Remove temporary files left by killed writers, then the least recently used entries until the folder's
+    entries fit in ``max_bytes`` (``keep`` last of all). Returns the number of files removed."""
+    now = time.time()
+    removed = 0
+    entries = []
+    for path, st in _files(directory):
+        if path.name.endswith(".tmp"):
+            if now - st.st_mtime > _STALE_TEMPORARY and _unlink(path):
+                removed += 1
+        else:
+            entries.append((path == keep, st.st_mtime, st.st_size, path))
+    total = sum(e[2] for e in entries)
+    for _, _, size, path in sorted(entries):
+        if total <= max_bytes:
+            break
+        if _unlink(path):
+            removed += 1
+            logger.info("graph cache: evicted %s (%d bytes; the folder's cap is %d)", path.name, size, max_bytes)
+        total -= size
+    return removed
+
+
+def _unlink(path: Path) -> bool:
+    """Remove ``path`` (a link itself, never its target); ``False`` when it is gone already or cannot go."""
+    try:
+        os.unlink(path)
+        return True
+    except FileNotFoundError:
+        return False
+    except OSError as exc:  # another user's file, a read-only folder: the cache is best effort
+        logger.info("graph cache: cannot remove %s (%s)", path, exc.strerror or exc)
+        return False
+
+
+def graph_cache_report(directory: str | os.PathLike[str] | None = None) -> GraphCacheReport:
+    """How many entries (and bytes) the disk cache holds (``directory``: default the one set)."""
+    where = Path(directory) if directory is not None else _directory
+    if where is None:
+        return GraphCacheReport(None, 0, 0, max_bytes=_max_bytes, min_arcs=_min_arcs)
+    entries = [st for path, st in _files(where) if not path.name.endswith(".tmp")]
+    return GraphCacheReport(str(where), len(entries), sum(st.st_size for st in entries), max_bytes=_max_bytes,
+                            min_arcs=_min_arcs)
+
+
+def purge_graph_cache(directory: str | os.PathLike[str] | None = None) -> GraphCacheReport:
+    """Remove every file of the disk cache (entries of any format version, temporary files; nothing else in the
+    folder, and symlinks are removed, not followed) and forget the graphs in memory."""
+    clear_graph_cache()
+    where = Path(directory) if directory is not None else _directory
+    if where is None:
+        return GraphCacheReport(None, 0, 0, removed=0, max_bytes=_max_bytes, min_arcs=_min_arcs)
+    removed = sum(_unlink(path) for path, _ in _files(where))
+    left = graph_cache_report(where)
+    return replace(left, removed=removed)

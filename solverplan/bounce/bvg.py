@@ -62,7 +62,20 @@ import numpy as np
 
 from solverplan._arrays import ragged_arange
 from solverplan.bounce import _cache, _sweep
-from solverplan.bounce._cache import clear_graph_cache, default_cache_directory, graph_cache_directory, set_graph_cache
+from solverplan.bounce._cache import (
+    DEFAULT_MAX_BYTES,
+    DEFAULT_MIN_ARCS,
+    GraphCacheReport,
+    clear_graph_cache,
+    default_cache_directory,
+    discard_graphs,
+    fresh_graphs,
+    graph_cache_directory,
+    graph_cache_report,
+    partition_digest,
+    purge_graph_cache,
+    set_graph_cache,
+)
 from solverplan.bounce._sweep import MARK_PI, MARK_ZERO, ExactPoints, Sweeps, _ninf, build_sweeps
 from solverplan.interval import Interval
 from solverplan.bounce.partition import Partition, partition as make_partition
@@ -76,7 +89,8 @@ if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only the conversions below
 
 __all__ = ["SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph", "GraphTooLarge", "estimate_graph",
            "check_graph_memory", "set_graph_cache", "clear_graph_cache",
-           "graph_cache_directory", "default_cache_directory"]
+           "graph_cache_directory", "default_cache_directory", "graph_cache_report", "purge_graph_cache",
+           "GraphCacheReport", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "partition_digest", "discard_graphs", "fresh_graphs"]
 
 logger = logging.getLogger(__name__)
 
@@ -540,7 +554,9 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     :func:`solverplan.bounce.safe.safe_set` for every pair. Accepts an environment too.
 
     Built graphs are reused: the last few of this process are kept in memory, keyed by the
-    environment's exact rings, and on disk when a cache directory is set
+    partition's exact content (:func:`~solverplan.bounce._cache.partition_digest`: the rings and every
+    segment's exact ``(edge, t0, t1)``, so a partition refined at extra cut points has its own graph),
+    and on disk when a cache directory is set
     (:func:`set_graph_cache`; the command line keeps one, see docs/contract.md).
     A reused graph is the same answer (equal arrays), with ``stats["cached"]`` set when it was read
     from disk; its arrays are read-only, shared by every caller.
@@ -553,16 +569,20 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     """
     import time
 
-    if isinstance(partition, (Partition, Environment)):
-        env = partition.env if isinstance(partition, Partition) else partition
-        found = _cache.lookup(env, partition if isinstance(partition, Partition) else None)
+    plain = isinstance(partition, Environment)  # P′ made here: later calls with the environment find it
+    if isinstance(partition, Environment):
+        found = _cache.lookup_environment(partition)
         if found is not None:
             return found
     p = _as_partition(partition)
+    digest = _cache.partition_digest(p)  # the key: the partition's exact content (no rebuild to check it)
+    found = _cache.lookup(p, digest, plain=plain)
+    if found is not None:
+        return found
     check_graph_memory(p)
     t0 = time.perf_counter()
     graph = _build(p)
-    return _cache.store(p.env, graph, time.perf_counter() - t0)
+    return _cache.store(p, digest, graph, time.perf_counter() - t0, plain=plain)
 
 
 def _build(p: Partition) -> SafeBVG:

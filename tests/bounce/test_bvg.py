@@ -462,49 +462,20 @@ def test_memory_cache_reuses_the_graph_for_equal_rings(no_cache):
     assert mine.partition is p and mine.source is first.source
 
 
-def test_disk_cache_round_trip_and_never_trusted_blindly(no_cache, tmp_path):
+def test_disk_cache_round_trip(no_cache, tmp_path):
+    """A graph read back from disk is the graph built (tampering and its misses: tests/bounce/test_cache.py)."""
     env = star_polygon(25, 0.2, 0.3, seed=7)
-    bvg_api.set_graph_cache(tmp_path, min_seconds=0.0)
+    bvg_api.set_graph_cache(tmp_path, min_arcs=0)
     built = safe_bounce_visibility_graph(env)
-    (entry,) = tmp_path.glob("*.npz")
-    assert not list(tmp_path.glob("*.tmp"))  # written atomically, nothing left behind
+    (entry,) = tmp_path.glob("*.spg")
+    assert not list(tmp_path.glob(".*.tmp"))  # written atomically, nothing left behind
     bvg_api.clear_graph_cache()
     read = safe_bounce_visibility_graph(env)
     assert read.stats.get("cached") is True and read is not built
     assert_same_graph(read, built)
     assert read.to_json() == built.to_json()
-
-    def rebuilt() -> SafeBVG:
-        bvg_api.clear_graph_cache()
-        g = safe_bounce_visibility_graph(env)
-        assert not g.stats.get("cached"), "a bad entry was trusted"
-        assert_same_graph(g, built)
-        return g
-
-    good = entry.read_bytes()
-    entry.write_bytes(good[: len(good) // 2])  # truncated
-    rebuilt()
-    assert entry.read_bytes() == good or np.load(entry)["source"].shape == built.source.shape  # rewritten whole
-    with np.load(entry) as data:
-        arrays = {k: data[k] for k in data.files}
-    meta = json.loads(str(arrays["meta"]))
-    for tamper in ("version", "partition", "unsorted", "offsets"):
-        bad = dict(arrays)
-        m = dict(meta)
-        if tamper == "version":
-            m["version"] = m["version"] + 1
-        elif tamper == "partition":
-            m["partition"] = "0" * 64
-        elif tamper == "unsorted":
-            bad["source"] = bad["source"][::-1].copy()
-        else:
-            bad["set_offsets"] = bad["set_offsets"] + 1
-        bad["meta"] = np.array(json.dumps(m))
-        with open(entry, "wb") as fh:
-            np.savez(fh, **bad)
-        rebuilt()
-    entry.write_bytes(b"not a zip file")
-    rebuilt()
+    with pytest.raises(ValueError):  # read-only, like every shared graph
+        read.lo[0] = 0.0
 
 
 def test_size_estimate_and_refusal_up_front(no_cache):
