@@ -11,10 +11,12 @@ process read: :func:`~solverplan.bounce._cache.discard_graphs`), the query runs 
 answer is refused with :class:`AnswerNotVerified` (the command line: one line, exit 1) — an unsound answer never
 leaves.
 
-What is not checked yet: answers that say there is **no** plan (infeasible, not found). The checker certifies
-answers, not proofs of absence; :func:`check_infeasibility` is where an infeasibility certificate's check plugs in
-(until then such answers pass unchecked, and :attr:`Checked.unchecked` says why). Optimality claims are checked
-for consistency only (a bound the search proved is not re-derived): see ``not_checked`` in a checker report.
+Answers that say there is **no** plan are checked through their infeasibility certificates (an inductive invariant
+of belief states, :mod:`solverplan.certify.negative`) when one can be made; when none can (a plan exists only
+without the planner's margins, or the answer is a search that found nothing) it passes unchecked and
+:attr:`Checked.unchecked` says why — and if it was made with graphs read from the disk cache, it is made again with
+freshly built graphs first, since a forged entry that drops arcs would look just like it. Optimality bounds are
+checked where the certificate carries a bound block (fewest and tolerance plans); otherwise for consistency only.
 
 >>> from solverplan.environment import Environment
 >>> from solverplan.plan import find_plan
@@ -127,6 +129,15 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
             answer = compute()
         return _accept(answer, _verify(answer, env, start, goal), retried=True)
     verdict = _verify(answer, env, start, goal)
+    if verdict.failure is None and verdict.unchecked is not None and read_from_disk():
+        # an answer that there is no plan, with no certificate to check (a plan exists only without the planner's
+        # margins), made with graphs from the disk cache: a forged entry that drops arcs would look just like this,
+        # so the answer given is the one made with freshly built graphs
+        logger.info("the %s is not certified (%s) and used cached graphs: answering again with fresh ones",
+                    _what(answer), verdict.unchecked)
+        with fresh_graphs():
+            answer = compute()
+        return _accept(answer, _verify(answer, env, start, goal), retried=True)
     if verdict.failure is None:
         logger.debug("the %s passed its exact check (%d certificates, %.3f s)", _what(answer), verdict.checked,
                      verdict.seconds)
