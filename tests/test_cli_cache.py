@@ -175,13 +175,44 @@ def test_checked_answer_answers_again_without_cached_graphs_when_a_query_breaks_
         bvg_api.set_graph_cache(None)
 
 
-def test_infeasible_answers_pass_the_gate_unchecked_and_say_so():
+def test_infeasible_answers_are_checked_through_their_certificates():
+    """An answer that there is no plan leaves with its infeasibility certificate checked (#22), or unchecked with
+    the reason when none can be made."""
     from solverplan.plan import find_plan
 
     env = load_environment("two_rooms")
     checked = gate.checked_answer(lambda: find_plan(env, "e0", "e4", max_bounces=1), env=env, start="e0", goal="e4")
-    assert checked.answer.status.value == "infeasible" and checked.checked == 0 and checked.certificate is None
-    assert checked.unchecked == "the answer is infeasible (certificates certify plans): infeasibility is not certified yet"
+    assert checked.answer.status.value == "infeasible"
+    if checked.certificate is not None:
+        assert checked.checked == 1 and checked.certificate.kind == "infeasible" and checked.unchecked is None
+    else:
+        assert checked.checked == 0 and "margin" in checked.unchecked
+
+
+def test_an_answer_that_there_is_no_plan_made_with_cached_graphs_is_made_again_with_fresh_ones(tmp_path):
+    """A forged entry that drops arcs gives a false "infeasible" that looks like a true one (and a certificate speaks
+    of its own class of plans): so an answer that there is no plan never leaves on graphs read from disk alone."""
+    from solverplan.plan import find_plan
+
+    env = load_environment("two_rooms")
+    bvg_api.clear_graph_cache()
+    bvg_api.set_graph_cache(tmp_path, min_arcs=0)
+    try:
+        find_plan(env, "e0", "e4", max_bounces=1)  # writes the entry
+        bvg_api.clear_graph_cache()
+        calls = []
+
+        def compute():
+            calls.append(1)
+            return find_plan(env, "e0", "e4", max_bounces=1)
+
+        checked = gate.checked_answer(compute, env=env, start="e0", goal="e4")
+        assert checked.answer.status.value == "infeasible" and checked.retried and len(calls) == 2
+        plan = gate.checked_answer(lambda: find_plan(env, "e0", "e4"), env=env, start="e0", goal="e4")
+        assert plan.answer.found and not plan.retried  # a plan is checked, not made twice
+    finally:
+        bvg_api.clear_graph_cache()
+        bvg_api.set_graph_cache(None)
 
 
 # ---------------------------------------------------------------------- many processes, one folder

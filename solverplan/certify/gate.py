@@ -14,8 +14,10 @@ leaves.
 Answers that say there is **no** plan are checked through their infeasibility certificates (an inductive invariant
 of belief states, :mod:`solverplan.certify.negative`) when one can be made; when none can (a plan exists only
 without the planner's margins, or the answer is a search that found nothing) it passes unchecked and
-:attr:`Checked.unchecked` says why — and if it was made with graphs read from the disk cache, it is made again with
-freshly built graphs first, since a forged entry that drops arcs would look just like it. Optimality bounds are
+:attr:`Checked.unchecked` says why. Either way, an answer that there is no plan made with graphs read from the disk
+cache is made again with freshly built graphs before it leaves: a forged entry that drops arcs would look just like
+it, and a certificate speaks of its own class of plans (landings on the segments of its table), not exactly of the
+planner's. Optimality bounds are
 checked where the certificate carries a bound block (fewest and tolerance plans); otherwise for consistency only.
 
 >>> from solverplan.environment import Environment
@@ -129,12 +131,12 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
             answer = compute()
         return _accept(answer, _verify(answer, env, start, goal), retried=True)
     verdict = _verify(answer, env, start, goal)
-    if verdict.failure is None and verdict.unchecked is not None and read_from_disk():
-        # an answer that there is no plan, with no certificate to check (a plan exists only without the planner's
-        # margins), made with graphs from the disk cache: a forged entry that drops arcs would look just like this,
-        # so the answer given is the one made with freshly built graphs
-        logger.info("the %s is not certified (%s) and used cached graphs: answering again with fresh ones",
-                    _what(answer), verdict.unchecked)
+    if verdict.failure is None and _says_none(answer) and read_from_disk():
+        # an answer that there is no plan, made with graphs from the disk cache: a forged entry that drops arcs would
+        # look just like it, and its certificate (when one can be made) speaks of its own class of plans, not exactly
+        # of the planner's — so the answer given is the one made with freshly built graphs
+        logger.info("the %s says there is no plan and used cached graphs: answering again with fresh ones",
+                    _what(answer))
         with fresh_graphs():
             answer = compute()
         return _accept(answer, _verify(answer, env, start, goal), retried=True)
@@ -148,6 +150,13 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
     with fresh_graphs():
         answer = compute()
     return _accept(answer, _verify(answer, env, start, goal), retried=True)
+
+
+def _says_none(answer: Any) -> bool:
+    """Does the answer say there is no plan (no stages to check: infeasible, not found, an empty front)?"""
+    if isinstance(answer, ParetoFront):
+        return not answer.points
+    return not getattr(answer, "found", True)
 
 
 def _accept(answer: T, verdict: _Verdict, *, retried: bool) -> Checked[T]:
