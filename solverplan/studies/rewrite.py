@@ -603,7 +603,7 @@ def answer_differences(a: Any, b: Any, *, length_scale: object = 1, tol: float =
     >>> answer_differences(find_plan(room, "e0", "e2"), find_plan(r.env, *r.sets))
     []
     >>> answer_differences(find_plan(room, "e0", "e2"), find_plan(r.env, "e0", "e1"))   # another question
-    ['min_width: 1.175610815 != 0.462547609']
+    ['min_width: 1.175635929 != 0.462547609']
     """
     sa, sb = answer_summary(a), answer_summary(b, length_scale=length_scale)
     out = []
