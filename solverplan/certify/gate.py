@@ -153,10 +153,11 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
 
 
 def _says_none(answer: Any) -> bool:
-    """Does the answer say there is no plan (no stages to check: infeasible, not found, an empty front)?"""
-    if isinstance(answer, ParetoFront):
-        return not answer.points
-    return not getattr(answer, "found", True)
+    """Does the answer claim, proved, that there is no plan (infeasible, an empty front)? A search stopped by its
+    timeout or caps claims nothing (and answering it again would double the time the user allowed)."""
+    empty = not answer.points if isinstance(answer, ParetoFront) else not getattr(answer, "found", True)
+    optimality = getattr(answer, "optimality", None)
+    return empty and optimality is not None and bool(optimality.proved) and not getattr(optimality, "limits", ())
 
 
 def _accept(answer: T, verdict: _Verdict, *, retried: bool) -> Checked[T]:
