@@ -44,7 +44,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
+from solverplan.bounce.bvg import SafeBVG
 from solverplan.bounce.partition import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
@@ -184,11 +184,11 @@ def localize(
     # vertex: it is one interval of one straight wall.
     walls = Walls(env)
     user_start = start_set
+    # the search needs only the partition of the straight walls (the graph's, when one is given): no safe BVG
+    part = graph.partition if graph is not None and graph.partition.env == walls.merged else partition(walls.merged)
     if walls.identity:
-        g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
-        part = user_part = g.partition
+        user_part = part
     else:
-        part = graph.partition if graph is not None and graph.partition.env == walls.merged else partition(walls.merged)
         user_part = graph.partition if graph is not None and graph.partition.env == env else walls.user_partition
         env, start_set = walls.merged, walls.to_merged(start_set)
     record = EnvironmentRecord.of(walls.env, user_part.n_segments)
