@@ -313,12 +313,6 @@ class Problem:
         runs = self.runs
         return tuple(sorted({u for s in segments for u in runs[self.place(s)]}))
 
-    def user_moves(self, moves: tuple[tuple[int, int], ...]) -> tuple[tuple[int, int], ...]:
-        """An option's moves in the user's segments: every user segment of a source with every user segment of
-        its target (a move onto a run of collinear segments may land on any of them)."""
-        runs = self.runs
-        return tuple(dict.fromkeys((u, v) for i, j in self.moves(moves) for u in runs[i] for v in runs[j]))
-
     def user_stage(self, belief: Belief, option: Option, interval: Interval, *, last: bool = False) -> Stage:
         """A stage of a path (``option`` taken from ``belief`` with heading ``interval``) in the user's numbering:
         the user segments the robot may be on and lands on, every move (a move onto a run of collinear segments
