@@ -49,6 +49,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.environment import Environment
@@ -69,33 +70,23 @@ vertices: far above double rounding (10⁻¹⁶ D) and the float caster's tie to
 
 def environment_diameter(env: Environment) -> float:
     """The largest distance between two vertices of ``env`` (its length units): the diameter of its outer ring's
-    convex hull, by rotating calipers. A size that rotations, translations, ring start indices, vertex order and
+    convex hull (shapely), by rotating calipers. A size that rotations, translations, ring start indices, vertex order and
     collinear vertices leave unchanged (to rounding), so the margins scaled by it are too.
 
     >>> from solverplan.environment import Environment
     >>> environment_diameter(Environment.from_coords([[0, 0], [4, 0], [4, 3], [2, 3], [0, 3]]))
     5.0
     """
-    pts = sorted({(float(x), float(y)) for x, y in env.rings[0]})
-    if len(pts) < 3:  # pragma: no cover - an environment has a proper outer ring
-        return math.dist(pts[0], pts[-1])
-
-    def chain(points):
-        out: list[tuple[float, float]] = []
-        for p in points:
-            while len(out) >= 2 and _turn(out[-2], out[-1], p) <= 0:
-                out.pop()
-            out.append(p)
-        return out
-
-    hull = chain(pts)[:-1] + chain(pts[::-1])[:-1]  # counter-clockwise, no repeated point
-    h = len(hull)
+    hull = shapely.MultiPoint([(float(x), float(y)) for x, y in env.rings[0]]).convex_hull
+    pts = list(hull.exterior.coords)[:-1]  # a proper outer ring spans an area: its hull is a polygon
+    h = len(pts)
     best, j = 0.0, 1
     for i in range(h):
-        p, q = hull[i], hull[(i + 1) % h]
-        while _turn(p, q, hull[(j + 1) % h]) > _turn(p, q, hull[j]):
+        p, q = pts[i], pts[(i + 1) % h]
+        # the vertex farthest from the line of edge pq, advanced monotonically around the hull
+        while abs(_turn(p, q, pts[(j + 1) % h])) > abs(_turn(p, q, pts[j])):
             j = (j + 1) % h
-        best = max(best, math.dist(p, hull[j]), math.dist(q, hull[j]))
+        best = max(best, math.dist(p, pts[j]), math.dist(q, pts[j]))
     return best
 
 

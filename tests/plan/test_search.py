@@ -384,3 +384,13 @@ def test_answers_do_not_change_under_an_exact_rotation(name):
         b = find_plan(turned, start, goal, objective=objective)
         assert a.found and b.found and a.bounces == b.bounces
         assert b.min_width == pytest.approx(a.min_width, abs=1e-9)
+
+
+@settings(max_examples=60)
+@given(st.one_of(convex_polygons(max_coord=20), simple_polygons(3, 9, 30), polygons_with_holes(5, 1, 40)))
+def test_environment_diameter_is_the_largest_distance_between_two_vertices(env):
+    """The rotating calipers of the margins against every pair of vertices (the brute-force reference)."""
+    from solverplan.plan.margins import environment_diameter
+    from tests.plan.brute import diameter
+
+    assert environment_diameter(env) == pytest.approx(diameter(env), rel=1e-12)
