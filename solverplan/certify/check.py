@@ -157,8 +157,8 @@ from solverplan.certify.rational_atan import (
     heading_vector,
 )
 from solverplan.certify.invariant import Closure, Geometry, TableError
-from solverplan.certify.schema import (BoundClaim, Certificate, CycleClaim, Move, Piece, Point, SegmentRecord, Stage,
-                                       _terminating_decimal, number_text)
+from solverplan.certify.schema import (BoundClaim, Certificate, CycleClaim, EnvironmentRecord, ModelCertificate, Move,
+                                       Piece, Point, SegmentRecord, Stage, _terminating_decimal, number_text)
 
 __all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]
 
@@ -233,6 +233,9 @@ class CheckReport:
     goal: dict[str, Any] | None = None
     claims: dict[str, Any] = field(default_factory=dict)
     proved: tuple[str, ...] = ()
+    scope: str = ""
+    """What the statements speak about, in words (model certificates; empty for bounce certificates, whose scope
+    is their environment, start and goal)."""
 
     def to_json(self) -> dict:
         return {
@@ -247,6 +250,7 @@ class CheckReport:
             "checked": dict(self.checked),
             "not_checked": list(self.not_checked),
             "proved": list(self.proved),
+            **({"scope": self.scope} if self.scope else {}),
         }
 
     def to_text(self, *, width: int = 100) -> str:
@@ -257,6 +261,16 @@ class CheckReport:
             name = repr(env["name"]) if env["name"] else "(unnamed)"
             lines.append(f"environment: {name}, sha256 {env['sha256']}, {env['vertices']} vertices, "
                          f"{env['edges']} edges, {env['holes']} hole{'' if env['holes'] == 1 else 's'}")
+        if self.scope:  # a model certificate: its claims and scope in words
+            lines.append("claims: " + (", ".join(f"{k.replace('_', ' ')} {_short_claim(v)}" for k, v in self.claims.items())
+                                       or "none"))
+            lines.append(f"scope: {self.scope}")
+            lines.append(f"checked exactly: {counts}")
+            if self.valid:
+                lines.extend(f"proved: {statement}" for statement in self.proved)
+            lines.extend(f"FAIL {failure}" for failure in self.failures)
+            lines.extend(f"not checked: {item}" for item in self.not_checked)
+            return "\n".join(lines) + "\n"
         lines.append(f"start: {_set_line(self.start)}")
         lines.append(f"goal: {_set_line(self.goal) if self.goal is not None else 'none (a cycle: the cycle is the goal)'}")
         for line in _claim_lines(self.claims):
@@ -270,6 +284,12 @@ class CheckReport:
         for item in self.not_checked:
             lines.append(f"not checked: {item}")
         return "\n".join(lines) + "\n"
+
+
+def _short_claim(value: Any) -> str:
+    if isinstance(value, str) and ("/" in value or "." in value) and value.replace("/", "").replace(".", "").lstrip("-").isdigit():
+        return _short(value)
+    return str(value)
 
 
 def _set_line(summary: dict[str, Any] | None) -> str:
@@ -346,7 +366,7 @@ Query = Sequence[tuple[int, Fraction, Fraction]]
 
 
 def check_certificate(
-    cert: Certificate,
+    cert: Certificate | ModelCertificate,
     *,
     expected_rings: Sequence[Sequence[Point]] | None = None,
     expected_start: Query | None = None,
@@ -371,6 +391,10 @@ def check_certificate(
     CheckReport
         ``valid`` with no failures, or every failure found, each naming its claim.
     """
+    if isinstance(cert, ModelCertificate):  # the other robot models (version 4): their own claims, the same verdict
+        from solverplan.certify.check_models import check_model_certificate
+
+        return check_model_certificate(cert, expected_rings=expected_rings)
     checker = _Checker(cert)
     checker.run(expected_rings)
     if expected_start is not None:
@@ -1319,10 +1343,7 @@ def certified(cert: Certificate) -> dict[str, Any]:
     rings with every coordinate as exact text (``3``, ``0.25``, ``1/3``).
     """
     rings = cert.environment.rings
-    texts = [[[_canonical(x), _canonical(y)] for x, y in ring] for ring in rings]
-    digest = hashlib.sha256(json.dumps(texts, separators=(",", ":")).encode()).hexdigest()
-    n = sum(len(ring) for ring in rings)
-    environment = {"name": cert.environment.name, "sha256": digest, "vertices": n, "edges": n, "holes": max(len(rings) - 1, 0)}
+    environment = _environment_summary(cert.environment)
     squared = _squared_lengths(rings)
     claims: dict[str, Any] = {} if cert.kind == "infeasible" else {
         "bounces": cert.claims.bounces, "min_width": number_text(cert.claims.min_width),
@@ -1356,6 +1377,15 @@ def certified(cert: Certificate) -> dict[str, Any]:
         "goal": None if cert.goal is None else _set_summary(cert.goal, squared),
         "claims": claims,
     }
+
+
+def _environment_summary(record: EnvironmentRecord) -> dict[str, Any]:
+    """Name, SHA-256 of the exact rings (the planner answers' ``environment.sha256``), vertex, edge and hole counts."""
+    rings = record.rings
+    texts = [[[_canonical(x), _canonical(y)] for x, y in ring] for ring in rings]
+    digest = hashlib.sha256(json.dumps(texts, separators=(",", ":")).encode()).hexdigest()
+    n = sum(len(ring) for ring in rings)
+    return {"name": record.name, "sha256": digest, "vertices": n, "edges": n, "holes": max(len(rings) - 1, 0)}
 
 
 def _canonical(x: Fraction) -> str:
