@@ -27,8 +27,11 @@ the pursuer's shadow is replayed exactly along every motion:
   point e, a continuing window keeps its label; a window appearing on an edge's extension through e gets 0 (it was
   seen just before); one appearing from behind an occluder u (e, u, v collinear, u between) takes u's label (it
   splits off u's component); a vanishing window on an edge's extension loses its label (its component shrank to
-  nothing in sight); one hiding behind u ORs its label into u's (merge). A change that none of these explains is
-  resolved conservatively: an appearing window takes the OR of every label, a vanishing one ORs into every window.
+  nothing in sight); one hiding behind u ORs its label into u's (merge). At a vertex v the pursuer leaves, v's
+  window appears carrying the labels of the windows that vanish behind v at once; at a vertex v it arrives at,
+  the windows appearing past v take v's label and v's own vanishes (what is left of its component is in sight).
+  A change that none of these explains is resolved conservatively: an appearing window takes the OR of every
+  label, a vanishing one ORs into every window.
 
 The claims checked are every step's position (label and exact point), window set (``shadow``) and contaminated
 windows, and ``cleared_after``: the first action during which every label was 0 — at that instant no component
@@ -170,6 +173,7 @@ class _Shadow:
             for v in self.reflex[i + 1:]:
                 lines.append((ring[u], ring[v], "occlusion", u, v))
         self.lines = lines
+        self.index = {p: i for i, p in enumerate(ring)}
         self.evaluations = 0
 
     def sees(self, q: Point, v: int) -> bool:
@@ -236,6 +240,27 @@ class _Shadow:
                     return u
             return None
 
+        vanished = [h for h in before if h not in after]
+        at = self.index.get(e)  # the pursuer is at this vertex (it arrives there or leaves it)
+        if at is not None:
+            # Leaving vertex v: v's window appears, its component made of what v saw and of the components of the
+            # windows hidden behind v at once (they vanish). Arriving at v: v's component splits into the windows
+            # v now sees past itself (they appear), what is left of it is in sight. In general position nothing
+            # else changes at a vertex (no line through it and two other vertices).
+            for g in after:
+                if g in before:
+                    continue
+                if g == at:
+                    out[g] = any(before[h] for h in vanished)
+                elif at in before and at not in after:
+                    out[g] = before[at]
+                else:
+                    out[g] = any_label
+            for h in vanished:
+                if before[h] and h != at and at not in after:
+                    for t in after:
+                        out[t] = True  # unexplained: the conservative rule
+            return out
         for g in after:
             if g in before:
                 continue
@@ -244,14 +269,11 @@ class _Shadow:
             else:
                 u = occluder(g, [x for x in after if x in before])
                 out[g] = before[u] if u is not None else any_label
-        for h, label in before.items():
-            if h in after or not label:
-                continue
-            if extension_through(h):
+        for h in vanished:
+            if not before[h] or extension_through(h):
                 continue
             u = occluder(h, after)
-            targets = [u] if u is not None else list(after)
-            for t in targets:
+            for t in ([u] if u is not None else list(after)):
                 out[t] = True
         return out
 
