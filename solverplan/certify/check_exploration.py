@@ -11,10 +11,12 @@ The claims (``claims`` block):
 
 Re-derived exactly:
 
-1. **Views are seen.** Each viewpoint lies in the free space (closed); for every side ab of its polygon the fan
-   triangle (z, a, b) turns counter-clockwise, no boundary point lies in its interior, and its interior lies in
-   the free space (a point of it is strictly inside). Every point of the polygon lies in such a triangle, so the
-   whole polygon is seen from z (within R when the range is limited: the view is the polygon cut by the disc).
+1. **Views are seen, and whole.** Each viewpoint lies in the free space (closed); for every side ab of its polygon
+   the fan triangle (z, a, b) turns counter-clockwise, no boundary point lies in its interior, and its interior
+   lies in the free space (a point of it is strictly inside). Every point of the polygon lies in such a triangle,
+   so the whole polygon is seen from z (within R when the range is limited: the view is the polygon cut by the
+   disc). Every side lies on one boundary edge or along a line of sight from z: in every direction but finitely
+   many the polygon then reaches the first boundary point, so it *is* the visibility polygon VP(z).
 2. **Chain.** The first view has no parent; every other viewpoint lies in the view (polygon, and disc when
    limited) of an earlier viewpoint, its parent: the robot reaches it along a line of sight.
 3. **Cover** (unlimited views). The union U of the views covers the free space F: every side of every view that is
@@ -164,6 +166,10 @@ def check(c: ModelChecker) -> None:
                     c.fail(f"{where}.polygon[{i}]", f"the side {pt(a)}–{pt(b)} doubles back through the viewpoint")
                     break
                 continue  # a side along a line of sight
+            if not any(on_closed_segment(a, u, w) and on_closed_segment(b, u, w) for u, w in edges) and turn != 0:
+                c.fail(f"{where}.polygon[{i}]", f"the side {pt(a)}–{pt(b)} is neither on the boundary nor along a line "
+                       f"of sight: the polygon is not the view from {pt(z)}")
+                break
             tri = (z, a, b)
             box = _box(tri)
             if any(not _apart(box, _box(e)) and _edge_enters_triangle(e[0], e[1], tri) for e in edges):

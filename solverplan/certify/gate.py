@@ -1,7 +1,8 @@
 """Check before it leaves: every answer is verified by the independent exact checker before it is given.
 
 :func:`checked_answer` runs a query, turns its answer into certificates (:func:`~solverplan.certify.build.certificate`:
-a plan, **every point** of a Pareto front, a patrol, a funnel, a localisation strategy) and checks each one with
+a plan, **every point** of a Pareto front, a patrol, a funnel, a localisation strategy; and the other models' answers:
+rooms, an exploration, a cut ordering, a pursuit plan, composed fields) and checks each one with
 :func:`~solverplan.certify.check.check_certificate`, against the query's environment, start and goal sets. The
 checker shares no code with the planner, the graph builder or the graph cache, so an answer computed from a
 corrupt or forged cached graph (arcs marked safe that are not, shifted intervals) is caught here, whatever the
@@ -193,7 +194,9 @@ class _Verdict:
 
 def _what(answer: Any) -> str:
     names = {"Plan": "plan", "ParetoFront": "Pareto front", "Patrol": "patrol", "Funnel": "funnel",
-             "Localization": "localisation strategy"}
+             "Localization": "localisation strategy", "Decomposition": "rooms decomposition",
+             "Exploration": "exploration", "RangeExploration": "exploration", "CutOrdering": "cut ordering",
+             "PursuitPlan": "pursuit plan", "FieldNavigation": "field plan", "FieldPlan": "field plan"}
     return names.get(type(answer).__name__, type(answer).__name__)
 
 
