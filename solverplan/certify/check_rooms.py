@@ -157,8 +157,10 @@ def check(c: ModelChecker) -> None:
         obj = R.obj(raw, where)
         if R.integer(R.field(obj, "id", where), f"{where}.id") != k:
             c.fail(f"{where}.id", f"is {obj['id']}, rooms are numbered 0, 1, … in order")
-        rooms.append((R.ring(R.field(obj, "polygon", where), f"{where}.polygon"), R.number(R.field(obj, "area", where), f"{where}.area")))
-    doors: list[tuple[Point, Point, tuple[int, int], Fraction, list[Fraction]]] = []
+        area_raw = c.optional(obj, "area", where)
+        rooms.append((R.ring(R.field(obj, "polygon", where), f"{where}.polygon"),
+                      None if area_raw is None else R.number(area_raw, f"{where}.area")))
+    doors: list[tuple[Point, Point, tuple[int, int], Fraction | None, list[Fraction] | None]] = []
     m = len(rooms)
     for k, raw in enumerate(raw_doors):
         where = f"claims.doors[{k}]"
@@ -171,14 +173,19 @@ def check(c: ModelChecker) -> None:
         pair = (R.integer(named[0], f"{where}.rooms[0]"), R.integer(named[1], f"{where}.rooms[1]"))
         if not all(0 <= r < m for r in pair) or pair[0] == pair[1]:
             raise Malformed(f"{where}.rooms", f"{list(pair)} are not two different rooms of 0 … {m - 1}")
-        phis = R.lst(R.field(obj, "escapability", where), f"{where}.escapability")
-        if len(phis) != 2:
+        phis_raw = c.optional(obj, "escapability", where)
+        phis = None if phis_raw is None else R.lst(phis_raw, f"{where}.escapability")
+        if phis is not None and len(phis) != 2:
             raise Malformed(f"{where}.escapability", "one Φ per room of the door")
+        length_raw = c.optional(obj, "length", where)
         doors.append((R.point(R.field(obj, "a", where), f"{where}.a"), R.point(R.field(obj, "b", where), f"{where}.b"), pair,
-                      R.number(R.field(obj, "length", where), f"{where}.length"),
-                      [R.number(phis[i], f"{where}.escapability[{i}]") for i in range(2)]))
-    area_claim = R.number(R.field(claims, "area", "claims"), "claims.area")
-    c.summary = {"rooms": m, "doors": len(doors), "area": text(area_claim)}
+                      None if length_raw is None else R.number(length_raw, f"{where}.length"),
+                      None if phis is None else [R.number(phis[i], f"{where}.escapability[{i}]") for i in range(2)]))
+    area_raw = c.optional(claims, "area", "claims")
+    area_claim = None if area_raw is None else R.number(area_raw, "claims.area")
+    c.summary = {"rooms": m, "doors": len(doors), "area": "not stated" if area_claim is None else text(area_claim)}
+    if c.partial and (any(d[3] is None or d[4] is None for d in doors) or any(r[1] is None for r in rooms)):
+        c.not_checked.append("exact lengths, areas or Φ the answer does not state")
 
     # 1. doors
     for k, (a, b, _, length, _) in enumerate(doors):
@@ -187,7 +194,7 @@ def check(c: ModelChecker) -> None:
         if a == b or (a[0] != b[0] and a[1] != b[1]):
             c.fail(where, f"{pt(a)}–{pt(b)} is not a horizontal or vertical segment of positive length")
             continue
-        if length != _length(a, b):
+        if length is not None and length != _length(a, b):
             c.fail(f"{where}.length", f"claims {text(length)}, the door is {text(_length(a, b))} long")
         if a not in reflex:
             c.fail(f"{where}.a", f"{pt(a)} is not a reflex vertex of the polygon")
@@ -222,7 +229,7 @@ def check(c: ModelChecker) -> None:
         if real <= 0:
             c.fail(f"{where}.polygon", f"is clockwise or flat (signed area {text(real)})")
             continue
-        if real != area:
+        if area is not None and real != area:
             c.fail(f"{where}.area", f"claims {text(area)}, the room's area is {text(real)}")
         total += real
         for p, q in sides:
@@ -233,7 +240,7 @@ def check(c: ModelChecker) -> None:
         else:
             good_rooms.append(k)
     polygon_area = area2(ring) / 2
-    if area_claim != polygon_area:
+    if area_claim is not None and area_claim != polygon_area:
         c.fail("claims.area", f"claims {text(area_claim)}, the polygon's area is {text(polygon_area)}")
     if total != polygon_area:
         c.fail("claims.rooms", f"the room areas add up to {text(total)}, the polygon's area is {text(polygon_area)}")
@@ -262,8 +269,9 @@ def check(c: ModelChecker) -> None:
         adjacency.setdefault(named[1], []).append((named[0], k))
     if m != len(doors) + 1:
         c.fail("claims.doors", f"{m} rooms for {len(doors)} doors: rooms and doors cannot form a tree")
-    root = R.integer(R.field(R.obj(R.field(claims, "reachability", "claims"), "claims.reachability"), "from", "claims.reachability"),
-                     "claims.reachability.from")
+    reach_raw = c.optional(claims, "reachability", "claims")
+    root = 0 if reach_raw is None else R.integer(R.field(R.obj(reach_raw, "claims.reachability"), "from", "claims.reachability"),
+                                                 "claims.reachability.from")
     if not 0 <= root < max(m, 1):
         raise Malformed("claims.reachability.from", f"room {root} does not exist")
     paths = _tree_paths(m, adjacency, root)
@@ -285,10 +293,14 @@ def check(c: ModelChecker) -> None:
                 continue  # reported: the door is not a side of that room
             value = _length(a, b) / wall
             phi[(room, named[1 - side])] = value
-            if claimed[side] != value:
+            if claimed is not None and claimed[side] != value:
                 c.fail(f"claims.doors[{k}].escapability[{side}]", f"claims {text(claimed[side])}, Φ from room {room} is "
                        f"|door| / |wall| = {text(_length(a, b))} / {text(wall)} = {text(value)}")
-    reach = R.lst(R.field(claims["reachability"], "to", "claims.reachability"), "claims.reachability.to")
+    if reach_raw is None:
+        c.not_checked.append("Ψ (the answer states no reachability)")
+        reach: list = []
+    else:
+        reach = R.lst(R.field(reach_raw, "to", "claims.reachability"), "claims.reachability.to")
     seen: set[int] = set()
     for i, raw in enumerate(reach):
         where = f"claims.reachability.to[{i}]"
@@ -306,7 +318,7 @@ def check(c: ModelChecker) -> None:
             product *= phi.get((x, y), Fraction(0))
         if psi != product:
             c.fail(f"{where}.psi", f"claims {text(psi)}, the product of Φ along the path is {text(product)}")
-    if seen != set(range(m)) or len(reach) != m:
+    if reach_raw is not None and (seen != set(range(m)) or len(reach) != m):
         c.fail("claims.reachability.to", f"must list every room once ({len(reach)} entries for {m} rooms)")
     c.summary.update({"tree_edges": len(tree), "reachability_from": root})
     c.scope = (f"the {m} rooms and {len(doors)} doors claimed in this polygon (no holes); Φ and Ψ are the paper's "

@@ -58,7 +58,7 @@ def rooms_command(
     from solverplan.render.rooms import render_rooms
 
     if check is not None:
-        from solverplan.rectilinear.check import check_rooms, load_rooms_answer
+        from solverplan.certify.rooms_answer import check_rooms, load_rooms_answer
 
         with exit_codes(verbose):
             if simulate or picture is not None or start is not None or goal is not None or tour:
