@@ -118,7 +118,7 @@ def cut_ordering_certificate(ordering: Any, env: Environment | None = None) -> M
 
     env = _env_of(ordering, env, "cut ordering")
     claims = {"cuts": [{"label": c.label, "vertex": c.vertex, "side": c.side, "edge": c.edge, "point": _p(c.point)}
-                       for c in cuts(env)],
+                       for c in sorted(cuts(env), key=lambda c: (c.vertex, c.side))],
               "ordering": list(ordering.labels)}
     return ModelCertificate("cut-ordering", _record(env), claims, PRODUCER)
 

@@ -193,8 +193,12 @@ def check(c: ModelChecker) -> None:
         kind = R.field(field, "kind", f"{where}.field")
         ring, neighbours = cells[cell]
         c.count("policies")
+        if i and cell <= R.integer(R.field(R.obj(claims["policies"][i - 1], where), "cell", where), where):
+            c.fail(f"{where}.cell", "policies are listed by ascending cell")
         if cell == goal_cell:
             nexts[cell] = None
+            if obj.get("next") is not None or obj.get("outlet_side") is not None:
+                c.fail(f"{where}.next", f"the goal's cell {cell} has no outlet and no next cell")
             if kind != "goal" or R.point(R.field(field, "goal", f"{where}.field"), f"{where}.field.goal") != goal:
                 c.fail(f"{where}.field", f"the goal's cell {cell} must carry the goal field of the goal {pt(goal)}")
             continue

@@ -212,14 +212,17 @@ def check_model_certificate(cert: ModelCertificate, *, expected_rings: Any = Non
     """Check a model certificate exactly (module docstring); ``expected_rings`` pins its environment. ``partial``:
     the claims are an answer file's (:func:`solverplan.certify.rooms_answer.check_rooms`), which may leave exact numbers
     unstated (they are then listed as not checked); a certificate states them all."""
-    from solverplan.certify import check_exploration, check_fields, check_rooms, check_wallfollow
+    from solverplan.certify.check_exploration import check as exploration
+    from solverplan.certify.check_fields import check as fields
+    from solverplan.certify.check_rooms import check as rooms
+    from solverplan.certify.check_wallfollow import check_cut_ordering, check_pursuit
 
     checks: dict[str, Callable[[ModelChecker], None]] = {
-        "rooms": check_rooms.check,
-        "exploration": check_exploration.check,
-        "cut-ordering": check_wallfollow.check_cut_ordering,
-        "pursuit": check_wallfollow.check_pursuit,
-        "fields": check_fields.check,
+        "rooms": rooms,
+        "exploration": exploration,
+        "cut-ordering": check_cut_ordering,
+        "pursuit": check_pursuit,
+        "fields": fields,
     }
     checker = ModelChecker(cert, partial=partial)
     if expected_rings is not None:

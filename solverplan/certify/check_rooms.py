@@ -309,6 +309,8 @@ def check(c: ModelChecker) -> None:
         path = [R.integer(x, f"{where}.path") for x in R.lst(R.field(obj, "path", where), f"{where}.path")]
         psi = R.number(R.field(obj, "psi", where), f"{where}.psi")
         c.count("reachability")
+        if room != i:
+            c.fail(f"{where}.room", f"is {room}: the reachability is listed room by room, 0, 1, …")
         seen.add(room)
         if paths.get(room) != path:
             c.fail(f"{where}.path", f"is not the tree path from room {root} to room {room} ({paths.get(room)})")

@@ -113,6 +113,7 @@ def check_cut_ordering(c: ModelChecker) -> None:
     claims = c.cert.claims
     raw = R.lst(R.field(claims, "cuts", "claims"), "claims.cuts")
     claimed: set[tuple[int, str]] = set()
+    previous = (-1, "")
     for k, item in enumerate(raw):
         where = f"claims.cuts[{k}]"
         obj = R.obj(item, where)
@@ -122,6 +123,9 @@ def check_cut_ordering(c: ModelChecker) -> None:
         point = R.point(R.field(obj, "point", where), f"{where}.point")
         label = R.text(R.field(obj, "label", where), f"{where}.label")
         c.count("cuts")
+        if k and (vertex, side) <= previous:
+            c.fail(where, "cuts are listed by vertex, the left cut first")
+        previous = (vertex, side)
         real = cuts.get((vertex, side))
         if real is None:
             c.fail(where, f"vertex {vertex} has no {side!r} cut (it is not a reflex vertex, or the side is not l or r)")

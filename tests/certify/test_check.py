@@ -13,7 +13,8 @@ import mpmath
 import pytest
 
 from solverplan.bounce.partition import partition
-from solverplan.certify import check, exact2d, invariant, rational_atan
+from solverplan.certify import (check, check_exploration, check_fields, check_models, check_rooms, check_wallfollow, exact2d,
+                               invariant, rational_atan)
 from solverplan.certify.check import check_certificate
 from solverplan.certify.exact2d import affine_coefficients
 from solverplan.certify.rational_atan import angle_enclosure, atan_enclosure, compare_angle, heading_enclosure, pi_enclosure
@@ -43,7 +44,8 @@ def assert_fails(data: dict, claim: str, fragment: str, *, first: bool = True):
 
 
 # ---------------------------------------------------------------------- independence
-CHECKER_MODULES = [check, exact2d, rational_atan, invariant]
+CHECKER_MODULES = [check, exact2d, rational_atan, invariant, check_models, check_rooms, check_exploration, check_wallfollow,
+                   check_fields]
 """The independent checker: it must share no code with the planner (only each other and the schema)."""
 
 
@@ -131,7 +133,7 @@ def test_report_json_and_text():
     data = report.to_json()
     assert data["valid"] is True and data["kind"] == "plan" and data["failures"] == []
     assert data["checked"]["corner_rays"] == 4
-    assert data["version"] == 3 and data["start"] == {"set": "e0:0.1:0.9", "length": "8", "length_exact": True}
+    assert data["version"] == 4 and data["start"] == {"set": "e0:0.1:0.9", "length": "8", "length_exact": True}
     assert data["goal"]["set"] == "e2" and data["claims"]["bounces"] == 1
     lines = report.to_text().splitlines()
     assert lines[0] == "certificate (plan): VALID"
