@@ -235,11 +235,12 @@ def check(c: ModelChecker) -> None:
     if missing:
         c.fail("claims.policies", f"cells {missing[:8]} have no policy")
     for k in range(m):
-        seen, x = set(), k
-        while x is not None and x not in seen and x in nexts:
-            seen.add(x)
-            x = nexts[x]
-        if x is not None:
+        seen: set[int] = set()
+        at: int | None = k
+        while at is not None and at not in seen and at in nexts:
+            seen.add(at)
+            at = nexts[at]
+        if at is not None:
             c.fail("claims.policies", f"following the outlets from cell {k} never reaches the goal's cell {goal_cell}")
             break
     if arcs:

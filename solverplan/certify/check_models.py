@@ -175,7 +175,7 @@ class ModelChecker:
         self.counts[name] = self.counts.get(name, 0) + k
 
     def check_environment(self) -> bool:
-        inner = _Checker(self.cert)  # type: ignore[arg-type] - it reads only the environment
+        inner = _Checker(self.cert)  # type: ignore[arg-type]  # it reads only the environment
         ok = inner.check_environment()
         self.failures.extend(inner.failures)
         if ok:

@@ -151,7 +151,7 @@ def check(c: ModelChecker) -> None:
     reflex = {ring[i] for i in env.reflex()}
     raw_rooms = R.lst(R.field(claims, "rooms", "claims"), "claims.rooms")
     raw_doors = R.lst(R.field(claims, "doors", "claims"), "claims.doors")
-    rooms: list[tuple[list[Point], Fraction]] = []
+    rooms: list[tuple[list[Point], Fraction | None]] = []
     for k, raw in enumerate(raw_rooms):
         where = f"claims.rooms[{k}]"
         obj = R.obj(raw, where)
@@ -167,10 +167,10 @@ def check(c: ModelChecker) -> None:
         obj = R.obj(raw, where)
         if R.integer(R.field(obj, "id", where), f"{where}.id") != k:
             c.fail(f"{where}.id", f"is {obj['id']}, doors are numbered 0, 1, … in order")
-        named = R.lst(R.field(obj, "rooms", where), f"{where}.rooms")
-        if len(named) != 2:
+        named_raw = R.lst(R.field(obj, "rooms", where), f"{where}.rooms")
+        if len(named_raw) != 2:
             raise Malformed(f"{where}.rooms", "a door joins two rooms")
-        pair = (R.integer(named[0], f"{where}.rooms[0]"), R.integer(named[1], f"{where}.rooms[1]"))
+        pair = (R.integer(named_raw[0], f"{where}.rooms[0]"), R.integer(named_raw[1], f"{where}.rooms[1]"))
         if not all(0 <= r < m for r in pair) or pair[0] == pair[1]:
             raise Malformed(f"{where}.rooms", f"{list(pair)} are not two different rooms of 0 … {m - 1}")
         phis_raw = c.optional(obj, "escapability", where)

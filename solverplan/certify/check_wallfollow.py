@@ -150,9 +150,9 @@ def check_cut_ordering(c: ModelChecker) -> None:
     ordering = [R.text(x, f"claims.ordering[{i}]") for i, x in enumerate(R.lst(R.field(claims, "ordering", "claims"), "claims.ordering"))]
     c.count("ordering_labels", len(order))
     if ordering != order:
-        where = next((i for i, (x, y) in enumerate(zip(ordering, order)) if x != y), min(len(ordering), len(order)))
-        c.fail(f"claims.ordering[{where}]", f"is {ordering[where] if where < len(ordering) else 'missing'}, the boundary "
-               f"order has {order[where] if where < len(order) else 'nothing'} there")
+        at = next((i for i, (x, y) in enumerate(zip(ordering, order)) if x != y), min(len(ordering), len(order)))
+        c.fail(f"claims.ordering[{at}]", f"is {ordering[at] if at < len(ordering) else 'missing'}, the boundary "
+               f"order has {order[at] if at < len(order) else 'nothing'} there")
     c.summary = {"vertices": n, "reflex": len({v for v, _ in cuts}), "cuts": len(cuts)}
     c.scope = ("the cut ordering of this simply connected polygon: the end points of the left and right cuts of every "
                "reflex vertex and their order along the boundary, counter-clockwise from v0")

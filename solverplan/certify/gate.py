@@ -40,7 +40,7 @@ from solverplan.bounce._cache import discard_graphs, fresh_graphs, read_from_dis
 from solverplan.certify import build
 from solverplan.certify.build import NothingToCertify
 from solverplan.certify.check import CheckReport, check_certificate
-from solverplan.certify.schema import Certificate
+from solverplan.certify.schema import Certificate, ModelCertificate
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.plan.result import ParetoFront, Plan
@@ -81,7 +81,7 @@ class Checked(Generic[T]):
     """
 
     answer: T
-    certificate: Certificate | None
+    certificate: Certificate | ModelCertificate | None
     checked: int
     retried: bool = False
     unchecked: str | None = None
@@ -183,7 +183,7 @@ def check_infeasibility(answer: Any, env: Environment | None) -> CheckReport | N
 @dataclass(frozen=True)
 class _Verdict:
     failure: str | None
-    certificate: Certificate | None = None
+    certificate: Certificate | ModelCertificate | None = None
     checked: int = 0
     unchecked: str | None = None
     seconds: float = 0.0
@@ -219,7 +219,7 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
     if env is None and isinstance(answer, (Plan, ParetoFront)):
         raise TypeError("a plan does not carry its environment: call checked_answer(..., env=...)")
     plans: list[Any] = [p.plan for p in answer.points] if isinstance(answer, ParetoFront) else [answer]
-    last: Certificate | None = None
+    last: Certificate | ModelCertificate | None = None
     checked = 0
     for k, item in enumerate(plans):
         where = f"point {k} ({item.bounces} bounces) of the front: " if isinstance(answer, ParetoFront) else ""
