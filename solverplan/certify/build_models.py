@@ -161,7 +161,10 @@ def fields_certificate(answer: Any, env: Environment | None = None) -> ModelCert
         else:
             field = {"kind": "arc", "centre": _p(f.centre), "radius": _x(Fraction(f.radius)), "gain": _x(f.gain),
                      "clockwise": bool(f.clockwise)}
-        policies.append({"cell": c, "next": policy.next_cell, "outlet_side": policy.outlet_side, "field": field})
+        entry = {"cell": c, "next": policy.next_cell, "outlet_side": policy.outlet_side, "field": field}
+        if f.kind == "line":
+            entry["flows_through"] = bool(policy.check.verified)  # the planner's exact test (the checker redoes it)
+        policies.append(entry)
     claims = {"area": _x(env.area), "cells": cells, "start": _p(plan.start), "goal": _p(plan.goal),
               "sequence": list(plan.sequence), "policies": policies}
     return ModelCertificate("fields", _record(env), claims, PRODUCER)

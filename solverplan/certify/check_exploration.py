@@ -85,12 +85,10 @@ def _inside_open(p: Point, ring: list[Point]) -> bool:
     return inside
 
 
-def _covers_beyond(m: Point, normal: Point, ring: list[Point]) -> bool:
+def _covers_beyond(m: Point, normal: Point, ring: list[Point], sides: list) -> bool:
     """Do the points m + ε·normal, ε > 0 small, lie in the closed polygon ``ring`` (CCW)? (m is no vertex of it.)"""
-    n = len(ring)
-    for i in range(n):
-        a, b = ring[i], ring[(i + 1) % n]
-        if orient(a, b, m) == 0 and on_closed_segment(m, a, b):
+    for a, b, box in sides:
+        if box[0] <= m[0] <= box[2] and box[1] <= m[1] <= box[3] and orient(a, b, m) == 0:
             return cross(sub(b, a), normal) > 0
     return _inside_open(m, ring)
 
@@ -142,6 +140,7 @@ def check(c: ModelChecker) -> None:
         views.append((R.point(R.field(obj, "viewpoint", where), f"{where}.viewpoint"), parent,
                       R.ring(R.field(obj, "polygon", where), f"{where}.polygon")))
     edges = env.edges
+    edge_boxes = [_box(e) for e in edges]
     boxes = [_box(ring) for _, _, ring in views]
     # 1. every view is seen from its viewpoint
     for k, (z, _, ring) in enumerate(views):
@@ -166,13 +165,15 @@ def check(c: ModelChecker) -> None:
                     c.fail(f"{where}.polygon[{i}]", f"the side {pt(a)}–{pt(b)} doubles back through the viewpoint")
                     break
                 continue  # a side along a line of sight
-            if not any(on_closed_segment(a, u, w) and on_closed_segment(b, u, w) for u, w in edges) and turn != 0:
+            side_box = _box([a, b])
+            if not any(not _apart(side_box, eb) and orient(u, w, a) == 0 and orient(u, w, b) == 0
+                       and on_closed_segment(a, u, w) and on_closed_segment(b, u, w) for (u, w), eb in zip(edges, edge_boxes)):
                 c.fail(f"{where}.polygon[{i}]", f"the side {pt(a)}–{pt(b)} is neither on the boundary nor along a line "
                        f"of sight: the polygon is not the view from {pt(z)}")
                 break
             tri = (z, a, b)
             box = _box(tri)
-            if any(not _apart(box, _box(e)) and _edge_enters_triangle(e[0], e[1], tri) for e in edges):
+            if any(not _apart(box, eb) and _edge_enters_triangle(e[0], e[1], tri) for e, eb in zip(edges, edge_boxes)):
                 c.fail(f"{where}.polygon[{i}]", f"the boundary enters the triangle from the viewpoint to {pt(a)}–{pt(b)}: "
                        f"that part is not seen")
                 break
@@ -234,27 +235,30 @@ def check(c: ModelChecker) -> None:
 
 
 def _check_cover(c: ModelChecker, env: Env, views: list, boxes: list) -> None:
-    vertices = env.vertices
+    # every side with its bounding box, so that only sides whose boxes meet are compared (exact tests are costly)
+    sides = [[(ring[h], ring[(h + 1) % len(ring)], _box([ring[h], ring[(h + 1) % len(ring)]])) for h in range(len(ring))]
+             for _, _, ring in views]
+    walls = [(u, w, _box([u, w])) for u, w in env.edges]
+    vertices = [(v, v[0], v[1]) for v in env.vertices]
     for k, (_, _, ring) in enumerate(views):
-        n = len(ring)
-        for i in range(n):
-            a, b = ring[i], ring[(i + 1) % n]
+        for i, (a, b, box) in enumerate(sides[k]):
             if a == b:
                 continue
-            if any(on_closed_segment(a, u, w) and on_closed_segment(b, u, w) for u, w in env.edges):
+            near_walls = [(u, w) for u, w, wb in walls if not _apart(box, wb)]
+            if any(orient(u, w, a) == 0 and orient(u, w, b) == 0 and on_closed_segment(a, u, w) and on_closed_segment(b, u, w)
+                   for u, w in near_walls):
                 continue  # a side on the boundary: nothing beyond it
             d = sub(b, a)
             normal = (d[1], -d[0])  # outward: the views are counter-clockwise
-            box = _box([a, b])
             params = {Fraction(0), Fraction(1)}
-            for v in vertices:
-                if orient(a, b, v) == 0 and on_closed_segment(v, a, b):
+            for v, x, y in vertices:
+                if box[0] <= x <= box[2] and box[1] <= y <= box[3] and orient(a, b, v) == 0:
                     params.add(_param(a, d, v))
             others = [j for j in range(len(views)) if j != k and not _apart(box, boxes[j])]
             for j in others:
-                other = views[j][2]
-                for h in range(len(other)):
-                    p, q = other[h], other[(h + 1) % len(other)]
+                for p, q, side_box in sides[j]:
+                    if _apart(box, side_box):
+                        continue
                     for x in (p, q):
                         if orient(a, b, x) == 0 and on_closed_segment(x, a, b):
                             params.add(_param(a, d, x))
@@ -270,10 +274,11 @@ def _check_cover(c: ModelChecker, env: Env, views: list, boxes: list) -> None:
                 c.count("cover_pieces")
                 mid = (s0 + s1) / 2
                 m = (a[0] + mid * d[0], a[1] + mid * d[1])
-                wall = next(((u, w) for u, w in env.edges if orient(u, w, m) == 0 and on_closed_segment(m, u, w)), None)
+                wall = next(((u, w) for u, w in near_walls if orient(u, w, m) == 0 and on_closed_segment(m, u, w)), None)
                 if wall is not None and cross(sub(wall[1], wall[0]), normal) <= 0:
                     continue  # beyond it lies the outside of the free space
-                if not any(_covers_beyond(m, normal, views[j][2]) for j in others):
+                if not any(_covers_beyond(m, normal, views[j][2], sides[j]) for j in others
+                           if boxes[j][0] <= m[0] <= boxes[j][2] and boxes[j][1] <= m[1] <= boxes[j][3]):
                     c.fail(f"claims.views[{k}].polygon[{i}]", f"the free space just beyond {pt(m)} (outside view {k}) "
                            f"is in no view: the views do not cover the free space")
                     return

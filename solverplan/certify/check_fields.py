@@ -6,7 +6,8 @@ The claims (``claims`` block):
 - ``cells``: ``[{"id", "polygon": [[x, y], ...] (CCW, convex), "neighbours": [cell id or null, one per side]}]``,
   side i running from vertex i to vertex i + 1; ``area``: the free space's area;
 - ``start``, ``goal``: points; ``sequence``: the cells from the start's to the goal's;
-- ``policies``: one per cell, ``{"cell", "next", "outlet_side", "field"}``; ``field`` is ``{"kind": "line", "origin",
+- ``policies``: one per cell, ``{"cell", "next", "outlet_side", "field", "flows_through"}`` (``flows_through``: line
+  fields only, whether the field provably flows through — false where the planner found no such field); ``field`` is ``{"kind": "line", "origin",
   "target", "gain"}`` (Eq. 2: v(q) = d + p (I − d dᵀ)(q₀ − q), d the unit vector from ``origin`` to ``target``),
   ``{"kind": "goal", "goal"}`` (v = (g − q)/|g − q|, in the goal's cell) or ``{"kind": "arc", "centre", "radius",
   "gain", "clockwise"}`` (Eq. 3).
@@ -26,6 +27,7 @@ Re-derived exactly:
    rational, L = |target − origin|²), decided exactly. With v strictly inward on every side but the outlet and
    d·v = 1 everywhere (the robot advances at unit rate along d), every trajectory from every point of the closed
    cell leaves the bounded cell, through the outlet (Stager and Tanner, Eq. 2; ``solverplan.proofs.line_field``).
+   The claim ``flows_through`` must be the test's exact outcome (true or false).
 
 **Arc fields are not checked**: their flow-through is the planner's dense sample of RK4 trajectories, not a proof
 (the report lists the cells). The simulated scenarios of a fields answer are statistics, not certified.
@@ -182,6 +184,7 @@ def check(c: ModelChecker) -> None:
     # 3. and 4. policies and flow-through
     nexts: dict[int, int | None] = {}
     arcs: list[int] = []
+    unproved: list[int] = []
     lines = 0
     for i, item in enumerate(R.lst(R.field(claims, "policies", "claims"), "claims.policies")):
         where = f"claims.policies[{i}]"
@@ -216,6 +219,10 @@ def check(c: ModelChecker) -> None:
             if origin == target or gain <= 0:
                 c.fail(f"{where}.field", "a line field needs two different points and a positive gain")
                 continue
+            claimed = R.field(obj, "flows_through", where)
+            if not isinstance(claimed, bool):
+                raise Malformed(f"{where}.flows_through", "expected true or false")
+            failing = None
             for s in range(len(ring)):
                 if s == outlet:
                     continue
@@ -224,9 +231,16 @@ def check(c: ModelChecker) -> None:
                 c.count("inward_tests", 2)
                 bad = next((q for q in (a, b) if line_inward_sign(origin, target, gain, normal, q) <= 0), None)
                 if bad is not None:
-                    c.fail(f"{where}.field", f"the line field of cell {cell} does not point strictly into it at {pt(bad)} "
-                           f"on side {s}: a trajectory may leave through a side that is not the outlet")
+                    failing = (s, bad)
                     break
+            if claimed and failing is not None:
+                c.fail(f"{where}.flows_through", f"the line field of cell {cell} does not point strictly into it at "
+                       f"{pt(failing[1])} on side {failing[0]}: a trajectory may leave through a side that is not the outlet")
+            elif not claimed and failing is None:
+                c.fail(f"{where}.flows_through", f"claims false, but the line field of cell {cell} points strictly into "
+                       f"it on every side but the outlet")
+            elif not claimed:
+                unproved.append(cell)
         elif kind == "arc":
             arcs.append(cell)
         else:
@@ -243,6 +257,9 @@ def check(c: ModelChecker) -> None:
         if at is not None:
             c.fail("claims.policies", f"following the outlets from cell {k} never reaches the goal's cell {goal_cell}")
             break
+    if unproved:
+        c.not_checked.append(f"a way out of cells {unproved[:10]}: the planner found no field there that flows through "
+                             f"(as the answer says)")
     if arcs:
         c.not_checked.append(f"the flow-through of the arc fields of cells {arcs} (the planner's dense sample of RK4 "
                              f"trajectories, not a proof)")
@@ -251,9 +268,9 @@ def check(c: ModelChecker) -> None:
     c.scope = (f"the composed fields of {m} convex cells in this environment{' with holes' if len(env.rings) > 1 else ''}, "
                f"for a robot following the field exactly (the integrator model), from {pt(start)} to {pt(goal)}")
     c.proved.append(f"the {m} cells tile the free space, and the outlets lead every cell to the goal's cell")
-    if arcs:
-        c.proved.append(f"in the {lines} cells with line fields, every trajectory leaves through the outlet; "
-                        f"the goal is reached straight from anywhere in its cell")
+    if arcs or unproved:
+        c.proved.append(f"in the {lines - len(unproved)} cells whose line fields flow through, every trajectory leaves "
+                        f"through the outlet; the goal is reached straight from anywhere in its cell")
     else:
         c.proved.append("every cell's line field carries every point of the cell out through its outlet, and the goal "
                         "field takes the goal's cell straight to the goal: from every point of the free space the "

@@ -125,7 +125,9 @@ class Env:
         return out
 
     def on_boundary(self, p: Point) -> bool:
-        return any(on_closed_segment(p, a, b) for a, b in self.edges)
+        x, y = p
+        return any(min(a[0], b[0]) <= x <= max(a[0], b[0]) and min(a[1], b[1]) <= y <= max(a[1], b[1])
+                   and on_closed_segment(p, a, b) for a, b in self.edges)
 
     def locate(self, p: Point) -> int:
         """1 strictly inside the free space, 0 on the boundary, −1 outside (exact)."""
