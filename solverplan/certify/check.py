@@ -157,7 +157,7 @@ from solverplan.certify.rational_atan import (
     heading_vector,
 )
 from solverplan.certify.invariant import Closure, Geometry, TableError
-from solverplan.certify.schema import (BoundClaim, Certificate, CycleClaim, EnvironmentRecord, ModelCertificate, Move,
+from solverplan.certify.schema import (MODEL_KINDS, BoundClaim, Certificate, CycleClaim, EnvironmentRecord, ModelCertificate, Move,
                                        Piece, Point, SegmentRecord, Stage, _terminating_decimal, number_text)
 
 __all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]
@@ -261,7 +261,7 @@ class CheckReport:
             name = repr(env["name"]) if env["name"] else "(unnamed)"
             lines.append(f"environment: {name}, sha256 {env['sha256']}, {env['vertices']} vertices, "
                          f"{env['edges']} edges, {env['holes']} hole{'' if env['holes'] == 1 else 's'}")
-        if self.scope:  # a model certificate: its claims and scope in words
+        if self.kind in MODEL_KINDS:  # a model certificate: its claims and scope in words
             lines.append("claims: " + (", ".join(f"{k.replace('_', ' ')} {_short_claim(v)}" for k, v in self.claims.items())
                                        or "none"))
             lines.append(f"scope: {self.scope}")
@@ -273,6 +273,8 @@ class CheckReport:
             return "\n".join(lines) + "\n"
         lines.append(f"start: {_set_line(self.start)}")
         lines.append(f"goal: {_set_line(self.goal) if self.goal is not None else 'none (a cycle: the cycle is the goal)'}")
+        if self.scope:
+            lines.append(f"scope: {self.scope}")
         for line in _claim_lines(self.claims):
             lines.append(line)
         lines.append(f"checked exactly: {counts}")
@@ -284,6 +286,10 @@ class CheckReport:
         for item in self.not_checked:
             lines.append(f"not checked: {item}")
         return "\n".join(lines) + "\n"
+
+
+_BOUNCE_SCOPE = ("a point robot in this environment that moves straight between bounces and, at each bounce, executes "
+                 "one heading measured from the edge it is on; the start and goal sets above")
 
 
 def _short_claim(value: Any) -> str:
@@ -439,8 +445,28 @@ class _Checker:
             start=summary["start"],
             goal=summary["goal"],
             claims=summary["claims"],
-            proved=tuple(self.proved),
+            proved=tuple(self._main_statement() + self.proved) if not self.failures else tuple(self.proved),
+            scope=_BOUNCE_SCOPE,
         )
+
+    def _main_statement(self) -> list[str]:
+        """What a valid plan, funnel, localisation or cycle certificate proves, in words (``verify`` prints it)."""
+        cert = self.cert
+        if cert.kind == "infeasible":
+            return []
+        k, width = cert.claims.bounces, _num(cert.claims.min_width)
+        if cert.kind == "cycle" and cert.cycle is not None:
+            return [f"executing the entry stages once and then the {len(cert.cycle.stages)} cycle stages forever, with "
+                    f"any heading inside each stage's interval, the robot never leaves the cycle's segments and converges "
+                    f"to the fixed point t = {_num(cert.cycle.fixed_point)}, by at least the factor "
+                    f"{_num(cert.cycle.contraction)} < 1 per cycle; every interval is at least {width} rad wide"]
+        out = [f"from every point of the start set, executing at stage j any heading inside its interval lands the robot "
+               f"in the goal set after {k} bounce{'s' if k != 1 else ''}; every interval is at least {width} rad wide"]
+        if cert.kind in ("funnel", "localize"):
+            out.append("after every stage the robot is within the claimed positions")
+        if cert.kind == "localize" and cert.claims.epsilon is not None:
+            out.append(f"the final positions lie in one interval shorter than ε = {_num(cert.claims.epsilon)}")
+        return out
 
     # ------------------------------------------------------------------ the run
     def run(self, expected_rings: Sequence[Sequence[Point]] | None) -> None:

@@ -139,8 +139,11 @@ def test_report_json_and_text():
     assert lines[0] == "certificate (plan): VALID"
     assert lines[1].startswith("environment: 'square', sha256 ") and lines[1].endswith("4 vertices, 4 edges, 0 holes")
     assert lines[2:4] == ["start: e0:0.1:0.9 (length 8)", "goal: e2 (length 10)"]
-    assert lines[4].startswith("claims: bounces 1, min_width 0.0999")
-    assert lines[5].startswith("checked exactly: 1 stages")
+    assert lines[4].startswith("scope: a point robot in this environment that moves straight between bounces")
+    assert lines[5].startswith("claims: bounces 1, min_width 0.0999")
+    assert lines[6].startswith("checked exactly: 1 stages")
+    assert lines[7].startswith("proved: from every point of the start set, executing at stage j any heading inside its "
+                               "interval lands the robot in the goal set after 1 bounce")
 
 
 # ---------------------------------------------------------------------- tampering: one claim at a time
