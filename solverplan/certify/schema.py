@@ -72,7 +72,7 @@ True
 >>> parse_certificate('{"schema": "solverplan-certificate", "version": 5}')
 Traceback (most recent call last):
 ...
-solverplan.certify.schema.CertificateFormatError: certificate version 5 is not supported (this solverplan reads versions 1, 2, 3 and 4)
+solverplan.certify.schema.CertificateFormatError: certificate version 5 is not supported (this solverplan reads versions 1 to 4)
 """
 
 from __future__ import annotations
@@ -471,7 +471,7 @@ class Certificate:
             raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
         version = top.get("version")
         if isinstance(version, bool) or version not in READ_VERSIONS:
-            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1, 2, 3 and 4)")
+            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1 to 4)")
         kind = _field(top, "kind", "certificate")
         if version >= 4 and kind in MODEL_KINDS:
             raise CertificateFormatError(f"kind: {_q(kind)} is a model certificate: read it with parse_certificate")
@@ -570,7 +570,7 @@ class ModelCertificate:
             raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
         version = top.get("version")
         if isinstance(version, bool) or version not in READ_VERSIONS:
-            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1, 2, 3 and 4)")
+            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1 to 4)")
         kind = _field(top, "kind", "certificate")
         if kind not in MODEL_KINDS or version < 4:
             raise CertificateFormatError(f"kind: {_q(kind)} is not a model certificate kind of version {version}")
