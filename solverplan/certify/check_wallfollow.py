@@ -24,8 +24,9 @@ the pursuer's shadow is replayed exactly along every motion:
   every motion at every such crossing (exact parameters) and computes the window set exactly at the motion's
   ends and at the middle of every piece;
 - labels (1: the evader may be in the component) start at 1 for every component at the start; across an event at
-  point e, a continuing window keeps its label; a window appearing on an edge's extension through e gets 0 (it was
-  seen just before); one appearing from behind an occluder u (e, u, v collinear, u between) takes u's label (it
+  point e, a continuing window keeps its label; where e lies on the line of an edge between two reflex vertices and
+  the window passes from one to the other, the component (the same one) keeps its label; a window appearing on an
+  edge's extension through e gets 0 (it was seen just before); one appearing from behind an occluder u (e, u, v collinear, u between) takes u's label (it
   splits off u's component); a vanishing window on an edge's extension loses its label (its component shrank to
   nothing in sight); one hiding behind u ORs its label into u's (merge). At a vertex v the pursuer leaves, v's
   window appears carrying the labels of the windows that vanish behind v at once; at a vertex v it arrives at,
@@ -265,8 +266,17 @@ class _Shadow:
                     for t in after:
                         out[t] = True  # unexplained: the conservative rule
             return out
-        for g in after:
+        handed: set[int] = set()
+        for g in after:  # across the line of an edge between two reflex vertices: the window passes from one to the other
             if g in before:
+                continue
+            for h in ((g - 1) % self.n, (g + 1) % self.n):
+                if h in vanished and h not in handed and orient(ring[g], ring[h], e) == 0:
+                    out[g] = before[h]
+                    handed.add(h)
+                    break
+        for g in after:
+            if g in before or g in out:
                 continue
             if extension_through(g):
                 out[g] = False
@@ -274,7 +284,7 @@ class _Shadow:
                 u = occluder(g, [x for x in after if x in before])
                 out[g] = before[u] if u is not None else any_label
         for h in vanished:
-            if not before[h] or extension_through(h):
+            if not before[h] or h in handed or extension_through(h):
                 continue
             u = occluder(h, after)
             for t in ([u] if u is not None else list(after)):
