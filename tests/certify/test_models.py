@@ -7,6 +7,8 @@ import copy
 from fractions import Fraction
 
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from solverplan.certify.build import NothingToCertify, certificate, write_certificate
 from solverplan.certify.check import check_certificate
@@ -209,3 +211,34 @@ def test_rooms_certificates_refuse_holes():
     fake = ModelCertificate("rooms", type(cert.environment)(holed.rings, "one_hole"), cert.claims)
     report = check_certificate(fake)
     assert not report.valid and report.failures[0].claim == "environment"
+
+
+# ---------------------------------------------------------------------- the exact shadow replay against the ground truth
+@pytest.mark.parametrize("n, irregularity, spikiness, seed, decimals", [
+    (15, 0.5, 0.45, 7, 2),  # the pursuer leaves a reflex vertex: its own window appears, absorbing those hidden behind it
+    (17, 0.6, 0.5, 106, 3),  # the pursuer crosses the line of an edge between two reflex vertices: the window passes over
+])
+def test_issue_23_pursuit_replay_regressions(n, irregularity, spikiness, seed, decimals):
+    env = star_polygon(n, irregularity, spikiness, seed=seed, decimals=decimals)
+    report = check_certificate(_pursuit(env))
+    assert report.valid, [str(f) for f in report.failures]
+
+
+@pytest.mark.slow
+@settings(max_examples=25, deadline=None)
+@given(n=st.integers(8, 16), seed=st.integers(0, 10_000))
+def test_exact_shadow_replay_agrees_with_the_geometric_ground_truth(n, seed):
+    """The certificate's labels come from the geometric ground truth (shapely overlaps of exact pockets); the exact
+    checker replays them with the combinatorial event rules: they must agree on every plan found."""
+    from solverplan.errors import InputError
+    from solverplan.wallfollow import pursuit_plan
+
+    try:
+        env = star_polygon(n, 0.5, 0.45, seed=seed, decimals=3)
+        plan = pursuit_plan(env, max_states=5000)
+        cert = certificate(plan, env=env)
+    except (InputError, NothingToCertify):
+        assume(False)
+        return
+    report = check_certificate(cert)
+    assert report.valid, [str(f) for f in report.failures]
