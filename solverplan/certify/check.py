@@ -400,7 +400,12 @@ def check_certificate(
     if isinstance(cert, ModelCertificate):  # the other robot models (version 4): their own claims, the same verdict
         from solverplan.certify.check_models import check_model_certificate
 
-        return check_model_certificate(cert, expected_rings=expected_rings)
+        report = check_model_certificate(cert, expected_rings=expected_rings)
+        if expected_start is None and expected_goal is None:
+            return report
+        wrong = Failure("start" if expected_start is not None else "goal", f"a {cert.kind} certificate has no start or goal set")
+        return CheckReport(False, (wrong, *report.failures), report.checked, report.not_checked, report.kind,
+                           report.version, report.environment, None, None, report.claims, (), report.scope)
     checker = _Checker(cert)
     checker.run(expected_rings)
     if expected_start is not None:

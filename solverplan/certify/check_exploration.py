@@ -19,7 +19,7 @@ Re-derived exactly:
    many the polygon then reaches the first boundary point, so it *is* the visibility polygon VP(z).
 2. **Chain.** The first view has no parent; every other viewpoint lies in the view (polygon, and disc when
    limited) of an earlier viewpoint, its parent: the robot reaches it along a line of sight.
-3. **Cover** (unlimited views). The union U of the views covers the free space F: every side of every view that is
+3. **Cover** (views no disc cuts). The union U of the views covers the free space F: every side of every view that is
    not on the boundary is cut at every point where another view's side or a boundary vertex meets it, and just
    beyond the middle of each piece (outside its view, inside F) some other view must lie. If a point of F were
    outside U, a path in the interior of F from a point of U to it would leave U across such a piece, whose far
@@ -28,8 +28,9 @@ Re-derived exactly:
    free space) and holes; the number of views is at most the bound, which must be the theorem's value exactly
    (the perimeter's floor decided with rigorous integer square-root enclosures).
 
-With a range, the cover (3.) is **not** re-derived: it is the explorer's claim (its overlay draws arcs as inscribed
-chords and ignores slivers below 10⁻⁹ of the area); the report lists it under *not checked*.
+With a range, the cover (3.) is re-derived when no disc cuts a view (every polygon vertex within R of its viewpoint:
+Theorem 3's case, RVP = VP); otherwise it is **not** re-derived: it is the explorer's claim (its overlay draws arcs
+as inscribed chords and ignores slivers below 10⁻⁹ of the area), and the report lists it under *not checked*.
 """
 
 from __future__ import annotations
@@ -196,7 +197,8 @@ def check(c: ModelChecker) -> None:
         if not _in_closed_ring(z, pring) or (radius is not None and dist2(z, pz) > radius * radius):
             c.fail(where, f"viewpoint {k} {pt(z)} is not in the view from viewpoint {parent} {pt(pz)}")
     # 3. the cover
-    if radius is None:
+    uncut = radius is None or all(dist2(p, z) <= radius * radius for z, _, ring in views for p in ring)
+    if uncut:  # no disc cuts a view (always without a range; Theorem 3's case with one): the views are polygons
         _check_cover(c, env, views, boxes)
     else:
         c.not_checked.append("that the views cover the free space (with a range, the explorer's overlay: arcs drawn as "
@@ -229,7 +231,7 @@ def check(c: ModelChecker) -> None:
                f"{' with holes' if holes else ''}; the bound is {rule}")
     c.proved.append(f"every view is seen from its viewpoint{within}, and every viewpoint after the first lies in an "
                     f"earlier view (a chain of lines of sight)")
-    if radius is None:
+    if uncut:
         c.proved.append("the views together cover the whole free space")
     c.proved.append(f"{len(views)} views ≤ the bound {bound}")
 
