@@ -182,14 +182,37 @@ class _Shadow:
         self.evaluations = 0
 
     def sees(self, q: Point, v: int) -> bool:
+        """Is vertex v seen from q: does the segment q–v lie in the closed free space? A line of sight may graze the
+        boundary — run along an edge, or pass a vertex without entering the outside there — but not cross it."""
         p = self.ring[v]
         if p == q:
             return False
-        for a, b in self.edges:
-            if segment_crosses_open(q, p, a, b):
+        for a, b in self.edges:  # a proper crossing of an edge
+            o1, o2 = orient(q, p, a), orient(q, p, b)
+            if o1 * o2 < 0 and orient(a, b, q) * orient(a, b, p) < 0:
+                return False
+        if not self._into(v, sub(q, p)):
+            return False  # the sight arrives at v from outside
+        at_q = self.index.get(q)
+        if at_q is not None and not self._into(at_q, sub(p, q)):
+            return False
+        for w in range(self.n):  # a vertex on the open segment: both ways from it must stay in the closed free space
+            x = self.ring[w]
+            if w == v or x == q or orient(q, p, x) != 0 or not on_closed_segment(x, q, p):
+                continue
+            if not (self._into(w, sub(q, x)) and self._into(w, sub(p, x))):
                 return False
         mid = ((q[0] + p[0]) / 2, (q[1] + p[1]) / 2)
         return self._inside_or_on(mid)
+
+    def _into(self, w: int, d: Point) -> bool:
+        """Does direction d from vertex w point into the closed free space (the closed interior angle at w)?"""
+        x = self.ring[w]
+        e_next, e_prev = sub(self.ring[(w + 1) % self.n], x), sub(self.ring[w - 1], x)
+        if cross(e_prev, e_next) > 0:  # reflex at w: the exterior is the open wedge from e_prev CCW to e_next (< π)
+            return not (cross(e_prev, d) > 0 and cross(d, e_next) > 0)
+        # convex (or flat) at w: the interior is the closed wedge from e_next CCW to e_prev (≤ π)
+        return cross(e_next, d) >= 0 and cross(d, e_prev) >= 0
 
     def _inside_or_on(self, p: Point) -> bool:
         if any(on_closed_segment(p, a, b) for a, b in self.edges):

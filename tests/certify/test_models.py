@@ -224,6 +224,16 @@ def test_issue_23_pursuit_replay_regressions(n, irregularity, spikiness, seed, d
     assert report.valid, [str(f) for f in report.failures]
 
 
+def test_issue_23_a_line_of_sight_grazing_an_edge_sees_past_it():
+    """three_arms, pebble sensor: after JUMP along the cut of v1 the pursuer looks along edge (v1, v0) and sees v0,
+    whose window hides the region behind it (the ground truth's visibility polygon counts grazing sight)."""
+    from solverplan.wallfollow import pursuit_plan
+
+    env = load_environment("three_arms")
+    report = check_certificate(certificate(pursuit_plan(env, sensor="pebble"), env=env))
+    assert report.valid, [str(f) for f in report.failures]
+
+
 @pytest.mark.slow
 @settings(max_examples=25, deadline=None)
 @given(n=st.integers(8, 16), seed=st.integers(0, 10_000))
