@@ -55,11 +55,12 @@ from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import Walls
 from solverplan.plan.funnel import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, position_scope,
                                     search_optimality, search_stats)
-from solverplan.result import EnvironmentRecord, Method, Optimality, Status
+from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Status, answer_kind
 
 __all__ = ["Localization", "localize", "rotational_symmetry"]
 
 
+@answer_kind("localize")
 @dataclass(frozen=True, kw_only=True)
 class Localization(PositionStrategy):
     """A localisation strategy: after its stages every start of ``start`` lies in ``goal``, one interval of one
@@ -68,12 +69,14 @@ class Localization(PositionStrategy):
     :class:`~solverplan.plan._results.PositionStrategy`'s.
     """
 
-    kind = "localize"
-
     epsilon: float
 
     def _extra_json(self) -> dict:
         return {"epsilon": self.epsilon}
+
+    @classmethod
+    def _extra_from_json(cls, r: Reader) -> dict:
+        return {"epsilon": r.number("epsilon")}
 
     def _head(self) -> str:
         return f"{super()._head()} to one interval shorter than {self.epsilon:g}"
