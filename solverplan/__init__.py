@@ -107,10 +107,10 @@ _EXPORTS: dict[str, str] = {
     "check_certificate": "solverplan.certify.check",
     "load_certificate": "solverplan.certify.schema",
     # HTML reports of answers (solverplan report)
-    "load_answer": "solverplan.render.html",
-    "html_report": "solverplan.render.html",
-    "write_report": "solverplan.render.html",
-    "HtmlReport": "solverplan.render.html",
+    "load_answer": "solverplan.render.report",
+    "html_report": "solverplan.render.report",
+    "write_report": "solverplan.render.report",
+    "HtmlReport": "solverplan.render.report",
     # errors
     "SolverplanError": "solverplan.errors",
     "InputError": "solverplan.errors",
@@ -146,7 +146,7 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.plan.result import ParetoFront, Plan, load_plan
     from solverplan.plan.search import find_plan, pareto_front
     from solverplan.rectilinear.decomposition import decompose_rooms
-    from solverplan.render.html import HtmlReport, html_report, load_answer, write_report
+    from solverplan.render.report import HtmlReport, html_report, load_answer, write_report
     from solverplan.result import Method, Optimality, Stage, Stats, Status, StatusGroup
     from solverplan.simulate import simulate_plan, simulate_rule
     from solverplan.wallfollow.cuts import cut_ordering

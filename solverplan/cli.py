@@ -1498,7 +1498,7 @@ def report_command(
 ) -> None:
     """A self-contained HTML report of an answer: the environment and the answer as SVG with hover details, the
     certificate checked exactly, the numbers, the command that reproduces it; prints {"written", "bytes", ...}."""
-    from solverplan.render.html import html_report, load_answer, write_report
+    from solverplan.render.report import html_report, load_answer, write_report
 
     with exit_codes(verbose):
         given = [(name, path) for name, path in (("plan", plan_file), ("patrol", patrol_file), ("funnel", funnel_file),

@@ -57,6 +57,7 @@ from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.geometry.raycast import RayHits, cast_from_boundary, heading_directions
 from solverplan.limits import MAX_BOUNCES, MAX_TRIALS, quote, refuse_beyond_memory
+from solverplan.result import answer_kind
 
 __all__ = [
     "Outcome",
@@ -455,6 +456,7 @@ def _generator(seed: int | np.random.Generator | None):
 
 
 # ---------------------------------------------------------------------- results
+@answer_kind("simulation")
 @dataclass(frozen=True, eq=False)
 class Rollouts:
     """The result of a simulation: trajectories, per-rollout outcomes, and how to replay it.
@@ -565,6 +567,7 @@ class Rollouts:
     def to_json(self) -> dict:
         """The run's parameters and :meth:`summary` (not the trajectories)."""
         return {
+            "kind": "simulation",
             "environment": self.env.name,
             "policy": self.policy,
             "bounces": self.bounces,

@@ -28,7 +28,7 @@ from solverplan.exact import ExactPoint, exact_point, format_point
 from solverplan.explore.bounds import Cost, exploration_cost, views_bound
 from solverplan.explore.windows import Window, point_on_part, unexplored_parts, windows
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind
 
 __all__ = ["CHOICES", "Exploration", "explore_depth_first"]
 
@@ -39,7 +39,7 @@ CHOICES: tuple[str, ...] = ("first", "random", "far")
 current viewpoint. On the chosen part the viewpoint is the simplest rational point of its middle third."""
 
 
-class ViewpointRun:
+class ViewpointRun(Answer):
     """What every exploration answer derives from its viewpoints and path: the counts, the path's length, the
     cost T and the answer fields they share (Algorithm A's :class:`Exploration` and Algorithm B's
     :class:`~solverplan.explore.range_limited.RangeExploration`)."""
@@ -78,7 +78,6 @@ class ViewpointRun:
     def _answer_json(self) -> dict:
         """The contract's exploration fields, then the counts, the cost, the chain and the path."""
         return {
-            "status": self.status.value,
             "algorithm": self.algorithm,
             "viewpoints": [[float(x), float(y)] for x, y in self.viewpoints],
             "views": self.n_views,
@@ -94,6 +93,7 @@ class ViewpointRun:
         }
 
 
+@answer_kind("exploration")
 @dataclass(frozen=True)
 class Exploration(ViewpointRun):
     """An exploration: viewpoints in visiting order, the views, the path and what they cost.
@@ -139,12 +139,11 @@ class Exploration(ViewpointRun):
     environment: EnvironmentRecord | None = None
     algorithm: str = "A"
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         """The exploration answer of ``docs/contract.md``."""
         out = self._answer_json()
         if self.seed is not None:
             out["seed"] = self.seed
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
     def to_text(self, *, width: int = 100) -> str:

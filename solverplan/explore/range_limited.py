@@ -47,7 +47,7 @@ from solverplan.explore.bounds import range_ratio_bound, range_views_bound, rang
 from solverplan.explore.depth_first import CHOICES, ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind
 
 __all__ = ["RangeExploration", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]
 
@@ -63,6 +63,7 @@ PHASES = ("start", "open", "boundary", "frontier")
 ``boundary`` following a ring (Steps 3–5); ``frontier`` any other part of CP's frontier (constructed edges)."""
 
 
+@answer_kind("range-exploration")
 @dataclass(frozen=True)
 class RangeExploration(ViewpointRun):
     """An exploration with range-limited views (Algorithm B, or Algorithm A when Theorem 3 applies).
@@ -122,7 +123,7 @@ class RangeExploration(ViewpointRun):
         """Views over Theorem 5's lower bound: an upper estimate of the competitive ratio on this instance."""
         return self.n_views / self.lower_bound
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         """The exploration answer of ``docs/contract.md`` with the range fields."""
         out = self._answer_json()
         out.update({
@@ -135,7 +136,6 @@ class RangeExploration(ViewpointRun):
             "phases": list(self.phases),
             "arcs": [[a.to_json() for a in v.arcs] for v in self.views],
         })
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
     def to_text(self, *, width: int = 100) -> str:

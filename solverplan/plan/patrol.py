@@ -297,7 +297,7 @@ class Patrol(OnPartition, Answer):
                    cycles_to_epsilon_nominal=r.integer("cycles_to_epsilon_nominal", None),
                    bound_all_classes=r.number("bound_all_classes", None),
                    bound_all_classes_note=r.string("bound_all_classes_note", ""),
-                   solvers=dict(r.get("solvers", {}) or {}), stats=r.stats())
+                   solvers=dict(r.sub("solvers").data) if r.has("solvers") else {}, stats=r.stats())
 
     def to_text(self, *, width: int = 100) -> str:
         seq = " → ".join(f"e{e}" for e in self.visit)

@@ -19,7 +19,7 @@ from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind
 from solverplan.reflection.compose import FieldPlan, compose_fields
 from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, default_scenarios,
                                             simulate_scenarios)
@@ -27,8 +27,9 @@ from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, 
 __all__ = ["FieldNavigation", "navigate_fields"]
 
 
+@answer_kind("fields")
 @dataclass(frozen=True)
-class FieldNavigation:
+class FieldNavigation(Answer):
     """The composed fields (``plan``), the robot ``model`` and one :class:`ScenarioRun` per scenario (``runs``)."""
 
     plan: FieldPlan
@@ -40,7 +41,7 @@ class FieldNavigation:
     stats: Stats = field(default_factory=Stats)
     environment: EnvironmentRecord | None = None
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         plan = self.plan
         out: dict = {
             "cells": [c.to_json() for c in plan.cells],
@@ -48,7 +49,6 @@ class FieldNavigation:
             "sequence": list(plan.sequence),
             "reflection_cells": list(plan.reflection_cells),
             "scenarios": {name: run.to_json() for name, run in self.runs.items()},
-            "status": self.status.value,
             "start": [float(c) for c in plan.start],
             "goal": [float(c) for c in plan.goal],
             "flow_through": plan.flow_through,
@@ -57,7 +57,6 @@ class FieldNavigation:
             "model": self.model.to_json(),
             "seed": self.seed,
         }
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
     def to_text(self, *, width: int = 100) -> str:

@@ -46,7 +46,7 @@ from solverplan.errors import InputError, SolverFailed
 from solverplan.limits import quote
 from solverplan.exact import ExactPoint, format_point, segment_intersection
 from solverplan.geometry.visibility import visibility_polygon
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind
 from solverplan.wallfollow.bitangents import bitangents
 from solverplan.wallfollow.cuts import cut_ordering, cuts
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
@@ -205,8 +205,9 @@ class GapSensor:
         return out
 
 
-@dataclass(frozen=True, slots=True)
-class PursuitPlan:
+@answer_kind("pursuit")
+@dataclass(frozen=True)
+class PursuitPlan(Answer):
     """A pursuit plan of the wall-following robot, or the proof that none exists.
 
     Attributes
@@ -264,8 +265,8 @@ class PursuitPlan:
         bound = float(len(self.actions)) if self.status is Status.FOUND else None
         return Optimality(Method.SEARCH_EXHAUSTED, True, bound, scope=scope, algorithm=algorithm)
 
-    def to_json(self) -> dict:
-        out: dict[str, Any] = {"status": self.status.value, "plan": list(self.actions), "verified": self.verified,
+    def _fields(self) -> dict:
+        out: dict[str, Any] = {"plan": list(self.actions), "verified": self.verified,
                                "sensor": self.sensor, "start": self.start, "plan_length": len(self.actions),
                                "positions": list(self.positions), "states": self.states,
                                "cut_ordering": list(self.ordering.labels)}
@@ -279,7 +280,6 @@ class PursuitPlan:
             out["learning_actions"] = self.learning.actions
             out["visibility_queries"] = self.learning.visibility_queries
             out["bitangents"] = [[f"v{b.i}", f"v{b.j}", b.after_ij, b.after_ji] for b in self.learning.bitangents]
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
     def to_text(self, *, width: int = 100) -> str:

@@ -1,4 +1,4 @@
-"""The HTML report (solverplan.render.html, ``solverplan report``): well-formed, self-contained, escaped, and
+"""The HTML report (solverplan.render.report, ``solverplan report``): well-formed, self-contained, escaped, and
 showing what the answer and its certificate say — the certificate checked, never trusted."""
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import pytest
 from solverplan.certify.schema import load_certificate
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, MalformedFile
-from solverplan.render.html import AnswerFile, answer_kind, html_report, load_answer
+from solverplan.render.report import AnswerFile, answer_kind, html_report, load_answer
 
 from .conftest import ANSWER_COMMANDS, CERTIFICATES, ENVIRONMENTS, report_args, run
 
