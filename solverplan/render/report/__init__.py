@@ -42,7 +42,7 @@ from solverplan.render.report.study import _Study
 from solverplan.result import EnvironmentRecord
 
 __all__ = ["ANSWER_KINDS", "REPORT_OPTIONS", "AnswerFile", "HtmlReport", "SavedReport", "answer_kind", "load_answer",
-           "html_report", "write_report", "report_environment"]
+           "html_report", "write_report", "report_environment", "make_report"]
 
 _BOUNCE_VIEWS = {"plan": _PlanReport, "pareto": _PlanReport, "patrol": _PatrolReport, "funnel": _FunnelReport,
                  "localize": _FunnelReport, "cycle": _CycleReport, "controller": _CycleReport}
@@ -154,3 +154,50 @@ def html_report(
         verdict, cert_html = _model_certificate_section(answer, env, certificate, certificate_path or "CERT.json")
     body = model_view.render(cert_html, certificate_path)
     return _page(body, kind, model_view.title, answer, verdict, certificate_path, output, env_label)
+
+
+def make_report(answer_path: str | Path, output: str | Path, *, env: Environment | None = None, env_label: str | None = None,
+                certificate_path: str | Path | None = None, option: str | None = None) -> SavedReport:
+    """Read the answer file (any kind, told by its ``kind``), find its environment, check its certificate, write the
+    page atomically: what ``solverplan report ANSWER.json [--env ENV] [--certificate C] -o R.html`` does.
+
+    Parameters
+    ----------
+    answer_path
+        The answer's JSON file, as a command wrote it with ``-o``.
+    output
+        The page to write (``.html`` or ``.htm``).
+    env, env_label
+        The environment the answer was made in and how it was named; without it, the certificate's rings or the
+        shipped model the answer names (:func:`report_environment`).
+    certificate_path
+        The answer's certificate, checked exactly now.
+    option
+        The older form ``report ENV --plan P.json``: the option the answer was given with (it must take that kind).
+
+    Returns
+    -------
+    SavedReport
+        What was written; ``report.certificate`` holds the checker's verdict (``None`` without a certificate).
+
+    Raises
+    ------
+    InputError
+        A name not ending in .html, a malformed or foreign answer or certificate, an answer whose environment
+        cannot be found (give ``env``).
+    """
+    if Path(output).suffix.lower() not in (".html", ".htm"):
+        raise InputError(f"-o {output}: a report is an .html file: give -o REPORT.html")
+    answer = load_answer(answer_path, option=option)
+    if env is None and answer.kind != "study":
+        env = report_environment(answer, certificate_path)
+        if env is not None and env_label is None:
+            env_label = env.name
+    cert = None
+    if certificate_path is not None:
+        from solverplan.certify.schema import load_certificate
+
+        cert = load_certificate(certificate_path)
+    page = html_report(answer, env, certificate=cert, certificate_path=None if certificate_path is None else str(certificate_path),
+                       env_label=env_label, output=str(output))
+    return write_report(page, output)
