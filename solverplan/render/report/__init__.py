@@ -188,6 +188,12 @@ def make_report(answer_path: str | Path, output: str | Path, *, env: Environment
     """
     if Path(output).suffix.lower() not in (".html", ".htm"):
         raise InputError(f"-o {output}: a report is an .html file: give -o REPORT.html")
+    if not Path(answer_path).exists() and option is None:
+        from solverplan import models
+
+        if Path(answer_path).stem in models.names():
+            raise InputError(f"{answer_path} is an environment, not an answer: solverplan report ANSWER.json (the file a "
+                             "command wrote with -o)")
     answer = load_answer(answer_path, option=option)
     if env is None and answer.kind != "study":
         env = report_environment(answer, certificate_path)
