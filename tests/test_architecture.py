@@ -40,6 +40,7 @@ LAYERS = {
     "certify": 6,
     "describe": 7,
     "render": 7,
+    "answers": 7.5,  # the registry of answer kinds: every answer class (layers 4–7) and its hooks (certify, render)
     "cli": 8,
     "__init__": 9,
     "__main__": 9,

@@ -24,11 +24,12 @@ from typing import Literal, Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.exact import ExactPoint, exact_point, format_point
+from solverplan.exact import ExactPoint, exact_point, format_number, format_point
 from solverplan.explore.bounds import Cost, exploration_cost, views_bound
 from solverplan.explore.windows import Window, point_on_part, unexplored_parts, windows
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from typing import Any
 
 __all__ = ["CHOICES", "Exploration", "explore_depth_first"]
 
@@ -90,7 +91,23 @@ class ViewpointRun(Answer):
             "parents": list(self.parents),
             "path": [[float(x), float(y)] for x, y in self.path],
             "choice": self.choice,
+            # the exact points (the floats above are for plotting): what the answer is read back from
+            "viewpoints_exact": [[format_number(x), format_number(y)] for x, y in self.viewpoints],
+            "path_exact": [[format_number(x), format_number(y)] for x, y in self.path],
         }
+
+    @staticmethod
+    def _read_run(r: Reader, env: Environment | None, kind: str) -> dict:
+        """The fields every exploration's JSON has, read back (the exact points; ``env`` is required)."""
+        if env is None:
+            raise InputError(f"a {kind} answer is read back in its environment: give env")
+        record = r.environment()
+        if record is not None and not record.matches(env):
+            raise InputError(f"the {kind} answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        return {"status": r.status(), "viewpoints": tuple(r.points("viewpoints_exact")), "parents": tuple(r.ints("parents")),
+                "path": tuple(r.points("path_exact")), "reflex": r.integer("reflex"), "bound": r.integer("bound"),
+                "covered_fraction": r.number("covered_fraction"), "optimality": r.optimality(), "stats": r.stats(),
+                "environment": record, "algorithm": r.string("algorithm"), "choice": r.string("choice")}
 
 
 @answer_kind("exploration")
@@ -145,6 +162,16 @@ class Exploration(ViewpointRun):
         if self.seed is not None:
             out["seed"] = self.seed
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> Exploration:
+        """Read an exploration back in ``env`` (required): the exact viewpoints and path; the views recomputed exactly
+        (a view is the visibility polygon of its viewpoint)."""
+        r = Reader(data, "exploration")
+        fields = ViewpointRun._read_run(r, env, "exploration")
+        assert env is not None
+        views = tuple(visibility_polygon(env, p) for p in fields["viewpoints"])
+        return cls(views=views, seed=r.integer("seed", None), **fields)
 
     def to_text(self, *, width: int = 100) -> str:
         """A short report: counts, bound, coverage, then the viewpoints."""

@@ -19,7 +19,10 @@ from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.errors import MalformedFile
+from solverplan.exact import format_number
+from typing import Any
 from solverplan.reflection.compose import FieldPlan, compose_fields
 from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, default_scenarios,
                                             simulate_scenarios)
@@ -56,8 +59,40 @@ class FieldNavigation(Answer):
             "reflection_zones": [plan.zones[c].to_json() for c in plan.reflection_cells],
             "model": self.model.to_json(),
             "seed": self.seed,
+            "start_exact": [format_number(c) for c in plan.start],
+            "goal_exact": [format_number(c) for c in plan.goal],
         }
         return out
+
+    _PLAN_KEYS = ("cells", "adjacency", "sequence", "reflection_cells", "flow_through", "fields", "reflection_zones")
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> FieldNavigation:
+        """Read a fields answer back in ``env`` (required). The composed fields are a function of the environment,
+        the exact start and goal and whether arc fields were allowed: they are composed again and must be the
+        answer's (cells, fields, verdicts, zones — else :class:`~solverplan.errors.MalformedFile`); the trials are
+        read from the file."""
+        r = Reader(data, "fields")
+        if env is None:
+            raise InputError("a fields answer is read back in its environment: give env")
+        record = r.environment()
+        if record is not None and not record.matches(env):
+            raise InputError(f"the fields answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        arcs = any(f.sub("field").string("kind", "") == "arc" for f in r.items("fields"))
+        plan = compose_fields(env, r.exact_pair("start_exact"), r.exact_pair("goal_exact"), arcs=arcs)
+        model_data = r.sub("model").data
+        try:
+            model = RobotModel(**model_data) if isinstance(model_data, dict) else RobotModel()
+        except TypeError:
+            raise MalformedFile("fields.model: unknown robot parameters") from None
+        scenarios = r.sub("scenarios")
+        runs = {str(name): ScenarioRun.from_json(str(name), run) for name, run in scenarios.data.items()}  # type: ignore[union-attr]
+        answer = cls(plan, model, runs, r.integer("seed"), r.status(), r.optimality(), r.stats(), record)
+        mine = answer._fields()
+        for key in cls._PLAN_KEYS:
+            if mine[key] != data.get(key):
+                raise MalformedFile(f"fields.{key}: not the fields composed from this start and goal in {env.name!r}")
+        return answer
 
     def to_text(self, *, width: int = 100) -> str:
         plan = self.plan

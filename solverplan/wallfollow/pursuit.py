@@ -46,7 +46,7 @@ from solverplan.errors import InputError, SolverFailed
 from solverplan.limits import quote
 from solverplan.exact import ExactPoint, format_point, segment_intersection
 from solverplan.geometry.visibility import visibility_polygon
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from solverplan.wallfollow.bitangents import bitangents
 from solverplan.wallfollow.cuts import cut_ordering, cuts
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
@@ -280,7 +280,37 @@ class PursuitPlan(Answer):
             out["learning_actions"] = self.learning.actions
             out["visibility_queries"] = self.learning.visibility_queries
             out["bitangents"] = [[f"v{b.i}", f"v{b.j}", b.after_ij, b.after_ji] for b in self.learning.bitangents]
+            out["bitangent_candidates"] = self.learning.candidates
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> PursuitPlan:
+        """Read a pursuit plan back in ``env`` (required): the plan is replayed again by the geometric ground-truth
+        checker (its verdict, samples and shadow labels are recomputed, not read)."""
+        from solverplan.wallfollow.pebble import LearnedBitangent, LearnedBitangents
+
+        r = Reader(data, "pursuit")
+        if env is None:
+            raise InputError("a pursuit answer is read back in its environment: give env")
+        record = r.environment()
+        if record is not None and not record.matches(env):
+            raise InputError(f"the pursuit answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        actions = tuple(r.texts("plan"))
+        start = r.string("start")
+        learning = None
+        if r.has("learning_actions"):
+            found = []
+            for k, b in enumerate(r.array("bitangents")):
+                item = r.at(f"bitangents[{k}]", b)
+                found.append(LearnedBitangent(parse_label(item.string(0))[1], parse_label(item.string(1))[1],
+                                              item.string(2), item.string(3)))
+            learning = LearnedBitangents(tuple(found), r.integer("bitangent_candidates"), r.integer("learning_actions"),
+                                         r.integer("visibility_queries"))
+        return cls(r.status(), actions, start, r.string("sensor"), tuple(r.texts("positions")), r.integer("states"),
+                   CutOrdering.from_labels(r.texts("cut_ordering")),
+                   check=check_pursuit(env, actions, start) if r.get("verified", None) is not None else None,
+                   reason=r.string("reason", ""), limits=r.optimality().limits, environment=record, stats=r.stats(),
+                   learning=learning)
 
     def to_text(self, *, width: int = 100) -> str:
         if self.status is Status.FOUND:
