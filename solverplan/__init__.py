@@ -116,6 +116,11 @@ _EXPORTS: dict[str, str] = {
     "html_report": "solverplan.render.report",
     "write_report": "solverplan.render.report",
     "HtmlReport": "solverplan.render.report",
+    "make_report": "solverplan.render.report",
+    # every answer kind, read back (solverplan.answers)
+    "Answer": "solverplan.result",
+    "read_answer": "solverplan.answers",
+    "load_answer_file": "solverplan.answers",
     # errors
     "SolverplanError": "solverplan.errors",
     "InputError": "solverplan.errors",
@@ -152,8 +157,9 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.plan.result import ParetoFront, Plan, load_plan
     from solverplan.plan.search import find_plan, pareto_front
     from solverplan.rectilinear.decomposition import decompose_rooms
-    from solverplan.render.report import HtmlReport, html_report, load_answer, write_report
-    from solverplan.result import Method, Optimality, Stage, Stats, Status, StatusGroup
+    from solverplan.answers import load_answer_file, read_answer
+    from solverplan.render.report import HtmlReport, html_report, load_answer, make_report, write_report
+    from solverplan.result import Answer, Method, Optimality, Stage, Stats, Status, StatusGroup
     from solverplan.simulate import simulate_plan, simulate_rule
     from solverplan.wallfollow.cuts import cut_ordering
     from solverplan.wallfollow.learning import learn_cut_ordering

@@ -127,6 +127,26 @@ assert set(KINDS) == set(answer_kinds()), "an answer class is registered without
 def read_answer(data: object, *, env: Environment | None = None) -> Any:
     """The typed answer of an answer's JSON, by its ``kind``.
 
+    Parameters
+    ----------
+    data
+        An answer's JSON (``answer.to_json()``, or a file a command wrote with ``-o``, parsed).
+    env
+        The environment the answer was made in: required for the kinds that name its edges (``needs_env``).
+
+    Returns
+    -------
+    Answer
+        The answer of the class :data:`KINDS` names; its ``to_json()`` is ``data`` again.
+
+    Examples
+    --------
+    >>> from solverplan.wallfollow.cuts import cut_ordering
+    >>> from solverplan.models import load
+    >>> answer = read_answer(cut_ordering(load("l_shape")).to_json())
+    >>> answer.kind, answer.labels[:3]
+    ('cut-ordering', ('v0', 'l3', 'v1'))
+
     Raises
     ------
     MalformedFile
@@ -147,7 +167,31 @@ def read_answer(data: object, *, env: Environment | None = None) -> Any:
 
 
 def load_answer_file(path: str | Path, *, env: Environment | None = None) -> Any:
-    """:func:`read_answer` of a file (within the input limits; bad JSON is :class:`MalformedFile` naming the file)."""
+    """:func:`read_answer` of a file (within the input limits; bad JSON is :class:`MalformedFile` naming the file).
+
+    Parameters
+    ----------
+    path
+        The answer file, as a command wrote it with ``-o``.
+    env
+        The environment, for the kinds that need it.
+
+    Returns
+    -------
+    Answer
+        The typed answer.
+
+    Examples
+    --------
+    >>> import json, tempfile, os
+    >>> from solverplan.wallfollow.cuts import cut_ordering
+    >>> from solverplan.models import load
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = os.path.join(folder, "a.json")
+    ...     _ = open(path, "w").write(json.dumps(cut_ordering(load("l_shape")).to_json()))
+    ...     load_answer_file(path).kind
+    'cut-ordering'
+    """
     text = read_text_within_limits(Path(path))
     try:
         data = read_json(text, exact=False)
