@@ -722,6 +722,16 @@ class Reader:
         except ValueError as exc:
             raise MalformedFile(str(exc)) from None
 
+    def in_environment(self, env: Environment | None, kind: str) -> tuple[Environment, EnvironmentRecord | None]:
+        """``env`` and the answer's environment record, checked against it: an answer that names the edges of its
+        environment is read back in it (:class:`~solverplan.errors.InputError` when ``env`` is missing or another)."""
+        if env is None:
+            raise InputError(f"a {kind} answer is read back in its environment: give env")
+        record = self.environment()
+        if record is not None and not record.matches(env):
+            raise InputError(f"the {kind} answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        return env, record
+
     def status(self, key: str = "status") -> Status:
         v = self.string(key)
         try:

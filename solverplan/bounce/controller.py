@@ -118,11 +118,7 @@ class ConstantController(Answer):
     def from_json(cls, data: Any, *, env: Environment | None = None) -> ConstantController:
         """Read a constant controller back in ``env`` (required, as for its cycles)."""
         r = Reader(data, "controller")
-        if env is None:
-            raise InputError("a constant controller is read back in its environment: give env")
-        record = r.environment()
-        if record is not None and not record.matches(env):
-            raise InputError(f"the controller was made in another environment ({record.name!r}), not in {env.name!r}")
+        env, record = r.in_environment(env, 'constant controller')
         heading = parse_heading(r.string("theta_exact")) if r.has("theta_exact") else None
         if heading is not None and not isinstance(heading, ExactHeading):
             raise InputError("controller.theta_exact: expected an exact heading (tan:P/Q or dir:C,S)")

@@ -282,11 +282,7 @@ class LimitCycle(Answer):
     def from_json(cls, data: Any, *, env: Environment | None = None) -> LimitCycle:
         """Read a limit cycle back in ``env`` (required: the cycle's distances and Lemma 3 are of its edges)."""
         r = Reader(data, "cycle")
-        if env is None:
-            raise InputError("a limit cycle is read back in its environment: give env")
-        record = r.environment()
-        if record is not None and not record.matches(env):
-            raise InputError(f"the cycle was made in another environment ({record.name!r}), not in {env.name!r}")
+        env, record = r.in_environment(env, 'limit cycle')
         heading = parse_heading(r.string("theta_exact"))
         if not isinstance(heading, ExactHeading):
             raise MalformedFile(f"cycle.theta_exact: expected an exact heading (tan:P/Q or dir:C,S), got {quote(r.get('theta_exact'))}")

@@ -99,11 +99,7 @@ class ViewpointRun(Answer):
     @staticmethod
     def _read_run(r: Reader, env: Environment | None, kind: str) -> dict:
         """The fields every exploration's JSON has, read back (the exact points; ``env`` is required)."""
-        if env is None:
-            raise InputError(f"a {kind} answer is read back in its environment: give env")
-        record = r.environment()
-        if record is not None and not record.matches(env):
-            raise InputError(f"the {kind} answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        env, record = r.in_environment(env, kind)
         return {"status": r.status(), "viewpoints": tuple(r.points("viewpoints_exact")), "parents": tuple(r.ints("parents")),
                 "path": tuple(r.points("path_exact")), "reflex": r.integer("reflex"), "bound": r.integer("bound"),
                 "covered_fraction": r.number("covered_fraction"), "optimality": r.optimality(), "stats": r.stats(),

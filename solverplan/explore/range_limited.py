@@ -47,7 +47,7 @@ from solverplan.explore.bounds import range_ratio_bound, range_views_bound, rang
 from solverplan.explore.depth_first import CHOICES, ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from typing import Any
 
 __all__ = ["RangeExploration", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]

@@ -16,7 +16,6 @@ from solverplan.bounce.cones import heading_cone
 from solverplan.bounce.partition import Partition
 from solverplan.environment import BoundarySet, Environment
 from solverplan.interval import Interval
-from solverplan.errors import InputError
 from solverplan.result import Answer, EnvironmentRecord, Optimality, Reader, Stage, Stats, Status, piece_json
 
 __all__ = ["OnPartition", "PositionStrategy", "heading_cone"]
@@ -128,11 +127,7 @@ class PositionStrategy(OnPartition, Answer):
         from solverplan.bounce.partition import partition
 
         r = Reader(data, cls.kind)
-        if env is None:
-            raise InputError(f"a {cls.kind} answer is read back in its environment: give env")
-        record = r.environment()
-        if record is not None and not record.matches(env):
-            raise InputError(f"the {cls.kind} answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        env, record = r.in_environment(env, cls.kind)
         goal = r.string("goal", None)
         return cls(status=r.status(), optimality=r.optimality(), environment=record or EnvironmentRecord.of(env),
                    start=env.boundary_set(r.string("start")), tolerance=r.number("tolerance"), partition=partition(env),

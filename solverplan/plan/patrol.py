@@ -267,11 +267,7 @@ class Patrol(OnPartition, Answer):
     def from_json(cls, data: Any, *, env: Environment | None = None) -> Patrol:
         """Read a patrol answer back in ``env`` (required: its stages name segments of P′ of ``env``)."""
         r = Reader(data, "patrol")
-        if env is None:
-            raise InputError("a patrol answer is read back in its environment: give env")
-        record = r.environment()
-        if record is not None and not record.matches(env):
-            raise InputError(f"the patrol answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        env, record = r.in_environment(env, 'patrol')
         ret = r.sub("return_map") if r.has("return_map") else None
         start = r.string("start", None)
         exact = r.get("contraction_exact", None)

@@ -383,11 +383,7 @@ class Decomposition(Answer):
         polygons, the doors and their exact Φ; the checker of such a file is
         :func:`solverplan.rectilinear.check.check_rooms`."""
         r = Reader(data, "rooms")
-        if env is None:
-            raise InputError("a rooms answer is read back in its environment: give env")
-        record = r.environment()
-        if record is not None and not record.matches(env):
-            raise InputError(f"the rooms answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        env, _ = r.in_environment(env, 'rooms')
         verts = env.exact_vertices
         doors_raw = r.items("doors")
         segments = [(d.exact_pair("a"), d.exact_pair("b")) for d in doors_raw]

@@ -73,11 +73,7 @@ class FieldNavigation(Answer):
         answer's (cells, fields, verdicts, zones — else :class:`~solverplan.errors.MalformedFile`); the trials are
         read from the file."""
         r = Reader(data, "fields")
-        if env is None:
-            raise InputError("a fields answer is read back in its environment: give env")
-        record = r.environment()
-        if record is not None and not record.matches(env):
-            raise InputError(f"the fields answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        env, record = r.in_environment(env, 'fields')
         arcs = any(f.sub("field").string("kind", "") == "arc" for f in r.items("fields"))
         plan = compose_fields(env, r.exact_pair("start_exact"), r.exact_pair("goal_exact"), arcs=arcs)
         model_data = r.sub("model").data

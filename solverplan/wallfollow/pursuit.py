@@ -290,11 +290,7 @@ class PursuitPlan(Answer):
         from solverplan.wallfollow.pebble import LearnedBitangent, LearnedBitangents
 
         r = Reader(data, "pursuit")
-        if env is None:
-            raise InputError("a pursuit answer is read back in its environment: give env")
-        record = r.environment()
-        if record is not None and not record.matches(env):
-            raise InputError(f"the pursuit answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        env, record = r.in_environment(env, 'pursuit')
         actions = tuple(r.texts("plan"))
         start = r.string("start")
         learning = None
