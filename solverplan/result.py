@@ -609,37 +609,27 @@ class Reader:
     def _bad(self, key: object, what: str, value: object) -> MalformedFile:
         return MalformedFile(f"{self.where}.{key}: expected {what}, got {quote(value)}")
 
-    def integer(self, key: object, default: object = _MISSING) -> Any:
+    def _typed(self, key: object, default: object, ok: Callable[[object], bool], what: str) -> Any:
+        """The value at ``key`` if ``ok`` says it has the right type (``default`` when missing, if given)."""
         v = self.get(key, default)
         if v is default and default is not Reader._MISSING:
             return v
-        if isinstance(v, bool) or not isinstance(v, int):
-            raise self._bad(key, "an integer", v)
+        if not ok(v):
+            raise self._bad(key, what, v)
         return v
+
+    def integer(self, key: object, default: object = _MISSING) -> Any:
+        return self._typed(key, default, lambda v: isinstance(v, int) and not isinstance(v, bool), "an integer")
 
     def number(self, key: object, default: object = _MISSING) -> Any:
-        v = self.get(key, default)
-        if v is default and default is not Reader._MISSING:
-            return v
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise self._bad(key, "a number", v)
-        return float(v)
+        v = self._typed(key, default, lambda v: isinstance(v, (int, float)) and not isinstance(v, bool), "a number")
+        return v if v is default else float(v)
 
     def string(self, key: object, default: object = _MISSING) -> Any:
-        v = self.get(key, default)
-        if v is default and default is not Reader._MISSING:
-            return v
-        if not isinstance(v, str):
-            raise self._bad(key, "a string", v)
-        return v
+        return self._typed(key, default, lambda v: isinstance(v, str), "a string")
 
     def boolean(self, key: object, default: object = _MISSING) -> Any:
-        v = self.get(key, default)
-        if v is default and default is not Reader._MISSING:
-            return v
-        if not isinstance(v, bool):
-            raise self._bad(key, "true or false", v)
-        return v
+        return self._typed(key, default, lambda v: isinstance(v, bool), "true or false")
 
     def exact(self, key: object) -> Fraction:
         v = self.get(key)
