@@ -61,7 +61,7 @@ def _signature_names(obj) -> list[str]:
 
 
 def _attribute_names(cls) -> set[str]:
-    names = set(dir(cls))
+    names = {name for klass in cls.__mro__ for name in vars(klass)}  # dir() of an enum hides its properties
     if dataclasses.is_dataclass(cls):
         names |= {f.name for f in dataclasses.fields(cls)}
     for klass in cls.__mro__:
