@@ -16,11 +16,13 @@ under the module that defines it, so ``pytest`` runs them.
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 import doctest
 import enum
 import inspect
 import sys
+import textwrap
 import tomllib
 import warnings
 from pathlib import Path
@@ -61,12 +63,17 @@ def _signature_names(obj) -> list[str]:
 
 
 def _attribute_names(cls) -> set[str]:
+    """Class attributes, properties, fields, and the instance attributes its methods assign (``self.x = ...``)."""
     names = {name for klass in cls.__mro__ for name in vars(klass)}  # dir() of an enum hides its properties
     if dataclasses.is_dataclass(cls):
         names |= {f.name for f in dataclasses.fields(cls)}
     for klass in cls.__mro__:
         names |= set(getattr(klass, "__annotations__", {}))
         names |= set(getattr(klass, "__slots__", ()))
+        if klass.__module__.startswith("solverplan."):
+            tree = ast.parse(textwrap.dedent(inspect.getsource(klass)))
+            names |= {node.attr for node in ast.walk(tree) if isinstance(node, ast.Attribute)
+                      and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == "self"}
     return names
 
 
