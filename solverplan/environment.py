@@ -29,7 +29,6 @@ BoundarySet(pieces=(BoundaryPiece(edge=1, t0=Fraction(1, 4), t1=Fraction(3, 4)),
 from __future__ import annotations
 
 import json
-import math
 import operator
 import re
 from dataclasses import dataclass, field
@@ -65,6 +64,7 @@ from solverplan.exact import (
     orient_filter,
     point_in_ring,
     segment_intersection,
+    signed_area2,
     to_fraction,
 )
 
@@ -86,28 +86,6 @@ _EXTENSIONS: dict[str, FileFormat] = {".json": "json", ".geojson": "geojson", ".
 
 def _ring_name(index: int) -> str:
     return "outer ring" if index == 0 else f"hole {index - 1}"
-
-
-def _signed_area2(ring: Sequence[ExactPoint]) -> Fraction:
-    """Twice the signed area (shoelace), exact: positive for a CCW ring.
-
-    Decimal coordinates share small denominators: over their common denominator the sum is one of
-    integers (fast); a ring whose common denominator is huge is summed in fractions.
-    """
-    xs = [p[0] for p in ring]
-    ys = [p[1] for p in ring]
-    common = math.lcm(*(x.denominator for x in xs), *(y.denominator for y in ys))
-    if common.bit_length() > 512:
-        total = Fraction(0)
-        n = len(ring)
-        for i in range(n):
-            (x0, y0), (x1, y1) = ring[i], ring[(i + 1) % n]
-            total += x0 * y1 - x1 * y0
-        return total
-    X = [x.numerator * (common // x.denominator) for x in xs]
-    Y = [y.numerator * (common // y.denominator) for y in ys]
-    X1, Y1 = X[1:] + X[:1], Y[1:] + Y[:1]
-    return Fraction(sum(map(operator.mul, X, Y1)) - sum(map(operator.mul, X1, Y)), common * common)
 
 
 @dataclass(frozen=True, slots=True)
@@ -261,7 +239,7 @@ class Environment:
             _check_ring_shape(ring, index)
         for index, ring in enumerate(self.rings):
             want = 1 if index == 0 else -1
-            area2 = _signed_area2(ring)
+            area2 = signed_area2(ring)
             if (area2 > 0) - (area2 < 0) != want:
                 raise InvalidEnvironment(
                     f"{_ring_name(index)} is {'clockwise' if area2 < 0 else 'counter-clockwise'}: "
@@ -305,7 +283,7 @@ class Environment:
         for index, raw in enumerate(raw_rings):
             ring = _exact_ring(raw, index)
             _check_ring_shape(ring, index)
-            area2 = _signed_area2(ring)
+            area2 = signed_area2(ring)
             if area2 == 0:
                 if all(orient(ring[0], ring[1], p) == 0 for p in ring[2:]):
                     raise InvalidEnvironment(f"{_ring_name(index)} has zero area (all its vertices are collinear)")
@@ -433,7 +411,7 @@ class Environment:
     @cached_property
     def area(self) -> Fraction:
         """Exact area of the free space (outer minus holes)."""
-        return sum((_signed_area2(ring) for ring in self.rings), Fraction(0)) / 2
+        return sum((signed_area2(ring) for ring in self.rings), Fraction(0)) / 2
 
     @cached_property
     def bounds(self) -> tuple[float, float, float, float]:
