@@ -20,7 +20,7 @@ Policies (:class:`Policy`) map the current contacts to headings and test for ter
   allowed landing set of each stage, a goal set, and an optional repeating tail (limit cycles,
   patrols, funnels).
 
-A policy may bring its own :class:`Walls` (attribute ``walls``): then contacts are numbered on those
+A policy may bring its own :class:`PolicyWalls` (attribute ``walls``): then contacts are numbered on those
 walls, and the walls cast the rays — e.g. rooms whose doors are open (the robot passes) or closed (it
 bounces off them) for each rollout, as the policy decides.
 
@@ -62,7 +62,7 @@ __all__ = [
     "Outcome",
     "Contacts",
     "Policy",
-    "Walls",
+    "PolicyWalls",
     "RulePolicy",
     "StagePolicy",
     "Rollouts",
@@ -113,7 +113,7 @@ class Contacts:
     rollout
         Index of each running rollout among all trials.
     edge, t
-        Boundary coordinates of the contacts (on the policy's own :class:`Walls` when it has them).
+        Boundary coordinates of the contacts (on the policy's own :class:`PolicyWalls` when it has them).
     point
         Contact points, shape (m, 2).
     incoming
@@ -146,8 +146,8 @@ class Policy(Protocol):
 
 
 @runtime_checkable
-class Walls(Protocol):
-    """Walls of a policy's own (its attribute ``walls``), in place of the environment's edges.
+class PolicyWalls(Protocol):
+    """PolicyWalls of a policy's own (its attribute ``walls``), in place of the environment's edges.
 
     Contacts are then ``(edge, t)`` on these walls (ids ``0 .. n_edges − 1``, t ∈ [0, 1] along each), starts
     must be explicit ``(edges, t)`` arrays, and every batch of rays is cast by :meth:`cast`, which may depend
@@ -420,7 +420,7 @@ def _starts(env: Environment, starts: Starts, trials: int | None, rng: np.random
     return edges, t
 
 
-def _wall_starts(walls: Walls, starts: Starts, trials: int | None):
+def _wall_starts(walls: PolicyWalls, starts: Starts, trials: int | None):
     """Explicit ``(edges, t)`` starts on a policy's own walls (boundary sets name the environment's edges)."""
     if starts is None or isinstance(starts, (str, BoundarySet)):
         raise InputError("a policy with walls of its own needs explicit (edges, t) starts on those walls")
@@ -643,9 +643,9 @@ def simulate_policy(
         kept = bounces + 1 if record == "all" else 2
         refuse_beyond_memory(trials * (400 + 16 * kept), f"{trials:,} rollouts of {bounces:,} bounces")
     rng, seed_used, state = _generator(seed)
-    walls: Walls | None = getattr(policy, "walls", None)
-    if walls is not None and not isinstance(walls, Walls):
-        raise InputError(f"{policy!r} has walls that are not Walls: they need n_edges, points_at, directions and cast")
+    walls: PolicyWalls | None = getattr(policy, "walls", None)
+    if walls is not None and not isinstance(walls, PolicyWalls):
+        raise InputError(f"{policy!r} has walls that are not PolicyWalls: they need n_edges, points_at, directions and cast")
     start_edges, start_t = _starts(env, starts, trials, rng) if walls is None else _wall_starts(walls, starts, trials)
     m = len(start_edges)
     columns = bounces + 1 if record == "all" else 2

@@ -776,12 +776,12 @@ def _build(p: Partition) -> SafeBVG:
 
 def _refine_ends(p: Partition, pieces: _Pieces, edge_of: np.ndarray) -> None:
     """Recompute, from the exact coordinates, the float headings of the ends whose error bound exceeds
-    :data:`~solverplan.bounce._sweep._REFINE` (directions between points far from 0 relative to their
+    :data:`~solverplan.bounce._sweep.REFINE` (directions between points far from 0 relative to their
     distance: tiny features, or a translated environment), so that every float end is the angle of
     its exact end direction to about 1e-16 (the comparisons made so far were exact where unsure)."""
     for which in ("lo", "hi"):
         to, err = getattr(pieces, f"{which}_to"), getattr(pieces, f"{which}_err")
-        rows = np.flatnonzero((err > _sweep._REFINE) & (to >= 0))
+        rows = np.flatnonzero((err > _sweep.REFINE) & (to >= 0))
         if len(rows):
             values = getattr(pieces, which).copy()
             values[rows] = _sweep.accurate_headings(p, edge_of[pieces.arc[rows]],
@@ -963,7 +963,7 @@ def _hole_side_table(p: Partition) -> np.ndarray:
         V = env.vertices[lo:hi]
         rel = V[None, :, :] - A[:, None, :]
         cr = d[:, None, 0] * rel[..., 1] - d[:, None, 1] * rel[..., 0]
-        tol = 0.1 * _sweep._CROSS_REL * _ninf(d)[:, None] * (_ninf(rel) + scale)
+        tol = 0.1 * _sweep.CROSS_REL * _ninf(d)[:, None] * (_ninf(rel) + scale)
         sure_left = cr > tol
         unsure = np.abs(cr) <= tol
         left = sure_left.all(axis=1)
@@ -1042,7 +1042,7 @@ def _angle_err(p: Partition, frm: np.ndarray, to: np.ndarray) -> np.ndarray:
     P = np.asarray(p.seg_start, dtype=float)
     rel = P[to] - P[frm]
     mag = _ninf(P[frm]) + _ninf(P[to])
-    return _sweep._ANGLE_REL * mag / np.hypot(rel[:, 0], rel[:, 1]) + 1e-15
+    return _sweep.ANGLE_REL * mag / np.hypot(rel[:, 0], rel[:, 1]) + 1e-15
 
 
 def _transitions(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -1062,7 +1062,7 @@ def _transitions_block(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tupl
     cr = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
     dt = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]
     scale = float(np.max(np.abs(env.vertices))) + 1.0
-    tol = 0.1 * _sweep._CROSS_REL * (_ninf(u) * scale + _ninf(v) * scale)
+    tol = 0.1 * _sweep.CROSS_REL * (_ninf(u) * scale + _ninf(v) * scale)
     side = np.sign(cr).astype(np.int8)
     unsure = np.flatnonzero(np.abs(cr) <= tol)
     if len(unsure):

@@ -52,7 +52,7 @@ Doors = Literal["control", "open"]
 
 class RoomPolicy:
     """A rule executed in the rooms of a decomposition, with door control (:class:`solverplan.simulate.Policy`
-    with its own :class:`~solverplan.simulate.Walls`).
+    with its own :class:`~solverplan.simulate.PolicyWalls`).
 
     The robot of rollout i is at position ``positions[i]`` of the room sequence; it reaches the goal when it is
     at the last one. Without control (``control=None``) every door is open and the goal is being in ``goal``.
