@@ -100,7 +100,27 @@ class Edge:
 
 @dataclass(frozen=True, slots=True)
 class BoundaryPiece:
-    """The part of edge ``edge`` with boundary parameter t ∈ [t0, t1] (0 ≤ t0 < t1 ≤ 1)."""
+    """The part of edge ``edge`` with boundary parameter t ∈ [t0, t1] (0 ≤ t0 < t1 ≤ 1).
+
+    t runs along the directed edge, from its start vertex (t = 0) to its end vertex (t = 1), proportionally to
+    arc length. ``str()`` gives the piece's text form, as in boundary-set strings.
+
+    Attributes
+    ----------
+    edge
+        The edge's id (``e3`` is 3): edges are numbered along the outer ring, then along each hole.
+    t0, t1
+        The piece's ends, exact boundary parameters in [0, 1].
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> piece = sp.load_environment("l_shape").boundary_set("e3:0.25:0.75").pieces[0]
+    >>> piece
+    BoundaryPiece(edge=3, t0=Fraction(1, 4), t1=Fraction(3, 4))
+    >>> str(piece), str(sp.BoundaryPiece(4, 0, 1))
+    ('e3:0.25:0.75', 'e4')
+    """
 
     edge: int
     t0: Fraction
@@ -114,7 +134,27 @@ class BoundaryPiece:
 
 @dataclass(frozen=True, slots=True)
 class BoundarySet:
-    """A union of boundary pieces (start sets, goal sets, patrol edges); see docs/contract.md."""
+    """A union of boundary pieces (start sets, goal sets, patrol edges); see docs/contract.md.
+
+    Made from a string by :meth:`Environment.boundary_set`, which checks the edges exist; every planner also
+    accepts the string itself. ``str()`` gives the string back.
+
+    Attributes
+    ----------
+    pieces
+        The :class:`BoundaryPiece` objects, in the order given (:meth:`merged` sorts and joins them).
+    edges
+        The distinct edges touched, in the order given.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> start = sp.load_environment("l_shape").boundary_set("e3:0.25:0.75,e4")   # part of edge 3, all of edge 4
+    >>> start.edges, str(start)
+    ((3, 4), 'e3:0.25:0.75,e4')
+    >>> start.by_edge()[3]
+    [(Fraction(1, 4), Fraction(3, 4))]
+    """
 
     pieces: tuple[BoundaryPiece, ...]
 
@@ -174,6 +214,16 @@ class Environment:
     ------
     InvalidEnvironment
         With one line saying what is wrong and where (ring, edge, point).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> room = sp.Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], holes=[[[1, 1], [1, 2], [2, 2], [2, 1]]])
+    >>> room, room.n_edges, room.area                  # lengths in the environment's units, areas exact
+    (Environment(name='', vertices=8, holes=1, reflex=4), 8, Fraction(15, 1))
+    >>> env = sp.load_environment("l_shape")
+    >>> env.reflex_vertices, env.point_at(3, 0.25)     # edge 3 at t = 0.25
+    ((3,), (4.0, 5.5))
     """
 
     rings: tuple[tuple[ExactPoint, ...], ...]
@@ -1135,6 +1185,8 @@ def load_environment(path: str | PathLike[str], fmt: FileFormat | None = None) -
         If the path is neither a file nor a shipped model's name, cannot be read, or is not a valid
         environment file.
 
+    Examples
+    --------
     >>> load_environment("l_shape").name
     'l_shape'
     >>> load_environment("no/such/file.json")

@@ -203,10 +203,9 @@ def _between(p: Sequence[Fraction], a: ExactPoint, b: ExactPoint) -> bool:
 
 
 def decompose_free_space(env: Environment) -> Decomposition:
-    """Convex cells of ``env``'s free space (holes included) by Hertel–Mehlhorn merging of a constrained Delaunay
-    triangulation, with their adjacency over shared facets.
+    """Convex cells of ``env``'s free space (holes included), with their adjacency over shared facets.
 
-    Every cell vertex is an exact vertex of ``env``; the cells are counter-clockwise, strictly convex (no angle
+    The cells are made by Hertel–Mehlhorn merging of a constrained Delaunay triangulation. Every cell vertex is an exact vertex of ``env``; the cells are counter-clockwise, strictly convex (no angle
     of π is created by a merge; collinear vertices of the environment stay), and cover the free space exactly
     (their areas sum to the environment's exact area — checked).
 
@@ -218,6 +217,8 @@ def decompose_free_space(env: Environment) -> Decomposition:
     Returns
     -------
     Decomposition
+        The cells (exact, counter-clockwise vertices in the environment's units) and the pairs of cells that share
+        a facet.
 
     Raises
     ------
@@ -230,6 +231,9 @@ def decompose_free_space(env: Environment) -> Decomposition:
     >>> dec = decompose_free_space(load_environment("one_hole"))
     >>> sum(len(c.sides) for c in dec.cells) >= 3 * len(dec.cells), len(dec.adjacency) >= len(dec.cells) - 1
     (True, True)
+    >>> dec = decompose_free_space(load_environment("l_shape"))      # two cells, split along the reflex corner's diagonal
+    >>> [[(int(x), int(y)) for x, y in cell.vertices] for cell in dec.cells], dec.adjacency
+    ([[(0, 0), (4, 4), (4, 10), (0, 10)], [(0, 0), (10, 0), (10, 4), (4, 4)]], ((0, 1),))
     """
     import shapely
 

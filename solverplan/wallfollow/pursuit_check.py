@@ -255,6 +255,16 @@ class PursuitCheck:
         wherever it was), or ``None``.
     samples
         Positions at which the shadow was computed, in all.
+    verified
+        True when the plan guarantees detection (``cleared_after`` is not ``None``).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> room = sp.Environment.from_coords([[0, 0], [10, 1], [9, 4], [3, 5], [9, 6], [10, 9], [0, 10]])
+    >>> replay = sp.check_pursuit(room, ["LFOLLOW"])
+    >>> replay.verified, replay.cleared_after, [step.label for step in replay.steps]
+    (True, 1, ['v0', 'v6'])
     """
 
     start: str
@@ -301,6 +311,22 @@ def check_pursuit(env: Environment, actions: Sequence[Action | str], start: str 
     ------
     InputError
         An action that is not a pursuit action, or that does not apply where the pursuer is.
+
+    Returns
+    -------
+    PursuitCheck
+        The status after every action; ``verified`` when at some instant no shadow can hold the evader.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> room = sp.Environment.from_coords([[0, 0], [10, 1], [9, 4], [3, 5], [9, 6], [10, 9], [0, 10]])
+    >>> sp.check_pursuit(room, ["LFOLLOW"]).verified, sp.check_pursuit(room, ["RFOLLOW"]).verified
+    (True, False)
+    >>> sp.check_pursuit(room, ["DROP"])
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: DROP is not a pursuit action: use RFOLLOW, LFOLLOW or JUMP
     """
     world = _start_world(env, start)
     plan = tuple(parse_action(a) for a in actions)
