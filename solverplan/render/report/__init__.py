@@ -115,6 +115,7 @@ def html_report(
     Returns
     -------
     HtmlReport
+        The page (``html``), its ``kind`` and ``title``, and the certificate's verdict when one was given.
 
     Raises
     ------
@@ -122,7 +123,24 @@ def html_report(
         The answer was made in another environment (its SHA-256 differs, or it names segments or edges ``env``
         lacks); the certificate is of another kind of answer, another environment, another start or goal set or
         another number of bounces; a certificate for an answer that has none (cycles, studies); an environment
-        for a study, or none for the others. A malformed answer is :class:`~solverplan.errors.MalformedFile`.
+        for a study, or none for the kinds drawn over their environment. A malformed answer is
+        :class:`~solverplan.errors.MalformedFile`.
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> plan = sp.find_plan(env, "e5", "e0:0:0.3")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
+    >>> _ = path.write_text(json.dumps(plan.to_json()))
+    >>> page = sp.html_report(sp.load_answer(path), env, certificate=sp.certificate(plan, env=env))
+    >>> print(page.to_text(), end="")
+    report of a plan (solverplan plan -o): l_shape: fewest plan e5 → e0:0:0.3: 1 bounce, tolerance ±0.1452 rad; certificate VALID (checked exactly)
+    >>> sp.html_report(sp.load_answer(path), sp.load_environment("square"))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: .../plan.json: the answer was made in another environment ('l_shape', sha256 7da40167f198…), not in 'square'
     """
     kind = answer.kind
     if kind == "study":
@@ -158,8 +176,10 @@ def html_report(
 
 def make_report(answer_path: str | Path, output: str | Path, *, env: Environment | None = None, env_label: str | None = None,
                 certificate_path: str | Path | None = None, option: str | None = None) -> SavedReport:
-    """Read the answer file (any kind, told by its ``kind``), find its environment, check its certificate, write the
-    page atomically: what ``solverplan report ANSWER.json [--env ENV] [--certificate C] -o R.html`` does.
+    """The report of an answer file of any kind, written atomically: what ``solverplan report ANSWER.json`` does.
+
+    It reads the answer (its ``kind`` says what it is), finds its environment, checks its certificate exactly and
+    writes the page.
 
     Parameters
     ----------
@@ -185,6 +205,18 @@ def make_report(answer_path: str | Path, output: str | Path, *, env: Environment
     InputError
         A name not ending in .html, a malformed or foreign answer or certificate, an answer whose environment
         cannot be found (give ``env``).
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> from solverplan.rectilinear import decompose_rooms
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> rooms = decompose_rooms(sp.load_environment("three_chambers"))
+    >>> _ = (folder / "rooms.json").write_text(json.dumps(rooms.to_json()))
+    >>> saved = sp.make_report(folder / "rooms.json", folder / "rooms.html")   # the shipped model, found by name
+    >>> saved.to_json()["kind"], "Φ leaving i" in (folder / "rooms.html").read_text(encoding="utf-8")
+    ('rooms', True)
     """
     if Path(output).suffix.lower() not in (".html", ".htm"):
         raise InputError(f"-o {output}: a report is an .html file: give -o REPORT.html")

@@ -103,14 +103,41 @@ def answer_kind(data: object) -> str | None:
 
 
 def load_answer(path: str | os.PathLike[str], *, option: str | None = None) -> AnswerFile:
-    """Read an answer file the CLI wrote; with ``option`` (a key of :data:`REPORT_OPTIONS`), it must be of a kind
-    that option takes.
+    """Read an answer file the CLI wrote (or an answer's ``to_json()``), and tell which kind of answer it is.
+
+    Parameters
+    ----------
+    path
+        The answer file (JSON) of any kind: its ``kind`` says which (an answer written before kinds existed is
+        recognised by its fields).
+    option
+        A key of :data:`REPORT_OPTIONS` (``"plan"``, ``"patrol"``, ...): the older ``solverplan report ENV --plan``
+        form; the answer must be of a kind that option takes.
+
+    Returns
+    -------
+    AnswerFile
+        Its ``path``, ``kind`` (a key of :data:`ANSWER_KINDS`) and JSON ``data``.
 
     Raises
     ------
     MalformedFile
         A missing or unreadable file, bad JSON, a file past the input limits, a file that is no answer, or an
         answer of a kind ``option`` does not take (the message names the option that does).
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> plan = sp.find_plan(sp.load_environment("l_shape"), "e5", "e0:0:0.3")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
+    >>> _ = path.write_text(json.dumps(plan.to_json()))
+    >>> sp.load_answer(path).kind
+    'plan'
+    >>> sp.load_answer(path, option="patrol")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.MalformedFile: .../plan.json: is a plan (solverplan plan -o), not what --patrol takes: give it with --plan
     """
     file = Path(path)
     text = read_text_within_limits(file)

@@ -203,12 +203,12 @@ class _View:
         """The worst-case contraction coefficient C over [lo, hi] of a move from edge ``source`` to edge ``target``
         (paper Def. 11, Lemma 2: C is monotone in θ, so the worst case is at a known end), its transition and φ;
         None where the paper's C does not apply (the same wall, or parallel walls facing the same way)."""
-        from solverplan.bounce.dynamics import transition_angle, worst_case_contraction
+        from solverplan.bounce.dynamics import edge_transition, worst_case_contraction
 
         if source == target:
             return None
         try:
-            phi, side = transition_angle(self.env, source, target)
+            phi, side = edge_transition(self.env, source, target)
         except InputError:
             return None
         c = worst_case_contraction((lo, hi), phi, side)

@@ -88,7 +88,7 @@ def shorten_exact(text: str, limit: int = 14) -> str:
     """Every exact number in ``text`` longer than ``limit`` characters as a decimal of 9 significant digits (≈).
 
     >>> shorten_exact("1/3"), shorten_exact("280190461600097/905779590829372")
-    ('1/3', '≈0.309336582')
+    ('1/3', '≈0.30933625')
     """
     def short(m: re.Match[str]) -> str:
         token = m.group(0)

@@ -22,9 +22,36 @@ from solverplan.render.report.format import Exact, _e, _num, cell_html
 # ====================================================================== the page
 @dataclass(frozen=True)
 class HtmlReport:
-    """A report page: ``html`` (the whole self-contained document), the answer's ``kind``, the page ``title``
-    and ``certificate``, the checker's verdict when a certificate was given (``{"valid", "kind", "failures",
-    "checked", "not_checked"}``; ``None`` without one)."""
+    """A report page: the whole self-contained HTML document, and what it reports on.
+
+    Made by :func:`~solverplan.render.report.html_report`; :func:`write_report` writes it.
+
+    Attributes
+    ----------
+    html
+        The whole document (styles, scripts and pictures inline: it opens without a network).
+    kind
+        The answer's kind (a key of :data:`~solverplan.render.report._kinds.ANSWER_KINDS`).
+    title
+        The page's title.
+    certificate
+        The checker's verdict when a certificate was given (``{"valid", "kind", "failures", "checked",
+        "not_checked"}``); ``None`` without one.
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> plan = sp.find_plan(env, "e5", "e0:0:0.3")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
+    >>> _ = path.write_text(json.dumps(plan.to_json()))
+    >>> page = sp.html_report(sp.load_answer(path), env)
+    >>> page.kind, page.title, page.certificate
+    ('plan', 'l_shape: fewest plan e5 → e0:0:0.3: 1 bounce, tolerance ±0.1452 rad', None)
+    >>> page.html.startswith("<!DOCTYPE html>")
+    True
+    """
 
     html: str
     kind: str
@@ -59,10 +86,35 @@ class SavedReport:
 def write_report(report: HtmlReport, path: str | os.PathLike[str]) -> SavedReport:
     """Write the page atomically (whole or not at all, :mod:`solverplan._io`).
 
+    Parameters
+    ----------
+    report
+        The page (:func:`~solverplan.render.report.html_report`).
+    path
+        The file to write (``.html``); a previous file there is replaced only once the new one is complete.
+
+    Returns
+    -------
+    SavedReport
+        Where the page went and what it reports (what ``solverplan report`` prints).
+
     Raises
     ------
     InputError
         When the place cannot be written.
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> plan = sp.find_plan(env, "e5", "e0:0:0.3")
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "plan.json").write_text(json.dumps(plan.to_json()))
+    >>> page = sp.html_report(sp.load_answer(folder / "plan.json"), env, certificate=sp.certificate(plan, env=env))
+    >>> saved = sp.write_report(page, folder / "report.html")
+    >>> saved.to_json()["certificate"]["valid"], (folder / "report.html").read_text(encoding="utf-8") == page.html
+    (True, True)
     """
     try:
         atomic_write_text(path, report.html)
