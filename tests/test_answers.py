@@ -204,25 +204,34 @@ def test_answer_round_trip_report_and_certificate(kind, built, tmp_path):
 
 
 def _tamper(cert: dict) -> dict | None:
-    """One claim changed: the first number the certificate claims, moved by a little."""
-    claims = cert.get("claims")
-    if not isinstance(claims, dict):
-        return None
-    for key, value in claims.items():
-        if isinstance(value, bool) or key in ("optimality", "objective"):
-            continue
-        if isinstance(value, int):
-            claims[key] = value + 1
-            return cert
-        if isinstance(value, str):
-            try:
-                from fractions import Fraction
+    """One claim changed: the first number the certificate claims (depth first through its claims) moved a little,
+    or, where the claims hold no number, the first two names of a list swapped (an ordering)."""
+    from fractions import Fraction
 
-                claims[key] = str(Fraction(value) * Fraction(101, 100) + Fraction(1, 1000))
-                return cert
-            except (ValueError, ZeroDivisionError):
+    def walk(node):
+        items = list(node.items()) if isinstance(node, dict) else list(enumerate(node))
+        for key, value in items:
+            if isinstance(value, bool) or key in ("optimality", "objective", "method"):
                 continue
-    return None
+            if isinstance(value, int):
+                node[key] = value + 1
+                return True
+            if isinstance(value, str):
+                try:
+                    node[key] = str(Fraction(value) * Fraction(101, 100) + Fraction(1, 1000))
+                    return True
+                except (ValueError, ZeroDivisionError):
+                    continue
+            if isinstance(value, (dict, list)) and walk(value):
+                return True
+        strings = [v for v in items if isinstance(v[1], str)]
+        if isinstance(node, list) and len(strings) >= 2 and strings[0][1] != strings[1][1]:
+            node[0], node[1] = node[1], node[0]
+            return True
+        return False
+
+    claims = cert.get("claims")
+    return cert if isinstance(claims, dict) and walk(claims) else None
 
 
 def test_a_file_without_kind_or_of_an_unknown_kind_is_refused():

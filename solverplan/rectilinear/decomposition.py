@@ -380,8 +380,8 @@ class Decomposition(Answer):
         """Read a rooms answer back in ``env`` (required: doors are drawn from its vertices to its edges).
 
         Room rings (door end points as vertices) and each door's edge and walls are recomputed exactly from the
-        polygons, the doors and their exact Φ; the checker of such a file is
-        :func:`solverplan.rectilinear.check.check_rooms`."""
+        polygons, the doors and their exact Φ (the answer's claims are checked by the rooms checker of ``solverplan
+        rooms --check``, not here)."""
         r = Reader(data, "rooms")
         env, _ = r.in_environment(env, 'rooms')
         verts = env.exact_vertices
