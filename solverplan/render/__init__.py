@@ -36,7 +36,7 @@ from solverplan.render.figure import FigureFormat, SavedFigure, figure_bytes, fi
 from solverplan.render.graph import draw_graph, draw_safe_arcs
 from solverplan.render.heatmaps import draw_heatmap, render_heatmaps
 from solverplan.render.report import (ANSWER_KINDS, REPORT_OPTIONS, AnswerFile, HtmlReport, SavedReport, answer_kind,
-                                    html_report, load_answer, write_report)
+                                      html_report, load_answer, make_report, report_environment, write_report)
 from solverplan.render.labels import LabelPlacer, draw_edge_ids, draw_vertex_ids
 from solverplan.render.partition import draw_partition
 from solverplan.render.plans import draw_plan, plan_title
@@ -100,6 +100,8 @@ __all__ = [
     "html_report",
     "load_answer",
     "write_report",
+    "make_report",
+    "report_environment",
     "SHADOW_COLORS",
     "render_pursuit",
 ]
