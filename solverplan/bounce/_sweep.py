@@ -45,6 +45,7 @@ import numpy as np
 from solverplan._arrays import ragged_arange
 from solverplan.errors import SolverFailed
 from solverplan.geometry.raycast import cast_ray
+from solverplan.progress import step
 
 # Float tolerances. Headings (radians) closer than this are compared exactly; the tolerance is
 # scaled by the conditioning of each direction (coordinate magnitude / vector length).
@@ -312,6 +313,7 @@ def build_sweeps(partition) -> Sweeps:
     rows = max(1, _CELLS // max(n, 1))
     parts: list[tuple] = []
     for s0 in range(0, M, rows):
+        step("safe BVG: sweeps", s0, M)  # the progress bar, and where a timeout stops the build
         sl = slice(s0, min(M, s0 + rows))
         o, fr = origin[sl], frame[sl]
         # ---- 1. headings and classes of all original vertices, and the critical directions

@@ -83,6 +83,7 @@ from solverplan.bounce.safe import Direction, SafeInterval, SafeSet
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.limits import memory_limit
+from solverplan.progress import step
 
 if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only the conversions below load it
     import networkx as nx
@@ -647,6 +648,7 @@ def _build(p: Partition) -> SafeBVG:
     del pkey, lo_pick, hi_pick, frm
     # the entries are consumed: keep only what the hole step reads
     sw.sweep = sw.seg = sw.lo_to = sw.hi_to = sw.lo = sw.hi = sw.lo_err = sw.hi_err = None  # type: ignore[assignment]
+    step("safe BVG: safe sets", 1, 4)
     edge_of = seg_edge[source]
     pieces = _nonempty(pieces, ends, edge_of)
 
@@ -656,6 +658,7 @@ def _build(p: Partition) -> SafeBVG:
     del sw
 
     # ---- single points: closures may add isolated points; check them exactly
+    step("safe BVG: safe sets", 2, 4)
     single = _singletons(pieces, ends, edge_of)
     n_single = int(np.count_nonzero(single))
     if n_single:
@@ -701,6 +704,7 @@ def _build(p: Partition) -> SafeBVG:
     del pieces
 
     # ---- transitions and φ (they depend on the two edges only)
+    step("safe BVG: safe sets", 3, 4)
     transition, phi = _transitions(env, seg_edge[source], seg_edge[target])
     t3 = time.perf_counter()
     stats = {
@@ -956,6 +960,7 @@ def _subtract_holes(p: Partition, sw: Sweeps, pieces: _Pieces, ends: _Ends, sour
     minus_of[sw.minus_seg[ok]] = np.flatnonzero(ok)
     H = side.shape[1]
     for h in range(H):
+        step("safe BVG: holes", h, H)
         arc = pieces.arc
         i, j = source[arc], target[arc]
         applies = side[seg_edge[i], h] & side[seg_edge[j], h]

@@ -65,6 +65,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.exact import FLOAT_FILTER_REL, ExactPoint, format_number, format_point, json_number
 from solverplan.geometry.raycast import cast_ray
+from solverplan.progress import step
 
 __all__ = ["PartitionSegment", "InsertedPoint", "Partition", "partition"]
 
@@ -428,7 +429,9 @@ def partition(env: Environment) -> Partition:
     kernel = _Kernel(env)
     found: dict[tuple[int, Fraction], list[tuple[int, int | None]]] = {}
     points: dict[tuple[int, Fraction], ExactPoint] = {}
-    for r in env.reflex_vertices:
+    reflex = env.reflex_vertices
+    for done, r in enumerate(reflex):
+        step("partition of the boundary", done, len(reflex))  # the progress bar, and where a timeout stops it
         for v, edge, t, point in kernel.shots(r):
             key = (edge, t)
             source = (r, None if v in (kernel.prv[r], kernel.nxt[r]) else v)

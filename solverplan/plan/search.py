@@ -85,6 +85,7 @@ from solverplan.plan._problem import Problem
 from solverplan.plan._walls import Walls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
+from solverplan.progress import Stopped
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
 __all__ = ["find_plan", "pareto_front", "planning_problem", "METHODS", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN"]
@@ -294,8 +295,14 @@ def find_plan(
         method = allowed[1]
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin,
-                               corner_clearance=corner_clearance)
+    try:
+        with deadline.watching():
+            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
+                                       safe_margin=safe_margin, corner_clearance=corner_clearance)
+    except Stopped as exc:
+        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+                                          corner_clearance=corner_clearance)
+        return _stopped_in_setup(env, start, goal, objective, k_max, deadline, exc, time.perf_counter() - t0, margins)
     common = _common(problem, k_max)
     t1 = time.perf_counter()
     if deadline.expired():
@@ -311,6 +318,20 @@ def find_plan(
                              admissible_intervals=problem.n_admissible)
     logger.info("%s plan: %s in %.3f s", objective, plan.status.value, t2 - t1)
     return plan.with_(stats=stats)
+
+
+def _stopped_in_setup(env: Environment, start: str | BoundarySet, goal: str | BoundarySet, objective: str,
+                      k_max: int | None, deadline: Deadline, exc: Stopped, seconds: float, margins: Margins) -> Plan:
+    """The answer of a query whose timeout came while it built its partition or safe BVG: ``not-found``, nothing
+    proved, the timeout and the step it reached in ``optimality.limits``."""
+    start_set, goal_set = _boundary(env, start, "start"), _boundary(env, goal, "goal")
+    where = str(exc).removeprefix("stopped during ")
+    limit = deadline.limit(f"{where}, while building the query's graph")
+    opt = Optimality(Method.SEARCH_EXHAUSTED, False, None, scope="", algorithm="none: the timeout came before the search",
+                     limits=(limit,))
+    return Plan(Status.NOT_FOUND, objective, (), opt, reason=f"{limit} before any plan was found: not a proof",
+                stats=Stats(seconds_setup=round(seconds, 6)), start=str(start_set), goal=str(goal_set),
+                max_bounces=k_max, environment=EnvironmentRecord.of(env), margins=margins.to_json())
 
 
 def _partial_user_goal(problem: Problem) -> list[int]:
@@ -556,8 +577,16 @@ def pareto_front(
     k_max = _check_budget(max_bounces)
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin,
-                               corner_clearance=corner_clearance)
+    try:
+        with deadline.watching():
+            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
+                                       safe_margin=safe_margin, corner_clearance=corner_clearance)
+    except Stopped as exc:
+        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+                                          corner_clearance=corner_clearance)
+        plan = _stopped_in_setup(env, start, goal, "tolerance", k_max, deadline, exc, time.perf_counter() - t0, margins)
+        return ParetoFront((), plan.optimality, plan.start, plan.goal, k_max, reason=plan.reason,
+                           environment=plan.environment, stats=plan.stats)
     common = _common(problem, k_max)
     algorithm = "Pareto label setting (bounces, min width)" + (f" up to {k_max} bounces" if k_max else " to a fixed point")
     exhausted = Method.SEARCH_EXHAUSTED
