@@ -19,7 +19,7 @@ from __future__ import annotations
 from typing import Sequence
 
 from solverplan.errors import InputError
-from solverplan.studies.generators import GENERATORS
+from solverplan.generators import GENERATORS
 from solverplan.studies.metrics import Connectivity, Metric, Reachability
 from solverplan.studies.rule_systems import DEFAULT_FAMILIES, RuleReachability
 from solverplan.studies.study import PAPER_GRID, Study, parse_grid

@@ -1,6 +1,6 @@
 """A study: a grid of generator parameters × N seeds per cell → one tidy row per environment.
 
-A :class:`Study` names a generator (:data:`~solverplan.studies.generators.GENERATORS`), the grid of
+A :class:`Study` names a generator (:data:`~solverplan.generators.GENERATORS`), the grid of
 its parameters (axes with one value are fixed parameters), the metric's own option axes (the rules
 study's ``rule``), ``per_cell`` replicates and a base ``seed``. Its :meth:`~Study.tasks` are the rows
 to compute, in table order: cells in grid order (the product of the axes, last axis fastest), then
@@ -35,7 +35,7 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 
 from solverplan.errors import InputError
-from solverplan.studies.generators import GENERATORS, generate
+from solverplan.generators import GENERATORS, generate
 from solverplan.studies.metrics import Metric
 
 __all__ = [

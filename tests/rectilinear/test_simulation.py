@@ -17,7 +17,7 @@ from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.rectilinear.doors import RoomWorld
 from solverplan.rectilinear.rules import Billiard, Smart
 from solverplan.simulate import Outcome, simulate_policy
-from solverplan.studies.generators import rectilinear_polygon
+from solverplan.generators import rectilinear_polygon
 from solverplan.studies.rooms import RoomPolicy, compare_rules, periodic_orbit, simulate_rooms
 
 

@@ -13,7 +13,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.simulate import simulate_rule
 from solverplan.studies import Connectivity, Reachability, RuleReachability, star_polygon
-from solverplan.studies.generators import rectilinear_floor_plan, rooms_and_corridors
+from solverplan.generators import rectilinear_floor_plan, rooms_and_corridors
 from solverplan.studies.metrics import component_counts, safe_graph_summary, unreachable_fraction
 from solverplan.studies.rule_systems import FamilyPolicy, guaranteed_arcs, parse_family
 
