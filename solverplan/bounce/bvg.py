@@ -89,7 +89,7 @@ if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only the conversions below
     import networkx as nx
 
 __all__ = ["SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph", "GraphTooLarge", "estimate_graph",
-           "check_graph_memory", "set_graph_cache", "clear_graph_cache",
+           "check_graph_memory", "fitting_simplification", "set_graph_cache", "clear_graph_cache",
            "graph_cache_directory", "default_cache_directory", "graph_cache_report", "purge_graph_cache",
            "GraphCacheReport", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "partition_digest", "discard_graphs", "fresh_graphs"]
 
@@ -565,7 +565,7 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     Memory follows the output: the graph is a structure of arrays (about 110 bytes per arc), and
     the build's peak is under 200 bytes per arc (see ``benchmarks/README.md``). Before building a
     large graph its size is estimated from a sample of the sweeps; a graph that would need more
-    memory than the limit (:func:`solverplan.limits.set_memory_limit`, by default the memory available) is
+    memory than the limit (:func:`solverplan.limits.set_memory_limit`, by default half the memory available) is
     refused up front with :class:`GraphTooLarge`, naming the estimate.
     """
     import time
@@ -1089,7 +1089,51 @@ def check_graph_memory(p: Partition) -> None:
     arcs, need = estimate_graph(p)
     if need > limit:
         name = p.env.name if len(p.env.name) <= 30 else p.env.name[:29] + "…"
+        hint = fitting_simplification(p.env, arcs, limit)
+        advice = (f"; --simplify {hint[0]:g} at import would fit (≈ {hint[1]:,} vertices)" if hint is not None
+                  else "; see --max-memory")
         raise GraphTooLarge(f"the safe BVG of {name!r} would need ≈ {_gib(need)} (≈ {arcs:,} arcs, {N:,} segments), "
-                            f"more than {source} ({_gib(limit)}; see --max-memory)")
+                            f"more than {source} ({_gib(limit)}){advice}")
+
+
+# Arcs grow about as the fourth power of the vertex count on ragged floor plans (segments of P′ as its square:
+# every reflex vertex casts a line through every vertex it sees; arcs as the segments' square), measured on the
+# warehouse maps of benchmarks/README.md; a smaller exponent would promise too much of a simplification.
+_ARCS_EXPONENT = 4.0
+
+
+def fitting_simplification(env: Environment, arcs: int, limit: int) -> tuple[float, int] | None:
+    """The smallest simplification tolerance (a round number in the environment's units: 1, 2 or 5 × 10^k) after
+    which the safe BVG is estimated to fit in ``limit`` bytes, and the vertex count it leaves; None if none does.
+
+    The outline is simplified as the importer does (topology-preserving Douglas–Peucker, :mod:`shapely`), and the
+    arcs are extrapolated from ``arcs`` (the estimate for ``env``) by the vertex count to the power 4 — a rule of
+    thumb for the message of :class:`GraphTooLarge`, not a promise.
+
+    >>> from solverplan.environment import Environment
+    >>> ring = [[x / 10, (x % 2) / 100] for x in range(0, 101)] + [[10, 5], [0, 5]]
+    >>> fitting_simplification(Environment.from_coords(ring), arcs=10**9, limit=2**30)
+    (0.01, 4)
+    """
+    import shapely
+
+    n = env.n_vertices
+    shape = env.to_shapely()
+    lo, hi = shape.bounds[:2], shape.bounds[2:]
+    size = max(hi[0] - lo[0], hi[1] - lo[1])
+    if not size > 0:
+        return None
+    step = 10.0 ** math.floor(math.log10(size * 1e-4))
+    while step < size / 10:
+        for factor in (1, 2, 5):
+            tolerance = float(f"{factor * step:.1g}")
+            simple = shapely.simplify(shape, tolerance, preserve_topology=True)
+            if simple.is_empty or simple.geom_type != "Polygon":
+                return None
+            m = len(simple.exterior.coords) - 1 + sum(len(r.coords) - 1 for r in simple.interiors)
+            if _BASE_BYTES + BYTES_PER_ARC * arcs * (m / n) ** _ARCS_EXPONENT <= limit:
+                return tolerance, m
+        step *= 10
+    return None
 
 

@@ -88,7 +88,7 @@ def _root(
     max_memory: Annotated[
         str | None,
         typer.Option("--max-memory", metavar="SIZE", envvar="SOLVERPLAN_MAX_MEMORY", show_default=False,
-                     help="Refuse up front a job (a safe BVG, rollouts, a patrol search) estimated to need more than SIZE bytes (e.g. 2G, 500M; default: the memory available)."),
+                     help="Refuse up front a job (a safe BVG, rollouts, a patrol search) estimated to need more than SIZE bytes (e.g. 2G, 500M; default: half the memory available)."),
     ] = None,
 ) -> None:
     """Planning with proofs for minimal bouncing robots in polygonal environments."""
