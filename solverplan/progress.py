@@ -36,7 +36,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
-__all__ = ["Stopped", "Report", "watching", "step", "stop_time", "remaining"]
+__all__ = ["Stopped", "Report", "watching", "step", "tick", "stop_time", "remaining"]
 
 Report = Callable[[str, float, "float | None"], None]
 """``report(task, done, total)``: a task's progress (``total`` None when unknown)."""
@@ -87,6 +87,14 @@ def step(task: str, done: float = 0, total: float | None = None) -> None:
         watch.report(task, done, total)
     if watch.stop_at is not None and time.monotonic() >= watch.stop_at:
         raise Stopped(task, done, total)
+
+
+def tick(task: str) -> None:
+    """Report that ``task`` (of unknown size) is still running; never stops it (loops that answer a timeout of their
+    own, like the searches under a :class:`~solverplan.plan._deadline.Deadline`, tick instead of :func:`step`)."""
+    watch = _WATCH.get()
+    if watch is not None and watch.report is not None:
+        watch.report(task, 0, None)
 
 
 def stop_time() -> float | None:

@@ -299,15 +299,24 @@ class _Context:
         return (c > 0) - (c < 0)
 
 
-def build_sweeps(partition) -> Sweeps:
-    """All sweeps of ``partition`` and their entries (see the module docstring).
+def build_sweeps(partition, sources: np.ndarray | None = None, context: _Context | None = None) -> Sweeps:
+    """All sweeps of ``partition`` and their entries (see the module docstring); with ``sources`` (segment ids),
+    only the sweeps at the two ends of those segments (each sweep is computed on its own: the same entries).
 
     Memory follows the output: the (sweep × vertex) tables of steps 1–2 exist for one block of
     sweeps at a time (:data:`_BLOCK` cells), and only their compact results are kept — the
-    direction tables, and per (sweep, covering edge) pair its range of sectors.
+    direction tables, and per (sweep, covering edge) pair its range of sectors. ``context``: the partition's
+    :class:`_Context`, when the caller keeps one for several calls.
     """
-    ctx = _Context(partition)
+    ctx = context if context is not None else _Context(partition)
+    ctx.exact_checks = ctx.exact_casts = 0
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
+    if sources is not None:
+        wanted = np.zeros(ctx.N + 1, dtype=bool)  # index −1 (no segment) reads the last, False
+        wanted[np.asarray(sources, dtype=np.int64)] = True
+        keep = np.flatnonzero(wanted[plus_seg] | wanted[minus_seg])
+        origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = (a[keep] for a in (origin, frame, plus_seg, minus_seg,
+                                                                               lo_lim, hi_lim))
     M, n = len(origin), ctx.n
     holes = len(ctx.env.rings) > 1
     rows = max(1, _CELLS // max(n, 1))

@@ -89,7 +89,7 @@ if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only the conversions below
     import networkx as nx
 
 __all__ = ["SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph", "GraphTooLarge", "estimate_graph",
-           "check_graph_memory", "fitting_simplification", "set_graph_cache", "clear_graph_cache",
+           "check_graph_memory", "fitting_simplification", "reachable_safe_graph", "LAZY_MIN_ARCS", "set_graph_cache", "clear_graph_cache",
            "graph_cache_directory", "default_cache_directory", "graph_cache_report", "purge_graph_cache",
            "GraphCacheReport", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "partition_digest", "discard_graphs", "fresh_graphs"]
 
@@ -586,38 +586,55 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     return _cache.store(p, digest, graph, time.perf_counter() - t0, plain=plain)
 
 
-def _build(p: Partition) -> SafeBVG:
-    """Build the safe BVG of ``p`` (no cache, no size check)."""
+def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep._Context | None = None) -> SafeBVG:
+    """Build the safe BVG of ``p`` (no cache, no size check).
+
+    With ``sources`` (segment ids), only the arcs leaving them that have a safe heading: their safe sets need only
+    the sweeps at the two ends of each source (module docstring, step 3), so the work is that of those sweeps. The
+    rows are those of the whole graph's arcs from ``sources`` with ``n_intervals > 0``, equal arrays
+    (:func:`reachable_safe_graph`; a property test compares them)."""
     import time
 
     env = p.env
     N = len(p.segments)
     t0 = time.perf_counter()
-    sw = build_sweeps(p)
+    ctx = context if context is not None else _sweep._Context(p)
+    sw = build_sweeps(p, sources, ctx)
     t1 = time.perf_counter()
     n_sweeps, n_entries = len(sw.origin), len(sw.seg)
     sweep_checks, sweep_casts = sw.exact_checks, sw.exact_casts
-    exact = ExactPoints([s.a for s in p.segments], _edge_vectors(env))
+    exact = ctx.exact  # the points of P′ as homogeneous integers, with the exact edge vectors
     ends = _Ends(exact)
     seg_edge = np.asarray(p.seg_edge, dtype=np.int64)
+    wanted = None
+    if sources is not None:
+        wanted = np.zeros(N, dtype=bool)
+        wanted[np.asarray(sources, dtype=np.int64)] = True
 
     # ---- roles: entries of "+" sweeps belong to the segment starting at the origin (x = a),
     # entries of "−" sweeps to the segment ending there (x = b)
     e_plus = sw.plus_seg[sw.sweep]
     ia = np.flatnonzero(e_plus >= 0)
+    if wanted is not None:  # a sweep at a vertex serves the segments on both sides: keep the wanted role only
+        ia = ia[wanted[e_plus[ia]]]
     A_key = e_plus[ia] * N + sw.seg[ia]
     del e_plus
     e_minus = sw.minus_seg[sw.sweep]
     ib = np.flatnonzero(e_minus >= 0)
+    if wanted is not None:
+        ib = ib[wanted[e_minus[ib]]]
     B_key = e_minus[ib] * N + sw.seg[ib]
     del e_minus
 
-    # ---- arcs: every pair met by some sweep, both directions
-    keys = np.concatenate([A_key, B_key])
-    keys = np.concatenate([keys, (keys % N) * N + keys // N])
-    keys.sort()
-    if len(keys):
-        keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
+    if wanted is None:
+        # ---- arcs: every pair met by some sweep, both directions
+        keys = np.concatenate([A_key, B_key])
+        keys = np.concatenate([keys, (keys % N) * N + keys // N])
+        keys.sort()
+        if len(keys):
+            keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
+    else:  # ---- arcs that may be safe: met by the sweeps at both ends of the source
+        keys = np.intersect1d(A_key, B_key)
     source, target = keys // N, keys % N
     n_arcs = len(keys)
 
@@ -718,6 +735,14 @@ def _build(p: Partition) -> SafeBVG:
         "singletons_checked": n_single,
     }
     logger.debug("safe BVG of %r: %s", env.name, stats)
+    if wanted is not None:  # only the arcs with a safe heading
+        keep = np.flatnonzero(counts > 0)
+        take = np.repeat(offsets[keep], counts[keep]) + ragged_arange(counts[keep])
+        source, target, lo, hi, counts = source[keep], target[keep], lo[keep], hi[keep], counts[keep]
+        transition, phi = transition[keep], phi[keep]
+        set_lo, set_hi = set_lo[take], set_hi[take]
+        set_ends = tuple(a[take] for a in set_ends)
+        offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     return SafeBVG(
         partition=p,
         source=source.astype(np.int64),
@@ -733,6 +758,86 @@ def _build(p: Partition) -> SafeBVG:
         _set_ends=set_ends,
         stats=stats,
     )
+
+
+LAZY_MIN_ARCS = 2_000_000
+"""Planners build only the reachable safe arcs (:func:`reachable_safe_graph`) when the whole safe BVG is estimated
+to have at least this many arcs (and is not cached): below it the whole graph builds in a few seconds."""
+
+
+def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray | list[int], *,
+                         max_depth: int | None = None) -> SafeBVG:
+    """The part of the safe BVG a search from the segments ``start`` can use: every arc with a safe heading leaving a
+    segment reachable from ``start`` by such arcs (within ``max_depth`` arcs when given: the sources at depths
+    0 … max_depth − 1), built on demand layer by layer.
+
+    The safe set of an arc needs only the sweeps at the two ends of its source, so each layer costs the sweeps of
+    its new segments (vectorised, in batches sized to the entries they produce), not the whole graph's. The rows are
+    exactly the whole graph's rows of those sources with a safe heading (equal arrays: a property test compares
+    them), so a search over it gives the same answers; arcs without a safe heading, and those of unreachable
+    sources, are left out. ``stats`` says how many sources and sweeps were built (``"reachable_sources"``).
+
+    Examples
+    --------
+    >>> from solverplan.environment import Environment
+    >>> ell = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]])
+    >>> whole, part = safe_bounce_visibility_graph(ell), reachable_safe_graph(ell, [0], max_depth=1)
+    >>> part.source.tolist() == [0] * part.n_arcs, part.n_arcs == int(whole.select(source=0).safe.sum())
+    (True, True)
+    >>> reachable_safe_graph(ell, [0]).n_safe_arcs == whole.n_safe_arcs   # every segment is reachable here
+    True
+    """
+    import time
+
+    p = _as_partition(partition)
+    N = len(p.segments)
+    frontier = np.unique(np.asarray(start, dtype=np.int64))
+    if len(frontier) and not (0 <= frontier[0] and frontier[-1] < N):
+        raise InvalidBoundarySet(f"start segments must be in 0..{N - 1}")
+    t0 = time.perf_counter()
+    ctx = _sweep._Context(p)
+    seen = np.zeros(N, dtype=bool)
+    parts: list[SafeBVG] = []
+    batch, depth, sweeps = 64, 0, 0
+    while len(frontier) and (max_depth is None or depth < max_depth):
+        seen[frontier] = True
+        found = []
+        for b0 in range(0, len(frontier), batch):
+            step("safe BVG: reachable part", int(seen.sum()) - len(frontier) + b0, N)
+            chunk = frontier[b0:b0 + batch]
+            g = _build(p, chunk, ctx)
+            parts.append(g)
+            found.append(g.target)
+            sweeps += g.stats["sweeps"]
+            # next batch: about 2²² sweep entries (a few hundred MB of temporaries at the build's peak)
+            per_source = max(1.0, g.stats["entries"] / len(chunk))
+            batch = int(min(8192, max(16, (1 << 22) / per_source)))
+        targets = np.unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
+        frontier = targets[~seen[targets]]
+        depth += 1
+    graph = _concat_rows(p, parts)
+    graph.stats.update({"reachable_sources": int(seen.sum()), "sweeps": sweeps, "layers": depth,
+                        "seconds_total": time.perf_counter() - t0, "lazy": True})
+    return graph
+
+
+def _concat_rows(p: Partition, parts: list[SafeBVG]) -> SafeBVG:
+    """One graph of the arcs of ``parts`` (disjoint sources), sorted by (source, target)."""
+    cat = lambda name: np.concatenate([getattr(g, name) for g in parts]) if parts else np.zeros(0)  # noqa: E731
+    source = cat("source").astype(np.int64)
+    target = cat("target").astype(np.int64)
+    counts = cat("n_intervals").astype(np.int64)
+    order = np.lexsort((target, source))
+    offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    take = np.repeat(offsets[:-1][order], counts[order]) + ragged_arange(counts[order])
+    counts = counts[order]
+    ends = tuple(np.concatenate([g._set_ends[t] for g in parts])[take] if parts else np.zeros(0, dtype=np.int64)
+                 for t in range(4))
+    return SafeBVG(partition=p, source=source[order], target=target[order], lo=cat("lo")[order], hi=cat("hi")[order],
+                   n_intervals=counts, set_offsets=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
+                   set_lo=cat("set_lo")[take], set_hi=cat("set_hi")[take],
+                   transition=cat("transition").astype(np.int8)[order], phi=cat("phi")[order],
+                   _set_ends=ends, stats={})  # type: ignore[arg-type]
 
 
 def _refine_ends(p: Partition, pieces: _Pieces, edge_of: np.ndarray) -> None:

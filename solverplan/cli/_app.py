@@ -11,6 +11,7 @@ import typer
 from solverplan.environment import Environment, load_environment
 from solverplan.cli._errors import Shell
 from solverplan.cli._output import EnvFormat, OutputFormat, set_json_indent
+from solverplan.cli._progress import command_progress
 
 
 app = typer.Typer(
@@ -90,6 +91,9 @@ def _root(
         typer.Option("--max-memory", metavar="SIZE", envvar="SOLVERPLAN_MAX_MEMORY", show_default=False,
                      help="Refuse up front a job (a safe BVG, rollouts, a patrol search) estimated to need more than SIZE bytes (e.g. 2G, 500M; default: half the memory available)."),
     ] = None,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", help="No progress bar on stderr (jobs over 2 s show one when stderr is a terminal).")
+    ] = False,
 ) -> None:
     """Planning with proofs for minimal bouncing robots in polygonal environments."""
     from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, config, default_cache_directory
@@ -108,6 +112,7 @@ def _root(
     set_json_indent(-1 if compact else indent)
     ctx.call_on_close(lambda: set_json_indent(None))
     ctx.with_resource(config(**changes))
+    ctx.with_resource(command_progress(quiet))
 
 
 def parse_size(text: str, option: str = "--max-memory") -> int:

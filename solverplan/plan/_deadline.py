@@ -36,7 +36,7 @@ import numpy as np
 
 from solverplan.errors import InputError
 from solverplan.limits import quote
-from solverplan.progress import watching
+from solverplan.progress import tick, watching
 
 __all__ = ["Deadline", "NEVER", "check_timeout", "deadline_of", "in_chunks"]
 
@@ -82,7 +82,9 @@ class Deadline:
         self.hit = False
 
     def expired(self) -> bool:
-        """Has the deadline passed? (Always False without a limit.)"""
+        """Has the deadline passed? (Always False without a limit.) Every search asks at each expansion: it is
+        also where a search reports that it is alive (:func:`solverplan.progress.tick`, the progress bar)."""
+        tick("search")
         if self._end is None:
             return False
         if not self.hit and time.monotonic() >= self._end:

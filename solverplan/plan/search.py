@@ -138,8 +138,10 @@ def planning_problem(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
+    max_depth: int | None = None,
 ) -> Problem:
-    """The belief-state graph of a query (for tests, benchmarks and the other planners of the package)."""
+    """The belief-state graph of a query (for tests, benchmarks and the other planners of the package); ``max_depth``:
+    the bounce budget, when the query has one (a graph built on demand stops there, :func:`query_graph`)."""
     if not isinstance(env, Environment):
         raise InputError(f"expected an Environment, got {type(env).__name__}")
     margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
@@ -149,7 +151,9 @@ def planning_problem(
     walls = Walls(env)
     if graph is not None and graph.partition.env not in (env, walls.merged):
         raise InputError("the safe BVG given was built for another environment")
-    return Problem(straight_walls_graph(walls, graph), start_set, goal_set, margins=margins, walls=walls)
+    if graph is None or graph.partition.env != walls.merged:
+        graph = query_graph(walls, start_set, max_depth)
+    return Problem(graph, start_set, goal_set, margins=margins, walls=walls)
 
 
 def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
@@ -159,6 +163,37 @@ def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
     if graph is not None and graph.partition.env == walls.merged:
         return graph
     return safe_bounce_visibility_graph(walls.merged)
+
+
+def query_graph(walls: Walls, start: BoundarySet, max_depth: int | None = None) -> SafeBVG:
+    """The safe BVG one query from ``start`` needs (on the straight walls): the whole graph when it is cached or
+    small (under :data:`~solverplan.bounce.bvg.LAZY_MIN_ARCS` estimated arcs), else only the safe arcs a search
+    from the start segments can reach within ``max_depth`` stages (:func:`~solverplan.bounce.bvg.reachable_safe_graph`:
+    the same rows, so the same answers, for a fraction of the work and memory on large maps).
+
+    A start set covering part of a segment needs every segment its host sees (a start piece sees no more than the
+    whole segment, but sees parts of it the ends do not), which only the whole graph lists: such queries use it."""
+    from solverplan.bounce import _cache
+    from solverplan.bounce.bvg import LAZY_MIN_ARCS, estimate_graph, reachable_safe_graph
+    from solverplan.bounce.partition import partition
+
+    found = _cache.lookup_environment(walls.merged)
+    if found is not None:
+        return found
+    p = partition(walls.merged)
+    N = len(p.segments)
+    starts: list[int] = []
+    for edge, pieces in walls.to_merged(start).by_edge().items():
+        for k in p.edge_segments[edge]:
+            seg = p.segments[k]
+            for lo, hi in pieces:
+                if lo <= seg.t0 and seg.t1 <= hi:
+                    starts.append(k)
+                elif lo < seg.t1 and seg.t0 < hi:  # a start piece
+                    return safe_bounce_visibility_graph(p)
+    if N * (N - 1) < LAZY_MIN_ARCS or estimate_graph(p)[0] < LAZY_MIN_ARCS:
+        return safe_bounce_visibility_graph(p)
+    return reachable_safe_graph(p, starts, max_depth=max_depth)
 
 
 # ---------------------------------------------------------------------- results
@@ -236,7 +271,7 @@ def find_plan(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> Plan:
     """The optimal plan from ``start`` to ``goal`` for ``objective``, or a proof that there is none.
 
@@ -298,7 +333,8 @@ def find_plan(
     try:
         with deadline.watching():
             problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
-                                       safe_margin=safe_margin, corner_clearance=corner_clearance)
+                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
+                                       max_depth=k_max)
     except Stopped as exc:
         margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
                                           corner_clearance=corner_clearance)
@@ -559,7 +595,7 @@ def pareto_front(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> ParetoFront:
     """The Pareto front bounces ↔ tolerance: for each bounce count b at which the best achievable min
     width strictly improves, the most tolerant plan with ≤ b bounces (within ``max_bounces`` if given;
@@ -580,7 +616,8 @@ def pareto_front(
     try:
         with deadline.watching():
             problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
-                                       safe_margin=safe_margin, corner_clearance=corner_clearance)
+                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
+                                       max_depth=k_max)
     except Stopped as exc:
         margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
                                           corner_clearance=corner_clearance)
