@@ -4,17 +4,20 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from solverplan.environment import Environment, load_environment
 from solverplan.cli._errors import Shell
 from solverplan.cli._output import EnvFormat, OutputFormat, set_json_indent
 from solverplan.cli._progress import command_progress
 
+if TYPE_CHECKING:  # numpy comes with the environment: only commands that read one pay for it
+    from solverplan.environment import Environment
+
 
 app = typer.Typer(
+    rich_markup_mode=None,  # plain help: typer's rich help imports rich and markdown-it (≈ 0.1 s of every start)
     name="solverplan",
     cls=Shell,
     help="Planning with proofs for minimal bouncing robots. Answers are JSON on stdout (see docs/contract.md).",
@@ -131,6 +134,8 @@ def parse_size(text: str, option: str = "--max-memory") -> int:
 
 def load_env(env: Path, env_format: EnvFormat | None) -> Environment:
     """The environment named on the command line (format from the extension unless given)."""
+    from solverplan.environment import load_environment
+
     return load_environment(env, env_format.value if env_format else None)
 
 

@@ -12,7 +12,6 @@ import typer
 
 from solverplan._io import atomic_write_bytes
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
-from solverplan.describe import describe_environment
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
@@ -32,6 +31,8 @@ def info(
     with exit_codes(verbose):
         environment = load_env(env, env_format)
         logger.info("loaded %r: %d vertices, %d holes", environment.name, environment.n_vertices, len(environment.holes))
+        from solverplan.describe import describe_environment
+
         emit(describe_environment(environment), fmt, out)
 
 
