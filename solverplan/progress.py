@@ -89,12 +89,13 @@ def step(task: str, done: float = 0, total: float | None = None) -> None:
         raise Stopped(task, done, total)
 
 
-def tick(task: str) -> None:
-    """Report that ``task`` (of unknown size) is still running; never stops it (loops that answer a timeout of their
-    own, like the searches under a :class:`~solverplan.plan._deadline.Deadline`, tick instead of :func:`step`)."""
+def tick(task: str, done: float = 0, total: float | None = None) -> None:
+    """Report how far ``task`` is (``total`` None: unknown size, it is still running) without ever stopping it: for
+    loops that answer a timeout of their own (the searches under a :class:`~solverplan.plan._deadline.Deadline`) or
+    have none (rollouts)."""
     watch = _WATCH.get()
     if watch is not None and watch.report is not None:
-        watch.report(task, 0, None)
+        watch.report(task, done, total)
 
 
 def stop_time() -> float | None:
