@@ -809,9 +809,9 @@ def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray |
             parts.append(g)
             found.append(g.target)
             sweeps += g.stats["sweeps"]
-            # next batch: about 2²² sweep entries (a few hundred MB of temporaries at the build's peak)
+            # next batch: about 2²⁰ sweep entries (≈ 200 MB of temporaries at the build's peak)
             per_source = max(1.0, g.stats["entries"] / len(chunk))
-            batch = int(min(8192, max(16, (1 << 22) / per_source)))
+            batch = int(min(8192, max(8, (1 << 20) / per_source)))
         targets = np.unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
         frontier = targets[~seen[targets]]
         depth += 1

@@ -51,10 +51,12 @@ strategies*, IJRR 2021, §4 (Algorithm 1, Prop. 1).
 from __future__ import annotations
 
 import bisect
+import threading
+from collections import OrderedDict
 import io
 import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from functools import cached_property
 from typing import Iterator, Sequence
@@ -426,6 +428,28 @@ def partition(env: Environment) -> Partition:
     float work with small constants, plus O(n) exact work per pair re-resolved by
     :func:`~solverplan.geometry.raycast.cast_ray` (pairs with exact collinearities only).
     """
+    with _recent_lock:
+        known = _recent.get(env)
+        if known is not None:
+            _recent.move_to_end(env)
+            return known if known.env is env else replace(known, env=env)
+    p = _partition(env)
+    with _recent_lock:
+        _recent[env] = p
+        while len(_recent) > _RECENT:
+            _recent.popitem(last=False)
+    return p
+
+
+_RECENT = 2
+"""Partitions kept per process, by environment (equal environments share one): a query builds its own, and the
+exact check of its answer, the certificate and the graph cache ask again — 30 s each for a raw 1,200-vertex map."""
+_recent: OrderedDict[Environment, Partition] = OrderedDict()
+_recent_lock = threading.Lock()
+
+
+def _partition(env: Environment) -> Partition:
+    """:func:`partition`, computed."""
     kernel = _Kernel(env)
     found: dict[tuple[int, Fraction], list[tuple[int, int | None]]] = {}
     points: dict[tuple[int, Fraction], ExactPoint] = {}

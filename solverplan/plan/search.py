@@ -351,7 +351,7 @@ def find_plan(
                              start_segments=list(problem.user_segments(problem.start_belief)),
                              goal_segments=list(problem.user_segments(problem.goal_whole)),
                              partial_goal_segments=_partial_user_goal(problem), options_built=problem.options_built,
-                             admissible_intervals=problem.n_admissible)
+                             admissible_intervals=problem.n_admissible, **_graph_counts(problem))
     logger.info("%s plan: %s in %.3f s", objective, plan.status.value, t2 - t1)
     return plan.with_(stats=stats)
 
@@ -368,6 +368,16 @@ def _stopped_in_setup(env: Environment, start: str | BoundarySet, goal: str | Bo
     return Plan(Status.NOT_FOUND, objective, (), opt, reason=f"{limit} before any plan was found: not a proof",
                 stats=Stats(seconds_setup=round(seconds, 6)), start=str(start_set), goal=str(goal_set),
                 max_bounces=k_max, environment=EnvironmentRecord.of(env), margins=margins.to_json())
+
+
+def _graph_counts(problem: Problem) -> dict:
+    """What the query built of the safe BVG (``stats``): its arcs, and for a graph built on demand
+    (:func:`query_graph`) the source segments it reached of all the segments."""
+    g = problem.graph
+    out = {"graph_arcs": g.n_arcs, "graph_segments": g.n_segments}
+    if g.stats.get("lazy"):
+        out["graph_reachable_sources"] = g.stats["reachable_sources"]
+    return out
 
 
 def _partial_user_goal(problem: Problem) -> list[int]:
