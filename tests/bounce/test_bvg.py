@@ -164,8 +164,8 @@ def test_exact_fallbacks_agree_with_the_float_path(monkeypatch, name):
 
     env = model(name)
     want = safe_bounce_visibility_graph(env)
-    monkeypatch.setattr(sweep_module, "_ANGLE_REL", 1e3)
-    monkeypatch.setattr(sweep_module, "_CROSS_REL", 1e3)
+    monkeypatch.setattr(sweep_module, "ANGLE_REL", 1e3)
+    monkeypatch.setattr(sweep_module, "CROSS_REL", 1e3)
     monkeypatch.setattr(sweep_module, "_THIN", 10.0)
     monkeypatch.setattr(bvg_module, "_SAT_REL", 1e3)
     bvg_module.clear_graph_cache()  # a rebuild, not the graph kept from the first call
