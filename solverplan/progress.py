@@ -43,7 +43,23 @@ Report = Callable[[str, float, "float | None"], None]
 
 
 class Stopped(Exception):
-    """The job reached the ``stop_at`` time of the :func:`watching` around it, at a step of ``task``."""
+    """The job reached the ``stop_at`` time of the :func:`watching` around it, at a step of ``task``.
+
+    Attributes ``task`` (the step's name), ``done`` and ``total`` (how far it got; ``total`` None when unknown).
+    The planners catch it themselves and answer ``not-found`` with the timeout in ``optimality.limits``; it reaches
+    a caller only from work it wrapped in :func:`watching` with a ``stop_at`` of its own.
+
+    Examples
+    --------
+    >>> import time, solverplan as sp
+    >>> ell = sp.Environment.from_coords([[0, 0], [7, 0], [7, 3], [3, 3], [3, 7], [0, 7]])
+    >>> try:
+    ...     with sp.watching(stop_at=time.monotonic()):
+    ...         sp.partition(ell)
+    ... except sp.Stopped as stop:
+    ...     print(stop.task, stop.done, stop.total)
+    partition of the boundary 0 1
+    """
 
     def __init__(self, task: str, done: float = 0, total: float | None = None) -> None:
         self.task, self.done, self.total = task, done, total
@@ -62,9 +78,32 @@ _WATCH: contextvars.ContextVar[_Watch | None] = contextvars.ContextVar("solverpl
 
 @contextmanager
 def watching(*, report: Report | None = None, stop_at: float | None = None) -> Iterator[None]:
-    """Report the steps of the work inside to ``report`` and stop it at ``stop_at`` (monotonic seconds).
+    """Report the steps of the library's long loops inside the block to ``report``, and stop them at ``stop_at``.
 
-    Either may be None: then the enclosing watch's one applies (the earlier of two stop times wins)."""
+    Parameters
+    ----------
+    report
+        Called as ``report(task, done, total)`` at every step: the partition of the boundary (per reflex vertex), the
+        safe BVG's sweeps and safe sets (per block), the searches (``total`` None: still running), rollouts (per
+        bounce). Keep it cheap: searches report once per expansion. None: the enclosing watch's.
+    stop_at
+        A :func:`time.monotonic` time: the first step after it raises :class:`Stopped` (searches, which answer a
+        timeout of their own, never stop here). None: the enclosing watch's (the earlier of two wins), or never.
+
+    Yields
+    ------
+    None
+        The block runs under the watch; it ends with the block (threads and tasks keep their own).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> seen = set()
+    >>> with sp.watching(report=lambda task, done, total: seen.add(task)):
+    ...     plan = sp.find_plan(sp.load_environment("two_rooms"), "e0", "e5")
+    >>> "search" in seen          # and, when the graph is not built yet, its steps ("safe BVG: sweeps", …)
+    True
+    """
     outer = _WATCH.get()
     if outer is not None:
         if report is None:
