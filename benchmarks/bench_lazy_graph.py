@@ -39,6 +39,7 @@ def main() -> None:
     parser.add_argument("--sizes", default="12x8,20x10")
     parser.add_argument("--simplify", type=float, default=0.1)
     parser.add_argument("--max-arcs", type=int, default=20_000_000)
+    parser.add_argument("--rectilinear", type=float, default=10.0)
     options = parser.parse_args()
     folder = Path(tempfile.mkdtemp())
     print("| map (m) | vertices | holes | segments | partition s | whole: arcs / safe / s | budget | on demand: arcs / "
@@ -47,7 +48,7 @@ def main() -> None:
     for size in options.sizes.split(","):
         width, height = (float(x) for x in size.split("x"))
         yaml = write_map(folder, f"w{size}", warehouse_map(width, height, seed=1))
-        env = import_floorplan(yaml, simplify=options.simplify, rectilinear=10).environment_value
+        env = import_floorplan(yaml, simplify=options.simplify, rectilinear=options.rectilinear).environment_value
         _cache.clear_graph_cache()
         p, t_part = cpu(lambda: partition(env))
         N = len(p.segments)
