@@ -841,7 +841,8 @@ def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray |
     ctx = _sweep._Context(p)
     seen = np.zeros(N, dtype=bool)
     parts: list[SafeBVG] = []
-    batch, depth, sweeps = 64, 0, 0
+    batch, depth, sweeps, kept = 64, 0, 0, 0
+    limit, limit_source = memory_limit()
     while len(frontier) and (max_depth is None or depth < max_depth):
         seen[frontier] = True
         found = []
@@ -851,6 +852,9 @@ def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray |
             g = _build(p, chunk, ctx)
             parts.append(g)
             found.append(g.target)
+            kept += g.n_arcs
+            if limit is not None and _BASE_BYTES + PLANNED_BYTES_PER_ARC * kept > limit:
+                _refuse_reachable(p, kept, int(seen.sum()), limit, limit_source)
             sweeps += g.stats["sweeps"]
             # next batch: about 2²⁰ sweep entries (≈ 200 MB of temporaries at the build's peak)
             per_source = max(1.0, g.stats["entries"] / len(chunk))
@@ -862,6 +866,21 @@ def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray |
     graph.stats.update({"reachable_sources": int(seen.sum()), "sweeps": sweeps, "layers": depth,
                         "seconds_total": time.perf_counter() - t0, "lazy": True})
     return graph
+
+
+PLANNED_BYTES_PER_ARC = 400
+"""Memory per safe arc a query keeps (bytes): the graph's arrays, and the planner's admissible intervals (Python
+lists of floats per source) — what :func:`reachable_safe_graph` checks against the memory limit as it grows."""
+
+
+def _refuse_reachable(p: Partition, kept: int, sources: int, limit: int, source: str) -> None:
+    """Raise :class:`GraphTooLarge` for a reachable part that outgrew the memory limit, naming a simplification."""
+    arcs = estimate_graph(p)[0]
+    name = p.env.name if len(p.env.name) <= 30 else p.env.name[:29] + "…"
+    hint = fitting_simplification(p.env, arcs, limit)
+    advice = f"; --simplify {hint[0]:g} at import would fit (≈ {hint[1]:,} vertices)" if hint is not None else ""
+    raise GraphTooLarge(f"the safe arcs a query reaches in {name!r} outgrew {source} ({_gib(limit)}) after "
+                        f"{kept:,} arcs from {sources:,} of {len(p.segments):,} segments{advice}")
 
 
 def _concat_rows(p: Partition, parts: list[SafeBVG]) -> SafeBVG:

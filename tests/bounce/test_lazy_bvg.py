@@ -98,3 +98,22 @@ def test_the_planner_answers_alike_on_the_lazy_and_the_whole_graph(monkeypatch):
 def test_start_segments_out_of_range_are_refused():
     with pytest.raises(InvalidBoundarySet, match="start segments"):
         reachable_safe_graph(Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]]), [7])
+
+
+def test_a_reachable_part_beyond_the_memory_limit_is_refused_with_a_simplification(monkeypatch):
+    """The graph built on demand checks its growth against the memory limit and names what would fit."""
+    import solverplan.bounce.bvg as bvg
+    from solverplan.generators import star_polygon
+    from solverplan.limits import reset_memory_limit, set_memory_limit
+
+    env = star_polygon(60, 0.2, 0.3, seed=4)
+    p = partition(env)
+    set_memory_limit(bvg._BASE_BYTES + 1000 * bvg.PLANNED_BYTES_PER_ARC)  # room for 1,000 arcs
+    try:
+        with pytest.raises(bvg.GraphTooLarge, match=r"outgrew the memory limit .* after [0-9,]+ arcs from") as info:
+            reachable_safe_graph(p, [0])
+        assert "\n" not in str(info.value) and len(str(info.value)) < 200
+        set_memory_limit(None)
+        assert reachable_safe_graph(p, [0]).n_arcs > 1000
+    finally:
+        reset_memory_limit()
