@@ -981,12 +981,16 @@ def estimate_entries(partition, sample: int = 256) -> tuple[int, int]:
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
     M = len(origin)
     rows = np.unique(np.linspace(0, M - 1, min(M, sample)).astype(np.int64)) if M else np.zeros(0, dtype=np.int64)
-    o, fr, lo, hi = origin[rows], frame[rows], lo_lim[rows], hi_lim[rows]
-    cls, ang, err = _classify(ctx, o, fr, lo, hi)
-    rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo, hi, cls, ang, err)
-    pairs = _covering(ctx, o, cls, rank, K)
-    del cls, ang, err, rank
-    hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
-    found = len(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit)[0])
+    found = 0
+    for b0 in range(0, len(rows), 32):  # in blocks: a progress step (and a stop point) between them
+        step("safe BVG: estimating its size", b0, len(rows))
+        block = rows[b0:b0 + 32]
+        o, fr, lo, hi = origin[block], frame[block], lo_lim[block], hi_lim[block]
+        cls, ang, err = _classify(ctx, o, fr, lo, hi)
+        rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo, hi, cls, ang, err)
+        pairs = _covering(ctx, o, cls, rank, K)
+        del cls, ang, err, rank
+        hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
+        found += len(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit)[0])
     special = int(np.count_nonzero(lo_lim >= 0) + np.count_nonzero(hi_lim >= 0))
     return int(round(found * M / max(len(rows), 1))) + special, M
