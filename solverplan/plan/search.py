@@ -41,8 +41,9 @@ part of a segment the goal set covers, with the interval cut so that every landi
 
 Timeouts
 --------
-``timeout=`` (seconds) bounds the wall time of a query (:mod:`solverplan.plan._deadline`). The safe BVG is
-built first and not interrupted; every search then stops at the deadline and the query answers its best plan
+``timeout=`` (seconds) bounds the wall time of a query (:mod:`solverplan.plan._deadline`). The partition and the
+safe BVG are built first and stop at the deadline too (between reflex vertices and blocks of sweeps: the query
+then answers ``not-found`` with the step it reached); every search then stops at the deadline and the query answers its best plan
 so far (found, exact like every plan) or ``not-found``, with ``optimality.proved`` false, ``optimality.bound``
 the bound the search had proved (a lower bound on the bounces for ``fewest``, an upper bound on the width or
 the sum otherwise) and ``"timeout T s reached after …"`` in ``optimality.limits``. The LP and MILP of
@@ -295,8 +296,9 @@ def find_plan(
         δ and μ (radians) and κ (a length; default 10⁻⁶ of the environment's diagonal) of the one margin
         policy of every planner (:mod:`solverplan.plan.margins`).
     timeout
-        Seconds of wall time (positive, finite; None: no limit), the graph build included (it is not
-        interrupted). At the deadline the search stops: the best plan found so far, or ``not-found``, with
+        Seconds of wall time (positive, finite; None: no limit; or a running
+        :class:`~solverplan.plan._deadline.Deadline`), the partition and the graph build included (they stop at it
+        too). At the deadline the search stops: the best plan found so far, or ``not-found``, with
         ``optimality.proved`` false, the bound proved so far and the timeout in ``optimality.limits``.
 
     Returns
