@@ -32,9 +32,9 @@ HeadingMarginOpt = Annotated[
 ]
 TimeoutOpt = Annotated[
     float | None,
-    typer.Option("--timeout", metavar="SECONDS", help="Answer within about this many seconds of the command's start (the "
-                 "graph build and the search are both cut): the best found so far, not proved optimal, with the bound "
-                 "proved so far.", show_default=False),
+    typer.Option("--timeout", metavar="SECONDS", help="Answer within about this many seconds of the command's start: "
+                 "the best found so far, not proved optimal, with the bound proved so far (plan also cuts the "
+                 "partition and the graph build; the other commands build theirs whole first).", show_default=False),
 ]
 
 
