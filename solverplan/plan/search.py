@@ -175,7 +175,7 @@ def query_graph(walls: Walls, start: BoundarySet, max_depth: int | None = None) 
     A start set covering part of a segment needs every segment its host sees (a start piece sees no more than the
     whole segment, but sees parts of it the ends do not), which only the whole graph lists: such queries use it."""
     from solverplan.bounce import _cache
-    from solverplan.bounce.bvg import LAZY_MIN_ARCS, estimate_graph, reachable_safe_graph
+    from solverplan.bounce.bvg import LAZY_MIN_ARCS, check_graph_memory, estimate_graph, reachable_safe_graph
     from solverplan.bounce.partition import partition
 
     found = _cache.lookup_environment(walls.merged)
@@ -194,6 +194,10 @@ def query_graph(walls: Walls, start: BoundarySet, max_depth: int | None = None) 
                     return safe_bounce_visibility_graph(p)
     if N * (N - 1) < LAZY_MIN_ARCS or estimate_graph(p)[0] < LAZY_MIN_ARCS:
         return safe_bounce_visibility_graph(p)
+    if max_depth is None:
+        # without a budget a search reaches nearly every segment of a connected map within a few layers
+        # (benchmarks/README.md): refuse now, not after minutes of building, what would not fit whole
+        check_graph_memory(p)
     return reachable_safe_graph(p, starts, max_depth=max_depth)
 
 
