@@ -1251,15 +1251,15 @@ def _gib(n: float) -> str:
     return f"{n / 2**30:.1f} GB" if n >= 2**30 else f"{n / 2**20:.0f} MB"
 
 
-def check_graph_memory(p: Partition) -> None:
+def check_graph_memory(p: Partition, estimate: tuple[int, int] | None = None) -> None:
     """Raise :class:`GraphTooLarge` when the safe BVG of ``p`` is estimated to exceed the memory limit
     (:func:`solverplan.limits.memory_limit`). Free for graphs that would fit even with every pair of segments
-    as an arc; otherwise it samples the sweeps (:func:`estimate_graph`)."""
+    as an arc; otherwise it samples the sweeps (:func:`estimate_graph`), unless the caller has its ``estimate``."""
     limit, source = memory_limit()
     N = len(p.segments)
     if limit is None or _BASE_BYTES + BYTES_PER_ARC * N * (N - 1) <= limit:
         return
-    arcs, need = estimate_graph(p)
+    arcs, need = estimate if estimate is not None else estimate_graph(p)
     if need > limit:
         name = p.env.name if len(p.env.name) <= 30 else p.env.name[:29] + "…"
         hint = fitting_simplification(p.env, arcs, limit)

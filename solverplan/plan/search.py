@@ -192,12 +192,15 @@ def query_graph(walls: Walls, start: BoundarySet, max_depth: int | None = None) 
                     starts.append(k)
                 elif lo < seg.t1 and seg.t0 < hi:  # a start piece
                     return safe_bounce_visibility_graph(p)
-    if N * (N - 1) < LAZY_MIN_ARCS or estimate_graph(p)[0] < LAZY_MIN_ARCS:
+    if N * (N - 1) < LAZY_MIN_ARCS:
+        return safe_bounce_visibility_graph(p)
+    estimate = estimate_graph(p)
+    if estimate[0] < LAZY_MIN_ARCS:
         return safe_bounce_visibility_graph(p)
     if max_depth is None:
         # without a budget a search reaches nearly every segment of a connected map within a few layers
         # (benchmarks/README.md): refuse now, not after minutes of building, what would not fit whole
-        check_graph_memory(p)
+        check_graph_memory(p, estimate)
     return reachable_safe_graph(p, starts, max_depth=max_depth)
 
 
