@@ -117,3 +117,22 @@ def test_a_reachable_part_beyond_the_memory_limit_is_refused_with_a_simplificati
         assert reachable_safe_graph(p, [0]).n_arcs > 1000
     finally:
         reset_memory_limit()
+
+
+def test_a_query_without_budget_is_refused_up_front_when_the_whole_graph_would_not_fit(monkeypatch):
+    """Without --max-bounces the on-demand build would reach nearly everything: refused before it starts."""
+    import solverplan as sp
+    import solverplan.bounce.bvg as bvg
+    from solverplan.generators import star_polygon
+    from solverplan.limits import reset_memory_limit, set_memory_limit
+
+    env = star_polygon(60, 0.2, 0.3, seed=6)
+    monkeypatch.setattr(bvg, "LAZY_MIN_ARCS", 0)
+    monkeypatch.setattr(bvg, "reachable_safe_graph", lambda *a, **k: pytest.fail("built before refusing"))
+    _cache.clear_graph_cache()
+    set_memory_limit(bvg._BASE_BYTES + 1000)
+    try:
+        with pytest.raises(bvg.GraphTooLarge, match="would need"):
+            sp.find_plan(env, "e0", "e30", objective="tolerance")
+    finally:
+        reset_memory_limit()
