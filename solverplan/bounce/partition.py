@@ -542,10 +542,14 @@ class _Kernel:
 
     def _edge_signs(self) -> np.ndarray:
         """E[i, x] = exact orient(vertex i, next vertex of i, vertex x): the side of x w.r.t. edge i."""
-        P = self.P
-        _, sign, _ = self._signs(P[:, None, :], P[self.nxt][:, None, :], P[None, :, :])
+        P, n, nxt = self.P, self.n, self.nxt
+        sign = np.empty((n, n), dtype=np.int8)
+        block = max(1, (1 << 20) // max(n, 1))  # rows at a time: the float temporaries stay near 50 MB
+        for r0 in range(0, n, block):
+            step("partition of the boundary: sides of the edges", r0, n)  # a stop point on very large maps
+            rs = slice(r0, min(n, r0 + block))
+            _, sign[rs], _ = self._signs(P[rs][:, None, :], P[nxt[rs]][:, None, :], P[None, :, :])
         rows, cols = np.nonzero(sign == 0)
-        nxt = self.nxt
         for i, x in zip(rows.tolist(), cols.tolist()):
             sign[i, x] = 0 if x in (i, nxt[i]) else self._orient(i, int(nxt[i]), x)
         return sign
