@@ -92,7 +92,7 @@ def main() -> None:
         print(f"| {name} | {width:g} × {height:g} | {environment.n_vertices:,} | "
               f"{info.get('holes')} | {w_imp:.1f} | {status} | {w:.1f} / {c:.1f} | {m:.0f} | "
               f"{stats.get('graph_segments', '–')} | {stats.get('graph_arcs', '–')} | "
-              f"{stats.get('graph_reachable_sources', 'all')} |")
+              f"{stats.get('graph_reachable_sources', 'all' if 'graph_arcs' in stats else '–')} |")
     if not options.skip_star:
         from solverplan.generators import star_polygon
 
