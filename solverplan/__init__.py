@@ -43,6 +43,8 @@ _EXPORTS: dict[str, str] = {
     "models": "solverplan.models",
     # run-time settings: the graph cache and the memory limit
     "config": "solverplan.runtime",
+    "watching": "solverplan.progress",
+    "Stopped": "solverplan.progress",
     "configure": "solverplan.runtime",
     "settings": "solverplan.runtime",
     "Settings": "solverplan.runtime",
@@ -135,6 +137,7 @@ __all__ = sorted(_EXPORTS)
 if TYPE_CHECKING:  # what type checkers and readers see; at run time the names load lazily
     from solverplan import models
     from solverplan.runtime import Settings, config, configure, settings
+    from solverplan.progress import Stopped, watching
     from solverplan.bounce.bvg import bounce_visibility_graph, safe_bounce_visibility_graph
     from solverplan.bounce.controller import constant_controller
     from solverplan.bounce.cycles import LimitCycle, limit_cycle

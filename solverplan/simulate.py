@@ -57,6 +57,7 @@ from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.geometry.raycast import RayHits, cast_from_boundary, heading_directions
 from solverplan.limits import MAX_BOUNCES, MAX_TRIALS, quote, refuse_beyond_memory
+from solverplan.progress import tick
 from solverplan.result import answer_kind
 
 __all__ = [
@@ -676,6 +677,7 @@ def simulate_policy(
     for step in range(bounces + 1):
         if len(active) == 0:
             break
+        tick("rollouts: bounces", step, bounces)  # the progress bar of long simulations
         contacts = Contacts(env, step, active, cur_e, cur_t, points, incoming)
         verdict = np.asarray(policy.check(contacts), dtype=np.int8)
         if len(verdict) != len(active):

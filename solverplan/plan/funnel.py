@@ -39,7 +39,7 @@ from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
-from solverplan.plan._deadline import deadline_of
+from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, SearchOutcome, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import Walls
@@ -206,7 +206,7 @@ def funnel(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     corner_clearance: float | None = None,
     max_rows: int | None = DEFAULT_MAX_ROWS,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> Funnel:
     """A funnel from ``start`` to ``goal``: fixed-width heading intervals that squeeze every start into the goal.
 

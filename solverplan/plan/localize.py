@@ -49,7 +49,7 @@ from solverplan.bounce.partition import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
-from solverplan.plan._deadline import deadline_of
+from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import Walls
@@ -146,7 +146,7 @@ def localize(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     corner_clearance: float | None = None,
     max_rows: int | None = DEFAULT_MAX_ROWS,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> Localization:
     """A localisation strategy: stages after which every start lies in one interval shorter than ``epsilon``.
 

@@ -589,7 +589,7 @@ def patrol(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> Patrol:
     """A patrol cycle visiting ``visit`` in order, optimal for ``objective`` (module docstring).
 
