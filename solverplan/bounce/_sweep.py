@@ -45,13 +45,15 @@ import numpy as np
 from solverplan._arrays import ragged_arange
 from solverplan.errors import SolverFailed
 from solverplan.geometry.raycast import cast_ray
+from solverplan.progress import step
 
-# Float tolerances. Headings (radians) closer than this are compared exactly; the tolerance is
+# Float tolerances (public: the graph's build in bvg decides its own float ties with the same ones).
+# Headings (radians) closer than this are compared exactly; the tolerance is
 # scaled by the conditioning of each direction (coordinate magnitude / vector length).
-_ANGLE_REL = 1e-13
+ANGLE_REL = 1e-13
 # Float cross products of differences of rounded points closer to 0 than this times the product of
 # the magnitudes involved are decided exactly (the float error is about 1e-15 of it).
-_CROSS_REL = 1e-13
+CROSS_REL = 1e-13
 # Sectors narrower than this (radians) are resolved with an exact ray (their float bisector may not
 # be strictly inside); relative gap of the two nearest edges along a bisector that counts as a tie.
 _THIN = 1e-9
@@ -72,10 +74,10 @@ MARK_ZERO, MARK_PI = -1, -2
 # A float heading or edge direction formed from rounded coordinates is off by up to about
 # 2⁻⁵² × (magnitude of the coordinates) / (length of the difference): nothing at a wall's scale, but
 # 1e-7 rad for a 1e-9-long feature at coordinates near 2, or 1e-5 rad for a 10-long one translated
-# by 1e12. Where that bound (with _ANGLE_REL's margin) exceeds _REFINE (radians), the value is
+# by 1e12. Where that bound (with ANGLE_REL's margin) exceeds REFINE (radians), the value is
 # recomputed from the exact coordinates, so every float answer is accurate to about 1e-16 of the
 # angle whatever the translation; elsewhere the plain float value is already that accurate.
-_REFINE = 1e-10
+REFINE = 1e-10
 _ROUND = 2.0**-52
 
 
@@ -100,7 +102,7 @@ def float_edge_vectors(env) -> np.ndarray:
     A, B = env.edge_start, env.edge_end
     ev = B - A
     mag = _ninf(A) + _ninf(B)
-    bad = np.flatnonzero(_ANGLE_REL * mag > _REFINE * np.hypot(ev[:, 0], ev[:, 1]))
+    bad = np.flatnonzero(ANGLE_REL * mag > REFINE * np.hypot(ev[:, 0], ev[:, 1]))
     if len(bad):
         ev = ev.copy()
         verts, nv = env.exact_vertices, env.next_vertex
@@ -298,20 +300,30 @@ class _Context:
         return (c > 0) - (c < 0)
 
 
-def build_sweeps(partition) -> Sweeps:
-    """All sweeps of ``partition`` and their entries (see the module docstring).
+def build_sweeps(partition, sources: np.ndarray | None = None, context: _Context | None = None) -> Sweeps:
+    """All sweeps of ``partition`` and their entries (see the module docstring); with ``sources`` (segment ids),
+    only the sweeps at the two ends of those segments (each sweep is computed on its own: the same entries).
 
     Memory follows the output: the (sweep × vertex) tables of steps 1–2 exist for one block of
     sweeps at a time (:data:`_BLOCK` cells), and only their compact results are kept — the
-    direction tables, and per (sweep, covering edge) pair its range of sectors.
+    direction tables, and per (sweep, covering edge) pair its range of sectors. ``context``: the partition's
+    :class:`_Context`, when the caller keeps one for several calls.
     """
-    ctx = _Context(partition)
+    ctx = context if context is not None else _Context(partition)
+    ctx.exact_checks = ctx.exact_casts = 0
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
+    if sources is not None:
+        wanted = np.zeros(ctx.N + 1, dtype=bool)  # index −1 (no segment) reads the last, False
+        wanted[np.asarray(sources, dtype=np.int64)] = True
+        keep = np.flatnonzero(wanted[plus_seg] | wanted[minus_seg])
+        origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = (a[keep] for a in (origin, frame, plus_seg, minus_seg,
+                                                                               lo_lim, hi_lim))
     M, n = len(origin), ctx.n
     holes = len(ctx.env.rings) > 1
     rows = max(1, _CELLS // max(n, 1))
     parts: list[tuple] = []
     for s0 in range(0, M, rows):
+        step("safe BVG: sweeps", s0, M)  # the progress bar, and where a timeout stops the build
         sl = slice(s0, min(M, s0 + rows))
         o, fr = origin[sl], frame[sl]
         # ---- 1. headings and classes of all original vertices, and the critical directions
@@ -394,7 +406,7 @@ def _headings(ctx: _Context, origin: np.ndarray, frame: np.ndarray, pts: np.ndar
     length = np.hypot(rel[..., 0], rel[..., 1])
     mag = _ninf(X) + _ninf(pts)
     with np.errstate(divide="ignore", invalid="ignore"):
-        err = _ANGLE_REL * mag / length + 1e-15
+        err = ANGLE_REL * mag / length + 1e-15
     return np.arctan2(cr, dt), err, cr, length, mag
 
 
@@ -412,7 +424,7 @@ def _classify(ctx: _Context, origin, frame, lo_lim, hi_lim):
         o, fr = origin[sl], frame[sl]
         V = np.broadcast_to(ctx.V, (len(o), n, 2))
         a, e, cr, length, mag = _headings(ctx, o, fr, V)
-        thr = _ANGLE_REL * mag + 1e-15 * length  # bound on the float error of cr
+        thr = ANGLE_REL * mag + 1e-15 * length  # bound on the float error of cr
         upper = cr > thr  # certainly strictly above the frame line
         lower = cr < -thr
         c = np.where(upper, _IN, np.where(lower, _BELOW, _NONE)).astype(np.int8)
@@ -449,7 +461,7 @@ def _classify(ctx: _Context, origin, frame, lo_lim, hi_lim):
             crl = rel[..., 0] * Lrel[:, None, 1] - rel[..., 1] * Lrel[:, None, 0]
             if at == _AT_LO:
                 crl = -crl
-            tol = _CROSS_REL * (_ninf(rel) * _ninf(Lrel)[:, None] + 0.1 * ctx.scale * (_ninf(rel) + _ninf(Lrel)[:, None])) + 1e-300
+            tol = CROSS_REL * (_ninf(rel) * _ninf(Lrel)[:, None] + 0.1 * ctx.scale * (_ninf(rel) + _ninf(Lrel)[:, None])) + 1e-300
             sub = c[rows_lim]
             cand = sub == _IN
             sure_in = cand & (crl > tol)
@@ -547,7 +559,7 @@ def _front_facing(ctx: _Context, origin: np.ndarray) -> tuple[np.ndarray, np.nda
         X = ctx.P[o]
         rel = X[:, None, :] - A[None, :, :]
         cr = d[None, :, 0] * rel[..., 1] - d[None, :, 1] * rel[..., 0]
-        tol = 0.1 * _CROSS_REL * (_ninf(d)[None, :] * (_ninf(rel) + ctx.scale))
+        tol = 0.1 * CROSS_REL * (_ninf(d)[None, :] * (_ninf(rel) + ctx.scale))
         front = cr > tol
         unsure = np.abs(cr) <= tol
         r = np.arange(len(o))
@@ -882,8 +894,8 @@ def _run_cuts(ctx: _Context, origin, frame, dir_to, r_m, r_lo, r_hi, c0, ccount)
     ca = de[:, 0] * rel[:, 1] - de[:, 1] * rel[:, 0]
     mag = _ninf(X) + _ninf(Y)
     n_rel = _ninf(rel)
-    tol_b = _CROSS_REL * (n_rel * _ninf(ds) + 0.1 * mag * (_ninf(ds) + n_rel)) + 1e-300
-    tol_a = _CROSS_REL * (n_rel * _ninf(de) + 0.1 * mag * (_ninf(de) + n_rel)) + 1e-300
+    tol_b = CROSS_REL * (n_rel * _ninf(ds) + 0.1 * mag * (_ninf(ds) + n_rel)) + 1e-300
+    tol_a = CROSS_REL * (n_rel * _ninf(de) + 0.1 * mag * (_ninf(de) + n_rel)) + 1e-300
     before = cb > tol_b
     after = ca > tol_a
     unsure_b = np.abs(cb) <= tol_b
@@ -969,12 +981,16 @@ def estimate_entries(partition, sample: int = 256) -> tuple[int, int]:
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
     M = len(origin)
     rows = np.unique(np.linspace(0, M - 1, min(M, sample)).astype(np.int64)) if M else np.zeros(0, dtype=np.int64)
-    o, fr, lo, hi = origin[rows], frame[rows], lo_lim[rows], hi_lim[rows]
-    cls, ang, err = _classify(ctx, o, fr, lo, hi)
-    rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo, hi, cls, ang, err)
-    pairs = _covering(ctx, o, cls, rank, K)
-    del cls, ang, err, rank
-    hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
-    found = len(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit)[0])
+    found = 0
+    for b0 in range(0, len(rows), 32):  # in blocks: a progress step (and a stop point) between them
+        step("safe BVG: estimating its size", b0, len(rows))
+        block = rows[b0:b0 + 32]
+        o, fr, lo, hi = origin[block], frame[block], lo_lim[block], hi_lim[block]
+        cls, ang, err = _classify(ctx, o, fr, lo, hi)
+        rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo, hi, cls, ang, err)
+        pairs = _covering(ctx, o, cls, rank, K)
+        del cls, ang, err, rank
+        hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
+        found += len(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit)[0])
     special = int(np.count_nonzero(lo_lim >= 0) + np.count_nonzero(hi_lim >= 0))
     return int(round(found * M / max(len(rows), 1))) + special, M

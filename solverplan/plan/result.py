@@ -35,7 +35,7 @@ from solverplan.errors import InputError, MalformedFile
 from solverplan.exact import to_fraction
 from solverplan.interval import Interval
 from solverplan.limits import quote
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stage, Stats, Status, answer_kind
 
 __all__ = [
     "Objective",
@@ -47,6 +47,7 @@ __all__ = [
     "load_plan",
     "read_optimality",
     "read_environment",
+    "read_stats",
 ]
 
 
@@ -86,17 +87,56 @@ def read_environment(data: object, where: str = "environment") -> EnvironmentRec
         raise MalformedFile(str(exc)) from None
 
 
+@answer_kind("plan")
 @dataclass(frozen=True)
-class Plan:
-    """A plan (``docs/contract.md``): heading intervals, one per bounce, that take the robot from every point
-    of the start set to the goal set whatever headings inside the intervals it executes — or a proof that
-    there is none (``status`` :attr:`~solverplan.result.Status.INFEASIBLE` with a ``reason``).
+class Plan(Answer):
+    """A plan (``docs/contract.md``): heading intervals, one per bounce, from every start to the goal set.
 
-    ``min_width`` is the narrowest interval's width (radians), ``tolerance`` = min_width / 2 (the
-    precision the robot needs), ``sum_width`` the sum of the widths; all ``None`` when infeasible.
-    ``bounces`` is the number of stages (0 when the start set already lies in the goal set). ``value``
-    is the objective's value in the units of ``optimality.bound``. ``environment`` is ``None`` for a plan
-    read from a file that does not record it.
+    The intervals take the robot from every point of the start set to the goal set whatever headings inside
+    them it executes — or the plan is a proof that there is none (``status``
+    :attr:`~solverplan.result.Status.INFEASIBLE` with a ``reason``). Made by :func:`find_plan`; read back by
+    :func:`load_plan`.
+
+    Attributes
+    ----------
+    status, reason
+        A :class:`~solverplan.result.Status` (``found``, ``infeasible``, or ``not-found`` after a timeout) and,
+        unless found, why.
+    objective
+        ``fewest``, ``tolerance``, ``sum`` or ``constant``.
+    stages
+        The bounces, as :class:`~solverplan.result.Stage` objects: heading intervals (radians, CCW from the wall
+        the robot is on), each executed from the segments of P′ the robot may be on.
+    optimality
+        How the plan's optimality (or the infeasibility) is established, with its bound and scope.
+    start, goal
+        The boundary sets asked for, as text (``"e3:0.25:0.75,e4"``).
+    max_bounces
+        The bounce budget K, if one was given.
+    environment
+        The :class:`~solverplan.result.EnvironmentRecord` of the environment; ``None`` for a plan read from a
+        file that does not record it.
+    margins
+        The margin policy the planner used (heading margin δ and interval-end margin μ in radians, corner
+        clearance κ in the environment's units).
+    stats
+        Times and counts (recorded, never compared).
+    bounces
+        The number of stages (0 when the start set already lies in the goal set); ``None`` unless found.
+    min_width, tolerance, sum_width
+        The narrowest interval's width (radians), half of it (the precision the robot needs), and the sum of
+        the widths; ``None`` unless found.
+    value
+        The objective's value in the units of ``optimality.bound``.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> plan = sp.find_plan(sp.load_environment("l_shape"), "e5", "e0:0:0.3")
+    >>> plan.status.value, plan.bounces, round(plan.tolerance, 4), plan.intervals
+    ('found', 1, 0.1452, (Interval(lo=0.001, hi=0.29132704406479815),))
+    >>> print(plan.to_text().splitlines()[0])
+    fewest plan in 'l_shape' from e5 to e0:0:0.3
     """
 
     status: Status
@@ -177,16 +217,14 @@ class Plan:
                                      f"0..{n_segments - 1}")
 
     # ------------------------------------------------------------------ output
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         """The contract's plan, then the extra fields described in the module docstring."""
         out: dict[str, Any] = {
-            "status": self.status.value,
             "objective": self.objective,
             "bounces": self.bounces,
             "min_width": self.min_width,
             "tolerance": self.tolerance,
             "stages": [s.to_json() for s in self.stages],
-            "optimality": self.optimality.to_json(),
         }
         if not self.found:
             out["reason"] = self.reason
@@ -194,13 +232,14 @@ class Plan:
         out["start"] = self.start
         out["goal"] = self.goal
         out["max_bounces"] = self.max_bounces
-        if self.environment is not None:
-            out["environment"] = self.environment.to_json()
         if self.margins:
             out["margins"] = dict(self.margins)
-        if self.stats:
-            out["stats"] = self.stats.to_json()
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> Plan:
+        """:func:`parse_plan` (``env`` is not needed: a plan names its environment by its SHA-256)."""
+        return parse_plan(data)
 
     def to_text(self, *, width: int = 100) -> str:
         """A table like the paper's (§7.1.2): stage, from, to, interval, width."""
@@ -247,12 +286,41 @@ class ParetoPoint:
                 "plan": self.plan.to_json()}
 
 
+@answer_kind("pareto")
 @dataclass(frozen=True)
-class ParetoFront:
-    """The Pareto front bounces ↔ tolerance: points with strictly increasing bounces and strictly
-    increasing min width. Every plan with b bounces has min width ≤ that of the last point with
-    ≤ b bounces (proved when ``optimality.proved``). Empty (``status`` infeasible, with a ``reason``) when
-    no plan exists. ``optimality.bound`` is the best min width (radians) of any plan of the scope."""
+class ParetoFront(Answer):
+    """The Pareto front bounces ↔ tolerance: the most tolerant plan for each number of bounces that helps.
+
+    Points have strictly increasing bounces and strictly increasing min width. Every plan with b bounces has
+    min width ≤ that of the last point with ≤ b bounces (proved when ``optimality.proved``). Made by
+    :func:`pareto_front`.
+
+    Attributes
+    ----------
+    points
+        The :class:`ParetoPoint` objects (``bounces``, ``min_width`` in radians, ``plan``), fewest bounces first;
+        empty when no plan exists.
+    optimality
+        ``optimality.bound`` is the best min width (radians) of any plan of the scope.
+    status, reason
+        ``found`` when there is a point; ``infeasible`` (proved, with a ``reason``) when no plan exists;
+        ``not-found`` when a timeout stopped the search first.
+    start, goal, max_bounces
+        The query: boundary sets as text, and the bounce budget if one was given.
+    environment
+        The :class:`~solverplan.result.EnvironmentRecord` of the environment.
+    stats
+        Times and counts (recorded, never compared).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> front = sp.pareto_front(sp.load_environment("l_shape"), "e5", "e0:0:0.3")
+    >>> [(point.bounces, round(point.min_width, 4)) for point in front.points]   # 4 more bounces: wider headings
+    [(1, 0.2903), (5, 0.3794)]
+    >>> front.best(3).bounces, front.optimality.proved
+    (1, True)
+    """
 
     points: tuple[ParetoPoint, ...]
     optimality: Optimality
@@ -279,24 +347,40 @@ class ParetoFront:
                 chosen = p
         return chosen
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         out: dict[str, Any] = {
-            "status": self.status.value,
             "objective": "tolerance",
             "front": [{"bounces": p.bounces, "min_width": p.min_width, "tolerance": p.tolerance} for p in self.points],
             "points": [p.to_json() for p in self.points],
-            "optimality": self.optimality.to_json(),
             "start": self.start,
             "goal": self.goal,
             "max_bounces": self.max_bounces,
         }
         if not self.points:
             out["reason"] = self.reason
-        if self.environment is not None:
-            out["environment"] = self.environment.to_json()
-        if self.stats:
-            out["stats"] = self.stats.to_json()
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> ParetoFront:
+        """Read a front back: each point's plan by :func:`parse_plan`; raises :class:`MalformedFile` naming the place."""
+        if not isinstance(data, dict):
+            raise MalformedFile("pareto: expected a JSON object (a Pareto front)")
+        raw = data.get("points")
+        if not isinstance(raw, list):
+            raise MalformedFile("pareto: points: expected a list of {bounces, min_width, plan}")
+        points = []
+        for k, item in enumerate(raw):
+            if not isinstance(item, dict) or not isinstance(item.get("bounces"), int):
+                raise MalformedFile(f"pareto: points[{k}]: expected an object with bounces, min_width, plan")
+            points.append(ParetoPoint(item["bounces"], _number(item.get("min_width"), f"pareto: points[{k}].min_width"),
+                                      parse_plan(item.get("plan"), f"pareto: points[{k}].plan")))
+        budget = data.get("max_bounces")
+        return cls(tuple(points), read_optimality(data.get("optimality"), "pareto: optimality"),
+                   start=_text_or_none(data.get("start"), "pareto: start"), goal=_text_or_none(data.get("goal"), "pareto: goal"),
+                   max_bounces=budget if isinstance(budget, int) and not isinstance(budget, bool) else None,
+                   reason=_text_or_none(data.get("reason"), "pareto: reason"),
+                   environment=read_environment(data.get("environment"), "pareto: environment"),
+                   stats=read_stats(data.get("stats")))
 
     def to_text(self, *, width: int = 100) -> str:
         buf = io.StringIO()
@@ -346,8 +430,8 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
     if not isinstance(data, dict):
         raise MalformedFile(f"{source}: expected a JSON object (a plan)")
     status = data.get("status")
-    if status not in ("found", "infeasible"):
-        raise MalformedFile(f"{source}: status must be 'found' or 'infeasible', got {quote(status)}")
+    if status not in ("found", "infeasible", "not-found"):
+        raise MalformedFile(f"{source}: status must be 'found', 'infeasible' or 'not-found', got {quote(status)}")
     objective = data.get("objective", "fewest")
     if not isinstance(objective, str):
         raise MalformedFile(f"{source}: objective must be a string")
@@ -410,13 +494,28 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
         objective=objective,
         stages=tuple(stages) if status == "found" else (),
         optimality=optimality,
-        reason=data.get("reason") if status == "infeasible" else None,
+        reason=data.get("reason") if status != "found" else None,
         start=start,
         goal=goal,
         max_bounces=max_bounces if isinstance(max_bounces, int) and not isinstance(max_bounces, bool) else None,
         environment=environment,
         margins=data.get("margins") or {},
+        stats=read_stats(data.get("stats")),
     )
+
+
+def _text_or_none(value: object, where: str) -> str | None:
+    if value is not None and not isinstance(value, str):
+        raise MalformedFile(f"{where}: expected a string or null, got {quote(value)}")
+    return value
+
+
+def read_stats(data: object) -> Stats:
+    """The :class:`~solverplan.result.Stats` of an answer's JSON (empty when missing; stats are never checked)."""
+    if not isinstance(data, dict):
+        return Stats()
+    known = {k: data[k] for k in ("seconds_setup", "seconds_search", "expanded") if k in data}
+    return Stats(**known, counts={k: v for k, v in data.items() if k not in known})
 
 
 def _sources(raw: object, moves: tuple[tuple[int, int], ...], where: str) -> tuple[BoundaryPiece, ...]:
@@ -440,7 +539,33 @@ def _sources(raw: object, moves: tuple[tuple[int, int], ...], where: str) -> tup
 
 
 def load_plan(path: str | Path) -> Plan:
-    """Read a plan file written by ``solverplan plan -o PLAN.json`` (see :func:`parse_plan`)."""
+    """Read a plan file written by ``solverplan plan -o PLAN.json`` (see :func:`parse_plan`).
+
+    Parameters
+    ----------
+    path
+        The plan file (JSON, ``docs/contract.md``).
+
+    Returns
+    -------
+    Plan
+        The plan as written, exact where the file is (stages, intervals, optimality); ``stats`` are not read.
+
+    Raises
+    ------
+    MalformedFile
+        A missing or unreadable file, invalid JSON, or JSON that is not a plan (the message names the field).
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> plan = sp.find_plan(sp.load_environment("l_shape"), "e5", "e0:0:0.3")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
+    >>> _ = path.write_text(json.dumps(plan.to_json()))
+    >>> sp.load_plan(path) == plan               # stats are not compared
+    True
+    """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")

@@ -61,7 +61,39 @@ def _time_limit(model: RobotModel, plan: FieldPlan, speed: float) -> float:
 
 @dataclass(frozen=True, slots=True)
 class RobotModel:
-    """The robot and its controller; lengths in the environment's units, times in seconds."""
+    """The robot and its controller; lengths in the environment's units, times in seconds.
+
+    Attributes
+    ----------
+    kind
+        ``"inertial"`` (a mass with bounded acceleration that bounces off walls) or ``"integrator"`` (the
+        velocity is the command).
+    control_rate, physics_rate
+        Commands per second, and integration steps per second (Hz; a multiple of the control rate).
+    accel
+        Inertial: the largest change of velocity per second (length/s²).
+    restitution, friction
+        Inertial: the normal speed kept (reversed) by an impact, and the share of the tangential speed lost.
+    dead_band
+        Commanded speeds below this give no motion (length/s).
+    heading_noise, speed_noise
+        Standard deviation of the commanded heading (radians), and relative standard deviation of the speed.
+    goal_radius
+        The goal is reached within this distance (length).
+    max_time
+        A trial that has not reached the goal by then failed (s); ``None``: ten times the time the scenario's
+        speed takes along the cell sequence's centres, at least 60 s and at most 600 s.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> sp.RobotModel(kind="integrator", heading_noise=0.3).to_json()["heading_noise"]
+    0.3
+    >>> sp.RobotModel(control_rate=30)
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: physics_rate must be a positive multiple of control_rate
+    """
 
     kind: str = "inertial"
     control_rate: float = 20.0  #: commands per second (Hz)
@@ -161,7 +193,23 @@ class ScenarioRun:
                 "trajectories": [np.round(t, 5).tolist() for t in self.trajectories],
                 "speed": self.scenario.speed, "reflect": self.scenario.reflect,
                 "time_min": float(self.times[self.reached].min()) if self.reached.any() else None,
-                "time_max": float(self.times[self.reached].max()) if self.reached.any() else None}
+                "time_max": float(self.times[self.reached].max()) if self.reached.any() else None,
+                # every trial (null: the goal was not reached), so that the answer reads back whole
+                "times": [float(t) if np.isfinite(t) else None for t in self.times],
+                "collisions": [int(c) for c in self.collisions], "stayed_inside": bool(self.stayed_inside)}
+
+    @classmethod
+    def from_json(cls, name: str, data: dict) -> ScenarioRun:
+        """Read :meth:`to_json` back (``name``: the scenario's); raises :class:`~solverplan.errors.InputError` if
+        malformed."""
+        try:
+            times = np.array([np.nan if t is None else float(t) for t in data["times"]], dtype=float)
+            collisions = np.array([int(c) for c in data["collisions"]], dtype=np.int64)
+            trajectories = tuple(np.array(t, dtype=float).reshape(-1, 2) for t in data.get("trajectories") or [])
+            scenario = Scenario(name, float(data["speed"]), bool(data["reflect"]))
+        except (KeyError, TypeError, ValueError):
+            raise InputError(f"scenarios.{name}: expected the trials' times, collisions, speed and reflect") from None
+        return cls(scenario, times, collisions, trajectories, bool(data.get("stayed_inside", True)))
 
 
 class _Fields:
@@ -223,10 +271,11 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     Examples
     --------
     >>> import solverplan as sp
-    >>> plan = sp.compose_fields(sp.load_environment("serpentine"), (3, "2.25"), (3, "0.25"))
-    >>> runs = simulate_scenarios(plan, list(default_scenarios().values()), trials=3, seed=1)
-    >>> [(name, r.success) for name, r in runs.items()]
-    [('constrained', 1.0), ('unconstrained', 1.0), ('reflection', 1.0)]
+    >>> plan = sp.compose_fields(sp.load_environment("l_shape"), (5, 2), (2, 5))
+    >>> robot = sp.RobotModel(physics_rate=100)          # 5 integration steps per command: coarse, quick
+    >>> runs = simulate_scenarios(plan, list(default_scenarios().values()), model=robot, trials=4, seed=1)
+    >>> [(name, r.success, round(float(r.times.mean()))) for name, r in runs.items()]   # seconds to the goal
+    [('constrained', 1.0, 8), ('unconstrained', 1.0, 5), ('reflection', 1.0, 5)]
     """
     model = model or RobotModel()
     if trials < 1:

@@ -35,7 +35,7 @@ from solverplan.generators import (
     star_polygon_with_holes,
     worst_case_polygon,
 )
-from solverplan.studies.metrics import Connectivity, Metric, Reachability
+from solverplan.studies.metrics import ConnectivityMetric, Metric, ReachabilityMetric
 from solverplan.studies.rooms import RoomRuns, RuleComparison, compare_rules, periodic_orbit, simulate_rooms
 from solverplan.studies.rule_systems import RuleReachability
 from solverplan.studies.study import Heatmap, Study, StudyTable, parse_grid, parse_values, row_seed, run_task
@@ -57,8 +57,8 @@ __all__ = [
     "row_seed",
     "run_task",
     "Metric",
-    "Reachability",
-    "Connectivity",
+    "ReachabilityMetric",
+    "ConnectivityMetric",
     "RuleReachability",
     "run_study",
     "StudyResult",

@@ -34,6 +34,7 @@ import numpy as np
 
 from solverplan.errors import InputError
 from solverplan.exact import format_number
+from solverplan.result import answer_kind
 from solverplan.geometry.raycast import cast_rays_exact
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
@@ -52,7 +53,7 @@ Doors = Literal["control", "open"]
 
 class RoomPolicy:
     """A rule executed in the rooms of a decomposition, with door control (:class:`solverplan.simulate.Policy`
-    with its own :class:`~solverplan.simulate.Walls`).
+    with its own :class:`~solverplan.simulate.PolicyWalls`).
 
     The robot of rollout i is at position ``positions[i]`` of the room sequence; it reaches the goal when it is
     at the last one. Without control (``control=None``) every door is open and the goal is being in ``goal``.
@@ -96,6 +97,7 @@ class RoomPolicy:
         return f"{self.rule.name} rule, doors {self.doors}"
 
 
+@answer_kind("rooms-simulation")
 @dataclass(frozen=True)
 class RoomRuns:
     """Runs of one rule from a start room to a target room (module docstring).
@@ -131,6 +133,7 @@ class RoomRuns:
 
     def to_json(self) -> dict:
         out: dict[str, Any] = {
+            "kind": "rooms-simulation",
             "rule": self.rule, "from": self.walk[0], "to": self.walk[-1], "rooms": list(self.walk),
             "trials": self.trials, "max_bounces": self.max_bounces, "seed": self.seed, "doors": self.doors,
             "success": self.success, "bounces_mean": self.bounces_mean, "bounces_median": self.bounces_median,
@@ -174,6 +177,7 @@ def _table(runs: Sequence[RoomRuns], walk: tuple[int, ...], trials: int, max_bou
     return "\n".join(lines) + "\n"
 
 
+@answer_kind("rooms-rules")
 @dataclass(frozen=True)
 class RuleComparison:
     """The rules side by side (the paper's Table I): ``runs[name]`` for each rule, the same starts for all."""
@@ -181,7 +185,7 @@ class RuleComparison:
     runs: dict[str, RoomRuns]
 
     def to_json(self) -> dict:
-        out: dict[str, Any] = {"rules": {name: r.to_json() for name, r in self.runs.items()}}
+        out: dict[str, Any] = {"kind": "rooms-rules", "rules": {name: r.to_json() for name, r in self.runs.items()}}
         first = next(iter(self.runs.values()))
         out["rooms"] = list(first.walk)
         if first.recommendation is not None:
@@ -239,6 +243,25 @@ def simulate_rooms(
     per_room
         Give the smart robot the θ of the room it is in (:func:`~solverplan.rectilinear.rules.room_tangents`)
         instead of the least θ of the whole sequence.
+
+    Returns
+    -------
+    RoomRuns
+        The share of robots that reached ``goal`` within ``max_bounces`` (``success``), their bounce counts, the
+        deterministic runs proved trapped in a periodic orbit, and the θ the smart rule used (radians).
+
+    Raises
+    ------
+    InputError
+        Unknown rooms or rule, a walk that does not join ``start`` to ``goal`` through doors, bad counts.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> rooms = sp.decompose_rooms(sp.load_environment("l_shape"))
+    >>> runs = sp.simulate_rooms(rooms, 0, 1, trials=20, seed=1)          # 20 smart robots from room 0 to room 1
+    >>> runs.success, runs.outcomes["goal"], runs.theta_tangent, runs.bounces_median
+    (1.0, 20, Fraction(1, 5), 5.5)
     """
     trials = _check_count("trials", trials, 1)
     max_bounces = _check_count("max_bounces", max_bounces, 1)
@@ -269,7 +292,32 @@ def simulate_rooms(
 
 
 def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[str] = RULES, **options: Any) -> RuleComparison:
-    """:func:`simulate_rooms` for each rule with the same seed (so the same starts), side by side."""
+    """:func:`simulate_rooms` for each rule with the same seed (so the same starts), side by side.
+
+    Parameters
+    ----------
+    dec
+        A room decomposition (:func:`solverplan.rectilinear.decompose_rooms`).
+    start, goal
+        Room ids.
+    rules
+        The rules to compare (default all: ``smart``, ``random``, ``billiard``).
+    **options
+        :func:`simulate_rooms`'s keyword arguments (``trials``, ``seed``, ``max_bounces``, ``doors``, ...).
+
+    Returns
+    -------
+    RuleComparison
+        ``runs[rule]``, one :class:`RoomRuns` per rule (the paper's Table I), from the same starts.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> rooms = sp.decompose_rooms(sp.load_environment("l_shape"))
+    >>> table = sp.compare_rules(rooms, 0, 1, trials=20, seed=1)
+    >>> {rule: (runs.success, runs.bounces_median) for rule, runs in table.runs.items()}
+    {'smart': (1.0, 5.5), 'random': (1.0, 4.0), 'billiard': (1.0, 6.5)}
+    """
     return RuleComparison({name: simulate_rooms(dec, start, goal, rule=name, **options) for name in rules})
 
 

@@ -170,8 +170,8 @@ def row_key(params: Mapping[str, Any], options: Mapping[str, Any], replicate: in
 class Study:
     """A grid of generator parameters × ``per_cell`` seeds, measured by ``metric`` (module docstring).
 
-    >>> from solverplan.studies.metrics import Reachability
-    >>> study = Study(Reachability(), per_cell=2, grid=(("n", (8,)), ("irregularity", (0.1, 0.3)), ("spikiness", (0.2,))))
+    >>> from solverplan.studies.metrics import ReachabilityMetric
+    >>> study = Study(ReachabilityMetric(), per_cell=2, grid=(("n", (8,)), ("irregularity", (0.1, 0.3)), ("spikiness", (0.2,))))
     >>> study.n_cells, len(study.tasks()), study.axes
     (2, 4, ('irregularity',))
     >>> study.columns[:6]

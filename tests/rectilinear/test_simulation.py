@@ -204,5 +204,5 @@ def test_the_simulator_hook_for_walls_of_a_policys_own(chambers):
         def check(self, contacts):
             return np.full(len(contacts), Outcome.RUNNING, dtype=np.int8)
 
-    with pytest.raises(InputError, match=r"has walls that are not Walls"):
+    with pytest.raises(InputError, match=r"has walls that are not PolicyWalls"):
         simulate_policy(chambers.env, Broken(), (np.array([0]), np.array([0.5])), bounces=3)
