@@ -37,7 +37,8 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from solverplan.certify.check_models import Env, Malformed, ModelChecker, Reader as R, area2, dist2, pt, text
+from solverplan.certify.check_models import (Env, Malformed, ModelChecker, Reader as R, apart, area2, box, dist2, inside_open,
+                                             param_on, pt, text)
 from solverplan.certify.exact2d import clip_segment, cross, on_closed_segment, orient, sub
 from solverplan.certify.schema import Point
 
@@ -59,39 +60,19 @@ def _edge_enters_triangle(u: Point, w: Point, tri: tuple[Point, Point, Point]) -
     return _strictly_inside_triangle(p, *tri)
 
 
-def _box(points) -> tuple[Fraction, Fraction, Fraction, Fraction]:
-    return (min(p[0] for p in points), min(p[1] for p in points), max(p[0] for p in points), max(p[1] for p in points))
-
-
-def _apart(s, t) -> bool:
-    return s[2] < t[0] or t[2] < s[0] or s[3] < t[1] or t[3] < s[1]
-
-
 def _in_closed_ring(p: Point, ring: list[Point]) -> bool:
     n = len(ring)
     if any(on_closed_segment(p, ring[i], ring[(i + 1) % n]) for i in range(n)):
         return True
-    return _inside_open(p, ring)
-
-
-def _inside_open(p: Point, ring: list[Point]) -> bool:
-    inside = False
-    n = len(ring)
-    for i in range(n):
-        a, b = ring[i], ring[(i + 1) % n]
-        if (a[1] > p[1]) != (b[1] > p[1]):
-            side = orient(a, b, p)
-            if (b[1] > a[1] and side > 0) or (b[1] < a[1] and side < 0):
-                inside = not inside
-    return inside
+    return inside_open(p, ring)
 
 
 def _covers_beyond(m: Point, normal: Point, ring: list[Point], sides: list) -> bool:
     """Do the points m + ε·normal, ε > 0 small, lie in the closed polygon ``ring`` (CCW)? (m is no vertex of it.)"""
-    for a, b, box in sides:
-        if box[0] <= m[0] <= box[2] and box[1] <= m[1] <= box[3] and orient(a, b, m) == 0:
+    for a, b, bb in sides:
+        if bb[0] <= m[0] <= bb[2] and bb[1] <= m[1] <= bb[3] and orient(a, b, m) == 0:
             return cross(sub(b, a), normal) > 0
-    return _inside_open(m, ring)
+    return inside_open(m, ring)
 
 
 def _isqrt(n: int) -> int:
@@ -141,8 +122,8 @@ def check(c: ModelChecker) -> None:
         views.append((R.point(R.field(obj, "viewpoint", where), f"{where}.viewpoint"), parent,
                       R.ring(R.field(obj, "polygon", where), f"{where}.polygon")))
     edges = env.edges
-    edge_boxes = [_box(e) for e in edges]
-    boxes = [_box(ring) for _, _, ring in views]
+    edge_boxes = [box(e) for e in edges]
+    boxes = [box(ring) for _, _, ring in views]
     # 1. every view is seen from its viewpoint
     for k, (z, _, ring) in enumerate(views):
         where = f"claims.views[{k}]"
@@ -166,15 +147,15 @@ def check(c: ModelChecker) -> None:
                     c.fail(f"{where}.polygon[{i}]", f"the side {pt(a)}–{pt(b)} doubles back through the viewpoint")
                     break
                 continue  # a side along a line of sight
-            side_box = _box([a, b])
-            if not any(not _apart(side_box, eb) and orient(u, w, a) == 0 and orient(u, w, b) == 0
+            side_box = box([a, b])
+            if not any(not apart(side_box, eb) and orient(u, w, a) == 0 and orient(u, w, b) == 0
                        and on_closed_segment(a, u, w) and on_closed_segment(b, u, w) for (u, w), eb in zip(edges, edge_boxes)):
                 c.fail(f"{where}.polygon[{i}]", f"the side {pt(a)}–{pt(b)} is neither on the boundary nor along a line "
                        f"of sight: the polygon is not the view from {pt(z)}")
                 break
             tri = (z, a, b)
-            box = _box(tri)
-            if any(not _apart(box, eb) and _edge_enters_triangle(e[0], e[1], tri) for e, eb in zip(edges, edge_boxes)):
+            bb = box(tri)
+            if any(not apart(bb, eb) and _edge_enters_triangle(e[0], e[1], tri) for e, eb in zip(edges, edge_boxes)):
                 c.fail(f"{where}.polygon[{i}]", f"the boundary enters the triangle from the viewpoint to {pt(a)}–{pt(b)}: "
                        f"that part is not seen")
                 break
@@ -238,15 +219,15 @@ def check(c: ModelChecker) -> None:
 
 def _check_cover(c: ModelChecker, env: Env, views: list, boxes: list) -> None:
     # every side with its bounding box, so that only sides whose boxes meet are compared (exact tests are costly)
-    sides = [[(ring[h], ring[(h + 1) % len(ring)], _box([ring[h], ring[(h + 1) % len(ring)]])) for h in range(len(ring))]
+    sides = [[(ring[h], ring[(h + 1) % len(ring)], box([ring[h], ring[(h + 1) % len(ring)]])) for h in range(len(ring))]
              for _, _, ring in views]
-    walls = [(u, w, _box([u, w])) for u, w in env.edges]
+    walls = [(u, w, box([u, w])) for u, w in env.edges]
     vertices = [(v, v[0], v[1]) for v in env.vertices]
     for k, (_, _, ring) in enumerate(views):
-        for i, (a, b, box) in enumerate(sides[k]):
+        for i, (a, b, bb) in enumerate(sides[k]):
             if a == b:
                 continue
-            near_walls = [(u, w) for u, w, wb in walls if not _apart(box, wb)]
+            near_walls = [(u, w) for u, w, wb in walls if not apart(bb, wb)]
             if any(orient(u, w, a) == 0 and orient(u, w, b) == 0 and on_closed_segment(a, u, w) and on_closed_segment(b, u, w)
                    for u, w in near_walls):
                 continue  # a side on the boundary: nothing beyond it
@@ -254,16 +235,16 @@ def _check_cover(c: ModelChecker, env: Env, views: list, boxes: list) -> None:
             normal = (d[1], -d[0])  # outward: the views are counter-clockwise
             params = {Fraction(0), Fraction(1)}
             for v, x, y in vertices:
-                if box[0] <= x <= box[2] and box[1] <= y <= box[3] and orient(a, b, v) == 0:
-                    params.add(_param(a, d, v))
-            others = [j for j in range(len(views)) if j != k and not _apart(box, boxes[j])]
+                if bb[0] <= x <= bb[2] and bb[1] <= y <= bb[3] and orient(a, b, v) == 0:
+                    params.add(param_on(a, d, v))
+            others = [j for j in range(len(views)) if j != k and not apart(bb, boxes[j])]
             for j in others:
                 for p, q, side_box in sides[j]:
-                    if _apart(box, side_box):
+                    if apart(bb, side_box):
                         continue
                     for x in (p, q):
                         if orient(a, b, x) == 0 and on_closed_segment(x, a, b):
-                            params.add(_param(a, d, x))
+                            params.add(param_on(a, d, x))
                     e = sub(q, p)
                     den = cross(d, e)
                     if den != 0:
@@ -286,5 +267,3 @@ def _check_cover(c: ModelChecker, env: Env, views: list, boxes: list) -> None:
                     return
 
 
-def _param(a: Point, d: Point, v: Point) -> Fraction:
-    return (v[0] - a[0]) / d[0] if d[0] != 0 else (v[1] - a[1]) / d[1]

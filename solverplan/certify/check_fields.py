@@ -37,7 +37,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from solverplan.certify.check_models import Malformed, ModelChecker, Reader as R, area2, pt, text
+from solverplan.certify.check_models import Malformed, ModelChecker, Reader as R, apart, area2, box, pt, text
 from solverplan.certify.exact2d import clip_segment, on_closed_segment, orient
 from solverplan.certify.schema import Point
 
@@ -85,14 +85,6 @@ def _separated(p: list[Point], q: list[Point]) -> bool:
     return False
 
 
-def _box(points):
-    return (min(p[0] for p in points), min(p[1] for p in points), max(p[0] for p in points), max(p[1] for p in points))
-
-
-def _apart(s, t) -> bool:
-    return s[2] < t[0] or t[2] < s[0] or s[3] < t[1] or t[3] < s[1]
-
-
 def _in_cell(p: Point, ring: list[Point]) -> bool:
     n = len(ring)
     return all(orient(ring[i], ring[(i + 1) % n], p) >= 0 for i in range(n))
@@ -118,7 +110,7 @@ def check(c: ModelChecker) -> None:
         raise Malformed("claims.cells", "no cells")
     # 1. the tiling
     total = Fraction(0)
-    boxes = [_box(ring) for ring, _ in cells]
+    boxes = [box(ring) for ring, _ in cells]
     for k, (ring, neighbours) in enumerate(cells):
         where = f"claims.cells[{k}]"
         c.count("cells")
@@ -131,7 +123,7 @@ def check(c: ModelChecker) -> None:
             c.fail(f"{where}.polygon", "is not in the free space")
             continue
         for u, w in env.edges:
-            if _apart(boxes[k], _box([u, w])):
+            if apart(boxes[k], box([u, w])):
                 continue
             clipped = clip_segment(u, w, ring)
             if clipped is not None:
@@ -156,7 +148,7 @@ def check(c: ModelChecker) -> None:
                 c.fail(f"{where}.neighbours[{i}]", f"cell {nb} does not have the side {pt(b)}–{pt(a)} naming cell {k} back")
     for k in range(m):
         for j in range(k + 1, m):
-            if _apart(boxes[k], boxes[j]):
+            if apart(boxes[k], boxes[j]):
                 continue
             c.count("cell_pairs")
             if not _separated(cells[k][0], cells[j][0]):

@@ -26,7 +26,7 @@ from solverplan.certify.check import CheckReport, Failure, _Checker, _environmen
 from solverplan.certify.exact2d import cross, dot, on_closed_segment, orient, sub
 from solverplan.certify.schema import ModelCertificate, Point, number_text, parse_number
 
-__all__ = ["check_model_certificate", "Malformed", "Reader", "ModelChecker", "Env"]
+__all__ = ["check_model_certificate", "Malformed", "Reader", "ModelChecker", "Env", "inside_open", "box", "apart", "param_on"]
 
 
 class Malformed(Exception):
@@ -136,6 +136,27 @@ class Env:
         if not _inside(p, self.rings[0]):
             return -1
         return -1 if any(_inside(p, hole) for hole in self.rings[1:]) else 1
+
+
+def inside_open(p: Point, ring: list[Point]) -> bool:
+    """Is p strictly inside the simple ring, or (when on it) wherever the crossing number puts it? Callers decide
+    points on the ring first (exact crossing number)."""
+    return _inside(p, ring)
+
+
+def box(points) -> tuple[Fraction, Fraction, Fraction, Fraction]:
+    """The bounding box (x_min, y_min, x_max, y_max) of exact points."""
+    return (min(p[0] for p in points), min(p[1] for p in points), max(p[0] for p in points), max(p[1] for p in points))
+
+
+def apart(s: tuple, t: tuple) -> bool:
+    """Are two bounding boxes disjoint (so the exact tests between what they bound can be skipped)?"""
+    return s[2] < t[0] or t[2] < s[0] or s[3] < t[1] or t[3] < s[1]
+
+
+def param_on(a: Point, d: Point, v: Point) -> Fraction:
+    """The parameter of v on the line a + s·d (v on that line, d ≠ 0)."""
+    return (v[0] - a[0]) / d[0] if d[0] != 0 else (v[1] - a[1]) / d[1]
 
 
 def _inside(p: Point, ring: list[Point]) -> bool:

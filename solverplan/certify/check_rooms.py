@@ -31,7 +31,8 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from solverplan.certify.check_models import Malformed, ModelChecker, Reader as R, area2, pt, segment_crosses_open, text
+from solverplan.certify.check_models import (Malformed, ModelChecker, Reader as R, apart, area2, box, inside_open, param_on, pt,
+                                             segment_crosses_open, text)
 from solverplan.certify.exact2d import on_closed_segment, orient
 from solverplan.certify.schema import Point
 
@@ -41,14 +42,7 @@ __all__ = ["check"]
 def _inside_strictly(p: Point, ring: list[Point]) -> bool:
     if any(on_closed_segment(p, ring[i], ring[(i + 1) % len(ring)]) for i in range(len(ring))):
         return False
-    inside = False
-    for i in range(len(ring)):
-        a, b = ring[i], ring[(i + 1) % len(ring)]
-        if (a[1] > p[1]) != (b[1] > p[1]):
-            side = orient(a, b, p)
-            if (b[1] > a[1] and side > 0) or (b[1] < a[1] and side < 0):
-                inside = not inside
-    return inside
+    return inside_open(p, ring)
 
 
 def _covered(p: Point, q: Point, pieces: list[tuple[Point, Point]]) -> bool:
@@ -247,15 +241,15 @@ def check(c: ModelChecker) -> None:
     samples = {k: _interior_point(rooms[k][0]) for k in good_rooms}
     for k in good_rooms:
         polygon = rooms[k][0]
-        box = _box(polygon)
+        bb = box(polygon)
         for d, (a, b, *_) in enumerate(doors):
-            if _boxes_apart(box, _box([a, b])):
+            if apart(bb, box([a, b])):
                 continue
             c.count("door_room_tests")
             if _enters(a, b, polygon):
                 c.fail(f"claims.doors[{d}]", f"runs through the interior of room {k}")
         for j in good_rooms:
-            if j != k and not _boxes_apart(box, _box(rooms[j][0])) and _inside_strictly(samples[j], polygon):
+            if j != k and not apart(bb, box(rooms[j][0])) and _inside_strictly(samples[j], polygon):
                 c.fail(f"claims.rooms[{j}]", f"overlaps room {k}")
     # 3. doors as sides, the tree
     adjacency: dict[int, list[tuple[int, int]]] = {}
@@ -357,7 +351,7 @@ def _enters(a: Point, b: Point, polygon: list[Point]) -> bool:
         p, q = polygon[i], polygon[(i + 1) % len(polygon)]
         for v in (p, q):
             if orient(a, b, v) == 0 and on_closed_segment(v, a, b):
-                cuts.add(_param(a, d, v))
+                cuts.add(param_on(a, d, v))
         e = (q[0] - p[0], q[1] - p[1])
         den = d[0] * e[1] - d[1] * e[0]
         if den != 0:
@@ -373,13 +367,3 @@ def _enters(a: Point, b: Point, polygon: list[Point]) -> bool:
     return False
 
 
-def _param(a: Point, d: Point, v: Point) -> Fraction:
-    return (v[0] - a[0]) / d[0] if d[0] != 0 else (v[1] - a[1]) / d[1]
-
-
-def _box(points: list[Point]) -> tuple[Fraction, Fraction, Fraction, Fraction]:
-    return (min(p[0] for p in points), min(p[1] for p in points), max(p[0] for p in points), max(p[1] for p in points))
-
-
-def _boxes_apart(s: tuple, t: tuple) -> bool:
-    return s[2] < t[0] or t[2] < s[0] or s[3] < t[1] or t[3] < s[1]
