@@ -23,7 +23,7 @@ from fractions import Fraction
 from typing import Any, Callable
 
 from solverplan.certify.check import CheckReport, Failure, _Checker, _environment_summary
-from solverplan.certify.exact2d import cross, dot, on_closed_segment, orient, sub
+from solverplan.certify.exact2d import cross, dot, inside_ring as _inside, on_closed_segment, orient, sub
 from solverplan.certify.schema import ModelCertificate, Point, number_text, parse_number
 
 __all__ = ["check_model_certificate", "Malformed", "Reader", "ModelChecker", "Env", "inside_open", "box", "apart", "param_on"]
@@ -157,18 +157,6 @@ def apart(s: tuple, t: tuple) -> bool:
 def param_on(a: Point, d: Point, v: Point) -> Fraction:
     """The parameter of v on the line a + s·d (v on that line, d ≠ 0)."""
     return (v[0] - a[0]) / d[0] if d[0] != 0 else (v[1] - a[1]) / d[1]
-
-
-def _inside(p: Point, ring: list[Point]) -> bool:
-    inside = False
-    n = len(ring)
-    for i in range(n):
-        a, b = ring[i], ring[(i + 1) % n]
-        if (a[1] > p[1]) != (b[1] > p[1]):
-            side = orient(a, b, p)
-            if (b[1] > a[1] and side > 0) or (b[1] < a[1] and side < 0):
-                inside = not inside
-    return inside
 
 
 class ModelChecker:

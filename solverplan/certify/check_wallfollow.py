@@ -102,15 +102,23 @@ def _needs_simple(c: ModelChecker) -> bool:
     return True
 
 
-def check_cut_ordering(c: ModelChecker) -> None:
+def _ring_and_cuts(c: ModelChecker, claim: str) -> tuple[list[Point], dict[tuple[int, str], Cut]] | None:
+    """The simple polygon's ring and its exact cuts; ``None`` (failures recorded under ``claim``) if it has holes."""
     if not _needs_simple(c):
-        return
+        return None
     assert c.env is not None
-    ring = c.env.outer
-    n = len(ring)
-    cuts, problems = exact_cuts(ring)
+    cuts, problems = exact_cuts(c.env.outer)
     for problem in problems:
-        c.fail("claims.cuts", problem)
+        c.fail(claim, problem)
+    return c.env.outer, cuts
+
+
+def check_cut_ordering(c: ModelChecker) -> None:
+    found = _ring_and_cuts(c, "claims.cuts")
+    if found is None:
+        return
+    ring, cuts = found
+    n = len(ring)
     claims = c.cert.claims
     raw = R.lst(R.field(claims, "cuts", "claims"), "claims.cuts")
     claimed: set[tuple[int, str]] = set()
@@ -341,16 +349,11 @@ def _point(ring: list[Point], pos: tuple[int, Fraction]) -> Point:
 
 
 def check_pursuit(c: ModelChecker) -> None:
-    if not _needs_simple(c):
+    walls = _ring_and_cuts(c, "claims")
+    if walls is None or c.failures:
         return
-    assert c.env is not None
-    ring = c.env.outer
+    ring, cuts = walls
     n = len(ring)
-    cuts, problems = exact_cuts(ring)
-    for problem in problems:
-        c.fail("claims", problem)
-    if problems:
-        return
     claims = c.cert.claims
     start = R.text(R.field(claims, "start", "claims"), "claims.start")
     if start[:1] == "v" and start[1:].isdigit() and int(start[1:]) < n:

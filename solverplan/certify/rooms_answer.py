@@ -15,7 +15,7 @@ answer does not state exactly (door lengths, Ψ) are listed under ``not_checked`
 True
 >>> answer["doors"][0]["b"] = [30, 16]
 >>> print(check_rooms(env, answer).failures[0])
-claims.doors[0].length: claims 1, the door is 1.5 long
+claims.doors[0]: (30, 14.5)–(30, 16) does not run through the interior of the polygon
 """
 
 from __future__ import annotations

@@ -403,14 +403,7 @@ class Certificate:
         """The certificate as JSON data (exact numbers as ints or strings)."""
         # version 1 spelled a localisation certificate as a funnel (its objective says localize)
         kind = "funnel" if self.version == 1 and self.kind == "localize" else self.kind
-        data: dict[str, Any] = {"schema": SCHEMA, "version": self.version, "kind": kind}
-        if self.producer:
-            data["producer"] = self.producer
-        env: dict[str, Any] = {}
-        if self.environment.name:
-            env["name"] = self.environment.name
-        env["rings"] = [[_point_json(p) for p in ring] for ring in self.environment.rings]
-        data["environment"] = env
+        data = _head_json(kind, self.version, self.producer, self.environment)
         data["segments"] = [
             {"id": s.id, "edge": s.edge, "t0": json_value(s.t0), "t1": json_value(s.t1), "a": _point_json(s.a), "b": _point_json(s.b)}
             for s in self.segments
@@ -466,12 +459,7 @@ class Certificate:
             place (``stages[0].moves[1].target``). Semantic problems (a ray missing its target, an
             unknown segment id) are not format errors: the checker reports them.
         """
-        top = _object(data, "certificate")
-        if top.get("schema") != SCHEMA:
-            raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
-        version = top.get("version")
-        if isinstance(version, bool) or version not in READ_VERSIONS:
-            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1 to 4)")
+        top, version = _head(data)
         kind = _field(top, "kind", "certificate")
         if version >= 4 and kind in MODEL_KINDS:
             raise CertificateFormatError(f"kind: {_q(kind)} is a model certificate: read it with parse_certificate")
@@ -551,26 +539,14 @@ class ModelCertificate:
 
     def to_json(self) -> dict:
         """The certificate as JSON data."""
-        data: dict[str, Any] = {"schema": SCHEMA, "version": self.version, "kind": self.kind}
-        if self.producer:
-            data["producer"] = self.producer
-        env: dict[str, Any] = {}
-        if self.environment.name:
-            env["name"] = self.environment.name
-        env["rings"] = [[_point_json(p) for p in ring] for ring in self.environment.rings]
-        data["environment"] = env
+        data = _head_json(self.kind, self.version, self.producer, self.environment)
         data["claims"] = _plain(self.claims)
         return data
 
     @classmethod
     def from_json(cls, data: object) -> ModelCertificate:
         """Read JSON data; :class:`CertificateFormatError` for a wrong schema, version or kind or a missing field."""
-        top = _object(data, "certificate")
-        if top.get("schema") != SCHEMA:
-            raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
-        version = top.get("version")
-        if isinstance(version, bool) or version not in READ_VERSIONS:
-            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1 to 4)")
+        top, version = _head(data)
         kind = _field(top, "kind", "certificate")
         if kind not in MODEL_KINDS or version < 4:
             raise CertificateFormatError(f"kind: {_q(kind)} is not a model certificate kind of version {version}")
@@ -581,6 +557,30 @@ class ModelCertificate:
         environment = _environment(_field(top, "environment", "certificate"))
         claims = _object(_field(top, "claims", "certificate"), "claims")
         return cls(kind, environment, claims, producer, version)
+
+
+def _head(data: object) -> tuple[dict, int]:
+    """The top object and its version, once the schema and version are known (:class:`CertificateFormatError`)."""
+    top = _object(data, "certificate")
+    if top.get("schema") != SCHEMA:
+        raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
+    version = top.get("version")
+    if isinstance(version, bool) or version not in READ_VERSIONS:
+        raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1 to 4)")
+    return top, version
+
+
+def _head_json(kind: str, version: int, producer: str, environment: EnvironmentRecord) -> dict[str, Any]:
+    """What every certificate starts with: schema, version, kind, producer (if any) and the environment."""
+    data: dict[str, Any] = {"schema": SCHEMA, "version": version, "kind": kind}
+    if producer:
+        data["producer"] = producer
+    env: dict[str, Any] = {}
+    if environment.name:
+        env["name"] = environment.name
+    env["rings"] = [[_point_json(p) for p in ring] for ring in environment.rings]
+    data["environment"] = env
+    return data
 
 
 def _plain(value: Any) -> Any:
