@@ -22,7 +22,7 @@ from solverplan.floorplan.robot import erode_free_space, inflation_distance
 from solverplan.floorplan.vector import arrange_rings, read_dxf_linework, read_svg_rings
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
 
-__all__ = ["FloorplanImport", "import_floorplan", "PlanFormat"]
+__all__ = ["FloorplanImport", "ImportResult", "import_floorplan", "PlanFormat"]
 
 PlanFormat = Literal["ros", "dxf", "svg"]
 _SUFFIXES: dict[str, PlanFormat] = {".yaml": "ros", ".yml": "ros", ".dxf": "dxf", ".svg": "svg"}
@@ -194,6 +194,9 @@ class FloorplanImport:
             lines.append(f"advice: {self.advice}")
         return "\n".join(lines) + "\n"
 
+
+ImportResult = FloorplanImport
+"""Another name of :class:`FloorplanImport` (the result of :func:`import_floorplan`)."""
 
 PLANNING_VERTICES = 150
 """Vertices above which an import's summary advises more simplification (``plan`` then takes over ~10 s)."""
