@@ -183,11 +183,18 @@ class FloorplanImport:
         dropped = ", ".join(f"{k} {v:.6g}" if isinstance(v, float) else f"{k} {v}" for k, v in self.dropped.items()
                             if v and not isinstance(v, dict))
         lines.append(f"dropped: {dropped or 'nothing'}"[:width])
-        listed, more = self.listed_features()
-        for f in listed:
+        important = [f for f in self.features if f.kind in _ALWAYS_LISTED]
+        for f in important[:50]:
             lines.append(f"  {f.kind} at ({f.at[0]:.4g}, {f.at[1]:.4g}): size {f.size:.3g}, area {f.area:.3g}")
-        if more:
-            lines.append(f"  ... and {more} smaller components, spurs, faces or lines (see the JSON summary's counts)")
+        if len(important) > 50:
+            lines.append(f"  ... and {len(important) - 50} more obstacles and changes (all in the JSON summary)")
+        rest: dict[str, int] = {}
+        for f in self.features:
+            if f.kind not in _ALWAYS_LISTED:
+                rest[f.kind] = rest.get(f.kind, 0) + 1
+        if rest:
+            lines.append("  also left out (positions in the JSON summary): "
+                         + ", ".join(f"{n} {kind}" for kind, n in sorted(rest.items())))
         for warning in self.warnings:
             lines.append(f"warning: {warning}")
         if self.advice is not None:
@@ -414,7 +421,8 @@ def import_floorplan(
             settings["robot_radius_m"] = str(radius)
             settings["inflation_m"] = round(inflation_distance(float(radius), float(quantum)), 9)
             free, changes = erode_free_space(free, float(radius), grid=float(quantum),
-                                             seed_point=None if point is None else (float(point[0]), float(point[1])))
+                                             seed_point=None if point is None else (float(point[0]), float(point[1])),
+                                             simplify=settings.get("simplify_m", simplify or 0.0))
             features.extend(changes)
         environment, lost, touched = environment_from_polygon(free, quantum=quantum, offset=offset,
                                                               name=environment.name)

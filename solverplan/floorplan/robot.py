@@ -39,8 +39,8 @@ def inflation_distance(radius: float, grid: float) -> float:
     return radius / math.cos(math.pi / (4 * QUAD_SEGS)) + grid
 
 
-def erode_free_space(free: Any, radius: float, *, grid: float,
-                     seed_point: tuple[float, float] | None = None) -> tuple[Any, list[DroppedFeature]]:
+def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple[float, float] | None = None,
+                     simplify: float = 0.0) -> tuple[Any, list[DroppedFeature]]:
     """The free space where the centre of a disc of ``radius`` may be, and what that changed.
 
     Parameters
@@ -53,6 +53,11 @@ def erode_free_space(free: Any, radius: float, *, grid: float,
         The coordinate grid step the result will be rounded to (output units).
     seed_point
         A point whose component to keep (it must lie in the eroded free space); ``None``: the largest component.
+    simplify
+        A simplification tolerance (output units) that never gives back free space: the eroded free space is
+        shrunk by it (mitred) and then simplified within it (Douglas–Peucker moves a boundary by at most the
+        tolerance, so the result lies inside the eroded free space). The arcs of the inflation otherwise cost a
+        vertex every 22.5°, and the planner's work grows as n⁴. 0: none.
 
     Returns
     -------
@@ -83,6 +88,8 @@ def erode_free_space(free: Any, radius: float, *, grid: float,
         raise InputError(f"--robot-radius must be a positive number of metres, got {radius:g}")
     distance = inflation_distance(radius, grid)
     eroded = free.buffer(-distance, quad_segs=QUAD_SEGS, join_style="round")
+    if simplify > 0:
+        eroded = eroded.buffer(-simplify, join_style="mitre").simplify(simplify, preserve_topology=True)
     main, rest = largest_part(eroded)
     if main is None:
         raise InputError(f"a robot of radius {radius:g} fits nowhere in the free space (its widest place is narrower "

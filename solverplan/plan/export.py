@@ -6,7 +6,8 @@ the map frame: where on which wall the robot may be (metres), and which absolute
 
 - ``wall``: the wall's two end points (the environment's edge, world coordinates) and its edge id;
 - ``contact``: the range of the contact point along that wall, in metres from the wall's first end
-  (``from_m``, ``to_m``) and as two points (``a``, ``b``);
+  (``from_m``, ``to_m``) and as two points (``a``, ``b``); consecutive segments of one wall are one contact
+  (``segments`` lists them; ``segment`` is the id when there is one);
 - ``heading``: the interval of absolute headings in the map frame, radians CCW from the map's +x axis and degrees:
   the wall's direction plus the plan's interval. ``lo`` lies in (−π, π]; ``hi = lo + width`` (it may pass π:
   the interval does not wrap);
@@ -59,6 +60,20 @@ def _heading(env: Environment, edge: int, lo: float, hi: float) -> dict:
     end = start + (hi - lo)
     return {"lo": start, "hi": end, "lo_deg": math.degrees(start), "hi_deg": math.degrees(end),
             "width": hi - lo, "wall_direction": direction}
+
+
+def _runs(sources: list) -> list[tuple[list, int, float, float]]:
+    """Pieces of one wall that follow one another, joined: a robot on any of them leaves with the same map-frame
+    headings (the wall's direction is the same), so a contact is a whole run, listing its segments."""
+    out: list[tuple[list, int, float, float]] = []
+    for segment, edge, t0, t1 in sorted(sources, key=lambda item: (item[1], item[2])):
+        ids = [] if segment is None else [segment]
+        if out and out[-1][1] == edge and abs(out[-1][3] - t0) <= 1e-12:
+            previous = out[-1]
+            out[-1] = (previous[0] + ids, edge, previous[2], t1)
+        else:
+            out.append((ids, edge, t0, t1))
+    return out
 
 
 def plan_in_world(plan: Any, env: Environment) -> list[dict]:
@@ -116,8 +131,9 @@ def plan_in_world(plan: Any, env: Environment) -> list[dict]:
             sources = [(s, part.segments[s].edge, float(part.segments[s].t0), float(part.segments[s].t1))
                        for s in stage.from_segments]
         contacts = []
-        for segment, edge, t0, t1 in sources:
-            item = {"segment": segment, **_wall_piece(env, edge, t0, t1), "heading": _heading(env, edge, lo, hi)}
+        for segments, edge, t0, t1 in _runs(sources):
+            item = {"segment": segments[0] if len(segments) == 1 else None, "segments": segments,
+                    **_wall_piece(env, edge, t0, t1), "heading": _heading(env, edge, lo, hi)}
             contacts.append(item)
         lands = []
         for s in stage.to_segments:
@@ -135,7 +151,7 @@ def export_plan(plan: Any, env: Environment, fmt: str = "waypoints") -> str:
     >>> from solverplan.plan import find_plan
     >>> room = Environment.from_coords([[0, 0], [4, 0], [6, 3], [-2, 3]], name="room")
     >>> print(export_plan(find_plan(room, "e0", "e2"), room, "csv").splitlines()[0])
-    stage,segment,edge,wall_x0,wall_y0,wall_x1,wall_y1,from_m,to_m,contact_x0,contact_y0,contact_x1,contact_y1,heading_lo_rad,heading_hi_rad,heading_lo_deg,heading_hi_deg,width_rad,lands_on
+    stage,segments,edge,wall_x0,wall_y0,wall_x1,wall_y1,from_m,to_m,contact_x0,contact_y0,contact_x1,contact_y1,heading_lo_rad,heading_hi_rad,heading_lo_deg,heading_hi_deg,width_rad,lands_on
     """
     if fmt not in EXPORT_FORMATS:
         raise InputError(f"unknown export format {fmt!r}: use {', '.join(EXPORT_FORMATS)}")
@@ -143,14 +159,14 @@ def export_plan(plan: Any, env: Environment, fmt: str = "waypoints") -> str:
     if fmt == "csv":
         buffer = io.StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(["stage", "segment", "edge", "wall_x0", "wall_y0", "wall_x1", "wall_y1", "from_m", "to_m",
+        writer.writerow(["stage", "segments", "edge", "wall_x0", "wall_y0", "wall_x1", "wall_y1", "from_m", "to_m",
                          "contact_x0", "contact_y0", "contact_x1", "contact_y1", "heading_lo_rad", "heading_hi_rad",
                          "heading_lo_deg", "heading_hi_deg", "width_rad", "lands_on"])
         for stage in stages:
             lands = " ".join(str(p["segment"]) for p in stage["lands_on"])
             for c in stage["contacts"]:
                 h = c["heading"]
-                writer.writerow([stage["stage"], "" if c["segment"] is None else c["segment"], c["edge"],
+                writer.writerow([stage["stage"], " ".join(map(str, c["segments"])), c["edge"],
                                  *c["wall"][0], *c["wall"][1], repr(c["from_m"]), repr(c["to_m"]), *c["a"], *c["b"],
                                  repr(h["lo"]), repr(h["hi"]), repr(h["lo_deg"]), repr(h["hi_deg"]), repr(h["width"]),
                                  lands])
@@ -161,7 +177,7 @@ def export_plan(plan: Any, env: Environment, fmt: str = "waypoints") -> str:
         for stage in stages:
             for c in stage["contacts"]:
                 features.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": [c["a"], c["b"]]},
-                                 "properties": {"kind": "contact", "stage": stage["stage"], "segment": c["segment"],
+                                 "properties": {"kind": "contact", "stage": stage["stage"], "segments": c["segments"],
                                                 "edge": c["edge"], "from_m": c["from_m"], "to_m": c["to_m"],
                                                 "heading_lo_rad": c["heading"]["lo"], "heading_hi_rad": c["heading"]["hi"],
                                                 "heading_lo_deg": c["heading"]["lo_deg"],
@@ -183,7 +199,7 @@ def export_plan(plan: Any, env: Environment, fmt: str = "waypoints") -> str:
                          "orientation": {"x": 0.0, "y": 0.0, "z": math.sin(yaw / 2), "w": math.cos(yaw / 2)}},
                 "yaw": yaw,
                 "yaw_range": [h["lo"], h["hi"]],
-                "contact": {"edge": c["edge"], "segment": c["segment"], "wall": c["wall"], "from_m": c["from_m"],
+                "contact": {"edge": c["edge"], "segments": c["segments"], "wall": c["wall"], "from_m": c["from_m"],
                             "to_m": c["to_m"], "a": c["a"], "b": c["b"]},
                 "lands_on": [{"edge": p["edge"], "segment": p["segment"], "a": p["a"], "b": p["b"]}
                              for p in stage["lands_on"]],
