@@ -34,7 +34,7 @@ Image.fromarray(image).save(folder / "rooms.pgm")
                                    "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
 imported = sp.import_floorplan(folder / "rooms.yaml", simplify=0.1, rectilinear=10)
 print(imported.to_text())
-env = imported.environment_value
+env = imported.environment
 
 # %%
 # A plan from the left room's far wall to the right room's far wall: the outer ring's vertex 0 is where the trace

@@ -81,7 +81,10 @@ class DroppedFeature:
         point = geometry.representative_point() if not geometry.is_empty else None
         minx, miny, maxx, maxy = geometry.bounds
         size = max(maxx - minx, maxy - miny)
-        if geometry.geom_type in ("LineString", "MultiLineString", "LinearRing"):
+        if geometry.geom_type in ("LineString", "LinearRing"):  # a line: its middle, its length
+            point = geometry.interpolate(0.5, normalized=True)
+            size = geometry.length
+        elif geometry.geom_type == "MultiLineString":
             size = geometry.length
         at = (float(point.x), float(point.y)) if point is not None else (0.0, 0.0)
         return DroppedFeature(kind, at, float(size), float(geometry.area))
@@ -264,12 +267,13 @@ def free_space_from_linework(
         for ring in (solid.exterior, *solid.interiors):
             work.append(np.asarray(ring.coords, float))
     if not work:
-        raise MalformedFile("the drawing has no lines (LINE, polylines, circles, arcs, hatches) to read walls from")
+        raise MalformedFile("no closed outline found: the drawing has no lines (LINE, polylines, circles, arcs, hatches) "
+                            "to read walls from")
     counts["ends_joined"] = _cluster_ends(work, snap)
     counts["ends_put_on_lines"] = _snap_ends_to_lines(work, snap)
     shapes = [shapely.LineString(line) for line in work if len(np.unique(line, axis=0)) >= 2]
     if not shapes:
-        raise MalformedFile("the drawing's lines all have zero length")
+        raise MalformedFile("no closed outline found: the drawing's lines all have zero length")
     noded = shapely.unary_union(shapely.MultiLineString(shapes), grid_size=grid)
     jambs = _jambs(noded, max_jamb)
     if jambs:
@@ -279,8 +283,8 @@ def free_space_from_linework(
     faces = [g for g in polygons.geoms if g.area > 0]
     extent = tuple(float(v) for v in noded.bounds)
     if not faces:
-        raise MalformedFile("the drawing's lines enclose no face: no closed outline of walls was found "
-                            "(closed polylines, lines meeting end to end, circles or hatches)")
+        raise MalformedFile("no closed outline found: the drawing's lines enclose no face (closed polylines, lines "
+                            "meeting end to end, circles or hatches)")
     chosen_index = _face_at(faces, seed_point)
     free = faces[chosen_index]
     dropped: list[DroppedFeature] = []

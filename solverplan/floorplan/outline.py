@@ -233,7 +233,7 @@ def finish_outline(
     >>> hole = np.array([[0.5, 0.5], [0.5, 0.6], [0.6, 0.6], [0.6, 0.5]], float)
     >>> env, dropped = finish_outline(square, [hole], quantum=Decimal("0.001"), min_hole_area=0.05)
     >>> env.outer, dropped["small_holes"], dropped["collinear_vertices"]
-    (((Fraction(0, 1), Fraction(0, 1)), (Fraction(2, 1), Fraction(0, 1)), (Fraction(2, 1), Fraction(2, 1)), (Fraction(0, 1), Fraction(2, 1))), 1, 1)
+    (((Fraction(2, 1), Fraction(0, 1)), (Fraction(2, 1), Fraction(2, 1)), (Fraction(0, 1), Fraction(2, 1)), (Fraction(0, 1), Fraction(0, 1))), 1, 1)
     """
     import shapely
 
@@ -320,7 +320,10 @@ def finish_outline(
             counts["degenerate_holes"] += 1
             note(ring, unit)
             continue
-        grid_rings.append(grid)
+        # a canonical first vertex (the lowest, rightmost among the lowest), so that edge ids do not depend on where
+        # the tracer or the drawing happened to start the ring, nor on noise far from that corner
+        first = int(np.lexsort((-grid[:, 0], grid[:, 1]))[0])
+        grid_rings.append(np.roll(grid, -first, axis=0))
     step = Fraction(quantum)
     ox, oy = offset
     # one common denominator: each coordinate is then one Fraction built from two integers, not a sum of
