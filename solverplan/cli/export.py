@@ -33,7 +33,7 @@ def export_command(
     from solverplan.plan.result import load_plan
 
     with exit_codes(verbose):
-        environment = load_env(env, env_format)
+        environment = load_env(Path(env), env_format)
         plan = load_plan(plan_file)
         text = export_plan(plan, environment, export_format.value)
         if out is not None:

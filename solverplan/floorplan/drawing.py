@@ -105,15 +105,15 @@ def _cluster_ends(lines: list[np.ndarray], snap: float) -> int:
     """Move line ends closer than ``snap`` to one point (the first of their cluster); returns the ends moved."""
     from scipy.spatial import cKDTree
 
-    ends = []
-    where = []
+    ends: list[np.ndarray] = []
+    where: list[tuple[int, int]] = []
     for k, line in enumerate(lines):
         if len(line) >= 2 and not np.array_equal(line[0], line[-1]):
             ends.extend((line[0], line[-1]))
             where.extend(((k, 0), (k, len(line) - 1)))
     if len(ends) < 2 or snap <= 0:
         return 0
-    points = np.asarray(ends, float)
+    points = np.array(ends, dtype=float)
     parent = list(range(len(points)))
 
     def root(i: int) -> int:

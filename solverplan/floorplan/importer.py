@@ -410,7 +410,7 @@ def import_floorplan(
         uninflated = environment
         free = environment.to_shapely()
         if keepout is not None:
-            keepout_areas, mask = read_keepout_mask(keepout)
+            keepout_areas, mask = read_keepout_mask(Path(keepout))
             settings["keepout"] = str(keepout)
             if not keepout_areas.is_empty:
                 for part in getattr(keepout_areas, "geoms", [keepout_areas]):
@@ -512,7 +512,7 @@ def _dxf_environment(path: Path, *, layer: str | None, units: str | None, tolera
                "faces": sum(1 for f in face.dropped if f.kind == "face"),
                **{k: v for k, v in face.counts.items()}, "other_layers": counts.pop("other_layers"),
                "unsupported": counts.pop("unsupported"), **dropped}
-    box = tuple(v * scale for v in face.extent)
+    box = (face.extent[0] * scale, face.extent[1] * scale, face.extent[2] * scale, face.extent[3] * scale)
     warnings += plausibility_warnings(float(environment.area), face.largest_obstacle * scale * scale, box)
     settings = {"drawing_unit": work.unit, "snap_drawing_units": snap_d, "grid_drawing_units": str(grid_d),
                 "max_jamb": jamb_d * scale, "tolerance": tolerance, "min_obstacle": min_obstacle,

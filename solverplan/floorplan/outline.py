@@ -245,7 +245,7 @@ def finish_outline(
     # traced vertices lie on a half-cell lattice — is seen as the touch it is, not hidden by binary rounding.
     unit = float(quantum)
     unit_area = unit * unit
-    ox, oy = float(offset[0]), float(offset[1])
+    fx, fy = float(offset[0]), float(offset[1])
 
     def note(ring: np.ndarray, scale: float = 1.0) -> None:
         if features is not None and len(ring):
@@ -253,7 +253,7 @@ def finish_outline(
 
             points = np.asarray(ring, float) * scale
             low, high = points.min(axis=0), points.max(axis=0)
-            features.append(DroppedFeature("small_hole", (float(points[:, 0].mean()) + ox, float(points[:, 1].mean()) + oy),
+            features.append(DroppedFeature("small_hole", (float(points[:, 0].mean()) + fx, float(points[:, 1].mean()) + fy),
                                            float((high - low).max()), abs(_ring_area(points))))
 
     kept = []

@@ -119,7 +119,7 @@ def plan_in_world(plan: Any, env: Environment) -> list[dict]:
     for k, stage in enumerate(plan.stages):
         lo, hi = stage.interval.lo, stage.interval.hi
         if stage.sources:
-            pieces = [(None, p.edge, float(p.t0), float(p.t1)) for p in stage.sources]
+            pieces: list[tuple[Any, int, float, float]] = [(None, p.edge, float(p.t0), float(p.t1)) for p in stage.sources]
             seen: set = set()
             unique = []
             for item in pieces:
@@ -132,9 +132,9 @@ def plan_in_world(plan: Any, env: Environment) -> list[dict]:
                        for s in stage.from_segments]
         contacts = []
         for segments, edge, t0, t1 in _runs(sources):
-            item = {"segment": segments[0] if len(segments) == 1 else None, "segments": segments,
-                    **_wall_piece(env, edge, t0, t1), "heading": _heading(env, edge, lo, hi)}
-            contacts.append(item)
+            contact: dict = {"segment": segments[0] if len(segments) == 1 else None, "segments": segments,
+                       **_wall_piece(env, edge, t0, t1), "heading": _heading(env, edge, lo, hi)}
+            contacts.append(contact)
         lands = []
         for s in stage.to_segments:
             seg = part.segments[s]

@@ -44,7 +44,7 @@ def _shape_patch(geometry: Any, **style: Any) -> PathPatch | None:
         for ring in (polygon.exterior, *polygon.interiors):
             points = list(ring.coords)
             vertices.extend(points)
-            codes.extend([MplPath.MOVETO] + [MplPath.LINETO] * (len(points) - 2) + [MplPath.CLOSEPOLY])
+            codes.extend(int(c) for c in [MplPath.MOVETO] + [MplPath.LINETO] * (len(points) - 2) + [MplPath.CLOSEPOLY])
     if not vertices:
         return None
     return PathPatch(MplPath(vertices, codes), **style)
