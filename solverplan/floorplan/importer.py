@@ -286,7 +286,8 @@ def import_floorplan(
         on it; default 10⁻⁵ of the drawing's extent (0.1 mm on a 10 m plan drawn in millimetres).
     max_jamb
         DXF: the two lines of a wall band left open at a door are closed when their ends are each other's nearest
-        loose ends and at most this far apart (output units: metres); default 0.5 m (1 unit when unitless); 0: never.
+        loose ends and at most this far apart (output units: metres; drawing units when unitless); default 0.5;
+        0: never.
     robot_radius
         The robot's radius (output units: metres; an exact decimal): the environment is the free space of its
         centre, walls and obstacles inflated by it (:mod:`~solverplan.floorplan.robot`); what that disconnects,
