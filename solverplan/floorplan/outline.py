@@ -145,8 +145,9 @@ def _bad_rings(rings: Sequence[np.ndarray]) -> set[int]:
     """Rings that are not simple, or that cross or touch another ring (an STR-tree finds the pairs)."""
     import shapely
 
-    lines = [shapely.LinearRing(r) for r in rings]
-    bad = {i for i, line in enumerate(lines) if not line.is_simple}
+    bad = {i for i, r in enumerate(rings) if len(np.unique(r, axis=0)) < 3 or _ring_area(r) == 0}  # collapsed
+    lines = [shapely.LinearRing(r) if i not in bad else shapely.LinearRing() for i, r in enumerate(rings)]
+    bad |= {i for i, line in enumerate(lines) if i not in bad and not line.is_simple}
     if len(lines) > 1:
         tree = shapely.STRtree(lines)
         pairs = tree.query(lines, predicate="intersects")
@@ -301,9 +302,13 @@ def finish_outline(
             for index in holes_bad or bad:
                 chosen[index] = rings[index]
             reverted |= holes_bad or bad
+        walls_only = [chosen[0], *rings[1:]]
         if _valid_rings(chosen):
             rings = chosen
             counts["rectilinear_skipped"] += len(reverted)
+        elif 0 not in reverted and _valid_rings(walls_only):  # keep the walls snapped, the obstacles as they were
+            rings = walls_only
+            counts["rectilinear_skipped"] += len(rings) - 1
         else:  # e.g. a hole snapped out of the outer ring: keep the outline as simplified
             counts["rectilinear_skipped"] += len(rings)
     grid_rings: list[np.ndarray] = []

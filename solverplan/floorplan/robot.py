@@ -57,7 +57,8 @@ def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple
         A simplification tolerance (output units) that never gives back free space: the eroded free space is
         shrunk by it (mitred) and then simplified within it (Douglas–Peucker moves a boundary by at most the
         tolerance, so the result lies inside the eroded free space). The arcs of the inflation otherwise cost a
-        vertex every 22.5°, and the planner's work grows as n⁴. 0: none.
+        vertex every 22.5°, and the planner's work grows as n⁴. At most a quarter of ``radius`` is used (so gaps
+        up to 2.5 R wide stay open); 0: none.
 
     Returns
     -------
@@ -88,8 +89,10 @@ def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple
         raise InputError(f"--robot-radius must be a positive number of metres, got {radius:g}")
     distance = inflation_distance(radius, grid)
     eroded = free.buffer(-distance, quad_segs=QUAD_SEGS, join_style="round")
+    simplify = min(simplify, radius / 4)
     if simplify > 0:
         eroded = eroded.buffer(-simplify, join_style="mitre").simplify(simplify, preserve_topology=True)
+    reach = distance + simplify  # what the walls grew by, at most
     main, rest = largest_part(eroded)
     if main is None:
         raise InputError(f"a robot of radius {radius:g} fits nowhere in the free space (its widest place is narrower "
@@ -120,10 +123,10 @@ def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple
                 alone.add(inside[0])
         outer = shapely.Polygon(free.exterior)
         for k, hole in enumerate(holes):
-            if k in alone or not main.intersects(hole.buffer(distance * 1.5)):
+            if k in alone or not main.intersects(hole.buffer(reach * 1.5)):
                 continue  # alone in its inflated hole, or far from the part kept (in a lost room)
             changes.append(DroppedFeature.of("merged_obstacle", hole))
-            others = [holes[j] for j in tree.query(hole.buffer(2 * distance)).tolist() if j != k]
+            others = [holes[j] for j in tree.query(hole.buffer(2 * reach + grid)).tolist() if j != k]
             walls = outer.exterior
             nearest = min([(hole.distance(o), o) for o in others] + [(hole.distance(walls), walls)],
                           key=lambda item: item[0])

@@ -219,3 +219,27 @@ def test_a_spur_width_wider_than_the_map_is_one_clear_error(tmp_path):
     for width in (16, 1e300):
         with pytest.raises(InputError, match="narrower than --spur-width"):
             import_floorplan(office, output=tmp_path / "o.json", spur_width=width)
+
+
+def test_snapping_survives_posts_near_the_walls(tmp_path):
+    """A depot hall: ragged walls, 10–15 cm posts (some 10 cm from a wall) and a 20 × 40 cm box. The posts and the box
+    are kept by default, and snapping the walls to the axes does not give up on the walls because of them."""
+    hall = shapely.box(0, 0, 12, 6)
+    posts = [shapely.box(x, y, x + s, y + s) for x, y, s in ((2, 2, 0.1), (4, 2, 0.15), (6, 4, 0.1), (0.2, 3, 0.1),
+                                                              (11.7, 1, 0.15), (8, 5.7, 0.1))]
+    box = shapely.box(9, 2, 9.4, 2.2)
+    free = hall.difference(shapely.union_all([*posts, box]))
+    image, origin = rasterise(free, 0.05, ragged=0.1, seed=5)
+    source = write_map(tmp_path, image, origin, 0.05)
+    done = import_floorplan(source, simplify=0.1, rectilinear=10)
+    assert done.holes >= 4  # posts in the open; those 10 cm from a wall may join it (the gap is a spur, listed)
+    assert done.dropped["rectilinear_skipped"] < done.holes and done.dropped["speckle"] == 0  # walls snapped
+    outer = done.environment.outer
+    assert all(a[0] == b[0] or a[1] == b[1] for a, b in zip(outer, outer[1:] + outer[:1]))
+    assert done.area == pytest.approx(free.area, rel=0.02)
+    kept = shapely.Polygon([(float(x), float(y)) for x, y in outer])
+    for post in (*posts, box):  # every post and the box: a hole, or outside the outer ring (joined to a wall)
+        centre = post.centroid
+        in_hole = any(shapely.Polygon([(float(x), float(y)) for x, y in h]).buffer(0.05).contains(centre)
+                      for h in done.environment.holes)
+        assert in_hole or not kept.buffer(-0.01).contains(centre)
