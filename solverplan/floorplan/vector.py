@@ -263,7 +263,8 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
     -------
     Linework
         ``lines`` (polylines as float arrays, closed ones repeating their first point), ``solids`` (shapely
-        polygons of HATCH boundary paths, even-odd, and of SOLID/TRACE/3DFACE entities), the unit and its size
+        polygons of HATCH boundary paths, even-odd, of SOLID/TRACE/3DFACE entities and of the band of a polyline
+        drawn with a width), MLINE multilines as their lines, the unit and its size
         in metres, and counts: ``lines``, ``polylines``, ``circles``, ``curves`` (arcs, ellipses, splines,
         bulged polylines), ``hatches``, ``solids``, ``blocks`` (INSERTs expanded), ``other_layers`` (entities
         skipped by ``layer``) and ``unsupported`` (entities of other kinds by type: TEXT, DIMENSION, ...).
@@ -324,10 +325,13 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
                 counts["lines"] += 1
             elif isinstance(entity, LWPolyline) or (isinstance(entity, Polyline) and not (
                     entity.is_polygon_mesh or entity.is_poly_face_mesh)):
+                width = 0.0
                 if isinstance(entity, LWPolyline):
                     bulged = any(b for *_, b in entity.get_points("xyb"))
                     points = np.array([(x, y) for x, y, *_ in entity.get_points("xy")], float)
                     closed = bool(entity.closed)
+                    widths = [w for _, _, s0, e0, _ in entity.get_points("xyseb") for w in (s0, e0)]
+                    width = max([float(entity.dxf.get("const_width", 0) or 0), *map(float, widths)])
                 else:
                     bulged = any(v.dxf.get("bulge", 0) for v in entity.vertices)
                     points = np.array([(p.x, p.y) for p in entity.points()], float)
@@ -339,6 +343,11 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
                     points = np.vstack((points, points[:1]))
                 counts["polylines"] += 1
                 lines.append(points.reshape(-1, 2))
+                if width > 0 and len(points) >= 2:  # a wall drawn as a thick polyline: its band is solid
+                    band = shapely.LineString(points).buffer(width / 2, cap_style="flat", join_style="mitre")
+                    if not band.is_empty:
+                        solids.append(band)
+                        counts["solids"] += 1
             elif isinstance(entity, Circle) and not isinstance(entity, Arc):
                 centre = entity.dxf.center
                 lines.append(_circumscribed(centre.x, centre.y, float(entity.dxf.radius), drawing_tolerance))
@@ -358,6 +367,12 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
                 if region is not None and not region.is_empty:
                     solids.append(region)
                 counts["hatches"] += 1
+            elif entity.dxftype() == "MLINE":  # a multiline (AutoCAD's wall tool): its parallel lines
+                for part in entity.virtual_entities():
+                    if isinstance(part, Line):
+                        start, end = part.dxf.start, part.dxf.end
+                        lines.append(np.array([(start.x, start.y), (end.x, end.y)], float))
+                counts["lines"] += 1
             elif entity.dxftype() in ("SOLID", "TRACE", "3DFACE"):  # SOLID, TRACE, 3DFACE: corners 1, 2, 4, 3 in drawing order
                 corners = [entity.dxf.get(f"vtx{k}") for k in (0, 1, 3, 2)]
                 ring = [(v.x, v.y) for v in corners if v is not None]

@@ -149,3 +149,20 @@ def test_svg_user_units_follow_the_viewbox_and_width_units(tmp_path):
     (tmp_path / "px.svg").write_text(text.replace('width="4000mm" height="3000mm"', 'width="400" height="300"'))
     bare = import_floorplan(tmp_path / "px.svg")  # no physical size: user units as they are
     assert bare.units == "user units" and bare.area == pytest.approx(12e6 - 0.25e6)
+
+
+def test_thick_polylines_and_multilines_are_walls(tmp_path):
+    doc = ezdxf.new(units=6)
+    space = doc.modelspace()
+    # the outer walls as one closed polyline 0.2 m wide along the walls' centre line
+    space.add_lwpolyline([(-0.1, -0.1), (6.1, -0.1), (6.1, 4.1), (-0.1, 4.1)], close=True,
+                         dxfattribs={"const_width": 0.2})
+    file = tmp_path / "thick.dxf"
+    doc.saveas(file)
+    done = import_floorplan(file)
+    assert done.area == pytest.approx(24.0, rel=1e-6) and done.holes == 0
+    doc = ezdxf.new(units=6)
+    doc.modelspace().add_mline([(0, 0), (6, 0), (6, 4), (0, 4)], close=True)
+    doc.saveas(tmp_path / "mline.dxf")
+    lines = import_floorplan(tmp_path / "mline.dxf")
+    assert lines.area > 20 and lines.dropped["unsupported"] == {}
