@@ -52,7 +52,8 @@ class DroppedFeature:
         the free space and does not touch it), ``cut_off`` (free space cut off by a solid), ``touch`` (a point
         where an obstacle touched a wall: joined), ``disconnected`` (free space the robot cannot reach once
         inflated), ``passage_closed`` (a gap narrower than the robot), ``merged_obstacle`` (an obstacle that
-        the robot's inflation joined to a wall or another obstacle), ``keepout`` (a keepout area applied).
+        the robot's inflation joined to a wall or another obstacle), ``keepout`` (a keepout area applied),
+        ``door_swing`` (a DXF door's swing and leaf, left out so the doorway stays open).
     at
         A representative point (output units: metres for maps), inside the feature.
     size

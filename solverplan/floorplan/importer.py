@@ -38,7 +38,7 @@ MAX_LISTED = 200
 """Components, spurs, faces and dangling lines listed one by one in ``features`` (the largest first; the rest are
 counted in ``features_not_listed``). Obstacles (speckle, small holes) and topology changes are always all listed."""
 
-_ALWAYS_LISTED = {"speckle", "small_hole", "merged_obstacle", "passage_closed", "disconnected", "touch", "keepout",
+_ALWAYS_LISTED = {"door_swing", "speckle", "small_hole", "merged_obstacle", "passage_closed", "disconnected", "touch", "keepout",
                   "cut_off"}
 
 
@@ -501,6 +501,7 @@ def _dxf_environment(path: Path, *, layer: str | None, units: str | None, tolera
     face = free_space_from_linework(work.lines, work.solids, snap=snap_d, grid=float(grid_d), max_jamb=jamb_d,
                                     seed_point=seed)
     features.extend(f.scaled(scale) for f in face.dropped)
+    features.extend(DroppedFeature("door_swing", (cx * scale, cy * scale), r * scale) for cx, cy, r in work.door_swings)
     quantum = grid_d * (factor if factor is not None else Decimal(1))
     polygon = face.polygon
     outer = np.asarray(polygon.exterior.coords[:-1], float) * scale
@@ -511,7 +512,8 @@ def _dxf_environment(path: Path, *, layer: str | None, units: str | None, tolera
     counts = dict(work.counts)
     dropped = {"dangling_lines": sum(1 for f in face.dropped if f.kind == "dangling_line"),
                "faces": sum(1 for f in face.dropped if f.kind == "face"),
-               **{k: v for k, v in face.counts.items()}, "other_layers": counts.pop("other_layers"),
+               **{k: v for k, v in face.counts.items()}, "door_swings": counts.pop("door_swings", 0),
+               "door_leaves": counts.pop("door_leaves", 0), "other_layers": counts.pop("other_layers"),
                "unsupported": counts.pop("unsupported"), **dropped}
     box = (face.extent[0] * scale, face.extent[1] * scale, face.extent[2] * scale, face.extent[3] * scale)
     warnings += plausibility_warnings(float(environment.area), face.largest_obstacle * scale * scale, box)

@@ -9,7 +9,7 @@ outside the outer ring are dropped and counted.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from decimal import Decimal
 from pathlib import Path
 from typing import Any, Iterable, Sequence
@@ -239,6 +239,11 @@ class Linework:
     unit: str
     factor: Decimal | None
     counts: dict[str, Any]
+    door_swings: list[tuple[float, float, float]] = field(default_factory=list)  # (cx, cy, r), drawing units
+
+
+DOOR_SWING_RADII = (0.5, 1.3)
+"""Radii (metres) of an ARC read as a door's swing when it turns 75–105°: not a wall (it would close the doorway)."""
 
 
 def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str | None = None,
@@ -266,7 +271,9 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
         polygons of HATCH boundary paths, even-odd, of SOLID/TRACE/3DFACE entities and of the band of a polyline
         drawn with a width), MLINE multilines as their lines, the unit and its size
         in metres, and counts: ``lines``, ``polylines``, ``circles``, ``curves`` (arcs, ellipses, splines,
-        bulged polylines), ``hatches``, ``solids``, ``blocks`` (INSERTs expanded), ``other_layers`` (entities
+        bulged polylines), ``hatches``, ``solids``, ``door_swings`` (ARCs of 75–105° with a radius in
+        :data:`DOOR_SWING_RADII`: a door's swing, left out with the line of its leaf, ``door_leaves``, so that the
+        doorway stays open; listed in ``door_swings``), ``other_layers`` (entities
         skipped by ``layer``) and ``unsupported`` (entities of other kinds by type: TEXT, DIMENSION, ...).
 
     Examples
@@ -309,6 +316,7 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
                               "other_layers": 0, "unsupported": {}}
     lines: list[np.ndarray] = []
     solids: list[Any] = []
+    swings: list[tuple[float, float, float]] = []
 
     def flat(entity: Any) -> np.ndarray:
         points = [(v.x, v.y) for v in dxf_path.make_path(entity).flattening(drawing_tolerance)]
@@ -353,6 +361,13 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
                 lines.append(_circumscribed(centre.x, centre.y, float(entity.dxf.radius), drawing_tolerance))
                 counts["circles"] += 1
             elif isinstance(entity, (Arc, Ellipse, Spline)):
+                if isinstance(entity, Arc) and factor is not None:
+                    sweep = (float(entity.dxf.end_angle) - float(entity.dxf.start_angle)) % 360
+                    radius_m = float(entity.dxf.radius) * float(factor)
+                    if DOOR_SWING_RADII[0] <= radius_m <= DOOR_SWING_RADII[1] and 75 <= sweep <= 105:
+                        centre = entity.dxf.center
+                        swings.append((float(centre.x), float(centre.y), float(entity.dxf.radius)))
+                        continue
                 lines.append(flat(entity))
                 counts["curves"] += 1
             elif isinstance(entity, Hatch):
@@ -389,7 +404,22 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
     for line in lines:
         if not np.isfinite(line).all():
             raise MalformedFile(f"{path}: a coordinate is not a finite number")
-    return Linework(lines, solids, unit_name, factor, counts)
+    if swings:  # a door's leaf: a two-point line from a swing's centre out to its radius
+        def is_leaf(line: np.ndarray) -> bool:
+            if len(line) != 2:
+                return False
+            for cx, cy, r in swings:
+                d0, d1 = (math.hypot(p[0] - cx, p[1] - cy) for p in line)
+                tol = 0.02 * r
+                if min(d0, d1) <= tol and abs(max(d0, d1) - r) <= tol:
+                    return True
+            return False
+
+        kept = [line for line in lines if not is_leaf(line)]
+        counts["door_leaves"] = len(lines) - len(kept)
+        lines = kept
+    counts["door_swings"] = len(swings)
+    return Linework(lines, solids, unit_name, factor, counts, swings)
 
 
 def _flatten(segment: Any, tolerance: float, depth: int = 0, t0: float = 0.0, t1: float = 1.0) -> list[tuple[float, float]]:

@@ -31,6 +31,7 @@ FEATURE_STYLES: dict[str, tuple[str, str]] = {
     "passage_closed": ("*", "#c51b7d"),
     "merged_obstacle": ("P", "#ff7f0e"),
     "keepout": ("h", "#ff7f0e"),
+    "door_swing": ("d", "#2ca02c"),
 }
 """Marker and colour of each kind of dropped feature."""
 

@@ -166,3 +166,18 @@ def test_thick_polylines_and_multilines_are_walls(tmp_path):
     doc.saveas(tmp_path / "mline.dxf")
     lines = import_floorplan(tmp_path / "mline.dxf")
     assert lines.area > 20 and lines.dropped["unsupported"] == {}
+
+
+def test_door_swings_leave_the_doorway_open(tmp_path):
+    truth = _plan(tmp_path / "plan.dxf")
+    doc = ezdxf.readfile(tmp_path / "plan.dxf")
+    space = doc.modelspace()
+    # the door in the partition (x 5000–5100, y 3000–3900): hinge at (5100, 3000), leaf open at 90°, swing arc
+    space.add_line((5100, 3000), (6000, 3000))
+    space.add_arc((5100, 3000), 900, 0, 90)
+    doc.saveas(tmp_path / "door.dxf")
+    done = import_floorplan(tmp_path / "door.dxf")
+    assert done.area == pytest.approx(truth, rel=2e-3)
+    assert done.dropped["door_swings"] == 1 and done.dropped["door_leaves"] == 1
+    swing = [f for f in done.features if f.kind == "door_swing"]
+    assert len(swing) == 1 and swing[0].at == pytest.approx((5.1, 3.0)) and swing[0].size == pytest.approx(0.9)
