@@ -77,6 +77,19 @@ class FloorplanImport:
         The free space before the robot's inflation and the keepout areas (an Environment), when either was asked.
     keepout
         The keepout areas applied (a shapely geometry, world coordinates), or ``None``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import solverplan as sp
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "room.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="3">'
+    ...                                      '<rect width="4" height="3"/></svg>')
+    >>> done = sp.import_floorplan(folder / "room.svg")
+    >>> done.status.value, done.format, done.units, done.written
+    ('found', 'svg', 'user units', None)
+    >>> done.environment, done.environment.area          # 4 × 3 user units, scale 1
+    (Environment(name='room', vertices=4, holes=0, reflex=0), Fraction(12, 1))
     """
 
     status: Status
