@@ -572,6 +572,22 @@ def read_keepout_mask(source: str | Path) -> tuple[Any, OccupancyMap]:
     alone; solverplan does the same: the occupied cells, by the mask's own thresholds, resolution, origin and yaw,
     become polygons in world coordinates (metres) that the import takes out of the free space as obstacles.
 
+    Parameters
+    ----------
+    source
+        The mask's YAML file (``image``, ``resolution``, ``origin``, thresholds, as any ROS map).
+
+    Returns
+    -------
+    (shapely geometry, OccupancyMap)
+        The keepout areas (a Polygon or MultiPolygon, world metres; empty when the mask marks nothing) and the mask
+        as read.
+
+    Raises
+    ------
+    MalformedFile
+        As :func:`read_occupancy_map`.
+
     Examples
     --------
     >>> import tempfile, pathlib

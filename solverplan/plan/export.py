@@ -146,6 +146,26 @@ def plan_in_world(plan: Any, env: Environment) -> list[dict]:
 def export_plan(plan: Any, env: Environment, fmt: str = "waypoints") -> str:
     """A found plan as text a robot stack reads: ``waypoints`` (JSON), ``csv`` or ``geojson`` (module docstring).
 
+    Parameters
+    ----------
+    plan
+        A found :class:`~solverplan.plan.result.Plan`, made in ``env``.
+    env
+        Its environment (world coordinates: metres for imported maps).
+    fmt
+        ``waypoints`` (JSON poses in the map frame with their yaw ranges and contact ranges), ``csv`` (a row per
+        contact) or ``geojson`` (a FeatureCollection).
+
+    Returns
+    -------
+    str
+        The text of the file (UTF-8), ending with a newline.
+
+    Raises
+    ------
+    InputError
+        An unknown format, a plan not found, or a plan made in another environment.
+
     Examples
     --------
     >>> from solverplan.plan import find_plan
