@@ -432,11 +432,12 @@ def import_floorplan(
                         features.append(DroppedFeature.of("keepout", part.intersection(free)))
                 free = free.difference(keepout_areas)
         if radius is not None:
+            before = float(settings.get("simplify_m", simplify or 0.0))  # how far the outline may have moved in
             settings["robot_radius_m"] = str(radius)
-            settings["inflation_m"] = round(inflation_distance(float(radius), float(quantum)), 9)
+            settings["inflation_m"] = round(inflation_distance(float(radius), float(quantum)) + before, 9)
             free, changes = erode_free_space(free, float(radius), grid=float(quantum),
                                              seed_point=None if point is None else (float(point[0]), float(point[1])),
-                                             simplify=settings.get("simplify_m", simplify or 0.0))
+                                             simplify=before, margin=before)
             features.extend(changes)
         environment, lost, touched = environment_from_polygon(free, quantum=quantum, offset=offset,
                                                               name=environment.name)

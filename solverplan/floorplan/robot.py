@@ -8,6 +8,8 @@ The erosion is ``shapely.buffer(-R′)`` with round joins of ``QUAD_SEGS`` chord
 round join cut inside the true arc by up to R′(1 − cos(π / (4 · QUAD_SEGS))), so the distance used is
 R′ = R / cos(π / (4 · QUAD_SEGS)) + (one grid step, for the rounding that follows): every point of the result is at
 least R from every wall and obstacle (conservative), and straight walls move in by at most 2 % of R more than R.
+The import adds the simplification tolerance its outline was made with (``margin``): a simplified outline may lie
+that much inside the walls as traced, and the robot keeps R from those.
 
 What the inflation changes in the topology is reported, with positions (:class:`DroppedFeature`):
 ``disconnected`` (parts of the free space the centre can no longer reach from the part kept: rooms behind a door
@@ -40,7 +42,7 @@ def inflation_distance(radius: float, grid: float) -> float:
 
 
 def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple[float, float] | None = None,
-                     simplify: float = 0.0) -> tuple[Any, list[DroppedFeature]]:
+                     simplify: float = 0.0, margin: float = 0.0) -> tuple[Any, list[DroppedFeature]]:
     """The free space where the centre of a disc of ``radius`` may be, and what that changed.
 
     Parameters
@@ -53,6 +55,10 @@ def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple
         The coordinate grid step the result will be rounded to (output units).
     seed_point
         A point whose component to keep (it must lie in the eroded free space); ``None``: the largest component.
+    margin
+        Added to the inflation (output units): how far the outline given may lie inside the true walls (a traced
+        map simplified within ``--simplify`` moved its walls by up to that much), so that the result keeps R from
+        the walls as they were before that simplification. Default 0.
     simplify
         A simplification tolerance (output units) that never gives back free space: the eroded free space is
         shrunk by it (mitred) and then simplified within it (Douglas–Peucker moves a boundary by at most the
@@ -87,7 +93,7 @@ def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple
 
     if not math.isfinite(radius) or radius <= 0:
         raise InputError(f"--robot-radius must be a positive number of metres, got {radius:g}")
-    distance = inflation_distance(radius, grid)
+    distance = inflation_distance(radius, grid) + margin
     eroded = free.buffer(-distance, quad_segs=QUAD_SEGS, join_style="round")
     simplify = min(simplify, radius / 4)
     if simplify > 0:
