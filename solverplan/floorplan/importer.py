@@ -20,7 +20,8 @@ from solverplan.floorplan.occupancy import DEFAULT_MIN_OBSTACLE, read_keepout_ma
 from solverplan.floorplan.outline import environment_from_polygon, finish_outline, grid_quantum
 from solverplan.floorplan.robot import erode_free_space, inflation_distance
 from solverplan.floorplan.vector import arrange_rings, read_dxf_linework, read_svg_rings
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import (Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind,
+                               protocol_json)
 
 __all__ = ["FloorplanImport", "ImportResult", "import_floorplan", "PlanFormat"]
 
@@ -42,8 +43,9 @@ _ALWAYS_LISTED = {"door_swing", "speckle", "small_hole", "merged_obstacle", "pas
                   "cut_off"}
 
 
+@answer_kind("import")
 @dataclass(frozen=True)
-class FloorplanImport:
+class FloorplanImport(Answer):
     """A floor plan read into an environment (the ``import`` answer of docs/contract.md).
 
     Attributes
@@ -157,6 +159,13 @@ class FloorplanImport:
         return always + others[:MAX_LISTED], max(len(others) - MAX_LISTED, 0)
 
     def to_json(self) -> dict:
+        """The answer as JSON (:meth:`Answer.to_json`), with the environment's record as every answer's."""
+        out: dict[str, Any] = {"kind": self.kind, "status": self.status.value}
+        out.update(self._fields())
+        out.update(protocol_json(self.optimality, self.stats, self.environment_record))
+        return out
+
+    def _fields(self) -> dict:
         """The import summary of docs/contract.md."""
         listed, more = self.listed_features()
         out: dict[str, Any] = {
@@ -165,7 +174,6 @@ class FloorplanImport:
             "holes": self.holes,
             "dropped": dict(self.dropped),
             "area": self.area,
-            "status": self.status.value,
             "format": self.format,
             "source": self.source,
             "name": self.environment.name,
@@ -183,7 +191,6 @@ class FloorplanImport:
             out["resolution"] = self.resolution
         if self.advice is not None:
             out["advice"] = self.advice
-        out.update(protocol_json(self.optimality, self.stats, self.environment_record))
         return out
 
     def to_text(self, *, width: int = 100) -> str:

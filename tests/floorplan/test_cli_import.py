@@ -32,7 +32,7 @@ def test_import_prints_the_summary_and_writes_the_environment(tmp_path, office_m
     specks = [f for f in summary["features"] if f["kind"] == "speckle"]
     assert len(specks) == summary["dropped"]["speckle"] > 0 and all(f["size"] < 0.25 for f in specks)
     assert summary["settings"]["min_obstacle_m"] == 0.25 and summary["warnings"] == []
-    assert list(summary)[:5] == ["written", "outer_vertices", "holes", "dropped", "area"]
+    assert list(summary)[:7] == ["kind", "status", "written", "outer_vertices", "holes", "dropped", "area"]
     assert summary["written"] == str(out) and summary["holes"] == 2 and summary["format"] == "ros"
     environment = load_environment(out)
     assert summary["outer_vertices"] == len(environment.outer)
