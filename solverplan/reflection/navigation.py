@@ -20,11 +20,14 @@ from typing import Sequence
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+import numpy as np
+
 from solverplan.reflection.compose import FieldPlan, compose_fields
+from solverplan.reflection.payoff import ROLLOUT_TRIALS, ZoneTest, prune_zones
 from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, default_scenarios,
                                             simulate_scenarios)
 
-__all__ = ["FieldNavigation", "navigate_fields"]
+__all__ = ["FieldNavigation", "navigate_fields", "random_starts", "ROLLOUT_SEED"]
 
 
 @dataclass(frozen=True)
@@ -39,6 +42,9 @@ class FieldNavigation:
     optimality: Optimality
     stats: Stats = field(default_factory=Stats)
     environment: EnvironmentRecord | None = None
+    reflections: str = "payoff"
+    starts: str = "fixed"
+    rollouts: dict[int, ZoneTest] = field(default_factory=dict)
 
     def to_json(self) -> dict:
         plan = self.plan
@@ -54,6 +60,11 @@ class FieldNavigation:
             "flow_through": plan.flow_through,
             "fields": [plan.policies[c].to_json() for c in sorted(plan.policies)],
             "reflection_zones": [plan.zones[c].to_json() for c in plan.reflection_cells],
+            "rejected_zones": [r.to_json() for r in plan.rejected],
+            "reflections": self.reflections,
+            "starts": self.starts,
+            "rollouts": {str(c): {"time_without": t.without, "time_with": t.with_zone, "gain": t.gain}
+                         for c, t in self.rollouts.items()},
             "model": self.model.to_json(),
             "seed": self.seed,
         }
@@ -75,10 +86,41 @@ class FieldNavigation:
         return "\n".join(line[:width] for line in lines) + "\n"
 
 
+def random_starts(plan: FieldPlan, trials: int, seed: int) -> np.ndarray:
+    """``trials`` start points drawn uniformly from the cells that reach the goal (area-weighted cell, then a
+    uniform point of the convex cell by rejection from its bounding box), length units; seeded."""
+    rng = np.random.default_rng([seed, 7919])
+    cells = [plan.cells[c] for c in sorted(plan.policies)]
+    areas = np.array([abs(float(_area2(c.float_vertices))) for c in cells])
+    normals, offsets = plan.decomposition.halfplanes
+    out = np.empty((trials, 2))
+    picks = rng.choice(len(cells), size=trials, p=areas / areas.sum())
+    for k, i in enumerate(picks.tolist()):
+        cell = cells[i]
+        lo, hi = cell.float_vertices.min(axis=0), cell.float_vertices.max(axis=0)
+        while True:
+            q = lo + (hi - lo) * rng.random(2)
+            values = normals[cell.id] @ q - offsets[cell.id]
+            if np.all(values[: len(cell.sides)] > 1e-9 * float(np.max(hi - lo))):
+                out[k] = q
+                break
+    return out
+
+
+def _area2(v: np.ndarray) -> float:
+    return float(np.dot(v[:, 0], np.roll(v[:, 1], -1)) - np.dot(v[:, 1], np.roll(v[:, 0], -1)))
+
+
+ROLLOUT_SEED = 1_000_003
+"""Added to the caller's seed for the rollouts that decide which reflections pay (independent of the runs
+reported)."""
+
+
 def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
                     scenarios: Sequence[str] = SCENARIOS, model: str | RobotModel = "inertial", trials: int = 25,
                     seed: int = 0, trajectories: int = 0, arcs: bool = False, fast: float = 1.5,
-                    slow: float = 0.8) -> FieldNavigation:
+                    slow: float = 0.8, gain_line: object = 3, gain_arc: object = 1, reflections: str = "payoff",
+                    starts: str = "fixed", cells: str = "convex") -> FieldNavigation:
     """Compose the fields from ``start`` to ``goal`` and run ``trials`` rollouts of each scenario.
 
     Parameters
@@ -99,6 +141,16 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
         Use arc fields in turning cells where they verify.
     fast, slow
         Commanded speeds of the unconstrained/reflection and the constrained scenarios (length/s).
+    gain_line, gain_arc
+        Gains p of the line and arc fields (1/length; :func:`~solverplan.reflection.compose.compose_fields`).
+    reflections
+        ``payoff`` (default): plan only the zones that pay for this robot (:mod:`~solverplan.reflection.payoff`:
+        turn, overshoot, rollouts); ``all``: every zone the geometry allows (the paper); ``none``.
+    cells
+        The decomposition: ``convex`` or ``corners`` (corner cells at the turns, where reflections can help).
+    starts
+        ``fixed``: every trial from ``start``; ``random``: trial k from a uniform random point of the free space
+        that reaches the goal (:func:`random_starts`, seeded), the same points in every scenario.
 
     Examples
     --------
@@ -119,11 +171,21 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
         if not value > robot.dead_band:  # below it the robot never moves: every trial would run to the time limit
             raise InputError(f"the {name} speed must exceed the robot's dead band {robot.dead_band:g} "
                              f"(length/s), got {value:g}")
-    plan = compose_fields(env, start, goal, arcs=arcs)
+    if reflections not in ("payoff", "all", "none"):
+        raise InputError(f"reflections must be payoff, all or none, got {reflections!r}")
+    if starts not in ("fixed", "random"):
+        raise InputError(f"starts must be fixed or random, got {starts!r}")
+    plan = compose_fields(env, start, goal, arcs=arcs, gain_line=gain_line, gain_arc=gain_arc,
+                          reflection=reflections != "none", cells=cells)
+    points = random_starts(plan, trials, seed) if starts == "random" else None
+    tests: dict = {}
+    if reflections == "payoff" and plan.zones:
+        probe = random_starts(plan, ROLLOUT_TRIALS, seed + ROLLOUT_SEED) if starts == "random" else None
+        plan, tests = prune_zones(plan, robot, fast, trials=ROLLOUT_TRIALS, seed=seed + ROLLOUT_SEED, starts=probe)
     composed = time.perf_counter()
     table = default_scenarios(fast, slow)
     runs = simulate_scenarios(plan, [table[s] for s in scenarios], model=robot, trials=trials, seed=seed,
-                              keep=trajectories)
+                              keep=trajectories, starts=points)
     finished = time.perf_counter()
     if plan.proved:
         optimality = Optimality(Method.EXACT_CHECK, True, None,
@@ -140,4 +202,4 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
                   counts={"cells": len(plan.cells), "trials": trials * len(scenarios),
                           "unverified_cells": sorted(c for c, p in plan.policies.items() if not p.check.verified)})
     return FieldNavigation(plan, robot, runs, seed, Status.FOUND if plan.flow_through else Status.NOT_FOUND,
-                           optimality, stats, EnvironmentRecord.of(env))
+                           optimality, stats, EnvironmentRecord.of(env), reflections, starts, tests)
