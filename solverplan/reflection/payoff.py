@@ -12,11 +12,12 @@ on 5 of 5 unseen corridors (issue #26); here a zone survives three tests, in ord
 1. **turn** (geometry, exact, in :func:`~solverplan.reflection.zones.select_zone_recorded`);
 2. **overshoot** (the robot model): v²/(2a) ≥ the depth of the cell beyond the outlet's midpoint along the entry
    direction; an integrator (a = ∞) never overshoots, so it never gets a zone;
-3. **rollout**: the zones that passed are added one at a time, in sequence order; each is kept only when
-   ``rollout_trials`` simulated runs (independent of the caller's: their own seed) with it take at least
-   :data:`MIN_GAIN` less mean time than without it, the noise shared between the two (common random numbers:
-   the difference is the zone's). Last, the kept set as a whole must beat the plain controller by
-   :data:`MIN_GAIN` on a second batch of runs, else every zone is dropped.
+3. **rollout**: ``trials`` simulated runs (their own seed, independent of the runs reported), the same noise
+   for every plan compared (common random numbers: a difference is the zones'). If all the zones that passed
+   save at least :data:`MIN_GAIN` of the mean time together, each is then dropped if the others do at least as
+   well without it; otherwise they are added one at a time, in sequence order, each kept only if it saves
+   :data:`MIN_GAIN` on its own. Last, the kept set must save :data:`CONFIRM_GAIN` on a fresh batch of runs,
+   else every zone is dropped.
 
 When nothing pays the reflection scenario *is* the unconstrained controller — the same runs (its noise is the
 unconstrained scenario's), so it never costs time. Each zone dropped is recorded with its stage and the numbers.
@@ -32,11 +33,14 @@ from solverplan.reflection.compose import FieldPlan
 from solverplan.reflection.simulate import RobotModel, Scenario, simulate_scenarios
 from solverplan.reflection.zones import RejectedZone
 
-__all__ = ["MIN_GAIN", "ROLLOUT_TRIALS", "ZoneTest", "overshoot_depth", "stopping_distance", "prune_zones"]
+__all__ = ["MIN_GAIN", "CONFIRM_GAIN", "ROLLOUT_TRIALS", "ZoneTest", "overshoot_depth", "stopping_distance", "prune_zones"]
 
 MIN_GAIN = 0.02
 """A zone must save at least this share of the mean time in rollouts (2 %: the acceptance allows reflection to
 cost at most 1 % on unseen runs, so a predicted gain needs a margin above the rollouts' noise)."""
+
+CONFIRM_GAIN = 0.01
+"""The zones kept must still save this share of the mean time on a second, fresh batch of runs."""
 
 ROLLOUT_TRIALS = 24
 """Runs per rollout comparison."""
@@ -128,26 +132,43 @@ def prune_zones(plan: FieldPlan, model: RobotModel, speed: float, *, trials: int
             candidates.append(c)
     kept: list[int] = []
     tests: dict[int, ZoneTest] = {}
-    # every candidate is tried on the same runs (common random numbers), so the time with the zones kept so far
-    # is known from the step before
-    current = _mean_time(plan.without_zones(list(plan.zones)), model, speed, trials, seed, starts) if candidates else 0.0
-    for c in candidates:
-        trial = plan.without_zones([z for z in plan.zones if z not in kept and z != c])
-        with_zone = _mean_time(trial, model, speed, trials, seed, starts)
-        tests[c] = ZoneTest(current, with_zone)
-        if tests[c].gain >= MIN_GAIN:
-            kept.append(c)
-            current = with_zone
+
+    def time_with(zones: list[int], runs_seed: int = seed) -> float:
+        return _mean_time(plan.without_zones([z for z in plan.zones if z not in zones]), model, speed, trials,
+                          runs_seed, starts)
+
+    if candidates:
+        # every plan is tried on the same runs (common random numbers): differences are the zones'
+        base = time_with([])
+        together = time_with(candidates)
+        if ZoneTest(base, together).gain >= MIN_GAIN:
+            # all together pay: drop one at a time those whose removal is not slower
+            kept, current = list(candidates), together
+            for c in candidates:
+                rest = [z for z in kept if z != c]
+                without = time_with(rest)
+                tests[c] = ZoneTest(without, current)
+                if without <= current:
+                    kept, current = rest, without
+                    rejected.append(RejectedZone(c, plan.zones[c].side, "rollout",
+                                                 f"the others do better without it: {current:.3f} s without it, "
+                                                 f"{tests[c].with_zone:.3f} s with it"))
         else:
-            rejected.append(RejectedZone(c, plan.zones[c].side, "rollout",
-                                         f"rollouts predict no gain: {with_zone:.3f} s with it, {current:.3f} s "
-                                         f"without ({_change(tests[c].gain)})"))
+            # together they do not pay: add one at a time those that pay on their own
+            current = base
+            for c in candidates:
+                with_zone = time_with(kept + [c])
+                tests[c] = ZoneTest(current, with_zone)
+                if tests[c].gain >= MIN_GAIN:
+                    kept.append(c)
+                    current = with_zone
+                else:
+                    rejected.append(RejectedZone(c, plan.zones[c].side, "rollout",
+                                                 f"rollouts predict no gain: {with_zone:.3f} s with it, {current:.3f} s "
+                                                 f"without ({_change(tests[c].gain)})"))
     if kept:  # the kept set as a whole, on fresh runs
-        whole = plan.without_zones([z for z in plan.zones if z not in kept])
-        fresh = seed + 1
-        without = _mean_time(plan.without_zones(list(plan.zones)), model, speed, trials, fresh, starts)
-        with_zones = _mean_time(whole, model, speed, trials, fresh, starts)
-        if ZoneTest(without, with_zones).gain < MIN_GAIN:
+        without, with_zones = time_with([], seed + 1), time_with(kept, seed + 1)
+        if ZoneTest(without, with_zones).gain < CONFIRM_GAIN:
             rejected.extend(RejectedZone(c, plan.zones[c].side, "rollout",
                                          f"together the kept zones predict too little gain on fresh runs: "
                                          f"{with_zones:.3f} s with them, {without:.3f} s without "

@@ -17,9 +17,10 @@ Ties (symmetric cells) go to the smallest n_in·v_in(p) (the paper's rule), then
 n_in·v_in (≥ 0 in a convex cell) are compared through their squares, which are rational: every tie is exact.
 
 Ties. On axis-parallel walls J ties (a square corner: both walls J = 1/2), and the paper's tie-break (smallest
-n_in·v_in) picks the wall opposite the exit. Ties here go first to the wall whose bounce turns the aimed direction
-most towards the exit (the largest cosine between the mirrored aim and the exit direction −n_out, compared through
-signed squares, exactly), then to the paper's rule, then to the lowest side index.
+n_in·v_in) picks the wall opposite the exit, which the robot entering along n_in never meets. Ties here go first to
+the wall the robot runs into (inward normal most against the entry direction), then to the wall facing the exit
+most (both compared through signed squared cosines, exactly: :func:`facing`), then to the paper's rule, then to the
+lowest side index.
 
 Choices of ours: S holds only **walls** (a reflection needs a wall to bounce on: a facet to another cell cannot be
 one); a wall is a zone only if bouncing on it **turns the robot towards the exit** (:func:`turns_towards_exit`: its
@@ -42,7 +43,7 @@ from solverplan.reflection.cells import Cell
 from solverplan.reflection.fields import FlowCheck, LineField, line_flows_through
 
 __all__ = ["ReflectionZone", "RejectedZone", "is_reflection_candidate", "alpha", "zone_cost", "zone_cost_printed",
-           "rank_zones", "select_zone", "select_zone_recorded", "turns_towards_exit", "exit_turn"]
+           "rank_zones", "select_zone", "select_zone_recorded", "turns_towards_exit", "facing"]
 
 
 def _dot(u: ExactPoint, v: ExactPoint) -> Fraction:
@@ -88,21 +89,18 @@ def zone_cost_printed(cell: Cell, inlet: int, outlet: int, side: int) -> Fractio
     return 2 - zone_cost(cell, inlet, outlet, side)
 
 
-def _mirrored_aim(cell: Cell, inlet: int, side: int) -> ExactPoint:
-    """d′ = d − 2(d·n)/(n·n)·n: the aim from the inlet midpoint at the wall's midpoint, mirrored on the wall."""
-    d = _sub(cell.sides[side].midpoint, cell.sides[inlet].midpoint)
+def _signed_cos2(u: ExactPoint, v: ExactPoint) -> Fraction:
+    """sign(u·v)·cos²(u, v): orders angles like the cosine does, in exact rationals."""
+    c = _dot(u, v)
+    return (1 if c >= 0 else -1) * c * c / (_dot(u, u) * _dot(v, v))
+
+
+def facing(cell: Cell, inlet: int, outlet: int, side: int) -> tuple[Fraction, Fraction]:
+    """How wall ``side`` faces the turn: (signed cos² between its inward normal n and the entry direction n_in —
+    −1 for the wall straight ahead —, signed cos² between n and the exit direction e = −n_out). Exact."""
     n = cell.sides[side].normal
-    k = 2 * _dot(d, n) / _dot(n, n)
-    return (d[0] - k * n[0], d[1] - k * n[1])
-
-
-def exit_turn(cell: Cell, inlet: int, outlet: int, side: int) -> Fraction:
-    """The signed squared cosine between the mirrored aim d′ and the exit direction e = −n_out (exact, in [−1, 1]):
-    1 when bouncing on ``side`` sends the robot straight out through the outlet."""
     e = (-cell.sides[outlet].normal[0], -cell.sides[outlet].normal[1])
-    d2 = _mirrored_aim(cell, inlet, side)
-    c = _dot(d2, e)
-    return (1 if c >= 0 else -1) * c * c / (_dot(d2, d2) * _dot(e, e))
+    return _signed_cos2(n, cell.sides[inlet].normal), _signed_cos2(n, e)
 
 
 def turns_towards_exit(cell: Cell, inlet: int, outlet: int, side: int) -> bool:
@@ -127,12 +125,13 @@ def turns_towards_exit(cell: Cell, inlet: int, outlet: int, side: int) -> bool:
 
 
 def rank_zones(cell: Cell, inlet: int, outlet: int) -> list[int]:
-    """The wall sides other than the inlet and outlet, best first: corrected Eq. 4, then the bounce that turns most
-    towards the exit (:func:`exit_turn`, largest first), then the smallest n_in·v_in, then the lowest index."""
-    def key(i: int) -> tuple[Fraction, Fraction, Fraction, int]:
+    """The wall sides other than the inlet and outlet, best first: corrected Eq. 4; on ties the wall the robot runs
+    into (its normal most against the entry direction), then the one facing the exit most (:func:`facing`), then the
+    smallest n_in·v_in (the paper's rule), then the lowest index."""
+    def key(i: int) -> tuple[Fraction, Fraction, Fraction, Fraction, int]:
         w_in = _sub(cell.sides[i].midpoint, cell.sides[inlet].midpoint)
-        return zone_cost(cell, inlet, outlet, i), -exit_turn(cell, inlet, outlet, i), \
-            _cos2(cell.sides[inlet].normal, w_in), i
+        against, towards = facing(cell, inlet, outlet, i)
+        return zone_cost(cell, inlet, outlet, i), against, -towards, _cos2(cell.sides[inlet].normal, w_in), i
 
     walls = [i for i, s in enumerate(cell.sides) if s.is_wall and i not in (inlet, outlet)]
     return sorted(walls, key=key)
