@@ -159,7 +159,22 @@ class ContactPursuit:
                     for s, t in ((e, w), (w, e)):
                         if self._open(vi, vj, t) and self._closed(vj, b_ji, s) and s != vj:
                             b_ji = s if self._walk(vj, s) < self._walk(vj, b_ji) else b_ji
+                # A bitangent ray ends on an edge not incident to its reflex vertex (general position: the line
+                # through v_i and v_j holds no edge). If the interval left for an end holds no vertex but the near
+                # one, it lies on an incident edge: no bitangent of this handedness (sound; issue #26).
+                if not self._holds_vertex(b_ij, vi, at, names) or not self._holds_vertex(vj, b_ji, at, names):
+                    continue
                 yield Candidate(i, j, names[b_ij], names[b_ji])
+
+    def _holds_vertex(self, a: int, b: int, at: dict[str, int], names: dict[int, str]) -> bool:
+        """Does the closed stretch from a to b (counter-clockwise, positions of ``at``) hold a vertex other than the
+        reflex vertex at its end (a vertex end at ``b`` for [b̂, v_i], at ``a`` for [v_j, b̂])? A vertex strictly
+        inside, or the far end being a vertex, means a second edge is reached."""
+        steps = self._walk(a, b)
+        inner = [names[(a + k) % self._size] for k in range(1, steps)]
+        ends = [names[a], names[b]]
+        vertex_ends = [label for label in ends if label.startswith("v")]
+        return any(label.startswith("v") for label in inner) or len(vertex_ends) == 2
 
     def _cell_range(self, a: int, b: int) -> frozenset[int]:
         """Cells a, a + 1, …, b (cyclically)."""
