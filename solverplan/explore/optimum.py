@@ -163,15 +163,16 @@ def chained_optimum(env: Environment, start: Sequence[object], candidates: Seque
             more = [visibility_polygon(env, p) for p in extra]
             shapes += [shapely.Polygon([tuple(map(float, x)) for x in vp.ring]).buffer(0) for vp in more]
             cells = _arrangement(free, shapes, floor)
-    near_corners = []
-    for k, v in enumerate(env.exact_vertices):
-        if k in set(env.reflex_vertices):
+    near_corners: list[ExactPoint] = []
+    reflex = set(env.reflex_vertices)
+    for corner in range(env.n_vertices):
+        if corner in reflex:
             continue
-        a, b = env.vertices[int(env.prev_vertex[k])], env.vertices[int(env.next_vertex[k])]
-        here = env.vertices[k]
-        q = _inside_point(env, *(here + 1e-3 * ((a - here) + (b - here))))
-        if q is not None:
-            near_corners.append(q)
+        a, b = env.vertices[int(env.prev_vertex[corner])], env.vertices[int(env.next_vertex[corner])]
+        here = env.vertices[corner]
+        inside = _inside_point(env, *(here + 1e-3 * ((a - here) + (b - here))))
+        if inside is not None:
+            near_corners.append(inside)
     witnesses = _lower_bound(env, near_corners + cell_points, scale)
     n, m = len(points), len(cells)
     spots = [c.representative_point() for c in cells]

@@ -335,10 +335,10 @@ class _Explorer:
         out = []
         for g in self.uncovered():
             c = g.representative_point()
-            q: ExactPoint | None = (Fraction(c.x), Fraction(c.y))
-            if not _in_free_space(self.env, q) or self._seen_exactly(q):
-                q = None
-            out.append(UncoveredPiece(tuple((float(x), float(y)) for x, y in g.exterior.coords[:-1]), float(g.area), q))
+            q: ExactPoint = (Fraction(c.x), Fraction(c.y))
+            witness = None if not _in_free_space(self.env, q) or self._seen_exactly(q) else q
+            out.append(UncoveredPiece(tuple((float(x), float(y)) for x, y in g.exterior.coords[:-1]), float(g.area),
+                                      witness))
         return tuple(out)
 
     def _seen_exactly(self, q: ExactPoint) -> bool:

@@ -352,12 +352,12 @@ def simulate_rooms(
         stuck = np.flatnonzero(runs.status == Outcome.OK)
         n_trapped = sum(_periodic(dec, chosen, walk, doors, int(edges[k]), float(t[k]), float(headings[k]), max_bounces)
                         for k in stuck.tolist())
-    smart = isinstance(chosen, Smart)
-    tangent = chosen.tangent if smart and not chosen.per_room else None
+    smart = chosen if isinstance(chosen, Smart) else None
+    tangent = smart.tangent if smart is not None and not smart.per_room else None
     return RoomRuns(rule, walk, trials, max_bounces, seed, doors, float(reached.mean()),
                     tuple(int(b) for b in runs.stop_step[reached]), runs.outcome_counts(), n_trapped,
-                    chosen.theta if smart else None, tangent, kept,
-                    recommend_rule(dec, start, goal, rooms=walk), mode if smart else None)
+                    smart.theta if smart is not None else None, tangent, kept,
+                    recommend_rule(dec, start, goal, rooms=walk), mode if smart is not None else None)
 
 
 def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[str] = RULES, **options: Any) -> RuleComparison:
