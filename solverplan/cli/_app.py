@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
-from solverplan.limits import reset_memory_limit, set_memory_limit
 from solverplan.environment import Environment, load_environment
 from solverplan.cli._errors import Shell
 from solverplan.cli._output import EnvFormat, OutputFormat, set_json_indent
@@ -57,14 +56,6 @@ def _version(value: bool) -> None:
         raise typer.Exit(0)
 
 
-def _reset_json_layout() -> None:
-    from solverplan.bounce import bvg
-
-    set_json_indent(None)
-    bvg.set_graph_cache(None)
-    reset_memory_limit()
-
-
 @app.callback()
 def _root(
     ctx: typer.Context,
@@ -101,20 +92,22 @@ def _root(
     ] = None,
 ) -> None:
     """Planning with proofs for minimal bouncing robots in polygonal environments."""
-    from solverplan.bounce import bvg
+    from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, config, default_cache_directory
 
     if compact and indent is not None:
         raise typer.BadParameter("give --indent or --compact, not both", param_hint="'--indent'")
+    cache = default_cache_directory() if graph_cache is None else None if graph_cache in ("", "off") else Path(graph_cache)
+    changes: dict[str, Any] = {
+        "graph_cache": cache,
+        "graph_cache_min_arcs": DEFAULT_MIN_ARCS if graph_cache_min_arcs is None else graph_cache_min_arcs,
+        "graph_cache_max_bytes": DEFAULT_MAX_BYTES if graph_cache_size is None else parse_size(graph_cache_size, "--graph-cache-size"),
+    }
+    if max_memory is not None:
+        changes["max_memory"] = parse_size(max_memory)
+    # the layout and the settings belong to this one command line (tests run many in one process)
     set_json_indent(-1 if compact else indent)
-    cache = bvg.default_cache_directory() if graph_cache is None else None if graph_cache in ("", "off") else Path(graph_cache)
-    limit = parse_size(max_memory) if max_memory is not None else None
-    cap = parse_size(graph_cache_size, "--graph-cache-size") if graph_cache_size is not None else bvg.DEFAULT_MAX_BYTES
-    bvg.set_graph_cache(cache, min_arcs=bvg.DEFAULT_MIN_ARCS if graph_cache_min_arcs is None else graph_cache_min_arcs,
-                        max_bytes=cap)
-    if limit is not None:
-        set_memory_limit(limit)
-    # the layout, cache and limit belong to this one command line (tests run many in one process)
-    ctx.call_on_close(_reset_json_layout)
+    ctx.call_on_close(lambda: set_json_indent(None))
+    ctx.with_resource(config(**changes))
 
 
 def parse_size(text: str, option: str = "--max-memory") -> int:

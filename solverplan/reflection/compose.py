@@ -206,6 +206,13 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
         ``convex`` or ``corners`` (:func:`~solverplan.reflection.cells.decompose_free_space`): with ``corners``
         the turns of corridors get corner cells, the reflection candidates.
 
+    Returns
+    -------
+    FieldPlan
+        The cells, the cell sequence from the start's cell to the goal's, one verified field per cell of the
+        sequence (``policies``, by cell id; ``flow_through`` says every line field carries its cell into its
+        outlet, checked exactly) and the reflection zones (``zones``).
+
     Raises
     ------
     InputError

@@ -52,7 +52,7 @@ Doors = Literal["control", "open"]
 
 class RoomPolicy:
     """A rule executed in the rooms of a decomposition, with door control (:class:`solverplan.simulate.Policy`
-    with its own :class:`~solverplan.simulate.Walls`).
+    with its own :class:`~solverplan.simulate.PolicyWalls`).
 
     The robot of rollout i is at position ``positions[i]`` of the room sequence; it reaches the goal when it is
     at the last one. Without control (``control=None``) every door is open and the goal is being in ``goal``.
@@ -329,6 +329,25 @@ def simulate_rooms(
     theta
         The smart rule's θ mode (:data:`~solverplan.rectilinear.rules.THETA_MODES`): ``safe``, ``paper`` or
         ``per-room``; ``rule`` may also name a variant (``smart-paper``, ``smart-per-room``).
+
+    Returns
+    -------
+    RoomRuns
+        The share of robots that reached ``goal`` within ``max_bounces`` (``success``), their bounce counts, the
+        deterministic runs proved trapped in a periodic orbit, and the θ the smart rule used (radians).
+
+    Raises
+    ------
+    InputError
+        Unknown rooms or rule, a walk that does not join ``start`` to ``goal`` through doors, bad counts.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> rooms = sp.decompose_rooms(sp.load_environment("l_shape"))
+    >>> runs = sp.simulate_rooms(rooms, 0, 1, trials=20, seed=1)          # 20 smart robots from room 0 to room 1
+    >>> runs.success, runs.outcomes["goal"], runs.theta_tangent, runs.bounces_median
+    (1.0, 20, Fraction(1, 5), 5.5)
     """
     trials = _check_count("trials", trials, 1)
     max_bounces = _check_count("max_bounces", max_bounces, 1)
@@ -364,8 +383,34 @@ def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[
     """:func:`simulate_rooms` for each rule with the same seed (so the same starts), side by side, each run carrying
     the cost-aware recommendation made from all of them (:func:`recommend_from_runs`).
 
-    ``rules`` are names of :data:`~solverplan.rectilinear.rules.RULE_VARIANTS` (``RULE_VARIANTS`` compares the
-    smart rule's three θ modes with random and billiard bouncing)."""
+    Parameters
+    ----------
+    dec
+        A room decomposition (:func:`solverplan.rectilinear.decompose_rooms`).
+    start, goal
+        Room ids.
+    rules
+        The rules to compare (default the paper's three: ``smart``, ``random``, ``billiard``;
+        :data:`~solverplan.rectilinear.rules.RULE_VARIANTS` adds the smart rule's other θ modes).
+    **options
+        :func:`simulate_rooms`'s keyword arguments (``trials``, ``seed``, ``max_bounces``, ``doors``, ``theta``, ...).
+
+    Returns
+    -------
+    RuleComparison
+        ``runs[rule]``, one :class:`RoomRuns` per rule (the paper's Table I), from the same starts, each with the
+        recommendation (``advice``).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> rooms = sp.decompose_rooms(sp.load_environment("l_shape"))
+    >>> table = sp.compare_rules(rooms, 0, 1, trials=20, seed=1)
+    >>> {rule: (runs.success, runs.bounces_median) for rule, runs in table.runs.items()}
+    {'smart': (1.0, 5.5), 'random': (1.0, 4.0), 'billiard': (1.0, 6.5)}
+    >>> table.runs["smart"].advice.rule
+    'random'
+    """
     runs = {name: simulate_rooms(dec, start, goal, rule=name, **options) for name in rules}
     advice = recommend_from_runs(runs)
     return RuleComparison({name: replace(r, advice=advice) for name, r in runs.items()})
