@@ -380,8 +380,9 @@ def simulate_rooms(
 
 
 def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[str] = RULES, **options: Any) -> RuleComparison:
-    """:func:`simulate_rooms` for each rule with the same seed (so the same starts), side by side, each run carrying
-    the cost-aware recommendation made from all of them (:func:`recommend_from_runs`).
+    """:func:`simulate_rooms` for each rule with the same seed (so the same starts), side by side.
+
+    Each run carries the cost-aware recommendation made from all of them (:func:`recommend_from_runs`).
 
     Parameters
     ----------
