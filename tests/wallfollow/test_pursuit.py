@@ -421,7 +421,7 @@ def test_issue26_strategy6_solves_six_vertex_polygons_one_rfollow_clears(ring, s
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(general_position_polygons(min_vertices=5, max_vertices=9))
-def test_prop17_no_dropped_candidate_hides_a_real_bitangent(env):
-    """The candidates dropped because their ray end could only lie on an edge of their own reflex vertex are not
-    bitangents: every geometric bitangent still lies in the merge stretches of the kept candidates."""
+def test_prop17_no_dropped_ray_hides_a_real_bitangent(env):
+    """The rays dropped because their end could only lie on an edge of their own reflex vertex hide no bitangent:
+    every geometric bitangent's merging side still lies in the stretches of the kept rays."""
     _merge_cells_cover_every_bitangent(env)
