@@ -216,7 +216,7 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
                           reflection=reflections != "none", cells=cells)
     points = random_starts(plan, trials, seed) if starts == "random" else None
     tests: dict = {}
-    if reflections == "payoff" and plan.zones:
+    if reflections == "payoff" and plan.zones and "reflection" in scenarios:
         probe = random_starts(plan, ROLLOUT_TRIALS, seed + ROLLOUT_SEED) if starts == "random" else None
         plan, tests = prune_zones(plan, robot, fast, trials=ROLLOUT_TRIALS, seed=seed + ROLLOUT_SEED, starts=probe)
     composed = time.perf_counter()
