@@ -17,7 +17,7 @@ import time
 import networkx as nx
 
 from solverplan.rectilinear import decompose_rooms
-from solverplan.studies.generators import generate
+from solverplan.generators import generate
 from solverplan.studies.rooms import RULE_VARIANTS, compare_rules
 
 

@@ -10,7 +10,7 @@ from solverplan.environment import load_environment
 from solverplan.errors import InputError
 from solverplan.rectilinear import decompose_rooms
 from solverplan.rectilinear.rules import GUARANTEED, Smart, door_depth, room_tangents, smart_tangent
-from solverplan.studies.generators import rectilinear_polygon
+from solverplan.generators import rectilinear_polygon
 from solverplan.studies.rooms import NEAR_FASTEST, RULE_VARIANTS, compare_rules, recommend_from_runs
 
 

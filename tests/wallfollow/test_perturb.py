@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InvalidEnvironment
 from solverplan.exact import orient
-from solverplan.studies.generators import rectilinear_polygon
+from solverplan.generators import rectilinear_polygon
 from solverplan.wallfollow.cuts import check_general_position, cut_ordering
 from solverplan.wallfollow.perturb import perturb
 from solverplan.wallfollow.pursuit import pursuit_plan
