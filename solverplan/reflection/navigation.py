@@ -19,7 +19,13 @@ from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.errors import MalformedFile
+from solverplan.exact import format_number, to_fraction
+from solverplan.reflection.zones import RejectedZone
+from fractions import Fraction
+from typing import Any
+
 import numpy as np
 
 from solverplan.reflection.compose import FieldPlan, compose_fields
@@ -30,8 +36,9 @@ from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, 
 __all__ = ["FieldNavigation", "navigate_fields", "random_starts", "ROLLOUT_SEED"]
 
 
+@answer_kind("fields")
 @dataclass(frozen=True)
-class FieldNavigation:
+class FieldNavigation(Answer):
     """The composed fields (``plan``), the robot ``model`` and one :class:`ScenarioRun` per scenario (``runs``).
 
     Made by :func:`navigate_fields`; follows the result protocol of :mod:`solverplan.result`.
@@ -72,8 +79,10 @@ class FieldNavigation:
     reflections: str = "payoff"
     starts: str = "fixed"
     rollouts: dict[int, ZoneTest] = field(default_factory=dict)
+    cells: str = "convex"
+    gains: tuple[Fraction, Fraction] = (Fraction(3), Fraction(1))
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         plan = self.plan
         out: dict = {
             "cells": [c.to_json() for c in plan.cells],
@@ -81,7 +90,6 @@ class FieldNavigation:
             "sequence": list(plan.sequence),
             "reflection_cells": list(plan.reflection_cells),
             "scenarios": {name: run.to_json() for name, run in self.runs.items()},
-            "status": self.status.value,
             "start": [float(c) for c in plan.start],
             "goal": [float(c) for c in plan.goal],
             "flow_through": plan.flow_through,
@@ -90,13 +98,64 @@ class FieldNavigation:
             "rejected_zones": [r.to_json() for r in plan.rejected],
             "reflections": self.reflections,
             "starts": self.starts,
+            "decomposition": self.cells,
+            "gain_line_exact": format_number(self.gains[0]),
+            "gain_arc_exact": format_number(self.gains[1]),
             "rollouts": {str(c): {"time_without": t.without, "time_with": t.with_zone, "gain": t.gain}
                          for c, t in self.rollouts.items()},
             "model": self.model.to_json(),
             "seed": self.seed,
+            "start_exact": [format_number(c) for c in plan.start],
+            "goal_exact": [format_number(c) for c in plan.goal],
         }
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
+
+    _PLAN_KEYS = ("cells", "adjacency", "sequence", "reflection_cells", "flow_through", "fields", "reflection_zones")
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> FieldNavigation:
+        """Read a fields answer back in ``env`` (required). The composed fields are a function of the environment,
+        the exact start and goal and whether arc fields were allowed: they are composed again and must be the
+        answer's (cells, fields, verdicts, zones — else :class:`~solverplan.errors.MalformedFile`); the trials are
+        read from the file."""
+        r = Reader(data, "fields")
+        env, record = r.in_environment(env, 'fields')
+        arcs = any(f.sub("field").string("kind", "") == "arc" for f in r.items("fields"))
+        cells = r.string("decomposition", "convex")
+        reflections = r.string("reflections", "all")
+        gains = (r.exact("gain_line_exact") if r.has("gain_line_exact") else Fraction(3),
+                 r.exact("gain_arc_exact") if r.has("gain_arc_exact") else Fraction(1))
+        try:
+            plan = compose_fields(env, r.exact_pair("start_exact"), r.exact_pair("goal_exact"), arcs=arcs, cells=cells,
+                                  gain_line=gains[0], gain_arc=gains[1], reflection=reflections != "none")
+        except InputError as exc:
+            raise MalformedFile(f"fields: {exc}") from None
+        # the zones the payoff tests kept are the answer's (rollouts are not repeated); the others are recorded
+        kept = set(r.ints("reflection_cells"))
+        dropped = [RejectedZone(z.integer("cell"), z.get("side", None), z.string("stage"), z.string("reason"))  # type: ignore[arg-type]
+                   for z in r.items("rejected_zones") if z.string("stage", "") in ("overshoot", "rollout")] \
+            if r.has("rejected_zones") else []
+        plan = plan.without_zones([c for c in plan.zones if c not in kept], dropped)
+        model_data = r.sub("model").data
+        try:
+            model = RobotModel(**model_data) if isinstance(model_data, dict) else RobotModel()
+        except TypeError:
+            raise MalformedFile("fields.model: unknown robot parameters") from None
+        scenarios = r.sub("scenarios")
+        runs = {str(name): ScenarioRun.from_json(str(name), run) for name, run in scenarios.data.items()}  # type: ignore[union-attr]
+        recorded = r.get("rollouts", {})
+        try:
+            rollouts = {int(c): ZoneTest(float(t["time_without"]), float(t["time_with"]))
+                        for c, t in recorded.items()} if isinstance(recorded, dict) else {}
+        except (KeyError, TypeError, ValueError):
+            raise MalformedFile("fields.rollouts: expected {cell: {time_without, time_with, gain}}") from None
+        answer = cls(plan, model, runs, r.integer("seed"), r.status(), r.optimality(), r.stats(), record, reflections,
+                     r.string("starts", "fixed"), rollouts, cells, gains)
+        mine = answer._fields()
+        for key in cls._PLAN_KEYS:
+            if mine[key] != data.get(key):
+                raise MalformedFile(f"fields.{key}: not the fields composed from this start and goal in {env.name!r}")
+        return answer
 
     def to_text(self, *, width: int = 100) -> str:
         plan = self.plan
@@ -239,4 +298,5 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
                   counts={"cells": len(plan.cells), "trials": trials * len(scenarios),
                           "unverified_cells": sorted(c for c, p in plan.policies.items() if not p.check.verified)})
     return FieldNavigation(plan, robot, runs, seed, Status.FOUND if plan.flow_through else Status.NOT_FOUND,
-                           optimality, stats, EnvironmentRecord.of(env), reflections, starts, tests)
+                           optimality, stats, EnvironmentRecord.of(env), reflections, starts, tests, cells,
+                           (to_fraction(gain_line, where="gain_line"), to_fraction(gain_arc, where="gain_arc")))
