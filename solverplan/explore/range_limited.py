@@ -190,9 +190,16 @@ class RangeExploration(ViewpointRun):
         assert env is not None
         R = r.exact("range_exact")
         views = tuple(range_visibility(env, p, R) for p in fields["viewpoints"])
+        uncovered = []
+        for piece in (r.items("uncovered") if r.has("uncovered") else []):
+            outline = [piece.at("polygon", q) for q in piece.array("polygon")]
+            witness = piece.exact_pair("witness_exact") if piece.has("witness_exact") else None
+            uncovered.append(UncoveredPiece(tuple((q.number(0), q.number(1)) for q in outline), piece.number("area"),
+                                            witness))
+        unseen = tuple(r.ints("unseen_vertices")) if r.has("unseen_vertices") else ()
         return cls(views=views, phases=tuple(r.texts("phases")), rings=tuple(r.ints("rings")), holes=r.integer("holes"),
                    lower_bound=r.integer("lower_bound"), ratio_bound=r.number("ratio_bound"), range=R,
-                   epsilon=r.exact("epsilon_exact"), **fields)
+                   epsilon=r.exact("epsilon_exact"), uncovered=tuple(uncovered), unseen_vertices=unseen, **fields)
 
     def to_text(self, *, width: int = 100) -> str:
         lines = [
