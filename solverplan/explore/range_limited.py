@@ -69,7 +69,6 @@ PHASES = ("start", "open", "boundary", "frontier")
 ``boundary`` following a ring (Steps 3–5); ``frontier`` any other part of CP's frontier (constructed edges)."""
 
 
-@answer_kind("range-exploration")
 @dataclass(frozen=True)
 class UncoveredPiece:
     """A piece of the free space no view covers: its outline (floats, length units), area, and a point of it in
@@ -85,6 +84,7 @@ class UncoveredPiece:
                 "witness_exact": None if self.witness is None else [format_number(c) for c in self.witness]}
 
 
+@answer_kind("range-exploration")
 @dataclass(frozen=True)
 class RangeExploration(ViewpointRun):
     """An exploration with range-limited views (Algorithm B, or Algorithm A when Theorem 3 applies).
