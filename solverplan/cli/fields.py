@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from enum import StrEnum
+from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -11,7 +12,7 @@ from solverplan.limits import MAX_SEED, MAX_TRAJECTORIES
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
 from solverplan.cli._errors import exit_codes
 from solverplan.cli._options import CertificateOpt, PictureOpt, parse_xy, write_certificate_file
-from solverplan.cli._output import OutputFormat, emit
+from solverplan.cli._output import OutputFormat, emit, emit_string, json_text
 
 
 class FieldScenario(StrEnum):
@@ -24,6 +25,22 @@ class FieldScenario(StrEnum):
 class FieldRobot(StrEnum):
     INTEGRATOR = "integrator"
     INERTIAL = "inertial"
+
+
+class FieldReflections(StrEnum):
+    PAYOFF = "payoff"
+    ALL = "all"
+    NONE = "none"
+
+
+class FieldStarts(StrEnum):
+    FIXED = "fixed"
+    RANDOM = "random"
+
+
+class FieldCells(StrEnum):
+    CONVEX = "convex"
+    CORNERS = "corners"
 
 
 @app.command(name="fields")
@@ -39,6 +56,15 @@ def fields_command(
     arcs: Annotated[bool, typer.Option("--arcs", help="Arc fields in turning cells where they verify (the paper's linear/arc configuration).")] = False,
     fast: Annotated[float, typer.Option("--fast", min=1e-9, max=1e6, metavar="V", help="Speed of the unconstrained and reflection scenarios (length/s).")] = 1.5,
     slow: Annotated[float, typer.Option("--slow", min=1e-9, max=1e6, metavar="V", help="Speed of the constrained scenario (length/s).")] = 0.8,
+    accel: Annotated[float, typer.Option("--accel", min=1e-9, max=1e9, metavar="A", help="Inertial robot: largest change of velocity per second (length/s²).")] = 2.0,
+    restitution: Annotated[float, typer.Option("--restitution", min=0.0, max=1.0, metavar="E", help="Inertial robot: share of the normal speed kept (reversed) by an impact.")] = 0.8,
+    control_rate: Annotated[float, typer.Option("--control-rate", min=0.1, max=10_000.0, metavar="HZ", help="Commands per second; the physics runs at 400 Hz, or at this rate if higher (it must divide it).")] = 20.0,
+    gain_line: Annotated[str, typer.Option("--gain-line", metavar="P", help="Gain of the line fields (1/length), read exactly.")] = "3",
+    gain_arc: Annotated[str, typer.Option("--gain-arc", metavar="P", help="Gain of the arc fields (1/length), read exactly.")] = "1",
+    reflections: Annotated[FieldReflections, typer.Option("--reflections", help="payoff: plan a reflection only where the wall turns the robot to the exit, the robot would overshoot and rollouts predict a gain; all: every zone the geometry allows (the paper); none.")] = FieldReflections.PAYOFF,
+    cells: Annotated[FieldCells, typer.Option("--cells", help="convex: Hertel–Mehlhorn cells; corners: with the reflex corners projected along their walls, so turns get corner cells (reflection candidates).")] = FieldCells.CONVEX,
+    starts: Annotated[FieldStarts, typer.Option("--starts", help="fixed: every trial from --from; random: each trial from a uniform random point of the free space (seeded, the same in every scenario).")] = FieldStarts.FIXED,
+    export: Annotated[Path | None, typer.Option("--export", metavar="FIELD.json", help="Also write the composed field for a controller (cells as half-planes, fields, reflection zones), atomically.", show_default=False)] = None,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
@@ -49,6 +75,7 @@ def fields_command(
     """Composed local potential fields in convex cells, with reflection (Stager and Tanner): cells, sequence, reflection cells and scenario statistics."""
     from solverplan.certify.gate import checked_answer
     from solverplan.reflection.navigation import navigate_fields
+    from solverplan.reflection.simulate import RobotModel
 
     with exit_codes(verbose):
         check_picture(picture)
@@ -56,12 +83,18 @@ def fields_command(
         names = ("constrained", "unconstrained", "reflection") if scenario is FieldScenario.ALL else (scenario.value,)
         if trajectories is None:  # a picture without runs shows empty corridors: draw a few by default
             trajectories = min(5, trials) if picture is not None else 0
+        physics = max(400.0, control_rate)
+        robot = RobotModel(kind=model.value, accel=accel, restitution=restitution, control_rate=control_rate,
+                           physics_rate=control_rate * max(1, round(physics / control_rate)))
         checked = checked_answer(lambda: navigate_fields(
-            environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names, model=model.value,
-            trials=trials, seed=seed, trajectories=trajectories, arcs=arcs, fast=fast, slow=slow), env=environment)
+            environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names, model=robot,
+            trials=trials, seed=seed, trajectories=trajectories, arcs=arcs, fast=fast, slow=slow, gain_line=gain_line,
+            gain_arc=gain_arc, reflections=reflections.value, starts=starts.value, cells=cells.value), env=environment)
         answer = checked.answer  # its cells and fields checked exactly before it leaves
         if certificate is not None:
             write_certificate_file(answer, certificate, environment, checked.certificate)
+        if export is not None:
+            emit_string(json_text(answer.plan.export(), 1) + "\n", export)
         if picture is not None:
             from solverplan.render import save_figure
             from solverplan.render.fields import render_fields

@@ -136,3 +136,29 @@ def generate_polyomino(
     from solverplan.generators import rectilinear_polygon
 
     _emit_generated(rectilinear_polygon, fmt, out, verbose, n_cells=cells, max_size=max_size, seed=seed)
+
+
+@generate_app.command("spiral")
+def generate_spiral(
+    turns: Annotated[int, typer.Option("--turns", min=1, max=500, help="Left turns of the width-1 corridor (its reflex vertices).")] = 4,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: EnvOutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """The exploration paper's spiral (Fig. 9): a width-1 corridor winding inward, r = turns; start at (0, 0)."""
+    from solverplan.explore.families import spiral
+
+    _emit_generated(lambda turns: spiral(turns)[0], fmt, out, verbose, turns=turns)
+
+
+@generate_app.command("ring")
+def generate_ring(
+    sides: Annotated[int, typer.Option("--sides", min=3, max=500, help="Vertices of the convex hole (all reflex).")] = 5,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: EnvOutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """The exploration paper's one-hole polygon (Fig. 10): a ring corridor round a convex hole of --sides vertices."""
+    from solverplan.explore.families import one_hole
+
+    _emit_generated(lambda sides: one_hole(sides - 2)[0], fmt, out, verbose, sides=sides)

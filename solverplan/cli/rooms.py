@@ -18,9 +18,17 @@ from solverplan.cli._output import OutputFormat, emit
 
 class RoomRule(StrEnum):
     SMART = "smart"
+    SMART_PAPER = "smart-paper"
+    SMART_PER_ROOM = "smart-per-room"
     RANDOM = "random"
     BILLIARD = "billiard"
     ALL = "all"
+
+
+class ThetaMode(StrEnum):
+    SAFE = "safe"
+    PAPER = "paper"
+    PER_ROOM = "per-room"
 
 
 class DoorMode(StrEnum):
@@ -34,12 +42,13 @@ def rooms_command(
     simulate: Annotated[bool, typer.Option("--simulate", help="Simulate robots from room --from to room --to instead.")] = False,
     start: Annotated[int | None, typer.Option("--from", min=0, metavar="ROOM", help="Start room (with --simulate).", show_default=False)] = None,
     goal: Annotated[int | None, typer.Option("--to", min=0, metavar="ROOM", help="Target room (with --simulate).", show_default=False)] = None,
-    rule: Annotated[RoomRule, typer.Option("--rule", help="Bounce rule: smart, random, billiard, or all three side by side.")] = RoomRule.SMART,
+    rule: Annotated[RoomRule, typer.Option("--rule", help="Bounce rule: smart (θ from --theta), smart-paper, smart-per-room, random, billiard, or all side by side. Every rule is simulated with the same starts to make the recommendation.")] = RoomRule.SMART,
     trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="N", help="Robots per rule.")] = 100,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the starts (and of the random rule).")] = 0,
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of each robot.")] = 5000,
     doors: Annotated[DoorMode, typer.Option("--doors", help="control: the door-control policy for the room sequence; open: every door open.")] = DoorMode.CONTROL,
-    per_room: Annotated[bool, typer.Option("--per-room", help="Tell the smart robot the θ of the room it is in.")] = False,
+    per_room: Annotated[bool, typer.Option("--per-room", help="Tell the smart robot the θ of the room it is in (the same as --theta per-room).")] = False,
+    theta: Annotated[ThetaMode, typer.Option("--theta", help="The smart rule's θ: safe (tan θ = ℓ/2D, arrives from every start tried), paper (Eq. 1's ℓ/h: faster, some starts trapped) or per-room (the safe θ of the room it is in).")] = ThetaMode.SAFE,
     tour: Annotated[bool, typer.Option("--tour", help="Visit every room from --from (depth first) instead of going to --to.")] = False,
     check: Annotated[
         Path | None,
@@ -88,15 +97,16 @@ def rooms_command(
                 _save_rooms_picture(dec, None, picture)
             emit(dec, fmt, out)
             return
-        from solverplan.studies.rooms import RULES, compare_rules
+        from solverplan.studies.rooms import RULE_VARIANTS, compare_rules
 
         dec = decompose_rooms(environment)
 
         assert start is not None
         walk = dec.tour(start) if tour else dec.path(start, dec.check_room(goal))
-        names = RULES if rule is RoomRule.ALL else (rule.value,)
+        names = RULE_VARIANTS if rule is RoomRule.ALL else (rule.value,) + tuple(n for n in RULE_VARIANTS if n != rule.value)
         answer = compare_rules(dec, start, walk[-1], rules=names, trials=trials, seed=seed, max_bounces=max_bounces,
-                               doors=doors.value, per_room=per_room, walk=walk, keep=1 if picture is not None else 0)
+                               doors=doors.value, per_room=per_room, theta=theta.value, walk=walk,
+                               keep=1 if picture is not None else 0)
         if picture is not None:
             _save_rooms_picture(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}, picture)
         emit(answer if rule is RoomRule.ALL else answer.runs[rule.value], fmt, out)

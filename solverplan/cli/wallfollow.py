@@ -43,6 +43,7 @@ def wallfollow_command(
     sensor: Annotated[PursuitSensor, typer.Option("--sensor", help="With --pursuit: the pursuer's extra sensor (gap: Strategy 2; bitangent: Strategy 3; pebble: Strategies 4–5, pebble visibility; contact: Strategy 6, touch and pebble only).")] = PursuitSensor.GAP,
     origin: Annotated[str, typer.Option("--from", metavar="POINT", help="With --pursuit: the pursuer's start, a point of the cut ordering (v0, r3).")] = "v0",
     max_states: Annotated[int, typer.Option("--max-states", min=1, max=10_000_000, metavar="N", help="With --pursuit: cap on the derived I-states searched.")] = 200_000,
+    perturb: Annotated[bool, typer.Option("--perturb", help="Make a degenerate polygon general by an infinitesimal symbolic perturbation (simulation of simplicity): grazing JUMPs pass one fixed side, coinciding cut end points are ordered one fixed way.")] = False,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
@@ -70,6 +71,12 @@ def wallfollow_command(
             raise InputError("--certificate certifies a cut ordering or a pursuit plan: --count is a random walk's estimate")
         check_picture(picture)
         environment = load_env(env, env_format)
+        perturbation = None
+        if perturb:
+            from solverplan.wallfollow.perturb import PerturbedAnswer, perturb as make_general
+
+            perturbation = make_general(environment)
+            environment = perturbation.env
         where, towards = parse_pair(start, "--start"), parse_pair(heading or "1,0", "--heading")
         assert towards is not None
         if learn:
@@ -97,4 +104,4 @@ def wallfollow_command(
             save_figure(render_pursuit(environment, answer) if pursuit else
                         render_cuts(environment, answer.ordering.relabel(answer.pebble_vertex) if learn else None),
                         picture)
-        emit(answer, fmt, out)
+        emit(answer if perturbation is None else PerturbedAnswer(answer, perturbation), fmt, out)

@@ -11,6 +11,17 @@ other than the start consumes one unit, flow runs only along visibility pairs be
 The optimum is over C only: an upper bound on the true optimum over all points of P; with the online
 algorithm's own viewpoints in C it never exceeds the online number of views, so the measured ratio
 online/optimum is a lower estimate of the true competitive ratio on that instance.
+
+**Candidates.** C holds the start, the polygon's vertices, the points given, and (``refine=True``, the default)
+a point inside every cell of the arrangement of those views (issue #26: over vertices and an online run's
+viewpoints alone the optimum was 3 where two chained views cover) — a point inside a cell sees at least what the
+cell's corners see jointly, often more.
+
+**Lower bound.** Witness points whose visibility polygons are pairwise disjoint need one view each: no point sees
+two of them. Greedily, from points near the convex vertices and the cells' points (smallest views first), a
+witness is taken when its view (slightly grown, so that touching counts as meeting) meets none taken before.
+``lower_bound`` is that count (at least 1), ``gap`` = views − lower_bound; the optimum is proved when the gap is
+0.
 """
 
 from __future__ import annotations
@@ -29,19 +40,78 @@ __all__ = ["ChainedOptimum", "chained_optimum"]
 @dataclass(frozen=True, slots=True)
 class ChainedOptimum:
     """The fewest chained views over the candidates: ``viewpoints`` (the start first), ``cells`` the number
-    of arrangement cells covered, ``candidates`` how many points were offered."""
+    of arrangement cells covered, ``candidates`` how many points were offered, ``lower_bound`` a proved lower
+    bound on the fewest views from any points (pairwise invisible witnesses, module docstring) and ``witnesses``
+    those points."""
 
     viewpoints: tuple[ExactPoint, ...]
     cells: int
     candidates: int
+    lower_bound: int = 1
+    witnesses: tuple[ExactPoint, ...] = ()
 
     @property
     def views(self) -> int:
         return len(self.viewpoints)
 
+    @property
+    def gap(self) -> int:
+        """views − lower_bound: 0 when the optimum over the candidates is the optimum over all of P."""
+        return self.views - self.lower_bound
+
+    def to_json(self) -> dict:
+        return {"views": self.views, "viewpoints": [[float(x), float(y)] for x, y in self.viewpoints],
+                "lower_bound": self.lower_bound, "gap": self.gap, "candidates": self.candidates, "cells": self.cells,
+                "witnesses": [[float(x), float(y)] for x, y in self.witnesses]}
+
+
+def _arrangement(free, shapes: list, floor: float) -> list:
+    cells = [free]
+    for shape in shapes:  # refine the arrangement one view at a time
+        nxt = []
+        for cell in cells:
+            for piece in (cell.intersection(shape), cell.difference(shape)):
+                for part in getattr(piece, "geoms", [piece]):
+                    if part.geom_type == "Polygon" and part.area > floor:
+                        nxt.append(part)
+        cells = nxt
+    return cells
+
+
+def _inside_point(env: Environment, x: float, y: float) -> ExactPoint | None:
+    """The float point as an exact rational one, if it lies strictly inside the free space."""
+    from fractions import Fraction
+
+    from solverplan.exact import point_in_ring
+
+    q = (Fraction(x), Fraction(y))
+    if point_in_ring(q, env.outer) > 0 and all(point_in_ring(q, h) < 0 for h in env.holes):
+        return q
+    return None
+
+
+def _lower_bound(env: Environment, spots: list[ExactPoint], scale: float) -> tuple[ExactPoint, ...]:
+    """Pairwise invisible witnesses, greedily, smallest visibility polygon first (module docstring)."""
+    import shapely
+
+    grown = []
+    for q in spots:
+        try:
+            vp = visibility_polygon(env, q)
+        except InputError:
+            continue
+        shape = shapely.Polygon([tuple(map(float, x)) for x in vp.ring]).buffer(1e-7 * scale)
+        grown.append((shape.area, q, shape))
+    grown.sort(key=lambda t: t[0])
+    taken: list = []
+    for _, q, shape in grown:
+        if all(not shape.intersects(other) for _, other in taken):
+            taken.append((q, shape))
+    return tuple(q for q, _ in taken)
+
 
 def chained_optimum(env: Environment, start: Sequence[object], candidates: Sequence[Sequence[object]] = (), *,
-                    min_cell_area: float = 1e-9) -> ChainedOptimum:
+                    min_cell_area: float = 1e-9, refine: bool = True, max_candidates: int = 400) -> ChainedOptimum:
     """Solve the chained cover MILP over ``start``, the polygon's vertices and ``candidates``.
 
     Parameters
@@ -55,6 +125,9 @@ def chained_optimum(env: Environment, start: Sequence[object], candidates: Seque
     min_cell_area
         Cells smaller than this fraction of the free space's area are rounding slivers of the arrangement and
         are dropped (floats, shapely).
+    refine
+        Offer a point inside every cell of the arrangement too (module docstring), up to ``max_candidates``
+        points in all.
 
     Raises
     ------
@@ -79,15 +152,28 @@ def chained_optimum(env: Environment, start: Sequence[object], candidates: Seque
     shapes = [shapely.Polygon([tuple(map(float, x)) for x in vp.ring]).buffer(0) for vp in views]
     free = env.to_shapely()
     floor = min_cell_area * free.area
-    cells = [free]
-    for shape in shapes:  # refine the arrangement one view at a time
-        nxt = []
-        for cell in cells:
-            for piece in (cell.intersection(shape), cell.difference(shape)):
-                for part in getattr(piece, "geoms", [piece]):
-                    if part.geom_type == "Polygon" and part.area > floor:
-                        nxt.append(part)
-        cells = nxt
+    scale = max(env.bounds[2] - env.bounds[0], env.bounds[3] - env.bounds[1])
+    cells = _arrangement(free, shapes, floor)
+    cell_points = [q for q in (_inside_point(env, c.representative_point().x, c.representative_point().y)
+                               for c in cells) if q is not None]
+    if refine:
+        extra = [q for q in cell_points if q not in points][:max(0, max_candidates - len(points))]
+        if extra:
+            points += extra
+            more = [visibility_polygon(env, p) for p in extra]
+            shapes += [shapely.Polygon([tuple(map(float, x)) for x in vp.ring]).buffer(0) for vp in more]
+            cells = _arrangement(free, shapes, floor)
+    near_corners: list[ExactPoint] = []
+    reflex = set(env.reflex_vertices)
+    for corner in range(env.n_vertices):
+        if corner in reflex:
+            continue
+        a, b = env.vertices[int(env.prev_vertex[corner])], env.vertices[int(env.next_vertex[corner])]
+        here = env.vertices[corner]
+        inside = _inside_point(env, *(here + 1e-3 * ((a - here) + (b - here))))
+        if inside is not None:
+            near_corners.append(inside)
+    witnesses = _lower_bound(env, near_corners + cell_points, scale)
     n, m = len(points), len(cells)
     spots = [c.representative_point() for c in cells]
     cover = np.array([[shape.buffer(1e-9 * max(1.0, free.length)).contains(s) for shape in shapes] for s in spots],
@@ -113,4 +199,4 @@ def chained_optimum(env: Environment, start: Sequence[object], candidates: Seque
     if problem.status != cp.OPTIMAL or x.value is None:
         raise SolverFailed(f"chained optimum: the MILP solver stopped with status {problem.status}")
     chosen = [i for i in range(n) if x.value[i] > 0.5]
-    return ChainedOptimum(tuple(points[i] for i in chosen), m, n)
+    return ChainedOptimum(tuple(points[i] for i in chosen), m, n, max(1, len(witnesses)), witnesses)

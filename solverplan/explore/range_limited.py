@@ -24,8 +24,12 @@ min(R, the polygon's minimum clearance)/100 unless given: small against R, so a 
 R along the wall, and small against the narrowest passage, so the point exists on the free side of the wall.
 
 Floats decide, exact arithmetic checks: the union CP and the uncovered region are shapely geometry (arcs as
-chords within 10⁻⁷·R, inscribed, so CP is never over-estimated), uncovered pieces smaller than 10⁻⁹·min(R²,
-Area) are chord slivers and are ignored; every viewpoint is checked exactly to lie in the earlier view it is
+chords within 10⁻⁷·R, inscribed, so CP is never over-estimated). An uncovered piece smaller than 10⁻⁹·min(R²,
+Area) may be a chord sliver or float rounding; it is dismissed only when exact arithmetic agrees (no vertex of P
+in it lies outside every view, and its representative point is outside the free space or inside a view), and
+``found`` needs every vertex of P in some view, exactly — a needle 10⁻⁸ wide is never reported explored. When no
+viewpoint can be placed to see what is left, the answer is ``not-found`` with the uncovered pieces (each with an
+exact witness point in no view) and the unseen vertices listed; every viewpoint is checked exactly to lie in the earlier view it is
 taken from (exact visibility polygon and exact |z − p|² ≤ R²) and every move is an exact straight line of sight.
 
 When R is at least the largest distance between two vertices, every segment inside P is shorter than R (P lies
@@ -42,7 +46,8 @@ from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.exact import ExactPoint, exact_point, format_number, format_point, orient, to_fraction
+from solverplan.exact import (ExactPoint, exact_point, format_number, format_point, orient, point_in_ring,
+                              to_fraction)
 from solverplan.explore.bounds import range_ratio_bound, range_views_bound, range_views_lower_bound
 from solverplan.explore.depth_first import CHOICES, ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
@@ -50,7 +55,7 @@ from solverplan.geometry.visibility import sees
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from typing import Any
 
-__all__ = ["RangeExploration", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]
+__all__ = ["RangeExploration", "UncoveredPiece", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]
 
 HEADING = (1.0, 0.0)
 """The direction the robot keeps while no wall is in sight (Step 2): any fixed one will do."""
@@ -62,6 +67,21 @@ MAX_VIEWS = 1000
 PHASES = ("start", "open", "boundary", "frontier")
 """Why each viewpoint was taken: ``start`` p₁; ``open`` on an arc with no unexplored wall in sight (Steps 2, 6);
 ``boundary`` following a ring (Steps 3–5); ``frontier`` any other part of CP's frontier (constructed edges)."""
+
+
+@dataclass(frozen=True)
+class UncoveredPiece:
+    """A piece of the free space no view covers: its outline (floats, length units), area, and a point of it in
+    no view and in the free space (exact; ``None`` when the piece is thinner than floats can sample)."""
+
+    polygon: tuple[tuple[float, float], ...]
+    area: float
+    witness: ExactPoint | None
+
+    def to_json(self) -> dict:
+        return {"polygon": [list(p) for p in self.polygon], "area": self.area,
+                "witness": None if self.witness is None else [float(c) for c in self.witness],
+                "witness_exact": None if self.witness is None else [format_number(c) for c in self.witness]}
 
 
 @answer_kind("range-exploration")
@@ -94,6 +114,11 @@ class RangeExploration(ViewpointRun):
         Area of the union of the (inscribed) views over the free space's area (floats).
     range, epsilon
         R and ε (length units).
+    uncovered
+        With ``not-found``: the pieces of the free space the views do not cover (floats, each with an exact
+        witness point in no view when one was found); empty with ``found``.
+    unseen_vertices
+        Vertices of P in no view (exact test); empty with ``found``.
     algorithm
         ``"B"``, or ``"A"`` when R reaches across P (Theorem 3).
 
@@ -128,6 +153,8 @@ class RangeExploration(ViewpointRun):
     environment: EnvironmentRecord | None = None
     algorithm: str = "B"
     choice: str = "first"
+    uncovered: tuple[UncoveredPiece, ...] = ()
+    unseen_vertices: tuple[int, ...] = ()
 
     @property
     def ratio(self) -> float:
@@ -149,6 +176,8 @@ class RangeExploration(ViewpointRun):
             "rings": list(self.rings),
             "range_exact": format_number(self.range),
             "epsilon_exact": format_number(self.epsilon),
+            "uncovered": [piece.to_json() for piece in self.uncovered],
+            "unseen_vertices": list(self.unseen_vertices),
         })
         return out
 
@@ -161,9 +190,16 @@ class RangeExploration(ViewpointRun):
         assert env is not None
         R = r.exact("range_exact")
         views = tuple(range_visibility(env, p, R) for p in fields["viewpoints"])
+        uncovered = []
+        for piece in (r.items("uncovered") if r.has("uncovered") else []):
+            outline = [piece.at("polygon", q) for q in piece.array("polygon")]
+            witness = piece.exact_pair("witness_exact") if piece.has("witness_exact") else None
+            uncovered.append(UncoveredPiece(tuple((q.number(0), q.number(1)) for q in outline), piece.number("area"),
+                                            witness))
+        unseen = tuple(r.ints("unseen_vertices")) if r.has("unseen_vertices") else ()
         return cls(views=views, phases=tuple(r.texts("phases")), rings=tuple(r.ints("rings")), holes=r.integer("holes"),
                    lower_bound=r.integer("lower_bound"), ratio_bound=r.number("ratio_bound"), range=R,
-                   epsilon=r.exact("epsilon_exact"), **fields)
+                   epsilon=r.exact("epsilon_exact"), uncovered=tuple(uncovered), unseen_vertices=unseen, **fields)
 
     def to_text(self, *, width: int = 100) -> str:
         lines = [
@@ -177,6 +213,11 @@ class RangeExploration(ViewpointRun):
             via = "" if self.parents[k] < 0 else f"  (in the view of p{self.parents[k] + 1}, {self.phases[k]})"
             lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via}"[:width])
         return "\n".join(lines)
+
+
+def _in_free_space(env: Environment, q: ExactPoint) -> bool:
+    """Is the exact point q in the closed free space (inside or on the outer ring, not strictly inside a hole)?"""
+    return point_in_ring(q, env.outer) >= 0 and all(point_in_ring(q, hole) <= 0 for hole in env.holes)
 
 
 def covers_every_segment(env: Environment, range_: object) -> bool:
@@ -239,6 +280,8 @@ class _Explorer:
         self.edge_lines = [shapely.LineString([tuple(map(float, verts[e])), tuple(map(float, verts[int(nxt[e])]))])
                            for e in range(env.n_edges)]
         self.edge_left = list(self.edge_lines)  # the part of each edge not yet in CP (shapely lines)
+        self._unseen: list[int] = []
+        self._unseen_at = -1  # how many views the list of unseen vertices was computed with (-1: never)
 
     # ------------------------------------------------------------------ views
     def add_view(self, z: ExactPoint, parent: int, phase: str, ring: int) -> None:
@@ -305,8 +348,65 @@ class _Explorer:
 
     # ------------------------------------------------------------------ what is left
     def uncovered(self) -> list:
+        """The pieces of P − CP that are not proved to be float artefacts.
+
+        A piece above the area tolerance is kept. A smaller one (a chord sliver between an arc and its chords, or
+        float rounding along a wall) is dismissed only when exact arithmetic agrees: no vertex of P in it or on its
+        boundary is outside every view, and its representative point is outside the free space or inside some
+        view (both exact). A needle 10⁻⁸ wide has a tip no view holds: it stays, however small its area.
+        """
         rest = self.free.difference(self.covered)
-        return [g for g in getattr(rest, "geoms", [rest]) if g.geom_type == "Polygon" and g.area > self.area_tol]
+        pieces = [g for g in getattr(rest, "geoms", [rest]) if g.geom_type == "Polygon" and not g.is_empty]
+        unseen = self.unseen_vertices()
+        out = []
+        for g in pieces:
+            if g.area > self.area_tol or self._holds_unseen(g, unseen) or not self._witness_seen(g):
+                out.append(g)
+        return out
+
+    def uncovered_pieces(self) -> tuple[UncoveredPiece, ...]:
+        """:meth:`uncovered` as records, each with an exact witness point when its representative point is one."""
+        out = []
+        for g in self.uncovered():
+            c = g.representative_point()
+            q: ExactPoint = (Fraction(c.x), Fraction(c.y))
+            witness = None if not _in_free_space(self.env, q) or self._seen_exactly(q) else q
+            out.append(UncoveredPiece(tuple((float(x), float(y)) for x, y in g.exterior.coords[:-1]), float(g.area),
+                                      witness))
+        return tuple(out)
+
+    def _seen_exactly(self, q: ExactPoint) -> bool:
+        """Is the exact point q in the closed RVP of some view (a float prefilter on the distance, then exact)?"""
+        R = float(self.R)
+        for view in self.views:
+            z = view.viewpoint
+            if math.hypot(float(q[0] - z[0]), float(q[1] - z[1])) <= R * (1 + 1e-9) + 1e-12 and view.contains(q):
+                return True
+        return False
+
+    def unseen_vertices(self) -> list[int]:
+        """The vertices of P in no view, decided exactly (cached per number of views: views only grow)."""
+        if self._unseen_at != len(self.views):
+            candidates = self._unseen if self._unseen_at >= 0 else range(self.env.n_vertices)
+            verts = self.env.exact_vertices
+            self._unseen = [v for v in candidates if not self._seen_exactly(verts[v])]
+            self._unseen_at = len(self.views)
+        return list(self._unseen)
+
+    def _holds_unseen(self, piece, unseen: Sequence[int]) -> bool:
+        import shapely
+
+        verts = self.env.vertices
+        return any(piece.distance(shapely.Point(verts[v])) <= 10 * self.tol for v in unseen)
+
+    def _witness_seen(self, piece) -> bool:
+        """Exact test of a small piece's representative point: True when it is outside the free space or in a
+        view (the piece is an artefact of the floats), False when it is a free point no view holds."""
+        c = piece.representative_point()
+        q = (Fraction(c.x), Fraction(c.y))
+        if not _in_free_space(self.env, q):
+            return True
+        return self._seen_exactly(q)
 
     def unseen_runs(self) -> dict[int, list[tuple[int, float, float]]]:
         """For each ring, its unseen intervals (edge, t0, t1) in ring order; an edge with none is marked."""
@@ -584,7 +684,8 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     while True:
         nxt = ex.next_viewpoint(state)  # None when nothing is left to aim at: CP covers P, or no viewpoint fits
         if nxt is None:
-            stuck = bool(ex.uncovered())
+            # Step 8's test, exact where it matters: a piece left over (however thin) or a vertex in no view
+            stuck = bool(ex.uncovered()) or bool(ex.unseen_vertices())
             break
         if len(ex.viewpoints) >= limit:
             hit_limit = True
@@ -599,8 +700,14 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
                             algorithm="Algorithm B (range-limited views, boundary by boundary)", limits=limits)
     covered = range_covered_fraction(env, ex.views, shapes=ex.shapes)
+    left = () if found else ex.uncovered_pieces()
+    unseen = () if found else tuple(ex.unseen_vertices())
+    if stuck:
+        limits = (f"no admissible viewpoint: {len(left)} uncovered piece(s), {len(unseen)} vertex(es) in no view",)
+        optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
+                                algorithm="Algorithm B (range-limited views, boundary by boundary)", limits=limits)
     return RangeExploration(Status.FOUND if found else Status.NOT_FOUND, tuple(ex.viewpoints), tuple(ex.views),
                             tuple(ex.parents), tuple(ex.path), tuple(ex.phases), tuple(ex.rings),
                             len(env.reflex_vertices), len(env.holes), bound, lower, ratio_bound, covered, R, eps,
                             optimality, Stats(seconds_search=seconds, counts={"blocked_targets": len(ex.blocked)}),
-                            EnvironmentRecord.of(env))
+                            EnvironmentRecord.of(env), uncovered=left, unseen_vertices=unseen)

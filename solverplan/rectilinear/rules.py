@@ -53,9 +53,33 @@ import numpy as np
 from solverplan.errors import InputError
 from solverplan.rectilinear.decomposition import Decomposition
 
-__all__ = ["RULES", "Billiard", "Random", "Smart", "smart_tangent", "room_tangents", "make_rule"]
+__all__ = ["RULES", "RULE_VARIANTS", "THETA_MODES", "GUARANTEES", "Billiard", "Random", "Smart", "smart_tangent",
+           "room_tangents", "make_rule", "door_depth"]
 
 RULES: tuple[str, ...] = ("smart", "random", "billiard")
+"""The paper's three rules."""
+
+THETA_MODES: tuple[str, ...] = ("safe", "paper", "per-room")
+"""How the smart rule's θ is chosen (module docstring): ``safe`` tan θ = ℓ/(2D), the least over the rooms left on
+the way; ``paper`` Eq. 1's tan θ = ℓ/h, the least over the same rooms; ``per-room`` the safe θ of the room the
+robot is in (the central system tells it)."""
+
+RULE_VARIANTS: tuple[str, ...] = ("smart", "smart-paper", "smart-per-room", "random", "billiard")
+"""The rules compared by a recommendation: ``smart`` is the smart rule with the safe θ, ``smart-paper`` and
+``smart-per-room`` the other θ modes."""
+
+GUARANTEES: dict[str, str] = {
+    "smart": "arrives from every start tried (2,000 random floors); not a theorem: isolated periodic orbits exist, "
+             "found exactly when met",
+    "smart-per-room": "as smart (the safe θ of each room)",
+    "smart-paper": "none: with tan θ = ℓ/h a positive share of starts is trapped in periodic orbits (about 4 % in "
+                   "random rooms)",
+    "random": "arrives with probability 1 (every door has positive length)",
+    "billiard": "none: periodic orbits trap it for ever (the paper's Fig. 3a)",
+}
+"""What each rule of :data:`RULE_VARIANTS` guarantees about arriving."""
+
+GUARANTEED: frozenset[str] = frozenset({"smart", "smart-per-room", "random"})
 
 _MARGIN = 1e-12  # headings are kept inside (0, π)
 
@@ -91,31 +115,49 @@ class Random:
         return np.clip(rng.uniform(0.0, math.pi, len(edges)), _MARGIN, math.pi - _MARGIN)
 
 
-def smart_tangent(dec: Decomposition, walk: Sequence[int]) -> Fraction:
+def _check_theta(theta: str) -> str:
+    if theta not in THETA_MODES:
+        raise InputError(f"unknown θ mode {theta!r}: use {', '.join(THETA_MODES)}")
+    return theta
+
+
+def door_depth(dec: Decomposition, room: int, door: int) -> Fraction:
+    """h of Eq. 1: how deep ``room`` is across ``door`` — the side of the room's bounding box perpendicular to the
+    (axis-parallel) door (length units, exact)."""
+    x0, y0, x1, y1 = dec.rooms[room].bounds
+    a, b = dec.doors[door].a, dec.doors[door].b
+    return (x1 - x0) if a[0] == b[0] else (y1 - y0)
+
+
+def _tangent(dec: Decomposition, room: int, door: int, theta: str) -> Fraction:
+    length = dec.doors[door].length
+    if theta == "paper":
+        return length / door_depth(dec, room, door)
+    x0, y0, x1, y1 = dec.rooms[room].bounds
+    return length / (2 * max(x1 - x0, y1 - y0))
+
+
+def smart_tangent(dec: Decomposition, walk: Sequence[int], theta: str = "safe") -> Fraction:
     """tan θ of the smart rule for a room sequence: the least ℓ / (2·D) over the rooms left on the way, ℓ the
-    door out of the room, D the larger side of its bounding box (module docstring). A walk of one room uses
-    every door of it (or, for a room without doors, the room's own size: θ = arctan(1/2))."""
+    door out of the room, D the larger side of its bounding box (module docstring); with ``theta="paper"`` the
+    least ℓ / h (Eq. 1, h from :func:`door_depth`). A walk of one room uses every door of it (or, for a room
+    without doors, θ = arctan(1/2))."""
+    if _check_theta(theta) == "per-room":
+        raise InputError("smart_tangent: the per-room mode has one θ per room (room_tangents)")
     walk = tuple(walk)
-    pairs = [(walk[k], dec.door_between(walk[k], walk[k + 1]).length) for k in range(len(walk) - 1)]
+    pairs = [(walk[k], dec.door_between(walk[k], walk[k + 1]).id) for k in range(len(walk) - 1)]
     if not pairs:
         only = dec.rooms[dec.check_room(walk[0])] if walk else dec.rooms[0]
-        pairs = [(only.id, dec.doors[d].length) for d in only.doors]
-    values = []
-    for room_id, length in pairs:
-        x0, y0, x1, y1 = dec.rooms[room_id].bounds
-        values.append(length / (2 * max(x1 - x0, y1 - y0)))
-    return min(values, default=Fraction(1, 2))
+        pairs = [(only.id, d) for d in only.doors]
+    return min((_tangent(dec, room, door, theta) for room, door in pairs), default=Fraction(1, 2))
 
 
-def room_tangents(dec: Decomposition) -> tuple[Fraction, ...]:
+def room_tangents(dec: Decomposition, theta: str = "safe") -> tuple[Fraction, ...]:
     """tan θ of each room for a robot told the room it is in: the least ℓ / (2·D) over the room's doors
-    (D the larger side of its bounding box); 1/2 for a room without doors."""
-    out = []
-    for room in dec.rooms:
-        x0, y0, x1, y1 = room.bounds
-        size = 2 * max(x1 - x0, y1 - y0)
-        out.append(min((dec.doors[d].length / size for d in room.doors), default=Fraction(1, 2)))
-    return tuple(out)
+    (D the larger side of its bounding box; ``theta="paper"``: the least ℓ / h); 1/2 for a room without doors."""
+    mode = "safe" if _check_theta(theta) == "per-room" else theta
+    return tuple(min((_tangent(dec, room.id, d, mode) for d in room.doors), default=Fraction(1, 2))
+                 for room in dec.rooms)
 
 
 @dataclass(frozen=True, slots=True)
@@ -139,10 +181,13 @@ class Smart:
                 raise InputError(f"smart rule: θ = {value!r} must lie in (0, π/2)")
 
     @classmethod
-    def for_walk(cls, dec: Decomposition, walk: Sequence[int], *, per_room: bool = False) -> Smart:
-        """The smart rule with θ = arctan(:func:`smart_tangent`) for the room sequence ``walk`` (with
-        ``per_room``: θ of each room from :func:`room_tangents`)."""
-        tangent = smart_tangent(dec, walk)
+    def for_walk(cls, dec: Decomposition, walk: Sequence[int], *, per_room: bool = False, theta: str = "safe") -> Smart:
+        """The smart rule with θ = arctan(:func:`smart_tangent`) for the room sequence ``walk`` in the θ mode
+        ``theta`` (:data:`THETA_MODES`; ``per_room`` is the same as ``theta="per-room"``: θ of each room from
+        :func:`room_tangents`)."""
+        if _check_theta(theta) == "per-room":
+            per_room = True
+        tangent = smart_tangent(dec, walk, "paper" if theta == "paper" else "safe")
         rooms = room_tangents(dec) if per_room else ()
         return cls(math.atan(tangent), tuple(math.atan(t) for t in rooms), tangent, rooms)
 
@@ -173,13 +218,17 @@ class Smart:
 Rule = Billiard | Random | Smart
 
 
-def make_rule(name: str, dec: Decomposition, walk: Sequence[int], *, per_room: bool = False) -> Rule:
-    """The rule called ``name`` (``smart``, ``random``, ``billiard``) for the room sequence ``walk``
-    (``per_room``: the smart rule's θ per room)."""
-    if name == "smart":
-        return Smart.for_walk(dec, walk, per_room=per_room)
+def make_rule(name: str, dec: Decomposition, walk: Sequence[int], *, per_room: bool = False,
+              theta: str = "safe") -> Rule:
+    """The rule called ``name`` (one of :data:`RULE_VARIANTS`) for the room sequence ``walk``; the smart rule's θ
+    in mode ``theta`` (:data:`THETA_MODES`; ``per_room`` means ``theta="per-room"``); ``smart-paper`` and
+    ``smart-per-room`` fix the mode."""
+    if name.startswith("smart"):
+        mode = {"smart": theta, "smart-paper": "paper", "smart-per-room": "per-room", "smart-safe": "safe"}.get(name)
+        if mode is not None:
+            return Smart.for_walk(dec, walk, per_room=per_room and name == "smart", theta=mode)
     if name == "random":
         return Random()
     if name == "billiard":
         return Billiard()
-    raise InputError(f"unknown rule {name!r}: use smart, random or billiard")
+    raise InputError(f"unknown rule {name!r}: use {', '.join(RULE_VARIANTS)}")

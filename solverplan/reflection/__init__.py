@@ -18,7 +18,7 @@ The symbolic proofs are in ``solverplan.proofs.line_field``; the command is ``so
 
 >>> import solverplan as sp
 >>> nav = sp.navigate_fields(sp.load_environment("serpentine"), (3, "2.25"), (3, "0.25"), trials=2)
->>> nav.plan.reflection_cells, nav.runs["reflection"].success
+>>> nav.plan.reflection_cells, nav.runs["reflection"].success     # the zones that pay for the inertial robot
 ((2, 0, 7, 5), 1.0)
 """
 

@@ -31,7 +31,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, cross, exact_point, format_point, signed_area2
 
-__all__ = ["Side", "Cell", "Decomposition", "decompose_free_space"]
+__all__ = ["Side", "Cell", "Decomposition", "decompose_free_space", "with_corner_projections", "CELL_KINDS"]
 
 
 def _turn(a: ExactPoint, b: ExactPoint, c: ExactPoint) -> Fraction:
@@ -202,7 +202,53 @@ def _between(p: Sequence[Fraction], a: ExactPoint, b: ExactPoint) -> bool:
     return min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= p[1] <= max(a[1], b[1])
 
 
-def decompose_free_space(env: Environment) -> Decomposition:
+CELL_KINDS = ("convex", "corners")
+"""Decompositions: ``convex`` (Hertel–Mehlhorn on the environment's own vertices) and ``corners`` (the same after
+adding the projections of every reflex vertex along its two walls, :func:`with_corner_projections`)."""
+
+
+def with_corner_projections(env: Environment) -> Environment:
+    """``env`` with a vertex added where each wall through a reflex vertex, extended past it into the free space,
+    first meets a wall (exact ray casts; a hit on a vertex adds nothing). The free space is the same; the new
+    vertices are collinear with their wall's ends, and Hertel–Mehlhorn never merges across an angle of π, so the
+    cells of a corridor become its straight stretches and **corner cells** — the cells where the path turns by
+    90° or more, the reflection candidates of §III — also where the corridor's walls are diagonal (zigzags, 45°
+    cuts) and the plain decomposition merges each turn into a long quadrilateral.
+
+    >>> from solverplan.environment import Environment
+    >>> ell = Environment.from_coords([[0, 0], [4, 0], [4, 4], [2, 4], [2, 2], [0, 2]])
+    >>> [tuple(map(int, p)) for p in with_corner_projections(ell).exact_vertices]
+    [(0, 0), (2, 0), (4, 0), (4, 2), (4, 4), (2, 4), (2, 2), (0, 2)]
+    """
+    from solverplan.geometry.raycast import cast_rays_exact
+
+    verts = env.exact_vertices
+    prev, nxt = env.prev_vertex, env.next_vertex
+    origins, directions = [], []
+    for v in env.reflex_vertices:
+        for u in (int(prev[v]), int(nxt[v])):  # the wall from u to v, continued past v
+            origins.append(verts[v])
+            directions.append((verts[v][0] - verts[u][0], verts[v][1] - verts[u][1]))
+    extra: dict[int, set[Fraction]] = {}
+    for hit in cast_rays_exact(env, origins, directions, skip_invalid=True) if origins else []:
+        if hit is not None and hit.vertex is None and 0 < hit.t < 1:
+            extra.setdefault(hit.edge, set()).add(Fraction(hit.t))
+    if not extra:
+        return env
+    rings = []
+    for k in range(len(env.rings)):
+        lo, hi = env.ring_offsets[k], env.ring_offsets[k + 1]
+        ring = []
+        for e in range(lo, hi):
+            a, b = verts[e], verts[int(nxt[e])]
+            ring.append(a)
+            for t in sorted(extra.get(e, ())):
+                ring.append((a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])))
+        rings.append(ring)
+    return Environment.from_coords(rings[0], rings[1:], name=env.name)
+
+
+def decompose_free_space(env: Environment, cells: str = "convex") -> Decomposition:
     """Convex cells of ``env``'s free space (holes included), with their adjacency over shared facets.
 
     The cells are made by Hertel–Mehlhorn merging of a constrained Delaunay triangulation. Every cell vertex is an exact vertex of ``env``; the cells are counter-clockwise, strictly convex (no angle
@@ -213,6 +259,10 @@ def decompose_free_space(env: Environment) -> Decomposition:
     ----------
     env
         A valid environment (any polygon with holes).
+    cells
+        ``convex`` (default) or ``corners``: first add the projections of the reflex vertices along their walls
+        (:func:`with_corner_projections`), so turns get corner cells. The decomposition's ``env`` is then the
+        environment with those vertices (the same free space).
 
     Returns
     -------
@@ -237,6 +287,10 @@ def decompose_free_space(env: Environment) -> Decomposition:
     """
     import shapely
 
+    if cells not in CELL_KINDS:
+        raise InputError(f"unknown decomposition {cells!r}: use {', '.join(CELL_KINDS)}")
+    if cells == "corners":
+        env = with_corner_projections(env)
     exact = env.exact_vertices
     index = {(float(x), float(y)): k for k, (x, y) in enumerate(exact)}
     triangles: list[list[int]] = []

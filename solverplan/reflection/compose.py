@@ -35,11 +35,11 @@ from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.exact import ExactPoint, exact_point, to_fraction
+from solverplan.exact import ExactPoint, exact_point, format_number, to_fraction
 from solverplan.reflection.cells import Cell, Decomposition, decompose_free_space
 from solverplan.reflection.fields import (Field, FlowCheck, GoalField, LineField, arc_turn, fit_line_field,
                                           flows_through)
-from solverplan.reflection.zones import ReflectionZone, select_zone
+from solverplan.reflection.zones import ReflectionZone, RejectedZone, select_zone_recorded
 
 __all__ = ["CellPolicy", "FieldPlan", "compose_fields", "field_kinds", "GAIN_STEPS"]
 
@@ -75,6 +75,43 @@ class FieldPlan:
     sequence: tuple[int, ...]
     policies: dict[int, CellPolicy]
     zones: dict[int, ReflectionZone]
+    rejected: tuple[RejectedZone, ...] = ()
+
+    def without_zones(self, cells: Sequence[int], rejected: Sequence[RejectedZone] = ()) -> FieldPlan:
+        """The plan with the reflection zones of ``cells`` dropped and ``rejected`` added to the record."""
+        drop = set(cells)
+        return FieldPlan(self.decomposition, self.start, self.goal, self.sequence, self.policies,
+                         {c: z for c, z in self.zones.items() if c not in drop}, self.rejected + tuple(rejected))
+
+    def export(self) -> dict:
+        """The composed field for a controller (``solverplan fields --export``): for every cell its half-planes
+        (exact inward normals n and offsets n·a; q is in the cell iff n·q ≥ offset for all), its nominal field, the
+        next cell, and the reflection zone's field and wall when one is planned. Command u = s·v(q)/|v(q)| with
+        the cell's field v (line: v = d + p(I − ddᵀ)(q₀ − q); goal: towards the goal; arc: as in the field's
+        record) and s the speed; in a reflection cell use the zone's field from the first entry until a wall is
+        hit, then the nominal one (once per cell and run)."""
+        cells = []
+        for cell in self.cells:
+            policy = self.policies.get(cell.id)
+            zone = self.zones.get(cell.id)
+            cells.append({
+                "id": cell.id,
+                "polygon": [[float(x), float(y)] for x, y in cell.vertices],
+                "halfplanes": [{"normal": [float(sd.normal[0]), float(sd.normal[1])],
+                                "offset": float(sd.normal[0] * sd.a[0] + sd.normal[1] * sd.a[1]),
+                                "normal_exact": [format_number(sd.normal[0]), format_number(sd.normal[1])],
+                                "offset_exact": format_number(sd.normal[0] * sd.a[0] + sd.normal[1] * sd.a[1]),
+                                "neighbour": sd.neighbour} for sd in cell.sides],
+                "field": None if policy is None else policy.field.to_json(),
+                "max_speed": None if policy is None else _max_speed(policy.field, cell),
+                "next": None if policy is None else policy.next_cell,
+                "reflection": None if zone is None else {"side": zone.side, "field": zone.field.to_json(),
+                                                          "max_speed": zone.field.max_speed(cell)},
+            })
+        return {"format": "solverplan composed field 1", "start": [float(c) for c in self.start],
+                "goal": [float(c) for c in self.goal], "sequence": list(self.sequence),
+                "command": "u = speed * v / |v|; reflection field from the first entry into a reflection cell until a "
+                           "wall is hit, then the nominal field", "cells": cells}
 
     @property
     def env(self) -> Environment:
@@ -102,6 +139,14 @@ class FieldPlan:
     @property
     def goal_cell(self) -> int:
         return self.sequence[-1]
+
+
+def _max_speed(field: Field, cell: Cell) -> float:
+    """The largest |v| of ``field`` over ``cell`` (sampled at the vertices and the vertex average)."""
+    import numpy as np
+
+    points = np.vstack([cell.float_vertices, cell.float_vertices.mean(axis=0)])
+    return float(np.hypot(*field.velocity(points).T).max())
 
 
 def _vertex_average(cell: Cell) -> ExactPoint:
@@ -138,7 +183,8 @@ def _nominal(cell: Cell, origin: ExactPoint, inlet: int | None, outlet: int, gai
 
 def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
                    gain_line: object = Fraction(3), gain_arc: object = Fraction(1), arcs: bool = False,
-                   reflection: bool = True, decomposition: Decomposition | None = None) -> FieldPlan:
+                   reflection: bool = True, decomposition: Decomposition | None = None,
+                   cells: str = "convex") -> FieldPlan:
     """The composed field policy from ``start`` to ``goal`` (points of the open free space, exact or decimal).
 
     Parameters
@@ -156,6 +202,9 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
         Select the reflection zones of the sequence's candidate cells.
     decomposition
         Reuse a decomposition of ``env``.
+    cells
+        ``convex`` or ``corners`` (:func:`~solverplan.reflection.cells.decompose_free_space`): with ``corners``
+        the turns of corridors get corner cells, the reflection candidates.
 
     Returns
     -------
@@ -176,7 +225,7 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
     >>> plan.sequence, sorted(plan.policies), plan.policies[plan.goal_cell].field.kind
     ((1, 0), [0, 1], 'goal')
     """
-    dec = decomposition or decompose_free_space(env)
+    dec = decomposition or decompose_free_space(env, cells)
     p_line = to_fraction(gain_line, where="gain_line")
     p_arc = to_fraction(gain_arc, where="gain_arc")
     if p_line <= 0 or p_arc <= 0:
@@ -211,17 +260,19 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
         field, check = _nominal(cell, origin, inlet, outlet, p_line, p_arc, arcs)
         policies[cell.id] = CellPolicy(cell.id, field, check, nxt, outlet, inlet)
     zones: dict[int, ReflectionZone] = {}
+    rejected: list[RejectedZone] = []
     if reflection:
         for k in range(1, len(sequence) - 1):
             c = sequence[k]
             policy = policies[c]
             if policy.inlet_side is None or policy.outlet_side is None:
                 continue
-            zone = select_zone(dec.cells[c], policy.inlet_side, policy.outlet_side,
-                               tuple(p_line * step for step in GAIN_STEPS))
+            zone, passed_over = select_zone_recorded(dec.cells[c], policy.inlet_side, policy.outlet_side,
+                                                     tuple(p_line * step for step in GAIN_STEPS))
+            rejected.extend(passed_over)
             if zone is not None:
                 zones[c] = zone
-    return FieldPlan(dec, s, g, sequence, policies, zones)
+    return FieldPlan(dec, s, g, sequence, policies, zones, tuple(rejected))
 
 
 def field_kinds(plan: FieldPlan) -> dict[int, str]:

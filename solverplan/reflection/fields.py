@@ -88,6 +88,22 @@ class LineField:
         across = a - along[:, None] * d[None, :]
         return -along + 0.5 * float(self.gain) * np.einsum("ij,ij->i", across, across)
 
+    def recentred(self, cell: Cell) -> LineField:
+        """The same field (same line, direction and gain) with its origin moved to the point of the line nearest
+        the cell's vertex average and its target one |target − origin| further on: v does not change when q₀ slides
+        along d, but a fitted field's origin can be thousands of units away (exact)."""
+        n = len(cell.vertices)
+        c = (sum((v[0] for v in cell.vertices), Fraction(0)) / n, sum((v[1] for v in cell.vertices), Fraction(0)) / n)
+        w = (self.target[0] - self.origin[0], self.target[1] - self.origin[1])
+        t = ((c[0] - self.origin[0]) * w[0] + (c[1] - self.origin[1]) * w[1]) / (w[0] * w[0] + w[1] * w[1])
+        origin = (self.origin[0] + t * w[0], self.origin[1] + t * w[1])
+        return LineField(origin, (origin[0] + w[0], origin[1] + w[1]), self.gain)
+
+    def max_speed(self, cell: Cell) -> float:
+        """The largest |v| over the cell (at a vertex: |v|² = 1 + p²·dist(q, line)² is convex), length/s per unit
+        command; a controller uses v/|v| (the simulator does)."""
+        return float(np.hypot(*self.velocity(cell.float_vertices).T).max())
+
     def to_json(self) -> dict:
         return {"kind": "line", "origin": [float(c) for c in self.origin], "direction": self.direction.tolist(),
                 "target": [float(c) for c in self.target], "gain": float(self.gain),
@@ -299,6 +315,11 @@ def arc_turn(cell: Cell, inlet: int, outlet: int, gain: Fraction) -> ArcField | 
     return ArcField(centre, radius, gain, clockwise=bool(turn < 0))
 
 
+_CROSS_SPEED = 2.0
+"""Fitted line fields first try lines with |p·offset| ≤ this from the cell's centroid (cross-track speed, per unit
+along-track speed): a field whose line is far from its cell commands huge speeds (issue #26: ~224)."""
+
+
 def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: int = 15,
                    gain_range: tuple[float, float] = (0.05, 50.0)) -> tuple[LineField, FlowCheck] | None:
     """A line field that flows through ``cell`` towards ``exits``, found by linear programming, or ``None``.
@@ -345,16 +366,20 @@ def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: 
                 # a + u r + w p ≥ t  ⇔  −u r − w p + t ≤ a
                 rows.append([-(n @ d_perp), n @ across, 1.0])
                 rhs.append(n @ d)
-        res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
-                      bounds=[(-hi * radius, hi * radius), (lo, hi), (None, 1.0)], method="highs")
+        for r_bound in (_CROSS_SPEED, hi * radius):  # a line through the cell first (bounded speed), then any
+            res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
+                          bounds=[(-r_bound, r_bound), (lo, hi), (None, 1.0)], method="highs")
+            if res.status == 0 and res.x[2] > 1e-6:
+                break
         if res.status == 0 and res.x[2] > 1e-6 and (best is None or res.x[2] > best[0]):
             best = (float(res.x[2]), d, float(res.x[0]), float(res.x[1]), np.array(rows), np.array(rhs))
     if best is None:
         return None
     margin, d, r, p, rows_best, rhs_best = best
     # the gentlest gain keeping half the best margin: a stiff field is as sound but makes robots chatter
+    r_bound = _CROSS_SPEED if abs(r) <= _CROSS_SPEED * (1 + 1e-9) else hi * radius
     gentle = linprog(c=[0.0, 1.0, 0.0], A_ub=rows_best, b_ub=rhs_best,
-                     bounds=[(-hi * radius, hi * radius), (lo, hi), (margin / 2, 1.0)], method="highs")
+                     bounds=[(-r_bound, r_bound), (lo, hi), (margin / 2, 1.0)], method="highs")
     if gentle.status == 0:
         r, p = float(gentle.x[0]), float(gentle.x[1])
     q0 = centre + (r / p) * np.array([-d[1], d[0]])
@@ -365,6 +390,6 @@ def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: 
 
     origin = (rational(q0[0]), rational(q0[1]))
     target = (origin[0] + rational(d[0] * scale), origin[1] + rational(d[1] * scale))
-    field = LineField(origin, target, Fraction(p).limit_denominator(10**4))
+    field = LineField(origin, target, Fraction(p).limit_denominator(10**4)).recentred(cell)
     check = line_flows_through(field, cell, exits)
     return (field, check) if check.verified else None

@@ -21,13 +21,19 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from solverplan.errors import MalformedFile
-from solverplan.exact import format_number
+from solverplan.exact import format_number, to_fraction
+from solverplan.reflection.zones import RejectedZone
+from fractions import Fraction
 from typing import Any
+
+import numpy as np
+
 from solverplan.reflection.compose import FieldPlan, compose_fields
+from solverplan.reflection.payoff import ROLLOUT_TRIALS, ZoneTest, prune_zones
 from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, default_scenarios,
                                             simulate_scenarios)
 
-__all__ = ["FieldNavigation", "navigate_fields"]
+__all__ = ["FieldNavigation", "navigate_fields", "random_starts", "ROLLOUT_SEED"]
 
 
 @answer_kind("fields")
@@ -70,6 +76,11 @@ class FieldNavigation(Answer):
     optimality: Optimality
     stats: Stats = field(default_factory=Stats)
     environment: EnvironmentRecord | None = None
+    reflections: str = "payoff"
+    starts: str = "fixed"
+    rollouts: dict[int, ZoneTest] = field(default_factory=dict)
+    cells: str = "convex"
+    gains: tuple[Fraction, Fraction] = (Fraction(3), Fraction(1))
 
     def _fields(self) -> dict:
         plan = self.plan
@@ -84,6 +95,14 @@ class FieldNavigation(Answer):
             "flow_through": plan.flow_through,
             "fields": [plan.policies[c].to_json() for c in sorted(plan.policies)],
             "reflection_zones": [plan.zones[c].to_json() for c in plan.reflection_cells],
+            "rejected_zones": [r.to_json() for r in plan.rejected],
+            "reflections": self.reflections,
+            "starts": self.starts,
+            "decomposition": self.cells,
+            "gain_line_exact": format_number(self.gains[0]),
+            "gain_arc_exact": format_number(self.gains[1]),
+            "rollouts": {str(c): {"time_without": t.without, "time_with": t.with_zone, "gain": t.gain}
+                         for c, t in self.rollouts.items()},
             "model": self.model.to_json(),
             "seed": self.seed,
             "start_exact": [format_number(c) for c in plan.start],
@@ -102,7 +121,21 @@ class FieldNavigation(Answer):
         r = Reader(data, "fields")
         env, record = r.in_environment(env, 'fields')
         arcs = any(f.sub("field").string("kind", "") == "arc" for f in r.items("fields"))
-        plan = compose_fields(env, r.exact_pair("start_exact"), r.exact_pair("goal_exact"), arcs=arcs)
+        cells = r.string("decomposition", "convex")
+        reflections = r.string("reflections", "all")
+        gains = (r.exact("gain_line_exact") if r.has("gain_line_exact") else Fraction(3),
+                 r.exact("gain_arc_exact") if r.has("gain_arc_exact") else Fraction(1))
+        try:
+            plan = compose_fields(env, r.exact_pair("start_exact"), r.exact_pair("goal_exact"), arcs=arcs, cells=cells,
+                                  gain_line=gains[0], gain_arc=gains[1], reflection=reflections != "none")
+        except InputError as exc:
+            raise MalformedFile(f"fields: {exc}") from None
+        # the zones the payoff tests kept are the answer's (rollouts are not repeated); the others are recorded
+        kept = set(r.ints("reflection_cells"))
+        dropped = [RejectedZone(z.integer("cell"), z.get("side", None), z.string("stage"), z.string("reason"))  # type: ignore[arg-type]
+                   for z in r.items("rejected_zones") if z.string("stage", "") in ("overshoot", "rollout")] \
+            if r.has("rejected_zones") else []
+        plan = plan.without_zones([c for c in plan.zones if c not in kept], dropped)
         model_data = r.sub("model").data
         try:
             model = RobotModel(**model_data) if isinstance(model_data, dict) else RobotModel()
@@ -110,7 +143,14 @@ class FieldNavigation(Answer):
             raise MalformedFile("fields.model: unknown robot parameters") from None
         scenarios = r.sub("scenarios")
         runs = {str(name): ScenarioRun.from_json(str(name), run) for name, run in scenarios.data.items()}  # type: ignore[union-attr]
-        answer = cls(plan, model, runs, r.integer("seed"), r.status(), r.optimality(), r.stats(), record)
+        recorded = r.get("rollouts", {})
+        try:
+            rollouts = {int(c): ZoneTest(float(t["time_without"]), float(t["time_with"]))
+                        for c, t in recorded.items()} if isinstance(recorded, dict) else {}
+        except (KeyError, TypeError, ValueError):
+            raise MalformedFile("fields.rollouts: expected {cell: {time_without, time_with, gain}}") from None
+        answer = cls(plan, model, runs, r.integer("seed"), r.status(), r.optimality(), r.stats(), record, reflections,
+                     r.string("starts", "fixed"), rollouts, cells, gains)
         mine = answer._fields()
         for key in cls._PLAN_KEYS:
             if mine[key] != data.get(key):
@@ -132,10 +172,41 @@ class FieldNavigation(Answer):
         return "\n".join(line[:width] for line in lines) + "\n"
 
 
+def random_starts(plan: FieldPlan, trials: int, seed: int) -> np.ndarray:
+    """``trials`` start points drawn uniformly from the cells that reach the goal (area-weighted cell, then a
+    uniform point of the convex cell by rejection from its bounding box), length units; seeded."""
+    rng = np.random.default_rng([seed, 7919])
+    cells = [plan.cells[c] for c in sorted(plan.policies)]
+    areas = np.array([abs(float(_area2(c.float_vertices))) for c in cells])
+    normals, offsets = plan.decomposition.halfplanes
+    out = np.empty((trials, 2))
+    picks = rng.choice(len(cells), size=trials, p=areas / areas.sum())
+    for k, i in enumerate(picks.tolist()):
+        cell = cells[i]
+        lo, hi = cell.float_vertices.min(axis=0), cell.float_vertices.max(axis=0)
+        while True:
+            q = lo + (hi - lo) * rng.random(2)
+            values = normals[cell.id] @ q - offsets[cell.id]
+            if np.all(values[: len(cell.sides)] > 1e-9 * float(np.max(hi - lo))):
+                out[k] = q
+                break
+    return out
+
+
+def _area2(v: np.ndarray) -> float:
+    return float(np.dot(v[:, 0], np.roll(v[:, 1], -1)) - np.dot(v[:, 1], np.roll(v[:, 0], -1)))
+
+
+ROLLOUT_SEED = 1_000_003
+"""Added to the caller's seed for the rollouts that decide which reflections pay (independent of the runs
+reported)."""
+
+
 def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
                     scenarios: Sequence[str] = SCENARIOS, model: str | RobotModel = "inertial", trials: int = 25,
                     seed: int = 0, trajectories: int = 0, arcs: bool = False, fast: float = 1.5,
-                    slow: float = 0.8) -> FieldNavigation:
+                    slow: float = 0.8, gain_line: object = 3, gain_arc: object = 1, reflections: str = "payoff",
+                    starts: str = "fixed", cells: str = "convex") -> FieldNavigation:
     """Compose the fields from ``start`` to ``goal`` and run ``trials`` rollouts of each scenario.
 
     Parameters
@@ -156,6 +227,16 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
         Use arc fields in turning cells where they verify.
     fast, slow
         Commanded speeds of the unconstrained/reflection and the constrained scenarios (length/s).
+    gain_line, gain_arc
+        Gains p of the line and arc fields (1/length; :func:`~solverplan.reflection.compose.compose_fields`).
+    reflections
+        ``payoff`` (default): plan only the zones that pay for this robot (:mod:`~solverplan.reflection.payoff`:
+        turn, overshoot, rollouts); ``all``: every zone the geometry allows (the paper); ``none``.
+    cells
+        The decomposition: ``convex`` or ``corners`` (corner cells at the turns, where reflections can help).
+    starts
+        ``fixed``: every trial from ``start``; ``random``: trial k from a uniform random point of the free space
+        that reaches the goal (:func:`random_starts`, seeded), the same points in every scenario.
 
     Returns
     -------
@@ -186,11 +267,21 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
         if not value > robot.dead_band:  # below it the robot never moves: every trial would run to the time limit
             raise InputError(f"the {name} speed must exceed the robot's dead band {robot.dead_band:g} "
                              f"(length/s), got {value:g}")
-    plan = compose_fields(env, start, goal, arcs=arcs)
+    if reflections not in ("payoff", "all", "none"):
+        raise InputError(f"reflections must be payoff, all or none, got {reflections!r}")
+    if starts not in ("fixed", "random"):
+        raise InputError(f"starts must be fixed or random, got {starts!r}")
+    plan = compose_fields(env, start, goal, arcs=arcs, gain_line=gain_line, gain_arc=gain_arc,
+                          reflection=reflections != "none", cells=cells)
+    points = random_starts(plan, trials, seed) if starts == "random" else None
+    tests: dict = {}
+    if reflections == "payoff" and plan.zones and "reflection" in scenarios:
+        probe = random_starts(plan, ROLLOUT_TRIALS, seed + ROLLOUT_SEED) if starts == "random" else None
+        plan, tests = prune_zones(plan, robot, fast, trials=ROLLOUT_TRIALS, seed=seed + ROLLOUT_SEED, starts=probe)
     composed = time.perf_counter()
     table = default_scenarios(fast, slow)
     runs = simulate_scenarios(plan, [table[s] for s in scenarios], model=robot, trials=trials, seed=seed,
-                              keep=trajectories)
+                              keep=trajectories, starts=points)
     finished = time.perf_counter()
     if plan.proved:
         optimality = Optimality(Method.EXACT_CHECK, True, None,
@@ -207,4 +298,5 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
                   counts={"cells": len(plan.cells), "trials": trials * len(scenarios),
                           "unverified_cells": sorted(c for c, p in plan.policies.items() if not p.check.verified)})
     return FieldNavigation(plan, robot, runs, seed, Status.FOUND if plan.flow_through else Status.NOT_FOUND,
-                           optimality, stats, EnvironmentRecord.of(env))
+                           optimality, stats, EnvironmentRecord.of(env), reflections, starts, tests, cells,
+                           (to_fraction(gain_line, where="gain_line"), to_fraction(gain_arc, where="gain_arc")))

@@ -23,7 +23,10 @@ of the reflection cells (aim at the reflection zone from the first entry into th
 nominal field; each cell's reflection is used at most once per run, which preserves convergence).
 
 Trials of all scenarios run together, vectorised across trials; every scenario has its own random stream (from
-``seed`` and its name), so its statistics do not depend on which other scenarios run.
+``seed`` and the name of its stream), so its statistics do not depend on which other scenarios run. The reflection
+scenario draws from the unconstrained one's stream (common random numbers): trial k gets the same noise at every
+control tick in both (one draw per trial and tick, finished or not), so without reflection zones the two are the
+same runs, and their difference measures the zones, not the noise.
 """
 
 from __future__ import annotations
@@ -136,16 +139,17 @@ class Scenario:
     name: str
     speed: float
     reflect: bool
+    stream: str | None = None  #: the name of the random stream (default ``name``): common random numbers
 
     def to_json(self) -> dict:
-        return {"speed": self.speed, "reflect": self.reflect}
+        return {"speed": self.speed, "reflect": self.reflect, "stream": self.stream or self.name}
 
 
 def default_scenarios(fast: float = 1.5, slow: float = 0.8) -> dict[str, Scenario]:
     """The paper's three scenarios: constrained at ``slow``, unconstrained and reflection at ``fast`` (length/s)."""
     return {"constrained": Scenario("constrained", slow, False),
             "unconstrained": Scenario("unconstrained", fast, False),
-            "reflection": Scenario("reflection", fast, True)}
+            "reflection": Scenario("reflection", fast, True, stream="unconstrained")}
 
 
 @dataclass(frozen=True)
@@ -295,7 +299,7 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     block = np.repeat(np.arange(len(scen)), trials)
     speed = np.array([s.speed for s in scen])[block]
     reflect_on = np.array([s.reflect for s in scen])[block]
-    rngs = [np.random.default_rng([seed, zlib.crc32(s.name.encode())]) for s in scen]
+    rngs = [np.random.default_rng([seed, zlib.crc32((s.stream or s.name).encode())]) for s in scen]
     start = np.array([float(plan.start[0]), float(plan.start[1])])
     goal = np.array([float(plan.goal[0]), float(plan.goal[1])])
     start_cell = plan.sequence[0]
@@ -377,11 +381,13 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
         direction = fields.directions(q[active], cell[active], reflecting[active])
         heading_error = np.empty(len(active))
         speed_factor = np.empty(len(active))
-        for k, rng in enumerate(rngs):
+        for k, rng in enumerate(rngs):  # one draw per trial and tick, so that trial k's noise is its own
             rows = block[active] == k
-            m = int(rows.sum())
-            heading_error[rows] = rng.normal(0.0, model.heading_noise, m) if model.heading_noise else 0.0
-            speed_factor[rows] = 1.0 + (rng.normal(0.0, model.speed_noise, m) if model.speed_noise else 0.0)
+            local = active[rows] - k * trials
+            heading = rng.normal(0.0, model.heading_noise, trials) if model.heading_noise else np.zeros(trials)
+            factor = rng.normal(0.0, model.speed_noise, trials) if model.speed_noise else np.zeros(trials)
+            heading_error[rows] = heading[local]
+            speed_factor[rows] = 1.0 + factor[local]
         cos, sin = np.cos(heading_error), np.sin(heading_error)
         rotated = np.stack([cos * direction[:, 0] - sin * direction[:, 1],
                             sin * direction[:, 0] + cos * direction[:, 1]], axis=1)

@@ -41,7 +41,8 @@ from solverplan.render.report import (ANSWER_KINDS, REPORT_OPTIONS, AnswerFile, 
 from solverplan.render.labels import LabelPlacer, draw_edge_ids, draw_vertex_ids
 from solverplan.render.partition import draw_partition
 from solverplan.render.plans import draw_plan, plan_title
-from solverplan.render.rooms import ROOM_COLORS, RULE_COLORS, draw_doors, draw_room_paths, draw_rooms, render_rooms
+from solverplan.render.rooms import (ROOM_COLORS, RULE_COLORS, draw_doors, draw_room_paths, draw_room_tree, draw_rooms,
+                                     render_rooms)
 from solverplan.render.scenes import scene
 from solverplan.render.trajectories import draw_trajectories
 from solverplan.render.wallfollow import (CUT_COLORS, SHADOW_COLORS, draw_cut_diagram, draw_cuts, render_cuts,
@@ -89,6 +90,7 @@ __all__ = [
     "draw_rooms",
     "draw_doors",
     "draw_room_paths",
+    "draw_room_tree",
     "render_rooms",
     "CUT_COLORS",
     "draw_cuts",

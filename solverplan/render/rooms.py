@@ -1,11 +1,14 @@
 """Rooms and doors (the rooms paper's Algorithm 1): rooms filled in distinct colours and numbered, doors as
-bold red segments, segments Algorithm 1 dropped dotted, and trajectories of the bounce rules on top.
+bold red segments labelled with their escapability Φ from each side, the room tree (room centre → door middle →
+room centre, dashed), segments Algorithm 1 dropped dotted, and trajectories of the bounce rules on top.
 
 >>> from solverplan.environment import load_environment
 >>> from solverplan.rectilinear import decompose_rooms
 >>> fig = render_rooms(decompose_rooms(load_environment("three_chambers")))
 >>> sorted({a.get_gid() for a in fig.axes[0].patches})[:2], len([t for t in fig.axes[0].texts if t.get_gid().startswith("room-id-")])
 (['room-0', 'room-1'], 5)
+>>> [t.get_text() for t in fig.axes[0].texts if t.get_gid() == "door-phi-0"]
+['Φ 1/30 | 1']
 """
 
 from __future__ import annotations
@@ -22,13 +25,15 @@ from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.render.environment import draw_boundary
 from solverplan.render.figure import BOUNDARY_COLOR, _style_axes, new_figure
 
-__all__ = ["ROOM_COLORS", "RULE_COLORS", "draw_rooms", "draw_doors", "draw_room_paths", "render_rooms"]
+__all__ = ["ROOM_COLORS", "RULE_COLORS", "draw_rooms", "draw_doors", "draw_room_tree", "draw_room_paths", "render_rooms"]
 
 ROOM_COLORS = ("#cfe3f3", "#f9dcc4", "#d8ecd0", "#eadcf0", "#f6efc6", "#d3eeee", "#f3d3dc", "#e2e2e2")
 """Pale fills, so trajectories and doors stay readable; neighbouring rooms get different ones where possible."""
 DOOR_COLOR = "#c0392b"
 DROPPED_COLORS = {"diagonal": "#2e8b57", "chain": "#1f5fbf", "crossing": "#8e44ad"}  # the paper's Fig. 2: green, blue
-RULE_COLORS = {"smart": "#08306b", "random": "#d95f02", "billiard": "#7570b3"}
+RULE_COLORS = {"smart": "#08306b", "smart-paper": "#2171b5", "smart-per-room": "#6baed6", "random": "#d95f02",
+               "billiard": "#7570b3"}
+TREE_COLOR = "#555555"
 
 
 def _colouring(dec: Decomposition) -> list[int]:
@@ -81,6 +86,44 @@ def draw_doors(ax: Axes, dec: Decomposition, *, dropped: bool = True) -> list:
     return artists
 
 
+def _spot(room) -> tuple[float, float]:
+    import shapely
+
+    spot = shapely.Polygon([[float(x), float(y)] for x, y in room.polygon]).point_on_surface()
+    return spot.x, spot.y
+
+
+def draw_room_tree(ax: Axes, dec: Decomposition, *, phi: bool = True) -> list:
+    """The room tree (Remark 5): a dashed path from each room's label through the middle of each of its doors
+    (gid ``room-tree``); with ``phi``, each door's escapability from its two rooms, "Φ a | b" for rooms
+    (door.rooms[0], door.rooms[1]) (gid ``door-phi-<id>``, exact fractions)."""
+    from solverplan.exact import format_number
+
+    artists: list = []
+    segments = []
+    for door in dec.doors:
+        mid = ((float(door.a[0]) + float(door.b[0])) / 2, (float(door.a[1]) + float(door.b[1])) / 2)
+        for room in door.rooms:
+            segments.append([_spot(dec.rooms[room]), mid])
+        if phi:
+            a, b = (format_number(door.escapability(r)) for r in door.rooms)
+            # at one end of the door, alternating ends so that the labels of a doorway's two doors do not overlap
+            top = door.id % 2 == 0
+            ends = sorted([(float(door.a[0]), float(door.a[1])), (float(door.b[0]), float(door.b[1]))],
+                          key=lambda q: (q[1], q[0]))
+            where = ends[1] if top else ends[0]
+            artists.append(ax.text(where[0], where[1], f"Φ {a} | {b}", fontsize=6, color=DOOR_COLOR, ha="center",
+                                   va="bottom" if top else "top", zorder=7, gid=f"door-phi-{door.id}",
+                                   bbox={"boxstyle": "round,pad=0.1", "facecolor": "white", "alpha": 0.7,
+                                         "edgecolor": "none"}))
+    if segments:
+        lines = LineCollection(segments, colors=TREE_COLOR, linewidths=0.8, linestyles="dashed", zorder=2.8,
+                               gid="room-tree")
+        ax.add_collection(lines)
+        artists.append(lines)
+    return artists
+
+
 def draw_room_paths(ax: Axes, paths: Mapping[str, np.ndarray], *, linewidth: float = 0.9) -> list:
     """One trajectory per rule: ``paths[rule]`` the contact points (n, 2), drawn in the rule's colour with a
     legend (gid ``path-<rule>``); its start is a dot."""
@@ -108,6 +151,7 @@ def _panel(ax: Axes, dec: Decomposition) -> None:
     draw_rooms(ax, dec)
     draw_boundary(ax, dec.env)
     draw_doors(ax, dec)
+    draw_room_tree(ax, dec)
 
 
 def render_rooms(dec: Decomposition, paths: Mapping[str, np.ndarray] | None = None, *, title: str | None = None) -> Figure:

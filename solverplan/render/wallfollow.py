@@ -136,18 +136,26 @@ def _pursuit_panel(ax: Axes, env: Environment, check, upto: int) -> None:
     start, here = path[0], path[-1]
     ax.scatter([float(start[0])], [float(start[1])], s=30, color=TRAJECTORY_START_COLOR, zorder=5, gid="start")
     ax.scatter([float(here[0])], [float(here[1])], s=45, marker="*", color="#111111", zorder=6, gid="pursuer")
-    action = "start" if upto == 0 else f"after {upto} action{'s' if upto > 1 else ''} ({check.steps[upto].action})"
-    ax.set_title(f"{action}: at {step.label}, {len(step.labels)} of {len(step.components)} shadow(s) labelled 1",
+    action = "start" if upto == 0 else f"step {upto}: {check.steps[upto].action}"
+    ax.set_title(f"{action} → {step.label}\n{len(step.labels)} of {len(step.components)} shadow(s) labelled 1",
                  fontsize=8)
 
 
-def render_pursuit(env: Environment, plan, *, panels: int = 4, title: str | None = None) -> Figure:
-    """A pursuit plan as up to ``panels`` snapshots (the start, evenly spaced steps, the end): the path so far
-    (follows solid, JUMPs dotted), the pursuer (star) and its shadow components, red when labelled 1 (the evader
-    may be there), grey when 0, by the ground-truth checker.
+MAX_PURSUIT_PANELS = 36
+"""A pursuit picture shows every step up to this many; a longer plan shows this many, evenly spaced (the first and
+the last always), and says so in the title."""
+
+
+def render_pursuit(env: Environment, plan, *, panels: int | None = None, columns: int = 4,
+                   title: str | None = None) -> Figure:
+    """A pursuit plan as a grid of snapshots, one per step (the start, then after each action), ``columns`` wide:
+    the path so far (follows solid, JUMPs dotted), the pursuer (star) and its shadow components, red when labelled
+    1 (the evader may be there), grey when 0, by the ground-truth checker. Panels are ~3 inches square, so the
+    picture stays readable however long the plan (a strip of every step was 4,000 px wide).
 
     ``plan`` is a :class:`~solverplan.wallfollow.pursuit.PursuitPlan` (with its check) or a
-    :class:`~solverplan.wallfollow.pursuit_check.PursuitCheck`.
+    :class:`~solverplan.wallfollow.pursuit_check.PursuitCheck`; ``panels`` caps the snapshots (default every step,
+    at most :data:`MAX_PURSUIT_PANELS`).
     """
     check = getattr(plan, "check", plan)
     if check is None:
@@ -157,19 +165,26 @@ def render_pursuit(env: Environment, plan, *, panels: int = 4, title: str | None
         draw_boundary(ax, env)
         return fig
     last = len(check.steps) - 1
-    count = max(1, min(panels, last + 1))
+    cap = MAX_PURSUIT_PANELS if panels is None else max(1, panels)
+    count = min(cap, last + 1)
     picks = sorted({round(k * last / max(count - 1, 1)) for k in range(count)})
-    fig, ax = new_figure(env)
-    width, height = fig.get_size_inches()
-    size = max(min(width, height), 3.5)
-    fig.set_size_inches(size * len(picks), size + 0.6)
-    ax.remove()
+    cols = max(1, min(columns, len(picks)))
+    rows = -(-len(picks) // cols)
+    xmin, ymin, xmax, ymax = env.bounds
+    aspect = (ymax - ymin) / max(xmax - xmin, 1e-12)
+    size = 3.0
+    fig = Figure(figsize=(size * cols, size * min(max(aspect, 0.4), 2.5) * rows + 0.6))
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig)
     verdict = "verified" if check.verified else "NOT verified"
+    shown = "every step" if len(picks) == last + 1 else f"{len(picks)} of {last + 1} steps"
     fig.suptitle(title or f"{env.name or 'polygon'}: pursuit plan of {len(check.actions)} actions from {check.start} "
-                          f"({verdict} by the ground-truth checker)", fontsize=10)
+                          f"({verdict} by the ground-truth checker; {shown})", fontsize=10)
     for k, upto in enumerate(picks, start=1):
-        panel = fig.add_subplot(1, len(picks), k)
+        panel = fig.add_subplot(rows, cols, k)
         _style_axes(panel, None)
         _pursuit_panel(panel, env, check, upto)
+        panel.set_aspect("equal")
     fig.tight_layout()
     return fig

@@ -26,7 +26,7 @@ neither reach the target nor repeat within the budget are only "not reached".
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Any, Literal, Sequence
 
@@ -39,11 +39,11 @@ from solverplan.geometry.raycast import cast_rays_exact
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
 from solverplan.rectilinear.metrics import RuleRecommendation, recommend_rule
-from solverplan.rectilinear.rules import RULES, Rule, Smart, make_rule
+from solverplan.rectilinear.rules import GUARANTEED, GUARANTEES, RULE_VARIANTS, RULES, Rule, Smart, make_rule
 from solverplan.simulate import Contacts, Outcome, simulate_policy
 
-__all__ = ["RoomPolicy", "RoomRuns", "RuleComparison", "simulate_rooms", "compare_rules", "periodic_orbit",
-           "DEFAULT_MAX_BOUNCES"]
+__all__ = ["RoomPolicy", "RoomRuns", "RuleComparison", "RouteRecommendation", "simulate_rooms", "compare_rules",
+           "recommend_from_runs", "periodic_orbit", "DEFAULT_MAX_BOUNCES", "RULE_VARIANTS", "NEAR_FASTEST"]
 
 DEFAULT_MAX_BOUNCES = 5000
 """Bounce budget of a run when none is given (the smart rule sweeps a room in steps of half a door)."""
@@ -122,6 +122,20 @@ class RoomRuns:
     theta_tangent: Fraction | None = None
     trajectories: tuple[np.ndarray, ...] = field(default=(), repr=False)
     recommendation: RuleRecommendation | None = None
+    theta_mode: str | None = None
+    advice: RouteRecommendation | None = None
+
+    @property
+    def variant(self) -> str:
+        """The rule's name in :data:`RULE_VARIANTS` (the smart rule named by its θ mode)."""
+        if self.rule == "smart" and self.theta_mode in ("paper", "per-room"):
+            return f"smart-{self.theta_mode}"
+        return self.rule
+
+    @property
+    def always_arrived(self) -> bool:
+        """Every run reached the target (none trapped, none out of budget, none stopped at a corner)."""
+        return self.success == 1.0 and not self.trapped
 
     @property
     def bounces_mean(self) -> float | None:
@@ -143,8 +157,10 @@ class RoomRuns:
         if self.theta is not None:
             out["theta"] = self.theta
             out["theta_tangent_exact"] = format_number(self.theta_tangent) if self.theta_tangent is not None else None
+            out["theta_mode"] = self.theta_mode
+        out["guarantee"] = GUARANTEES.get(self.variant)
         if self.recommendation is not None:
-            out.update(_recommendation_json(self.recommendation))
+            out.update(_recommendation_json(self.recommendation, self.advice))
         return out
 
     def row(self) -> str:
@@ -152,26 +168,96 @@ class RoomRuns:
         median = "-" if self.bounces_median is None else f"{self.bounces_median:g}"
         trapped = "-" if self.trapped is None else str(self.trapped)
         flagged = self.outcomes.get("vertex", 0) + self.outcomes.get("tie", 0)
-        return f"{self.rule:<9} {self.success:>8.3f} {mean:>10} {median:>8} {trapped:>8} {flagged:>8}"
+        return f"{self.variant:<15} {self.success:>8.3f} {mean:>10} {median:>8} {trapped:>8} {flagged:>8}"
 
     def to_text(self, *, width: int = 100) -> str:
         return _table([self], self.walk, self.trials, self.max_bounces, self.seed, self.doors)
 
 
-def _recommendation_json(rec: RuleRecommendation) -> dict:
-    return {"reachability": float(rec.reachability.psi), "reachability_exact": format_number(rec.reachability.psi),
-            "recommended": rec.rule}
+def _recommendation_json(rec: RuleRecommendation, advice: RouteRecommendation | None) -> dict:
+    out: dict[str, Any] = {"reachability": float(rec.reachability.psi),
+                           "reachability_exact": format_number(rec.reachability.psi),
+                           "recommended": rec.rule if advice is None else advice.rule,
+                           "paper_recommendation": rec.rule}
+    if advice is not None:
+        out["recommendation"] = advice.to_json()
+    return out
+
+
+NEAR_FASTEST = 1.2
+"""A rule that guarantees arrival is preferred to a faster one without a guarantee when its mean is within this
+factor of the fastest rule that arrived in every run."""
+
+
+@dataclass(frozen=True)
+class RouteRecommendation:
+    """Which rule to use on one route, from simulated bounces per rule (:func:`recommend_from_runs`).
+
+    ``rule`` the recommendation; ``fastest`` the rule with the fewest mean bounces among those that arrived in
+    every run (``None`` if none did); ``guaranteed`` the rules that guarantee arrival (:data:`GUARANTEES`);
+    ``means`` and ``success`` per rule; ``reason`` one sentence.
+    """
+
+    rule: str
+    fastest: str | None
+    always_arrived: tuple[str, ...]
+    guaranteed: tuple[str, ...]
+    means: dict[str, float | None]
+    success: dict[str, float]
+    reason: str
+
+    def to_json(self) -> dict:
+        return {"rule": self.rule, "fastest_always_arrived": self.fastest, "always_arrived": list(self.always_arrived),
+                "guaranteed": list(self.guaranteed), "bounces_mean": self.means, "success": self.success,
+                "guarantees": {name: GUARANTEES.get(name) for name in self.means}, "reason": self.reason}
+
+
+def recommend_from_runs(runs: dict[str, RoomRuns]) -> RouteRecommendation:
+    """The cost-aware recommendation for a route from runs of several rules (the same starts for each).
+
+    Among the rules that arrived in every run, the fastest (fewest mean bounces); a rule that also *guarantees*
+    arrival (:data:`~solverplan.rectilinear.rules.GUARANTEES`) is preferred when it is within
+    :data:`NEAR_FASTEST` of it. When no rule arrived every time, the rule with the highest success, then the
+    fewest bounces. The recommendation is measured, not proved: it holds for the starts simulated.
+    """
+    if not runs:
+        raise InputError("a recommendation needs the runs of at least one rule")
+    by_variant = {r.variant: r for r in runs.values()}
+    means = {name: r.bounces_mean for name, r in by_variant.items()}
+    success = {name: r.success for name, r in by_variant.items()}
+    arrived = tuple(name for name, r in by_variant.items() if r.always_arrived and r.bounces_mean is not None)
+    guaranteed = tuple(name for name in by_variant if name in GUARANTEED)
+    if arrived:
+        fastest = min(arrived, key=lambda name: (means[name], name))
+        safe = [name for name in arrived if name in GUARANTEED]
+        best_safe = min(safe, key=lambda name: (means[name], name)) if safe else None
+        if best_safe is not None and means[best_safe] <= NEAR_FASTEST * means[fastest]:  # type: ignore[operator]
+            rule = best_safe
+            reason = (f"{rule} arrived in every run with {means[rule]:.1f} bounces on average and guarantees arrival"
+                      + ("" if rule == fastest else f" (the fastest, {fastest}, {means[fastest]:.1f}, does not)"))
+        else:
+            rule = fastest
+            reason = (f"{rule} arrived in every run with the fewest bounces ({means[rule]:.1f} on average)"
+                      + (f"; the fastest rule with a guarantee, {best_safe}, took {means[best_safe]:.1f}"
+                         if best_safe is not None else "; no rule with a guarantee arrived every time"))
+        return RouteRecommendation(rule, fastest, arrived, guaranteed, means, success, reason)
+    rule = max(by_variant, key=lambda name: (success[name], -(means[name] or float("inf")), name))
+    return RouteRecommendation(rule, None, (), guaranteed, means, success,
+                               f"no rule arrived in every run; {rule} arrived most often ({success[rule]:.3f})")
 
 
 def _table(runs: Sequence[RoomRuns], walk: tuple[int, ...], trials: int, max_bounces: int, seed: int | None, doors: str) -> str:
     lines = [f"rooms {walk[0]} → {walk[-1]} (through {', '.join(map(str, walk))}), {trials} runs per rule, "
              f"up to {max_bounces} bounces, seed {seed}, doors {doors}",
-             f"{'rule':<9} {'success':>8} {'mean':>10} {'median':>8} {'trapped':>8} {'flagged':>8}"]
+             f"{'rule':<15} {'success':>8} {'mean':>10} {'median':>8} {'trapped':>8} {'flagged':>8}"]
     lines += [r.row() for r in runs]
     rec = runs[0].recommendation if runs else None
+    advice = runs[0].advice if runs else None
     if rec is not None:
         lines.append(f"reachability Ψ = {format_number(rec.reachability.psi)} ≈ {float(rec.reachability.psi):.4g}: "
-                     f"recommended rule {rec.rule}")
+                     f"the paper's rule {rec.rule}")
+    if advice is not None:
+        lines.append(f"recommended rule {advice.rule}: {advice.reason}")
     lines.append("mean, median: bounces of the runs that reached the target; trapped: deterministic runs proved "
                  "periodic (exact); flagged: runs stopped at a corner")
     return "\n".join(lines) + "\n"
@@ -189,7 +275,7 @@ class RuleComparison:
         first = next(iter(self.runs.values()))
         out["rooms"] = list(first.walk)
         if first.recommendation is not None:
-            out.update(_recommendation_json(first.recommendation))
+            out.update(_recommendation_json(first.recommendation, first.advice))
         return out
 
     def to_text(self, *, width: int = 100) -> str:
@@ -217,6 +303,7 @@ def simulate_rooms(
     keep: int = 0,
     trapped: bool = True,
     per_room: bool = False,
+    theta: str = "safe",
 ) -> RoomRuns:
     """Run ``trials`` robots of ``rule`` from room ``start`` to room ``goal`` (module docstring).
 
@@ -242,7 +329,10 @@ def simulate_rooms(
         Replay the deterministic runs that did not arrive, exactly, to find those caught in a periodic orbit.
     per_room
         Give the smart robot the θ of the room it is in (:func:`~solverplan.rectilinear.rules.room_tangents`)
-        instead of the least θ of the whole sequence.
+        instead of the least θ of the whole sequence (the same as ``theta="per-room"``).
+    theta
+        The smart rule's θ mode (:data:`~solverplan.rectilinear.rules.THETA_MODES`): ``safe``, ``paper`` or
+        ``per-room``; ``rule`` may also name a variant (``smart-paper``, ``smart-per-room``).
 
     Returns
     -------
@@ -270,7 +360,8 @@ def simulate_rooms(
     walk = tuple(walk) if walk is not None else dec.path(start, goal)
     if walk[0] != start or walk[-1] != goal:
         raise InputError(f"the room sequence must go from room {start} to room {goal}")
-    chosen = make_rule(rule, dec, walk, per_room=per_room)
+    chosen = make_rule(rule, dec, walk, per_room=per_room, theta=theta)
+    mode = {"smart-paper": "paper", "smart-per-room": "per-room"}.get(rule, "per-room" if per_room else theta)
     rng = np.random.default_rng(seed)
     world = RoomWorld(dec)
     edges, t, headings = world.starts_in(start, trials, rng)
@@ -284,15 +375,18 @@ def simulate_rooms(
         stuck = np.flatnonzero(runs.status == Outcome.OK)
         n_trapped = sum(_periodic(dec, chosen, walk, doors, int(edges[k]), float(t[k]), float(headings[k]), max_bounces)
                         for k in stuck.tolist())
-    tangent = chosen.tangent if isinstance(chosen, Smart) and not per_room else None
+    smart = chosen if isinstance(chosen, Smart) else None
+    tangent = smart.tangent if smart is not None and not smart.per_room else None
     return RoomRuns(rule, walk, trials, max_bounces, seed, doors, float(reached.mean()),
                     tuple(int(b) for b in runs.stop_step[reached]), runs.outcome_counts(), n_trapped,
-                    chosen.theta if isinstance(chosen, Smart) else None, tangent, kept,
-                    recommend_rule(dec, start, goal, rooms=walk))
+                    smart.theta if smart is not None else None, tangent, kept,
+                    recommend_rule(dec, start, goal, rooms=walk), mode if smart is not None else None)
 
 
 def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[str] = RULES, **options: Any) -> RuleComparison:
     """:func:`simulate_rooms` for each rule with the same seed (so the same starts), side by side.
+
+    Each run carries the cost-aware recommendation made from all of them (:func:`recommend_from_runs`).
 
     Parameters
     ----------
@@ -301,14 +395,16 @@ def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[
     start, goal
         Room ids.
     rules
-        The rules to compare (default all: ``smart``, ``random``, ``billiard``).
+        The rules to compare (default the paper's three: ``smart``, ``random``, ``billiard``;
+        :data:`~solverplan.rectilinear.rules.RULE_VARIANTS` adds the smart rule's other θ modes).
     **options
-        :func:`simulate_rooms`'s keyword arguments (``trials``, ``seed``, ``max_bounces``, ``doors``, ...).
+        :func:`simulate_rooms`'s keyword arguments (``trials``, ``seed``, ``max_bounces``, ``doors``, ``theta``, ...).
 
     Returns
     -------
     RuleComparison
-        ``runs[rule]``, one :class:`RoomRuns` per rule (the paper's Table I), from the same starts.
+        ``runs[rule]``, one :class:`RoomRuns` per rule (the paper's Table I), from the same starts, each with the
+        recommendation (``advice``).
 
     Examples
     --------
@@ -317,8 +413,12 @@ def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[
     >>> table = sp.compare_rules(rooms, 0, 1, trials=20, seed=1)
     >>> {rule: (runs.success, runs.bounces_median) for rule, runs in table.runs.items()}
     {'smart': (1.0, 5.5), 'random': (1.0, 4.0), 'billiard': (1.0, 6.5)}
+    >>> table.runs["smart"].advice.rule
+    'random'
     """
-    return RuleComparison({name: simulate_rooms(dec, start, goal, rule=name, **options) for name in rules})
+    runs = {name: simulate_rooms(dec, start, goal, rule=name, **options) for name in rules}
+    advice = recommend_from_runs(runs)
+    return RuleComparison({name: replace(r, advice=advice) for name, r in runs.items()})
 
 
 # ---------------------------------------------------------------------- exact replay: periodic orbits

@@ -17,7 +17,10 @@ treats every possibility pessimistically. Nothing here looks at the geometry: th
   each other); b̂_ji likewise from r_i, r_j after v_j. The true end points satisfy b_ij ∈ [b̂_ij, v_i] and
   b_ji ∈ [v_j, b̂_ji] (tested), so the boundary stretches [b̂_ij, v_i) and (v_j, b̂_ji] contain every point
   of the ordering on the side of a ray where the far shadow is merged into the near one (at the near vertex
-  itself the pursuer sees the far shadow on its own).
+  itself the pursuer sees the far shadow on its own). A ray whose stretch lies on an edge of its own reflex
+  vertex is dropped: a bitangent ray ends on an edge not incident to its vertex (general position), and every ray
+  of a pair starts next to its near vertex, so a longer one in the same direction covers these cells anyway
+  (issue #26: a pair right-handed both ways made 6-vertex polygons that one RFOLLOW clears unsolvable).
 - **Labels**: a shadow component is a compound (a set of primitives) with a label. An action that passes a
   stretch where a candidate may merge two shadows merges *every* active primitive of the near vertex's chain
   with every active one of the far vertex's chain (the pursuer cannot tell which shadows they are) — a merge
@@ -111,7 +114,14 @@ class ContactPursuit:
             vi, vj = 2 * at[f"v{cand.i}"], 2 * at[f"v{cand.j}"]
             for near, far, cells in ((cand.i, cand.j, self._cell_range(2 * at[cand.b_ij], vi - 1)),
                                      (cand.j, cand.i, self._cell_range(vj + 1, 2 * at[cand.b_ji]))):
-                self._rays.append((near, far, frozenset(self._unmirror_cell(c) for c in cells) if flip else cells))
+                stretch = frozenset(self._unmirror_cell(c) for c in cells) if flip else cells
+                if not any(c % 2 == 0 and labels[c // 2].startswith("v") for c in stretch):
+                    # The stretch lies on an edge of the near vertex itself; a bitangent ray ends on an edge not
+                    # incident to its vertex (general position: the line through v_i and v_j holds no edge), so
+                    # the true end is not here. Every ray of (near, far) starts next to the near vertex, so any
+                    # longer one in this direction holds these cells too: dropping it loses no merge (#26).
+                    continue
+                self._rays.append((near, far, stretch))
 
     def _unmirror_cell(self, cell: int) -> int:
         """The cell of the ordering that is ``cell`` of the mirror image."""

@@ -86,3 +86,22 @@ def test_explore_bad_range_is_one_line_exit_2(args, message):
     assert result.exit_code == 2
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], lines
+
+
+def test_issue26_generate_spiral_and_ring_write_the_papers_families(tmp_path):
+    from typer.testing import CliRunner
+
+    from solverplan.cli import app
+    from solverplan.environment import load_environment
+    from solverplan.explore.families import one_hole, spiral
+
+    runner = CliRunner()
+    target = tmp_path / "spiral.json"
+    assert runner.invoke(app, ["generate", "spiral", "--turns", "3", "-o", str(target)]).exit_code == 0
+    assert load_environment(target) == spiral(3)[0] and len(load_environment(target).reflex_vertices) == 3
+    ring = tmp_path / "ring.json"
+    assert runner.invoke(app, ["generate", "ring", "--sides", "5", "-o", str(ring)]).exit_code == 0
+    env = load_environment(ring)
+    assert env == one_hole(3)[0] and len(env.holes[0]) == 5 and len(env.reflex_vertices) == 5
+    bad = runner.invoke(app, ["generate", "ring", "--sides", "2"])
+    assert bad.exit_code == 2

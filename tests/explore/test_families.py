@@ -113,5 +113,7 @@ def test_family_size_must_be_a_positive_integer(family, k):
 
 
 def test_families_doctests():
-    result = doctest.testmod(families)
+    import solverplan.explore.families as library_families
+
+    result = doctest.testmod(library_families)
     assert result.attempted > 0 and result.failed == 0

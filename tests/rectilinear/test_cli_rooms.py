@@ -62,12 +62,19 @@ def test_simulate_all_rules_side_by_side_with_a_picture(tmp_path):
                  "--max-bounces", 3000, "--picture", picture)
     assert result.exit_code == 0, result.stderr
     data = json.loads(result.stdout)
-    assert set(data["rules"]) == {"smart", "random", "billiard"} and data["rooms"] == [2, 3, 1, 4, 0]
+    assert set(data["rules"]) == {"smart", "smart-paper", "smart-per-room", "random", "billiard"}
+    assert data["rooms"] == [2, 3, 1, 4, 0]
+    advice = data["recommendation"]
+    assert data["recommended"] == advice["rule"] and data["paper_recommendation"] in ("smart", "random")
+    arrived = [name for name, row in data["rules"].items() if row["success"] == 1.0 and not row["trapped"]]
+    assert sorted(advice["always_arrived"]) == sorted(arrived)
+    fastest = min(data["rules"][name]["bounces_mean"] for name in arrived)
+    assert data["rules"][data["recommended"]]["bounces_mean"] <= 1.2 * fastest
     assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = run("rooms", "three_chambers", "--simulate", "--from", 2, "--to", 0, "--rule", "all", "--trials", 4,
                "--max-bounces", 3000, "--format", "text")
-    rows = [line.split()[0] for line in text.stdout.splitlines()[2:5]]
-    assert rows == ["smart", "random", "billiard"]
+    rows = [line.split()[0] for line in text.stdout.splitlines()[2:7]]
+    assert rows == ["smart", "smart-paper", "smart-per-room", "random", "billiard"]
 
 
 def test_rooms_picture_without_simulation(tmp_path):

@@ -76,5 +76,5 @@ def test_warehouse_smart_theta_comes_from_the_corridor():
 def test_bad_rules_are_input_errors(chambers):
     with pytest.raises(InputError, match=r"^smart rule: θ = 2 must lie in \(0, π/2\)$"):
         Smart(2)
-    with pytest.raises(InputError, match=r"^unknown rule 'specular': use smart, random or billiard$"):
+    with pytest.raises(InputError, match=r"^unknown rule 'specular': use smart, smart-paper, smart-per-room, random, billiard$"):
         make_rule("specular", chambers, (0,))

@@ -112,7 +112,12 @@ def test_rules_side_by_side_like_table_1(chambers):
         assert row["rule"] == name and row["trials"] == 12
     assert data["rules"]["smart"]["success"] == 1.0 and data["rules"]["smart"]["trapped"] == 0
     assert data["rules"]["random"]["trapped"] is None
-    assert data["reachability_exact"] == "1/300" and data["recommended"] == "smart"
+    assert data["reachability_exact"] == "1/300" and data["paper_recommendation"] == "smart"
+    advice = table.runs["smart"].advice
+    assert advice is not None and data["recommended"] == advice.rule
+    arrived = [name for name, row in data["rules"].items() if row["success"] == 1.0 and not row["trapped"]]
+    best = min(data["rules"][name]["bounces_mean"] for name in arrived)
+    assert data["rules"][advice.rule]["bounces_mean"] <= 1.2 * best  # NEAR_FASTEST
     assert data["rules"]["smart"]["theta_tangent_exact"] == "1/60"
     text = table.to_text()
     assert "smart" in text and "random" in text and "billiard" in text and "Ψ = 1/300" in text

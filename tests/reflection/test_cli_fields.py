@@ -24,7 +24,12 @@ def test_fields_answers_with_the_contract_fields(tmp_path):
     assert list(answer)[-3:] == ["optimality", "stats", "environment"]
     assert all(set(c) == {"id", "polygon"} for c in answer["cells"]) and len(answer["cells"]) == 9
     assert answer["adjacency"] == [[0, 1], [0, 3], [1, 2], [2, 4], [3, 7], [5, 6], [5, 8], [6, 7]]
-    assert answer["sequence"] == [4, 2, 1, 0, 3, 7, 6, 5, 8] and answer["reflection_cells"] == [2, 0, 7, 5]
+    assert answer["sequence"] == [4, 2, 1, 0, 3, 7, 6, 5, 8]
+    # the four 45° corners pay together for the default inertial robot (rollouts); straight cells are recorded
+    assert answer["reflection_cells"] == [2, 0, 7, 5] and answer["reflections"] == "payoff"
+    assert {(r["cell"], r["stage"]) for r in answer["rejected_zones"]} == {(1, "candidate"), (3, "candidate"),
+                                                                           (6, "candidate")}
+    assert all(t["gain"] >= 0 for t in answer["rollouts"].values())
     assert list(answer["scenarios"]) == ["constrained", "unconstrained", "reflection"]  # --scenario all, the default
     for run in answer["scenarios"].values():
         assert list(run)[:6] == ["trials", "success", "time_mean", "time_var", "collisions_mean", "trajectories"]
@@ -50,7 +55,7 @@ def test_fields_text_is_a_table_of_the_scenarios(tmp_path):
     result = runner.invoke(app, [*ARGS, "--trials", "2", "--format", "text", "-o", str(target)])
     assert result.exit_code == 0 and result.stdout == ""
     text = target.read_text()
-    assert "sequence 4 → 2 → 1 → 0 → 3 → 7 → 6 → 5 → 8" in text and "reflection cells: 2, 0, 7, 5" in text
+    assert "sequence 4 → 2 → 1 → 0 → 3 → 7 → 6 → 5 → 8" in text and "reflection cells: 2, 0, 7, 5;" in text
     assert all(name in text for name in ("constrained", "unconstrained", "reflection"))
 
 
@@ -78,3 +83,27 @@ def test_fields_bad_input_is_one_line_and_exit_2(args, message):
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(message), lines
     assert result.stdout == ""
+
+
+def test_issue26_robot_options_random_starts_and_the_exported_field(tmp_path):
+    target = tmp_path / "field.json"
+    result = runner.invoke(app, [*ARGS, "--trials", "3", "--accel", "4", "--restitution", "0.5", "--control-rate", "25",
+                                 "--gain-line", "2", "--starts", "random", "--reflections", "all", "--export", str(target)])
+    assert result.exit_code == 0, result.output
+    answer = json.loads(result.stdout)
+    model = answer["model"]
+    assert (model["accel"], model["restitution"], model["control_rate"], model["physics_rate"]) == (4.0, 0.5, 25.0, 400.0)
+    assert answer["starts"] == "random" and answer["reflection_cells"] == [2, 0, 7, 5]
+    assert answer["fields"][0]["field"]["gain_exact"] == "2"
+    exported = json.loads(target.read_text())
+    assert exported["sequence"] == answer["sequence"] and len(exported["cells"]) == 9
+    reflecting = [c["id"] for c in exported["cells"] if c["reflection"] is not None]
+    assert sorted(reflecting) == sorted(answer["reflection_cells"])
+    for cell in exported["cells"]:  # the half-planes hold the cell's own vertices
+        for x, y in cell["polygon"]:
+            assert all(h["normal"][0] * x + h["normal"][1] * y >= h["offset"] - 1e-9 for h in cell["halfplanes"])
+
+
+def test_a_control_rate_that_does_not_divide_the_physics_is_refused():
+    result = runner.invoke(app, [*ARGS, "--control-rate", "33"])
+    assert result.exit_code == 0  # 396 Hz physics: the nearest multiple is used

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -11,8 +12,8 @@ from hypothesis import strategies as st
 from solverplan.environment import Environment, load_environment
 from solverplan.reflection.cells import decompose_free_space
 from solverplan.reflection.compose import compose_fields
-from solverplan.reflection.zones import (alpha, is_reflection_candidate, rank_zones, select_zone, zone_cost,
-                                         zone_cost_printed)
+from solverplan.reflection.zones import (alpha, is_reflection_candidate, rank_zones, select_zone,
+                                         select_zone_recorded, turns_towards_exit, zone_cost, zone_cost_printed)
 
 
 def _cell(coords):
@@ -38,12 +39,39 @@ def test_alpha_half_pi_is_a_candidate_exactly_and_straight_cells_are_not():
     assert all(is_reflection_candidate(kite, i, j) == (alpha(kite, i, j) <= 1.5707963267948966) for i in range(4) for j in range(4) if i != j)
 
 
-def test_square_tie_is_broken_by_the_smallest_n_in_dot_v_in():
+def test_issue26_square_tie_goes_to_the_wall_ahead_not_the_wall_opposite_the_exit():
     square = _cell([(0, 0), (1, 0), (1, 1), (0, 1)])  # inlet bottom (0), outlet right (1); walls top (2), left (3)
     assert zone_cost(square, 0, 1, 2) == zone_cost(square, 0, 1, 3) == Fraction(1, 2)
-    assert rank_zones(square, 0, 1) == [3, 2]  # the left wall is entered obliquely (n_in·v_in = 1/√2 < 1)
-    zone = select_zone(square, 0, 1, (Fraction(3),))
-    assert zone is not None and zone.side == 3 and zone.point == (0, Fraction(1, 2))
+    assert rank_zones(square, 0, 1) == [2, 3]  # the top wall is the one a robot going up runs into
+    # and in a square corner no wall turns the robot towards the exit: no zone, both walls recorded
+    zone, rejected = select_zone_recorded(square, 0, 1, (Fraction(3),))
+    assert zone is None and [(r.side, r.stage) for r in rejected] == [(2, "turn"), (3, "turn")]
+
+
+def test_a_45_degree_cut_is_a_zone_that_turns_the_robot_to_the_exit():
+    cut = _cell([(0, 0), (2, 0), (2, 1), (1, 2), (0, 2)])  # in at the bottom (0), out on the left (4)
+    zone, rejected = select_zone_recorded(cut, 0, 4, (Fraction(3),))
+    assert zone is not None and zone.side == 2 and turns_towards_exit(cut, 0, 4, 2)
+    assert all(r.stage == "turn" for r in rejected)
+
+
+@given(st.integers(1, 6), st.integers(1, 6), st.integers(1, 5))
+def test_turns_towards_exit_matches_a_mirrored_unit_velocity(w, h, c):
+    """A wall passes the turn test iff a robot moving along n_in that hits it leaves with more velocity along the
+    exit direction than it had and less along the entry (a float mirror of the velocity, the simulator's bounce)."""
+    c = min(c, w - 1, h - 1) if min(w, h) > 1 else 0
+    ring = [(0, 0), (w, 0), (w, h - c), (w - c, h), (0, h)] if c else [(0, 0), (w, 0), (w, h), (0, h)]
+    cell = _cell(ring)
+    outlet = len(cell.sides) - 1  # the left side
+    for side in range(1, len(cell.sides) - 1):
+        n = cell.sides[side].unit_normal()
+        v = np.array([0.0, 1.0])
+        if v @ n >= 0:
+            assert not turns_towards_exit(cell, 0, outlet, side)  # never met going up
+            continue
+        bounced = v - 2 * (v @ n) * n
+        helps = bounced @ np.array([-1.0, 0.0]) > 1e-12
+        assert turns_towards_exit(cell, 0, outlet, side) == helps
 
 
 @settings(max_examples=40)

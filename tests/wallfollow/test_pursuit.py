@@ -400,3 +400,28 @@ def test_cli_pursuit_text_output():
     assert "5 actions" in result.stdout and "verified by the ground-truth checker" in result.stdout
     failed = run("wallfollow", "three_arms", "--pursuit", "--sensor", "contact", "--format", "text")
     assert failed.exit_code == 0 and "not known to be complete" in failed.stdout
+
+
+#: Six-vertex polygons that one RFOLLOW clears (Strategy 2's shortest plan) where Strategy 6 found nothing before
+#: issue #26: a candidate of the wrong handedness left its ray end only on an edge of its own reflex vertex.
+ONE_RFOLLOW = [
+    ([(691, 149), (31, 379), (447, 567), (350, 895), (820, 525), (501, 325)], "v1"),
+    ([(148, 825), (735, 777), (246, 805), (708, 101), (230, 279), (373, 229)], "v0"),
+    ([(969, 786), (690, 632), (589, 85), (22, 220), (562, 228), (252, 624)], "v1"),
+]
+
+
+@pytest.mark.parametrize("ring,start", ONE_RFOLLOW)
+def test_issue26_strategy6_solves_six_vertex_polygons_one_rfollow_clears(ring, start):
+    env = Environment.from_coords(ring)
+    assert pursuit_plan(env, start=start).actions == ("RFOLLOW",)
+    plan = pursuit_plan(env, start=start, sensor="contact")
+    assert plan.status is Status.FOUND and plan.actions == ("RFOLLOW",) and plan.verified
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(general_position_polygons(min_vertices=5, max_vertices=9))
+def test_prop17_no_dropped_ray_hides_a_real_bitangent(env):
+    """The rays dropped because their end could only lie on an edge of their own reflex vertex hide no bitangent:
+    every geometric bitangent's merging side still lies in the stretches of the kept rays."""
+    _merge_cells_cover_every_bitangent(env)
