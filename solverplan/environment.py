@@ -31,6 +31,7 @@ from __future__ import annotations
 import json
 import math
 import operator
+import os
 import re
 from dataclasses import dataclass, field
 from decimal import Decimal
@@ -42,7 +43,7 @@ from typing import Iterable, Literal, Sequence
 
 import numpy as np
 
-from solverplan._io import atomic_write_text
+from solverplan._io import atomic_write_text, read_input_text, shown_path
 from solverplan._shipped import model_file, model_names
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
 from solverplan.limits import (
@@ -1129,8 +1130,8 @@ def _format_of(path: Path, fmt: str | None) -> FileFormat:
 def _no_such_file(path: str) -> str:
     """The one-line error for a path that is neither a file nor a shipped model (listing the models for a bare name)."""
     if "/" in path or "\\" in path:
-        return f"{path}: no such file, nor a shipped model"
-    return f"{path}: no such file, nor a shipped model (they are {', '.join(model_names())})"
+        return f"{shown_path(path)}: no such file, nor a shipped model"
+    return f"{shown_path(path)}: no such file, nor a shipped model (they are {', '.join(model_names())})"
 
 
 def load_environment(path: str | PathLike[str], fmt: FileFormat | None = None) -> Environment:
@@ -1167,22 +1168,18 @@ def load_environment(path: str | PathLike[str], fmt: FileFormat | None = None) -
     if fmt:
         _format_of(Path(path), fmt)  # an unknown format is an error even for a shipped model
     file = Path(path)
-    if not file.exists():
+    try:
+        present = os.path.lexists(file)
+    except (OSError, ValueError):  # a NUL byte in the name: the reader says so
+        present = True
+    if not present:
         shipped = model_file(str(path))
         if shipped is None:
             raise MalformedFile(_no_such_file(str(path)))
         file, fmt = shipped, "json"
     kind = _format_of(file, fmt)
-    try:
-        size = file.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise MalformedFile(f"{file}: file is {size} bytes (at most {MAX_FILE_BYTES})")
-        text = file.read_text(encoding="utf-8")
-    except FileNotFoundError:  # removed since the check above
-        raise MalformedFile(_no_such_file(str(path))) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None
-    return parse_environment(text, kind, default_name=file.stem, source=str(file))
+    text = read_input_text(file, limit=MAX_FILE_BYTES)  # regular files only, never read past the limit
+    return parse_environment(text, kind, default_name=file.stem, source=shown_path(file))
 
 
 def save_environment(env: Environment, path: str | PathLike[str], fmt: FileFormat | None = None) -> None:

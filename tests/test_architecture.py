@@ -16,7 +16,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "solverplan"
 # rank of each top-level part of the package; a module may import lower ranks or its own part
 LAYERS = {
     "errors": 0,
-    "_io": 0,
+    "_io": 0.25,  # files in (bounded) and out (atomic): raises errors (0)
     "_arrays": 0,
     "limits": 0.5,  # the documented input limits every reader checks (raise errors: after it)
     "_shipped": 0,  # where the shipped model files are: environment accepts a model's name

@@ -75,6 +75,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any, Literal
 
+from solverplan._io import read_input_text, shown_path  # the one bounded reader (standard library only)
 from solverplan.errors import MalformedFile
 
 __all__ = [
@@ -531,17 +532,16 @@ def parse_certificate(text: str, *, source: str = "certificate") -> Certificate:
 def load_certificate(path: str | Path) -> Certificate:
     """Read a certificate file; :class:`CertificateFormatError` (naming the file) if it is unreadable or malformed."""
     path = Path(path)
+    name = shown_path(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise CertificateFormatError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CertificateFormatError(f"{path}: cannot read ({exc.__class__.__name__})") from None
+        text = read_input_text(path)  # regular files only, never read past the limit (solverplan._io)
+    except MalformedFile as exc:
+        raise CertificateFormatError(str(exc)) from None
     try:
-        return parse_certificate(text, source=str(path))
+        return parse_certificate(text, source=name)
     except CertificateFormatError as exc:
         message = str(exc)
-        raise CertificateFormatError(message if message.startswith(f"{path}:") else f"{path}: {message}") from None
+        raise CertificateFormatError(message if message.startswith(f"{name}:") else f"{name}: {message}") from None
 
 
 def dumps_certificate(cert: Certificate) -> str:

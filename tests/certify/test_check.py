@@ -74,7 +74,8 @@ def test_schema_imports_only_stdlib_and_errors():
     tree = ast.parse(Path(schema.__file__).read_text())
     names = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
     names |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
-    assert names <= {"__future__", "json", "re", "dataclasses", "decimal", "fractions", "pathlib", "sys", "typing", "solverplan.errors"}
+    assert names <= {"__future__", "json", "re", "dataclasses", "decimal", "fractions", "pathlib", "sys", "typing", "solverplan.errors",
+                     "solverplan._io"}  # the bounded reader: standard library and errors only
 
 
 # ---------------------------------------------------------------------- the hand-built cases are right
