@@ -18,6 +18,7 @@ LAYERS = {
     "errors": 0,
     "_io": 0.25,  # files in (bounded) and out (atomic): raises errors (0)
     "_arrays": 0,
+    "runtime": 0.25,  # the run-time settings (graph cache, memory limit) read where they apply
     "limits": 0.5,  # the documented input limits every reader checks (raise errors: after it)
     "_shipped": 0,  # where the shipped model files are: environment accepts a model's name
     "interval": 1,
