@@ -34,7 +34,10 @@ TIMEOUT_S = float(os.environ.get("REPRO_TIMEOUT", "60"))
 ENTRY = ("import sys; sys.argv[0] = 'solverplan'; from solverplan.cli import main; main()")
 # Unprivileged runs: the interpreter lives under /root (not readable by others), so the child imports the CLI
 # as root and only then drops to the user's ids, as a setuid wrapper would, before any input is touched.
-ENTRY_AS = ("import os, sys; sys.argv[0] = 'solverplan'; from solverplan.cli import main; "
+ENTRY_AS = ("import os, sys, io, contextlib, encodings.ascii, encodings.latin_1; sys.argv[0] = 'solverplan'; from solverplan.cli import app, main\n"
+            "with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):\n"
+            "    try: app(['info', 'square', '-o', os.devnull], standalone_mode=False)  # warm the imports as root\n"
+            "    except BaseException: pass\n"
             "os.setgid({gid}); os.setgroups([]); os.setuid({uid}); main()")
 SQUARE = {"outer": [[0, 0], [4, 0], [4, 4], [0, 4]]}
 

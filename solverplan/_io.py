@@ -29,7 +29,7 @@ from typing import Any
 from solverplan.errors import MalformedFile
 
 __all__ = ["atomic_write_bytes", "atomic_write_text", "read_input_bytes", "read_input_text", "shown_path",
-           "MAX_INPUT_BYTES", "reason_of"]
+           "MAX_INPUT_BYTES", "reason_of", "cannot_write"]
 
 MAX_INPUT_BYTES = 64 * 1024 * 1024
 """Largest input file read (bytes); ``solverplan.limits.MAX_FILE_BYTES`` is this number."""
@@ -76,6 +76,11 @@ _REASONS = {
 def reason_of(exc: OSError) -> str:
     """A short lower-case reason for an :class:`OSError`, without the path (``permission denied``)."""
     return _REASONS.get(exc.errno or 0) or (exc.strerror or exc.__class__.__name__).lower()
+
+
+def cannot_write(path: object, exc: OSError) -> str:
+    """The one-line message of a failed write: ``PATH: cannot write (Permission denied)``, the path shortened."""
+    return f"{shown_path(path)}: cannot write ({exc.strerror or exc.__class__.__name__})"
 
 
 def _kind(mode: int) -> str:

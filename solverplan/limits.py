@@ -32,6 +32,7 @@ __all__ = [
     "MAX_ROOMS",
     "MAX_PIXELS",
     "MAX_SEED",
+    "MAX_INDENT",
     "MAX_STUDY_ROWS",
     "MAX_QUOTED_CHARS",
     "quote",
@@ -101,6 +102,9 @@ MAX_ROOMS = 1_000
 MAX_STUDY_ROWS = 100_000
 """Most rows of one study (grid cells × ``--per-cell``), and most values of one grid axis: at a tenth of a
 second a row (the fastest metric), 10⁵ rows are three hours on one core; the row list stays a few MB."""
+
+MAX_INDENT = 16
+"""Largest ``--indent`` (spaces per level): the text of a deep answer grows with the indent times its lines."""
 
 MAX_SEED = 2**64 - 1
 """Largest random seed (``--seed``): seeds are unsigned 64-bit integers."""

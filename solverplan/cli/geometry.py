@@ -10,7 +10,7 @@ from typing import Annotated
 
 import typer
 
-from solverplan._io import atomic_write_bytes
+from solverplan._io import atomic_write_bytes, cannot_write
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
 from solverplan.describe import describe_environment
 from solverplan.errors import InputError
@@ -99,7 +99,7 @@ def graph_command(
                 try:
                     atomic_write_bytes(out, data)  # type: ignore[arg-type]  # any bytes-like object
                 except OSError as exc:
-                    raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+                    raise InputError(cannot_write(out, exc)) from None
                 logger.info("wrote %s", out)
         else:
             emit(view, OutputFormat(fmt.value), out)

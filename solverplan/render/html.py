@@ -46,7 +46,7 @@ from typing import TYPE_CHECKING, Any, Iterable, Sequence
 
 import numpy as np
 
-from solverplan._io import atomic_write_text
+from solverplan._io import atomic_write_text, cannot_write
 from solverplan.environment import Environment, read_json
 from solverplan.errors import InputError, MalformedFile
 from solverplan.limits import quote, read_text_within_limits
@@ -322,7 +322,7 @@ def write_report(report: HtmlReport, path: str | os.PathLike[str]) -> SavedRepor
     try:
         atomic_write_text(path, report.html)
     except OSError as exc:
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+        raise InputError(cannot_write(path, exc)) from None
     return SavedReport(str(path), report)
 
 

@@ -26,6 +26,7 @@ from typing import Callable, Literal
 
 import numpy as np
 
+from solverplan._io import cannot_write
 from solverplan.environment import Environment, format_environment, save_environment
 from solverplan.errors import InputError, InvalidEnvironment
 from solverplan.exact import ExactPoint, orient
@@ -990,4 +991,4 @@ class GeneratedEnvironment:
         try:
             save_environment(self.env, path)
         except OSError as exc:
-            raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+            raise InputError(cannot_write(path, exc)) from None
