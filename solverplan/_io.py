@@ -29,7 +29,8 @@ from typing import Any
 from solverplan.errors import MalformedFile
 
 __all__ = ["atomic_write_bytes", "atomic_write_text", "read_input_bytes", "read_input_text", "shown_path",
-           "MAX_INPUT_BYTES", "reason_of", "cannot_write"]
+           "MAX_INPUT_BYTES", "reason_of", "cannot_write",
+           "MAX_JSON_VALUES", "check_json_values"]
 
 MAX_INPUT_BYTES = 64 * 1024 * 1024
 """Largest input file read (bytes); ``solverplan.limits.MAX_FILE_BYTES`` is this number."""
@@ -76,6 +77,23 @@ _REASONS = {
 def reason_of(exc: OSError) -> str:
     """A short lower-case reason for an :class:`OSError`, without the path (``permission denied``)."""
     return _REASONS.get(exc.errno or 0) or (exc.strerror or exc.__class__.__name__).lower()
+
+
+MAX_JSON_VALUES = 4_000_000
+"""Most values (numbers, strings, arrays, objects) of one JSON input: counted before parsing, so a 64 MiB file
+of ``[0,0,0,…]`` (32 million values, a few GB once parsed) is refused while one of 4 million exact decimals
+(about half a gigabyte parsed) is read. An environment needs three values per vertex (100,000 vertices: 300,000)."""
+
+
+def check_json_values(text: str, name: str) -> None:
+    """Refuse JSON ``text`` with more than :data:`MAX_JSON_VALUES` values, counted without parsing.
+
+    Every value but the first follows a ``,`` or opens an array or object (``[``, ``{``): their count bounds
+    the values from above (separators inside strings count too: an over-estimate, never an under-estimate).
+    """
+    values = text.count(",") + text.count("[") + text.count("{") + 1
+    if values > MAX_JSON_VALUES:
+        raise MalformedFile(f"{name}: JSON of about {values:,} values, more than the limit of {MAX_JSON_VALUES:,}")
 
 
 def cannot_write(path: object, exc: OSError) -> str:

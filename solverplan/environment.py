@@ -43,7 +43,7 @@ from typing import Iterable, Literal, Sequence
 
 import numpy as np
 
-from solverplan._io import atomic_write_text, read_input_text, shown_path
+from solverplan._io import atomic_write_text, check_json_values, read_input_text, shown_path
 from solverplan._shipped import model_file, model_names
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
 from solverplan.limits import (
@@ -956,24 +956,41 @@ _JSON_STRING = re.compile(rb'"(?:[^"\\]|\\.)*"')
 def json_depth(text: str) -> int:
     """How deep arrays and objects nest in JSON ``text`` (strings skipped), without parsing it.
 
-    Vectorised over the bytes, so it is fast on large files and cannot exhaust the stack.
+    Vectorised over the bytes a megabyte at a time, so it is fast on large files, cannot exhaust the stack
+    and needs a few megabytes whatever the file's size.
     """
-    data = np.frombuffer(_JSON_STRING.sub(b'""', text.encode("utf-8", "surrogatepass")), dtype=np.uint8)
-    step = np.isin(data, (ord("["), ord("{"))).astype(np.int32) - np.isin(data, (ord("]"), ord("}"))).astype(np.int32)
-    return int(np.cumsum(step).max(initial=0))
+    data = _JSON_STRING.sub(b'""', text.encode("utf-8", "surrogatepass"))
+    deepest, level = 0, 0
+    for start in range(0, len(data), _DEPTH_CHUNK):
+        chunk = np.frombuffer(data, dtype=np.uint8, count=min(_DEPTH_CHUNK, len(data) - start), offset=start)
+        step = (chunk == ord("[")).astype(np.int32)
+        step += chunk == ord("{")
+        step -= chunk == ord("]")
+        step -= chunk == ord("}")
+        levels = np.cumsum(step, dtype=np.int64)
+        if len(levels):
+            deepest = max(deepest, level + int(levels.max()))
+            level += int(levels[-1])
+    return deepest
 
 
-def read_json(text: str, *, exact: bool = True) -> object:
-    """Parse JSON input text within the documented limits: numbers and nesting bounded.
+_DEPTH_CHUNK = 1 << 20
+
+
+def read_json(text: str, *, exact: bool = True, source: str = "") -> object:
+    """Parse JSON input text within the documented limits: numbers, values and nesting bounded.
 
     Decimals are read as exact :class:`~decimal.Decimal` values, or as floats with ``exact=False``.
 
     Raises
     ------
     MalformedFile
-        For nesting deeper than :data:`~solverplan.limits.MAX_JSON_DEPTH`, a number longer than
-        :data:`~solverplan.limits.MAX_NUMBER_CHARS`, or NaN/Infinity; ``json.JSONDecodeError`` for bad syntax.
+        For nesting deeper than :data:`~solverplan.limits.MAX_JSON_DEPTH`, more values than
+        :data:`~solverplan.limits.MAX_JSON_VALUES` (checked before parsing, so that parsing costs memory in
+        proportion to the file), a number longer than :data:`~solverplan.limits.MAX_NUMBER_CHARS`, or
+        NaN/Infinity; ``json.JSONDecodeError`` for bad syntax.
     """
+    check_json_values(text, source or "JSON")
     depth = json_depth(text)
     if depth > MAX_JSON_DEPTH:
         raise MalformedFile(f"JSON nested {depth} levels deep (at most {MAX_JSON_DEPTH})")

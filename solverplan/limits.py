@@ -10,13 +10,14 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from solverplan._io import MAX_INPUT_BYTES, read_input_text, shown_path
+from solverplan._io import MAX_INPUT_BYTES, MAX_JSON_VALUES, read_input_text, shown_path
 from solverplan.errors import InputError, MalformedFile
 from solverplan.runtime import configure, settings
 
 __all__ = [
     "MAX_FILE_BYTES",
     "MAX_JSON_DEPTH",
+    "MAX_JSON_VALUES",
     "MAX_NUMBER_CHARS",
     "MAX_DECIMAL_EXPONENT",
     "MAX_COORDINATE",

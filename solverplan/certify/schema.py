@@ -75,7 +75,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any, Literal
 
-from solverplan._io import read_input_text, shown_path  # the one bounded reader (standard library only)
+from solverplan._io import check_json_values, read_input_text, shown_path  # the one bounded reader (standard library only)
 from solverplan.errors import MalformedFile
 
 __all__ = [
@@ -516,6 +516,10 @@ class Certificate:
 # ---------------------------------------------------------------------- text in and out
 def parse_certificate(text: str, *, source: str = "certificate") -> Certificate:
     """Parse certificate JSON text (decimals read exactly); :class:`CertificateFormatError` if malformed."""
+    try:
+        check_json_values(text, source)  # before parsing: memory in proportion to the file
+    except MalformedFile as exc:
+        raise CertificateFormatError(str(exc)) from None
     try:
         data = json.loads(text, parse_float=Decimal, parse_int=_int_of, parse_constant=_reject_constant)
     except json.JSONDecodeError as exc:
