@@ -192,6 +192,23 @@ def _root_owned_in_writable_folder(folder: Path) -> list[str]:
     return ["info", "square", "-o", str(target)]
 
 
+def _hard_link(folder: Path) -> list[str]:
+    target = _write(folder, "answer.json", "old\n")
+    os.link(target, folder / "other-name.json")
+    user = _unprivileged()
+    if user is not None:
+        os.chown(folder, *user)
+        os.chown(target, *user)
+    return ["info", "square", "-o", str(target)]
+
+
+def _writable_in_readonly_folder(folder: Path) -> list[str]:
+    target = _write(folder, "answer.json", "old\n")
+    target.chmod(0o666)
+    folder.chmod(0o555)
+    return ["info", "square", "-o", str(target)]
+
+
 _LONG = "x" * 5000
 _NAME_TOO_LONG = "y" * 300
 
@@ -272,6 +289,19 @@ CASES: list[Case] = [
     Case("memory/env-long-digits", lambda d: ["info", str(_write(d, "e.json", json.dumps({"outer": [
         [f"{k}.{'1' * 90}", f"{(k * k) % 9973}.{'3' * 90}"] for k in range(60_000)]})))]),
     Case("memory/cache-entry-bomb", _cache_bomb),
+    Case("memory/png-36e6-pixels", lambda d: ["import", str(_ros_map(d, str(_write(d, "m.png", _png(6_000, 6_000))))),
+                                              "-o", str(d / "o.json")]),
+    Case("memory/env-60mb-short-numbers", lambda d: ["info", str(_write(d, "e.json", '{"outer": [' + ",".join(
+        ["[0.1,0.2]"] * 6_000_000) + "]}"))]),
+    Case("memory/env-30mb-decimals", lambda d: ["info", str(_write(d, "e.json", '{"outer": [[0, 0], [4, 0], [4, 4], [0, 4]], '
+        '"extra": [' + ",".join(["1234567.12345678"] * 1_800_000) + "]}"))]),
+    Case("memory/env-60mb-empty-objects", lambda d: ["info", str(_write(d, "e.json", "[" + ",".join(["{}"] * 20_000_000) + "]"))]),
+    Case("memory/plan-60mb-numbers", lambda d: ["simulate", "square", str(_write(d, "p.json", "[" + ",".join(
+        ["0.5"] * 15_000_000) + "]")), "--trials", "10"]),
+    Case("memory/cert-60mb-numbers", lambda d: ["verify", str(_write(d, "c.json", '{"x": [' + ",".join(
+        ["0.5"] * 15_000_000) + "]}"))]),
+    Case("memory/cert-3.9m-decimals", lambda d: ["verify", str(_write(d, "c.json", '{"x": [' + ",".join(
+        ["0.123456789012"] * 3_900_000) + "]}"))]),
     # ------------------------------------------------------------------ internal errors: import
     Case("import/svg-nested-g-1000", lambda d: ["import", str(_write(d, "m.svg", _svg("<g>" * 1000 + _RECT + "</g>" * 1000))),
                                                 "-o", str(d / "o.json")]),
@@ -410,6 +440,9 @@ CASES: list[Case] = [
     Case("write/root-owned-in-writable-folder", _root_owned_in_writable_folder, as_user=True, ok_codes=(2,)),
     Case("write/readonly-folder", lambda d: (d.chmod(0o555), ["info", "square", "-o", str(d / "new.json")])[1],
          as_user=True, ok_codes=(2,)),
+    Case("write/hard-link-kept", _hard_link, ok_codes=(0,)),
+    Case("write/hard-link-kept-as-user", _hard_link, as_user=True, ok_codes=(0,)),
+    Case("write/writable-file-in-readonly-folder", _writable_in_readonly_folder, as_user=True, ok_codes=(0,)),
     Case("write/into-directory", lambda d: ["info", "square", "-o", str(d)], ok_codes=(2,)),
     Case("write/into-missing-folder", lambda d: ["info", "square", "-o", str(d / "no" / "x.json")], ok_codes=(2,)),
 ]
@@ -475,6 +508,14 @@ def run_case(case: Case, root: Path) -> Outcome:
     if case.name.startswith("write/") and (folder / "root.json").exists():
         if (folder / "root.json").read_text() != "keep me\n" or (folder / "root.json").stat().st_uid != 0:
             problems.append("root's file replaced")
+    if case.name.startswith("write/hard-link") and proc.returncode == 0:
+        linked = folder / "other-name.json"
+        if linked.read_text() != (folder / "answer.json").read_text() or linked.stat().st_nlink != 2:
+            problems.append("hard link broken")
+    if case.name.startswith("write/writable-file") and proc.returncode == 0:
+        if (folder / "answer.json").read_text() == "old\n":
+            problems.append("not written")
+    folder.chmod(0o755)
     shutil.rmtree(folder, ignore_errors=True)
     return Outcome(case.name, proc.returncode, seconds, peak, lines[0][:160] if lines else "", problems)
 

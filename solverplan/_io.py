@@ -93,7 +93,8 @@ def check_json_values(text: str, name: str) -> None:
     """
     values = text.count(",") + text.count("[") + text.count("{") + 1
     if values > MAX_JSON_VALUES:
-        raise MalformedFile(f"{name}: JSON of about {values:,} values, more than the limit of {MAX_JSON_VALUES:,}")
+        where = f"{name}: " if name else ""
+        raise MalformedFile(f"{where}JSON of about {values:,} values, more than the limit of {MAX_JSON_VALUES:,}")
 
 
 def cannot_write(path: object, exc: OSError) -> str:

@@ -990,7 +990,7 @@ def read_json(text: str, *, exact: bool = True, source: str = "") -> object:
         proportion to the file), a number longer than :data:`~solverplan.limits.MAX_NUMBER_CHARS`, or
         NaN/Infinity; ``json.JSONDecodeError`` for bad syntax.
     """
-    check_json_values(text, source or "JSON")
+    check_json_values(text, source)
     depth = json_depth(text)
     if depth > MAX_JSON_DEPTH:
         raise MalformedFile(f"JSON nested {depth} levels deep (at most {MAX_JSON_DEPTH})")

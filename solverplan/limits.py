@@ -32,6 +32,7 @@ __all__ = [
     "MAX_GENERATED_VERTICES",
     "MAX_ROOMS",
     "MAX_PIXELS",
+    "BYTES_PER_PIXEL",
     "MAX_SEED",
     "MAX_INDENT",
     "MAX_STUDY_ROWS",
@@ -89,8 +90,13 @@ MAX_TRIALS = 100_000_000
 MAX_TRAJECTORIES = 100_000
 """Most trajectories drawn in one picture (``render --trajectories``)."""
 
-MAX_PIXELS = 100_000_000
-"""Largest occupancy image ``import`` reads (pixels): 10⁸ cells (10 km² at 10 cm), about 1 GB of working arrays."""
+MAX_PIXELS = 40_000_000
+"""Largest occupancy image ``import`` reads (pixels): 4·10⁷ cells (40 hectares at 10 cm). Reading and tracing
+one costs about :data:`BYTES_PER_PIXEL` bytes a pixel at the peak (measured on 1-bit and RGB maps), so the
+largest image needs about 1 GB."""
+
+BYTES_PER_PIXEL = 26
+"""Peak memory of ``import`` per pixel of an occupancy image (bytes; 16 million pixels peak at ~450 MB)."""
 
 MAX_GENERATED_VERTICES = 10_000
 """Most vertices ``generate`` is asked for (``--n``, ``--hole-vertices``, ``--width``, ``--height``): a

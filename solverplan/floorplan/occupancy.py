@@ -35,7 +35,7 @@ from solverplan._io import read_input_bytes, read_input_text, shown_path
 from solverplan.environment import Environment
 from solverplan.errors import InputError, MalformedFile
 from solverplan.floorplan.outline import finish_outline, grid_quantum
-from solverplan.limits import MAX_PIXELS, quote
+from solverplan.limits import BYTES_PER_PIXEL, MAX_PIXELS, quote, refuse_beyond_memory
 
 __all__ = ["OccupancyMap", "read_occupancy_map", "trace_free_space", "DEFAULT_FREE_THRESH",
            "DEFAULT_OCCUPIED_THRESH"]
@@ -238,6 +238,7 @@ def _read_image(path: Path, source: Path) -> tuple[np.ndarray, np.ndarray]:
             width, height = image.size
             if width * height > MAX_PIXELS:
                 raise MalformedFile(f"{name}: image is {width:,} × {height:,} pixels (at most {MAX_PIXELS:,})")
+            refuse_beyond_memory(BYTES_PER_PIXEL * width * height, f"reading a map of {width:,} × {height:,} pixels")
             image.load()
             del data
             values, opaque = _grey_levels(image)
