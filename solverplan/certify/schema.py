@@ -456,7 +456,9 @@ class Certificate:
         if top.get("schema") != SCHEMA:
             raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
         version = top.get("version")
-        if isinstance(version, bool) or version not in READ_VERSIONS:
+        if not isinstance(version, int) or isinstance(version, bool):  # 2.0 (a JSON decimal) is no version number
+            raise CertificateFormatError(f"certificate version {_q(version)}: expected an integer (1, 2 or 3)")
+        if version not in READ_VERSIONS:
             raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1, 2 and 3)")
         fields = {"schema", "version", "kind", "producer", "environment", "segments", "start", "goal", "stages", "claims", "cycle"}
         _known(top, fields | {"bound"} if version >= 3 else fields, "certificate")

@@ -37,9 +37,10 @@ from typing import Any
 from os import PathLike
 from pathlib import Path
 
+from solverplan._io import shown_path
 from solverplan.environment import Environment, read_json
 from solverplan.errors import MalformedFile
-from solverplan.limits import read_text_within_limits
+from solverplan.limits import quote, read_text_within_limits
 from solverplan.exact import ExactPoint, format_number, format_point, on_segment, orient, point_in_ring, segment_intersection, to_fraction
 
 __all__ = ["RoomsCheck", "check_rooms", "load_rooms_answer"]
@@ -70,18 +71,21 @@ def load_rooms_answer(path: str | PathLike[str]) -> dict:
     limits; :class:`~solverplan.errors.MalformedFile` for a missing, unreadable or non-JSON file."""
     file = Path(path)
     text = read_text_within_limits(file)
+    name = shown_path(file)
     try:
         data = read_json(text)
+    except MalformedFile as exc:
+        raise MalformedFile(f"{name}: {exc}") from None
     except ValueError as exc:  # json.JSONDecodeError
-        raise MalformedFile(f"{file}: not valid JSON ({str(exc).splitlines()[0][:80]})") from None
+        raise MalformedFile(f"{name}: not valid JSON ({str(exc).splitlines()[0][:80]})") from None
     if not isinstance(data, dict) or "rooms" not in data or "doors" not in data:
-        raise MalformedFile(f"{file}: not a rooms answer (expected an object with rooms and doors)")
+        raise MalformedFile(f"{name}: not a rooms answer (expected an object with rooms and doors)")
     return data
 
 
 def _point(value: Any, where: str) -> ExactPoint:
     if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise ValueError(f"{where}: expected [x, y], got {value!r}")
+        raise ValueError(f"{where}: expected [x, y], got {quote(value)}")
     return (to_fraction(value[0], where=where), to_fraction(value[1], where=where))
 
 
@@ -107,6 +111,53 @@ def _covered(p: ExactPoint, q: ExactPoint, pieces: list[tuple[ExactPoint, ExactP
     return reach >= hi
 
 
+def _answer_parts(answer: Any, env: Environment) -> tuple[list, list]:
+    """The doors ``(a, b, rooms, raw)`` and rooms ``(polygon, area)`` of a rooms answer, every field's type checked.
+
+    Raises :class:`~solverplan.errors.MalformedFile` naming the first malformed field: a file that is not a rooms
+    answer is bad input (exit 2), not an invalid answer (exit 1).
+    """
+    def fail(where: str, got: Any) -> MalformedFile:
+        return MalformedFile(f"rooms answer: {where}: expected {got}")
+
+    if not isinstance(answer, dict):
+        raise fail("the answer", "an object with rooms and doors")
+    raw_doors, raw_rooms = answer.get("doors"), answer.get("rooms")
+    if not isinstance(raw_doors, list):
+        raise fail("doors", "a list")
+    if not isinstance(raw_rooms, list):
+        raise fail("rooms", "a list")
+    most = env.n_vertices + 1  # a decomposition has at most one room more than the polygon has vertices
+    if len(raw_rooms) > most or len(raw_doors) > most:
+        raise MalformedFile(f"rooms answer: {len(raw_rooms):,} rooms and {len(raw_doors):,} doors for a polygon of "
+                            f"{env.n_vertices:,} vertices")
+    doors = []
+    for k, d in enumerate(raw_doors):
+        if not isinstance(d, dict) or not isinstance(d.get("rooms"), list) or len(d["rooms"]) != 2 \
+                or not all(isinstance(r, int) and not isinstance(r, bool) for r in d["rooms"]):
+            raise fail(f"doors[{k}]", "an object with a, b and rooms (two room numbers)")
+        claimed = d.get("escapability_by_room_exact")
+        if claimed is not None and (not isinstance(claimed, list) or len(claimed) != 2):
+            raise fail(f"doors[{k}].escapability_by_room_exact", "two numbers, one per room")
+        try:
+            doors.append((_point(d.get("a"), f"doors[{k}].a"), _point(d.get("b"), f"doors[{k}].b"), tuple(d["rooms"]), d))
+        except (TypeError, ValueError) as exc:
+            raise MalformedFile(f"rooms answer: {exc}") from None
+    rooms = []
+    for k, r in enumerate(raw_rooms):
+        if not isinstance(r, dict) or not isinstance(r.get("polygon"), list) or ("area_exact" not in r and "area" not in r):
+            raise fail(f"rooms[{k}]", "an object with polygon (a list of [x, y]) and area")
+        if len(r["polygon"]) > env.n_vertices:
+            raise MalformedFile(f"rooms answer: rooms[{k}].polygon: {len(r['polygon']):,} vertices, more than the polygon's")
+        try:
+            polygon = [_point(p, f"rooms[{k}].polygon") for p in r["polygon"]]
+            area = to_fraction(r.get("area_exact", r.get("area")), where=f"rooms[{k}].area")
+        except (TypeError, ValueError) as exc:
+            raise MalformedFile(f"rooms answer: {exc}") from None
+        rooms.append((polygon, area))
+    return doors, rooms
+
+
 def check_rooms(env: Environment, answer: dict) -> RoomsCheck:
     """Check a rooms answer (``Decomposition.to_json()`` or the JSON of ``solverplan rooms``) against ``env``."""
     failures: list[str] = []
@@ -114,12 +165,9 @@ def check_rooms(env: Environment, answer: dict) -> RoomsCheck:
     ring = list(env.outer)
     edges = list(zip(ring, ring[1:] + ring[:1]))
     reflex = {env.exact_vertices[v] for v in env.reflex_vertices}
-    try:
-        doors = [(_point(d["a"], f"door {k} a"), _point(d["b"], f"door {k} b"), tuple(d["rooms"]), d) for k, d in enumerate(answer["doors"])]
-        rooms = [([_point(p, f"room {k} vertex") for p in r["polygon"]], to_fraction(r.get("area_exact", r["area"]), where=f"room {k} area"))
-                 for k, r in enumerate(answer["rooms"])]
-    except (KeyError, TypeError, ValueError) as exc:
-        return RoomsCheck((f"malformed answer: {exc}",), 0)
+    doors, rooms = _answer_parts(answer, env)
+    if len(doors) > len(reflex):  # each door starts at a reflex vertex: refuse before the quadratic checks
+        return RoomsCheck((f"{len(doors):,} doors, but the polygon has only {len(reflex):,} reflex vertices",), 1)
 
     # 1. doors
     for k, (a, b, _, _) in enumerate(doors):
@@ -214,7 +262,7 @@ def check_rooms(env: Environment, answer: dict) -> RoomsCheck:
                 failures.append(f"door {k}: unknown room {room!r}")
                 continue
             wall = _wall(rooms[room][0], a, b)
-            if wall is None:
+            if not wall:
                 continue  # reported above: the door is not a side of that room
             expected = (abs(b[0] - a[0]) + abs(b[1] - a[1])) / wall
             if to_fraction(claimed[side], where=f"door {k} escapability") != expected:

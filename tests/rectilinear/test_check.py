@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import copy
 import json
+import re
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solverplan.environment import load_environment
+from solverplan.errors import MalformedFile
 from solverplan.rectilinear.check import check_rooms
 from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.studies.generators import rectilinear_polygon
@@ -84,8 +86,17 @@ def test_crossing_doors_fail(chambers):
     assert any(f.startswith(f"doors ") and f.endswith(f"and {len(answer['doors']) - 1} cross") for f in failures), failures
 
 
-def test_a_malformed_answer_is_one_failure(chambers):
+@pytest.mark.parametrize("answer,where", [
+    ({"rooms": []}, "doors: expected a list"),
+    ({"rooms": None, "doors": 3}, "doors: expected a list"),
+    ({"rooms": ["a"], "doors": []}, "rooms[0]: expected an object"),
+    ({"rooms": [], "doors": [{"a": [0, 0], "b": [1, 0], "rooms": [0, "x"]}]}, "doors[0]: expected an object"),
+    ({"rooms": [], "doors": [{"a": [0, 0], "b": [1, 0], "rooms": [0, 1], "escapability_by_room_exact": 5}]},
+     "escapability_by_room_exact: expected two numbers"),
+    ({"rooms": [{"polygon": [[0, 0], [1]], "area": 1}], "doors": []}, "rooms[0].polygon: expected [x, y]"),
+])
+def test_a_malformed_answer_is_bad_input_naming_the_field(chambers, answer, where):
+    """A file that is not a rooms answer is bad input (exit 2), not an invalid answer (#28: internal errors)."""
     env, _ = chambers
-    report = check_rooms(env, {"rooms": []})
-    assert not report.valid and report.failures[0].startswith("malformed answer")
-    assert report.to_json() == {"valid": False, "checked": 0, "failures": list(report.failures)}
+    with pytest.raises(MalformedFile, match=re.escape(where)):
+        check_rooms(env, answer)
