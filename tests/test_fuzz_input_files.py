@@ -22,14 +22,17 @@ import zlib
 from pathlib import Path
 
 import pytest
-from hypothesis import example, given
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from solverplan.cli import app
-from tests.test_fuzz_cli import FUZZ, _numbers
+from tests.test_fuzz_cli import EXAMPLES, FUZZ, FUZZING, _numbers
 
 MAX_LINE = 200
+
+FUZZ_FEW = settings(FUZZ, max_examples=EXAMPLES if FUZZING else 8)
+"""For the tests whose examples take a second or more (plans, reports, checks): fewer in the CI profile."""
 
 
 def _one_line_or_answer(result, *, invalid_ok: bool = False) -> None:
@@ -248,7 +251,7 @@ _SOURCE = {"simulate": "plan", "verify": "cert", "report-plan": "plan", "report-
            "rooms-check": "rooms"}
 
 
-@FUZZ
+@FUZZ_FEW
 @given(command=st.sampled_from(sorted(_COMMANDS)), data=st.data())
 @example(command="verify", data=("version", 2.0))  # "version": 2.0 as a JSON number (#28)
 @example(command="verify", data=("version", 3.0))

@@ -398,8 +398,9 @@ def _check_svg_tree(data: bytes, name: str) -> None:
         element, depth = stack.pop()
         if depth > MAX_SVG_DEPTH:
             raise MalformedFile(f"{name}: elements nested more than {MAX_SVG_DEPTH} deep")
-        if element.get("id") is not None:
-            by_id.setdefault(element.get("id"), element)
+        element_id = element.get("id")
+        if element_id is not None:
+            by_id.setdefault(element_id, element)
         kids = list(element)
         children[id(element)] = kids
         stack.extend((kid, depth + 1) for kid in kids)
