@@ -64,6 +64,16 @@ class Settings:
     max_memory
         Jobs estimated to need more bytes than this are refused up front; ``"available"`` (the default): the
         memory available when the job is checked; ``None``: no limit.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> current = sp.settings()
+    >>> current.graph_cache_min_arcs, current.max_memory
+    (100000, 'available')
+    >>> with sp.config(max_memory=2 * 1024**3) as inside:      # refuse jobs estimated above 2 GiB, in this block
+    ...     inside.max_memory, inside.graph_cache_min_arcs
+    (2147483648, 100000)
     """
 
     graph_cache: Path | None = None
@@ -97,6 +107,11 @@ _current: ContextVar[Settings | None] = ContextVar("solverplan_settings", defaul
 
 def settings() -> Settings:
     """The settings in force here: those of the innermost :func:`config` block, else the process's.
+
+    Returns
+    -------
+    Settings
+        The immutable settings object; :func:`config` and :func:`configure` make changed copies.
 
     Examples
     --------

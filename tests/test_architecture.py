@@ -27,7 +27,8 @@ LAYERS = {
     "result": 3,
     "geometry": 3,
     "floorplan": 3.5,  # floor plans in (ROS maps, DXF, SVG): they make environments (2) and answer like results (3)
-    "models": 3,  # the shipped environments by name: they load through environment (2)
+    "models": 3,
+    "generators": 4.5,  # seeded random environments, valid by construction (spiked combs keep the wall-following model's general position, 4)  # the shipped environments by name: they load through environment (2)
     "bounce": 4,
     "rectilinear": 4,
     "wallfollow": 4,

@@ -31,7 +31,7 @@ EnvOutOpt = Annotated[
 
 
 def _emit_generated(make: Any, fmt: OutputFormat, out: Path | None, verbose: int, **params: Any) -> None:
-    from solverplan.studies.generators import GeneratedEnvironment
+    from solverplan.generators import GeneratedEnvironment
 
     with exit_codes(verbose):
         for key, value in params.items():  # lengths: the coordinates they make must stay readable
@@ -57,7 +57,7 @@ def generate_star(
     verbose: VerboseOpt = 0,
 ) -> None:
     """A random star polygon (the paper's §7.3 family, irregularity scaled)."""
-    from solverplan.studies.generators import star_polygon
+    from solverplan.generators import star_polygon
 
     _emit_generated(star_polygon, fmt, out, verbose, n=n, irregularity=irregularity, spikiness=spikiness, radius=radius, seed=seed)
 
@@ -76,7 +76,7 @@ def generate_holes(
     verbose: VerboseOpt = 0,
 ) -> None:
     """A random star polygon with small holes strictly inside."""
-    from solverplan.studies.generators import star_polygon_with_holes
+    from solverplan.generators import star_polygon_with_holes
 
     _emit_generated(star_polygon_with_holes, fmt, out, verbose, n=n, n_holes=holes, hole_vertices=hole_vertices,
                     hole_kind=hole_kind, irregularity=irregularity, spikiness=spikiness, seed=seed)
@@ -95,7 +95,7 @@ def generate_rooms(
     verbose: VerboseOpt = 0,
 ) -> None:
     """Convex rooms on a jittered grid joined by straight corridors (an office-like environment)."""
-    from solverplan.studies.generators import rooms_and_corridors
+    from solverplan.generators import rooms_and_corridors
 
     _emit_generated(rooms_and_corridors, fmt, out, verbose, n_rooms=rooms, loops=loops, room_size=room_size,
                     spacing=spacing, corridor_width=corridor_width, seed=seed)
@@ -116,7 +116,7 @@ def generate_rectilinear(
     verbose: VerboseOpt = 0,
 ) -> None:
     """A rectangular building split into rooms by walls with doors (integer coordinates)."""
-    from solverplan.studies.generators import rectilinear_floor_plan
+    from solverplan.generators import rectilinear_floor_plan
 
     _emit_generated(rectilinear_floor_plan, fmt, out, verbose, n_rooms=rooms, width=width, height=height, wall=wall,
                     door=door, min_room=min_room, pillars=pillars, seed=seed)
@@ -132,6 +132,6 @@ def generate_polyomino(
     verbose: VerboseOpt = 0,
 ) -> None:
     """A random simple rectilinear polygon without holes (grid cells of random sizes; integer coordinates)."""
-    from solverplan.studies.generators import rectilinear_polygon
+    from solverplan.generators import rectilinear_polygon
 
     _emit_generated(rectilinear_polygon, fmt, out, verbose, n_cells=cells, max_size=max_size, seed=seed)

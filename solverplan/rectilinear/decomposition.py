@@ -598,6 +598,20 @@ def decompose_rooms(env: Environment) -> Decomposition:
     ------
     InvalidEnvironment
         For holes or an edge that is neither horizontal nor vertical.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> rooms = sp.decompose_rooms(sp.load_environment("l_shape"))
+    >>> [room.area for room in rooms.rooms], rooms.tree       # exact areas (square units); the tree's edges
+    ([Fraction(40, 1), Fraction(24, 1)], ((0, 1),))
+    >>> door = rooms.doors[0]
+    >>> door.rooms, door.a, door.b                               # the door's end points
+    ((0, 1), (Fraction(4, 1), Fraction(4, 1)), (Fraction(4, 1), Fraction(0, 1)))
+    >>> sp.decompose_rooms(sp.load_environment("two_rooms"))
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InvalidEnvironment: rooms need a rectilinear polygon: edge 2 from (10, 3) to (16, 2) is neither horizontal nor vertical
     """
     started = time.perf_counter()
     found = bottleneck_segments(env)

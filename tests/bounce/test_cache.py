@@ -19,7 +19,7 @@ from solverplan.bounce import bvg as bvg_api
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.partition import Partition, PartitionSegment, partition
 from solverplan.environment import Environment, load_environment
-from solverplan.studies.generators import star_polygon
+from solverplan.generators import star_polygon
 from tests.cache_entries import interval_rows, old_digest, read_entry, with_sets, write_entry
 
 ARRAYS = ("source", "target", "lo", "hi", "n_intervals", "set_offsets", "set_lo", "set_hi", "transition", "phi")

@@ -15,7 +15,7 @@ from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, InvalidEnvironment
 from solverplan.exact import orient, point_in_ring, segment_intersection
 from solverplan.rectilinear.decomposition import bottleneck_segments, decompose_rooms
-from solverplan.studies.generators import rectilinear_polygon
+from solverplan.generators import rectilinear_polygon
 
 
 def F(*xy):
