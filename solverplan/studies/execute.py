@@ -207,7 +207,7 @@ def _pool(tasks: list[Task], workers: int) -> Iterator[dict]:
         executor.shutdown(wait=True, cancel_futures=True)
 
 
-_SCHEDULER_ADDRESS = re.compile(r"^(?:(?P<scheme>[a-z]+)://)?(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+)(?::(?P<port>\d{1,5}))?/?$")
+_SCHEDULER_ADDRESS = re.compile(r"^(?:(?P<scheme>[a-z]+)://)?(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+)(?::(?P<port>\d{1,5}))?(?P<path>/\S*)?$")
 
 SCHEDULER_PROBE_SECONDS = 5.0
 """How long a ``tcp://`` scheduler may take to accept a plain connection before the study gives up (seconds)."""
