@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import random
 import resource
 import shutil
 import signal
@@ -333,8 +334,10 @@ CASES: list[Case] = [
         "0\nBLOCK\n8\n0\n2\nB\n70\n0\n10\n0\n20\n0\n0\nINSERT\n8\n0\n2\nB\n10\n1\n20\n0\n0\nENDBLK\n"))), "-o", str(d / "o.json")]),
     Case("import/dxf-bad-number", lambda d: ["import", str(_write(d, "m.dxf", _dxf(_LWPOLY.replace("11\n4\n", "11\nfour\n", 1)))),
                                              "-o", str(d / "o.json")]),
-    Case("import/dxf-binary-garbage", lambda d: ["import", str(_write(d, "m.dxf", b"AutoCAD Binary DXF\r\n\x1a\x00" + os.urandom(200))),
+    Case("import/dxf-binary-garbage", lambda d: ["import", str(_write(d, "m.dxf", b"AutoCAD Binary DXF\r\n\x1a\x00" + random.Random(28).randbytes(200))),
                                                  "-o", str(d / "o.json")]),
+    *(Case(f"import/dxf-binary-garbage-{seed}", lambda d, seed=seed: ["import", str(_write(d, "m.dxf", b"AutoCAD Binary DXF\r\n\x1a\x00"
+        + random.Random(seed).randbytes(20 + 40 * seed))), "-o", str(d / "o.json")]) for seed in range(1, 6)),
     Case("import/dxf-huge-vertex-count", lambda d: ["import", str(_write(d, "m.dxf", _dxf(
         "0\nLWPOLYLINE\n8\n0\n90\n999999999\n70\n1\n10\n0\n20\n0\n10\n4\n20\n0\n10\n4\n20\n4\n"))), "-o", str(d / "o.json")]),
     Case("import/yaml-deep-nesting", lambda d: ["import", str(_write(d, "m.yaml", "image: " + "[" * 10_000 + "]" * 10_000 + "\n")),

@@ -352,3 +352,13 @@ def test_names_past_the_system_limit_are_refused_in_one_line(tmp_path, where):
                     "--out-dir", long_name],
     }[where]
     _one_line_or_answer(_run(args))
+
+
+@FUZZ_FEW
+@given(body=st.binary(max_size=300))
+@example(body=__import__("random").Random(3).randbytes(140))  # struct.error inside ezdxf's binary loader (#28)
+def test_fuzzed_binary_dxf_import_or_refuse_in_one_line(tmp_path_factory, body):
+    folder = tmp_path_factory.mktemp("bdxf")
+    drawing = folder / "plan.dxf"
+    drawing.write_bytes(b"AutoCAD Binary DXF\r\n\x1a\x00" + body)
+    _one_line_or_answer(_run(["import", str(drawing), "-o", str(folder / "env.json")]))

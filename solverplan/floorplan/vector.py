@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import math
+import struct
 from decimal import Decimal
 from pathlib import Path
 from typing import Any, Iterable, Sequence
@@ -34,7 +35,8 @@ MAX_SVG_DEPTH = 100
 tree recursively, so a file of ``<g>`` nested 10⁵ deep is refused here instead of exhausting the stack."""
 
 _PARSER_FAILURES = (ValueError, TypeError, AttributeError, KeyError, IndexError, LookupError, StopIteration,
-                    RecursionError, ZeroDivisionError, OverflowError, ArithmeticError, UnicodeError, AssertionError)
+                    RecursionError, ZeroDivisionError, OverflowError, ArithmeticError, UnicodeError, AssertionError,
+                    EOFError, struct.error)
 """What the third-party drawing parsers (ezdxf, svgelements) raise on malformed input they do not anticipate."""
 
 
