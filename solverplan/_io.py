@@ -24,7 +24,7 @@ import sys
 import tempfile
 import threading
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterable
 
 from solverplan.errors import MalformedFile
 
@@ -277,18 +277,27 @@ def _in_place_reason(status: os.stat_result) -> str | None:
     return None
 
 
-def _write_in_place(target: Path, data: bytes) -> None:
+def _write_in_place(target: Path, chunks: Iterable[bytes]) -> None:
     """Overwrite the existing file ``target`` through its inode (links, owner and mode kept): not atomic."""
     fd = os.open(target, os.O_WRONLY | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0))
     with os.fdopen(fd, "wb") as handle:
-        handle.write(data)
-        handle.truncate(len(data))
+        written = 0
+        for data in chunks:
+            handle.write(data)
+            written += len(data)
+        handle.truncate(written)
         handle.flush()
         os.fsync(handle.fileno())
 
 
 def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
-    """Write ``data`` to ``path``; a regular file atomically, via a temporary file in its folder and a rename.
+    """Write ``data`` to ``path``; a regular file atomically (:func:`atomic_write_chunks` with one chunk)."""
+    atomic_write_chunks(path, (data,))
+
+
+def atomic_write_chunks(path: str | os.PathLike[str], chunks: Iterable[bytes]) -> None:
+    """Write the concatenation of ``chunks`` to ``path``; a regular file atomically, via a temporary file in its folder
+    and a rename. The chunks are written as they come, so a large answer never exists whole in memory.
 
     A crash, an exception or a SIGINT/SIGTERM (as the CLI handles them) half-way leaves any previous
     file intact and no partial file behind. The file's permission bits are those of a plain
@@ -314,20 +323,22 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
         When the place cannot be written (missing folder, no permission, a directory, a name too long).
     """
     if os.fspath(path) == "-":
-        _write_stdout(data)
+        for data in chunks:
+            _write_stdout(data)
         return
     target, status = _destination(path)
     if status is not None and stat.S_ISDIR(status.st_mode):
         raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(path))
     if status is not None and not stat.S_ISREG(status.st_mode):
         with open(target, "wb") as handle:  # FIFO or device: no rename could stand in for it
-            handle.write(data)
+            for data in chunks:
+                handle.write(data)
         return
     if status is not None:
         if not _may_write(target):
             raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), str(path))
         if _in_place_reason(status) is not None:
-            _write_in_place(target, data)
+            _write_in_place(target, chunks)
             return
     folder = target.parent if str(target.parent) else Path(".")
     mode = _final_mode(target)
@@ -336,11 +347,12 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
     except PermissionError:
         if status is None:
             raise
-        _write_in_place(target, data)  # a writable file in a folder we may not write: as a redirect does
+        _write_in_place(target, chunks)  # a writable file in a folder we may not write: as a redirect does
         return
     try:
         with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
+            for data in chunks:
+                handle.write(data)
             handle.flush()
             if hasattr(os, "fchmod"):
                 os.fchmod(handle.fileno(), mode)
