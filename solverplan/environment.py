@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import json
 import operator
+import os
 import re
 from dataclasses import dataclass, field
 from decimal import Decimal
@@ -41,7 +42,7 @@ from typing import Any, Iterable, Literal, Sequence
 
 import numpy as np
 
-from solverplan._io import atomic_write_text
+from solverplan._io import atomic_write_text, check_json_values, read_input_text, shown_path
 from solverplan._shipped import model_file, model_names
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
 from solverplan.limits import (
@@ -1013,24 +1014,41 @@ _JSON_STRING = re.compile(rb'"(?:[^"\\]|\\.)*"')
 def json_depth(text: str) -> int:
     """How deep arrays and objects nest in JSON ``text`` (strings skipped), without parsing it.
 
-    Vectorised over the bytes, so it is fast on large files and cannot exhaust the stack.
+    Vectorised over the bytes a megabyte at a time, so it is fast on large files, cannot exhaust the stack
+    and needs a few megabytes whatever the file's size.
     """
-    data = np.frombuffer(_JSON_STRING.sub(b'""', text.encode("utf-8", "surrogatepass")), dtype=np.uint8)
-    step = np.isin(data, (ord("["), ord("{"))).astype(np.int32) - np.isin(data, (ord("]"), ord("}"))).astype(np.int32)
-    return int(np.cumsum(step).max(initial=0))
+    data = _JSON_STRING.sub(b'""', text.encode("utf-8", "surrogatepass"))
+    deepest, level = 0, 0
+    for start in range(0, len(data), _DEPTH_CHUNK):
+        chunk = np.frombuffer(data, dtype=np.uint8, count=min(_DEPTH_CHUNK, len(data) - start), offset=start)
+        step = (chunk == ord("[")).astype(np.int32)
+        step += chunk == ord("{")
+        step -= chunk == ord("]")
+        step -= chunk == ord("}")
+        levels = np.cumsum(step, dtype=np.int64)
+        if len(levels):
+            deepest = max(deepest, level + int(levels.max()))
+            level += int(levels[-1])
+    return deepest
 
 
-def read_json(text: str, *, exact: bool = True) -> object:
-    """Parse JSON input text within the documented limits: numbers and nesting bounded.
+_DEPTH_CHUNK = 1 << 20
+
+
+def read_json(text: str, *, exact: bool = True, source: str = "") -> object:
+    """Parse JSON input text within the documented limits: numbers, values and nesting bounded.
 
     Decimals are read as exact :class:`~decimal.Decimal` values, or as floats with ``exact=False``.
 
     Raises
     ------
     MalformedFile
-        For nesting deeper than :data:`~solverplan.limits.MAX_JSON_DEPTH`, a number longer than
-        :data:`~solverplan.limits.MAX_NUMBER_CHARS`, or NaN/Infinity; ``json.JSONDecodeError`` for bad syntax.
+        For nesting deeper than :data:`~solverplan.limits.MAX_JSON_DEPTH`, more values than
+        :data:`~solverplan.limits.MAX_JSON_VALUES` (checked before parsing, so that parsing costs memory in
+        proportion to the file), a number longer than :data:`~solverplan.limits.MAX_NUMBER_CHARS`, or
+        NaN/Infinity; ``json.JSONDecodeError`` for bad syntax.
     """
+    check_json_values(text, source)
     depth = json_depth(text)
     if depth > MAX_JSON_DEPTH:
         raise MalformedFile(f"JSON nested {depth} levels deep (at most {MAX_JSON_DEPTH})")
@@ -1187,8 +1205,8 @@ def _format_of(path: Path, fmt: str | None) -> FileFormat:
 def _no_such_file(path: str) -> str:
     """The one-line error for a path that is neither a file nor a shipped model (listing the models for a bare name)."""
     if "/" in path or "\\" in path:
-        return f"{path}: no such file, nor a shipped model"
-    return f"{path}: no such file, nor a shipped model (they are {', '.join(model_names())})"
+        return f"{shown_path(path)}: no such file, nor a shipped model"
+    return f"{shown_path(path)}: no such file, nor a shipped model (they are {', '.join(model_names())})"
 
 
 def load_environment(path: Any, fmt: FileFormat | None = None) -> Environment:
@@ -1230,22 +1248,18 @@ def load_environment(path: Any, fmt: FileFormat | None = None) -> Environment:
     if fmt:
         _format_of(Path(path), fmt)  # an unknown format is an error even for a shipped model
     file = Path(path)
-    if not file.exists():
+    try:
+        present = os.path.lexists(file)
+    except (OSError, ValueError):  # a NUL byte in the name: the reader says so
+        present = True
+    if not present:
         shipped = model_file(str(path))
         if shipped is None:
             raise MalformedFile(_no_such_file(str(path)))
         file, fmt = shipped, "json"
     kind = _format_of(file, fmt)
-    try:
-        size = file.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise MalformedFile(f"{file}: file is {size} bytes (at most {MAX_FILE_BYTES})")
-        text = file.read_text(encoding="utf-8")
-    except FileNotFoundError:  # removed since the check above
-        raise MalformedFile(_no_such_file(str(path))) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None
-    return parse_environment(text, kind, default_name=file.stem, source=str(file))
+    text = read_input_text(file, limit=MAX_FILE_BYTES)  # regular files only, never read past the limit
+    return parse_environment(text, kind, default_name=file.stem, source=shown_path(file))
 
 
 def save_environment(env: Environment, path: str | PathLike[str], fmt: FileFormat | None = None) -> None:

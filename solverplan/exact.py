@@ -30,7 +30,7 @@ from typing import Literal, Sequence
 import numpy as np
 
 from solverplan.errors import InputError
-from solverplan.limits import MAX_DECIMAL_EXPONENT, MAX_NUMBER_CHARS, quote
+from solverplan.limits import COORDINATE_RESOLUTION, MAX_COORDINATE, MAX_DECIMAL_EXPONENT, MAX_NUMBER_CHARS, quote
 
 __all__ = [
     "cross",
@@ -135,7 +135,33 @@ def exact_point(xy: Sequence[object], *, where: str = "point") -> ExactPoint:
     """Convert a pair of numbers to an exact point; see :func:`to_fraction`."""
     if isinstance(xy, (str, bytes)) or not hasattr(xy, "__len__") or len(xy) != 2:
         raise InputError(f"{where}: expected a pair [x, y], got {quote(xy)}")
-    return (to_fraction(xy[0], where=where), to_fraction(xy[1], where=where))
+    point = (to_fraction(xy[0], where=where), to_fraction(xy[1], where=where))
+    for c in point:
+        check_coordinate(c, where)
+    return point
+
+
+def check_coordinate(c: Fraction, where: str) -> None:
+    """Refuse a coordinate (or length) past the documented magnitude 1e100 or resolution 1e-100.
+
+    Past them floats overflow (``1e309``) or vanish (``1e-309``) where the exact value still means something,
+    so a float step later would divide by zero or overflow: refused here in one line instead.
+
+    >>> check_coordinate(Fraction(1, 10**309), "--range")
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: --range: 1e-309 is finer than 1e-100 (the finest step read)
+    """
+    if abs(c.numerator) > MAX_COORDINATE * c.denominator:  # |c| > MAX_COORDINATE, in integers
+        raise InputError(f"{where}: {_magnitude(c)} is larger than 1e100 in magnitude")
+    if c.denominator > COORDINATE_RESOLUTION:
+        raise InputError(f"{where}: {_magnitude(c)} is finer than 1e-100 (the finest step read)")
+
+
+def _magnitude(c: Fraction) -> str:
+    """``c`` in a few characters (``1e-309``, ``-3.2e+400``): its exact text can have hundreds of digits."""
+    text = f"{Decimal(c.numerator) / Decimal(c.denominator):.2g}"
+    return text.replace("E", "e")
 
 
 def format_number(value: Fraction | int | float) -> str:

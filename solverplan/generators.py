@@ -26,9 +26,11 @@ from typing import Callable, Literal
 
 import numpy as np
 
+from solverplan._io import cannot_write
 from solverplan.environment import Environment, format_environment, save_environment
 from solverplan.errors import InputError, InvalidEnvironment
 from solverplan.exact import ExactPoint, orient
+from solverplan.limits import MAX_COUNT, MAX_GENERATED_VERTICES, MAX_ROOMS, quote
 
 __all__ = [
     "star_polygon",
@@ -49,11 +51,26 @@ HoleKind = Literal["convex", "star"]
 
 
 # ---------------------------------------------------------------------- argument checks
+_MAXIMA = {
+    **dict.fromkeys(("n", "hole_vertices", "width", "height", "teeth", "wall", "door", "min_room", "max_size", "grid"),
+                    MAX_GENERATED_VERTICES),
+    **dict.fromkeys(("n_holes", "n_rooms", "loops", "pillars", "n_cells"), MAX_ROOMS),
+    "t": 64,  # worst_case_polygon(t) has 4t + 4 vertices whose coordinates grow like 2^t
+    "decimals": 30,
+    "max_attempts": MAX_COUNT,
+}
+"""The largest value of each integer parameter, whoever asks (``solverplan generate`` and studies alike):
+the documented limits of solverplan.limits, so that a study cell cannot ask for more than ``generate`` may."""
+
+
 def _check_int(name: str, value: object, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise InputError(f"expected an integer {name}, got {name}={value!r} (type={type(value).__name__})")
+        raise InputError(f"expected an integer {name}, got {name}={quote(value)} (type={type(value).__name__})")
     if value < minimum:
-        raise InputError(f"expected {name} >= {minimum}, got {name}={value!r}")
+        raise InputError(f"expected {name} >= {minimum}, got {name}={quote(value)}")
+    maximum = _MAXIMA.get(name)
+    if maximum is not None and value > maximum:
+        raise InputError(f"expected {name} <= {maximum:,}, got {name}={quote(value)}")
     return int(value)
 
 
@@ -974,4 +991,4 @@ class GeneratedEnvironment:
         try:
             save_environment(self.env, path)
         except OSError as exc:
-            raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+            raise InputError(cannot_write(path, exc)) from None

@@ -10,12 +10,14 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from solverplan._io import MAX_INPUT_BYTES, MAX_JSON_VALUES, read_input_text, shown_path
 from solverplan.errors import InputError, MalformedFile
 from solverplan.runtime import configure, settings
 
 __all__ = [
     "MAX_FILE_BYTES",
     "MAX_JSON_DEPTH",
+    "MAX_JSON_VALUES",
     "MAX_NUMBER_CHARS",
     "MAX_DECIMAL_EXPONENT",
     "MAX_COORDINATE",
@@ -30,7 +32,10 @@ __all__ = [
     "MAX_GENERATED_VERTICES",
     "MAX_ROOMS",
     "MAX_PIXELS",
+    "BYTES_PER_PIXEL",
     "MAX_SEED",
+    "MAX_INDENT",
+    "MAX_STUDY_ROWS",
     "MAX_QUOTED_CHARS",
     "quote",
     "available_memory",
@@ -42,7 +47,7 @@ __all__ = [
     "read_text_within_limits",
 ]
 
-MAX_FILE_BYTES = 64 * 1024 * 1024
+MAX_FILE_BYTES = MAX_INPUT_BYTES
 """Largest input file read (bytes): 64 MiB holds millions of vertices, far beyond what the planner builds."""
 
 MAX_JSON_DEPTH = 64
@@ -85,8 +90,13 @@ MAX_TRIALS = 100_000_000
 MAX_TRAJECTORIES = 100_000
 """Most trajectories drawn in one picture (``render --trajectories``)."""
 
-MAX_PIXELS = 100_000_000
-"""Largest occupancy image ``import`` reads (pixels): 10⁸ cells (10 km² at 10 cm), about 1 GB of working arrays."""
+MAX_PIXELS = 40_000_000
+"""Largest occupancy image ``import`` reads (pixels): 4·10⁷ cells (40 hectares at 10 cm). Reading and tracing
+one costs about :data:`BYTES_PER_PIXEL` bytes a pixel at the peak (measured on 1-bit and RGB maps), so the
+largest image needs about 1 GB."""
+
+BYTES_PER_PIXEL = 26
+"""Peak memory of ``import`` per pixel of an occupancy image (bytes; 16 million pixels peak at ~450 MB)."""
 
 MAX_GENERATED_VERTICES = 10_000
 """Most vertices ``generate`` is asked for (``--n``, ``--hole-vertices``, ``--width``, ``--height``): a
@@ -95,6 +105,13 @@ random star of 10,000 vertices already takes seconds to draw and validate."""
 MAX_ROOMS = 1_000
 """Most rooms, holes, loops or pillars ``generate`` is asked for (``--rooms``, ``--holes``, ``--loops``,
 ``--pillars``): 1,000 rectilinear rooms take about ten seconds to lay out."""
+
+MAX_STUDY_ROWS = 100_000
+"""Most rows of one study (grid cells × ``--per-cell``), and most values of one grid axis: at a tenth of a
+second a row (the fastest metric), 10⁵ rows are three hours on one core; the row list stays a few MB."""
+
+MAX_INDENT = 16
+"""Largest ``--indent`` (spaces per level): the text of a deep answer grows with the indent times its lines."""
 
 MAX_SEED = 2**64 - 1
 """Largest random seed (``--seed``): seeds are unsigned 64-bit integers."""
@@ -141,8 +158,21 @@ def available_memory() -> int | None:
             continue
     soft, _hard = resource.getrlimit(resource.RLIMIT_AS)
     if soft not in (resource.RLIM_INFINITY, -1) and soft > 0:
-        candidates.append(int(soft))
+        # the cap counts the address space already mapped (the interpreter, numpy's libraries): what is left
+        candidates.append(max(0, int(soft) - _mapped_bytes()))
     return min(candidates) if candidates else None
+
+
+def _mapped_bytes() -> int:
+    """This process's mapped address space (``VmSize`` in /proc/self/status), 0 where it cannot be told."""
+    try:
+        with open("/proc/self/status", encoding="ascii", errors="replace") as status:
+            for line in status:
+                if line.startswith("VmSize:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return 0
 
 
 def set_memory_limit(limit: int | None) -> None:
@@ -182,12 +212,12 @@ def refuse_beyond_memory(estimate_bytes: float, what: str) -> None:
 
 
 def checked_file_size(path: Any) -> int:
-    """The size of the input file ``path`` in bytes, refused past :data:`MAX_FILE_BYTES`.
+    """The size of the input file ``path`` in bytes: a regular file of at most :data:`MAX_FILE_BYTES`.
 
     Raises
     ------
     MalformedFile
-        The file is missing, unreadable or larger than the limit (one line naming the file).
+        The file is missing, unreadable, not a regular file or larger than the limit (one line naming the file).
 
     Examples
     --------
@@ -196,31 +226,31 @@ def checked_file_size(path: Any) -> int:
     ...
     solverplan.errors.MalformedFile: /no/such/file.json: no such file
     """
-    file = Path(path)
+    import os
+    import stat
+
+    name = shown_path(path)
     try:
-        size = file.stat().st_size
-    except FileNotFoundError:
-        raise MalformedFile(f"{file}: no such file") from None
-    except OSError as exc:
-        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None
-    if size > MAX_FILE_BYTES:
-        raise MalformedFile(f"{file}: file is {size} bytes (at most {MAX_FILE_BYTES})")
-    return size
+        status = os.stat(path)
+    except (OSError, ValueError) as exc:
+        from solverplan._io import reason_of
+
+        raise MalformedFile(f"{name}: {reason_of(exc) if isinstance(exc, OSError) else 'not a valid file name'}") from None
+    if not stat.S_ISREG(status.st_mode):
+        raise MalformedFile(f"{name}: not a regular file")
+    if status.st_size > MAX_FILE_BYTES:
+        raise MalformedFile(f"{name}: file is {status.st_size:,} bytes, more than the limit of {MAX_FILE_BYTES:,}")
+    return status.st_size
 
 
 def read_text_within_limits(path: Any) -> str:
-    """The UTF-8 text of the input file ``path``, within :data:`MAX_FILE_BYTES`.
+    """The UTF-8 text of the input file ``path``, within :data:`MAX_FILE_BYTES` (the one bounded reader,
+    :func:`solverplan._io.read_input_text`: regular files only, never read past the limit).
 
     Raises
     ------
     MalformedFile
-        The file is missing, unreadable, not UTF-8 or larger than the limit (one line naming the file).
+        The file is missing, unreadable, not a regular file, not UTF-8 or larger than the limit (one line
+        naming the file).
     """
-    file = Path(path)
-    checked_file_size(file)
-    try:
-        return file.read_text(encoding="utf-8")
-    except FileNotFoundError:  # removed since the size was read
-        raise MalformedFile(f"{file}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{file}: cannot read ({exc.__class__.__name__})") from None
+    return read_input_text(path, limit=MAX_FILE_BYTES)

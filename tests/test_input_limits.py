@@ -147,7 +147,7 @@ def test_a_file_over_the_size_limit_is_refused_before_it_is_read(tmp_path, monke
     monkeypatch.setattr("solverplan.environment.MAX_FILE_BYTES", 10)
     path = tmp_path / "big.json"
     path.write_text(square("1"))
-    assert one_line_error("info", path) == f"error: {path}: file is {path.stat().st_size} bytes (at most 10)"
+    assert one_line_error("info", path) == f"error: {path}: file is {path.stat().st_size} bytes, more than the limit of 10"
 
 
 def test_vertex_and_hole_counts_are_bounded(monkeypatch):

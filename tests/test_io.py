@@ -219,3 +219,124 @@ def test_main_installs_the_sigterm_handler(monkeypatch):
     with pytest.raises(SystemExit) as exit_info:
         cli._terminate(signal.SIGTERM, None)
     assert exit_info.value.code == 143
+
+
+# ---------------------------------------------------------------------- permissions like a shell redirect (#28)
+def _as_nobody(code: str, *paths: Path) -> subprocess.CompletedProcess | None:
+    """Run ``code`` (with solverplan imported as root first) as the user ``nobody``; None where that cannot be done."""
+    if not hasattr(os, "geteuid") or os.geteuid() != 0:
+        return None
+    import pwd
+
+    try:
+        nobody = pwd.getpwnam("nobody")
+    except KeyError:
+        return None
+    script = ("import os, sys, encodings.ascii; from solverplan._io import atomic_write_text\n"
+              f"os.setgid({nobody.pw_gid}); os.setgroups([]); os.setuid({nobody.pw_uid})\n" + code)
+    return subprocess.run([sys.executable, "-c", script, *map(str, paths)], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}, timeout=60)
+
+
+def test_a_read_only_file_is_never_replaced(tmp_path, monkeypatch):
+    """0444: a shell redirect says Permission denied; so does the writer, though the folder allows a rename."""
+    target = tmp_path / "answer.json"
+    target.write_text("keep\n")
+    target.chmod(0o444)
+    monkeypatch.setattr(_io, "_may_write", lambda path: False)  # the logic, also where the tests run as root
+    with pytest.raises(PermissionError):
+        atomic_write_text(target, "new\n")
+    assert target.read_text() == "keep\n" and stat.S_IMODE(target.stat().st_mode) == 0o444
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["answer.json"]
+
+
+def test_an_unprivileged_user_cannot_replace_a_read_only_or_a_root_owned_file(tmp_path):
+    """As the user nobody (root runs the test): their own 0444 file, and root's file in their writable folder."""
+    tmp_path.chmod(0o777)
+    own, roots = tmp_path / "own.json", tmp_path / "roots.json"
+    own.write_text("keep\n")
+    roots.write_text("keep\n")
+    code = ("import sys\nfor path in sys.argv[1:]:\n    try:\n        atomic_write_text(path, 'new')\n        print('written')\n"
+            "    except PermissionError as exc:\n        print(exc.strerror)\n")
+    probe = _as_nobody("pass")
+    if probe is None or probe.returncode != 0:
+        pytest.skip("needs root and a user 'nobody' who can run this interpreter")
+    import pwd
+
+    nobody = pwd.getpwnam("nobody")
+    os.chown(own, nobody.pw_uid, nobody.pw_gid)
+    own.chmod(0o444)
+    roots.chmod(0o644)
+    result = _as_nobody(code, own, roots)
+    assert result is not None and result.stdout.split("\n")[:2] == ["Permission denied", "Permission denied"], result
+    assert own.read_text() == roots.read_text() == "keep\n" and roots.stat().st_uid == 0
+
+
+def test_hard_links_are_kept_by_writing_in_place(tmp_path):
+    target, other = tmp_path / "answer.json", tmp_path / "same-file.json"
+    target.write_text("old old old\n")
+    os.link(target, other)
+    atomic_write_text(target, "new\n")
+    assert other.read_text() == "new\n" and target.stat().st_ino == other.stat().st_ino and target.stat().st_nlink == 2
+
+
+def test_another_owners_writable_file_keeps_its_owner(tmp_path, monkeypatch):
+    target = tmp_path / "answer.json"
+    target.write_text("old\n")
+    inode = target.stat().st_ino
+    monkeypatch.setattr(os, "geteuid", lambda: target.stat().st_uid + 1)  # someone else's (group-writable) file
+    atomic_write_text(target, "new\n")
+    assert target.read_text() == "new\n" and target.stat().st_ino == inode
+
+
+def test_a_writable_file_in_a_folder_we_cannot_write_is_written_in_place(tmp_path, monkeypatch):
+    target = tmp_path / "answer.json"
+    target.write_text("old\n")
+
+    def no_temporary(*args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(_io.tempfile, "mkstemp", no_temporary)
+    atomic_write_text(target, "new\n")
+    assert target.read_text() == "new\n"
+    with pytest.raises(PermissionError):  # a new file there cannot be made at all, as with a redirect
+        atomic_write_text(tmp_path / "new.json", "x")
+
+
+# ---------------------------------------------------------------------- the bounded reader (#28)
+@pytest.mark.parametrize("kind", ["dev-zero", "fifo", "directory", "sparse", "missing", "long-name", "nul"])
+def test_the_bounded_reader_refuses_what_is_not_a_small_regular_file_at_once(tmp_path, kind):
+    from solverplan._io import read_input_bytes
+    from solverplan.errors import MalformedFile
+
+    path = {"dev-zero": "/dev/zero", "long-name": str(tmp_path / ("n" * 300)), "nul": "a\0b"}.get(kind, str(tmp_path / "f"))
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "directory":
+        os.mkdir(path)
+    elif kind == "sparse":
+        with open(path, "wb") as handle:
+            handle.truncate(1 << 30)
+    reasons = {"dev-zero": "a character device, not a regular file", "fifo": "a FIFO, not a regular file",
+               "directory": "a directory, not a regular file", "sparse": "more than the limit",
+               "missing": "no such file", "long-name": "file name too long", "nul": "not a valid file name"}
+    with pytest.raises(MalformedFile, match=reasons[kind]) as caught:
+        read_input_bytes(path)
+    assert len(str(caught.value)) <= 200
+
+
+def test_the_bounded_reader_never_reads_past_the_limit(tmp_path, monkeypatch):
+    """A file that grows after its size was checked is cut at limit + 1 bytes and refused."""
+    from solverplan._io import _read_limited
+    from solverplan.errors import MalformedFile
+
+    class Endless:
+        asked = 0
+
+        def read(self, n):
+            Endless.asked += n
+            return b"x" * n
+
+    with pytest.raises(MalformedFile, match="more than the limit of 1,000 bytes"):
+        _read_limited(Endless(), 1000, "f", "file")
+    assert Endless.asked == 1001

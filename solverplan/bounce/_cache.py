@@ -68,6 +68,7 @@ from typing import TYPE_CHECKING, Iterator
 
 import numpy as np
 
+from solverplan.limits import memory_limit
 from solverplan.result import EnvironmentRecord
 from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, configure, default_cache_directory, settings
 
@@ -333,7 +334,7 @@ def _load(directory: Path, digest: str, p: Partition) -> SafeBVG | None:
     """The graph of entry ``digest`` if it passes every check (module docstring), else ``None`` (a miss)."""
     path = directory / f"{_entry_name(digest)}{_SUFFIX}"
     try:
-        data = _read(path)
+        data = _read(path, len(p.segments))
     except FileNotFoundError:
         logger.debug("graph cache: no entry %s", path.name)
         return None
@@ -358,8 +359,14 @@ def _load(directory: Path, digest: str, p: Partition) -> SafeBVG | None:
                    _set_ends=(arrays["lo_from"], arrays["lo_to"], arrays["hi_from"], arrays["hi_to"]), stats=stats)
 
 
-def _read(path: Path) -> bytes:
-    """The bytes of a regular file no larger than the cap (not through a symlink); refreshes its time (LRU)."""
+def _read(path: Path, n_segments: int) -> bytes:
+    """The bytes of a regular file no larger than the cap (not through a symlink); refreshes its time (LRU).
+
+    The header is read first and the entry's size computed from its counts (at most N(N − 1) arcs): a file
+    whose size does not match them — a sparse file of gigabytes under an entry's name, say — is a miss
+    before its body is read, and so is an entry larger than the memory this process may use. Reading an
+    entry never costs more than the graph it holds.
+    """
     if stat.S_ISLNK(os.lstat(path).st_mode):
         raise ValueError("a symbolic link, not an entry")
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_BINARY", 0) | getattr(os, "O_NONBLOCK", 0))
@@ -367,15 +374,42 @@ def _read(path: Path) -> bytes:
         st = os.fstat(fh.fileno())
         if not stat.S_ISREG(st.st_mode):
             raise ValueError("not a regular file")
-        cap = settings().graph_cache_max_bytes
-        if st.st_size > cap:
-            raise ValueError(f"{st.st_size} bytes, more than the cache's cap of {cap}")
-        data = fh.read(st.st_size + 1)
+        if st.st_size > settings().graph_cache_max_bytes:
+            raise ValueError(f"{st.st_size} bytes, more than the cache's cap of {settings().graph_cache_max_bytes}")
+        start = len(_MAGIC) + 8
+        head = fh.read(start)
+        if len(head) < start or head[: len(_MAGIC)] != _MAGIC:
+            raise ValueError("not an entry of this cache (no magic)")
+        size = int.from_bytes(head[len(_MAGIC):], "little")
+        if size > _MAX_HEADER or start + size + _DIGEST > st.st_size:
+            raise ValueError("bad header length")
+        header_bytes = fh.read(size)
+        expected = _entry_size(header_bytes, start + size, n_segments)
+        if expected and expected != st.st_size:  # (an unreadable header is judged by _parse, after the memory check)
+            raise ValueError(f"its size does not match its counts ({st.st_size} bytes, not {expected}): truncated or grown")
+        limit, _source = memory_limit()
+        if limit is not None and 2 * st.st_size > limit:
+            raise ValueError(f"{st.st_size} bytes, more than half the memory this process may use")
+        data = head + header_bytes + fh.read(st.st_size - start - size + 1)
         if len(data) != st.st_size:
             raise ValueError("its size changed while it was read")
         with contextlib.suppress(OSError, NotImplementedError):
             os.utime(fh.fileno() if os.utime in os.supports_fd else path)
     return data
+
+
+def _entry_size(header_bytes: bytes, offset: int, n_segments: int) -> int:
+    """The file size an entry's header implies (0 when its counts are unreadable or impossible)."""
+    try:
+        header = json.loads(header_bytes)
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError):
+        return 0
+    if not isinstance(header, dict):
+        return 0
+    n, m, N = header.get("n_arcs"), header.get("n_intervals"), header.get("n_segments")
+    if not (isinstance(n, int) and isinstance(m, int) and N == n_segments and 0 <= n <= N * (N - 1) and m >= 0):
+        return 0
+    return offset + sum(length * np.dtype(dt).itemsize for (_, dt, _), length in zip(_LAYOUT, _lengths(n, m))) + _DIGEST
 
 
 def _parse(data: bytes, digest: str, n_segments: int) -> tuple[dict, dict[str, np.ndarray]]:

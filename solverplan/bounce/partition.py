@@ -63,6 +63,7 @@ from typing import Iterator, Sequence
 
 import numpy as np
 
+from solverplan.limits import refuse_beyond_memory
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.exact import FLOAT_FILTER_REL, ExactPoint, format_number, format_point, json_number
@@ -501,6 +502,10 @@ class _Kernel:
 
     def __init__(self, env: Environment) -> None:
         self.env = env
+        # The side of every vertex w.r.t. every edge is an n × n table, and each reflex vertex's pass
+        # broadcasts over (candidates × vertices) in floats: about 72 bytes per pair of vertices at the
+        # peak (measured: 20,000 vertices asked numpy for 3 GiB in one array). Refused up front, in one line.
+        refuse_beyond_memory(72.0 * env.n_vertices ** 2, f"the partition of a polygon of {env.n_vertices:,} vertices")
         verts = env.exact_vertices
         den = 1
         for x, y in verts:

@@ -184,6 +184,31 @@ def _num(x: Fraction | int) -> str:
     return text if len(text) <= 18 else "≈" + _approx(Fraction(x), 9)
 
 
+MAX_FAILURE_LINE = 200
+"""Longest failure line (``claim: message``, characters): every message is cut here, in :meth:`_Checker.fail`."""
+
+MAX_QUOTED = 40
+"""Longest run of the certificate's own text (a name, a method) a message quotes (characters)."""
+
+PROVING_METHODS = ("search-exhausted", "lp-duality", "milp", "bisection", "exact-check", "symmetry")
+"""The optimality methods that can prove what they claim (``solverplan.result.Method``; a test keeps them equal)."""
+
+METHODS = (*PROVING_METHODS, "heuristic", "none")
+"""Every optimality method a certificate may name: ``heuristic`` and ``none`` prove nothing."""
+
+
+def _quote(text: object) -> str:
+    """``repr(text)`` cut to :data:`MAX_QUOTED` characters with ``…``."""
+    shown = repr(text)
+    return shown if len(shown) <= MAX_QUOTED else shown[: MAX_QUOTED - 1] + "…"
+
+
+def _shorten(text: str, limit: int) -> str:
+    """``text`` on one line of at most ``limit`` characters (cut with ``…``)."""
+    text = " ".join(text.split())
+    return text if len(text) <= limit else text[: max(limit - 1, 0)] + "…"
+
+
 def _pt(p: Point) -> str:
     return f"({_num(p[0])}, {_num(p[1])})"
 
@@ -447,10 +472,12 @@ class _Checker:
         self.edges: list[_Edge] = []
         self.segments: dict[int, SegmentRecord] = {}
         self.proved: list[str] = []
+        self.optimality_rederived = False
         self.bound_ok = False
 
     def fail(self, claim: str, message: str) -> None:
-        self.failures.append(Failure(claim, message))
+        claim = _shorten(claim, 60)
+        self.failures.append(Failure(claim, _shorten(message, MAX_FAILURE_LINE - len(claim) - 2)))
 
     def report(self) -> CheckReport:
         summary = certified(self.cert)
@@ -1147,6 +1174,7 @@ class _Checker:
         if claims.sum_width is not None and usable:
             self.check_sum_width(claims.sum_width, widths)  # type: ignore[arg-type]
         self.check_optimality()
+        self.check_objective(self.optimality_rederived)
 
     def check_min_width(self, claimed: Fraction, widths: Sequence[list[Point]]) -> None:
         for k, diffs in enumerate(widths):
@@ -1174,7 +1202,8 @@ class _Checker:
                 hi_sum += min(e[1] for e in enclosures)
             self.counts["angle_decisions"] += 1
             if hi_sum < claimed:
-                self.fail("claims.sum_width", f"claims {_num(claimed)}, but the stages' widths add up to {_approx(hi_sum, 9)}")
+                self.fail("claims.sum_width", f"claims {_num(claimed)}, more than the stages' widths add up to (exactly, "
+                                              f"at most {_approx(hi_sum, 20)}; the claim exceeds it by ≥ {_approx(claimed - hi_sum, 20)})")
                 return
             if lo_sum > claimed + slack:
                 self.fail("claims.sum_width", f"claims {_num(claimed)}, more than {_num(slack)} below the sum of the widths {_approx(lo_sum, 9)}: claims must be tight")
@@ -1226,8 +1255,22 @@ class _Checker:
                                             "margin-free, the planner's intervals are not")
                 return True
             return False
-        self.fail("bound", f"a bound block proves optimality for the objectives fewest, tolerance and constant, not {objective!r}")
+        self.fail("bound", f"a bound block proves optimality for the objectives fewest, tolerance and constant, not {_quote(objective)}")
         return False
+
+    def check_objective(self, rederived: bool) -> None:
+        """``claims.objective`` is checked where the certificate can speak for it, else listed as not checked."""
+        claims = self.cert.claims
+        objective = claims.objective
+        if objective is None:
+            return
+        if objective == "sum" and claims.sum_width is None and self.cert.kind == "plan":
+            self.fail("claims.objective", "the objective is the sum of widths, but claims.sum_width is missing")
+        elif objective in ("tolerance", "constant", "fewest", "sum") and self.cert.kind not in ("plan", "infeasible"):
+            self.fail("claims.objective", f"{_quote(objective)} is an objective of plans, not of a {self.cert.kind} certificate")
+        elif not rederived:
+            self.not_checked.append(f"claims.objective: {_quote(objective)} names what the planner optimised; only a "
+                                    "re-derived optimality bound could confirm it")
 
     def check_optimality(self) -> None:
         claims = self.cert.claims
@@ -1235,7 +1278,15 @@ class _Checker:
         rederived = False
         if self.cert.bound is not None and self.bound_ok:
             rederived = self.check_bound_claim(self.cert.bound)
+        self.optimality_rederived = rederived
         if opt is None:
+            return
+        if opt.method not in METHODS:
+            self.fail("claims.optimality.method", f"unknown method {_quote(opt.method)}: one of {', '.join(METHODS)}")
+            return
+        if opt.proved and opt.method not in PROVING_METHODS:
+            self.fail("claims.optimality.proved", f"true, but the method {opt.method!r} proves nothing (a bounded search "
+                                                  "or no claim)")
             return
         if not rederived:
             self.not_checked.append(

@@ -22,9 +22,10 @@ from __future__ import annotations
 
 from os import PathLike
 from pathlib import Path
+from decimal import Decimal
 from typing import Any
 
-from solverplan.certify.check import CheckReport, Failure
+from solverplan.certify.check import CheckReport
 from solverplan.certify.check_models import check_model_certificate
 from solverplan.certify.schema import EnvironmentRecord, ModelCertificate
 from solverplan.environment import Environment, read_json
@@ -92,10 +93,52 @@ def _decimal_text(value: Any) -> Any:
     return value
 
 
+def _check_shape(answer: Any, env: Environment) -> None:
+    """Every field of a rooms answer has its type, and its counts fit the polygon: else
+    :class:`~solverplan.errors.MalformedFile` naming the first malformed field (a file that is not a rooms answer
+    is bad input, exit 2; an answer whose claims are false is invalid, exit 1)."""
+    def fail(where: str, expected: str) -> MalformedFile:
+        return MalformedFile(f"rooms answer: {where}: expected {expected}")
+
+    def point(value: Any, where: str) -> None:
+        if not isinstance(value, (list, tuple)) or len(value) != 2 or not all(
+                isinstance(x, (int, float, str, Decimal)) and not isinstance(x, bool) for x in value):
+            raise fail(where, "[x, y]")
+
+    if not isinstance(answer, dict):
+        raise fail("the answer", "an object with rooms and doors")
+    raw_doors, raw_rooms = answer.get("doors"), answer.get("rooms")
+    if not isinstance(raw_doors, list):
+        raise fail("doors", "a list")
+    if not isinstance(raw_rooms, list):
+        raise fail("rooms", "a list")
+    most = env.n_vertices + 1  # a decomposition has at most one room more than the polygon has vertices
+    if len(raw_rooms) > most or len(raw_doors) > most:
+        raise MalformedFile(f"rooms answer: {len(raw_rooms):,} rooms and {len(raw_doors):,} doors for a polygon of "
+                            f"{env.n_vertices:,} vertices")
+    for k, d in enumerate(raw_doors):
+        if not isinstance(d, dict) or not isinstance(d.get("rooms"), list) or len(d["rooms"]) != 2 \
+                or not all(isinstance(r, int) and not isinstance(r, bool) for r in d["rooms"]):
+            raise fail(f"doors[{k}]", "an object with a, b and rooms (two room numbers)")
+        claimed = d.get("escapability_by_room_exact")
+        if claimed is not None and (not isinstance(claimed, list) or len(claimed) != 2):
+            raise fail(f"doors[{k}].escapability_by_room_exact", "two numbers, one per room")
+        point(d.get("a"), f"doors[{k}].a")
+        point(d.get("b"), f"doors[{k}].b")
+    for k, r in enumerate(raw_rooms):
+        if not isinstance(r, dict) or not isinstance(r.get("polygon"), list) or ("area_exact" not in r and "area" not in r):
+            raise fail(f"rooms[{k}]", "an object with polygon (a list of [x, y]) and area")
+        if len(r["polygon"]) > env.n_vertices:
+            raise MalformedFile(f"rooms answer: rooms[{k}].polygon: {len(r['polygon']):,} vertices, more than the polygon's")
+        for p in r["polygon"]:
+            point(p, f"rooms[{k}].polygon")
+
+
 def check_rooms(env: Environment, answer: dict) -> CheckReport:
     """Check a rooms answer (``Decomposition.to_json()`` or the JSON of ``solverplan rooms``) against ``env``
-    exactly: the ``rooms`` certificate's checker on the answer's claims (module docstring)."""
-    if not isinstance(answer, dict):
-        return CheckReport(False, (Failure("answer", "is not a JSON object"),), (), (), "rooms")
+    exactly: the ``rooms`` certificate's checker on the answer's claims (module docstring). A malformed answer
+    (a field of the wrong type, more rooms or doors than the polygon allows) is
+    :class:`~solverplan.errors.MalformedFile`."""
+    _check_shape(answer, env)
     cert = ModelCertificate("rooms", EnvironmentRecord(env.rings, env.name), rooms_claims(answer), "rooms answer")
     return check_model_certificate(cert, partial=True)

@@ -86,6 +86,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any, Literal
 
+from solverplan._io import check_json_values, read_input_text, shown_path  # the one bounded reader (standard library only)
 from solverplan.errors import MalformedFile
 
 __all__ = [
@@ -565,7 +566,9 @@ def _head(data: object) -> tuple[dict, int]:
     if top.get("schema") != SCHEMA:
         raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
     version = top.get("version")
-    if isinstance(version, bool) or version not in READ_VERSIONS:
+    if not isinstance(version, int) or isinstance(version, bool):  # 2.0 (a JSON decimal) is no version number
+        raise CertificateFormatError(f"certificate version {_q(version)}: expected an integer (1 to 4)")
+    if version not in READ_VERSIONS:
         raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1 to 4)")
     return top, version
 
@@ -599,6 +602,10 @@ def _plain(value: Any) -> Any:
 # ---------------------------------------------------------------------- text in and out
 def parse_certificate(text: str, *, source: str = "certificate") -> Certificate | ModelCertificate:
     """Parse certificate JSON text (decimals read exactly); :class:`CertificateFormatError` if malformed."""
+    try:
+        check_json_values(text, source)  # before parsing: memory in proportion to the file
+    except MalformedFile as exc:
+        raise CertificateFormatError(str(exc)) from None
     try:
         data = json.loads(text, parse_float=Decimal, parse_int=_int_of, parse_constant=_reject_constant)
     except json.JSONDecodeError as exc:
@@ -652,17 +659,16 @@ def load_certificate(path: str | Path) -> Certificate | ModelCertificate:
     solverplan.certify.schema.CertificateFormatError: .../certificate.json: not valid JSON (Expecting property name enclosed in double quotes at line 1 column 2)
     """
     path = Path(path)
+    name = shown_path(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise CertificateFormatError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CertificateFormatError(f"{path}: cannot read ({exc.__class__.__name__})") from None
+        text = read_input_text(path)  # regular files only, never read past the limit (solverplan._io)
+    except MalformedFile as exc:
+        raise CertificateFormatError(str(exc)) from None
     try:
-        return parse_certificate(text, source=str(path))
+        return parse_certificate(text, source=name)
     except CertificateFormatError as exc:
         message = str(exc)
-        raise CertificateFormatError(message if message.startswith(f"{path}:") else f"{path}: {message}") from None
+        raise CertificateFormatError(message if message.startswith(f"{name}:") else f"{name}: {message}") from None
 
 
 def dumps_certificate(cert: Certificate | ModelCertificate) -> str:

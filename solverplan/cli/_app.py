@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from solverplan.cli._errors import Shell
+from solverplan.limits import MAX_INDENT
 from solverplan.cli._output import EnvFormat, OutputFormat, set_json_indent
 from solverplan.cli._progress import command_progress
 
@@ -68,8 +69,8 @@ def _root(
     ] = False,
     indent: Annotated[
         int | None,
-        typer.Option("--indent", metavar="N", min=0, show_default=False,
-                     help="Indent JSON answers by N spaces per level, however large (default: 2 up to 512 KiB, then compact)."),
+        typer.Option("--indent", metavar="N", min=0, max=MAX_INDENT, show_default=False,
+                     help="Indent JSON answers by N spaces per level (at most 16), however large (default: 2 up to 512 KiB, then compact)."),
     ] = None,
     compact: Annotated[
         bool, typer.Option("--compact", help="Print JSON answers on one line, however small (fastest for large answers).")

@@ -12,6 +12,7 @@ from typing import Any, Iterator
 import typer
 from typer.core import TyperGroup
 
+from solverplan._io import reason_of, shown_path
 from solverplan.limits import MAX_QUOTED_CHARS
 from solverplan.errors import InputError, SolverplanError
 
@@ -28,8 +29,14 @@ def one_line(message: str, limit: int | None = None) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
-def fail(message: str, code: int) -> typer.Exit:
-    sys.stderr.write(f"error: {one_line(message)}\n")
+MAX_LINE = 200
+"""Longest error line (characters, ``error: `` included): the one place every message is shortened."""
+
+
+def fail(message: str, code: int, suffix: str = "") -> typer.Exit:
+    """Write ``error: message suffix`` on one line of at most :data:`MAX_LINE` characters (the message is cut,
+    the suffix kept) and return the exit of ``code``."""
+    sys.stderr.write(f"error: {one_line(message, limit=MAX_LINE - len('error: ') - len(suffix))}{suffix}\n")
     sys.stderr.flush()
     return typer.Exit(code)
 
@@ -69,6 +76,12 @@ def exit_codes(verbose: int = 0) -> Iterator[None]:
             raise fail(str(exc) or type(exc).__name__, 2) from None
         except SolverplanError as exc:
             raise fail(str(exc) or type(exc).__name__, 1) from None
+        except MemoryError:  # past every up-front estimate: the input asks more memory than the process may use
+            raise fail("out of memory: this input needs more memory than the process may use (see --max-memory; "
+                       "docs/contract.md, Limits)", 2) from None
+        except OSError as exc:  # a file or folder the user named: missing, unwritable, a name too long, ...
+            where = f"{shown_path(exc.filename)}: " if exc.filename is not None else ""
+            raise fail(f"{where}{reason_of(exc)}", 2) from None
         except Exception as exc:  # a bug: say so in one line, the traceback only on request
             if verbose:
                 traceback.print_exc(file=sys.stderr)
@@ -105,5 +118,13 @@ class Shell(TyperGroup):
         except typer.Abort:
             sys.stderr.write("error: aborted\n")
             sys.exit(1)
+        except (typer.Exit, KeyboardInterrupt, SystemExit):
+            raise
+        except Exception as exc:  # raised outside a command's body (the global options, a parameter's parsing)
+            try:
+                with exit_codes():
+                    raise exc
+            except typer.Exit as done:
+                sys.exit(done.exit_code)
         # non-standalone mode returns the code of a typer.Exit (commands themselves return None)
         sys.exit(result if isinstance(result, int) else 0)

@@ -11,6 +11,7 @@ from typing import Annotated, Any, Iterator
 
 import typer
 
+from solverplan._io import cannot_write
 from solverplan.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -121,5 +122,5 @@ def write_certificate_file(answer: Any, path: Path, env: Any = None, checked: An
     try:
         write_certificate(cert, path, check=checked is None)
     except OSError as exc:
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+        raise InputError(cannot_write(path, exc)) from None
     logger.info("wrote certificate %s (verified)", path)

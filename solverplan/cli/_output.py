@@ -13,7 +13,7 @@ from typing import Any, Protocol
 
 import orjson
 
-from solverplan._io import atomic_write_text
+from solverplan._io import atomic_write_text, cannot_write
 from solverplan.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -121,7 +121,7 @@ def emit(answer: Answer, fmt: OutputFormat, out: Path | None) -> None:
     try:
         atomic_write_text(out, text)
     except OSError as exc:
-        raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+        raise InputError(cannot_write(out, exc)) from None
     logger.info("wrote %s", out)
 
 def emit_string(text: str, out: Path | None) -> None:
@@ -133,5 +133,5 @@ def emit_string(text: str, out: Path | None) -> None:
     try:
         atomic_write_text(out, text)
     except OSError as exc:
-        raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+        raise InputError(cannot_write(out, exc)) from None
     logger.info("wrote %s", out)

@@ -10,7 +10,7 @@ from typing import Annotated
 
 import typer
 
-from solverplan._io import atomic_write_chunks
+from solverplan._io import atomic_write_chunks, cannot_write
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
@@ -100,7 +100,7 @@ def graph_command(
                 try:
                     atomic_write_chunks(out, chunks)
                 except OSError as exc:
-                    raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+                    raise InputError(cannot_write(out, exc)) from None
                 logger.info("wrote %s", out)
         else:
             emit(view, OutputFormat(fmt.value), out)

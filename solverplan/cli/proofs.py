@@ -75,4 +75,4 @@ def verify_command(
     if not report.valid:
         more = len(report.failures) - 1
         suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
-        raise fail(f"certificate invalid: {report.failures[0]}{suffix}", 1)
+        raise fail(f"certificate invalid: {report.failures[0]}", 1, suffix)

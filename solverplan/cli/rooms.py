@@ -75,7 +75,7 @@ def rooms_command(
         if not report.valid:
             more = len(report.failures) - 1
             suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
-            raise fail(f"rooms answer invalid: {report.failures[0]}{suffix}", 1)
+            raise fail(f"rooms answer invalid: {report.failures[0]}", 1, suffix)
         return
     with exit_codes(verbose):
         check_picture(picture)

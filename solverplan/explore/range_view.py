@@ -37,7 +37,8 @@ from typing import Literal, Sequence, Union
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.exact import ExactPoint, exact_point, point_in_ring, to_fraction
+from solverplan.limits import quote
+from solverplan.exact import ExactPoint, check_coordinate, exact_point, point_in_ring, to_fraction
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
 
 __all__ = ["Arc", "RangeSegment", "RangeView", "range_visibility", "check_range", "DEFAULT_SAGITTA"]
@@ -54,7 +55,8 @@ def check_range(range_: object) -> Fraction:
         raise InputError(f"range R must be a finite number > 0, got {range_!r}")
     R = to_fraction(range_, where="range R")
     if R <= 0:
-        raise InputError(f"range R must be a finite number > 0, got {range_!r}")
+        raise InputError(f"range R must be a finite number > 0, got {quote(range_)}")
+    check_coordinate(R, "range R")  # 1e-309 is 0 and 1e309 infinite in floats
     return R
 
 

@@ -13,6 +13,7 @@ from typing import Any, Literal, Sequence
 
 import numpy as np
 
+from solverplan._io import cannot_write
 from solverplan.environment import Environment, save_environment
 from solverplan.errors import InputError, MalformedFile
 from solverplan.floorplan.drawing import DroppedFeature, free_space_from_linework, plausibility_warnings
@@ -457,7 +458,7 @@ def import_floorplan(
         try:
             save_environment(environment, output)
         except OSError as exc:
-            raise InputError(f"{output}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+            raise InputError(cannot_write(output, exc)) from None
         written = str(output)
     optimality = Optimality(Method.NONE, False, None, scope="", algorithm=_ALGORITHMS[kind])
     stats = Stats(seconds_setup=time.perf_counter() - started)

@@ -19,7 +19,10 @@ axis-parallel wall on the cell edges.
 
 from __future__ import annotations
 
+import io
 import math
+import struct
+import zlib
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from fractions import Fraction
@@ -28,11 +31,12 @@ from typing import Any
 
 import numpy as np
 
+from solverplan._io import read_input_bytes, read_input_text, shown_path
 from solverplan.environment import Environment
 from solverplan.errors import InputError, MalformedFile
 from solverplan.floorplan.drawing import DroppedFeature
 from solverplan.floorplan.outline import finish_outline, grid_quantum
-from solverplan.limits import MAX_PIXELS, quote, read_text_within_limits
+from solverplan.limits import BYTES_PER_PIXEL, MAX_PIXELS, quote, refuse_beyond_memory
 
 __all__ = ["OccupancyMap", "read_occupancy_map", "trace_free_space", "DEFAULT_FREE_THRESH",
            "DEFAULT_OCCUPIED_THRESH", "DEFAULT_MIN_OBSTACLE", "cell_to_world", "read_keepout_mask", "cells_to_polygons"]
@@ -139,53 +143,116 @@ def _number(data: dict, key: str, source: Path, default: float | None = None) ->
     return number
 
 
+MAX_MAP_YAML_BYTES = 1024 * 1024
+"""Largest ROS map YAML read (bytes): the file is a handful of lines (image, resolution, origin, thresholds)."""
+
+MAX_YAML_DEPTH = 32
+"""Deepest nesting of lists and mappings in a ROS map YAML (it needs 2)."""
+
+
+def _map_loader() -> type:
+    """PyYAML's safe loader without aliases and with bounded nesting.
+
+    A ROS map YAML never needs an alias (``*name``); refusing them keeps a "billion laughs" file (each
+    alias repeating the one before nine times) from becoming 10⁹ nodes when the value is walked or
+    printed, and a bounded depth keeps a nested file from exhausting the composer's recursion.
+    """
+    import yaml
+
+    class MapLoader(yaml.SafeLoader):
+        depth = 0
+
+        def compose_node(self, parent: Any, index: Any) -> Any:
+            if self.check_event(yaml.AliasEvent):
+                mark = self.peek_event().start_mark
+                raise MalformedFile(f"a YAML alias at line {mark.line + 1}: a ROS map file has none")
+            self.depth += 1
+            try:
+                if self.depth > MAX_YAML_DEPTH:
+                    raise MalformedFile(f"YAML nested more than {MAX_YAML_DEPTH} deep")
+                return super().compose_node(parent, index)
+            finally:
+                self.depth -= 1
+
+    return MapLoader
+
+
 def _read_yaml(source: Path) -> dict:
     import yaml
 
-    text = read_text_within_limits(source)
+    name = shown_path(source)
+    text = read_input_text(source, limit=MAX_MAP_YAML_BYTES, what="the map YAML")
     try:
-        data = yaml.safe_load(text)
+        data = yaml.load(text, Loader=_map_loader())  # noqa: S506 (a safe loader: the subclass above)
     except yaml.YAMLError as exc:
         where = getattr(exc, "problem_mark", None)
         at = f" at line {where.line + 1}" if where is not None else ""
-        raise MalformedFile(f"{source}: not valid YAML{at}") from None
+        raise MalformedFile(f"{name}: not valid YAML{at}") from None
+    except MalformedFile as exc:
+        raise MalformedFile(f"{name}: {exc}") from None
+    except (RecursionError, ValueError, TypeError, OverflowError) as exc:  # a scalar PyYAML cannot construct
+        raise MalformedFile(f"{name}: not valid YAML ({exc.__class__.__name__})") from None
     if not isinstance(data, dict):
         kind = "empty" if data is None else type(data).__name__
-        raise MalformedFile(f"{source}: not a ROS map: expected a YAML mapping with image, resolution and origin, "
+        raise MalformedFile(f"{name}: not a ROS map: expected a YAML mapping with image, resolution and origin, "
                             f"got {kind}")
     return data
+
+
+def _grey_levels(image: Any) -> tuple[np.ndarray, np.ndarray]:
+    """(grey level 0–255 as float32, opaque mask) of a loaded image, channel by channel.
+
+    float32 holds every level of 8- and 16-bit images exactly enough for the thresholds, and averaging the
+    colour channels one at a time keeps the peak at a few bytes per pixel (not the 24 of a float64 copy of
+    three channels): the working arrays of :data:`~solverplan.limits.MAX_PIXELS` pixels stay near 1 GB.
+    """
+    mode = image.mode
+    if mode in ("I;16", "I;16B", "I;16L", "I"):
+        values = np.asarray(image).astype(np.float32)
+        values *= np.float32(255.0 / 65535.0)  # 16-bit PGM: full scale 65535
+        return values, np.ones(values.shape, bool)
+    has_alpha = mode in ("LA", "RGBA", "PA") or (mode == "P" and "transparency" in image.info)
+    if mode in ("L", "1") and not has_alpha:
+        grey = np.asarray(image.convert("L") if mode == "1" else image)
+        return grey.astype(np.float32), np.ones(grey.shape, bool)
+    converted = image.convert("RGBA" if has_alpha else "RGB")
+    pixels = np.asarray(converted)
+    del converted
+    values = pixels[..., 0].astype(np.float32)
+    values += pixels[..., 1]
+    values += pixels[..., 2]
+    values /= np.float32(3.0)
+    opaque = pixels[..., 3] == 255 if has_alpha else np.ones(values.shape, bool)
+    return values, opaque
 
 
 def _read_image(path: Path, source: Path) -> tuple[np.ndarray, np.ndarray]:
     """(value 0–255 as floats, opaque mask) of the image; colour averaged over channels as map_server does."""
     from PIL import Image, UnidentifiedImageError
 
-    if not path.is_file():
-        raise MalformedFile(f"{source}: image {path} does not exist")
+    name = shown_path(path)
+    try:
+        data = read_input_bytes(path, what="the image")  # regular files only, never read past the limit
+    except MalformedFile as exc:
+        reason = str(exc).removeprefix(f"{name}: ")
+        if reason == "no such file":
+            reason = "does not exist"
+        raise MalformedFile(f"{shown_path(source, 50)}: image {shown_path(path, 60)} {reason}") from None
     Image.MAX_IMAGE_PIXELS = None  # our own bound below says it in one line instead of a warning
     try:
-        with Image.open(path) as image:
+        with Image.open(io.BytesIO(data)) as image:
             width, height = image.size
             if width * height > MAX_PIXELS:
-                raise MalformedFile(f"{path}: image is {width} × {height} pixels (at most {MAX_PIXELS})")
+                raise MalformedFile(f"{name}: image is {width:,} × {height:,} pixels (at most {MAX_PIXELS:,})")
+            refuse_beyond_memory(BYTES_PER_PIXEL * width * height, f"reading a map of {width:,} × {height:,} pixels")
             image.load()
-            mode = image.mode
-            if mode in ("I;16", "I;16B", "I;16L", "I"):
-                values = np.asarray(image, dtype=np.float64) * (255.0 / 65535.0)  # 16-bit PGM: full scale 65535
-                opaque = np.ones(values.shape, bool)
-            else:
-                has_alpha = mode in ("LA", "RGBA", "PA") or (mode == "P" and "transparency" in image.info)
-                converted = image.convert("RGBA" if has_alpha else ("RGB" if mode not in ("L", "1") else "L"))
-                pixels = np.asarray(converted)
-                if pixels.ndim == 2:
-                    values, opaque = pixels.astype(np.float64), np.ones(pixels.shape, bool)
-                else:
-                    values = pixels[..., :3].astype(np.float64).mean(axis=2)
-                    opaque = pixels[..., 3] == 255 if has_alpha else np.ones(values.shape, bool)
+            del data
+            values, opaque = _grey_levels(image)
     except MalformedFile:
         raise
-    except (UnidentifiedImageError, OSError, ValueError, SyntaxError) as exc:
-        raise MalformedFile(f"{path}: cannot read the image ({exc.__class__.__name__}: {str(exc)[:80]})") from None
+    except (UnidentifiedImageError, OSError, ValueError, SyntaxError, EOFError, IndexError, TypeError,
+            struct.error, zlib.error) as exc:
+        raise MalformedFile(f"{name}: cannot read the image ({exc.__class__.__name__}: {str(exc)[:60]})") from None
     if values.size == 0:
         raise MalformedFile(f"{path}: the image is empty")
     return values, opaque

@@ -8,7 +8,9 @@ outside the outer ring are dropped and counted.
 
 from __future__ import annotations
 
+import io
 import math
+import struct
 from dataclasses import dataclass, field
 from decimal import Decimal
 from pathlib import Path
@@ -16,8 +18,49 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from solverplan._io import read_input_bytes, shown_path
 from solverplan.errors import InputError, MalformedFile
-from solverplan.limits import checked_file_size, quote
+from solverplan.limits import MAX_HOLES, MAX_VERTICES, quote
+
+MAX_DRAWING_ENTITIES = 200_000
+"""Most drawn entities a DXF or SVG file may expand to (DXF block references and SVG ``<use>`` copies
+included), checked while expanding: each costs ezdxf or svgelements one to a few kilobytes, so the bound
+keeps a file of a few kilobytes whose blocks insert blocks ten times over from growing to gigabytes."""
+
+MAX_DRAWING_POINTS = 10 * MAX_VERTICES
+"""Most outline points a drawing may give (before simplification): ten times the vertices of an environment."""
+
+MAX_DRAWING_RINGS = MAX_HOLES + 1
+"""Most closed outlines a drawing may give (one outer ring and at most :data:`~solverplan.limits.MAX_HOLES`)."""
+
+MAX_SVG_DEPTH = 100
+"""Deepest nesting of SVG elements read (drawing programs nest groups a dozen deep): svgelements walks the
+tree recursively, so a file of ``<g>`` nested 10⁵ deep is refused here instead of exhausting the stack."""
+
+_PARSER_FAILURES = (ValueError, TypeError, AttributeError, KeyError, IndexError, LookupError, StopIteration,
+                    RecursionError, ZeroDivisionError, OverflowError, ArithmeticError, UnicodeError, AssertionError,
+                    EOFError, struct.error)
+"""What the third-party drawing parsers (ezdxf, svgelements) raise on malformed input they do not anticipate."""
+
+
+class _Budget:
+    """Counts entities, points and rings while a drawing is read; refuses past the documented bounds."""
+
+    def __init__(self, name: str) -> None:
+        self.name, self.entities, self.points, self.rings = name, 0, 0, 0
+
+    def entity(self) -> None:
+        self.entities += 1
+        if self.entities > MAX_DRAWING_ENTITIES:
+            raise MalformedFile(f"{self.name}: expands to more than {MAX_DRAWING_ENTITIES:,} drawn entities")
+
+    def outline(self, points: int, closed: bool) -> None:
+        self.points += points
+        self.rings += closed
+        if self.points > MAX_DRAWING_POINTS:
+            raise MalformedFile(f"{self.name}: more than {MAX_DRAWING_POINTS:,} outline points")
+        if self.rings > MAX_DRAWING_RINGS:
+            raise MalformedFile(f"{self.name}: more than {MAX_DRAWING_RINGS:,} closed outlines")
 
 __all__ = ["read_dxf_rings", "read_dxf_linework", "Linework", "read_svg_rings", "arrange_rings", "DXF_UNITS", "UNIT_NAMES", "ExactRing"]
 
@@ -92,19 +135,22 @@ def _chain_loops(segments: Iterable[tuple[tuple[Decimal, Decimal], tuple[Decimal
     return loops, open_chains
 
 
-def _flattened(entities: Iterable[Any], inherited: str | None = None, depth: int = 0) -> Iterable[tuple[Any, str]]:
+def _flattened(entities: Iterable[Any], budget: _Budget, inherited: str | None = None,
+               depth: int = 0) -> Iterable[tuple[Any, str]]:
     """Model-space entities with block references (INSERT) expanded into their transformed entities, each with
-    its layer (an entity of a block on layer 0 takes the layer of the reference, as CAD programs draw it)."""
+    its layer (an entity of a block on layer 0 takes the layer of the reference, as CAD programs draw it).
+    Every entity, expanded or not, counts against ``budget``."""
     from ezdxf.entities import Insert
 
     for entity in entities:
+        budget.entity()
         layer = entity.dxf.get("layer", "0")
         if layer == "0" and inherited is not None:
             layer = inherited
         if isinstance(entity, Insert):
             if depth >= 16:  # a block nested 16 deep (or referencing itself): refuse rather than recurse forever
                 raise MalformedFile("block references nested more than 16 deep")
-            yield from _flattened(entity.virtual_entities(), layer, depth + 1)
+            yield from _flattened(entity.virtual_entities(), budget, layer, depth + 1)
         else:
             yield entity, layer
 
@@ -152,19 +198,52 @@ def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | N
     ([(0.0, 0.0), (2.5, 0.0), (2.5, 1.5), (0.0, 1.5)], 'mm')
     """
     import ezdxf
-    from ezdxf import path as dxf_path
-    from ezdxf.entities import Line, LWPolyline, Polyline
 
     path = Path(path)
-    checked_file_size(path)
+    name = shown_path(path)
+    data = read_input_bytes(path)  # regular files only, never read past the limit
     if units is not None and units not in UNIT_NAMES:
         raise InputError(f"--units {quote(units)}: use one of {', '.join(UNIT_NAMES)}")
     try:
-        doc = ezdxf.readfile(path)
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
+        return _dxf_rings(_dxf_document(data, name), name, layer, units, tolerance)
+    except (MalformedFile, InputError, MemoryError):
+        raise
     except ezdxf.DXFError as exc:
-        raise MalformedFile(f"{path}: not a valid DXF file ({str(exc)[:80] or exc.__class__.__name__})") from None
+        raise MalformedFile(f"{name}: not a valid DXF file ({str(exc)[:60] or exc.__class__.__name__})") from None
+    except _PARSER_FAILURES as exc:
+        raise MalformedFile(f"{name}: not a valid DXF file ({exc.__class__.__name__}: {str(exc)[:40]})") from None
+
+
+def _dxf_document(data: bytes, name: str) -> Any:
+    """An ezdxf document of a DXF file's bytes (ASCII in the encoding its header names, or binary)."""
+    import io
+
+    import ezdxf
+    from ezdxf.document import Drawing
+    from ezdxf.lldxf.tagger import binary_tags_loader
+    from ezdxf.lldxf.validator import is_dxf_stream
+
+    if data.startswith(b"AutoCAD Binary DXF\r\n\x1a\x00"):
+        return Drawing.load(binary_tags_loader(data, errors="surrogateescape"))
+    probe = data.decode("utf-8", errors="ignore")
+    if not is_dxf_stream(io.StringIO(probe)):
+        raise MalformedFile(f"{name}: not a valid DXF file (no SECTION before other tags)")
+    info = ezdxf.filemanagement.dxf_stream_info(io.StringIO(probe))
+    del probe
+    try:
+        text = data.decode(info.encoding, errors="surrogateescape")
+    except LookupError:
+        raise MalformedFile(f"{name}: unknown text encoding {quote(info.encoding)}") from None
+    return ezdxf.read(io.StringIO(text))
+
+
+def _dxf_rings(doc: Any, path: str, layer: str | None, units: str | None,
+               tolerance: float) -> tuple[list[ExactRing], dict[str, Any]]:
+    """The rings of an ezdxf document (see :func:`read_dxf_rings`)."""
+    from ezdxf import path as dxf_path
+    from ezdxf.entities import Line, LWPolyline, Polyline
+
+    budget = _Budget(path)
     if units is None:
         code = doc.header.get("$INSUNITS", 0)
         if code not in DXF_UNITS:
@@ -182,7 +261,7 @@ def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | N
     segments: list[tuple[tuple[Decimal, Decimal], tuple[Decimal, Decimal]]] = []
     counts = {"open_chains": 0, "other_layers": 0, "unsupported": 0}
     wanted = layer.lower() if layer is not None else None
-    for entity, entity_layer in _flattened(doc.modelspace()):
+    for entity, entity_layer in _flattened(doc.modelspace(), budget):
         if wanted is not None and entity_layer.lower() != wanted:
             counts["other_layers"] += 1
             continue
@@ -207,12 +286,16 @@ def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | N
             if closed and len(points) > 1 and points[0] == points[-1]:
                 points.pop()
         ring = _dedupe([scaled(x, y) for x, y in points])
+        budget.outline(len(ring), closed)
         if closed:
             if len(ring) >= 3:
                 rings.append(ring)
         else:
             segments.extend(zip(ring, ring[1:]))
     loops, counts["open_chains"] = _chain_loops(segments)
+    budget.outline(0, False)
+    for loop in loops:
+        budget.outline(0, True)
     rings.extend(loops)
     return rings, {"units": unit_name, **counts}
 
@@ -294,15 +377,19 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
     from ezdxf.entities import Arc, Circle, Ellipse, Hatch, Line, LWPolyline, Polyline, Spline
 
     path = Path(path)
-    checked_file_size(path)
+    name = shown_path(path)
+    data = read_input_bytes(path)  # regular files only, never read past the limit
     if units is not None and units not in UNIT_NAMES:
         raise InputError(f"--units {quote(units)}: use one of {', '.join(UNIT_NAMES)}")
     try:
-        doc = ezdxf.readfile(path)
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
+        doc = _dxf_document(data, name)
+    except (MalformedFile, InputError, MemoryError):
+        raise
     except ezdxf.DXFError as exc:
-        raise MalformedFile(f"{path}: not a valid DXF file ({str(exc)[:80] or exc.__class__.__name__})") from None
+        raise MalformedFile(f"{name}: not a valid DXF file ({str(exc)[:60] or exc.__class__.__name__})") from None
+    except _PARSER_FAILURES as exc:
+        raise MalformedFile(f"{name}: not a valid DXF file ({exc.__class__.__name__}: {str(exc)[:40]})") from None
+    del data
     if units is None:
         code = doc.header.get("$INSUNITS", 0)
         if code not in DXF_UNITS:
@@ -512,18 +599,100 @@ def read_svg_rings(path: str | Path, *, scale: Decimal | None = None,
 
     import svgelements as svg
 
-    from solverplan.floorplan.outline import grid_quantum
-
     path = Path(path)
-    checked_file_size(path)
+    name = shown_path(path)
+    data = read_input_bytes(path)  # regular files only, never read past the limit
     if scale is not None and not scale > 0:
         raise InputError(f"--scale must be positive, got {scale}")
+    _check_svg_tree(data, name)
     try:
-        document = svg.SVG.parse(str(path), reify=True)
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
-    except (ElementTree.ParseError, ValueError, TypeError, AttributeError) as exc:
-        raise MalformedFile(f"{path}: not a valid SVG file ({str(exc)[:80] or exc.__class__.__name__})") from None
+        document = svg.SVG.parse(io.BytesIO(data), reify=True)
+        del data
+        return _svg_rings(document, name, scale, tolerance)
+    except (MalformedFile, InputError, MemoryError):
+        raise
+    except (ElementTree.ParseError, *_PARSER_FAILURES) as exc:
+        raise MalformedFile(f"{name}: not a valid SVG file ({str(exc)[:60] or exc.__class__.__name__})") from None
+
+
+def _check_svg_tree(data: bytes, name: str) -> None:
+    """Refuse an SVG file whose tree svgelements could not expand within bounded memory and stack.
+
+    Parsed once with the standard library (which never recurses) before svgelements sees it: no entity
+    declarations (an entity repeating another ten times, eight levels deep, is 10⁸ characters), nesting at
+    most :data:`MAX_SVG_DEPTH` deep, and the element count after expanding every ``<use>`` (a ``<use>``
+    copies the element it names, with its subtree) at most :data:`MAX_DRAWING_ENTITIES`; a ``<use>`` that
+    names itself or an element containing it is refused, since its expansion has no end.
+    """
+    import xml.etree.ElementTree as ElementTree
+
+    if b"<!ENTITY" in data:
+        raise MalformedFile(f"{name}: declares XML entities (<!ENTITY>), which an SVG drawing does not need")
+    try:
+        root = ElementTree.fromstring(data)
+    except ElementTree.ParseError as exc:
+        raise MalformedFile(f"{name}: not a valid SVG file ({str(exc)[:60]})") from None
+    by_id: dict[str, Any] = {}
+    children: dict[int, list[Any]] = {}
+    stack = [(root, 1)]
+    while stack:  # depth-first without recursion: the depth and the ids
+        element, depth = stack.pop()
+        if depth > MAX_SVG_DEPTH:
+            raise MalformedFile(f"{name}: elements nested more than {MAX_SVG_DEPTH} deep")
+        element_id = element.get("id")
+        if element_id is not None:
+            by_id.setdefault(element_id, element)
+        kids = list(element)
+        children[id(element)] = kids
+        stack.extend((kid, depth + 1) for kid in kids)
+    if len(children) > MAX_DRAWING_ENTITIES:
+        raise MalformedFile(f"{name}: more than {MAX_DRAWING_ENTITIES:,} elements")
+
+    def target(element: Any) -> Any:
+        if not (isinstance(element.tag, str) and element.tag.rsplit("}", 1)[-1] == "use"):
+            return None
+        ref = element.get("{http://www.w3.org/1999/xlink}href") or element.get("href") or ""
+        return by_id.get(ref[1:]) if ref.startswith("#") else None
+
+    # expanded size of each element = 1 + its children's + its <use> target's, computed without recursion;
+    # an element met again while it is being expanded is a cycle
+    size: dict[int, int] = {}
+    visiting: set[int] = set()
+    work: list[tuple[Any, bool]] = [(root, False)]
+    while work:
+        element, done = work.pop()
+        key = id(element)
+        if done:
+            visiting.discard(key)
+            referenced = target(element)
+            total = 1 + sum(size[id(kid)] for kid in children[key]) + (size[id(referenced)] if referenced is not None else 0)
+            size[key] = min(total, MAX_DRAWING_ENTITIES + 1)
+            continue
+        if key in size:
+            continue
+        if key in visiting:
+            raise MalformedFile(f"{name}: a <use> refers to itself (id {quote(element.get('id'))}): its copy has no end")
+        visiting.add(key)
+        work.append((element, True))
+        referenced = target(element)
+        pending = list(children[key]) + ([referenced] if referenced is not None else [])
+        for kid in pending:
+            if id(kid) in visiting:
+                raise MalformedFile(f"{name}: a <use> refers to an element containing it "
+                                    f"(id {quote(kid.get('id'))}): its copy has no end")
+            if id(kid) not in size:
+                work.append((kid, False))
+    if size[id(root)] > MAX_DRAWING_ENTITIES:
+        raise MalformedFile(f"{name}: its <use> copies expand to more than {MAX_DRAWING_ENTITIES:,} elements")
+
+
+def _svg_rings(document: Any, path: str, scale: Decimal | None, tolerance: float) -> tuple[list[ExactRing], dict[str, Any]]:
+    """The rings of an svgelements document (see :func:`read_svg_rings`)."""
+    import svgelements as svg
+
+    from solverplan.floorplan.outline import grid_quantum
+
+    budget = _Budget(path)
     # svgelements maps the viewBox onto the viewport (CSS pixels); undo that to get back to user units
     to_user = None
     box = getattr(document, "viewbox", None)
@@ -534,10 +703,8 @@ def read_svg_rings(path: str | Path, *, scale: Decimal | None = None,
         top = _decimal(float(box.y) + float(box.height))
         user_width = Decimal(repr(float(box.width)))
     else:
-        height = _svg_length(document.values.get("height"))
         top = _decimal(float(document.height)) if getattr(document, "height", None) else Decimal(0)
         user_width = _decimal(float(document.width)) if getattr(document, "width", None) else Decimal(0)
-        del height
     unit_name = "user units"
     if scale is None:
         width = _svg_length(document.values.get("width"))
@@ -569,6 +736,7 @@ def read_svg_rings(path: str | Path, *, scale: Decimal | None = None,
     rings: list[ExactRing] = []
     open_paths = 0
     for element in document.elements():
+        budget.entity()
         if not isinstance(element, svg.Shape):
             continue
         shape = element if isinstance(element, svg.Path) else svg.Path(element)
@@ -589,6 +757,7 @@ def read_svg_rings(path: str | Path, *, scale: Decimal | None = None,
             ring = _dedupe(points)
             if not closed and points and points[0] == points[-1]:
                 closed = True  # drawn back to its start without a Z
+            budget.outline(len(ring), closed)
             if closed and len(ring) >= 3:
                 rings.append(ring)
             elif points:

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
 
+from solverplan._io import read_input_text, shown_path
 from solverplan.environment import BoundaryPiece, Environment, read_json
 from solverplan.errors import InputError, MalformedFile
 from solverplan.exact import to_fraction
@@ -567,16 +568,12 @@ def load_plan(path: str | Path) -> Plan:
     True
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise MalformedFile(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
+    text = read_input_text(path)  # regular files only, never read past the limit (solverplan._io)
+    name = shown_path(path)
     try:
         data = read_json(text, exact=False)  # bounded nesting and number sizes (solverplan.limits)
     except json.JSONDecodeError as exc:
-        raise MalformedFile(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})") from None
+        raise MalformedFile(f"{name}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})") from None
     except MalformedFile as exc:
-        raise MalformedFile(f"{path}: {exc}") from None
-    return parse_plan(data, str(path))
+        raise MalformedFile(f"{name}: {exc}") from None
+    return parse_plan(data, name)

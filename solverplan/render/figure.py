@@ -22,7 +22,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.text import Annotation
 
-from solverplan._io import atomic_write_bytes
+from solverplan._io import atomic_write_bytes, cannot_write
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 
@@ -205,5 +205,5 @@ def save_figure(fig: Figure, path: str | os.PathLike[str]) -> SavedFigure:
     try:
         atomic_write_bytes(path, data)
     except OSError as exc:
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+        raise InputError(cannot_write(path, exc)) from None
     return SavedFigure(Path(path), fmt, len(data))

@@ -22,6 +22,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import re
 import signal
 import threading
 import time
@@ -30,8 +31,9 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
-from solverplan._io import atomic_write_text
+from solverplan._io import atomic_write_text, cannot_write
 from solverplan.errors import InputError, SolverFailed, SolverplanError
+from solverplan.limits import quote
 from solverplan.result import answer_kind
 from solverplan.studies.store import RowStore
 from solverplan.studies.study import Study, StudyTable, Task, run_task
@@ -208,6 +210,42 @@ def _pool(tasks: list[Task], workers: int) -> Iterator[dict]:
         executor.shutdown(wait=True, cancel_futures=True)
 
 
+_SCHEDULER_ADDRESS = re.compile(r"^(?:(?P<scheme>[a-z]+)://)?(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+)(?::(?P<port>\d{1,5}))?(?P<path>/\S*)?$")
+
+SCHEDULER_PROBE_SECONDS = 5.0
+"""How long a ``tcp://`` scheduler may take to accept a plain connection before the study gives up (seconds)."""
+
+
+def _probe_scheduler(address: str) -> None:
+    """Refuse a malformed or unreachable scheduler address in one line, before Dask starts its threads.
+
+    A ``tcp://HOST:PORT`` (or bare ``HOST:PORT``) address must accept a TCP connection within
+    :data:`SCHEDULER_PROBE_SECONDS`: a refused or silent port fails at once, where Dask's own client would
+    retry for its whole timeout and leave its event loop behind. Other schemes (``tls``, ``ws``, ``inproc``,
+    ...) are left to Dask.
+    """
+    import socket
+
+    if not isinstance(address, str):
+        raise InputError(f"--scheduler: expected an address such as tcp://host:8786, got {quote(address)}")
+    match = _SCHEDULER_ADDRESS.match(address.strip())
+    if match is None:
+        raise InputError(f"--scheduler {quote(address)}: expected an address such as tcp://host:8786")
+    scheme, host, port = match.group("scheme") or "tcp", match.group("host"), match.group("port")
+    if scheme not in ("tcp", "tls", "ws", "wss", "ucx", "inproc"):
+        raise InputError(f"--scheduler {quote(address)}: unknown scheme {quote(scheme)} (use tcp, tls, ws, wss, ucx or inproc)")
+    if port is not None and not 0 < int(port) < 65536:
+        raise InputError(f"--scheduler {quote(address)}: port {port} is not between 1 and 65535")
+    if scheme != "tcp":
+        return
+    try:
+        with socket.create_connection((host.strip("[]"), int(port or 8786)), timeout=SCHEDULER_PROBE_SECONDS):
+            pass
+    except OSError as exc:
+        reason = "no answer" if isinstance(exc, TimeoutError) else (exc.strerror or type(exc).__name__).lower()
+        raise InputError(f"cannot reach the Dask scheduler at {quote(address)}: {reason}") from None
+
+
 def _connect(scheduler: Any) -> tuple[Any, bool]:
     """A Dask client for ``scheduler`` (an address, or a Client used as is) and whether we own it."""
     try:
@@ -216,6 +254,7 @@ def _connect(scheduler: Any) -> tuple[Any, bool]:
         raise InputError("--scheduler needs Dask: pip install 'solverplan[dask]'") from None
     if isinstance(scheduler, distributed.Client):
         return scheduler, False
+    _probe_scheduler(scheduler)
     try:
         return distributed.Client(scheduler, timeout="20s", set_as_default=False), True
     except (OSError, TimeoutError, ValueError) as exc:
@@ -385,4 +424,4 @@ def _write(path: Path, text: str) -> None:
     try:
         atomic_write_text(path, text)
     except OSError as exc:
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+        raise InputError(cannot_write(path, exc)) from None

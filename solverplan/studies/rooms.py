@@ -32,6 +32,7 @@ from typing import Any, Literal, Sequence
 
 import numpy as np
 
+from solverplan.limits import refuse_beyond_memory
 from solverplan.errors import InputError
 from solverplan.exact import format_number
 from solverplan.result import answer_kind
@@ -360,6 +361,10 @@ def simulate_rooms(
     walk = tuple(walk) if walk is not None else dec.path(start, goal)
     if walk[0] != start or walk[-1] != goal:
         raise InputError(f"the room sequence must go from room {start} to room {goal}")
+    # the starts, headings and room positions (about 64 bytes a robot) come before the rollouts' own
+    # estimate (simulate_policy's 400 bytes a rollout plus 16 a recorded contact): refuse both up front
+    recorded = max_bounces + 1 if keep else 2
+    refuse_beyond_memory(trials * (464 + 16 * recorded), f"{trials:,} robots of {max_bounces:,} bounces")
     chosen = make_rule(rule, dec, walk, per_room=per_room, theta=theta)
     mode = {"smart-paper": "paper", "smart-per-room": "per-room"}.get(rule, "per-room" if per_room else theta)
     rng = np.random.default_rng(seed)

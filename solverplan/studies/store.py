@@ -26,7 +26,7 @@ import os
 from pathlib import Path
 from typing import IO, Any
 
-from solverplan._io import atomic_write_text
+from solverplan._io import atomic_write_text, cannot_write
 from solverplan.errors import InputError
 from solverplan.limits import quote
 from solverplan.studies.study import Study, row_seed
@@ -126,7 +126,7 @@ class RowStore:
                 atomic_write_text(self.path, self._header() + body)
             self._handle = open(self.path, "a", encoding="utf-8")
         except OSError as exc:
-            raise InputError(f"{self.path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+            raise InputError(cannot_write(self.path, exc)) from None
         self._lock()
         return dict(self.rows)
 

@@ -35,6 +35,7 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 
 from solverplan.errors import InputError
+from solverplan.limits import MAX_STUDY_ROWS, quote
 from solverplan.generators import GENERATORS, generate
 from solverplan.studies.metrics import Metric
 
@@ -67,6 +68,8 @@ _NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
 # ---------------------------------------------------------------------- parameter values
 def _value(text: str) -> int | float | str:
     t = text.strip()
+    if len(t) > 100:
+        raise InputError(f"parameter value {quote(t)}: longer than 100 characters")
     if re.fullmatch(r"[+-]?\d+", t):
         return int(t)
     if _NUMBER.match(t):
@@ -95,14 +98,20 @@ def parse_values(text: str, *, name: str = "value") -> tuple:
     solverplan.errors.InputError: irregularity: expected VALUE, V1,V2,... or START:STOP:COUNT, got '0.1:0.4'
     """
     if not isinstance(text, str) or not text.strip():
-        raise InputError(f"{name}: expected VALUE, V1,V2,... or START:STOP:COUNT, got {text!r}")
+        raise InputError(f"{name}: expected VALUE, V1,V2,... or START:STOP:COUNT, got {quote(text)}")
+    if text.count(",") >= MAX_STUDY_ROWS:
+        raise InputError(f"{name}: more than {MAX_STUDY_ROWS:,} values")
     if ":" in text:
         parts = text.split(":")
         if len(parts) != 3 or not all(_NUMBER.match(p.strip()) for p in parts[:2]) or not parts[2].strip().isdigit():
-            raise InputError(f"{name}: expected VALUE, V1,V2,... or START:STOP:COUNT, got {text!r}")
+            raise InputError(f"{name}: expected VALUE, V1,V2,... or START:STOP:COUNT, got {quote(text)}")
+        if len(parts[2].strip()) > 7 or int(parts[2]) > MAX_STUDY_ROWS:
+            raise InputError(f"{name}: START:STOP:COUNT needs COUNT <= {MAX_STUDY_ROWS:,}, got {quote(text)}")
         start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+        if not (math.isfinite(start) and math.isfinite(stop)):
+            raise InputError(f"{name}: START and STOP must be finite, got {quote(text)}")
         if count < 1:
-            raise InputError(f"{name}: START:STOP:COUNT needs COUNT >= 1, got {text!r}")
+            raise InputError(f"{name}: START:STOP:COUNT needs COUNT >= 1, got {quote(text)}")
         if count == 1:
             return (_tidy(start),)
         values: tuple[int | float | str, ...] = tuple(_tidy(v) for v in np.linspace(start, stop, count))
@@ -214,6 +223,17 @@ class Study:
                    and p.kind is not inspect.Parameter.VAR_KEYWORD and p.name not in dict(grid) and p.name != "seed"]
         if missing:
             raise InputError(f"generator {self.generator!r} needs a value for {missing[0]!r} (--grid {missing[0]}=VALUES)")
+        from solverplan.generators import _MAXIMA
+
+        for k, values in grid:  # every cell within generate's own limits, before any row runs
+            top = _MAXIMA.get(k)
+            too_big = [v for v in values if top is not None and isinstance(v, (int, float)) and v > top]
+            if too_big:
+                raise InputError(f"grid axis {k}={quote(too_big[0])}: {k} is at most {top:,} (the limit of "
+                                 f"'solverplan generate')")
+        rows = math.prod(len(v) for _, v in (*grid, *self.metric.options)) * self.per_cell
+        if rows > MAX_STUDY_ROWS:
+            raise InputError(f"the study has {rows:,} rows (cells × per_cell), more than the limit of {MAX_STUDY_ROWS:,}")
         object.__setattr__(self, "grid", grid)
         object.__setattr__(self, "name", self.name or self.metric.name)
 

@@ -76,7 +76,8 @@ def test_schema_imports_only_stdlib_and_errors():
     tree = ast.parse(Path(schema.__file__).read_text())
     names = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
     names |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
-    assert names <= {"__future__", "json", "re", "dataclasses", "decimal", "fractions", "pathlib", "sys", "typing", "solverplan.errors"}
+    assert names <= {"__future__", "json", "re", "dataclasses", "decimal", "fractions", "pathlib", "sys", "typing", "solverplan.errors",
+                     "solverplan._io"}  # the bounded reader: standard library and errors only
 
 
 # ---------------------------------------------------------------------- the hand-built cases are right
@@ -607,3 +608,76 @@ def test_a_constructed_version_2_localisation_without_epsilon_fails():
     bare = dataclasses.replace(cert, claims=dataclasses.replace(cert.claims, epsilon=None))
     report = check_certificate(bare)
     assert not report.valid and report.failures[0].claim == "claims.epsilon"
+
+
+# ---------------------------------------------------------------------- every printed claim checked or listed (#28)
+@pytest.mark.parametrize("method,proved,claim,message", [
+    ("by-magic", True, "claims.optimality.method", "unknown method 'by-magic'"),
+    ("heuristic", True, "claims.optimality.proved", "proves nothing"),
+    ("none", True, "claims.optimality.proved", "proves nothing"),
+])
+def test_an_optimality_method_that_cannot_prove_fails_a_proved_claim(method, proved, claim, message):
+    data = cases.square_adjacent()
+    data["claims"]["objective"] = "fewest"
+    data["claims"]["optimality"] = {"method": method, "proved": proved, "bound": 2}
+    assert_fails(data, claim, message)
+
+
+def test_the_checkers_optimality_methods_are_the_planners():
+    from solverplan.result import Method
+
+    assert set(check.METHODS) == {m.value for m in Method}
+    assert set(check.PROVING_METHODS) == {m.value for m in Method} - {"heuristic", "none"}
+
+
+@pytest.mark.parametrize("objective", ["fewest", "tolerance", "anything at all", "x" * 500])
+def test_an_objective_is_listed_as_not_checked_unless_a_bound_block_confirms_it(objective):
+    data = cases.square_adjacent()
+    data["claims"]["objective"] = objective
+    report = run(data)
+    assert report.valid
+    listed = [line for line in report.not_checked if line.startswith("claims.objective")]
+    assert len(listed) == 1 and len(listed[0]) <= 200
+
+
+def test_a_sum_objective_needs_its_sum_width():
+    data = cases.square_adjacent()
+    data["claims"]["objective"] = "sum"
+    data["claims"].pop("sum_width", None)
+    assert_fails(data, "claims.objective", "sum_width is missing")
+
+
+def test_sum_width_is_decided_exactly_above_the_exact_sum():
+    """A claimed sum a hair (10⁻³⁰) above the exact sum of the widths fails; the exact sum's lower end passes."""
+    data = cases.square_adjacent()
+    report = run(data)
+    cert = Certificate.from_json(data)
+    widths = []
+    original = check._Checker.check_sum_width
+
+    def spy(self, claimed, diffs):
+        widths.append(diffs)
+        return original(self, claimed, diffs)
+
+    check._Checker.check_sum_width = spy
+    try:
+        data["claims"]["sum_width"] = json_value(cert.claims.min_width)
+        run(data)
+    finally:
+        check._Checker.check_sum_width = original
+    assert report.valid and widths
+    exact_low = sum(min(angle_enclosure(v, 512)[0] for v in d) for d in widths[0])
+    data["claims"]["sum_width"] = json_value(exact_low + Fraction(1, 10**30))
+    assert_fails(data, "claims.sum_width", "more than the stages' widths add up to")
+    data["claims"]["sum_width"] = json_value(exact_low)
+    assert run(data).valid
+
+
+def test_failure_lines_are_cut_to_200_characters_in_one_place():
+    data = cases.square_adjacent()
+    data["claims"]["objective"] = "fewest"
+    data["claims"]["optimality"] = {"method": "m" * 1000, "proved": True, "bound": 2}
+    report = run(data)
+    assert not report.valid
+    assert all(len(str(f)) <= check.MAX_FAILURE_LINE for f in report.failures)
+    assert "'mmm" in str(report.failures[0]) and "m" * 50 not in str(report.failures[0])

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import json
+import re
 
 import pytest
 from hypothesis import given, settings
@@ -12,6 +13,7 @@ from hypothesis import strategies as st
 
 from solverplan.environment import load_environment
 from solverplan.certify.rooms_answer import check_rooms
+from solverplan.errors import MalformedFile
 from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.generators import rectilinear_polygon
 
@@ -88,11 +90,20 @@ def test_crossing_doors_fail(chambers):
                for f in failures), [str(f) for f in failures]
 
 
-def test_a_malformed_answer_is_one_failure(chambers):
+@pytest.mark.parametrize("answer,where", [
+    ({"rooms": []}, "doors: expected a list"),
+    ({"rooms": None, "doors": 3}, "doors: expected a list"),
+    ({"rooms": ["a"], "doors": []}, "rooms[0]: expected an object"),
+    ({"rooms": [], "doors": [{"a": [0, 0], "b": [1, 0], "rooms": [0, "x"]}]}, "doors[0]: expected an object"),
+    ({"rooms": [], "doors": [{"a": [0, 0], "b": [1, 0], "rooms": [0, 1], "escapability_by_room_exact": 5}]},
+     "escapability_by_room_exact: expected two numbers"),
+    ({"rooms": [{"polygon": [[0, 0], [1]], "area": 1}], "doors": []}, "rooms[0].polygon: expected [x, y]"),
+])
+def test_a_malformed_answer_is_bad_input_naming_the_field(chambers, answer, where):
+    """A file that is not a rooms answer is bad input (exit 2), not an invalid answer (#28: internal errors)."""
     env, _ = chambers
-    report = check_rooms(env, {"rooms": []})
-    assert not report.valid and [f.claim for f in report.failures] == ["claims.doors"]
-    assert report.to_json()["valid"] is False and report.to_json()["kind"] == "rooms"
+    with pytest.raises(MalformedFile, match=re.escape(where)):
+        check_rooms(env, answer)
 
 
 def test_an_answer_states_no_lengths_or_psi_they_are_listed_not_checked(chambers):

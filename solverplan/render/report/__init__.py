@@ -63,9 +63,13 @@ def report_environment(answer: AnswerFile, certificate_path: str | Path | None =
     if certificate_path is not None:
         from solverplan.limits import read_text_within_limits
 
+        from solverplan._io import check_json_values
+
+        text = read_text_within_limits(Path(certificate_path))
+        check_json_values(text, str(certificate_path))  # before parsing: memory in proportion to the file
         try:
-            raw = json.loads(read_text_within_limits(Path(certificate_path)))
-        except ValueError:
+            raw = json.loads(text)
+        except (ValueError, RecursionError):
             raise MalformedFile(f"{certificate_path}: not valid JSON") from None
         env_block = raw.get("environment") if isinstance(raw, dict) else None
         rings = env_block.get("rings") if isinstance(env_block, dict) else None

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Sequence
 
 
-from solverplan._io import atomic_write_text
+from solverplan._io import atomic_write_text, cannot_write
 from solverplan.errors import InputError
 
 from solverplan.render.report._kinds import ANSWER_KINDS, AnswerFile, _EXACT_CELL
@@ -119,7 +119,7 @@ def write_report(report: HtmlReport, path: str | os.PathLike[str]) -> SavedRepor
     try:
         atomic_write_text(path, report.html)
     except OSError as exc:
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+        raise InputError(cannot_write(path, exc)) from None
     return SavedReport(str(path), report)
 
 
