@@ -372,6 +372,20 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
     ('mm', 1, 1, {'TEXT': 1})
     """
     import ezdxf
+
+    try:
+        return _read_dxf_linework(path, layer=layer, units=units, tolerance=tolerance)
+    except (MalformedFile, InputError, MemoryError):
+        raise
+    except ezdxf.DXFError as exc:  # a malformed drawing met while its entities are read (a missing block)
+        raise MalformedFile(f"{shown_path(Path(path))}: not a valid DXF file ({str(exc)[:60] or exc.__class__.__name__})") from None
+    except _PARSER_FAILURES as exc:
+        raise MalformedFile(f"{shown_path(Path(path))}: not a valid DXF file ({exc.__class__.__name__}: {str(exc)[:40]})") from None
+
+
+def _read_dxf_linework(path: str | Path, *, layer: str | None, units: str | None, tolerance: float) -> Linework:
+    """:func:`read_dxf_linework` without the mapping of the parser's errors."""
+    import ezdxf
     import shapely
     from ezdxf import path as dxf_path
     from ezdxf.entities import Arc, Circle, Ellipse, Hatch, Line, LWPolyline, Polyline, Spline
@@ -409,7 +423,7 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
         points = [(v.x, v.y) for v in dxf_path.make_path(entity).flattening(drawing_tolerance)]
         return np.asarray(points, float).reshape(-1, 2)
 
-    for entity, entity_layer in _flattened(doc.modelspace()):
+    for entity, entity_layer in _flattened(doc.modelspace(), _Budget(name)):
         if wanted is not None and entity_layer.lower() not in wanted:
             counts["other_layers"] += 1
             continue
