@@ -123,19 +123,32 @@ class StraightWalls:
     edge_map
         For every user edge k: ``(m, s0, s1)``, the merged edge it lies on and the merged parameters of its
         two ends (user t ↦ s0 + t·(s1 − s0)).
+    vertex_map
+        For every merged vertex (global index): the user's vertex at the same point (global index).
+
+    ``keep_start=True`` keeps each ring's start where the user put it (the first vertex that is a corner, from
+    vertex 0 on) instead of the canonical vertex: for models whose answers name vertices by their position in the
+    user's ring (the wall-following robot's v0, v1, …), which then only skip the collinear vertices.
+
+    >>> from solverplan.environment import Environment
+    >>> ring = Environment.from_coords([[0, 0], [2, 0], [4, 0], [4, 1], [0, 2]])
+    >>> StraightWalls(ring).vertex_map, StraightWalls(ring, keep_start=True).vertex_map
+    ((3, 4, 0, 2), (0, 2, 3, 4))
     """
 
-    def __init__(self, env: Environment) -> None:
+    def __init__(self, env: Environment, *, keep_start: bool = False) -> None:
         self.env = env
         rings: list[tuple[ExactPoint, ...]] = []
         edge_map: list[tuple[int, Fraction, Fraction]] = []
+        vertex_map: list[int] = []
         merged_base = 0
-        for ring in env.rings:
+        for r, ring in enumerate(env.rings):
             n = len(ring)
             keep = [i for i in range(n) if not is_straight(ring[i - 1], ring[i], ring[(i + 1) % n])]
-            first = canonical_start([ring[i] for i in keep])
+            first = 0 if keep_start else canonical_start([ring[i] for i in keep])
             keep = keep[first:] + keep[:first]
             rings.append(tuple(ring[i] for i in keep))
+            vertex_map.extend(env.ring_offsets[r] + i for i in keep)
             # the merged edge of user edge i starts at the last kept vertex at or before i (cyclically)
             owner = [0] * n
             last = max(keep)  # the last kept vertex before vertex 0, cyclically
@@ -153,8 +166,24 @@ class StraightWalls:
                 edge_map.append((merged_base + k, s0, s1))
             merged_base += len(keep)
         self.edge_map: tuple[tuple[int, Fraction, Fraction], ...] = tuple(edge_map)
+        self.vertex_map: tuple[int, ...] = tuple(vertex_map)
         self.identity = all(m == k and s0 == 0 and s1 == 1 for k, (m, s0, s1) in enumerate(edge_map))
         self.merged = env if self.identity else Environment(tuple(rings), name=env.name, reoriented=env.reoriented)
+
+    @property
+    def n_merged_vertices(self) -> int:
+        """How many collinear vertices were merged away."""
+        return self.env.n_vertices - self.merged.n_vertices
+
+    def user_vertex(self, vertex: int) -> int:
+        """The user's vertex (global index) at merged vertex ``vertex``."""
+        return self.vertex_map[vertex]
+
+    def user_edge_of_point(self, edge: int, point: ExactPoint) -> int:
+        """The user edge holding ``point``, a point of merged edge ``edge`` (at a collinear vertex: the edge that
+        starts there)."""
+        a, b = self.merged.edge(edge).a, self.merged.edge(edge).b
+        return self.user_edge_at(edge, _param(a, b, point))
 
     # ------------------------------------------------------------------ sets and points
     def to_merged(self, bset: BoundarySet) -> BoundarySet:
