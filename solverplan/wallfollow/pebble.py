@@ -42,7 +42,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, line_intersection, orient
 from solverplan.geometry.visibility import sees
-from solverplan.wallfollow.cuts import cut_ordering
+from solverplan.wallfollow.cuts import corner_polygon, cut_ordering
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
 from solverplan.wallfollow.world import Action, Observation, WallWorld
 
@@ -318,6 +318,7 @@ def learn_bitangents(env: Environment, order: CutOrdering | None = None) -> Lear
     >>> learned.bitangents, learned.actions
     ((), 0)
     """
+    env = corner_polygon(env)
     order = order or cut_ordering(env)
     world = PebbleWorld(env)
     robot = _Robot(world, order)
