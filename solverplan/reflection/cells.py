@@ -20,7 +20,7 @@ n_i·(q − p_i) ≥ 0 for every i. Normals here are the exact left normals of t
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from functools import cached_property
 from typing import Sequence
@@ -30,6 +30,7 @@ import numpy as np
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, exact_point, format_point
+from solverplan.geometry.walls import StraightWalls
 
 __all__ = ["Side", "Cell", "Decomposition", "decompose_free_space"]
 
@@ -211,8 +212,10 @@ def decompose_free_space(env: Environment) -> Decomposition:
     triangulation, with their adjacency over shared facets.
 
     Every cell vertex is an exact vertex of ``env``; the cells are counter-clockwise, strictly convex (no angle
-    of π is created by a merge; collinear vertices of the environment stay), and cover the free space exactly
-    (their areas sum to the environment's exact area — checked).
+    of π is created by a merge), and cover the free space exactly (their areas sum to the environment's exact
+    area — checked). The triangulation is made of the canonical walls of ``env``
+    (:class:`~solverplan.geometry.walls.StraightWalls`: collinear vertices merged — they are no corners — and each
+    ring from its canonical vertex), so that the cells do not depend on how the walls are written.
 
     Parameters
     ----------
@@ -237,6 +240,9 @@ def decompose_free_space(env: Environment) -> Decomposition:
     """
     import shapely
 
+    walls = StraightWalls(env)
+    if not walls.identity:
+        return replace(decompose_free_space(walls.merged), env=env)
     exact = env.exact_vertices
     index = {(float(x), float(y)): k for k, (x, y) in enumerate(exact)}
     triangles: list[list[int]] = []
