@@ -29,7 +29,7 @@ import numpy as np
 
 from solverplan.bounce.bvg import clear_graph_cache, safe_bounce_visibility_graph
 from solverplan.bounce.partition import partition
-from solverplan.studies.generators import star_polygon, worst_case_polygon
+from solverplan.generators import star_polygon, worst_case_polygon
 
 STAR_SIZES = [10, 20, 40, 80, 160, 320, 640, 1000]
 WORST_CASE_T = [2, 4, 8, 16, 24, 32]

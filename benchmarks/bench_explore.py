@@ -1,7 +1,7 @@
 """Algorithm A's competitive ratio against the chained-cover MILP optimum, and Algorithm B against its bounds.
 
 Run ``python benchmarks/bench_explore.py`` from the repository root (``--polygons N`` per family, default 30).
-Two families from :mod:`solverplan.studies.generators`: star polygons without holes (n = 8 … 12 vertices,
+Two families from :mod:`solverplan.generators`: star polygons without holes (n = 8 … 12 vertices,
 irregularity 0.5, spikiness 0.6) and star polygons with one hole (n = 7 … 10 outer vertices, a triangle or
 quadrilateral hole). The start is a random point of the free space (seeded), on a grid of 1/1000.
 
@@ -29,7 +29,7 @@ from solverplan.environment import Environment
 from solverplan.exact import point_in_ring
 from solverplan.explore import CHOICES, explore_depth_first, explore_range_limited
 from solverplan.explore.optimum import chained_optimum
-from solverplan.studies.generators import star_polygon, star_polygon_with_holes
+from solverplan.generators import star_polygon, star_polygon_with_holes
 
 
 @contextlib.contextmanager

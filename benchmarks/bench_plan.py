@@ -20,7 +20,7 @@ import time
 
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.plan import find_plan, pareto_front
-from solverplan.studies.generators import star_polygon
+from solverplan.generators import star_polygon
 
 QUERIES = [
     ("fewest", None, "single"),

@@ -63,7 +63,7 @@ def belief_queries(n_queries: int, seed: int) -> list[tuple[float, str, str, str
     """(seconds, start, goal, status) of random two-edge tolerance queries on the 100-vertex star, slowest first."""
     from solverplan.bounce.bvg import safe_bounce_visibility_graph
     from solverplan.plan import find_plan
-    from solverplan.studies.generators import star_polygon
+    from solverplan.generators import star_polygon
 
     env = star_polygon(100, 0.2, 0.3, seed=1)
     graph = safe_bounce_visibility_graph(env)

@@ -22,7 +22,7 @@ import numpy as np
 
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.bounce.partition import partition
-from solverplan.studies import Reachability, build_study, run_study, star_polygon
+from solverplan.studies import ReachabilityMetric, build_study, run_study, star_polygon
 from solverplan.studies.metrics import component_counts, unreachable_fraction
 from solverplan.studies.study import PAPER_GRID, Task, run_task
 
@@ -45,7 +45,7 @@ def per_polygon(ns: list[int], seeds: int) -> list[dict]:
             unreachable_fraction(lengths, src, dst)
             component_counts(g.n_segments, src, dst, lengths)
             t4 = time.perf_counter()
-            task = Task(0, 0, seed, "star", (("n", n), ("irregularity", 0.25), ("spikiness", 0.3)), (), Reachability())
+            task = Task(0, 0, seed, "star", (("n", n), ("irregularity", 0.25), ("spikiness", 0.3)), (), ReachabilityMetric())
             t5 = time.perf_counter()
             run_task(task)
             t6 = time.perf_counter()

@@ -23,7 +23,7 @@ import numpy as np
 
 from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
-from solverplan.studies.generators import spiked_comb
+from solverplan.generators import spiked_comb
 from solverplan.wallfollow import cuts
 from solverplan.wallfollow.learning import learn_cut_ordering
 

@@ -2,7 +2,7 @@
 
 Run ``python benchmarks/invariance_study.py --queries 300 --seed 0`` from the repository root (package installed or
 on ``PYTHONPATH``). Each query draws an environment — a shipped model (up to 40 edges) or a random star polygon,
-star polygon with holes or rectilinear polygon (:mod:`solverplan.studies.generators`) — a start and a goal set
+star polygon with holes or rectilinear polygon (:mod:`solverplan.generators`) — a start and a goal set
 that end inside edges (one piece, or a piece running over a vertex into the next edge, like the issue's
 ``e3:0.15:1,e4:0:0.25``) and a bounce budget K ∈ [4, 6]. It answers ``find_plan`` for the four objectives
 (``fewest``, ``tolerance``, ``sum``, ``constant``, each within K) and the Pareto front within K, then the same
@@ -48,7 +48,7 @@ from solverplan.environment import BoundaryPiece, BoundarySet, Environment  # no
 from solverplan.plan import find_plan, pareto_front  # noqa: E402
 from solverplan.plan.patrol import patrol  # noqa: E402
 from solverplan.studies import rewrite as rw  # noqa: E402
-from solverplan.studies.generators import rectilinear_polygon, star_polygon, star_polygon_with_holes  # noqa: E402
+from solverplan.generators import rectilinear_polygon, star_polygon, star_polygon_with_holes  # noqa: E402
 
 ANSWERS = ("fewest", "tolerance", "sum", "constant", "pareto")
 PATROLS = ("patrol-contraction", "patrol-rate")

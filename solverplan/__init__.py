@@ -41,6 +41,11 @@ _EXPORTS: dict[str, str] = {
     "load_environment": "solverplan.environment",
     "Interval": "solverplan.interval",
     "models": "solverplan.models",
+    # run-time settings: the graph cache and the memory limit
+    "config": "solverplan.runtime",
+    "configure": "solverplan.runtime",
+    "settings": "solverplan.runtime",
+    "Settings": "solverplan.runtime",
     # model structures of the main paper
     "partition": "solverplan.bounce.partition",
     "bounce_visibility_graph": "solverplan.bounce.bvg",
@@ -124,6 +129,7 @@ __all__ = sorted(_EXPORTS)
 
 if TYPE_CHECKING:  # what type checkers and readers see; at run time the names load lazily
     from solverplan import models
+    from solverplan.runtime import Settings, config, configure, settings
     from solverplan.bounce.bvg import bounce_visibility_graph, safe_bounce_visibility_graph
     from solverplan.bounce.controller import constant_controller
     from solverplan.bounce.cycles import LimitCycle, limit_cycle

@@ -29,7 +29,6 @@ BoundarySet(pieces=(BoundaryPiece(edge=1, t0=Fraction(1, 4), t1=Fraction(3, 4)),
 from __future__ import annotations
 
 import json
-import math
 import operator
 import re
 from dataclasses import dataclass, field
@@ -65,6 +64,7 @@ from solverplan.exact import (
     orient_filter,
     point_in_ring,
     segment_intersection,
+    signed_area2,
     to_fraction,
 )
 
@@ -88,28 +88,6 @@ def _ring_name(index: int) -> str:
     return "outer ring" if index == 0 else f"hole {index - 1}"
 
 
-def _signed_area2(ring: Sequence[ExactPoint]) -> Fraction:
-    """Twice the signed area (shoelace), exact: positive for a CCW ring.
-
-    Decimal coordinates share small denominators: over their common denominator the sum is one of
-    integers (fast); a ring whose common denominator is huge is summed in fractions.
-    """
-    xs = [p[0] for p in ring]
-    ys = [p[1] for p in ring]
-    common = math.lcm(*(x.denominator for x in xs), *(y.denominator for y in ys))
-    if common.bit_length() > 512:
-        total = Fraction(0)
-        n = len(ring)
-        for i in range(n):
-            (x0, y0), (x1, y1) = ring[i], ring[(i + 1) % n]
-            total += x0 * y1 - x1 * y0
-        return total
-    X = [x.numerator * (common // x.denominator) for x in xs]
-    Y = [y.numerator * (common // y.denominator) for y in ys]
-    X1, Y1 = X[1:] + X[:1], Y[1:] + Y[:1]
-    return Fraction(sum(map(operator.mul, X, Y1)) - sum(map(operator.mul, X1, Y)), common * common)
-
-
 @dataclass(frozen=True, slots=True)
 class Edge:
     """A directed boundary edge ``a → b`` (free space on its left), with its global ``id`` and ``ring``."""
@@ -122,7 +100,27 @@ class Edge:
 
 @dataclass(frozen=True, slots=True)
 class BoundaryPiece:
-    """The part of edge ``edge`` with boundary parameter t ∈ [t0, t1] (0 ≤ t0 < t1 ≤ 1)."""
+    """The part of edge ``edge`` with boundary parameter t ∈ [t0, t1] (0 ≤ t0 < t1 ≤ 1).
+
+    t runs along the directed edge, from its start vertex (t = 0) to its end vertex (t = 1), proportionally to
+    arc length. ``str()`` gives the piece's text form, as in boundary-set strings.
+
+    Attributes
+    ----------
+    edge
+        The edge's id (``e3`` is 3): edges are numbered along the outer ring, then along each hole.
+    t0, t1
+        The piece's ends, exact boundary parameters in [0, 1].
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> piece = sp.load_environment("l_shape").boundary_set("e3:0.25:0.75").pieces[0]
+    >>> piece
+    BoundaryPiece(edge=3, t0=Fraction(1, 4), t1=Fraction(3, 4))
+    >>> str(piece), str(sp.BoundaryPiece(4, 0, 1))
+    ('e3:0.25:0.75', 'e4')
+    """
 
     edge: int
     t0: Fraction
@@ -136,7 +134,27 @@ class BoundaryPiece:
 
 @dataclass(frozen=True, slots=True)
 class BoundarySet:
-    """A union of boundary pieces (start sets, goal sets, patrol edges); see docs/contract.md."""
+    """A union of boundary pieces (start sets, goal sets, patrol edges); see docs/contract.md.
+
+    Made from a string by :meth:`Environment.boundary_set`, which checks the edges exist; every planner also
+    accepts the string itself. ``str()`` gives the string back.
+
+    Attributes
+    ----------
+    pieces
+        The :class:`BoundaryPiece` objects, in the order given (:meth:`merged` sorts and joins them).
+    edges
+        The distinct edges touched, in the order given.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> start = sp.load_environment("l_shape").boundary_set("e3:0.25:0.75,e4")   # part of edge 3, all of edge 4
+    >>> start.edges, str(start)
+    ((3, 4), 'e3:0.25:0.75,e4')
+    >>> start.by_edge()[3]
+    [(Fraction(1, 4), Fraction(3, 4))]
+    """
 
     pieces: tuple[BoundaryPiece, ...]
 
@@ -196,6 +214,16 @@ class Environment:
     ------
     InvalidEnvironment
         With one line saying what is wrong and where (ring, edge, point).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> room = sp.Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], holes=[[[1, 1], [1, 2], [2, 2], [2, 1]]])
+    >>> room, room.n_edges, room.area                  # lengths in the environment's units, areas exact
+    (Environment(name='', vertices=8, holes=1, reflex=4), 8, Fraction(15, 1))
+    >>> env = sp.load_environment("l_shape")
+    >>> env.reflex_vertices, env.point_at(3, 0.25)     # edge 3 at t = 0.25
+    ((3,), (4.0, 5.5))
     """
 
     rings: tuple[tuple[ExactPoint, ...], ...]
@@ -211,7 +239,7 @@ class Environment:
             _check_ring_shape(ring, index)
         for index, ring in enumerate(self.rings):
             want = 1 if index == 0 else -1
-            area2 = _signed_area2(ring)
+            area2 = signed_area2(ring)
             if (area2 > 0) - (area2 < 0) != want:
                 raise InvalidEnvironment(
                     f"{_ring_name(index)} is {'clockwise' if area2 < 0 else 'counter-clockwise'}: "
@@ -255,7 +283,7 @@ class Environment:
         for index, raw in enumerate(raw_rings):
             ring = _exact_ring(raw, index)
             _check_ring_shape(ring, index)
-            area2 = _signed_area2(ring)
+            area2 = signed_area2(ring)
             if area2 == 0:
                 if all(orient(ring[0], ring[1], p) == 0 for p in ring[2:]):
                     raise InvalidEnvironment(f"{_ring_name(index)} has zero area (all its vertices are collinear)")
@@ -383,7 +411,7 @@ class Environment:
     @cached_property
     def area(self) -> Fraction:
         """Exact area of the free space (outer minus holes)."""
-        return sum((_signed_area2(ring) for ring in self.rings), Fraction(0)) / 2
+        return sum((signed_area2(ring) for ring in self.rings), Fraction(0)) / 2
 
     @cached_property
     def bounds(self) -> tuple[float, float, float, float]:
@@ -1157,6 +1185,8 @@ def load_environment(path: str | PathLike[str], fmt: FileFormat | None = None) -
         If the path is neither a file nor a shipped model's name, cannot be read, or is not a valid
         environment file.
 
+    Examples
+    --------
     >>> load_environment("l_shape").name
     'l_shape'
     >>> load_environment("no/such/file.json")

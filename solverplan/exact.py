@@ -19,6 +19,7 @@ SegmentIntersection(kind='point', points=((Fraction(1, 1), Fraction(1, 1)),))
 from __future__ import annotations
 
 import math
+import operator
 import re
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
@@ -32,6 +33,9 @@ from solverplan.errors import InputError
 from solverplan.limits import MAX_DECIMAL_EXPONENT, MAX_NUMBER_CHARS, quote
 
 __all__ = [
+    "cross",
+    "dot",
+    "signed_area2",
     "ExactPoint",
     "to_fraction",
     "exact_point",
@@ -205,6 +209,49 @@ def format_point(p: Sequence[Fraction | int | float]) -> str:
         return exact if len(exact) <= 24 else f"≈{float(x):.12g}"
 
     return f"({text(p[0])}, {text(p[1])})"
+
+
+def cross(u: Sequence[Fraction | int], v: Sequence[Fraction | int]) -> Fraction:
+    """The cross product u × v = u_x v_y − u_y v_x, exact: > 0 when v is counter-clockwise of u.
+
+    >>> cross((1, 0), (0, 1)), cross((Fraction(1, 2), 1), (1, 2))
+    (1, Fraction(0, 1))
+    """
+    return u[0] * v[1] - u[1] * v[0]  # type: ignore[return-value]
+
+
+def dot(u: Sequence[Fraction | int], v: Sequence[Fraction | int]) -> Fraction:
+    """The dot product u · v, exact.
+
+    >>> dot((1, 2), (3, Fraction(1, 2)))
+    Fraction(4, 1)
+    """
+    return u[0] * v[0] + u[1] * v[1]  # type: ignore[return-value]
+
+
+def signed_area2(ring: Sequence[ExactPoint]) -> Fraction:
+    """Twice the signed area (shoelace), exact: positive for a CCW ring.
+
+    Decimal coordinates share small denominators: over their common denominator the sum is one of
+    integers (fast); a ring whose common denominator is huge is summed in fractions.
+
+    >>> signed_area2([(Fraction(0), Fraction(0)), (Fraction(2), Fraction(0)), (Fraction(0), Fraction(1))])
+    Fraction(2, 1)
+    """
+    xs = [p[0] for p in ring]
+    ys = [p[1] for p in ring]
+    common = math.lcm(*(x.denominator for x in xs), *(y.denominator for y in ys))
+    if common.bit_length() > 512:
+        total = Fraction(0)
+        n = len(ring)
+        for i in range(n):
+            (x0, y0), (x1, y1) = ring[i], ring[(i + 1) % n]
+            total += x0 * y1 - x1 * y0
+        return total
+    X = [x.numerator * (common // x.denominator) for x in xs]
+    Y = [y.numerator * (common // y.denominator) for y in ys]
+    X1, Y1 = X[1:] + X[:1], Y[1:] + Y[:1]
+    return Fraction(sum(map(operator.mul, X, Y1)) - sum(map(operator.mul, X1, Y)), common * common)
 
 
 def orient(a: Sequence[Fraction | int], b: Sequence[Fraction | int], c: Sequence[Fraction | int]) -> int:

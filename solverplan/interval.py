@@ -35,7 +35,23 @@ cannot execute a grazing heading, and a ray nearly along a wall ends next to a v
 class Interval:
     """The closed interval [lo, hi] (radians), or the empty interval :data:`Interval.EMPTY`.
 
-    ``lo == hi`` is a legal singleton (e.g. the parallel case of paper Prop. 2).
+    ``lo == hi`` is a legal singleton (e.g. the parallel case of paper Prop. 2). Headings are measured CCW from
+    the wall the robot is on, so the intervals of strategies lie inside (0, π).
+
+    Parameters
+    ----------
+    lo, hi
+        The ends (radians), ``lo ≤ hi``; a reversed pair raises :class:`ValueError` (the empty interval is
+        :data:`Interval.EMPTY`, whose ends are NaN).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> a = sp.Interval(0.5, 1.5)
+    >>> a & sp.Interval(1.0, 2.0), a.width, a.midpoint, 1.2 in a
+    (Interval(lo=1.0, hi=1.5), 1.0, 1.0, True)
+    >>> (a & sp.Interval(1.6, 2.0)) is sp.Interval.EMPTY
+    True
     """
 
     lo: float

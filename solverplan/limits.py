@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from solverplan.errors import InputError, MalformedFile
+from solverplan.runtime import configure, settings
 
 __all__ = [
     "MAX_FILE_BYTES",
@@ -144,33 +145,26 @@ def available_memory() -> int | None:
     return min(candidates) if candidates else None
 
 
-_memory_limit: int | None = None
-_limit_set = False
-
-
 def set_memory_limit(limit: int | None) -> None:
-    """Refuse jobs estimated to need more than ``limit`` bytes (``None``: no limit); CLI ``--max-memory``.
-
-    Until this is called (or after :func:`reset_memory_limit`), the limit is :func:`available_memory` at the
-    moment a job is checked.
+    """Refuse jobs estimated to need more than ``limit`` bytes (``None``: no limit) in the whole process:
+    ``configure(max_memory=limit)``; :func:`solverplan.config` changes it for a block (the CLI's ``--max-memory``).
     """
-    global _memory_limit, _limit_set
     if limit is not None and (isinstance(limit, bool) or not isinstance(limit, int) or limit <= 0):
         raise InputError(f"memory limit must be a positive number of bytes, got {quote(limit)}")
-    _memory_limit, _limit_set = limit, True
+    configure(max_memory=limit)
 
 
 def reset_memory_limit() -> None:
-    """Back to the default limit: the memory available when a job is checked."""
-    global _memory_limit, _limit_set
-    _memory_limit, _limit_set = None, False
+    """Back to the default limit in the whole process: the memory available when a job is checked."""
+    configure(max_memory="available")
 
 
 def memory_limit() -> tuple[int | None, str]:
     """The memory limit for one job (bytes, ``None`` for none) and where it comes from, for messages."""
-    if _limit_set:
-        return _memory_limit, "the memory limit"
-    return available_memory(), "the memory available"
+    limit = settings().max_memory
+    if limit == "available":
+        return available_memory(), "the memory available"
+    return limit, "the memory limit"
 
 
 def refuse_beyond_memory(estimate_bytes: float, what: str) -> None:

@@ -62,8 +62,28 @@ __all__ = [
 
 # ---------------------------------------------------------------------- statuses
 class StatusGroup(StrEnum):
-    """The three kinds of answer (cvxpy's ``SOLUTION_PRESENT`` / ``INFEASIBLE`` split, with a third kind
-    for bounded searches that prove nothing when they fail)."""
+    """The three kinds of answer: answered, proven infeasible, or a search that ended without either.
+
+    cvxpy's ``SOLUTION_PRESENT`` / ``INFEASIBLE`` split, with a third kind for bounded searches that prove nothing
+    when they fail. Every :class:`Status` belongs to one group (:attr:`Status.group`).
+
+    Attributes
+    ----------
+    ANSWERED
+        ``"answered"``: there is an answer to execute.
+    PROVEN_INFEASIBLE
+        ``"proven-infeasible"``: provably none exists within the optimality scope (an answer too, exit code 0).
+    INCOMPLETE
+        ``"incomplete"``: a bounded or heuristic search found nothing; not a proof.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> [group.value for group in sp.StatusGroup]
+    ['answered', 'proven-infeasible', 'incomplete']
+    >>> sp.Status.NOT_CONTRACTING.group
+    <StatusGroup.PROVEN_INFEASIBLE: 'proven-infeasible'>
+    """
 
     ANSWERED = "answered"  #: there is an answer to execute
     PROVEN_INFEASIBLE = "proven-infeasible"  #: provably none exists within the optimality scope
@@ -71,7 +91,38 @@ class StatusGroup(StrEnum):
 
 
 class Status(StrEnum):
-    """What an answer is; the same enum on every result. :attr:`group` says which kind it is."""
+    """What an answer is; the same enum on every result. :attr:`group` says which kind it is.
+
+    A string enum: ``Status("found") is Status.FOUND`` and a status compares equal to its JSON value.
+
+    Attributes
+    ----------
+    FOUND
+        ``"found"``: a strategy (plan, cycle, funnel, controller) that is sound.
+    INFEASIBLE
+        ``"infeasible"``: proven, no strategy of the scope exists.
+    NOT_CONTRACTING
+        ``"not-contracting"``: proven, the best (or the given) cycle exists but does not contract.
+    EDGE_ORDER_BROKEN
+        ``"edge-order-broken"``: proven, the fixed point's orbit leaves the required edge order.
+    NOT_REALISED
+        ``"not-realised"``: proven, the heading does not carry the orbit along the required edges.
+    VERTEX
+        ``"vertex"``: proven, the orbit runs into a vertex (outside the model).
+    NOT_FOUND
+        ``"not-found"``: a bounded search found nothing (its limits are in ``optimality.limits``).
+    group
+        The :class:`StatusGroup` of the status; ``answered``, ``proven_infeasible`` and ``incomplete`` test it.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> plan = sp.find_plan(sp.load_environment("square"), "e0", "e2")
+    >>> plan.status, plan.status == "found", plan.status.answered
+    (<Status.FOUND: 'found'>, True, True)
+    >>> sp.Status("not-found").group
+    <StatusGroup.INCOMPLETE: 'incomplete'>
+    """
 
     FOUND = "found"  #: a strategy (plan, cycle, funnel, controller) that is sound
     INFEASIBLE = "infeasible"  #: proven: no strategy of the scope exists
@@ -113,7 +164,38 @@ INCOMPLETE: frozenset[Status] = frozenset({Status.NOT_FOUND})
 
 # ---------------------------------------------------------------------- optimality
 class Method(StrEnum):
-    """How an optimality (or infeasibility) claim was established."""
+    """How an optimality (or infeasibility) claim was established.
+
+    The ``method`` of every :class:`Optimality`; a string enum, so its JSON value reads back with ``Method(value)``.
+
+    Attributes
+    ----------
+    SEARCH_EXHAUSTED
+        ``"search-exhausted"``: an exhaustive search (BFS, label setting, DP) over a finite graph.
+    LP_DUALITY
+        ``"lp-duality"``: an LP solved to optimality; its duality gap is ``gap``.
+    MILP
+        ``"milp"``: a MILP solved to optimality; the solver's absolute gap is ``gap``.
+    BISECTION
+        ``"bisection"``: bisection on a monotone feasibility question; the bracket width is ``gap``.
+    EXACT_CHECK
+        ``"exact-check"``: the object itself was verified in exact arithmetic (no optimisation).
+    SYMMETRY
+        ``"symmetry"``: an exact symmetry argument (localisation impossible).
+    HEURISTIC
+        ``"heuristic"``: a bounded search; it proves what it returns, never optimality or absence.
+    NONE
+        ``"none"``: nothing is claimed.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> plan = sp.find_plan(sp.load_environment("square"), "e0", "e2")
+    >>> plan.optimality.method
+    <Method.SEARCH_EXHAUSTED: 'search-exhausted'>
+    >>> sp.Method("lp-duality") is sp.Method.LP_DUALITY
+    True
+    """
 
     SEARCH_EXHAUSTED = "search-exhausted"  #: an exhaustive search (BFS, label setting, DP) over a finite graph
     LP_DUALITY = "lp-duality"  #: an LP solved to optimality; its duality gap is ``gap``
@@ -157,6 +239,15 @@ class Optimality:
         Which search or solver ran, in words.
     limits
         The caps of a bounded search that were hit (``"max_beliefs=20000"``): the search is incomplete.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> opt = sp.find_plan(sp.load_environment("square"), "e0", "e2").optimality
+    >>> opt.method.value, opt.proved, opt.bound, opt.gap       # 2 bounces, and no plan has fewer
+    ('search-exhausted', True, 2.0, 0.0)
+    >>> sp.Optimality("heuristic", False, None, limits=("max_beliefs=20000",)).to_json()
+    {'method': 'heuristic', 'proved': False, 'bound': None, 'scope': '', 'gap': None, 'limits': ['max_beliefs=20000']}
     """
 
     method: Method
@@ -225,9 +316,23 @@ class Optimality:
 class Stats:
     """What a solve cost (recorded for benchmarks and curious users, never asserted).
 
-    ``seconds_setup`` / ``seconds_search``: wall time building the search structures and searching;
-    ``expanded``: states (beliefs, position sets, product nodes) expanded; ``counts``: further named
-    numbers of the engine that ran (flattened into the JSON).
+    Attributes
+    ----------
+    seconds_setup, seconds_search
+        Wall time (seconds) building the search structures, and searching; ``None`` when not measured.
+    expanded
+        States (beliefs, position sets, product nodes) expanded.
+    counts
+        Further named numbers of the engine that ran (flattened into the JSON).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> stats = sp.Stats(seconds_search=0.5, expanded=12).with_(beliefs=3)
+    >>> stats.counts, stats.to_json()
+    ({'beliefs': 3}, {'seconds_search': 0.5, 'expanded': 12, 'beliefs': 3})
+    >>> sp.find_plan(sp.load_environment("square"), "e0", "e2").stats.counts["beliefs"]
+    3
     """
 
     seconds_setup: float | None = None
@@ -345,12 +450,22 @@ class AffineStep:
 
 @dataclass(frozen=True, slots=True)
 class Stage:
-    """One bounce of a strategy: the heading interval ``interval`` (radians, CCW from the wall the robot is
-    on, inside (0, π); a singleton for a constant heading) executed from any of ``from_segments`` (the
-    segments of P′ the robot may be on), landing on ``to_segments`` (sorted).
+    """One bounce of a strategy: a heading interval executed from some segments of P′, landing on others.
 
-    What the strategy knows besides, when it knows it:
+    Attributes
+    ----------
+    from_segments
+        The segments of P′ the robot may be on before the bounce.
+    to_segments
+        The segments it may land on (sorted).
+    interval
+        The heading :class:`~solverplan.interval.Interval` (radians, CCW from the wall the robot is on, inside
+        (0, π); a singleton for a constant heading).
+    moves, positions, sources, cones, target_edges, affine, margins
+        What the strategy knows besides, when it knows it (empty or ``None`` otherwise; below).
 
+    Notes
+    -----
     ``moves``
         For each possible source segment, the segment it lands on (belief plans). Where a plan's stage leaves
         from part of a segment only (a start set ending inside it), ``sources`` holds each move's exact source
@@ -364,6 +479,16 @@ class Stage:
     ``margins``
         ``(lo, hi)``, radians: how far the interval's ends lie inside the exact safe sets of its moves (the smallest
         over the moves) — the margin the planner actually left (belief plans).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> plan = sp.find_plan(sp.load_environment("square"), "e0", "e2")     # edge 0 to edge 2 in two bounces
+    >>> [(stage.from_segments, stage.to_segments) for stage in plan.stages]
+    [((0,), (1,)), ((1,), (2,))]
+    >>> stage = plan.stages[0]
+    >>> stage.interval, round(stage.width, 6), stage.moves
+    (Interval(lo=0.001, hi=0.7852981633974483), 0.784298, ((0, 1),))
     """
 
     from_segments: tuple[int, ...]

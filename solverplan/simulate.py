@@ -20,7 +20,7 @@ Policies (:class:`Policy`) map the current contacts to headings and test for ter
   allowed landing set of each stage, a goal set, and an optional repeating tail (limit cycles,
   patrols, funnels).
 
-A policy may bring its own :class:`Walls` (attribute ``walls``): then contacts are numbered on those
+A policy may bring its own :class:`PolicyWalls` (attribute ``walls``): then contacts are numbered on those
 walls, and the walls cast the rays — e.g. rooms whose doors are open (the robot passes) or closed (it
 bounces off them) for each rollout, as the policy decides.
 
@@ -62,7 +62,7 @@ __all__ = [
     "Outcome",
     "Contacts",
     "Policy",
-    "Walls",
+    "PolicyWalls",
     "RulePolicy",
     "StagePolicy",
     "Rollouts",
@@ -113,7 +113,7 @@ class Contacts:
     rollout
         Index of each running rollout among all trials.
     edge, t
-        Boundary coordinates of the contacts (on the policy's own :class:`Walls` when it has them).
+        Boundary coordinates of the contacts (on the policy's own :class:`PolicyWalls` when it has them).
     point
         Contact points, shape (m, 2).
     incoming
@@ -146,8 +146,8 @@ class Policy(Protocol):
 
 
 @runtime_checkable
-class Walls(Protocol):
-    """Walls of a policy's own (its attribute ``walls``), in place of the environment's edges.
+class PolicyWalls(Protocol):
+    """PolicyWalls of a policy's own (its attribute ``walls``), in place of the environment's edges.
 
     Contacts are then ``(edge, t)`` on these walls (ids ``0 .. n_edges − 1``, t ∈ [0, 1] along each), starts
     must be explicit ``(edges, t)`` arrays, and every batch of rays is cast by :meth:`cast`, which may depend
@@ -420,7 +420,7 @@ def _starts(env: Environment, starts: Starts, trials: int | None, rng: np.random
     return edges, t
 
 
-def _wall_starts(walls: Walls, starts: Starts, trials: int | None):
+def _wall_starts(walls: PolicyWalls, starts: Starts, trials: int | None):
     """Explicit ``(edges, t)`` starts on a policy's own walls (boundary sets name the environment's edges)."""
     if starts is None or isinstance(starts, (str, BoundarySet)):
         raise InputError("a policy with walls of its own needs explicit (edges, t) starts on those walls")
@@ -643,9 +643,9 @@ def simulate_policy(
         kept = bounces + 1 if record == "all" else 2
         refuse_beyond_memory(trials * (400 + 16 * kept), f"{trials:,} rollouts of {bounces:,} bounces")
     rng, seed_used, state = _generator(seed)
-    walls: Walls | None = getattr(policy, "walls", None)
-    if walls is not None and not isinstance(walls, Walls):
-        raise InputError(f"{policy!r} has walls that are not Walls: they need n_edges, points_at, directions and cast")
+    walls: PolicyWalls | None = getattr(policy, "walls", None)
+    if walls is not None and not isinstance(walls, PolicyWalls):
+        raise InputError(f"{policy!r} has walls that are not PolicyWalls: they need n_edges, points_at, directions and cast")
     start_edges, start_t = _starts(env, starts, trials, rng) if walls is None else _wall_starts(walls, starts, trials)
     m = len(start_edges)
     columns = bounces + 1 if record == "all" else 2
@@ -745,9 +745,42 @@ def simulate_rule(
     ties: Literal["flag", "exact"] = "flag",
     record: Literal["all", "ends"] = "all",
 ) -> Rollouts:
-    """Rollouts of a bounce rule: start at ``starts`` with a heading from ``initial`` (default: all of
-    (0, π)), then bounce by ``rule``; see :func:`simulate_policy` for the other parameters.
+    """Rollouts of a bounce rule: start at ``starts`` with a heading from ``initial``, then bounce by ``rule``.
 
+    Parameters
+    ----------
+    env
+        The environment.
+    rule
+        Any :class:`~solverplan.bounce.rules.BounceRule` (specular, constant heading, a heading interval, ...).
+    starts
+        Where the rollouts start (:data:`Starts`: a boundary set sampled uniformly by arc length, explicit
+        ``(edges, t)`` arrays with t ∈ [0, 1], or ``None`` for the whole boundary).
+    bounces
+        How many bounces each rollout makes at most (≥ 0).
+    trials
+        Number of rollouts (needed when starts are sampled; defaults to the number of explicit starts).
+    seed
+        An integer, a :class:`numpy.random.Generator`, or None for a fresh seed; recorded in the result.
+    initial
+        The first heading (radians, CCW from the start's wall): an :class:`~solverplan.interval.Interval`, an
+        array (one per trial, or one for all), or ``None`` for all of (0, π).
+    sampling, initial_sampling
+        How headings are drawn from the rule's sets and from ``initial`` (``uniform``, ``endpoints``
+        (adversarial), ``lo``, ``hi``, ``mid``).
+    ties
+        ``"flag"`` (default): stop and flag every ray the float caster cannot call; ``"exact"``: re-resolve
+        those rays exactly and flag only exact vertex hits.
+    record
+        ``"all"`` keeps every contact; ``"ends"`` only the start and the last contact.
+
+    Returns
+    -------
+    Rollouts
+        The trajectories (edge, t, x, y and heading per contact), each rollout's outcome, and the seed.
+
+    Examples
+    --------
     >>> from solverplan.environment import Environment
     >>> from solverplan.bounce.rules import Specular
     >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])
@@ -806,12 +839,45 @@ def simulate_plan(
     record: Literal["all", "ends"] = "ends",
     partition: Any = None,
 ) -> Rollouts:
-    """Monte Carlo rollouts of a plan (:func:`plan_policy`): starts uniform by arc length in the start set,
-    headings drawn from each stage's interval by ``sampling`` (``uniform``, or ``endpoints``: each
-    heading at an end of its interval, the adversarial choice). A rollout succeeds (outcome ``goal``)
-    when every stage lands on its segments and the last one in the goal set. ``ties="exact"`` (default)
-    re-resolves the rays the float caster cannot call, so only exact vertex hits are flagged.
+    """Monte Carlo rollouts of a plan: the ground truth its certificate is about.
 
+    Starts are uniform by arc length in the plan's start set; headings are drawn from each stage's interval
+    (:func:`plan_policy`). A rollout succeeds (outcome ``goal``) when every stage lands on its segments and the
+    last one in the goal set.
+
+    Parameters
+    ----------
+    env
+        The environment the plan was made in (same exact rings).
+    plan
+        A found :class:`~solverplan.plan.Plan`, or any strategy with plan-like stages.
+    trials
+        Number of rollouts.
+    seed
+        An integer, a :class:`numpy.random.Generator`, or None for a fresh seed; recorded in the result.
+    sampling
+        ``uniform``, or ``endpoints``: each heading at an end of its interval, the adversarial choice (also
+        ``lo``, ``hi``, ``mid``).
+    ties
+        ``"exact"`` (default): re-resolve the rays the float caster cannot call, so only exact vertex hits are
+        flagged; ``"flag"``: flag every such ray.
+    record
+        ``"ends"`` (default) keeps the start and the last contact; ``"all"`` every contact.
+    partition
+        The partition P′ of ``env``, when already built (the plan's segment ids refer to it).
+
+    Returns
+    -------
+    Rollouts
+        Per rollout its outcome (``runs.success_rate``, ``runs.outcome_counts()``) and trajectory.
+
+    Raises
+    ------
+    InputError
+        An infeasible plan, a plan without stages, a plan made in another environment, bad ``trials``.
+
+    Examples
+    --------
     >>> from solverplan.environment import Environment
     >>> from solverplan.plan import find_plan
     >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])

@@ -18,6 +18,7 @@ LAYERS = {
     "errors": 0,
     "_io": 0,
     "_arrays": 0,
+    "runtime": 0.25,  # the run-time settings (graph cache, memory limit) read where they apply
     "limits": 0.5,  # the documented input limits every reader checks (raise errors: after it)
     "_shipped": 0,  # where the shipped model files are: environment accepts a model's name
     "interval": 1,
@@ -26,7 +27,8 @@ LAYERS = {
     "result": 3,
     "geometry": 3,
     "floorplan": 3.5,  # floor plans in (ROS maps, DXF, SVG): they make environments (2) and answer like results (3)
-    "models": 3,  # the shipped environments by name: they load through environment (2)
+    "models": 3,
+    "generators": 4.5,  # seeded random environments, valid by construction (spiked combs keep the wall-following model's general position, 4)  # the shipped environments by name: they load through environment (2)
     "bounce": 4,
     "rectilinear": 4,
     "wallfollow": 4,

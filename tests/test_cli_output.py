@@ -12,6 +12,7 @@ import pytest
 from typer.testing import CliRunner
 
 from solverplan import cli
+from solverplan.cli import _output  # noqa: F401  (cli._output: the layout switches)
 
 runner = CliRunner()
 
@@ -47,7 +48,7 @@ def test_large_answer_is_compact_and_the_same_value(monkeypatch):
     small = run("graph", MODELS / "two_rooms.json", "--safe")
     assert small.exit_code == 0, small.stderr
     assert len(small.stdout) < cli.JSON_INDENT_LIMIT and small.stdout.count("\n") > 100
-    monkeypatch.setattr(cli, "JSON_INDENT_LIMIT", 1000)
+    monkeypatch.setattr(cli._output, "JSON_INDENT_LIMIT", 1000)
     large = run("graph", MODELS / "two_rooms.json", "--safe")
     assert large.exit_code == 0, large.stderr
     assert large.stdout.count("\n") == 1 and large.stdout.endswith("}\n")
@@ -59,7 +60,7 @@ def test_compact_forces_one_line_and_indent_forces_indentation(tmp_path, monkeyp
     compact = run("--compact", "info", MODELS / "square.json")
     assert compact.exit_code == 0, compact.stderr
     assert compact.stdout.count("\n") == 1 and compact.stdout.startswith('{"name":"square",')
-    monkeypatch.setattr(cli, "JSON_INDENT_LIMIT", 10)  # would be compact by size
+    monkeypatch.setattr(cli._output, "JSON_INDENT_LIMIT", 10)  # would be compact by size
     out = tmp_path / "info.json"
     wide = run("--indent", 4, "info", MODELS / "square.json", "-o", out)
     assert wide.exit_code == 0 and wide.stdout == ""
@@ -70,7 +71,7 @@ def test_compact_forces_one_line_and_indent_forces_indentation(tmp_path, monkeyp
 
 def test_layout_option_lasts_one_command_only():
     assert run("--compact", "info", MODELS / "square.json").exit_code == 0
-    assert cli._json_indent is None
+    assert cli._output.json_indent() is None
     again = run("info", MODELS / "square.json")
     assert again.stdout.startswith('{\n  "name"')
 
@@ -96,7 +97,7 @@ def test_bad_layout_options_are_usage_errors(args, fragment):
 @pytest.mark.parametrize("bad", [float("nan"), float("inf"), -float("inf")])
 @pytest.mark.parametrize("layout", [[], ["--compact"], ["--indent", "2"]])
 def test_non_finite_numbers_are_refused_in_every_layout(monkeypatch, bad, layout):
-    monkeypatch.setattr(cli, "describe_environment", lambda env: _Fixed({"area": bad}))
+    monkeypatch.setattr(cli.geometry, "describe_environment", lambda env: _Fixed({"area": bad}))
     result = run(*layout, "info", MODELS / "square.json")
     assert result.exit_code == 1 and result.stdout == ""
     assert "not JSON compliant" in result.stderr and len(result.stderr.splitlines()) == 1
@@ -105,7 +106,7 @@ def test_non_finite_numbers_are_refused_in_every_layout(monkeypatch, bad, layout
 def test_emit_outside_the_command_keeps_unicode_and_chooses_by_size(capsys, monkeypatch):
     cli.emit(_Fixed({"name": "P′", "x": [1, 2]}), cli.OutputFormat.JSON, None)
     assert capsys.readouterr().out == '{\n  "name": "P′",\n  "x": [\n    1,\n    2\n  ]\n}\n'
-    monkeypatch.setattr(cli, "JSON_INDENT_LIMIT", 5)
+    monkeypatch.setattr(cli._output, "JSON_INDENT_LIMIT", 5)
     cli.emit(_Fixed({"name": "P′", "x": [1, 2]}), cli.OutputFormat.JSON, None)
     assert capsys.readouterr().out == '{"name":"P′","x":[1,2]}\n'
 

@@ -69,6 +69,7 @@ from typing import TYPE_CHECKING, Iterator
 import numpy as np
 
 from solverplan.result import EnvironmentRecord
+from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, configure, default_cache_directory, settings
 
 if TYPE_CHECKING:
     from solverplan.bounce.bvg import SafeBVG
@@ -105,13 +106,6 @@ _LAYOUT: tuple[tuple[str, str, str], ...] = (
 _ARRAYS = ("source", "target", "lo", "hi", "n_intervals", "set_offsets", "set_lo", "set_hi", "transition", "phi")
 _END_ARRAYS = ("lo_from", "lo_to", "hi_from", "hi_to")
 
-DEFAULT_MIN_ARCS = 100_000
-"""Graphs with fewer arcs are not written to disk: they build in about 0.15 s or less (≈ 1.5 µs per arc on the
-project's machine, benchmarks/README.md) and reading is not worth a file."""
-
-DEFAULT_MAX_BYTES = 2 << 30
-"""The disk cache's size cap (bytes): least recently used entries go first. Also the largest entry read."""
-
 _STALE_TEMPORARY = 3600.0  # seconds after which a temporary file left by a killed writer is removed
 
 # in memory: at most this many graphs and this many arcs in all (about 110 bytes per arc)
@@ -123,23 +117,14 @@ _memory: OrderedDict[str, SafeBVG] = OrderedDict()
 _aliases: OrderedDict[Environment, str] = OrderedDict()  # environment → digest of its plain P′
 _read_here: dict[str, Path] = {}  # digests of the graphs this process read from disk → their files
 _fresh = 0  # > 0 inside fresh_graphs(): no graph is reused
-_directory: Path | None = None
-_min_arcs = DEFAULT_MIN_ARCS
-_min_seconds: float | None = None
-_max_bytes = DEFAULT_MAX_BYTES
 
 _OURS = re.compile(r"[0-9a-f]{64}\.(spg|npz)|\.[0-9a-f]{16}\.[0-9a-z_]+\.tmp")
 
 
-def default_cache_directory() -> Path:
-    """``$XDG_CACHE_HOME/solverplan/graphs``, or ``~/.cache/solverplan/graphs`` when it is unset."""
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "solverplan" / "graphs"
-
-
 def set_graph_cache(directory: str | os.PathLike[str] | None, *, min_arcs: int = DEFAULT_MIN_ARCS,
                     min_seconds: float | None = None, max_bytes: int = DEFAULT_MAX_BYTES) -> None:
-    """Keep built safe BVGs on disk in ``directory`` (created when first written), or nowhere (``None``).
+    """Keep built safe BVGs on disk in ``directory`` (created when first written), or nowhere (``None``), in the
+    whole process: ``configure(graph_cache=...)`` by another name; :func:`solverplan.config` changes it for a block.
 
     Parameters
     ----------
@@ -153,18 +138,13 @@ def set_graph_cache(directory: str | os.PathLike[str] | None, *, min_arcs: int =
     max_bytes
         The folder's size cap: after a write, least recently used entries are removed until it fits.
     """
-    global _directory, _min_arcs, _min_seconds, _max_bytes
-    if min_arcs < 0 or max_bytes < 1:
-        raise ValueError(f"expected min_arcs >= 0 and max_bytes >= 1, got min_arcs={min_arcs}, max_bytes={max_bytes}")
-    _directory = None if directory is None else Path(directory)
-    _min_arcs = int(min_arcs)
-    _min_seconds = None if min_seconds is None else float(min_seconds)
-    _max_bytes = int(max_bytes)
+    configure(graph_cache=None if directory is None else Path(directory), graph_cache_min_arcs=min_arcs,
+              graph_cache_min_seconds=min_seconds, graph_cache_max_bytes=max_bytes)
 
 
 def graph_cache_directory() -> Path | None:
-    """The disk cache's directory, ``None`` when it is off."""
-    return _directory
+    """The disk cache's directory in force here, ``None`` when it is off."""
+    return settings().graph_cache
 
 
 def clear_graph_cache() -> None:
@@ -257,8 +237,9 @@ def lookup(p: Partition, digest: str, *, plain: bool = False) -> SafeBVG | None:
         graph = _memory.get(digest)
         if graph is not None:
             _memory.move_to_end(digest)
-    if graph is None and _directory is not None:
-        graph = _load(_directory, digest, p)
+    directory = settings().graph_cache
+    if graph is None and directory is not None:
+        graph = _load(directory, digest, p)
         if graph is None:
             return None
         _remember(digest, graph, p.env if plain else None)
@@ -276,11 +257,12 @@ def store(p: Partition, digest: str, graph: SafeBVG, seconds: float, *, plain: b
         for a in arrays if isinstance(arrays, tuple) else (arrays,):
             a.setflags(write=False)
     _remember(digest, graph, p.env if plain else None)
-    directory = _directory
-    if directory is not None and (graph.n_arcs >= _min_arcs or (_min_seconds is not None and seconds >= _min_seconds)):
+    now = settings()
+    directory, min_seconds = now.graph_cache, now.graph_cache_min_seconds
+    if directory is not None and (graph.n_arcs >= now.graph_cache_min_arcs or (min_seconds is not None and seconds >= min_seconds)):
         written = _save(directory, digest, graph)
         if written is not None:
-            _evict(directory, _max_bytes, keep=written)
+            _evict(directory, now.graph_cache_max_bytes, keep=written)
     return graph
 
 
@@ -385,8 +367,9 @@ def _read(path: Path) -> bytes:
         st = os.fstat(fh.fileno())
         if not stat.S_ISREG(st.st_mode):
             raise ValueError("not a regular file")
-        if st.st_size > _max_bytes:
-            raise ValueError(f"{st.st_size} bytes, more than the cache's cap of {_max_bytes}")
+        cap = settings().graph_cache_max_bytes
+        if st.st_size > cap:
+            raise ValueError(f"{st.st_size} bytes, more than the cache's cap of {cap}")
         data = fh.read(st.st_size + 1)
         if len(data) != st.st_size:
             raise ValueError("its size changed while it was read")
@@ -538,21 +521,23 @@ def _unlink(path: Path) -> bool:
 
 def graph_cache_report(directory: str | os.PathLike[str] | None = None) -> GraphCacheReport:
     """How many entries (and bytes) the disk cache holds (``directory``: default the one set)."""
-    where = Path(directory) if directory is not None else _directory
+    now = settings()
+    where = Path(directory) if directory is not None else now.graph_cache
     if where is None:
-        return GraphCacheReport(None, 0, 0, max_bytes=_max_bytes, min_arcs=_min_arcs)
+        return GraphCacheReport(None, 0, 0, max_bytes=now.graph_cache_max_bytes, min_arcs=now.graph_cache_min_arcs)
     entries = [st for path, st in _files(where) if not path.name.endswith(".tmp")]
-    return GraphCacheReport(str(where), len(entries), sum(st.st_size for st in entries), max_bytes=_max_bytes,
-                            min_arcs=_min_arcs)
+    return GraphCacheReport(str(where), len(entries), sum(st.st_size for st in entries), max_bytes=now.graph_cache_max_bytes,
+                            min_arcs=now.graph_cache_min_arcs)
 
 
 def purge_graph_cache(directory: str | os.PathLike[str] | None = None) -> GraphCacheReport:
     """Remove every file of the disk cache (entries of any format version, temporary files; nothing else in the
     folder, and symlinks are removed, not followed) and forget the graphs in memory."""
     clear_graph_cache()
-    where = Path(directory) if directory is not None else _directory
+    now = settings()
+    where = Path(directory) if directory is not None else now.graph_cache
     if where is None:
-        return GraphCacheReport(None, 0, 0, removed=0, max_bytes=_max_bytes, min_arcs=_min_arcs)
+        return GraphCacheReport(None, 0, 0, removed=0, max_bytes=now.graph_cache_max_bytes, min_arcs=now.graph_cache_min_arcs)
     removed = sum(_unlink(path) for path, _ in _files(where))
     left = graph_cache_report(where)
     return replace(left, removed=removed)

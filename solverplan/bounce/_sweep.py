@@ -46,12 +46,13 @@ from solverplan._arrays import ragged_arange
 from solverplan.errors import SolverFailed
 from solverplan.geometry.raycast import cast_ray
 
-# Float tolerances. Headings (radians) closer than this are compared exactly; the tolerance is
+# Float tolerances (public: the graph's build in bvg decides its own float ties with the same ones).
+# Headings (radians) closer than this are compared exactly; the tolerance is
 # scaled by the conditioning of each direction (coordinate magnitude / vector length).
-_ANGLE_REL = 1e-13
+ANGLE_REL = 1e-13
 # Float cross products of differences of rounded points closer to 0 than this times the product of
 # the magnitudes involved are decided exactly (the float error is about 1e-15 of it).
-_CROSS_REL = 1e-13
+CROSS_REL = 1e-13
 # Sectors narrower than this (radians) are resolved with an exact ray (their float bisector may not
 # be strictly inside); relative gap of the two nearest edges along a bisector that counts as a tie.
 _THIN = 1e-9
@@ -72,10 +73,10 @@ MARK_ZERO, MARK_PI = -1, -2
 # A float heading or edge direction formed from rounded coordinates is off by up to about
 # 2⁻⁵² × (magnitude of the coordinates) / (length of the difference): nothing at a wall's scale, but
 # 1e-7 rad for a 1e-9-long feature at coordinates near 2, or 1e-5 rad for a 10-long one translated
-# by 1e12. Where that bound (with _ANGLE_REL's margin) exceeds _REFINE (radians), the value is
+# by 1e12. Where that bound (with ANGLE_REL's margin) exceeds REFINE (radians), the value is
 # recomputed from the exact coordinates, so every float answer is accurate to about 1e-16 of the
 # angle whatever the translation; elsewhere the plain float value is already that accurate.
-_REFINE = 1e-10
+REFINE = 1e-10
 _ROUND = 2.0**-52
 
 
@@ -100,7 +101,7 @@ def float_edge_vectors(env) -> np.ndarray:
     A, B = env.edge_start, env.edge_end
     ev = B - A
     mag = _ninf(A) + _ninf(B)
-    bad = np.flatnonzero(_ANGLE_REL * mag > _REFINE * np.hypot(ev[:, 0], ev[:, 1]))
+    bad = np.flatnonzero(ANGLE_REL * mag > REFINE * np.hypot(ev[:, 0], ev[:, 1]))
     if len(bad):
         ev = ev.copy()
         verts, nv = env.exact_vertices, env.next_vertex
@@ -394,7 +395,7 @@ def _headings(ctx: _Context, origin: np.ndarray, frame: np.ndarray, pts: np.ndar
     length = np.hypot(rel[..., 0], rel[..., 1])
     mag = _ninf(X) + _ninf(pts)
     with np.errstate(divide="ignore", invalid="ignore"):
-        err = _ANGLE_REL * mag / length + 1e-15
+        err = ANGLE_REL * mag / length + 1e-15
     return np.arctan2(cr, dt), err, cr, length, mag
 
 
@@ -412,7 +413,7 @@ def _classify(ctx: _Context, origin, frame, lo_lim, hi_lim):
         o, fr = origin[sl], frame[sl]
         V = np.broadcast_to(ctx.V, (len(o), n, 2))
         a, e, cr, length, mag = _headings(ctx, o, fr, V)
-        thr = _ANGLE_REL * mag + 1e-15 * length  # bound on the float error of cr
+        thr = ANGLE_REL * mag + 1e-15 * length  # bound on the float error of cr
         upper = cr > thr  # certainly strictly above the frame line
         lower = cr < -thr
         c = np.where(upper, _IN, np.where(lower, _BELOW, _NONE)).astype(np.int8)
@@ -449,7 +450,7 @@ def _classify(ctx: _Context, origin, frame, lo_lim, hi_lim):
             crl = rel[..., 0] * Lrel[:, None, 1] - rel[..., 1] * Lrel[:, None, 0]
             if at == _AT_LO:
                 crl = -crl
-            tol = _CROSS_REL * (_ninf(rel) * _ninf(Lrel)[:, None] + 0.1 * ctx.scale * (_ninf(rel) + _ninf(Lrel)[:, None])) + 1e-300
+            tol = CROSS_REL * (_ninf(rel) * _ninf(Lrel)[:, None] + 0.1 * ctx.scale * (_ninf(rel) + _ninf(Lrel)[:, None])) + 1e-300
             sub = c[rows_lim]
             cand = sub == _IN
             sure_in = cand & (crl > tol)
@@ -547,7 +548,7 @@ def _front_facing(ctx: _Context, origin: np.ndarray) -> tuple[np.ndarray, np.nda
         X = ctx.P[o]
         rel = X[:, None, :] - A[None, :, :]
         cr = d[None, :, 0] * rel[..., 1] - d[None, :, 1] * rel[..., 0]
-        tol = 0.1 * _CROSS_REL * (_ninf(d)[None, :] * (_ninf(rel) + ctx.scale))
+        tol = 0.1 * CROSS_REL * (_ninf(d)[None, :] * (_ninf(rel) + ctx.scale))
         front = cr > tol
         unsure = np.abs(cr) <= tol
         r = np.arange(len(o))
@@ -882,8 +883,8 @@ def _run_cuts(ctx: _Context, origin, frame, dir_to, r_m, r_lo, r_hi, c0, ccount)
     ca = de[:, 0] * rel[:, 1] - de[:, 1] * rel[:, 0]
     mag = _ninf(X) + _ninf(Y)
     n_rel = _ninf(rel)
-    tol_b = _CROSS_REL * (n_rel * _ninf(ds) + 0.1 * mag * (_ninf(ds) + n_rel)) + 1e-300
-    tol_a = _CROSS_REL * (n_rel * _ninf(de) + 0.1 * mag * (_ninf(de) + n_rel)) + 1e-300
+    tol_b = CROSS_REL * (n_rel * _ninf(ds) + 0.1 * mag * (_ninf(ds) + n_rel)) + 1e-300
+    tol_a = CROSS_REL * (n_rel * _ninf(de) + 0.1 * mag * (_ninf(de) + n_rel)) + 1e-300
     before = cb > tol_b
     after = ca > tol_a
     unsure_b = np.abs(cb) <= tol_b

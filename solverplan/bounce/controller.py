@@ -256,10 +256,25 @@ def constant_controller(
         Radians: candidates within this of 0 or π are skipped (recorded in ``tried``), as the planners
         never use headings that graze a wall.
 
+    Returns
+    -------
+    ConstantController
+        ``found`` with the heading, its verified cycles and the bounces after which every start is in their
+        basins; or ``not-found`` with every candidate's outcome in ``tried``.
+
     Raises
     ------
     InputError
         No candidate tangent, a bad ``epsilon`` or ``heading_margin``, or every candidate inside the margin.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> control = sp.constant_controller(sp.load_environment("l_shape"))
+    >>> control.status.value, control.heading.theta         # tan θ = 1/4, radians
+    ('found', 0.24497866312686414)
+    >>> control.bounces, [cycle.edges for cycle in control.cycles]   # within 4 bounces every start is on its way
+    (4, [(0, 1, 2, 5)])
     """
     if epsilon is not None:
         check_epsilon(epsilon)

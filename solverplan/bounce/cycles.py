@@ -113,8 +113,9 @@ class CyclePoint:
 
 @dataclass(frozen=True)
 class LimitCycle:
-    """A limit cycle of the constant rule, or the reason there is none; follows the result protocol of
-    :mod:`solverplan.result`.
+    """A limit cycle of the constant rule, or the reason there is none.
+
+    Made by :func:`limit_cycle`; follows the result protocol of :mod:`solverplan.result`.
 
     Attributes
     ----------
@@ -161,6 +162,15 @@ class LimitCycle:
         iteration), ``entry_bounces`` (exact enclosure steps of the start's entry).
     environment
         The :class:`~solverplan.result.EnvironmentRecord` of ``env``.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> cycle = sp.limit_cycle(sp.load_environment("square"), "pi/8")
+    >>> cycle.status.value, cycle.edges, cycle.scope
+    ('found', (0, 1, 2, 3), 'every-start')
+    >>> round(float(cycle.points[0].t), 6), round(cycle.contraction, 6)   # t* = 1 − 1/√2 on e0; |α| per cycle
+    (0.292893, 0.029437)
     """
 
     env: Environment
@@ -489,6 +499,22 @@ def limit_cycle(
     ------
     InputError
         Bad heading (outside (0, π)), unknown edges, a bad start, ``theorem1`` on a non-convex polygon.
+
+    Examples
+    --------
+    In a regular hexagon, θ = 0.3 rad lies in Lemma 3's range (0, π/6): Theorem 1 gives a cycle through every edge
+    that every start converges to.
+
+    >>> import solverplan as sp
+    >>> cycle = sp.limit_cycle(sp.load_environment("hexagon"), 0.3)
+    >>> cycle.status.value, cycle.method, cycle.edges, cycle.scope, cycle.optimality.proved
+    ('found', 'theorem1', (0, 1, 2, 3, 4, 5), 'every-start', True)
+
+    In the L-shaped room, θ = 1 rad settles between two parallel walls, where nothing contracts:
+
+    >>> cycle = sp.limit_cycle(sp.load_environment("l_shape"), 1.0)
+    >>> cycle.status.value, cycle.edges, cycle.contraction_exact
+    ('not-contracting', (0, 2), Fraction(1, 1))
     """
     heading = parse_heading(theta)
     if not isinstance(heading, ExactHeading):

@@ -51,8 +51,9 @@ from numpy.typing import ArrayLike
 from solverplan.interval import Interval
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.exact import ExactPoint, format_number, to_fraction
+from solverplan.exact import ExactPoint, dot, format_number, to_fraction
 from solverplan.limits import MIN_HEADING
+from solverplan.bounce.safe import transition_angle as transition_phi, transition_side
 
 __all__ = [
     "Side",
@@ -65,7 +66,7 @@ __all__ = [
     "is_contracting",
     "worst_case_contraction",
     "composite_contraction",
-    "transition_angle",
+    "edge_transition",
     "interior_angles",
     "lemma3_max_heading",
     "Lemma3Range",
@@ -358,36 +359,23 @@ def composite_contraction(sequence: Iterable[object]) -> float:
     return total
 
 
-def _edge_float_vector(env: Environment, edge: int) -> np.ndarray:
-    return env.edge_end[edge] - env.edge_start[edge]
-
-
-def transition_angle(env: Environment, source: int, target: int) -> tuple[float, Side]:
-    """(φ, side) of the transition from edge ``source`` to edge ``target`` (Def. 8, Lemma 2).
-
-    With ψ the angle of the target's direction measured CCW from the source's (in (−π, π]): ψ > 0 is a
-    right transition with φ = π − ψ, ψ < 0 a left one with φ = π + ψ; ψ = π (opposite walls) is
-    ``("right", 0)`` (C = 1). ψ = 0 (same direction) cannot be hit from the free side: an InputError.
+def edge_transition(env: Environment, source: int, target: int) -> tuple[float, Side]:
+    """(φ, side) of the transition from edge ``source`` to edge ``target`` (Def. 8, Lemma 2): the exact side
+    and φ of :func:`solverplan.bounce.safe.transition_side` and :func:`~solverplan.bounce.safe.transition_angle`
+    on the two edges. Opposite walls (parallel, facing) are ``("right", 0)`` (C = 1); edges pointing the same
+    way cannot be hit from the free side: an InputError.
 
     >>> square = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]])
-    >>> transition_angle(square, 0, 1) == (math.pi / 2, "right"), transition_angle(square, 0, 3) == (math.pi / 2, "left")
+    >>> edge_transition(square, 0, 1) == (math.pi / 2, "right"), edge_transition(square, 0, 3) == (math.pi / 2, "left")
     (True, True)
     """
-    e = _edge_float_vector(env, int(source))
-    f = _edge_float_vector(env, int(target))
     src, tgt = env.edge(int(source)), env.edge(int(target))
-    ex, ey = src.b[0] - src.a[0], src.b[1] - src.a[1]
-    fx, fy = tgt.b[0] - tgt.a[0], tgt.b[1] - tgt.a[1]
-    cross = ex * fy - ey * fx
-    dot = ex * fx + ey * fy
-    if cross == 0 and dot > 0:
-        raise InputError(f"edges e{source} and e{target} point the same way: no ray from e{source} meets e{target} from its free side")
-    if cross == 0:
-        return 0.0, "right"
-    psi = math.atan2(float(e[0] * f[1] - e[1] * f[0]), float(e[0] * f[0] + e[1] * f[1]))
-    if cross > 0:
-        return math.pi - psi, "right"
-    return math.pi + psi, "left"
+    side = transition_side((src.a, src.b), (tgt.a, tgt.b))  # Def. 8, exact
+    if side == "parallel":
+        if dot((src.b[0] - src.a[0], src.b[1] - src.a[1]), (tgt.b[0] - tgt.a[0], tgt.b[1] - tgt.a[1])) > 0:
+            raise InputError(f"edges e{source} and e{target} point the same way: no ray from e{source} meets e{target} from its free side")
+        return 0.0, "right"  # opposite walls: C = 1 either way
+    return transition_phi((src.a, src.b), (tgt.a, tgt.b)), side
 
 
 # ---------------------------------------------------------------------- Lemma 3, Theorem 1

@@ -105,7 +105,7 @@ import numpy as np
 
 from solverplan.interval import Interval
 from solverplan.errors import InputError
-from solverplan.exact import ExactPoint, exact_point, format_point
+from solverplan.exact import ExactPoint, cross, dot, exact_point, format_point
 
 if TYPE_CHECKING:  # pragma: no cover
     from solverplan.environment import Environment
@@ -139,14 +139,6 @@ _Seg = tuple[ExactPoint, ExactPoint]
 # ---------------------------------------------------------------------------------------------
 def _sub(p: Sequence[Fraction], q: Sequence[Fraction]) -> Direction:
     return (p[0] - q[0], p[1] - q[1])
-
-
-def _cross(u: Sequence[Fraction], v: Sequence[Fraction]) -> Fraction:
-    return u[0] * v[1] - u[1] * v[0]
-
-
-def _dot(u: Sequence[Fraction], v: Sequence[Fraction]) -> Fraction:
-    return u[0] * v[0] + u[1] * v[1]
 
 
 def _sign(x: Fraction) -> int:
@@ -186,7 +178,7 @@ def heading_angle(src: object, w: Sequence[object]) -> float:
 
 
 def _angle(e: Direction, w: Direction) -> float:
-    return math.atan2(float(_cross(e, w)), float(_dot(e, w)))
+    return math.atan2(float(cross(e, w)), float(dot(e, w)))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -194,12 +186,12 @@ def _angle(e: Direction, w: Direction) -> float:
 # ---------------------------------------------------------------------------------------------
 def _hclass(e: Direction, u: Direction) -> int:
     """0: heading 0 (along ê); 1: heading in (0, π); 2: heading π; −1: below (not a heading)."""
-    c = _cross(e, u)
+    c = cross(e, u)
     if c > 0:
         return 1
     if c < 0:
         return -1
-    return 0 if _dot(e, u) > 0 else 2
+    return 0 if dot(e, u) > 0 else 2
 
 
 def _hcmp(e: Direction, u: Direction, v: Direction) -> int:
@@ -209,7 +201,7 @@ def _hcmp(e: Direction, u: Direction, v: Direction) -> int:
         return -1 if cu < cv else 1
     if cu != 1:
         return 0
-    return -_sign(_cross(u, v))
+    return -_sign(cross(u, v))
 
 
 @dataclass(frozen=True, slots=True)
@@ -246,13 +238,13 @@ def _theta0(src: _Seg, dst: _Seg) -> tuple[_Bound, _Bound] | None:
     delta = _sub(d, c)
     lower = [_Bound(e, False)]
     upper = [_Bound(_neg(e), False)]
-    sides = [_sign(_cross(delta, _sub(x, c))) for x in (a, b)]  # > 0: strictly left of c → d
+    sides = [_sign(cross(delta, _sub(x, c))) for x in (a, b)]  # > 0: strictly left of c → d
     if min(sides) < 0 or max(sides) == 0:
         return None
     for x, side in zip((a, b), sides):
         if side > 0:  # the closed cone from c − x to d − x, intersected with the upper half-plane
             cx, dx = _sub(c, x), _sub(d, x)
-            sc, sd = _sign(_cross(e, cx)), _sign(_cross(e, dx))
+            sc, sd = _sign(cross(e, cx)), _sign(cross(e, dx))
             if sc <= 0 and sd <= 0:
                 return None
             if sc > 0:
@@ -262,12 +254,12 @@ def _theta0(src: _Seg, dst: _Seg) -> tuple[_Bound, _Bound] | None:
         else:  # x on the line of e_j: it must be c or d, and the ray must cross from the free side
             if x != c and x != d:
                 return None
-            s = _sign(_cross(e, delta))
+            s = _sign(cross(e, delta))
             if s < 0:
                 lower.append(_Bound(_neg(delta), False))
             elif s > 0:
                 upper.append(_Bound(delta, False))
-            elif _dot(e, delta) > 0:
+            elif dot(e, delta) > 0:
                 return None  # along ê: the open half-plane right of δ misses every heading
     lo, hi = _lower_max(e, lower), _upper_min(e, upper)
     order = _hcmp(e, lo.direction, hi.direction)
@@ -423,7 +415,7 @@ def safe_action(src: object, dst: object) -> SafeAction:
 
 def _transition(src: _Seg, dst: _Seg) -> Transition:
     e = _sub(src[1], src[0])
-    s = _sign(_cross(e, _sub(dst[1], dst[0])))
+    s = _sign(cross(e, _sub(dst[1], dst[0])))
     return "right" if s > 0 else "left" if s < 0 else "parallel"
 
 
@@ -476,8 +468,8 @@ def _clip_open(p0: ExactPoint, p1: ExactPoint, planes: list[tuple[ExactPoint, Di
     lo, hi = Fraction(0), Fraction(1)
     v = _sub(p1, p0)
     for point, direction in planes:
-        f0 = _cross(direction, _sub(p0, point))
-        f1 = f0 + _cross(direction, v)
+        f0 = cross(direction, _sub(p0, point))
+        f1 = f0 + cross(direction, v)
         if f0 <= 0 and f1 <= 0:
             return None
         if f0 > 0 and f1 > 0:

@@ -43,7 +43,7 @@ from solverplan.interval import Interval, heading_interval
 from solverplan.bounce.rules import check_edges, check_headings
 from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, InvalidBoundarySet
-from solverplan.exact import ExactPoint, format_number, format_point, orient, to_fraction
+from solverplan.exact import ExactPoint, cross, format_number, format_point, orient, to_fraction
 from solverplan.geometry.raycast import RayHit, cast_from_boundary, cast_ray
 
 __all__ = [
@@ -62,14 +62,6 @@ vectors (d_lo the clockwise-most, i.e. the smaller heading) spanning the cone be
 
 
 # ---------------------------------------------------------------------- small exact helpers
-def _cross(u: Sequence[Fraction], v: Sequence[Fraction]) -> Fraction:
-    return u[0] * v[1] - u[1] * v[0]
-
-
-def _dot(u: Sequence[Fraction], v: Sequence[Fraction]) -> Fraction:
-    return u[0] * v[0] + u[1] * v[1]
-
-
 def _exact_vector(value: object, where: str) -> ExactPoint:
     """A pair of exact numbers; floats are taken at their exact binary value (like the exact caster)."""
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
@@ -160,7 +152,7 @@ def _direction_from(env: Environment, edge: int, direction: object, where: str =
         return exact_direction(env, edge, float(direction))
     d = _exact_vector(direction, where)
     _, e = _edge_vector(env, edge)
-    if _cross(e, d) <= 0:
+    if cross(e, d) <= 0:
         raise InvalidBoundarySet(
             f"{where} {format_point(d)} does not point into the free space from edge e{edge}: "
             "its heading is not inside (0, π)"
@@ -282,19 +274,19 @@ def affine_map(env: Environment, edge: int, direction: Sequence[object] | float,
     d = _direction_from(env, edge, direction)
     a, e = _edge_vector(env, edge)
     c, f = _edge_vector(env, target)
-    den = _cross(f, d)
+    den = cross(f, d)
     if den == 0:
         raise InputError(f"direction {format_point(d)} is parallel to edge e{target}")
     if den > 0:
         raise InputError(f"direction {format_point(d)} meets edge e{target} from its obstacle side")
     # ray parameter s(t) = cross(c − p(t), f) / cross(d, f); the target line must lie ahead for some t
     ac = (c[0] - a[0], c[1] - a[1])
-    s0 = _cross(ac, f) / -den
-    s1 = (_cross(ac, f) - _cross(e, f)) / -den
+    s0 = cross(ac, f) / -den
+    s1 = (cross(ac, f) - cross(e, f)) / -den
     if s0 <= 0 and s1 <= 0:
         raise InputError(f"edge e{target} is not ahead of the rays leaving edge e{edge} along {format_point(d)}")
-    alpha = _cross(e, d) / den
-    beta = _cross((a[0] - c[0], a[1] - c[1]), d) / den
+    alpha = cross(e, d) / den
+    beta = cross((a[0] - c[0], a[1] - c[1]), d) / den
     return AffineMap(edge, target, alpha, beta, d)
 
 
@@ -354,7 +346,7 @@ def _cone(env: Environment, edge: int, headings: object) -> tuple[ExactPoint, Ex
         raise InputError(f"headings must be an Interval or a pair of direction vectors, got {headings!r}") from None
     d_lo = _direction_from(env, edge, given_lo, "direction d_lo")
     d_hi = _direction_from(env, edge, given_hi, "direction d_hi")
-    if _cross(d_lo, d_hi) < 0:
+    if cross(d_lo, d_hi) < 0:
         raise InvalidBoundarySet(
             f"direction cone {format_point(d_lo)} .. {format_point(d_hi)} is reversed: d_lo must be clockwise of d_hi"
         )
@@ -387,8 +379,8 @@ def _meets_open_polygon(ring: Sequence[ExactPoint], u: ExactPoint, w: ExactPoint
     for k in range(n):
         p, q = ring[k], ring[(k + 1) % n]
         side = (q[0] - p[0], q[1] - p[1])
-        const = _cross(side, (u[0] - p[0], u[1] - p[1]))  # > 0: u strictly inside this half-plane
-        slope = _cross(side, dw)
+        const = cross(side, (u[0] - p[0], u[1] - p[1]))  # > 0: u strictly inside this half-plane
+        slope = cross(side, dw)
         if slope == 0:
             if const <= 0:
                 return False
@@ -669,7 +661,7 @@ def transition_set(env: Environment, piece: BoundaryPiece | tuple, headings: Hea
     """
     edge, t0, t1 = _piece_arguments(env, piece)
     d_lo, d_hi = _cone(env, edge, headings)
-    if t0 == t1 and _cross(d_lo, d_hi) == 0:
+    if t0 == t1 and cross(d_lo, d_hi) == 0:
         raise InvalidBoundarySet(
             f"a single point with a single heading is one ray, not a set: use exact_transition for e{edge}:{format_number(t0)}"
         )

@@ -115,6 +115,9 @@ class CertificateRejected(SolverplanError):
 def certificate(result: Any, *, env: Environment | None = None, partition: Partition | None = None) -> Certificate:
     """The certificate of a planner's answer (see the module docstring for what each kind claims).
 
+    Its claims are exact (rational numbers, the exact safe-set ends); :func:`check_certificate` re-derives them
+    with the standard library alone.
+
     Parameters
     ----------
     result
@@ -128,6 +131,12 @@ def certificate(result: Any, *, env: Environment | None = None, partition: Parti
         The partition P′ of ``env`` the answer's segment ids refer to (default: the answer's own, or
         :func:`~solverplan.bounce.partition.partition` of ``env``).
 
+    Returns
+    -------
+    Certificate
+        The answer's claims, stated exactly (its JSON is ``docs/contract.md``'s certificate); write it with
+        :func:`write_certificate`.
+
     Raises
     ------
     NothingToCertify
@@ -136,6 +145,16 @@ def certificate(result: Any, *, env: Environment | None = None, partition: Parti
         ``env`` is not the answer's environment.
     TypeError
         ``result`` is not an answer that has certificates, or a plan without ``env``.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> cert = sp.certificate(sp.find_plan(env, "e5", "e0:0:0.3"), env=env)
+    >>> cert.kind, len(cert.stages), [(p.edge, p.t0, p.t1) for p in cert.goal]   # the goal as exact pieces
+    ('plan', 1, [(0, Fraction(0, 1), Fraction(3, 10))])
+    >>> sp.check_certificate(cert).valid
+    True
     """
     for cls in type(result).__mro__:
         build = _BUILDERS.get(cls)
@@ -150,12 +169,32 @@ def write_certificate(cert: Certificate, path: str | os.PathLike[str], *, check:
 
     The file is written atomically (whole or not at all; a previous file at ``path`` stays intact on failure).
 
+    Parameters
+    ----------
+    cert
+        The certificate (:func:`certificate`).
+    path
+        The file to write (``docs/contract.md`` describes its JSON).
+    check
+        Check every claim in exact arithmetic first (:func:`~solverplan.certify.check.check_certificate`).
+
     Raises
     ------
     CertificateRejected
         ``check`` and a claim of ``cert`` does not hold (the message names the first); nothing is written.
     OSError
         The file cannot be written.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> cert = sp.certificate(sp.find_plan(env, "e5", "e0:0:0.3"), env=env)
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "certificate.json"
+    >>> sp.write_certificate(cert, path)                  # checked, then written
+    >>> sp.load_certificate(path) == cert
+    True
     """
     if check:
         report = check_certificate(cert)

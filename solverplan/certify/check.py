@@ -374,6 +374,22 @@ def check_certificate(
     -------
     CheckReport
         ``valid`` with no failures, or every failure found, each naming its claim.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> from fractions import Fraction
+    >>> env = sp.load_environment("l_shape")
+    >>> cert = sp.certificate(sp.find_plan(env, "e5", "e0:0:0.3"), env=env)
+    >>> report = sp.check_certificate(cert, expected_rings=env.rings)
+    >>> report.valid, report.kind, report.claims["bounces"]
+    (True, 'plan', 1)
+
+    Checked against another query, the same certificate is rejected, and the failure names the claim:
+
+    >>> report = sp.check_certificate(cert, expected_goal=[(0, Fraction(0), Fraction(1, 5))])
+    >>> report.valid, report.failures[0].claim, report.failures[0].message
+    (False, 'goal', "is e0:[0, 0.3], but the query's goal set is e0:[0, 0.2]")
     """
     checker = _Checker(cert)
     checker.run(expected_rings)

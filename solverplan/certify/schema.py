@@ -529,7 +529,41 @@ def parse_certificate(text: str, *, source: str = "certificate") -> Certificate:
 
 
 def load_certificate(path: str | Path) -> Certificate:
-    """Read a certificate file; :class:`CertificateFormatError` (naming the file) if it is unreadable or malformed."""
+    """Read a certificate file; :class:`CertificateFormatError` (naming the file) if it is unreadable or malformed.
+
+    Parameters
+    ----------
+    path
+        A certificate file (JSON) written by :func:`~solverplan.certify.build.write_certificate` or
+        ``solverplan plan --certificate``.
+
+    Returns
+    -------
+    Certificate
+        The parsed certificate, exact (numbers as fractions); not yet checked.
+
+    Raises
+    ------
+    CertificateFormatError
+        A missing or unreadable file, invalid JSON, or a field of the wrong shape (a
+        :class:`~solverplan.errors.MalformedFile`).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "certificate.json"
+    >>> sp.write_certificate(sp.certificate(sp.find_plan(env, "e5", "e0:0:0.3"), env=env), path)
+    >>> cert = sp.load_certificate(path)
+    >>> cert.kind, sp.check_certificate(cert).valid
+    ('plan', True)
+    >>> _ = path.write_text("{")
+    >>> sp.load_certificate(path)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    solverplan.certify.schema.CertificateFormatError: .../certificate.json: not valid JSON (Expecting property name enclosed in double quotes at line 1 column 2)
+    """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")

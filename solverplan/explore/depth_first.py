@@ -123,6 +123,18 @@ class Exploration(ViewpointRun):
         Area of the union of the views over the area of the free space (floats; 1 up to rounding).
     choice, seed
         The z-choice rule and its seed.
+
+    Examples
+    --------
+    From the end of the L's bottom arm, the first view misses the top of the other arm; one window later the
+    views cover the room, within Theorem 1's bound r + 1:
+
+    >>> import solverplan as sp
+    >>> run = sp.explore_depth_first(sp.load_environment("l_shape"), (8, 2))
+    >>> run.status.value, run.n_views, run.bound, run.parents
+    ('found', 2, 2, (-1, 0))
+    >>> run.viewpoints[1], [view.area for view in run.views]         # exact, in the environment's units
+    ((Fraction(2, 1), Fraction(5, 1)), [Fraction(44, 1), Fraction(55, 1)])
     """
 
     status: Status
@@ -210,6 +222,8 @@ def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Ch
         If ``start`` is not in the free space, ``choice`` is unknown, or a seed is given to a rule without
         randomness.
 
+    Examples
+    --------
     >>> from solverplan.environment import Environment
     >>> ell = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])
     >>> run = explore_depth_first(ell, (3, 1))

@@ -95,6 +95,16 @@ class RangeExploration(ViewpointRun):
         R and ε (length units).
     algorithm
         ``"B"``, or ``"A"`` when R reaches across P (Theorem 3).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> run = sp.explore_range_limited(env, (8, 2), 3)           # views reach 3 units
+    >>> run.algorithm, run.status.value, run.n_views, (run.lower_bound, run.bound), run.covered_fraction
+    ('B', 'found', 10, (3, 33), 1.0)
+    >>> sp.explore_range_limited(env, (8, 2), 20).algorithm      # R reaches across the room: Theorem 3
+    'A'
     """
 
     status: Status
@@ -510,6 +520,8 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     InputError
         If ``start`` is not in the free space, or R, ε or ``max_views`` is out of range.
 
+    Examples
+    --------
     >>> from solverplan.environment import Environment
     >>> square = Environment.from_coords([[0, 0], [8, 0], [8, 8], [0, 8]])
     >>> run = explore_range_limited(square, (4, 4), 3)

@@ -128,7 +128,33 @@ Piece = Union[RangeSegment, Arc]
 
 @dataclass(frozen=True, slots=True)
 class RangeView:
-    """RVP(z) = VP(z) ∩ disc(z, R): the exact visibility polygon, the range, and the boundary pieces in CCW order."""
+    """RVP(z) = VP(z) ∩ disc(z, R): the exact visibility polygon, the range, and the boundary pieces in CCW order.
+
+    Made by :func:`range_visibility`.
+
+    Attributes
+    ----------
+    viewpoint
+        z, exact (length units of the environment).
+    radius
+        R, exact.
+    polygon
+        VP(z), the exact visibility polygon (unrestricted by range).
+    pieces
+        The boundary of RVP(z) in CCW order: straight pieces (:attr:`segments`: walls, windows, chords) and
+        circular arcs of radius R (:attr:`arcs`).
+    arcs, segments
+        The pieces of each kind.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> view = sp.range_visibility(sp.load_environment("l_shape"), (2, 2), 3)
+    >>> len(view.arcs), len(view.segments), view.is_unrestricted
+    (2, 4, False)
+    >>> round(view.area, 4), view.contains((2, 4.9)), view.contains((8, 2))   # square units; 6 units away
+    (22.0794, True, False)
+    """
 
     viewpoint: ExactPoint
     radius: Fraction
@@ -230,11 +256,22 @@ def range_visibility(env: Environment, z: Sequence[object], range_: object) -> R
     range_
         R > 0, the sensing range (length units); read exactly (``0.1`` is 1/10).
 
+    Returns
+    -------
+    RangeView
+        The view, its boundary as straight pieces and arcs of radius R in CCW order.
+
     Raises
     ------
     InputError
         If z is not in the free space or R is not a finite number > 0.
 
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> view = sp.range_visibility(sp.load_environment("l_shape"), (2, 2), 3)
+    >>> len(view.arcs), round(view.area, 4)          # the disc of radius 3 is cut by two walls
+    (2, 22.0794)
     >>> from solverplan.environment import load_environment
     >>> rv = range_visibility(load_environment("comb"), (1, 1), 1000)
     >>> rv.is_unrestricted, rv.area == float(rv.polygon.area)

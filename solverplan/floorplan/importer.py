@@ -54,6 +54,19 @@ class FloorplanImport:
         Metres per cell of a map (exact text), else ``None``.
     rectilinear_edges
         Edges snapped axis-parallel by ``rectilinear``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import solverplan as sp
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "room.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="3">'
+    ...                                      '<rect width="4" height="3"/></svg>')
+    >>> done = sp.import_floorplan(folder / "room.svg")
+    >>> done.status.value, done.format, done.units, done.written
+    ('found', 'svg', 'scaled', None)
+    >>> done.environment_value, done.environment_value.area          # 4 × 3 user units, scale 1
+    (Environment(name='room', vertices=4, holes=0, reflex=0), Fraction(12, 1))
     """
 
     status: Status

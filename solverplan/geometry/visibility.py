@@ -44,6 +44,8 @@ from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import (
     ExactPoint,
+    cross,
+    dot,
     exact_point,
     format_point,
     line_intersection,
@@ -93,14 +95,6 @@ def _mid(a: ExactPoint, b: ExactPoint) -> ExactPoint:
     return ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
 
 
-def _cross(u: Sequence[Fraction], v: Sequence[Fraction]) -> Fraction:
-    return u[0] * v[1] - u[1] * v[0]
-
-
-def _dot(u: Sequence[Fraction], v: Sequence[Fraction]) -> Fraction:
-    return u[0] * v[0] + u[1] * v[1]
-
-
 def _det(a: Sequence[Fraction], b: Sequence[Fraction], c: Sequence[Fraction]) -> Fraction:
     """Twice the signed area of abc: > 0 iff c is left of the directed line a → b."""
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
@@ -111,20 +105,20 @@ def _sign(x: Fraction) -> int:
 
 
 def _same_direction(u: Sequence[Fraction], v: Sequence[Fraction]) -> bool:
-    return _cross(u, v) == 0 and _dot(u, v) > 0
+    return cross(u, v) == 0 and dot(u, v) > 0
 
 
 def _angle_cmp(ref: Sequence[Fraction], u: Sequence[Fraction], v: Sequence[Fraction]) -> int:
     """Compare the CCW angles in [0, 2π) of directions u and v measured from direction ``ref``."""
 
     def half(w: Sequence[Fraction]) -> int:
-        c = _cross(ref, w)
-        return 0 if c > 0 or (c == 0 and _dot(ref, w) > 0) else 1
+        c = cross(ref, w)
+        return 0 if c > 0 or (c == 0 and dot(ref, w) > 0) else 1
 
     hu, hv = half(u), half(v)
     if hu != hv:
         return hu - hv
-    return -_sign(_cross(u, v))
+    return -_sign(cross(u, v))
 
 
 def _floats(points: Sequence[Sequence[Fraction]]) -> np.ndarray:
@@ -172,7 +166,7 @@ def _boundary_events(env: Environment, p: ExactPoint, q: ExactPoint) -> list[tup
     )
     verts, nxt = env.exact_vertices, env.next_vertex
     d = _sub(q, p)
-    dd = _dot(d, d)
+    dd = dot(d, d)
     found: dict[Fraction, tuple[Fraction, ExactPoint, _Feature]] = {}
     for i in np.flatnonzero(~apart).tolist():
         a, b = verts[i], verts[int(nxt[i])]
@@ -180,7 +174,7 @@ def _boundary_events(env: Environment, p: ExactPoint, q: ExactPoint) -> list[tup
         if hit is None:
             continue
         for x in hit.points:
-            lam = _dot(_sub(x, p), d) / dd
+            lam = dot(_sub(x, p), d) / dd
             if lam in found:
                 continue
             feature: _Feature = ("v", i) if x == a else ("v", int(nxt[i])) if x == b else ("e", i)
@@ -195,7 +189,7 @@ def _local_status(env: Environment, feature: _Feature, d: Sequence[Fraction]) ->
     verts = env.exact_vertices
     if kind == "e":
         a, b = verts[i], verts[int(env.next_vertex[i])]
-        return _sign(_cross(_sub(b, a), d))  # free space is on the left of the edge
+        return _sign(cross(_sub(b, a), d))  # free space is on the left of the edge
     v = verts[i]
     out = _sub(verts[int(env.next_vertex[i])], v)  # along the outgoing edge
     back = _sub(verts[int(env.prev_vertex[i])], v)  # back along the incoming edge
@@ -284,7 +278,7 @@ def _resolve_segment(env: Environment, seg: Segment, name: str) -> tuple[ExactPo
     for i in np.flatnonzero(maybe).tolist():
         a, b = verts[i], verts[int(nxt[i])]
         if on_segment(p0, a, b) and on_segment(p1, a, b):
-            if _dot(_sub(p1, p0), _sub(b, a)) < 0:
+            if dot(_sub(p1, p0), _sub(b, a)) < 0:
                 p0, p1 = p1, p0
             return p0, p1, i
     raise InputError(f"{name} {format_point(p0)}-{format_point(p1)} does not lie on one boundary edge")
@@ -507,7 +501,7 @@ def _weak_visibility_witness(
 
     # critical positions along a' (parameter s ∈ (0, 1) from a0 to a1)
     da = _sub(a1, a0)
-    daa = _dot(da, da)
+    daa = dot(da, da)
 
     def relevant(v: int) -> bool:
         x = verts[v]
@@ -525,7 +519,7 @@ def _weak_visibility_witness(
     def add_line(x: ExactPoint, y: ExactPoint) -> None:
         hit = line_intersection(x, y, a0, a1)
         if hit is not None:
-            s = _dot(_sub(hit, a0), da) / daa
+            s = dot(_sub(hit, a0), da) / daa
             if 0 < s < 1:
                 critical.add(s)
 
@@ -907,7 +901,7 @@ def visibility_polygon(env: Environment, p: Sequence[object]) -> VisibilityPolyg
     seen: list[int] = []
     for k in range(n_wedges):
         u, w = keys[k], keys[(k + 1) % n_keys]
-        mid = _add(u, w) if _cross(u, w) > 0 else (-u[1], u[0])
+        mid = _add(u, w) if cross(u, w) > 0 else (-u[1], u[0])
         hit = cast_ray(env, p, mid)
         if hit.vertex is not None:  # pragma: no cover - no vertex lies strictly inside a wedge
             raise SolverFailed(f"visibility polygon of {format_point(p)}: wedge ray hit vertex {hit.vertex}")

@@ -70,9 +70,41 @@ def widening_passes(beam: int, n_headings: int) -> list[tuple[int, int]]:
 class Funnel(PositionStrategy):
     """A funnel (a plan whose stages carry exact ``positions``, ``docs/contract.md``), or why there is none.
 
-    Besides :class:`~solverplan.plan._results.PositionStrategy`'s fields: ``safe_plan``, whether a plan over
-    whole segments (the safe BVG, any tolerance) can exist at all, for comparison (``False`` is a proof that
-    none does; ``True`` is only necessary).
+    Made by :func:`funnel`: the heading intervals all have the same width 2ε, and the exact set of positions
+    the robot may be on shrinks by contraction until it lies inside the goal.
+
+    Attributes
+    ----------
+    status, reason
+        A :class:`~solverplan.result.Status` (``found`` or ``not-found``: the search is heuristic) and why.
+    optimality
+        How the answer was found (never proved optimal; a capped search lists its caps in ``limits``).
+    environment
+        The :class:`~solverplan.result.EnvironmentRecord` of the environment.
+    start, goal
+        The start set and the goal set every start ends in.
+    tolerance
+        ε, radians: every heading interval is 2ε wide.
+    stages
+        :class:`~solverplan.result.Stage` objects with their exact ``positions`` after the stage, ``sources``
+        before it, ``cones`` (the exact world-frame directions each source was pushed through) and
+        ``target_edges``.
+    safe_plan
+        Whether a plan over whole segments (the safe BVG, any tolerance) can exist at all, for comparison
+        (``False`` is a proof that none does; ``True`` is only necessary).
+    stats
+        Search statistics (recorded, never asserted).
+    partition
+        The partition P′ of the environment (not serialised): for rollouts and certificates.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> f = sp.funnel(sp.load_environment("square"), "e0", "e1:0.4:0.6")
+    >>> f.status.value, f.bounces, f.tolerance, f.safe_plan    # no plan over whole segments could do this
+    ('found', 2, 0.005, False)
+    >>> [[round(float(p.t0), 4), round(float(p.t1), 4)] for p in f.stages[-1].positions]   # t on edge 1
+    [[0.4144, 0.4903]]
     """
 
     kind = "funnel"
@@ -173,8 +205,9 @@ def funnel(
     max_rows: int | None = DEFAULT_MAX_ROWS,
     timeout: float | None = None,
 ) -> Funnel:
-    """A funnel from ``start`` to ``goal``: fixed-width heading intervals whose exact position sets shrink by
-    contraction until they fit the goal (module docstring).
+    """A funnel from ``start`` to ``goal``: fixed-width heading intervals that squeeze every start into the goal.
+
+    The exact position sets shrink by contraction until they fit the goal (module docstring).
 
     Parameters
     ----------
@@ -205,6 +238,17 @@ def funnel(
     Funnel
         Status ``found`` with exact stages, or ``not-found`` with the search's caps in ``optimality.limits``
         (the search is heuristic: not finding is not a proof).
+
+    Examples
+    --------
+    From all of the square's bottom edge into the middle fifth of its right edge, with headings ±0.005 rad:
+
+    >>> import solverplan as sp
+    >>> f = sp.funnel(sp.load_environment("square"), "e0", "e1:0.4:0.6")
+    >>> f.status.value, [stage.interval for stage in f.stages]
+    ('found', [Interval(lo=3.0775487103086103, hi=3.08754871030861), Interval(lo=1.963625901403769, hi=1.9736259014037687)])
+    >>> str(f.goal)
+    'e1:0.4:0.6'
     """
     start_set = _pieces_of(env, start, "start")
     goal_set = _pieces_of(env, goal, "goal")

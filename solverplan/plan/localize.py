@@ -145,25 +145,63 @@ def localize(
     max_rows: int | None = DEFAULT_MAX_ROWS,
     timeout: float | None = None,
 ) -> Localization:
-    """A localisation strategy: after its stages every start in ``start`` (default: the whole boundary) is inside
-    one interval of one edge shorter than ``epsilon`` (arc length). Returns a :class:`Localization` whose goal is
-    that interval (``found``), ``infeasible`` when a symmetry of the environment and the start set forbids it
-    (proved), or ``not-found`` with the search's caps in ``optimality.limits``.
+    """A localisation strategy: stages after which every start lies in one interval shorter than ``epsilon``.
 
-    ``tolerance``, ``max_bounces``, ``n_headings``, ``beam``, ``graph`` and ``timeout`` (seconds, the graph
-    build included; at the deadline: ``not-found`` with the timeout in ``optimality.limits``) are as for
-    :func:`~solverplan.plan.funnel.funnel`; ``heading_margin`` and ``corner_clearance`` are the margin policy of
-    every planner (:mod:`solverplan.plan.margins`). The search widens: narrow passes
-    (:data:`~solverplan.plan.funnel.NARROW_PASSES`)
-    run first and the full ``beam`` × ``n_headings`` pass only if they find nothing, all within one work budget
-    ``max_rows`` ((piece, heading) images evaluated; None: none), so that the answer comes in seconds; when the
-    budget ends the search, ``optimality.limits`` says so (``cut=max_rows``).
+    After its stages every start in ``start`` (default: the whole boundary) is inside one interval of one edge
+    shorter than ``epsilon`` (arc length). The search widens: narrow passes
+    (:data:`~solverplan.plan.funnel.NARROW_PASSES`) run first and the full ``beam`` × ``n_headings`` pass only if
+    they find nothing, all within one work budget ``max_rows``, so that the answer comes in seconds.
+
+    Parameters
+    ----------
+    env
+        The environment.
+    epsilon
+        The length (environment's units) the final interval must be shorter than.
+    start
+        The boundary set the robot may start on (default: the whole boundary).
+    tolerance
+        ε, radians: every interval is [θ − ε, θ + ε] (default :data:`~solverplan.plan.funnel.DEFAULT_FUNNEL_TOLERANCE`).
+    max_bounces, n_headings, beam
+        The search's bounds, as for :func:`~solverplan.plan.funnel.funnel`.
+    graph
+        A precomputed safe BVG of ``env``.
+    heading_margin, corner_clearance
+        The margin policy of every planner (:mod:`solverplan.plan.margins`): no interval within δ radians of a
+        wall, no landing within κ (a length) of a segment end.
+    max_rows
+        The work budget over all passes: (piece, heading) images evaluated (None: no budget); when it ends the
+        search, ``optimality.limits`` says so (``cut=max_rows``).
+    timeout
+        Seconds of wall time (positive, finite; None: no limit), the graph build included; at the deadline:
+        ``not-found`` with the timeout in ``optimality.limits``.
+
+    Returns
+    -------
+    Localization
+        ``found`` with the stages and, as its goal, the final interval; ``infeasible`` when a symmetry of the
+        environment and the start set forbids it (proved); or ``not-found`` with the search's caps in
+        ``optimality.limits``.
 
     Raises
     ------
     InputError
         ε not a positive length, a bad start set, a tolerance outside (0, π/2), a timeout that is not a
         positive finite number.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> where = sp.localize(env, 0.5)                 # wherever it starts, end within 0.5 units of a known point
+    >>> where.status.value, where.bounces, where.goal.edges
+    ('found', 6, (5,))
+
+    The square looks the same after a quarter turn, so no open-loop strategy can tell its walls apart:
+
+    >>> where = sp.localize(sp.load_environment("square"), 0.5)
+    >>> where.status.value, where.optimality.method.value
+    ('infeasible', 'symmetry')
     """
     if isinstance(epsilon, bool) or not isinstance(epsilon, (int, float)) or not (math.isfinite(epsilon) and epsilon > 0):
         raise InputError(f"epsilon {epsilon!r} must be a positive length")

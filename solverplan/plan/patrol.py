@@ -183,6 +183,17 @@ class Patrol(OnPartition):
         Times (recorded, never asserted).
     partition
         The partition P′ (not serialised): for rollouts and certificates; ``env`` is its environment.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> guard = sp.patrol(sp.load_environment("l_shape"), "e0,e4")      # visit edge 0, then edge 4, forever
+    >>> guard.status.value, guard.max_between, len(guard.cycle), guard.periods
+    ('found', 1, 4, 1)
+    >>> [(stage.from_segment, stage.to_segment) for stage in guard.cycle]   # segments of P′
+    [(0, 9), (9, 6), (6, 7), (7, 0)]
+    >>> round(guard.rate, 4), guard.optimality.proved                     # worst-case contraction per bounce
+    (0.021, True)
     """
 
     status: Status
@@ -607,6 +618,13 @@ def patrol(
         interrupted). At the deadline the search answers the best cycle found so far or ``not-found``, not
         proved, with the timeout in ``optimality.limits`` (module docstring).
 
+    Returns
+    -------
+    Patrol
+        ``found`` with the entry and the cycle, ``not-contracting`` or ``infeasible`` (proved for the class of
+        cycles with at most ``max_between`` intermediate bounces), or ``not-found`` when a cap or the timeout
+        stopped the search.
+
     Raises
     ------
     InputError
@@ -614,6 +632,15 @@ def patrol(
         a timeout that is not a positive finite number.
     SolverFailed
         The LP and Karp disagree, or a solver breaks down.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> guard = sp.patrol(sp.load_environment("square"), "e0,e2", objective="tolerance")
+    >>> guard.status.value, len(guard.cycle), round(guard.tolerance, 4)      # ± radians on every bounce
+    ('found', 4, 0.3921)
+    >>> sp.patrol(sp.load_environment("hexagon"), "e0,e3").max_between    # one bounce between visits is not enough
+    2
     """
     if objective not in OBJECTIVES:
         raise InputError(f"unknown patrol objective {objective!r}: use {', '.join(OBJECTIVES)}")

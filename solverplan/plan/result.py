@@ -88,15 +88,53 @@ def read_environment(data: object, where: str = "environment") -> EnvironmentRec
 
 @dataclass(frozen=True)
 class Plan:
-    """A plan (``docs/contract.md``): heading intervals, one per bounce, that take the robot from every point
-    of the start set to the goal set whatever headings inside the intervals it executes — or a proof that
-    there is none (``status`` :attr:`~solverplan.result.Status.INFEASIBLE` with a ``reason``).
+    """A plan (``docs/contract.md``): heading intervals, one per bounce, from every start to the goal set.
 
-    ``min_width`` is the narrowest interval's width (radians), ``tolerance`` = min_width / 2 (the
-    precision the robot needs), ``sum_width`` the sum of the widths; all ``None`` when infeasible.
-    ``bounces`` is the number of stages (0 when the start set already lies in the goal set). ``value``
-    is the objective's value in the units of ``optimality.bound``. ``environment`` is ``None`` for a plan
-    read from a file that does not record it.
+    The intervals take the robot from every point of the start set to the goal set whatever headings inside
+    them it executes — or the plan is a proof that there is none (``status``
+    :attr:`~solverplan.result.Status.INFEASIBLE` with a ``reason``). Made by :func:`find_plan`; read back by
+    :func:`load_plan`.
+
+    Attributes
+    ----------
+    status, reason
+        A :class:`~solverplan.result.Status` (``found``, ``infeasible``, or ``not-found`` after a timeout) and,
+        unless found, why.
+    objective
+        ``fewest``, ``tolerance``, ``sum`` or ``constant``.
+    stages
+        The bounces, as :class:`~solverplan.result.Stage` objects: heading intervals (radians, CCW from the wall
+        the robot is on), each executed from the segments of P′ the robot may be on.
+    optimality
+        How the plan's optimality (or the infeasibility) is established, with its bound and scope.
+    start, goal
+        The boundary sets asked for, as text (``"e3:0.25:0.75,e4"``).
+    max_bounces
+        The bounce budget K, if one was given.
+    environment
+        The :class:`~solverplan.result.EnvironmentRecord` of the environment; ``None`` for a plan read from a
+        file that does not record it.
+    margins
+        The margin policy the planner used (heading margin δ and interval-end margin μ in radians, corner
+        clearance κ in the environment's units).
+    stats
+        Times and counts (recorded, never compared).
+    bounces
+        The number of stages (0 when the start set already lies in the goal set); ``None`` unless found.
+    min_width, tolerance, sum_width
+        The narrowest interval's width (radians), half of it (the precision the robot needs), and the sum of
+        the widths; ``None`` unless found.
+    value
+        The objective's value in the units of ``optimality.bound``.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> plan = sp.find_plan(sp.load_environment("l_shape"), "e5", "e0:0:0.3")
+    >>> plan.status.value, plan.bounces, round(plan.tolerance, 4), plan.intervals
+    ('found', 1, 0.1452, (Interval(lo=0.001, hi=0.29132704406479815),))
+    >>> print(plan.to_text().splitlines()[0])
+    fewest plan in 'l_shape' from e5 to e0:0:0.3
     """
 
     status: Status
@@ -249,10 +287,38 @@ class ParetoPoint:
 
 @dataclass(frozen=True)
 class ParetoFront:
-    """The Pareto front bounces ↔ tolerance: points with strictly increasing bounces and strictly
-    increasing min width. Every plan with b bounces has min width ≤ that of the last point with
-    ≤ b bounces (proved when ``optimality.proved``). Empty (``status`` infeasible, with a ``reason``) when
-    no plan exists. ``optimality.bound`` is the best min width (radians) of any plan of the scope."""
+    """The Pareto front bounces ↔ tolerance: the most tolerant plan for each number of bounces that helps.
+
+    Points have strictly increasing bounces and strictly increasing min width. Every plan with b bounces has
+    min width ≤ that of the last point with ≤ b bounces (proved when ``optimality.proved``). Made by
+    :func:`pareto_front`.
+
+    Attributes
+    ----------
+    points
+        The :class:`ParetoPoint` objects (``bounces``, ``min_width`` in radians, ``plan``), fewest bounces first;
+        empty when no plan exists.
+    optimality
+        ``optimality.bound`` is the best min width (radians) of any plan of the scope.
+    status, reason
+        ``found`` when there is a point; ``infeasible`` (proved, with a ``reason``) when no plan exists;
+        ``not-found`` when a timeout stopped the search first.
+    start, goal, max_bounces
+        The query: boundary sets as text, and the bounce budget if one was given.
+    environment
+        The :class:`~solverplan.result.EnvironmentRecord` of the environment.
+    stats
+        Times and counts (recorded, never compared).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> front = sp.pareto_front(sp.load_environment("l_shape"), "e5", "e0:0:0.3")
+    >>> [(point.bounces, round(point.min_width, 4)) for point in front.points]   # 4 more bounces: wider headings
+    [(1, 0.2903), (5, 0.3794)]
+    >>> front.best(3).bounces, front.optimality.proved
+    (1, True)
+    """
 
     points: tuple[ParetoPoint, ...]
     optimality: Optimality
@@ -440,7 +506,33 @@ def _sources(raw: object, moves: tuple[tuple[int, int], ...], where: str) -> tup
 
 
 def load_plan(path: str | Path) -> Plan:
-    """Read a plan file written by ``solverplan plan -o PLAN.json`` (see :func:`parse_plan`)."""
+    """Read a plan file written by ``solverplan plan -o PLAN.json`` (see :func:`parse_plan`).
+
+    Parameters
+    ----------
+    path
+        The plan file (JSON, ``docs/contract.md``).
+
+    Returns
+    -------
+    Plan
+        The plan as written, exact where the file is (stages, intervals, optimality); ``stats`` are not read.
+
+    Raises
+    ------
+    MalformedFile
+        A missing or unreadable file, invalid JSON, or JSON that is not a plan (the message names the field).
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> plan = sp.find_plan(sp.load_environment("l_shape"), "e5", "e0:0:0.3")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
+    >>> _ = path.write_text(json.dumps(plan.to_json()))
+    >>> sp.load_plan(path) == plan               # stats are not compared
+    True
+    """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")

@@ -275,6 +275,23 @@ def find_plan(
     InputError
         Bad sets (unknown edge, malformed piece), unknown objective or method, a bad budget, ``sum``
         without a budget, ``milp`` without a budget, a timeout that is not a positive finite number.
+
+    Examples
+    --------
+    From the middle of the left room's floor to the right half of the right room's floor, with the widest
+    heading intervals any plan has:
+
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("two_rooms")
+    >>> plan = sp.find_plan(env, "e0:0.2:0.8", "e4:0.5:1", objective="tolerance")
+    >>> plan.status.value, plan.bounces, round(plan.tolerance, 4), plan.optimality.proved   # ± radians
+    ('found', 7, 0.0521, True)
+
+    In the square no single bounce carries all of the bottom edge to the top one, and that is proved:
+
+    >>> plan = sp.find_plan(sp.load_environment("square"), "e0", "e2", max_bounces=1)
+    >>> plan.status.value, plan.optimality.proved, plan.reason
+    ('infeasible', True, 'exhausted all plans with ≤ 1 bounces (1 beliefs reached): none reaches the goal')
     """
     if objective not in OBJECTIVES:
         raise InputError(f"unknown objective {objective!r}: use {', '.join(OBJECTIVES)}")
@@ -540,13 +557,42 @@ def pareto_front(
     corner_clearance: float | None = None,
     timeout: float | None = None,
 ) -> ParetoFront:
-    """The Pareto front bounces ↔ tolerance: for each bounce count b at which the best achievable min
-    width strictly improves, the most tolerant plan with ≤ b bounces (within ``max_bounces`` if given;
-    without it the front is complete: no plan of any length beats its last point). ``timeout`` (seconds, the
-    graph build included; None: no limit) stops the label setting: the points found so far are exact, the
-    front's ``optimality`` is not proved, its bound is an upper bound on every plan's min width and its limits
-    name the timeout (:func:`find_plan`). The other parameters are :func:`find_plan`'s.
+    """The Pareto front bounces ↔ tolerance: the most tolerant plan for each bounce count that improves it.
 
+    For each bounce count b at which the best achievable min width strictly improves, the most tolerant plan
+    with ≤ b bounces (within ``max_bounces`` if given; without it the front is complete: no plan of any length
+    beats its last point).
+
+    Parameters
+    ----------
+    env
+        The environment.
+    start, goal
+        Boundary sets (``"e3:0.25:0.75,e4"`` or :class:`~solverplan.environment.BoundarySet`).
+    max_bounces
+        The bounce budget K (None: no budget, the front is complete).
+    graph
+        A prebuilt safe BVG of ``env`` (built when not given).
+    heading_margin, safe_margin, corner_clearance
+        δ and μ (radians) and κ (a length in the environment's units), as in :func:`find_plan`.
+    timeout
+        Seconds of wall time, the graph build included (None: no limit). It stops the label setting: the
+        points found so far are exact, the front's ``optimality`` is not proved, its bound is an upper bound on
+        every plan's min width and its limits name the timeout.
+
+    Returns
+    -------
+    ParetoFront
+        The points (bounces, min width in radians, plan), fewest bounces first; empty and ``infeasible`` when
+        no plan exists.
+
+    Raises
+    ------
+    InputError
+        Bad sets, a bad budget or margin, a timeout that is not a positive finite number.
+
+    Examples
+    --------
     >>> from solverplan.environment import Environment
     >>> ell = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]])
     >>> front = pareto_front(ell, "e5", "e0:0:0.3")

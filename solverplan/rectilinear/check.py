@@ -40,7 +40,7 @@ from pathlib import Path
 from solverplan.environment import Environment, read_json
 from solverplan.errors import MalformedFile
 from solverplan.limits import read_text_within_limits
-from solverplan.exact import ExactPoint, format_number, format_point, on_segment, orient, point_in_ring, segment_intersection, to_fraction
+from solverplan.exact import ExactPoint, format_number, format_point, on_segment, orient, point_in_ring, segment_intersection, signed_area2, to_fraction
 
 __all__ = ["RoomsCheck", "check_rooms", "load_rooms_answer"]
 
@@ -83,11 +83,6 @@ def _point(value: Any, where: str) -> ExactPoint:
     if not isinstance(value, (list, tuple)) or len(value) != 2:
         raise ValueError(f"{where}: expected [x, y], got {value!r}")
     return (to_fraction(value[0], where=where), to_fraction(value[1], where=where))
-
-
-def _area2(ring: list[ExactPoint]) -> Fraction:
-    n = len(ring)
-    return sum((ring[i][0] * ring[(i + 1) % n][1] - ring[(i + 1) % n][0] * ring[i][1] for i in range(n)), Fraction(0))
 
 
 def _covered(p: ExactPoint, q: ExactPoint, pieces: list[tuple[ExactPoint, ExactPoint]]) -> bool:
@@ -161,7 +156,7 @@ def check_rooms(env: Environment, answer: dict) -> RoomsCheck:
         except ValueError as exc:
             failures.append(f"room {k}: its polygon is not simple ({exc})")
             continue
-        real = _area2(polygon) / 2
+        real = signed_area2(polygon) / 2
         if real <= 0:
             failures.append(f"room {k}: its polygon is clockwise or flat (area {format_number(real)})")
         if real != area:

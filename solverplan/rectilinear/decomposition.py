@@ -609,6 +609,20 @@ def decompose_rooms(env: Environment) -> Decomposition:
     split edges, the first vertex, the orientation — changes neither the rooms nor the doors, nor which of equally
     short bottlenecks wins; door ids (in the order of their reflex vertices in ``env``) and vertex and edge numbers
     are then given in ``env``'s numbering.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> rooms = sp.decompose_rooms(sp.load_environment("l_shape"))
+    >>> [room.area for room in rooms.rooms], rooms.tree       # exact areas (square units); the tree's edges
+    ([Fraction(40, 1), Fraction(24, 1)], ((0, 1),))
+    >>> door = rooms.doors[0]
+    >>> door.rooms, door.a, door.b                               # the door's end points
+    ((0, 1), (Fraction(4, 1), Fraction(4, 1)), (Fraction(4, 1), Fraction(0, 1)))
+    >>> sp.decompose_rooms(sp.load_environment("two_rooms"))
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InvalidEnvironment: rooms need a rectilinear polygon: edge 2 from (10, 3) to (16, 2) is neither horizontal nor vertical
     """
     walls = StraightWalls(env)
     if not walls.identity:

@@ -29,19 +29,15 @@ import numpy as np
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
-from solverplan.exact import ExactPoint, exact_point, format_point
+from solverplan.exact import ExactPoint, cross, exact_point, format_point, signed_area2
 from solverplan.geometry.walls import StraightWalls
 
 __all__ = ["Side", "Cell", "Decomposition", "decompose_free_space"]
 
 
-def _cross(ax: Fraction, ay: Fraction, bx: Fraction, by: Fraction) -> Fraction:
-    return ax * by - ay * bx
-
-
 def _turn(a: ExactPoint, b: ExactPoint, c: ExactPoint) -> Fraction:
     """Twice the signed area of (a, b, c): > 0 for a left turn at b."""
-    return _cross(b[0] - a[0], b[1] - a[1], c[0] - b[0], c[1] - b[1])
+    return cross((b[0] - a[0], b[1] - a[1]), (c[0] - b[0], c[1] - b[1]))
 
 
 @dataclass(frozen=True, slots=True)
@@ -208,14 +204,14 @@ def _between(p: Sequence[Fraction], a: ExactPoint, b: ExactPoint) -> bool:
 
 
 def decompose_free_space(env: Environment) -> Decomposition:
-    """Convex cells of ``env``'s free space (holes included) by Hertel–Mehlhorn merging of a constrained Delaunay
-    triangulation, with their adjacency over shared facets.
+    """Convex cells of ``env``'s free space (holes included), with their adjacency over shared facets.
 
-    Every cell vertex is an exact vertex of ``env``; the cells are counter-clockwise, strictly convex (no angle
-    of π is created by a merge), and cover the free space exactly (their areas sum to the environment's exact
-    area — checked). The triangulation is made of the canonical walls of ``env``
-    (:class:`~solverplan.geometry.walls.StraightWalls`: collinear vertices merged — they are no corners — and each
-    ring from its canonical vertex), so that the cells do not depend on how the walls are written.
+    The cells are made by Hertel–Mehlhorn merging of a constrained Delaunay triangulation. Every cell vertex is an
+    exact vertex of ``env``; the cells are counter-clockwise, strictly convex (no angle of π is created by a merge),
+    and cover the free space exactly (their areas sum to the environment's exact area — checked). The triangulation
+    is made of the canonical walls of ``env`` (:class:`~solverplan.geometry.walls.StraightWalls`: collinear vertices
+    merged — they are no corners — and each ring from its canonical vertex), so that the cells do not depend on how
+    the walls are written.
 
     Parameters
     ----------
@@ -225,6 +221,8 @@ def decompose_free_space(env: Environment) -> Decomposition:
     Returns
     -------
     Decomposition
+        The cells (exact, counter-clockwise vertices in the environment's units) and the pairs of cells that share
+        a facet.
 
     Raises
     ------
@@ -237,6 +235,9 @@ def decompose_free_space(env: Environment) -> Decomposition:
     >>> dec = decompose_free_space(load_environment("one_hole"))
     >>> sum(len(c.sides) for c in dec.cells) >= 3 * len(dec.cells), len(dec.adjacency) >= len(dec.cells) - 1
     (True, True)
+    >>> dec = decompose_free_space(load_environment("l_shape"))      # two cells, split along the reflex corner's diagonal
+    >>> [[(int(x), int(y)) for x, y in cell.vertices] for cell in dec.cells], dec.adjacency
+    ([[(0, 0), (4, 4), (4, 10), (0, 10)], [(0, 0), (10, 0), (10, 4), (4, 4)]], ((0, 1),))
     """
     import shapely
 
@@ -258,15 +259,10 @@ def decompose_free_space(env: Environment) -> Decomposition:
             continue  # a flat triangle on collinear vertices covers nothing: its sides are shared by others
         triangles.append(ids)
     polygons = _merge(triangles, exact)
-    area = sum((_area2([exact[k] for k in poly]) for poly in polygons), Fraction(0)) / 2
+    area = sum((signed_area2([exact[k] for k in poly]) for poly in polygons), Fraction(0)) / 2
     if area != env.area:
         raise SolverFailed(f"the cells of {env.name!r} cover area {float(area):g}, not {float(env.area):g}")
     return _build(env, polygons)
-
-
-def _area2(points: Sequence[ExactPoint]) -> Fraction:
-    return sum((_cross(points[i][0], points[i][1], points[(i + 1) % len(points)][0], points[(i + 1) % len(points)][1])
-                for i in range(len(points))), Fraction(0))
 
 
 def _merge(triangles: list[list[int]], exact: Sequence[ExactPoint]) -> list[list[int]]:

@@ -157,6 +157,13 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
     decomposition
         Reuse a decomposition of ``env``.
 
+    Returns
+    -------
+    FieldPlan
+        The cells, the cell sequence from the start's cell to the goal's, one verified field per cell of the
+        sequence (``policies``, by cell id; ``flow_through`` says every line field carries its cell into its
+        outlet, checked exactly) and the reflection zones (``zones``).
+
     Raises
     ------
     InputError

@@ -29,7 +29,34 @@ __all__ = ["FieldNavigation", "navigate_fields"]
 
 @dataclass(frozen=True)
 class FieldNavigation:
-    """The composed fields (``plan``), the robot ``model`` and one :class:`ScenarioRun` per scenario (``runs``)."""
+    """The composed fields (``plan``), the robot ``model`` and one :class:`ScenarioRun` per scenario (``runs``).
+
+    Made by :func:`navigate_fields`; follows the result protocol of :mod:`solverplan.result`.
+
+    Attributes
+    ----------
+    plan
+        The composed field policy (:func:`~solverplan.reflection.compose.compose_fields`).
+    model
+        The :class:`~solverplan.reflection.simulate.RobotModel` the rollouts used.
+    runs
+        Scenario name → its trials (success share, times in seconds, collisions, kept trajectories).
+    seed
+        The random seed of the rollouts.
+    status, optimality
+        ``found`` when every line field's flow-through is verified exactly; what that proves.
+    stats, environment
+        Times and counts; the :class:`~solverplan.result.EnvironmentRecord` of the environment.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> nav = sp.navigate_fields(sp.load_environment("l_shape"), (5, 2), (2, 5), scenarios=("reflection",),
+    ...                          model="integrator", trials=2, seed=1)
+    >>> run = nav.runs["reflection"]
+    >>> nav.status.value, nav.plan.sequence, run.success, run.collisions.tolist()
+    ('found', (1, 0), 1.0, [0, 0])
+    """
 
     plan: FieldPlan
     model: RobotModel
@@ -100,12 +127,22 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     fast, slow
         Commanded speeds of the unconstrained/reflection and the constrained scenarios (length/s).
 
+    Returns
+    -------
+    FieldNavigation
+        The composed fields, the model, and per scenario the trials' success, times (seconds) and collisions.
+
+    Raises
+    ------
+    InputError
+        An unknown scenario or model, bad counts or speeds, or points :func:`compose_fields` refuses.
+
     Examples
     --------
     >>> import solverplan as sp
-    >>> nav = navigate_fields(sp.load_environment("serpentine"), (3, "2.25"), (3, "0.25"), trials=2)
-    >>> nav.status.value, nav.to_json()["sequence"], sorted(nav.runs)
-    ('found', [4, 2, 1, 0, 3, 7, 6, 5, 8], ['constrained', 'reflection', 'unconstrained'])
+    >>> nav = navigate_fields(sp.load_environment("l_shape"), (5, 2), (2, 5), model="integrator", trials=2)
+    >>> nav.status.value, nav.to_json()["sequence"], {name: run.success for name, run in nav.runs.items()}
+    ('found', [1, 0], {'constrained': 1.0, 'unconstrained': 1.0, 'reflection': 1.0})
     """
     began = time.perf_counter()
     unknown = [s for s in scenarios if s not in SCENARIOS]

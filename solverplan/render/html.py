@@ -141,14 +141,41 @@ def answer_kind(data: object) -> str | None:
 
 
 def load_answer(path: str | os.PathLike[str], *, option: str | None = None) -> AnswerFile:
-    """Read an answer file the CLI wrote; with ``option`` (a key of :data:`REPORT_OPTIONS`), it must be of a kind
-    that option takes.
+    """Read an answer file the CLI wrote (or an answer's ``to_json()``), and tell which kind of answer it is.
+
+    Parameters
+    ----------
+    path
+        The answer file (JSON): a plan, Pareto front, patrol, funnel, localisation strategy, limit cycle,
+        constant controller or study.
+    option
+        A key of :data:`REPORT_OPTIONS` (``"plan"``, ``"patrol"``, ...): the answer must be of a kind that
+        ``solverplan report`` option takes.
+
+    Returns
+    -------
+    AnswerFile
+        Its ``path``, ``kind`` (a key of :data:`ANSWER_KINDS`) and JSON ``data``.
 
     Raises
     ------
     MalformedFile
         A missing or unreadable file, bad JSON, a file past the input limits, a file that is no answer, or an
         answer of a kind ``option`` does not take (the message names the option that does).
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> plan = sp.find_plan(sp.load_environment("l_shape"), "e5", "e0:0:0.3")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
+    >>> _ = path.write_text(json.dumps(plan.to_json()))
+    >>> sp.load_answer(path).kind
+    'plan'
+    >>> sp.load_answer(path, option="patrol")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.MalformedFile: .../plan.json: is a plan (solverplan plan -o), not what --patrol takes: give it with --plan
     """
     file = Path(path)
     text = read_text_within_limits(file)
@@ -277,9 +304,36 @@ def _stage_colour(k: int) -> str:
 # ====================================================================== the page
 @dataclass(frozen=True)
 class HtmlReport:
-    """A report page: ``html`` (the whole self-contained document), the answer's ``kind``, the page ``title``
-    and ``certificate``, the checker's verdict when a certificate was given (``{"valid", "kind", "failures",
-    "checked", "not_checked"}``; ``None`` without one)."""
+    """A report page: the whole self-contained HTML document, and what it reports on.
+
+    Made by :func:`html_report`; :func:`write_report` writes it.
+
+    Attributes
+    ----------
+    html
+        The whole document (styles, scripts and pictures inline: it opens without a network).
+    kind
+        The answer's kind (a key of :data:`ANSWER_KINDS`).
+    title
+        The page's title.
+    certificate
+        The checker's verdict when a certificate was given (``{"valid", "kind", "failures", "checked",
+        "not_checked"}``); ``None`` without one.
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> plan = sp.find_plan(env, "e5", "e0:0:0.3")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
+    >>> _ = path.write_text(json.dumps(plan.to_json()))
+    >>> page = sp.html_report(sp.load_answer(path), env)
+    >>> page.kind, page.title, page.certificate
+    ('plan', 'l_shape: fewest plan e5 → e0:0:0.3: 1 bounce, tolerance ±0.1452 rad', None)
+    >>> page.html.startswith("<!DOCTYPE html>")
+    True
+    """
 
     html: str
     kind: str
@@ -314,10 +368,35 @@ class SavedReport:
 def write_report(report: HtmlReport, path: str | os.PathLike[str]) -> SavedReport:
     """Write the page atomically (whole or not at all, :mod:`solverplan._io`).
 
+    Parameters
+    ----------
+    report
+        The page (:func:`html_report`).
+    path
+        The file to write (``.html``); a previous file there is replaced only once the new one is complete.
+
+    Returns
+    -------
+    SavedReport
+        Where the page went and what it reports (what ``solverplan report`` prints).
+
     Raises
     ------
     InputError
         When the place cannot be written.
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> plan = sp.find_plan(env, "e5", "e0:0:0.3")
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "plan.json").write_text(json.dumps(plan.to_json()))
+    >>> page = sp.html_report(sp.load_answer(folder / "plan.json"), env, certificate=sp.certificate(plan, env=env))
+    >>> saved = sp.write_report(page, folder / "report.html")
+    >>> saved.to_json()["certificate"]["valid"], (folder / "report.html").read_text(encoding="utf-8") == page.html
+    (True, True)
     """
     try:
         atomic_write_text(path, report.html)
@@ -354,6 +433,7 @@ def html_report(
     Returns
     -------
     HtmlReport
+        The page (``html``), its ``kind`` and ``title``, and the certificate's verdict when one was given.
 
     Raises
     ------
@@ -362,6 +442,22 @@ def html_report(
         lacks); the certificate is of another kind of answer, another environment, another start or goal set or
         another number of bounces; a certificate for an answer that has none (cycles, studies); an environment
         for a study, or none for the others. A malformed answer is :class:`~solverplan.errors.MalformedFile`.
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("l_shape")
+    >>> plan = sp.find_plan(env, "e5", "e0:0:0.3")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
+    >>> _ = path.write_text(json.dumps(plan.to_json()))
+    >>> page = sp.html_report(sp.load_answer(path), env, certificate=sp.certificate(plan, env=env))
+    >>> print(page.to_text(), end="")
+    report of a plan (solverplan plan -o): l_shape: fewest plan e5 → e0:0:0.3: 1 bounce, tolerance ±0.1452 rad; certificate VALID (checked exactly)
+    >>> sp.html_report(sp.load_answer(path), sp.load_environment("square"))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: .../plan.json: the answer was made in another environment ('l_shape', sha256 7da40167f198…), not in 'square'
     """
     kind = answer.kind
     if kind == "study":
@@ -811,12 +907,12 @@ class _View:
         """The worst-case contraction coefficient C over [lo, hi] of a move from edge ``source`` to edge ``target``
         (paper Def. 11, Lemma 2: C is monotone in θ, so the worst case is at a known end), its transition and φ;
         None where the paper's C does not apply (the same wall, or parallel walls facing the same way)."""
-        from solverplan.bounce.dynamics import transition_angle, worst_case_contraction
+        from solverplan.bounce.dynamics import edge_transition, worst_case_contraction
 
         if source == target:
             return None
         try:
-            phi, side = transition_angle(self.env, source, target)
+            phi, side = edge_transition(self.env, source, target)
         except InputError:
             return None
         c = worst_case_contraction((lo, hi), phi, side)

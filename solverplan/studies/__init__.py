@@ -1,6 +1,6 @@
 """Studies: random environments, reachability/connectivity sweeps, batch execution (the paper's §7.3–7.4, §8.1–8.2).
 
-- :mod:`~solverplan.studies.generators` — seeded generators that always return valid, exact
+- :mod:`~solverplan.generators` (re-exported here) — seeded generators that always return valid, exact
   environments: random star polygons (the paper's §7.3 family, irregularity scaled properly), star
   polygons with holes, rooms joined by corridors, rectilinear floor plans, the paper's worst case for
   Algorithm 1 (§4.0.1).
@@ -25,7 +25,7 @@ Programs that run a study on a process pool must guard their entry point
 
 from solverplan.studies.catalog import DEFAULT_GRIDS, STUDIES, build_study
 from solverplan.studies.execute import StudyInterrupted, StudyResult, run_study
-from solverplan.studies.generators import (
+from solverplan.generators import (
     GENERATORS,
     generate,
     rectilinear_floor_plan,
@@ -35,7 +35,7 @@ from solverplan.studies.generators import (
     star_polygon_with_holes,
     worst_case_polygon,
 )
-from solverplan.studies.metrics import Connectivity, Metric, Reachability
+from solverplan.studies.metrics import ConnectivityMetric, Metric, ReachabilityMetric
 from solverplan.studies.rooms import RoomRuns, RuleComparison, compare_rules, periodic_orbit, simulate_rooms
 from solverplan.studies.rule_systems import RuleReachability
 from solverplan.studies.study import Heatmap, Study, StudyTable, parse_grid, parse_values, row_seed, run_task
@@ -57,8 +57,8 @@ __all__ = [
     "row_seed",
     "run_task",
     "Metric",
-    "Reachability",
-    "Connectivity",
+    "ReachabilityMetric",
+    "ConnectivityMetric",
     "RuleReachability",
     "run_study",
     "StudyResult",

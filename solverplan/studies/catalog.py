@@ -3,8 +3,8 @@
 =================  ====================================================  =====================================
 study              measures (per environment)                            heatmaps
 =================  ====================================================  =====================================
-``reachability``   :class:`~solverplan.studies.metrics.Reachability`     unreachable share of ∂P′ (Fig. 15)
-``connectivity``   :class:`~solverplan.studies.metrics.Connectivity`     strong / weak components (Fig. 16)
+``reachability``   :class:`~solverplan.studies.metrics.ReachabilityMetric`     unreachable share of ∂P′ (Fig. 15)
+``connectivity``   :class:`~solverplan.studies.metrics.ConnectivityMetric`     strong / weak components (Fig. 16)
 ``rules``          :class:`~solverplan.studies.rule_systems.RuleReachability`  per rule family: guaranteed
                                                                          unreachable share, single-run coverage
 =================  ====================================================  =====================================
@@ -19,8 +19,8 @@ from __future__ import annotations
 from typing import Sequence
 
 from solverplan.errors import InputError
-from solverplan.studies.generators import GENERATORS
-from solverplan.studies.metrics import Connectivity, Metric, Reachability
+from solverplan.generators import GENERATORS
+from solverplan.studies.metrics import ConnectivityMetric, Metric, ReachabilityMetric
 from solverplan.studies.rule_systems import DEFAULT_FAMILIES, RuleReachability
 from solverplan.studies.study import PAPER_GRID, Study, parse_grid
 
@@ -60,9 +60,9 @@ def build_study(
         raise InputError(f"unknown generator {generator!r}: use {', '.join(GENERATORS)}")
     metric: Metric
     if name == "reachability":
-        metric = Reachability()
+        metric = ReachabilityMetric()
     elif name == "connectivity":
-        metric = Connectivity()
+        metric = ConnectivityMetric()
     else:
         metric = RuleReachability(tuple(families or DEFAULT_FAMILIES), family_size=family_size, trials=trials, bounces=bounces)
     axes = parse_grid(grid, base=DEFAULT_GRIDS[generator])

@@ -20,20 +20,20 @@ The paper's metrics (§7.3–7.4) are computed on the **safe bounce visibility g
 (:func:`solverplan.bounce.bvg.safe_bounce_visibility_graph`), nodes = the segments of P′, an arc
 i → j when the arc of the BVG has at least one safe heading:
 
-- :class:`Reachability` (Fig. 15): ``unreachable`` = (total length of the segments with **no incoming
+- :class:`ReachabilityMetric` (Fig. 15): ``unreachable`` = (total length of the segments with **no incoming
   safe arc**) / (perimeter of P, holes included); also the count of such segments, and
   ``unreachable_nonadjacent``, the same share when the arcs between neighbouring segments of P′
   (sharing an end point) are ignored — what an implementation that drops Cor. 1's adjacent arcs
   would report (a diagnostic: in star polygons it changes the share very little).
-- :class:`Connectivity` (Fig. 16): numbers of strongly (``scc``) and weakly (``wcc``) connected
+- :class:`ConnectivityMetric` (Fig. 16): numbers of strongly (``scc``) and weakly (``wcc``) connected
   components of the safe BVG (every segment is a node, so a segment without safe arcs is a component
   of its own), and the share of the perimeter in the largest strongly connected component.
 
 >>> from solverplan.environment import Environment
 >>> square = Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]])
->>> Reachability()(square, seed=0)
+>>> ReachabilityMetric()(square, seed=0)
 {'segments': 4, 'arcs': 12, 'safe_arcs': 12, 'unreachable_segments': 0, 'unreachable': 0.0, 'unreachable_nonadjacent': 0.0}
->>> Connectivity()(square, seed=0)["scc"], Connectivity()(square, seed=0)["wcc"]
+>>> ConnectivityMetric()(square, seed=0)["scc"], ConnectivityMetric()(square, seed=0)["wcc"]
 (1, 1)
 """
 
@@ -50,8 +50,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "Metric",
-    "Reachability",
-    "Connectivity",
+    "ReachabilityMetric",
+    "ConnectivityMetric",
     "SafeGraphSummary",
     "safe_graph_summary",
     "unreachable_fraction",
@@ -159,7 +159,7 @@ def safe_graph_summary(env: Environment) -> SafeGraphSummary:
 
 # ---------------------------------------------------------------------- the paper's metrics
 @dataclass(frozen=True)
-class Reachability:
+class ReachabilityMetric:
     """Fig. 15: the share of the boundary of P′ that no safe action reaches from any other segment."""
 
     name: ClassVar[str] = "reachability"
@@ -188,7 +188,7 @@ class Reachability:
 
 
 @dataclass(frozen=True)
-class Connectivity:
+class ConnectivityMetric:
     """Fig. 16: strongly and weakly connected components of the safe BVG."""
 
     name: ClassVar[str] = "connectivity"

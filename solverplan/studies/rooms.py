@@ -52,7 +52,7 @@ Doors = Literal["control", "open"]
 
 class RoomPolicy:
     """A rule executed in the rooms of a decomposition, with door control (:class:`solverplan.simulate.Policy`
-    with its own :class:`~solverplan.simulate.Walls`).
+    with its own :class:`~solverplan.simulate.PolicyWalls`).
 
     The robot of rollout i is at position ``positions[i]`` of the room sequence; it reaches the goal when it is
     at the last one. Without control (``control=None``) every door is open and the goal is being in ``goal``.
@@ -239,6 +239,25 @@ def simulate_rooms(
     per_room
         Give the smart robot the θ of the room it is in (:func:`~solverplan.rectilinear.rules.room_tangents`)
         instead of the least θ of the whole sequence.
+
+    Returns
+    -------
+    RoomRuns
+        The share of robots that reached ``goal`` within ``max_bounces`` (``success``), their bounce counts, the
+        deterministic runs proved trapped in a periodic orbit, and the θ the smart rule used (radians).
+
+    Raises
+    ------
+    InputError
+        Unknown rooms or rule, a walk that does not join ``start`` to ``goal`` through doors, bad counts.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> rooms = sp.decompose_rooms(sp.load_environment("l_shape"))
+    >>> runs = sp.simulate_rooms(rooms, 0, 1, trials=20, seed=1)          # 20 smart robots from room 0 to room 1
+    >>> runs.success, runs.outcomes["goal"], runs.theta_tangent, runs.bounces_median
+    (1.0, 20, Fraction(1, 5), 5.5)
     """
     trials = _check_count("trials", trials, 1)
     max_bounces = _check_count("max_bounces", max_bounces, 1)
@@ -269,7 +288,32 @@ def simulate_rooms(
 
 
 def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[str] = RULES, **options: Any) -> RuleComparison:
-    """:func:`simulate_rooms` for each rule with the same seed (so the same starts), side by side."""
+    """:func:`simulate_rooms` for each rule with the same seed (so the same starts), side by side.
+
+    Parameters
+    ----------
+    dec
+        A room decomposition (:func:`solverplan.rectilinear.decompose_rooms`).
+    start, goal
+        Room ids.
+    rules
+        The rules to compare (default all: ``smart``, ``random``, ``billiard``).
+    **options
+        :func:`simulate_rooms`'s keyword arguments (``trials``, ``seed``, ``max_bounces``, ``doors``, ...).
+
+    Returns
+    -------
+    RuleComparison
+        ``runs[rule]``, one :class:`RoomRuns` per rule (the paper's Table I), from the same starts.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> rooms = sp.decompose_rooms(sp.load_environment("l_shape"))
+    >>> table = sp.compare_rules(rooms, 0, 1, trials=20, seed=1)
+    >>> {rule: (runs.success, runs.bounces_median) for rule, runs in table.runs.items()}
+    {'smart': (1.0, 5.5), 'random': (1.0, 4.0), 'billiard': (1.0, 6.5)}
+    """
     return RuleComparison({name: simulate_rooms(dec, start, goal, rule=name, **options) for name in rules})
 
 

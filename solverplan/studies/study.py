@@ -1,6 +1,6 @@
 """A study: a grid of generator parameters × N seeds per cell → one tidy row per environment.
 
-A :class:`Study` names a generator (:data:`~solverplan.studies.generators.GENERATORS`), the grid of
+A :class:`Study` names a generator (:data:`~solverplan.generators.GENERATORS`), the grid of
 its parameters (axes with one value are fixed parameters), the metric's own option axes (the rules
 study's ``rule``), ``per_cell`` replicates and a base ``seed``. Its :meth:`~Study.tasks` are the rows
 to compute, in table order: cells in grid order (the product of the axes, last axis fastest), then
@@ -35,7 +35,7 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 
 from solverplan.errors import InputError
-from solverplan.studies.generators import GENERATORS, generate
+from solverplan.generators import GENERATORS, generate
 from solverplan.studies.metrics import Metric
 
 __all__ = [
@@ -170,8 +170,8 @@ def row_key(params: Mapping[str, Any], options: Mapping[str, Any], replicate: in
 class Study:
     """A grid of generator parameters × ``per_cell`` seeds, measured by ``metric`` (module docstring).
 
-    >>> from solverplan.studies.metrics import Reachability
-    >>> study = Study(Reachability(), per_cell=2, grid=(("n", (8,)), ("irregularity", (0.1, 0.3)), ("spikiness", (0.2,))))
+    >>> from solverplan.studies.metrics import ReachabilityMetric
+    >>> study = Study(ReachabilityMetric(), per_cell=2, grid=(("n", (8,)), ("irregularity", (0.1, 0.3)), ("spikiness", (0.2,))))
     >>> study.n_cells, len(study.tasks()), study.axes
     (2, 4, ('irregularity',))
     >>> study.columns[:6]

@@ -228,6 +228,19 @@ def cut_ordering(env: Environment) -> CutOrdering:
         Vertices and cut end points in counter-clockwise boundary order from ``v0``; end points on one edge in
         order of their exact parameter t. ``optimality`` says the order is exact; ``stats`` counts n and m.
 
+    Raises
+    ------
+    InvalidEnvironment
+        A polygon with holes, or not in general position (three collinear vertices, a cut through a vertex).
+
+    Examples
+    --------
+    ``r3`` and ``l3`` are where the right and left cuts of the reflex vertex v3 (the extensions of its two walls)
+    end on the boundary:
+
+    >>> import solverplan as sp
+    >>> sp.cut_ordering(sp.load_environment("l_shape")).labels
+    ('v0', 'l3', 'v1', 'v2', 'v3', 'v4', 'v5', 'r3')
     >>> from solverplan.environment import Environment
     >>> room = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])
     >>> cut_ordering(room).labels

@@ -332,6 +332,15 @@ def learn_cut_ordering(env: Environment, start: Sequence[object] | None = None, 
     -------
     LearnedOrdering
         With ``pebble_vertex`` (the environment vertex the robot calls v0) and ``matches_geometry``.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> learned = sp.learn_cut_ordering(sp.load_environment("l_shape"))
+    >>> learned.ordering.labels, learned.matches_geometry
+    (('v0', 'l3', 'v1', 'v2', 'v3', 'v4', 'v5', 'r3'), True)
+    >>> learned.actions, learned.memory          # actions executed, words of memory at the end
+    (18, 12)
     """
     world = WallWorld(env, start, heading)
     learned = strategy1(world, comparisons=comparisons, transcript=transcript, max_actions=max_actions)

@@ -64,6 +64,15 @@ class CutOrdering:
         How it was obtained; the default claims nothing.
     stats
         Counts of the computation that made it.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> ordering = sp.cut_ordering(sp.load_environment("l_shape"))
+    >>> ordering.labels, ordering.status.value, ordering.optimality.proved
+    (('v0', 'l3', 'v1', 'v2', 'v3', 'v4', 'v5', 'r3'), 'found', True)
+    >>> sp.CutOrdering.from_labels(ordering.labels) == sp.CutOrdering(ordering.labels)   # validated, by hand
+    True
     """
 
     labels: tuple[str, ...]

@@ -55,6 +55,20 @@ class PebbleWorld(WallWorld):
 
     Every query of the sensor is counted in :attr:`visibility_queries`.
 
+    Parameters
+    ----------
+    env
+        A simple polygon in general position.
+    *args, **kwargs
+        :class:`~solverplan.wallfollow.world.WallWorld`'s ``start``, ``heading`` and ``carrying``.
+
+    Attributes
+    ----------
+    visibility_queries
+        How many times the pebble-visibility sensor was read.
+
+    Examples
+    --------
     >>> from solverplan.environment import Environment
     >>> ell = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])   # v3 is reflex
     >>> world = PebbleWorld(ell)
@@ -294,9 +308,10 @@ def _scan(order: CutOrdering, near: int, far: int) -> tuple[str, str]:
 
 
 def learn_bitangents(env: Environment, order: CutOrdering | None = None) -> LearnedBitangents:
-    """Strategy 4: every bitangent and its end points' places in the cut ordering, learned by a robot that
-    starts at vertex 0 with the pebble and knows the cut ordering (default: the exact one, which Strategy 1
-    learns from sensing alone).
+    """Strategy 4: every bitangent and its end points' places in the cut ordering, learned with the pebble.
+
+    The robot starts at vertex 0 with the pebble and knows the cut ordering (default: the exact one, which
+    Strategy 1 learns from sensing alone).
 
     Parameters
     ----------
@@ -317,6 +332,9 @@ def learn_bitangents(env: Environment, order: CutOrdering | None = None) -> Lear
     >>> learned = learn_bitangents(load("l_shape"))
     >>> learned.bitangents, learned.actions
     ((), 0)
+    >>> learned = learn_bitangents(load("star"))
+    >>> learned.bitangents[0], len(learned.bitangents), learned.actions, learned.visibility_queries
+    (LearnedBitangent(i=9, j=12, after_ij='v6', after_ji='v13'), 2, 120, 14)
     """
     env = corner_polygon(env)
     order = order or cut_ordering(env)

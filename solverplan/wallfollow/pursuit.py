@@ -231,6 +231,16 @@ class PursuitPlan:
     learning
         With the pebble-visibility sensor: what Strategy 4 learned first, and its cost
         (:class:`~solverplan.wallfollow.pebble.LearnedBitangents`).
+
+    Examples
+    --------
+    A room with a wall jutting in from the right: from v0 the pocket above the wall is out of sight.
+
+    >>> import solverplan as sp
+    >>> room = sp.Environment.from_coords([[0, 0], [10, 1], [9, 4], [3, 5], [9, 6], [10, 9], [0, 10]])
+    >>> chase = sp.pursuit_plan(room)
+    >>> chase.status.value, chase.actions, chase.positions, chase.verified
+    ('found', ('LFOLLOW',), ('v0', 'v6'), True)
     """
 
     status: Status
@@ -329,6 +339,24 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     check
         Replay the plan found with :func:`~solverplan.wallfollow.pursuit_check.check_pursuit`.
 
+    Returns
+    -------
+    PursuitPlan
+        ``found`` with the fewest actions (and their replay when ``check``), ``infeasible`` (proved), or
+        ``not-found``.
+
+    Raises
+    ------
+    InputError
+        An unknown sensor or start, a bad ``max_states``; the polygon must be simple and in general position
+        (:class:`~solverplan.errors.InvalidEnvironment`).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> room = sp.Environment.from_coords([[0, 0], [10, 1], [9, 4], [3, 5], [9, 6], [10, 9], [0, 10]])
+    >>> sp.pursuit_plan(room).actions                   # follow the wall left to v6, which sees the pocket
+    ('LFOLLOW',)
     >>> from solverplan.environment import Environment
     >>> square = Environment.from_coords([[0, 0], [2, 0], [2, 2], [0, 2]])
     >>> pursuit_plan(square).actions                    # convex: the evader is seen at once

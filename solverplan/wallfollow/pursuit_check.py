@@ -46,7 +46,7 @@ from shapely.geometry import Polygon
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
-from solverplan.exact import ExactPoint, format_point
+from solverplan.exact import ExactPoint, format_point, signed_area2
 from solverplan.limits import quote
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
 from solverplan.wallfollow.world import Action, WallWorld, parse_action
@@ -63,14 +63,6 @@ OVERLAP_FRACTION = 1e-9
 #: How labels travel over a stretch of motion: each component at the end → the components at the start it
 #: comes from (its label is the OR of theirs; an empty set means label 0).
 Transfer = dict[int, frozenset[int]]
-
-
-def _signed_area(ring: Sequence[ExactPoint]) -> Fraction:
-    total = Fraction(0)
-    for k in range(len(ring)):
-        (x0, y0), (x1, y1) = ring[k], ring[(k + 1) % len(ring)]
-        total += x0 * y1 - x1 * y0
-    return total / 2
 
 
 def _boundary_chain(env: Environment, a: ExactPoint, b: ExactPoint) -> list[ExactPoint]:
@@ -117,7 +109,7 @@ def shadow_components(env: Environment, p: Sequence[object],
         if piece.reflex_vertex in out:  # pragma: no cover - one ray per vertex from p
             raise SolverFailed(f"two windows at reflex vertex {piece.reflex_vertex} from {format_point(vis.viewpoint)}")
         out[piece.reflex_vertex] = ring
-    total = vis.area + sum(_signed_area(r) for r in out.values())
+    total = vis.area + sum((signed_area2(r) for r in out.values()), Fraction(0)) / 2
     if total != env.area:
         raise SolverFailed(f"shadow of {format_point(vis.viewpoint)}: visible area + pockets = {float(total)} "
                            f"≠ the polygon's area {float(env.area)}")
@@ -263,6 +255,16 @@ class PursuitCheck:
         wherever it was), or ``None``.
     samples
         Positions at which the shadow was computed, in all.
+    verified
+        True when the plan guarantees detection (``cleared_after`` is not ``None``).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> room = sp.Environment.from_coords([[0, 0], [10, 1], [9, 4], [3, 5], [9, 6], [10, 9], [0, 10]])
+    >>> replay = sp.check_pursuit(room, ["LFOLLOW"])
+    >>> replay.verified, replay.cleared_after, [step.label for step in replay.steps]
+    (True, 1, ['v0', 'v6'])
     """
 
     start: str
@@ -309,6 +311,22 @@ def check_pursuit(env: Environment, actions: Sequence[Action | str], start: str 
     ------
     InputError
         An action that is not a pursuit action, or that does not apply where the pursuer is.
+
+    Returns
+    -------
+    PursuitCheck
+        The status after every action; ``verified`` when at some instant no shadow can hold the evader.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> room = sp.Environment.from_coords([[0, 0], [10, 1], [9, 4], [3, 5], [9, 6], [10, 9], [0, 10]])
+    >>> sp.check_pursuit(room, ["LFOLLOW"]).verified, sp.check_pursuit(room, ["RFOLLOW"]).verified
+    (True, False)
+    >>> sp.check_pursuit(room, ["DROP"])
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: DROP is not a pursuit action: use RFOLLOW, LFOLLOW or JUMP
     """
     world = _start_world(env, start)
     plan = tuple(parse_action(a) for a in actions)

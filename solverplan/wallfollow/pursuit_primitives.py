@@ -35,7 +35,7 @@ from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import SolverFailed
-from solverplan.exact import ExactPoint, orient, segment_intersection
+from solverplan.exact import ExactPoint, cross, orient, segment_intersection
 from solverplan.wallfollow.bitangents import bitangents, reflex_chains
 from solverplan.wallfollow.cuts import cut_ordering, cuts
 
@@ -64,10 +64,6 @@ class BitangentRay:
 
 #: A Strategy 3 I-state's pursuit status: (merges in force as (ray, far primitive, near primitive), labelled 1)
 PrimitiveState = tuple[frozenset[tuple[int, str, str]], frozenset[str]]
-
-
-def _cross(d: ExactPoint, w: ExactPoint) -> Fraction:
-    return d[0] * w[1] - d[1] * w[0]
 
 
 def _cot(d: ExactPoint, w: ExactPoint) -> Fraction:
@@ -124,7 +120,7 @@ class BitangentSensor:
         chain = self._chain[v]
         right, left = f"R{chain[0]}", f"L{chain[-1]}"
         for edge, other in ((back, left), (ahead, right)):
-            if _cross(d, edge) == 0:
+            if cross(d, edge) == 0:
                 # along a cut (the edge's extension): the pocket beyond holds the other edge; along the edge
                 # itself: nothing is hidden behind v
                 return other if d[0] * edge[0] + d[1] * edge[1] < 0 else None
@@ -137,8 +133,8 @@ class BitangentSensor:
         v = pts[ray.near]
         d = (pts[ray.far][0] - v[0], pts[ray.far][1] - v[1])
         walls = [(pts[(ray.near + k) % n][0] - v[0], pts[(ray.near + k) % n][1] - v[1]) for k in (-1, 1)]
-        u, w = (m, d) if _cross(m, d) > 0 else (d, m)  # the sweep from p's direction to the far one, CCW
-        return any(_cross(u, e) > 0 and _cross(e, w) > 0 for e in walls)
+        u, w = (m, d) if cross(m, d) > 0 else (d, m)  # the sweep from p's direction to the far one, CCW
+        return any(cross(u, e) > 0 and cross(e, w) > 0 for e in walls)
 
     def active(self, label: str) -> frozenset[str]:
         """The primitives active at a point of the cut ordering."""

@@ -117,6 +117,21 @@ class WallWorld:
     ----------
     transcript
         ``(action, observation)`` for every action executed.
+    label
+        Where the robot is, as a point of the cut ordering (``v3``, ``l5``), or ``None`` elsewhere.
+    carrying, pebble
+        Whether the robot holds the pebble, and where the pebble lies otherwise (``(edge, t)`` or a point).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> world = sp.WallWorld(sp.load_environment("l_shape"))     # at v0, carrying the pebble
+    >>> world.act("RFOLLOW"), world.label
+    (Observation(touch=<Touch.CONVEX: 'convex'>, pebble=False), 'v1')
+    >>> [str(seen) for seen in world.run(["RFOLLOW", "DROP", "RFOLLOW", "JUMP"])]
+    ['convex', 'convex+pebble', 'reflex', 'edge']
+    >>> world.label, world.pebble, world.carrying     # jumped along v3's cut to r3; the pebble is on v2
+    ('r3', (2, Fraction(0, 1)), False)
     """
 
     def __init__(self, env: Environment, start: Sequence[object] | None = None,

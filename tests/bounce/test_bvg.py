@@ -27,7 +27,7 @@ from solverplan.bounce.safe import safe_set
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.geometry.visibility import segments_see_each_other
-from solverplan.studies.generators import worst_case_polygon
+from solverplan.generators import worst_case_polygon
 from tests.strategies import polygons_with_holes, simple_polygons
 
 MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
@@ -163,8 +163,8 @@ def test_exact_fallbacks_agree_with_the_float_path(monkeypatch, name):
 
     env = model(name)
     want = safe_bounce_visibility_graph(env)
-    monkeypatch.setattr(sweep_module, "_ANGLE_REL", 1e3)
-    monkeypatch.setattr(sweep_module, "_CROSS_REL", 1e3)
+    monkeypatch.setattr(sweep_module, "ANGLE_REL", 1e3)
+    monkeypatch.setattr(sweep_module, "CROSS_REL", 1e3)
     monkeypatch.setattr(sweep_module, "_THIN", 10.0)
     monkeypatch.setattr(bvg_module, "_SAT_REL", 1e3)
     bvg_module.clear_graph_cache()  # a rebuild, not the graph kept from the first call
@@ -386,7 +386,7 @@ def test_cli_render_partition_graph(tmp_path):
 # memory and time that follow the output: pruning, chunked JSON, the graph cache, the size check
 # ---------------------------------------------------------------------------------------------
 from solverplan.bounce import bvg as bvg_api  # noqa: E402
-from solverplan.studies.generators import star_polygon, star_polygon_with_holes  # noqa: E402
+from solverplan.generators import star_polygon, star_polygon_with_holes  # noqa: E402
 
 
 @pytest.fixture
@@ -536,7 +536,7 @@ def test_point_vectors_are_accurate_far_from_zero():
 
 def test_translated_star_keeps_arcs_and_float_angles():
     """A random star moved by 1e12: the same arcs and every float answer within 1e-12 of the untranslated one."""
-    from solverplan.studies.generators import star_polygon
+    from solverplan.generators import star_polygon
 
     base = star_polygon(12, 0.2, 0.3, seed=3)
     moved = Environment.from_coords([[x + 10**12, y - 10**12] for x, y in base.outer])

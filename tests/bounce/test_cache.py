@@ -19,7 +19,7 @@ from solverplan.bounce import bvg as bvg_api
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.partition import Partition, PartitionSegment, partition
 from solverplan.environment import Environment, load_environment
-from solverplan.studies.generators import star_polygon
+from solverplan.generators import star_polygon
 from tests.cache_entries import interval_rows, old_digest, read_entry, with_sets, write_entry
 
 ARRAYS = ("source", "target", "lo", "hi", "n_intervals", "set_offsets", "set_lo", "set_hi", "transition", "phi")
@@ -246,7 +246,7 @@ def test_only_graphs_of_min_arcs_are_written_whatever_the_build_time(cache):
     bvg_api.set_graph_cache(cache, min_arcs=g.n_arcs)
     safe_bounce_visibility_graph(env)
     assert len(list(cache.glob("*.spg"))) == 1
-    with pytest.raises(ValueError, match="min_arcs >= 0"):
+    with pytest.raises(ValueError, match="graph_cache_min_arcs must be a whole number >= 0"):
         bvg_api.set_graph_cache(cache, min_arcs=-1)
 
 
@@ -293,3 +293,18 @@ def test_discard_deletes_the_entries_this_process_read(cache):
         b = safe_bounce_visibility_graph(p)
     assert a is not b and not a.stats.get("cached")  # nothing reused inside fresh_graphs ...
     assert safe_bounce_visibility_graph(p) is b  # ... but kept for afterwards
+
+
+def test_config_block_sets_the_cache_for_its_duration_only(cache):
+    import solverplan as sp
+
+    env = load_environment("two_rooms")
+    bvg_api.set_graph_cache(None)
+    with sp.config(graph_cache=cache, graph_cache_min_arcs=0) as now:
+        assert now.graph_cache == cache and bvg_api.graph_cache_directory() == cache
+        safe_bounce_visibility_graph(env)
+    assert len(list(cache.glob("*.spg"))) == 1
+    assert bvg_api.graph_cache_directory() is None  # the block's setting is gone
+    with pytest.raises(TypeError):
+        with sp.config(graph_cache_folder=cache):
+            pass

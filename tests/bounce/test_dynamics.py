@@ -24,7 +24,7 @@ from solverplan.bounce.dynamics import (
     lemma3_range,
     parse_heading,
     theorem1_fixed_point,
-    transition_angle,
+    edge_transition,
     worst_case_contraction,
 )
 from solverplan.bounce.rules import Fixed
@@ -71,7 +71,7 @@ def test_def11_coefficient_is_the_measured_distance_ratio_at_the_corner(env, fra
     after = runs.t[:, 1] * length1  # distance from v1 along e1
     c = contraction_coefficient(theta, phi, "right")
     assert after == pytest.approx(c * before, rel=1e-9, abs=1e-12)
-    assert transition_angle(env, 0, 1) == pytest.approx((phi, "right"))
+    assert edge_transition(env, 0, 1) == pytest.approx((phi, "right"))
 
 
 @given(theta=thetas, phi=phis, side=st.sampled_from(["right", "left"]))
@@ -293,7 +293,7 @@ def test_transition_angle_agrees_with_the_affine_map_slope(env, edge, target):
     i, j = edge % env.n_edges, target % env.n_edges
     assume(i != j)
     try:
-        phi, side = transition_angle(env, i, j)
+        phi, side = edge_transition(env, i, j)
     except InputError:
         return
     theta = 1.0 if side == "right" else 2.0

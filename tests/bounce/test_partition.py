@@ -129,7 +129,7 @@ WORST_CASE_SIZES = {2: (22, 12), 3: (42, 28), 4: (70, 52), 5: (94, 72), 6: (134,
 
 
 def test_prop1_worst_case_family_partition_size():
-    generators = pytest.importorskip("solverplan.studies.generators")
+    generators = pytest.importorskip("solverplan.generators")
     sizes = {}
     for t in range(2, 9):
         env = generators.worst_case_polygon(t)

@@ -33,7 +33,7 @@ from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import cast_from_boundary, cast_ray
 from solverplan.geometry.visibility import is_entirely_visible
-from solverplan.studies.generators import star_polygon_with_holes
+from solverplan.generators import star_polygon_with_holes
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
 
 MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"

@@ -18,7 +18,7 @@ from solverplan.certify.negative import NoBound, bound_claim, segment_table, _ed
 from solverplan.certify.schema import Certificate, parse_certificate, dumps_certificate
 from solverplan.environment import load_environment
 from solverplan.plan import find_plan, pareto_front
-from solverplan.studies.generators import star_polygon
+from solverplan.generators import star_polygon
 from tests.certify.cases import MODELS
 
 COMB = load_environment(MODELS / "comb.json")

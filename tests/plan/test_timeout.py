@@ -269,7 +269,7 @@ def test_a_cut_position_search_is_not_found(which):
 def test_a_real_timeout_returns_soon_with_an_honest_answer():
     """The 100-vertex star of the benchmarks, a belief tolerance query: the graph build alone takes longer than
     the timeout, so the search stops at once; whatever the machine, the answer comes back within seconds."""
-    from solverplan.studies.generators import star_polygon
+    from solverplan.generators import star_polygon
 
     env = star_polygon(100, 0.2, 0.3, seed=1)
     t0 = time.monotonic()

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from solverplan.environment import load_environment
 from solverplan.rectilinear.check import check_rooms
 from solverplan.rectilinear.decomposition import decompose_rooms
-from solverplan.studies.generators import rectilinear_polygon
+from solverplan.generators import rectilinear_polygon
 
 
 @pytest.fixture(scope="module")

@@ -16,7 +16,7 @@ from solverplan.errors import InputError, InvalidEnvironment
 from solverplan.exact import orient, point_in_ring, segment_intersection
 from solverplan.rectilinear.decomposition import (_chain_drops, _crossing_drops, bottleneck_segments,
                                                   decompose_rooms)
-from solverplan.studies.generators import rectilinear_polygon
+from solverplan.generators import rectilinear_polygon
 
 
 def F(*xy):

@@ -13,7 +13,7 @@ from solverplan.errors import InputError
 from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.rectilinear.metrics import (SMART_THRESHOLD, escapability, reachability, reachability_along, reachability_graph,
                                             recommend_rule)
-from solverplan.studies.generators import rectilinear_polygon
+from solverplan.generators import rectilinear_polygon
 from tests.rectilinear.test_decomposition import chambers
 
 

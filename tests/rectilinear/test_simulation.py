@@ -17,7 +17,7 @@ from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.rectilinear.doors import RoomWorld
 from solverplan.rectilinear.rules import Billiard, Smart
 from solverplan.simulate import Outcome, simulate_policy
-from solverplan.studies.generators import rectilinear_polygon
+from solverplan.generators import rectilinear_polygon
 from solverplan.studies.rooms import RoomPolicy, compare_rules, periodic_orbit, simulate_rooms
 
 
@@ -204,5 +204,5 @@ def test_the_simulator_hook_for_walls_of_a_policys_own(chambers):
         def check(self, contacts):
             return np.full(len(contacts), Outcome.RUNNING, dtype=np.int8)
 
-    with pytest.raises(InputError, match=r"has walls that are not Walls"):
+    with pytest.raises(InputError, match=r"has walls that are not PolicyWalls"):
         simulate_policy(chambers.env, Broken(), (np.array([0]), np.array([0.5])), bounces=3)

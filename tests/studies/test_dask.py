@@ -6,7 +6,7 @@ import pytest
 
 distributed = pytest.importorskip("distributed")
 
-from solverplan.studies import Reachability, Study, build_study, run_study  # noqa: E402
+from solverplan.studies import ReachabilityMetric, Study, build_study, run_study  # noqa: E402
 from solverplan.studies.execute import output_paths  # noqa: E402
 
 GRID = (("n", (10,)), ("irregularity", (0.1, 0.4)), ("spikiness", (0.2, 0.5)))
@@ -23,7 +23,7 @@ def cluster():
 
 
 def test_dask_local_cluster_gives_the_local_table(cluster, tmp_path):
-    study = Study(Reachability(), grid=GRID, per_cell=3)
+    study = Study(ReachabilityMetric(), grid=GRID, per_cell=3)
     local = run_study(study, workers=1)
     remote = run_study(study, tmp_path, scheduler=cluster.scheduler_address)
     assert remote.engine == {"engine": "dask", "scheduler": cluster.scheduler_address}
@@ -45,7 +45,7 @@ def test_dask_client_resumes_a_local_run(cluster, tmp_path):
 
 
 def test_a_finished_study_on_the_cluster_computes_nothing(cluster, tmp_path):
-    study = Study(Reachability(), grid=GRID, per_cell=1)
+    study = Study(ReachabilityMetric(), grid=GRID, per_cell=1)
     run_study(study, tmp_path, workers=1)
     result = run_study(study, tmp_path, scheduler=cluster.scheduler_address)
     assert (result.computed, result.reused) == (0, 4)

@@ -12,8 +12,8 @@ from solverplan.bounce.rules import Fixed, MonotoneFixed
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.simulate import simulate_rule
-from solverplan.studies import Connectivity, Reachability, RuleReachability, star_polygon
-from solverplan.studies.generators import rectilinear_floor_plan, rooms_and_corridors
+from solverplan.studies import ConnectivityMetric, ReachabilityMetric, RuleReachability, star_polygon
+from solverplan.generators import rectilinear_floor_plan, rooms_and_corridors
 from solverplan.studies.metrics import component_counts, safe_graph_summary, unreachable_fraction
 from solverplan.studies.rule_systems import FamilyPolicy, guaranteed_arcs, parse_family
 
@@ -29,8 +29,8 @@ ENVIRONMENTS = [
 
 
 def test_square_is_fully_reachable_and_strongly_connected():
-    assert Reachability()(SQUARE)["unreachable"] == 0.0
-    assert Connectivity()(SQUARE) == {"segments": 4, "arcs": 12, "safe_arcs": 12, "scc": 1, "wcc": 1, "largest_scc": 1.0}
+    assert ReachabilityMetric()(SQUARE)["unreachable"] == 0.0
+    assert ConnectivityMetric()(SQUARE) == {"segments": 4, "arcs": 12, "safe_arcs": 12, "scc": 1, "wcc": 1, "largest_scc": 1.0}
 
 
 def test_unreachable_fraction_and_components_on_small_graphs():
@@ -47,11 +47,11 @@ def test_metrics_agree_with_networkx_on_the_safe_bvg(env):
     g = summary.graph.to_networkx(safe_only=True)
     no_incoming = [v for v in g.nodes if g.in_degree(v) == 0]
     expected = sum(summary.lengths[v] for v in no_incoming) / summary.lengths.sum()
-    reach = Reachability()(env)
+    reach = ReachabilityMetric()(env)
     assert reach["unreachable_segments"] == len(no_incoming)
     assert reach["unreachable"] == pytest.approx(expected, abs=1e-15)
     assert reach["unreachable"] <= reach["unreachable_nonadjacent"]
-    conn = Connectivity()(env)
+    conn = ConnectivityMetric()(env)
     assert conn["scc"] == nx.number_strongly_connected_components(g)
     assert conn["wcc"] == nx.number_weakly_connected_components(g)
     assert abs(summary.lengths.sum() - env.perimeter) < 1e-9 * env.perimeter
@@ -126,7 +126,7 @@ def test_rule_reachability_is_reproducible_and_in_range():
     rows = {spec: metric(env, seed=11, rule=spec) for spec in metric.families}
     assert rows["fixed"] == metric(env, seed=11, rule="fixed")
     assert rows["any"]["guaranteed_arcs"] == rows["any"]["safe_arcs"]
-    assert rows["any"]["unreachable"] == pytest.approx(Reachability()(env)["unreachable"])
+    assert rows["any"]["unreachable"] == pytest.approx(ReachabilityMetric()(env)["unreachable"])
     assert rows["specular"]["unreachable"] == 1.0 and rows["specular"]["scc"] == rows["specular"]["segments"]
     for row in rows.values():
         assert set(row) == set(RuleReachability.columns)

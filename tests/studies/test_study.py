@@ -12,8 +12,8 @@ import pytest
 
 from solverplan.errors import InputError, SolverFailed
 from solverplan.studies import (
-    Connectivity,
-    Reachability,
+    ConnectivityMetric,
+    ReachabilityMetric,
     Study,
     StudyInterrupted,
     build_study,
@@ -100,11 +100,11 @@ def test_parse_grid_replaces_and_extends_axes():
 
 def test_study_rejects_unknown_generator_parameters_by_name():
     with pytest.raises(InputError, match=r"^generator 'star' has no parameter 'rooms': use n, irregularity, spikiness"):
-        Study(Reachability(), grid=(("n", (8,)), ("irregularity", (0.1,)), ("spikiness", (0.1,)), ("rooms", (3,))))
+        Study(ReachabilityMetric(), grid=(("n", (8,)), ("irregularity", (0.1,)), ("spikiness", (0.1,)), ("rooms", (3,))))
     with pytest.raises(InputError, match=r"^generator 'star' needs a value for 'spikiness'"):
-        Study(Reachability(), grid=(("n", (8,)), ("irregularity", (0.1,))))
+        Study(ReachabilityMetric(), grid=(("n", (8,)), ("irregularity", (0.1,))))
     with pytest.raises(InputError, match=r"^expected per_cell >= 1, got per_cell=0$"):
-        Study(Reachability(), per_cell=0)
+        Study(ReachabilityMetric(), per_cell=0)
 
 
 def test_row_seeds_depend_on_generator_parameters_and_replicate_only():
@@ -122,7 +122,7 @@ def test_row_seeds_depend_on_generator_parameters_and_replicate_only():
 
 # ---------------------------------------------------------------------- tables
 def test_table_has_one_row_per_cell_and_seed_with_the_declared_columns(tmp_path):
-    study = Study(Reachability(), grid=SMALL_GRID, per_cell=2)
+    study = Study(ReachabilityMetric(), grid=SMALL_GRID, per_cell=2)
     result = run_study(study, tmp_path, workers=1)
     rows = result.table.rows
     assert len(rows) == study.n_cells * study.per_cell == 8
@@ -148,12 +148,12 @@ def test_table_has_one_row_per_cell_and_seed_with_the_declared_columns(tmp_path)
 
 
 def test_rows_are_reproducible_from_their_seed():
-    study = Study(Connectivity(), grid=SMALL_GRID, per_cell=2)
+    study = Study(ConnectivityMetric(), grid=SMALL_GRID, per_cell=2)
     table = run_study(study, workers=1).table
     for row in table.rows[::3]:
         env = generate("star", seed=row["seed"], n=row["n"], irregularity=row["irregularity"], spikiness=row["spikiness"])
-        again = Connectivity()(env, seed=row["seed"])
-        assert {c: row[c] for c in Connectivity.columns} == again
+        again = ConnectivityMetric()(env, seed=row["seed"])
+        assert {c: row[c] for c in ConnectivityMetric.columns} == again
 
 
 def test_heatmap_means_cells_over_the_last_two_axes():
@@ -292,7 +292,7 @@ def test_bad_generator_parameters_in_a_row_are_input_errors():
 
 # ---------------------------------------------------------------------- engines agree
 def test_local_pool_gives_the_serial_table(tmp_path):
-    study = Study(Reachability(), grid=SMALL_GRID, per_cell=3)
+    study = Study(ReachabilityMetric(), grid=SMALL_GRID, per_cell=3)
     serial = run_study(study, workers=1)
     pooled = run_study(study, tmp_path, workers=2)
     assert pooled.engine == {"engine": "local", "workers": 2}

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
-from solverplan.studies.generators import spiked_comb
+from solverplan.generators import spiked_comb
 from solverplan.wallfollow import cuts
 
 

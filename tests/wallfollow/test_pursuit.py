@@ -16,10 +16,10 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.models import load
 from solverplan.result import Status
+from solverplan.exact import signed_area2
 from solverplan.wallfollow import bitangents, cut_ordering, cuts
 from solverplan.wallfollow.pursuit import GapSensor, pursuit_plan
-from solverplan.wallfollow.pursuit_check import (check_pursuit, motion_samples, motion_transfer, shadow_components,
-                                                 _signed_area)
+from solverplan.wallfollow.pursuit_check import (check_pursuit, motion_samples, motion_transfer, shadow_components)
 
 from tests.wallfollow._polygons import bent_arms, general_position_polygons
 from tests.wallfollow.test_bitangents import SPIKES
@@ -53,9 +53,9 @@ def _motions(env):
 def test_shadow_components_are_exact_pockets_that_fill_the_shadow():
     comps = shadow_components(ROOM, (9, 1))  # on the right wall: the top left behind v3 is hidden
     assert set(comps) == {3}
-    assert _signed_area(comps[3]) > 0
+    assert signed_area2(comps[3]) / 2 > 0
     from solverplan.geometry import visibility_polygon
-    assert visibility_polygon(ROOM, (9, 1)).area + _signed_area(comps[3]) == ROOM.area
+    assert visibility_polygon(ROOM, (9, 1)).area + signed_area2(comps[3]) / 2 == ROOM.area
     assert shadow_components(ROOM, (0, 0)) == {}  # v0 sees the whole room
 
 

@@ -1,0 +1,63 @@
+"""The ``solverplan`` command: a thin shell over the public API (docs/contract.md).
+
+Every command parses its arguments, calls the library, and emits the answer's ``to_json()``
+(default) or ``to_text()`` (``--format text``) on stdout, or writes it atomically to ``-o FILE``.
+No geometry, planning or JSON shaping happens here: if a command needs some, the API lacks it.
+
+Exit codes: 0 answered; 1 internal failure; 2 bad input — one line on stderr
+(``error: <message>``), no traceback, nothing written. :func:`exit_codes` maps library errors;
+the :class:`Shell` group does the same for usage errors (unknown option, bad choice).
+
+Adding a command::
+
+    @app.command()
+    def partition(env: EnvArg, env_format: EnvFormatOpt = None, fmt: FormatOpt = OutputFormat.JSON,
+                  out: OutOpt = None, verbose: VerboseOpt = 0) -> None:
+        \"\"\"The partition P′ of Algorithm 1.\"\"\"
+        with exit_codes(verbose):
+            emit(partition_environment(load_environment(env, env_format)), fmt, out)
+"""
+
+from __future__ import annotations
+
+import gc
+import signal
+from typing import Any
+
+# the command modules register their commands on ``app`` when imported
+from solverplan.cli import (  # noqa: F401
+    bounce,
+    cache,
+    explore,
+    fields,
+    floorplan,
+    generate,
+    geometry,
+    proofs,
+    report,
+    rooms,
+    study,
+    wallfollow,
+)
+from solverplan.cli._app import app
+from solverplan.cli._errors import exit_codes
+from solverplan.cli._output import JSON_INDENT_LIMIT, EnvFormat, OutputFormat, emit
+
+__all__ = ["app", "main", "exit_codes", "emit", "OutputFormat", "EnvFormat", "JSON_INDENT_LIMIT"]
+
+
+def _terminate(signum: int, frame: Any) -> None:
+    """SIGTERM unwinds like SIGINT, so output files half-written are removed (exit 128 + 15)."""
+    raise SystemExit(128 + signum)
+
+
+
+def main() -> None:
+    """Console-script entry point (``solverplan = "solverplan.cli:main"``)."""
+    signal.signal(signal.SIGTERM, _terminate)
+    # A command builds large acyclic structures (10⁵–10⁶ arcs, their answers) and exits: with the default
+    # thresholds the cyclic collector rescans the growing heap again and again (≈ 40 % of a big graph's build).
+    # Collect young objects rarely; the structures have no cycles, and the process is short-lived.
+    gc.freeze()
+    gc.set_threshold(200_000, 50, 50)
+    app()

@@ -1,0 +1,5 @@
+"""``python -m solverplan.cli``: the same as the ``solverplan`` command."""
+
+from solverplan.cli import main
+
+main()

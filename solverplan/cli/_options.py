@@ -1,0 +1,90 @@
+"""Options and small parsers shared by several commands."""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import sys
+from pathlib import Path
+from typing import Annotated, Any, Iterator
+
+import typer
+
+from solverplan.errors import InputError
+
+logger = logging.getLogger(__name__)
+
+CertificateOpt = Annotated[
+    Path | None,
+    typer.Option("--certificate", metavar="FILE", help="Also write a certificate of the answer (check it with 'solverplan verify').", show_default=False),
+]
+PictureOpt = Annotated[
+    Path | None,
+    typer.Option("--picture", metavar="FIG", help="Also draw the answer to a .png or .svg file.", show_default=False),
+]
+PositionToleranceOpt = Annotated[
+    float | None,
+    typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): every interval is 2ε wide (default 0.005).", show_default=False),
+]
+HeadingMarginOpt = Annotated[
+    float, typer.Option("--heading-margin", metavar="D", help="Keep every heading this far (radians) from the walls (0 and π).")
+]
+TimeoutOpt = Annotated[
+    float | None,
+    typer.Option("--timeout", metavar="SECONDS", help="Stop searching after this many seconds (the graph build counts, "
+                 "uninterrupted) and answer the best found so far, not proved optimal, with the bound proved so far.",
+                 show_default=False),
+]
+CornerClearanceOpt = Annotated[
+    float | None,
+    typer.Option("--corner-clearance", metavar="K", help="Keep every landing point this far (a length) from segment ends, "
+                 "but the corner a stage's segments share (default: 1e-4 of the environment's diameter).", show_default=False),
+]
+
+def parse_xy(text: str, option: str) -> tuple:
+    """``X,Y`` as an exact point; bad text is one line naming the option."""
+    from solverplan.exact import to_fraction
+
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise InputError(f"{option} {text!r}: expected X,Y (two numbers separated by a comma)")
+    return tuple(to_fraction(part.strip(), where=option) for part in parts)
+
+def parse_pair(text: str | None, name: str) -> tuple[str, str] | None:
+    """``"X,Y"`` → two number strings (read exactly by the library), or ``None``."""
+    if text is None:
+        return None
+    parts = text.split(",")
+    if len(parts) != 2 or not all(p.strip() for p in parts):
+        raise InputError(f"{name} must be two numbers X,Y, got {text!r}")
+    return parts[0].strip(), parts[1].strip()
+
+@contextlib.contextmanager
+def progress_bar(description: str, quiet: bool) -> Iterator[Any]:
+    """A rich progress bar on stderr (never stdout), or None when quiet or stderr is not a terminal."""
+    if quiet or not sys.stderr.isatty():
+        yield None
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=Console(stderr=True)) as bar:
+        task = bar.add_task(description, total=None)
+        yield lambda done, total: bar.update(task, completed=done, total=total)
+
+def write_certificate_file(answer: Any, path: Path, env: Any = None, checked: Any = None) -> None:
+    """--certificate: the answer's certificate, checked exactly, then written (a warning, and no file, for an
+    answer with nothing to certify; exit 1 if the check fails). ``checked``: the certificate, already checked."""
+    from solverplan.certify.build import NothingToCertify, certificate, write_certificate
+
+    try:
+        cert = checked if checked is not None else certificate(answer, env=env)
+    except NothingToCertify as exc:
+        sys.stderr.write(f"warning: no certificate written to {path}: {exc.why}\n")
+        return
+    try:
+        write_certificate(cert, path, check=checked is None)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+    logger.info("wrote certificate %s (verified)", path)

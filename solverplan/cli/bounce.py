@@ -1,0 +1,329 @@
+"""Commands of the bouncing robot: ``cycle``, ``patrol``, ``funnel``, ``localize``, ``plan``, ``simulate``."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
+from solverplan.errors import InputError
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
+from solverplan.cli._errors import exit_codes
+from solverplan.cli._options import (
+    CertificateOpt,
+    CornerClearanceOpt,
+    HeadingMarginOpt,
+    PictureOpt,
+    PositionToleranceOpt,
+    TimeoutOpt,
+    write_certificate_file,
+)
+from solverplan.cli._output import EnvFormat, OutputFormat, emit
+
+
+class CycleMethod(StrEnum):
+    AUTO = "auto"
+    THEOREM1 = "theorem1"
+    ITERATE = "iterate"
+    EDGES = "edges"
+
+
+@app.command(name="cycle")
+def cycle_command(
+    env: EnvArg,
+    theta: Annotated[
+        str,
+        typer.Option(
+            "--theta", metavar="THETA",
+            help="The constant heading (CCW from each wall): radians, e.g. 0.3 or pi/12 (taken at the exact direction "
+            "(cos θ, sin θ) of its binary floats, < 1e-15 rad away; theta_exact in the answer says which); tan:P/Q "
+            "(exact rational tangent, alias atan:P/Q; negative for θ > π/2); dir:C,S (exact direction pair); or auto "
+            "(search a heading that drives every start into a verified cycle, Prop. 4).",
+        ),
+    ],
+    edges: Annotated[
+        str | None,
+        typer.Option("--edges", metavar="e0,e1,...", help="Ask for the cycle along this edge sequence.", show_default=False),
+    ] = None,
+    epsilon: Annotated[
+        float | None,
+        typer.Option("--epsilon", metavar="E", help="Also report the cycles needed to shrink the position set below E (Cor. 4; a length).", show_default=False),
+    ] = None,
+    method: Annotated[
+        CycleMethod,
+        typer.Option("--method", help="theorem1 (convex polygons: the CCW cycle), iterate (follow the rule from --start), "
+                     "edges (--edges); auto picks."),
+    ] = CycleMethod.AUTO,
+    cycle_start: Annotated[
+        str | None,
+        typer.Option("--start", metavar="eK:T", help="Iterate: the start point (default e0:0.5).", show_default=False),
+    ] = None,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Iterate: bounce budget.")] = 20000,
+    heading_margin: Annotated[
+        float | None,
+        typer.Option("--heading-margin", metavar="D", help="With --theta auto: try no heading within D radians of a wall "
+                     "(default 0.001; a heading given with --theta is used as asked).", show_default=False),
+    ] = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """The limit cycle of a constant heading (paper §6.1, Theorem 1, Prop. 4), verified in exact arithmetic:
+    contact points, exact contraction, fixed points, basins; status says if and why there is none."""
+    from solverplan.bounce.controller import constant_controller
+    from solverplan.bounce.cycles import limit_cycle
+    from solverplan.interval import DEFAULT_HEADING_MARGIN
+
+    with exit_codes(verbose):
+        environment = load_env(env, env_format)
+        if theta.strip().lower() == "auto":
+            if edges is not None or cycle_start is not None or method is not CycleMethod.AUTO:
+                raise InputError("--theta auto searches for one heading for every start: drop --edges, --start and --method")
+            margin = DEFAULT_HEADING_MARGIN if heading_margin is None else heading_margin
+            emit(constant_controller(environment, epsilon=epsilon, heading_margin=margin), fmt, out)
+            return
+        if heading_margin is not None:
+            raise InputError("--heading-margin goes with --theta auto: a heading given with --theta is used as asked")
+        result = limit_cycle(environment, theta, edges=edges, method=method.value, start=cycle_start, epsilon=epsilon,
+                             max_bounces=max_bounces)
+        emit(result, fmt, out)
+
+
+class PatrolObjective(StrEnum):
+    CONTRACTION = "contraction"
+    TOLERANCE = "tolerance"
+    RATE = "rate"
+
+
+@app.command(name="patrol")
+def patrol_command(
+    env: EnvArg,
+    visit: Annotated[str, typer.Option("--visit", metavar="e2,e5,e9", help="The edges to visit, in this cyclic order.")],
+    start: Annotated[
+        str | None,
+        typer.Option("--from", metavar="SET", help="Start set: the strategy first brings every point of it into the cycle.", show_default=False),
+    ] = None,
+    tolerance: Annotated[
+        float | None,
+        typer.Option("--tolerance", metavar="E", help="Heading tolerance ε (radians): half the width of every interval (default 0.01; --objective tolerance maximises it).", show_default=False),
+    ] = None,
+    objective: Annotated[
+        PatrolObjective,
+        typer.Option("--objective", help="contraction: least worst-case contraction per pass of the sequence; tolerance: widest "
+                     "intervals that still contract; rate: least contraction per bounce (minimum mean cycle, LP and Karp)."),
+    ] = PatrolObjective.CONTRACTION,
+    max_between: Annotated[
+        int | None,
+        typer.Option("--max-between", min=0, max=MAX_BOUNCES, metavar="H", help="Intermediate bounces allowed between consecutive required visits (default: the fewest that work, up to 3).", show_default=False),
+    ] = None,
+    epsilon: Annotated[
+        float | None,
+        typer.Option("--epsilon", metavar="X", help="Also report the cycles needed to shrink the position set below the length X.", show_default=False),
+    ] = None,
+    heading_margin: HeadingMarginOpt = 1e-3,
+    corner_clearance: CornerClearanceOpt = None,
+    timeout: TimeoutOpt = None,
+    certificate: CertificateOpt = None,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """A stable patrol cycle visiting edges in order (paper Def. 15), optimal for the objective, from a start set."""
+    from solverplan.plan.patrol import patrol
+
+    _contraction_answer(env, env_format, lambda environment: patrol(
+        environment, visit, start=start, objective=objective.value, tolerance=tolerance, max_between=max_between,
+        epsilon=epsilon, heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=timeout),
+        certificate, picture, fmt, out, verbose, start=start)
+
+
+@app.command(name="funnel")
+def funnel_command(
+    env: EnvArg,
+    start: Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4.")],
+    goal: Annotated[str, typer.Option("--to", metavar="SET", help="Goal set: every start must end inside it.")],
+    tolerance: PositionToleranceOpt = None,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of the search.")] = 30,
+    heading_margin: HeadingMarginOpt = 1e-3,
+    corner_clearance: CornerClearanceOpt = None,
+    timeout: TimeoutOpt = None,
+    certificate: CertificateOpt = None,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """A funnel (paper Fig. 14): track the exact set of possible positions and use contraction to shrink it into the goal."""
+    from solverplan.plan.funnel import funnel
+
+    _contraction_answer(env, env_format, lambda environment: funnel(
+        environment, start, goal, tolerance=tolerance, max_bounces=max_bounces, heading_margin=heading_margin,
+        corner_clearance=corner_clearance, timeout=timeout), certificate, picture, fmt, out, verbose, start=start, goal=goal)
+
+
+@app.command(name="localize")
+def localize_command(
+    env: EnvArg,
+    epsilon: Annotated[float, typer.Option("--epsilon", metavar="X", help="Length the final position interval must be shorter than.")],
+    start: Annotated[
+        str | None,
+        typer.Option("--from", metavar="SET", help="Start set (default: the whole boundary).", show_default=False),
+    ] = None,
+    tolerance: PositionToleranceOpt = None,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of the search.")] = 40,
+    heading_margin: HeadingMarginOpt = 1e-3,
+    corner_clearance: CornerClearanceOpt = None,
+    timeout: TimeoutOpt = None,
+    certificate: CertificateOpt = None,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Localisation (paper §8.4): an open-loop strategy after which the possible positions lie in one interval shorter than X."""
+    from solverplan.plan.localize import localize
+
+    _contraction_answer(env, env_format, lambda environment: localize(
+        environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces,
+        heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=timeout), certificate, picture, fmt,
+        out, verbose, start=start)
+
+
+def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, certificate: Path | None,
+                        picture: Path | None, fmt: OutputFormat, out: Path | None, verbose: int, *,
+                        start: str | None = None, goal: str | None = None) -> None:
+    """Load the environment, ``solve`` it (patrol, funnel, localize) and check the answer exactly, write the
+    --certificate and --picture of a found answer, emit the answer."""
+    from solverplan.certify.gate import checked_answer
+
+    with exit_codes(verbose):
+        check_picture(picture)
+        environment = load_env(env, env_format)
+        checked = checked_answer(lambda: solve(environment), env=environment, start=start, goal=goal)
+        result = checked.answer
+        if result.found:
+            _write_extras(result, certificate, picture, checked.certificate)
+        emit(result, fmt, out)
+
+
+def _write_extras(result: Any, certificate: Path | None, picture: Path | None, checked: Any = None) -> None:
+    """The --certificate and --picture files of a contraction answer (patrol, funnel, localize)."""
+    if certificate is not None:
+        write_certificate_file(result, certificate, checked=checked)
+    if picture is not None:
+        from solverplan.render import render_answer, save_figure
+
+        save_figure(render_answer(result), picture)
+
+
+class PlanObjective(StrEnum):
+    FEWEST = "fewest"
+    TOLERANCE = "tolerance"
+    SUM = "sum"
+    CONSTANT = "constant"
+
+
+class PlanSampling(StrEnum):
+    UNIFORM = "uniform"
+    ENDPOINTS = "endpoints"
+    LO = "lo"
+    HI = "hi"
+    MID = "mid"
+
+
+class TieMode(StrEnum):
+    EXACT = "exact"
+    FLAG = "flag"
+
+
+@app.command(name="plan")
+def plan_command(
+    env: EnvArg,
+    start: Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4 (may span edges and segments: the plan works from every point).")],
+    goal: Annotated[str, typer.Option("--to", metavar="SET", help="Goal set, same syntax.")],
+    objective: Annotated[
+        PlanObjective | None,
+        typer.Option("--objective", help="fewest bounces (default); tolerance: the narrowest interval as wide as possible; sum: "
+                     "the sum of the widths within --max-bounces; constant: one interval at every stage (Algorithm 2).", show_default=False),
+    ] = None,
+    max_bounces: Annotated[
+        int | None, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget (needed by --objective sum).", show_default=False)
+    ] = None,
+    pareto: Annotated[
+        bool, typer.Option("--pareto", help="Answer the Pareto front bounces ↔ tolerance instead of one plan (objective tolerance).")
+    ] = False,
+    method: Annotated[
+        str, typer.Option("--method", metavar="M", help="auto, or: fewest bfs; tolerance label|milp; sum dp|lp; constant label.")
+    ] = "auto",
+    certificate: Annotated[
+        Path | None,
+        typer.Option("--certificate", metavar="FILE", help="Also write the plan's certificate (checked before it is written; "
+                     "verify it with 'solverplan verify'). With --pareto: of the most tolerant plan.", show_default=False),
+    ] = None,
+    heading_margin: HeadingMarginOpt = 1e-3,
+    corner_clearance: CornerClearanceOpt = None,
+    timeout: TimeoutOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """An optimal plan from one boundary set to another (paper §7–8), or a proof that there is none (exit 0)."""
+    from solverplan.certify.gate import checked_answer
+    from solverplan.plan.search import find_plan, pareto_front
+
+    with exit_codes(verbose):
+        environment = load_env(env, env_format)
+        if pareto and (objective not in (None, PlanObjective.TOLERANCE) or method != "auto"):
+            raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
+
+        def solve() -> Any:
+            if pareto:
+                return pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin,
+                                    corner_clearance=corner_clearance, timeout=timeout)
+            return find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
+                             max_bounces=max_bounces, method=method, heading_margin=heading_margin,
+                             corner_clearance=corner_clearance, timeout=timeout)
+
+        checked = checked_answer(solve, env=environment, start=start, goal=goal)  # exact check before it leaves
+        answer = checked.answer
+        if certificate is not None:
+            write_certificate_file(answer, certificate, environment, checked.certificate)
+        emit(answer, fmt, out)
+
+
+@app.command(name="simulate")
+def simulate_command(
+    env: EnvArg,
+    plan_file: Annotated[Path, typer.Argument(metavar="PLAN.json", help="A plan written by 'solverplan plan -o PLAN.json'.", show_default=False)],
+    trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="N", help="Number of rollouts.")] = 10000,
+    seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed (recorded in the answer).")] = 0,
+    sampling: Annotated[
+        PlanSampling,
+        typer.Option("--sampling", help="How headings are drawn from each interval: uniform, or endpoints (adversarial: an end of the interval)."),
+    ] = PlanSampling.UNIFORM,
+    ties: Annotated[
+        TieMode, typer.Option("--ties", help="exact: re-resolve rays the float caster cannot call; flag: stop and count them.")
+    ] = TieMode.EXACT,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Monte Carlo rollouts of a plan: success rate (goal reached through every stage's segments) and bounce statistics."""
+    from solverplan.plan import load_plan
+    from solverplan.simulate import simulate_plan
+
+    with exit_codes(verbose):
+        environment = load_env(env, env_format)
+        plan = load_plan(plan_file)
+        runs = simulate_plan(environment, plan, trials=trials, seed=seed, sampling=sampling.value, ties=ties.value)
+        emit(runs, fmt, out)

@@ -1,0 +1,47 @@
+"""``cache``: the disk cache of safe BVGs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from solverplan.errors import InputError
+from solverplan.cli._app import FormatOpt, OutOpt, VerboseOpt, app
+from solverplan.cli._errors import Shell, exit_codes
+from solverplan.cli._output import OutputFormat, emit
+
+
+cache_app = typer.Typer(
+    name="cache", cls=Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
+    help="The disk cache of safe BVGs (the folder of the global --graph-cache option): its size, or empty it.",
+)
+app.add_typer(cache_app, name="cache")
+
+
+def _cache_folder() -> Path:
+    from solverplan.bounce import bvg
+
+    folder = bvg.graph_cache_directory()
+    if folder is None:
+        raise InputError("the graph cache is off (--graph-cache off or SOLVERPLAN_GRAPH_CACHE=off): "
+                         "name its folder, e.g. 'solverplan --graph-cache DIR cache clear'")
+    return folder
+
+
+@cache_app.command(name="info")
+def cache_info_command(fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None, verbose: VerboseOpt = 0) -> None:
+    """The graph cache's folder, its entries and bytes, its size cap and write threshold."""
+    from solverplan.bounce import bvg
+
+    with exit_codes(verbose):
+        emit(bvg.graph_cache_report(_cache_folder()), fmt, out)
+
+
+@cache_app.command(name="clear")
+def cache_clear_command(fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None, verbose: VerboseOpt = 0) -> None:
+    """Remove every graph of the cache (its own files only: nothing else in the folder is touched)."""
+    from solverplan.bounce import bvg
+
+    with exit_codes(verbose):
+        emit(bvg.purge_graph_cache(_cache_folder()), fmt, out)

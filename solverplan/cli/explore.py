@@ -1,0 +1,53 @@
+"""``explore``: online exploration with discrete views (Algorithms A and B)."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from typing import Annotated
+
+import typer
+
+from solverplan.limits import MAX_SEED
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
+from solverplan.cli._errors import exit_codes
+from solverplan.cli._options import PictureOpt, parse_xy
+from solverplan.cli._output import OutputFormat, emit
+
+
+class ZChoice(StrEnum):
+    FIRST = "first"
+    RANDOM = "random"
+    FAR = "far"
+
+
+@app.command(name="explore")
+def explore_command(
+    env: EnvArg,
+    start: Annotated[str, typer.Option("--start", metavar="X,Y", help="The robot's start p1, a point of the free space.")],
+    choice: Annotated[ZChoice, typer.Option("--choice", help="Which unexplored constructed edge the next view is taken on: first, random (with --seed) or far.")] = ZChoice.FIRST,
+    seed: Annotated[int | None, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Seed of --choice random (default 0).", show_default=False)] = None,
+    range_: Annotated[str | None, typer.Option("--range", metavar="R", help="Sensing range R > 0: range-limited views and Algorithm B (Algorithm A when R reaches across the polygon).", show_default=False)] = None,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Explore an unknown polygon with discrete views (Ghosh et al.): Algorithm A (at most r + 1 views), or with
+    --range R Algorithm B (at most Lemma 4's bound)."""
+    from solverplan.explore import Exploration, RangeExploration, explore_depth_first, explore_range_limited
+
+    with exit_codes(verbose):
+        check_picture(picture)
+        environment = load_env(env, env_format)
+        run: Exploration | RangeExploration
+        if range_ is None:
+            run = explore_depth_first(environment, parse_xy(start, "--start"), choice=choice.value, seed=seed)
+        else:
+            run = explore_range_limited(environment, parse_xy(start, "--start"), range_, choice=choice.value, seed=seed)
+        if picture is not None:
+            from solverplan.render import save_figure
+            from solverplan.render.explore import render_exploration
+
+            save_figure(render_exploration(run, environment), picture)
+        emit(run, fmt, out)

@@ -1,0 +1,181 @@
+"""Commands on the environment and its structures: ``info``, ``partition``, ``graph``, ``render``."""
+
+from __future__ import annotations
+
+import logging
+import sys
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from solverplan._io import atomic_write_bytes
+from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
+from solverplan.describe import describe_environment
+from solverplan.errors import InputError
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
+from solverplan.cli._errors import exit_codes
+from solverplan.cli._output import JSON_INDENT_LIMIT, OutputFormat, emit, emit_string, json_indent
+
+logger = logging.getLogger(__name__)
+
+@app.command()
+def info(
+    env: EnvArg,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Describe an environment: vertices, rings, edges (id, ring, end points, length), reflex vertices, area, perimeter."""
+    with exit_codes(verbose):
+        environment = load_env(env, env_format)
+        logger.info("loaded %r: %d vertices, %d holes", environment.name, environment.n_vertices, len(environment.holes))
+        emit(describe_environment(environment), fmt, out)
+
+
+@app.command(name="partition")
+def partition_command(
+    env: EnvArg,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """The partition P′ of Algorithm 1: vertices per ring, segments (id, edge, t0, t1, a, b), inserted points."""
+    from solverplan.bounce.partition import partition as partition_boundary
+
+    with exit_codes(verbose):
+        environment = load_env(env, env_format)
+        emit(partition_boundary(environment), fmt, out)
+
+
+class GraphFormat(StrEnum):
+    JSON = "json"
+    TEXT = "text"
+    GRAPHML = "graphml"
+    DOT = "dot"
+
+
+@app.command(name="graph")
+def graph_command(
+    env: EnvArg,
+    safe: Annotated[bool, typer.Option("--safe", help="Label every arc with its exact safe headings (paper §5).")] = False,
+    source: Annotated[
+        int | None, typer.Option("--from", metavar="SEG", help="Only the arcs leaving segment SEG of P′.", show_default=False)
+    ] = None,
+    heading: Annotated[
+        float | None,
+        typer.Option("--heading", metavar="THETA", help="Only the arcs whose safe set holds heading THETA (radians, in (0, π)); implies --safe.", show_default=False),
+    ] = None,
+    env_format: EnvFormatOpt = None,
+    fmt: Annotated[GraphFormat, typer.Option("--format", help="JSON (docs/contract.md), text, GraphML or Graphviz DOT.")] = GraphFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """The bounce visibility graph of P′: arcs between segments that see each other; with --safe, their safe headings."""
+    from solverplan.bounce.bvg import safe_bounce_visibility_graph
+
+    with exit_codes(verbose):
+        environment = load_env(env, env_format)
+        graph = safe_bounce_visibility_graph(environment)
+        logger.info("safe BVG: %d segments, %d arcs, %d safe (%.3f s)", graph.n_segments, graph.n_arcs, graph.n_safe_arcs,
+                    graph.stats.get("seconds_total", 0.0))
+        view = graph.select(source=source, heading=heading, safe=safe or heading is not None)
+        if fmt is GraphFormat.GRAPHML:
+            emit_string(view.to_graphml(), out)
+        elif fmt is GraphFormat.DOT:
+            emit_string(view.to_dot(), out)
+        elif fmt is GraphFormat.JSON and json_indent() in (None, -1) and view.n_arcs > 20_000:
+            # a large graph is compact JSON (json_text): the same bytes, encoded a chunk at a time
+            data = view.json_bytes(end=b"\n")
+            if len(data) <= JSON_INDENT_LIMIT:
+                emit(view, OutputFormat.JSON, out)
+            elif out is None:
+                sys.stdout.buffer.write(data)
+                sys.stdout.flush()
+            else:
+                try:
+                    atomic_write_bytes(out, data)  # type: ignore[arg-type]  # any bytes-like object
+                except OSError as exc:
+                    raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
+                logger.info("wrote %s", out)
+        else:
+            emit(view, OutputFormat(fmt.value), out)
+
+
+@app.command()
+def render(
+    env: EnvArg,
+    out: Annotated[Path, typer.Option("-o", "--output", help="Picture file to write: .png or .svg.", show_default=False)],
+    edge_ids: Annotated[bool, typer.Option("--edge-ids", help="Label edges e<i> with arrows showing their direction.")] = False,
+    vertex_ids: Annotated[bool, typer.Option("--vertex-ids", help="Label vertices v<i>.")] = False,
+    reflex: Annotated[bool, typer.Option("--reflex/--no-reflex", help="Mark reflex vertices.")] = True,
+    show_partition: Annotated[
+        bool, typer.Option("--partition", help="Draw the partition P′ (Algorithm 1): numbered segments, inserted points.")
+    ] = False,
+    show_graph: Annotated[
+        bool, typer.Option("--graph", help="Draw the bounce visibility graph lightly (a line between segments that see each other).")
+    ] = False,
+    safe_arcs: Annotated[
+        bool, typer.Option("--safe-arcs", help="Draw every safe arc as a ray that lands on its target segment.")
+    ] = False,
+    trajectories: Annotated[
+        int, typer.Option("--trajectories", min=0, max=MAX_TRAJECTORIES, metavar="N", help="Simulate N rollouts of --rule (or of --plan) and draw them.")
+    ] = 0,
+    rule: Annotated[
+        str,
+        typer.Option(
+            "--rule", metavar="RULE",
+            help="Bounce rule of the trajectories: specular, fixed:THETA, relative:THETA or monotone:THETA (radians, pi/3 allowed).",
+        ),
+    ] = "specular",
+    start: Annotated[
+        str | None,
+        typer.Option("--from", metavar="SET", help="Start set of the trajectories, e.g. e0 or e3:0.25:0.75,e4 (default: the whole boundary).", show_default=False),
+    ] = None,
+    bounces: Annotated[int, typer.Option("--bounces", min=0, max=MAX_BOUNCES, metavar="K", help="Bounces per trajectory.")] = 20,
+    seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the trajectories.")] = 0,
+    show_cycle: Annotated[
+        bool,
+        typer.Option("--cycle", help="Draw the limit cycle of the constant heading --theta on top (bold; contacts as yellow "
+                     "circles); --trajectories then follow that constant rule (paper Fig. 9)."),
+    ] = False,
+    cycle_theta: Annotated[
+        str | None,
+        typer.Option("--theta", metavar="THETA", help="The constant heading of --cycle, as in 'solverplan cycle'.", show_default=False),
+    ] = None,
+    plan_file: Annotated[
+        Path | None,
+        typer.Option("--plan", metavar="PLAN.json", help="Draw a plan (from 'solverplan plan -o'): its cones per stage, start and goal "
+                     "sets; --trajectories then follow the plan.", show_default=False),
+    ] = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Draw an environment to a PNG or SVG file; prints {"written": FILE, ...}."""
+    from solverplan.render import figure_format, save_figure, scene
+
+    with exit_codes(verbose):
+        figure_format(out)  # a bad extension is reported before any work
+        from solverplan.bounce.rules import parse_rule
+
+        bounce_rule = parse_rule(rule)
+        if show_cycle != (cycle_theta is not None):
+            raise InputError("--cycle and --theta go together: --cycle draws the limit cycle of the heading --theta")
+        environment = load_env(env, env_format)
+        if start is not None:
+            environment.boundary_set(start)  # a bad start set is reported before drawing
+        plan = None
+        if plan_file is not None:
+            from solverplan.plan import load_plan
+
+            if show_cycle or start is not None:
+                raise InputError("--plan draws a plan and its own trajectories: drop --cycle and --from")
+            plan = load_plan(plan_file)
+        figure = scene(environment, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex, partition=show_partition,
+                       graph=show_graph, safe_arcs=safe_arcs, plan=plan, cycle=cycle_theta, trajectories=trajectories,
+                       rule=bounce_rule, start=start, bounces=bounces, seed=seed)
+        emit(save_figure(figure, out), fmt, None)

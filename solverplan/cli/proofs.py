@@ -1,0 +1,76 @@
+"""Commands that check: ``prove`` (the symbolic proofs) and ``verify`` (a certificate, exactly)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from solverplan.errors import InputError
+from solverplan.cli._app import EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
+from solverplan.cli._errors import exit_codes, fail
+from solverplan.cli._output import OutputFormat, emit
+
+
+@app.command(name="prove")
+def prove_command(
+    only: Annotated[
+        list[str] | None,
+        typer.Option("--only", metavar="NAME", help="Run only this proof module (repeatable), e.g. lemma2_contraction.", show_default=False),
+    ] = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Run the symbolic proofs of solverplan.proofs (sympy): a table of results (proof, status, seconds); exit 1 if any fails."""
+    with exit_codes(verbose):
+        from solverplan.proofs import prove_all  # sympy-heavy: imported only by this command
+
+        report = prove_all(only or None)
+        emit(report, fmt, out)
+    if not report.passed:
+        raise typer.Exit(1)
+
+
+@app.command(name="verify")
+def verify_command(
+    cert: Annotated[Path, typer.Argument(metavar="CERT.json", help="The certificate file to check.", show_default=False)],
+    env: Annotated[
+        Path | None,
+        typer.Option("--env", metavar="ENV", help="Also require the certificate's environment to be exactly this environment file (or shipped model).", show_default=False),
+    ] = None,
+    start: Annotated[
+        str | None,
+        typer.Option("--from", metavar="SET", help="Also require the certificate's start set to be exactly SET (needs --env).", show_default=False),
+    ] = None,
+    goal: Annotated[
+        str | None,
+        typer.Option("--to", metavar="SET", help="Also require the certificate's goal set to be exactly SET (needs --env).", show_default=False),
+    ] = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Check a certificate in exact rational arithmetic: exit 0 valid, 1 invalid (the first failing claim on stderr), 2 malformed."""
+    from solverplan.certify.check import check_certificate
+    from solverplan.certify.schema import load_certificate
+
+    with exit_codes(verbose):
+        if (start is not None or goal is not None) and env is None:
+            raise InputError("--from and --to name edges of an environment: give it with --env")
+        certificate = load_certificate(cert)
+        environment = load_env(env, env_format) if env is not None else None
+        query: dict[str, Any] = {}
+        if environment is not None:
+            query["expected_rings"] = environment.rings
+            for key, text in (("expected_start", start), ("expected_goal", goal)):
+                if text is not None:
+                    query[key] = [(p.edge, p.t0, p.t1) for p in environment.boundary_set(text).pieces]
+        report = check_certificate(certificate, **query)
+        emit(report, fmt, out)
+    if not report.valid:
+        more = len(report.failures) - 1
+        suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
+        raise fail(f"certificate invalid: {report.failures[0]}{suffix}", 1)

@@ -1,0 +1,93 @@
+"""``rooms``: rooms and doors of a rectilinear polygon (the rooms paper), and its bounce rules simulated."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
+from solverplan.errors import InputError
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
+from solverplan.cli._errors import exit_codes, fail
+from solverplan.cli._options import PictureOpt
+from solverplan.cli._output import OutputFormat, emit
+
+
+class RoomRule(StrEnum):
+    SMART = "smart"
+    RANDOM = "random"
+    BILLIARD = "billiard"
+    ALL = "all"
+
+
+class DoorMode(StrEnum):
+    CONTROL = "control"
+    OPEN = "open"
+
+
+@app.command(name="rooms")
+def rooms_command(
+    env: EnvArg,
+    simulate: Annotated[bool, typer.Option("--simulate", help="Simulate robots from room --from to room --to instead.")] = False,
+    start: Annotated[int | None, typer.Option("--from", min=0, metavar="ROOM", help="Start room (with --simulate).", show_default=False)] = None,
+    goal: Annotated[int | None, typer.Option("--to", min=0, metavar="ROOM", help="Target room (with --simulate).", show_default=False)] = None,
+    rule: Annotated[RoomRule, typer.Option("--rule", help="Bounce rule: smart, random, billiard, or all three side by side.")] = RoomRule.SMART,
+    trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="N", help="Robots per rule.")] = 100,
+    seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the starts (and of the random rule).")] = 0,
+    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of each robot.")] = 5000,
+    doors: Annotated[DoorMode, typer.Option("--doors", help="control: the door-control policy for the room sequence; open: every door open.")] = DoorMode.CONTROL,
+    per_room: Annotated[bool, typer.Option("--per-room", help="Tell the smart robot the θ of the room it is in.")] = False,
+    tour: Annotated[bool, typer.Option("--tour", help="Visit every room from --from (depth first) instead of going to --to.")] = False,
+    check: Annotated[
+        Path | None,
+        typer.Option("--check", metavar="ROOMS.json", help="Check a rooms answer file against ENV exactly instead: exit 0 valid, 1 invalid.", show_default=False),
+    ] = None,
+    picture: PictureOpt = None,
+    env_format: EnvFormatOpt = None,
+    fmt: FormatOpt = OutputFormat.JSON,
+    out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Rooms and doors of a rectilinear polygon (Algorithm 1 of the rooms paper); with --simulate, the bounce rules compared."""
+    from solverplan.rectilinear import decompose_rooms
+    from solverplan.render import save_figure
+    from solverplan.render.rooms import render_rooms
+
+    if check is not None:
+        from solverplan.rectilinear.check import check_rooms, load_rooms_answer
+
+        with exit_codes(verbose):
+            if simulate or picture is not None or start is not None or goal is not None or tour:
+                raise InputError("--check checks an answer file: drop the options of --simulate and --picture")
+            report = check_rooms(load_env(env, env_format), load_rooms_answer(check))
+            emit(report, fmt, out)
+        if not report.valid:
+            more = len(report.failures) - 1
+            suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
+            raise fail(f"rooms answer invalid: {report.failures[0]}{suffix}", 1)
+        return
+    with exit_codes(verbose):
+        check_picture(picture)
+        if not simulate and (start is not None or goal is not None or tour):
+            raise InputError("--from, --to and --tour choose the rooms of --simulate: add --simulate")
+        if simulate and (start is None or (goal is None) == (not tour)):
+            raise InputError("--simulate needs --from ROOM and either --to ROOM or --tour")
+        dec = decompose_rooms(load_env(env, env_format))
+        if not simulate:
+            if picture is not None:
+                save_figure(render_rooms(dec), picture)
+            emit(dec, fmt, out)
+            return
+        from solverplan.studies.rooms import RULES, compare_rules
+
+        assert start is not None
+        walk = dec.tour(start) if tour else dec.path(start, dec.check_room(goal))
+        names = RULES if rule is RoomRule.ALL else (rule.value,)
+        answer = compare_rules(dec, start, walk[-1], rules=names, trials=trials, seed=seed, max_bounces=max_bounces,
+                               doors=doors.value, per_room=per_room, walk=walk, keep=1 if picture is not None else 0)
+        if picture is not None:
+            save_figure(render_rooms(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}), picture)
+        emit(answer if rule is RoomRule.ALL else answer.runs[rule.value], fmt, out)

@@ -1,0 +1,120 @@
+"""``study``: batch studies over random environments."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from solverplan.limits import MAX_BOUNCES, MAX_COUNT, MAX_SEED, MAX_TRIALS
+from solverplan.cli._app import FormatOpt, OutOpt, VerboseOpt, app
+from solverplan.cli._errors import Shell, exit_codes, fail
+from solverplan.cli._options import progress_bar
+from solverplan.cli._output import OutputFormat, emit
+
+
+study_app = typer.Typer(
+    name="study", cls=Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
+    help="Batch studies over random environments (paper §7.3-7.4, §8.2): tables (CSV, JSON) and heatmaps; resumable.",
+)
+app.add_typer(study_app, name="study")
+
+
+class GeneratorName(StrEnum):
+    STAR = "star"
+    HOLES = "holes"
+    ROOMS = "rooms"
+    RECTILINEAR = "rectilinear"
+
+
+GeneratorOpt = Annotated[GeneratorName, typer.Option("--generator", help="The random environments.")]
+GridOpt = Annotated[
+    list[str] | None,
+    typer.Option("--grid", metavar="NAME=VALUES", show_default=False,
+                 help="A generator parameter: one value (20), a list (0.1,0.3) or START:STOP:COUNT (0.1:0.4:5); repeatable. "
+                      "Default for star: the paper's n=20, irregularity=0.1:0.4:5, spikiness=0.1:0.5:5."),
+]
+PerCellOpt = Annotated[int, typer.Option("--per-cell", min=1, max=MAX_COUNT, metavar="N", help="Environments per grid cell.")]
+StudySeedOpt = Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Base seed (each row's seed derives from it).")]
+OutDirOpt = Annotated[
+    Path | None,
+    typer.Option("--out-dir", metavar="DIR", show_default=False,
+                 help="Folder of NAME.jsonl (rows, written as they finish), NAME.csv, NAME.json, NAME.png (default ./NAME-study)."),
+]
+WorkersOpt = Annotated[
+    int | None, typer.Option("--workers", min=1, max=MAX_COUNT, metavar="N", show_default=False, help="Local worker processes (default: the CPU count).")
+]
+SchedulerOpt = Annotated[
+    str | None, typer.Option("--scheduler", metavar="ADDRESS", show_default=False, help="Run on this Dask scheduler (tcp://host:8786).")
+]
+FreshOpt = Annotated[bool, typer.Option("--fresh", help="Start over instead of resuming the rows already in --out-dir.")]
+QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar (there is none when stderr is not a terminal).")]
+FigureOpt = Annotated[bool, typer.Option("--figure/--no-figure", help="Draw the heatmaps to DIR/NAME.png.")]
+
+
+def _study(name: str, generator: GeneratorName, grid: list[str] | None, per_cell: int, seed: int, out_dir: Path | None,
+           workers: int | None, scheduler: str | None, fresh: bool, quiet: bool, figure: bool, fmt: OutputFormat,
+           out: Path | None, verbose: int, **options: Any) -> None:
+    from solverplan.studies import StudyInterrupted, build_study, run_study
+    from solverplan.studies.execute import output_paths
+
+    with exit_codes(verbose):
+        study = build_study(name, generator=generator.value, grid=grid or (), per_cell=per_cell, seed=seed, **options)
+        folder = out_dir if out_dir is not None else Path(f"{study.name}-study")
+        try:
+            with progress_bar(f"study {study.name}", quiet) as progress:
+                result = run_study(study, folder, workers=workers, scheduler=scheduler, resume=not fresh, progress=progress)
+        except StudyInterrupted as exc:
+            raise fail(str(exc), 130) from None
+        if figure:
+            from solverplan.render import render_heatmaps, save_figure
+
+            path = output_paths(study, folder)["figure"]
+            save_figure(render_heatmaps(result.table.heatmaps(), title=result.figure_title(),
+                                        columns=result.table.panel_columns()), path)
+            result = result.with_file("figure", path)
+        emit(result, fmt, out)
+
+
+@study_app.command("reachability")
+def study_reachability(
+    generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
+    out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
+    quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Share of the boundary no safe action reaches (safe-BVG nodes without incoming arcs; paper Fig. 15)."""
+    _study("reachability", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose)
+
+
+@study_app.command("connectivity")
+def study_connectivity(
+    generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
+    out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
+    quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Strongly and weakly connected components of the safe BVG (paper Fig. 16)."""
+    _study("connectivity", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose)
+
+
+@study_app.command("rules")
+def study_rules(
+    rules: Annotated[
+        str, typer.Option("--rules", metavar="F1,F2,...", help="Rule families: any, fixed, monotone, relative, specular, or one rule "
+                          "such as fixed:pi/4.")
+    ] = "any,fixed,monotone,relative,specular",
+    family_size: Annotated[int, typer.Option("--family-size", min=1, max=MAX_COUNT, metavar="M", help="Parameters per family: θ = kπ/(M+1).")] = 5,
+    trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="K", help="Simulated robots per environment and family.")] = 200,
+    bounces: Annotated[int, typer.Option("--bounces", min=2, max=MAX_BOUNCES, metavar="B", help="Bounces per simulated robot.")] = 50,
+    generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
+    out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
+    quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """Compare bounce-rule families by the reachability of the systems they induce (paper §8.2; see rule_systems)."""
+    families = [f for f in (part.strip() for part in rules.split(",")) if f]
+    _study("rules", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose,
+           families=families, family_size=family_size, trials=trials, bounces=bounces)
