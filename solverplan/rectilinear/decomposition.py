@@ -618,7 +618,7 @@ def decompose_rooms(env: Environment) -> Decomposition:
     ([Fraction(40, 1), Fraction(24, 1)], ((0, 1),))
     >>> door = rooms.doors[0]
     >>> door.rooms, door.a, door.b                               # the door's end points
-    ((0, 1), (Fraction(4, 1), Fraction(4, 1)), (Fraction(4, 1), Fraction(0, 1)))
+    ((0, 1), (Fraction(4, 1), Fraction(4, 1)), (Fraction(0, 1), Fraction(4, 1)))
     >>> sp.decompose_rooms(sp.load_environment("two_rooms"))
     Traceback (most recent call last):
     ...

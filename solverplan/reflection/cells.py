@@ -237,7 +237,7 @@ def decompose_free_space(env: Environment) -> Decomposition:
     (True, True)
     >>> dec = decompose_free_space(load_environment("l_shape"))      # two cells, split along the reflex corner's diagonal
     >>> [[(int(x), int(y)) for x, y in cell.vertices] for cell in dec.cells], dec.adjacency
-    ([[(0, 0), (4, 4), (4, 10), (0, 10)], [(0, 0), (10, 0), (10, 4), (4, 4)]], ((0, 1),))
+    ([[(0, 0), (10, 0), (10, 4), (4, 4)], [(0, 0), (4, 4), (4, 10), (0, 10)]], ((0, 1),))
     """
     import shapely
 
