@@ -43,6 +43,8 @@ _EXPORTS: dict[str, str] = {
     "models": "solverplan.models",
     # run-time settings: the graph cache and the memory limit
     "config": "solverplan.runtime",
+    "watching": "solverplan.progress",
+    "Stopped": "solverplan.progress",
     "configure": "solverplan.runtime",
     "settings": "solverplan.runtime",
     "Settings": "solverplan.runtime",
@@ -112,10 +114,15 @@ _EXPORTS: dict[str, str] = {
     "check_certificate": "solverplan.certify.check",
     "load_certificate": "solverplan.certify.schema",
     # HTML reports of answers (solverplan report)
-    "load_answer": "solverplan.render.html",
-    "html_report": "solverplan.render.html",
-    "write_report": "solverplan.render.html",
-    "HtmlReport": "solverplan.render.html",
+    "load_answer": "solverplan.render.report",
+    "html_report": "solverplan.render.report",
+    "write_report": "solverplan.render.report",
+    "HtmlReport": "solverplan.render.report",
+    "make_report": "solverplan.render.report",
+    # every answer kind, read back (solverplan.answers)
+    "Answer": "solverplan.result",
+    "read_answer": "solverplan.answers",
+    "load_answer_file": "solverplan.answers",
     # errors
     "SolverplanError": "solverplan.errors",
     "InputError": "solverplan.errors",
@@ -130,6 +137,7 @@ __all__ = sorted(_EXPORTS)
 if TYPE_CHECKING:  # what type checkers and readers see; at run time the names load lazily
     from solverplan import models
     from solverplan.runtime import Settings, config, configure, settings
+    from solverplan.progress import Stopped, watching
     from solverplan.bounce.bvg import bounce_visibility_graph, safe_bounce_visibility_graph
     from solverplan.bounce.controller import constant_controller
     from solverplan.bounce.cycles import LimitCycle, limit_cycle
@@ -152,8 +160,9 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.plan.result import ParetoFront, Plan, load_plan
     from solverplan.plan.search import find_plan, pareto_front
     from solverplan.rectilinear.decomposition import decompose_rooms
-    from solverplan.render.html import HtmlReport, html_report, load_answer, write_report
-    from solverplan.result import Method, Optimality, Stage, Stats, Status, StatusGroup
+    from solverplan.answers import load_answer_file, read_answer
+    from solverplan.render.report import HtmlReport, html_report, load_answer, make_report, write_report
+    from solverplan.result import Answer, Method, Optimality, Stage, Stats, Status, StatusGroup
     from solverplan.simulate import simulate_plan, simulate_rule
     from solverplan.wallfollow.cuts import cut_ordering
     from solverplan.wallfollow.learning import learn_cut_ordering

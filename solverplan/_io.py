@@ -15,6 +15,7 @@ import sys
 import tempfile
 import threading
 from pathlib import Path
+from typing import Iterable
 
 __all__ = ["atomic_write_bytes", "atomic_write_text"]
 
@@ -73,7 +74,13 @@ def _destination(path: str | os.PathLike[str]) -> tuple[Path, os.stat_result | N
 
 
 def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
-    """Write ``data`` to ``path``; a regular file atomically, via a temporary file in its folder and a rename.
+    """Write ``data`` to ``path``; a regular file atomically (:func:`atomic_write_chunks` with one chunk)."""
+    atomic_write_chunks(path, (data,))
+
+
+def atomic_write_chunks(path: str | os.PathLike[str], chunks: Iterable[bytes]) -> None:
+    """Write the concatenation of ``chunks`` to ``path``; a regular file atomically, via a temporary file in its folder
+    and a rename. The chunks are written as they come, so a large answer never exists whole in memory.
 
     A crash, an exception or a SIGINT/SIGTERM (as the CLI handles them) half-way leaves any previous
     file intact and no partial file behind. The file's permission bits are those of a plain
@@ -91,21 +98,24 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
         When the place cannot be written (missing folder, no permission, a directory).
     """
     if os.fspath(path) == "-":
-        _write_stdout(data)
+        for data in chunks:
+            _write_stdout(data)
         return
     target, status = _destination(path)
     if status is not None and stat.S_ISDIR(status.st_mode):
         raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(path))
     if status is not None and not stat.S_ISREG(status.st_mode):
         with open(target, "wb") as handle:  # FIFO or device: no rename could stand in for it
-            handle.write(data)
+            for data in chunks:
+                handle.write(data)
         return
     folder = target.parent if str(target.parent) else Path(".")
     mode = _final_mode(target)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
     try:
         with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
+            for data in chunks:
+                handle.write(data)
             handle.flush()
             if hasattr(os, "fchmod"):
                 os.fchmod(handle.fileno(), mode)

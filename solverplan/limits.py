@@ -163,7 +163,9 @@ def memory_limit() -> tuple[int | None, str]:
     """The memory limit for one job (bytes, ``None`` for none) and where it comes from, for messages."""
     limit = settings().max_memory
     if limit == "available":
-        return available_memory(), "the memory available"
+        free = available_memory()
+        # half: a job sized to all of it would leave the machine unusable (swapping, other programs killed)
+        return (None if free is None else free // 2), "half the memory available"
     return limit, "the memory limit"
 
 

@@ -36,10 +36,12 @@ import math
 from dataclasses import dataclass, field, replace
 from enum import StrEnum
 from fractions import Fraction
-from typing import Any, Mapping, Protocol, runtime_checkable
+from typing import Any, Callable, ClassVar, Mapping, Protocol, TypeVar, runtime_checkable
 
 from solverplan.environment import BoundaryPiece, Environment
-from solverplan.exact import ExactPoint, format_number
+from solverplan.errors import InputError, MalformedFile
+from solverplan.exact import ExactPoint, format_number, to_fraction
+from solverplan.limits import quote
 from solverplan.interval import Interval
 
 __all__ = [
@@ -55,8 +57,14 @@ __all__ = [
     "AffineStep",
     "Stage",
     "Result",
+    "Answer",
+    "answer_kind",
+    "answer_class",
+    "answer_kinds",
+    "ANSWER_KEY_ORDER",
     "protocol_json",
     "piece_json",
+    "Reader",
 ]
 
 
@@ -447,6 +455,17 @@ class AffineStep:
         out["map"] = {"alpha": format_number(self.alpha), "beta": format_number(self.beta)}
         return out
 
+    @classmethod
+    def from_json(cls, data: object, where: str = "stage") -> AffineStep:
+        """Read the affine fields of a stage's JSON back (:meth:`to_json`)."""
+        r = Reader(data, where)
+        m = r.sub("map")
+        direction = r.array("direction")
+        return cls(r.integer("from_edge"), r.integer("to_edge"), r.number("nominal"),
+                   (r.at("direction", direction).exact(0), r.at("direction", direction).exact(1)),
+                   m.exact("alpha"), m.exact("beta"), r.number("contraction"), transition=r.string("transition", ""),
+                   phi=r.number("phi") if r.has("phi") else None)
+
 
 @dataclass(frozen=True, slots=True)
 class Stage:
@@ -539,9 +558,32 @@ class Stage:
                 out["sources"] = [piece_json(p) for p in self.sources]
         if self.positions:
             out["positions"] = [piece_json(p) for p in self.positions]
+        if self.cones:  # a position strategy's exact pieces and cones: enough to read it back and certify it
+            out["sources"] = [piece_json(p) for p in self.sources]
+            out["cones"] = [[[format_number(c) for c in d] for d in cone] for cone in self.cones]
+            out["target_edges"] = list(self.target_edges)
         if self.affine is not None:
             out.update(self.affine.to_json())
         return out
+
+    @classmethod
+    def from_json(cls, data: object, where: str = "stage") -> Stage:
+        """Read :meth:`to_json`'s output back; :class:`~solverplan.errors.MalformedFile` naming ``where`` if malformed."""
+        r = Reader(data, where)
+        lo, hi = r.numbers("interval", 2)
+        margins = r.numbers("margins", 2) if r.has("margins") else None
+        moves = tuple((int(i), int(j)) for i, j in r.int_pairs("moves")) if r.has("moves") else ()
+        cones: tuple[tuple[ExactPoint, ExactPoint], ...] = ()
+        if r.has("cones"):
+            raw = r.array("cones")
+            cones = tuple((r.at(f"cones[{k}]", c).exact_pair(0), r.at(f"cones[{k}]", c).exact_pair(1))
+                          for k, c in enumerate(raw))
+        affine = AffineStep.from_json(data, where) if r.has("map") else None
+        return cls(tuple(r.ints("from_segments")), tuple(r.ints("to_segments")), Interval(lo, hi), moves=moves,
+                   positions=r.pieces("positions") if r.has("positions") else (),
+                   sources=r.pieces("sources") if r.has("sources") else (), cones=cones,
+                   target_edges=tuple(r.ints("target_edges")) if r.has("target_edges") else (), affine=affine,
+                   margins=None if margins is None else (margins[0], margins[1]))
 
 
 # ---------------------------------------------------------------------- the protocol
@@ -572,3 +614,254 @@ def _finite(x: float | None) -> float | None:
         return None
     x = float(x)
     return x if math.isfinite(x) else None
+
+
+# ---------------------------------------------------------------------- the answer base and its kinds
+ANSWER_KEY_ORDER: tuple[str, ...] = ("kind", "status", "...", "optimality", "stats", "environment")
+"""The one key order of every answer's JSON: ``kind`` (what the answer is, a key of :func:`answer_kinds`),
+``status``, the kind's own fields in the order of docs/contract.md (``...``), then the protocol's closing fields
+``optimality``, ``stats`` (when there are any) and ``environment`` (when known)."""
+
+_KINDS: dict[str, type] = {}
+
+_A = TypeVar("_A", bound=type)
+
+
+def answer_kind(kind: str) -> Callable[[_A], _A]:
+    """Class decorator: register an answer class under ``kind`` (its ``kind`` attribute is set to it).
+
+    One class per kind, one kind per class; the registry is what :func:`answer_class` reads (the kinds of the
+    modules imported so far: ``solverplan.answers`` imports every one).
+
+    >>> @answer_kind("example-kind")
+    ... class Example(Answer):
+    ...     pass
+    >>> Example.kind, answer_class("example-kind") is Example
+    ('example-kind', True)
+    >>> _ = _KINDS.pop("example-kind")
+    """
+    def register(cls: _A) -> _A:
+        if not kind or kind != kind.strip() or kind in _KINDS and _KINDS[kind] is not cls:
+            raise ValueError(f"answer kind {kind!r} is empty or already taken by {_KINDS[kind].__name__}")
+        cls.kind = kind  # type: ignore[attr-defined]
+        _KINDS[kind] = cls
+        return cls
+    return register
+
+
+def answer_class(kind: str) -> type:
+    """The class registered for ``kind``; :class:`KeyError` naming the known kinds otherwise."""
+    try:
+        return _KINDS[kind]
+    except KeyError:
+        raise KeyError(f"unknown answer kind {kind!r}: known kinds are {', '.join(sorted(_KINDS))}") from None
+
+
+def answer_kinds() -> dict[str, type]:
+    """Every kind registered so far and its class (import ``solverplan.answers`` for all of them)."""
+    return dict(_KINDS)
+
+
+class Answer:
+    """The base of every answer: its ``kind`` and the one :meth:`to_json` (in :data:`ANSWER_KEY_ORDER`).
+
+    A subclass is a (frozen) dataclass with ``status``, ``optimality``, ``stats`` and ``environment`` (fields or
+    properties), registered with :func:`answer_kind`; it writes its own fields in :meth:`_fields` and reads its
+    JSON back in :meth:`from_json` (``from_json(a.to_json(), env=...)`` gives an answer with the same JSON).
+    Robot models are not classes here: the kinds are kinds of *answers*.
+
+    Attributes
+    ----------
+    kind
+        What the answer is (``"plan"``, ``"rooms"``, ``"pursuit"``, ...): the first key of its JSON.
+
+    Examples
+    --------
+    >>> from solverplan.wallfollow.cuts import cut_ordering
+    >>> from solverplan.models import load
+    >>> answer = cut_ordering(load("l_shape"))
+    >>> isinstance(answer, Answer), list(answer.to_json())[:3], list(answer.to_json())[-3:]
+    (True, ['kind', 'status', 'cut_ordering'], ['optimality', 'stats', 'environment'])
+    """
+
+    kind: ClassVar[str] = ""
+
+    def _fields(self) -> dict:  # pragma: no cover - every kind writes its own
+        """The kind's own fields, in the contract's order (between ``status`` and ``optimality``)."""
+        raise NotImplementedError(f"{type(self).__name__} does not write its fields")
+
+    def to_json(self) -> dict:
+        """The answer as JSON, in :data:`ANSWER_KEY_ORDER`."""
+        out: dict[str, Any] = {"kind": self.kind, "status": Status(getattr(self, "status")).value}
+        out.update(self._fields())
+        out.update(protocol_json(getattr(self, "optimality"), getattr(self, "stats", None),
+                                 getattr(self, "environment", None)))
+        return out
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any], *, env: Environment | None = None) -> Answer:  # pragma: no cover
+        """Read :meth:`to_json`'s output back (``env``: the environment, for kinds that refer to it)."""
+        raise NotImplementedError(f"{cls.__name__} cannot be read back")
+
+
+# ---------------------------------------------------------------------- reading answers back
+class Reader:
+    """Typed access to one JSON object of an answer being read back: every getter checks the value's type and
+    raises :class:`~solverplan.errors.MalformedFile` naming the place (``where.key``) and quoting the value.
+
+    >>> r = Reader({"bounces": 2, "start": "e0", "t": "1/3"}, "plan")
+    >>> r.integer("bounces"), r.string("start"), r.exact("t")
+    (2, 'e0', Fraction(1, 3))
+    >>> r.integer("start")
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.MalformedFile: plan.start: expected an integer, got 'e0'
+    """
+
+    _MISSING = object()
+
+    def __init__(self, data: object, where: str) -> None:
+        if not isinstance(data, (dict, list)):
+            raise MalformedFile(f"{where}: expected a JSON object")
+        self.data, self.where = data, where
+
+    def at(self, key: str, value: object) -> Reader:
+        """A reader of ``value``, a part of this object named ``key``."""
+        return Reader(value, f"{self.where}.{key}")
+
+    def has(self, key: str) -> bool:
+        return isinstance(self.data, dict) and self.data.get(key) is not None
+
+    def get(self, key: object, default: object = _MISSING) -> object:
+        data = self.data
+        if isinstance(data, dict):
+            if key in data:
+                return data[key]
+        elif isinstance(key, int) and 0 <= key < len(data):
+            return data[key]
+        if default is Reader._MISSING:
+            raise MalformedFile(f"{self.where}: {key} is missing")
+        return default
+
+    def _bad(self, key: object, what: str, value: object) -> MalformedFile:
+        return MalformedFile(f"{self.where}.{key}: expected {what}, got {quote(value)}")
+
+    def _typed(self, key: object, default: object, ok: Callable[[object], bool], what: str) -> Any:
+        """The value at ``key`` if ``ok`` says it has the right type (``default`` when missing, if given)."""
+        v = self.get(key, default)
+        if v is default and default is not Reader._MISSING:
+            return v
+        if not ok(v):
+            raise self._bad(key, what, v)
+        return v
+
+    def integer(self, key: object, default: object = _MISSING) -> Any:
+        return self._typed(key, default, lambda v: isinstance(v, int) and not isinstance(v, bool), "an integer")
+
+    def number(self, key: object, default: object = _MISSING) -> Any:
+        v = self._typed(key, default, lambda v: isinstance(v, (int, float)) and not isinstance(v, bool), "a number")
+        return v if v is default else float(v)
+
+    def string(self, key: object, default: object = _MISSING) -> Any:
+        return self._typed(key, default, lambda v: isinstance(v, str), "a string")
+
+    def boolean(self, key: object, default: object = _MISSING) -> Any:
+        return self._typed(key, default, lambda v: isinstance(v, bool), "true or false")
+
+    def exact(self, key: object) -> Fraction:
+        v = self.get(key)
+        try:
+            return to_fraction(v, where=f"{self.where}.{key}")
+        except InputError as exc:
+            raise MalformedFile(str(exc)) from None
+
+    def exact_pair(self, key: object) -> ExactPoint:
+        sub = self.at(str(key), self.get(key))
+        return (sub.exact(0), sub.exact(1))
+
+    def array(self, key: object) -> list:
+        v = self.get(key)
+        if not isinstance(v, list):
+            raise self._bad(key, "a list", v)
+        return v
+
+    def sub(self, key: object) -> Reader:
+        return self.at(str(key), self.get(key))
+
+    def items(self, key: object) -> list[Reader]:
+        """A list of objects, each as a reader."""
+        return [self.at(f"{key}[{k}]", item) for k, item in enumerate(self.array(key))]
+
+    def ints(self, key: object) -> list[int]:
+        values = self.array(key)
+        sub = self.at(str(key), values)
+        return [sub.integer(k) for k in range(len(values))]
+
+    def texts(self, key: object) -> list[str]:
+        values = self.array(key)
+        sub = self.at(str(key), values)
+        return [sub.string(k) for k in range(len(values))]
+
+    def numbers(self, key: object, count: int | None = None) -> list[float]:
+        values = self.array(key)
+        if count is not None and len(values) != count:
+            raise self._bad(key, f"{count} numbers", values)
+        sub = self.at(str(key), values)
+        return [sub.number(k) for k in range(len(values))]
+
+    def int_pairs(self, key: object) -> list[tuple[int, int]]:
+        out = []
+        for k, item in enumerate(self.array(key)):
+            pair = self.at(f"{key}[{k}]", item)
+            if not isinstance(item, list) or len(item) != 2:
+                raise self._bad(f"{key}[{k}]", "a pair", item)
+            out.append((pair.integer(0), pair.integer(1)))
+        return out
+
+    def points(self, key: object) -> list[ExactPoint]:
+        """A list of exact points ``[[x, y], ...]`` (numbers or exact strings)."""
+        sub = self.at(str(key), self.array(key))
+        return [sub.exact_pair(k) for k in range(len(sub.data))]
+
+    def pieces(self, key: object) -> tuple[BoundaryPiece, ...]:
+        """Boundary pieces written by :func:`piece_json` (their exact ``t0_exact`` / ``t1_exact``)."""
+        out = []
+        for item in self.items(key):
+            out.append(BoundaryPiece(item.integer("edge"), item.exact("t0_exact"), item.exact("t1_exact")))
+        return tuple(out)
+
+    def optimality(self, key: str = "optimality") -> Optimality:
+        try:
+            return Optimality.from_json(self.get(key), f"{self.where}.{key}")
+        except ValueError as exc:
+            raise MalformedFile(str(exc)) from None
+
+    def stats(self, key: str = "stats") -> Stats:
+        data = self.get(key, {})
+        if not isinstance(data, dict):
+            raise self._bad(key, "an object", data)
+        known = {k: data[k] for k in ("seconds_setup", "seconds_search", "expanded") if k in data}
+        return Stats(**known, counts={k: v for k, v in data.items() if k not in known})
+
+    def environment(self, key: str = "environment") -> EnvironmentRecord | None:
+        try:
+            return EnvironmentRecord.from_json(self.get(key, None), f"{self.where}.{key}")
+        except ValueError as exc:
+            raise MalformedFile(str(exc)) from None
+
+    def in_environment(self, env: Environment | None, kind: str) -> tuple[Environment, EnvironmentRecord | None]:
+        """``env`` and the answer's environment record, checked against it: an answer that names the edges of its
+        environment is read back in it (:class:`~solverplan.errors.InputError` when ``env`` is missing or another)."""
+        if env is None:
+            raise InputError(f"a {kind} answer is read back in its environment: give env")
+        record = self.environment()
+        if record is not None and not record.matches(env):
+            raise InputError(f"the {kind} answer was made in another environment ({record.name!r}), not in {env.name!r}")
+        return env, record
+
+    def status(self, key: str = "status") -> Status:
+        v = self.string(key)
+        try:
+            return Status(v)
+        except ValueError:
+            raise self._bad(key, "a status (" + ", ".join(x.value for x in Status) + ")", v) from None

@@ -63,7 +63,8 @@ class Settings:
         The disk cache's size cap in bytes: least recently used entries are removed after a write until it fits.
     max_memory
         Jobs estimated to need more bytes than this are refused up front; ``"available"`` (the default): the
-        memory available when the job is checked; ``None``: no limit.
+        memory available when the job is checked (half of it is the limit, see
+        :func:`solverplan.limits.memory_limit`); ``None``: no limit.
 
     Examples
     --------

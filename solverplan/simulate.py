@@ -57,6 +57,8 @@ from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.geometry.raycast import RayHits, cast_from_boundary, heading_directions
 from solverplan.limits import MAX_BOUNCES, MAX_TRIALS, quote, refuse_beyond_memory
+from solverplan.progress import tick
+from solverplan.result import answer_kind
 
 __all__ = [
     "Outcome",
@@ -455,6 +457,7 @@ def _generator(seed: int | np.random.Generator | None):
 
 
 # ---------------------------------------------------------------------- results
+@answer_kind("simulation")
 @dataclass(frozen=True, eq=False)
 class Rollouts:
     """The result of a simulation: trajectories, per-rollout outcomes, and how to replay it.
@@ -565,6 +568,7 @@ class Rollouts:
     def to_json(self) -> dict:
         """The run's parameters and :meth:`summary` (not the trajectories)."""
         return {
+            "kind": "simulation",
             "environment": self.env.name,
             "policy": self.policy,
             "bounces": self.bounces,
@@ -673,6 +677,7 @@ def simulate_policy(
     for step in range(bounces + 1):
         if len(active) == 0:
             break
+        tick("rollouts: bounces", step, bounces)  # the progress bar of long simulations
         contacts = Contacts(env, step, active, cur_e, cur_t, points, incoming)
         verdict = np.asarray(policy.check(contacts), dtype=np.int8)
         if len(verdict) != len(active):

@@ -18,6 +18,7 @@ LAYERS = {
     "errors": 0,
     "_io": 0,
     "_arrays": 0,
+    "progress": 0,  # what long loops report, and where a timeout stops them (no imports)
     "runtime": 0.25,  # the run-time settings (graph cache, memory limit) read where they apply
     "limits": 0.5,  # the documented input limits every reader checks (raise errors: after it)
     "_shipped": 0,  # where the shipped model files are: environment accepts a model's name
@@ -41,6 +42,7 @@ LAYERS = {
     "certify": 6,
     "describe": 7,
     "render": 7,
+    "answers": 7.5,  # the registry of answer kinds: every answer class (layers 4–7) and its hooks (certify, render)
     "cli": 8,
     "__init__": 9,
     "__main__": 9,

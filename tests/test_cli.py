@@ -218,7 +218,7 @@ def test_library_failure_exits_1_with_one_line(tmp_path, monkeypatch):
     def fail(env):
         raise SolverFailed("the tolerance LP returned 'inaccurate'")
 
-    monkeypatch.setattr(cli.geometry, "describe_environment", fail)
+    monkeypatch.setattr("solverplan.describe.describe_environment", fail)  # imported by info when it runs
     env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
     line = assert_one_line_error(run("info", env), 1, "inaccurate")
     assert line == "error: the tolerance LP returned 'inaccurate'"
@@ -228,7 +228,7 @@ def test_unexpected_exception_exits_1_traceback_only_with_verbose(tmp_path, monk
     def crash(env):
         raise ZeroDivisionError("boom")
 
-    monkeypatch.setattr(cli.geometry, "describe_environment", crash)
+    monkeypatch.setattr("solverplan.describe.describe_environment", crash)
     env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
     line = assert_one_line_error(run("info", env), 1, "internal error: ZeroDivisionError: boom")
     assert "-v" in line

@@ -97,7 +97,7 @@ def test_bad_layout_options_are_usage_errors(args, fragment):
 @pytest.mark.parametrize("bad", [float("nan"), float("inf"), -float("inf")])
 @pytest.mark.parametrize("layout", [[], ["--compact"], ["--indent", "2"]])
 def test_non_finite_numbers_are_refused_in_every_layout(monkeypatch, bad, layout):
-    monkeypatch.setattr(cli.geometry, "describe_environment", lambda env: _Fixed({"area": bad}))
+    monkeypatch.setattr("solverplan.describe.describe_environment", lambda env: _Fixed({"area": bad}))
     result = run(*layout, "info", MODELS / "square.json")
     assert result.exit_code == 1 and result.stdout == ""
     assert "not JSON compliant" in result.stderr and len(result.stderr.splitlines()) == 1

@@ -219,8 +219,8 @@ def test_rollouts_beyond_memory_are_refused_up_front(monkeypatch, tmp_path):
     assert limits.available_memory() is None or limits.available_memory() > 0
     plan = tmp_path / "plan.json"
     plan.write_text(json.dumps(sp.find_plan(sp.load_environment("square"), "e0", "e2").to_json()))
-    monkeypatch.setattr(limits, "available_memory", lambda: 2**30)  # 1 GiB left
+    monkeypatch.setattr(limits, "available_memory", lambda: 2**31)  # 2 GiB left: the default limit is half of it
     result = CliRunner().invoke(app, ["simulate", "square", str(plan), "--trials", "10000000"])
     assert result.exit_code == 2, result.stderr
     assert result.stderr.splitlines() == [
-        "error: 10,000,000 rollouts of 2 bounces would need about 4.0 GiB of memory, more than the memory available (1.0 GiB; see --max-memory)"]
+        "error: 10,000,000 rollouts of 2 bounces would need about 4.0 GiB of memory, more than half the memory available (1.0 GiB; see --max-memory)"]

@@ -45,6 +45,7 @@ import numpy as np
 from solverplan._arrays import ragged_arange
 from solverplan.errors import SolverFailed
 from solverplan.geometry.raycast import cast_ray
+from solverplan.progress import step
 
 # Float tolerances (public: the graph's build in bvg decides its own float ties with the same ones).
 # Headings (radians) closer than this are compared exactly; the tolerance is
@@ -299,20 +300,30 @@ class _Context:
         return (c > 0) - (c < 0)
 
 
-def build_sweeps(partition) -> Sweeps:
-    """All sweeps of ``partition`` and their entries (see the module docstring).
+def build_sweeps(partition, sources: np.ndarray | None = None, context: _Context | None = None) -> Sweeps:
+    """All sweeps of ``partition`` and their entries (see the module docstring); with ``sources`` (segment ids),
+    only the sweeps at the two ends of those segments (each sweep is computed on its own: the same entries).
 
     Memory follows the output: the (sweep × vertex) tables of steps 1–2 exist for one block of
     sweeps at a time (:data:`_BLOCK` cells), and only their compact results are kept — the
-    direction tables, and per (sweep, covering edge) pair its range of sectors.
+    direction tables, and per (sweep, covering edge) pair its range of sectors. ``context``: the partition's
+    :class:`_Context`, when the caller keeps one for several calls.
     """
-    ctx = _Context(partition)
+    ctx = context if context is not None else _Context(partition)
+    ctx.exact_checks = ctx.exact_casts = 0
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
+    if sources is not None:
+        wanted = np.zeros(ctx.N + 1, dtype=bool)  # index −1 (no segment) reads the last, False
+        wanted[np.asarray(sources, dtype=np.int64)] = True
+        keep = np.flatnonzero(wanted[plus_seg] | wanted[minus_seg])
+        origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = (a[keep] for a in (origin, frame, plus_seg, minus_seg,
+                                                                               lo_lim, hi_lim))
     M, n = len(origin), ctx.n
     holes = len(ctx.env.rings) > 1
     rows = max(1, _CELLS // max(n, 1))
     parts: list[tuple] = []
     for s0 in range(0, M, rows):
+        step("safe BVG: sweeps", s0, M)  # the progress bar, and where a timeout stops the build
         sl = slice(s0, min(M, s0 + rows))
         o, fr = origin[sl], frame[sl]
         # ---- 1. headings and classes of all original vertices, and the critical directions
@@ -970,12 +981,16 @@ def estimate_entries(partition, sample: int = 256) -> tuple[int, int]:
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
     M = len(origin)
     rows = np.unique(np.linspace(0, M - 1, min(M, sample)).astype(np.int64)) if M else np.zeros(0, dtype=np.int64)
-    o, fr, lo, hi = origin[rows], frame[rows], lo_lim[rows], hi_lim[rows]
-    cls, ang, err = _classify(ctx, o, fr, lo, hi)
-    rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo, hi, cls, ang, err)
-    pairs = _covering(ctx, o, cls, rank, K)
-    del cls, ang, err, rank
-    hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
-    found = len(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit)[0])
+    found = 0
+    for b0 in range(0, len(rows), 32):  # in blocks: a progress step (and a stop point) between them
+        step("safe BVG: estimating its size", b0, len(rows))
+        block = rows[b0:b0 + 32]
+        o, fr, lo, hi = origin[block], frame[block], lo_lim[block], hi_lim[block]
+        cls, ang, err = _classify(ctx, o, fr, lo, hi)
+        rank, K, dir_ang, dir_to, dir_err, dir_off, thin = _rank(ctx, o, fr, lo, hi, cls, ang, err)
+        pairs = _covering(ctx, o, cls, rank, K)
+        del cls, ang, err, rank
+        hit = _hit_edges(ctx, o, fr, K, dir_ang, dir_to, dir_off, thin, pairs)
+        found += len(_entries(ctx, o, fr, K, dir_ang, dir_to, dir_err, dir_off, hit)[0])
     special = int(np.count_nonzero(lo_lim >= 0) + np.count_nonzero(hi_lim >= 0))
     return int(round(found * M / max(len(rows), 1))) + special, M

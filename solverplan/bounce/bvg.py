@@ -53,10 +53,10 @@ import html
 import io
 import logging
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Iterator
 
 import numpy as np
 
@@ -83,12 +83,13 @@ from solverplan.bounce.safe import Direction, SafeInterval, SafeSet
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.limits import memory_limit
+from solverplan.progress import step
 
 if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only the conversions below load it
     import networkx as nx
 
 __all__ = ["SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph", "GraphTooLarge", "estimate_graph",
-           "check_graph_memory", "set_graph_cache", "clear_graph_cache",
+           "check_graph_memory", "fitting_simplification", "reachable_safe_graph", "LAZY_MIN_ARCS", "set_graph_cache", "clear_graph_cache",
            "graph_cache_directory", "default_cache_directory", "graph_cache_report", "purge_graph_cache",
            "GraphCacheReport", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "partition_digest", "discard_graphs", "fresh_graphs"]
 
@@ -248,6 +249,8 @@ class SafeBVG:
         ...
         solverplan.errors.InvalidBoundarySet: heading 3.5 is not inside (0, π)
         """
+        if source is None and heading is None:  # every arc: share the arrays (a copy would double the graph)
+            return replace(self, labelled=safe)
         keep = np.ones(self.n_arcs, dtype=bool)
         if source is not None:
             keep &= self.source == self._check_segment(source)
@@ -384,19 +387,23 @@ class SafeBVG:
         time into one growing buffer: the same bytes as ``orjson.dumps(self.to_json()) + end``,
         without a dict per arc at once nor a second copy of the text (2.4 million arcs: ≈ 0.3 GB
         of text instead of ≈ 2 GB of dicts)."""
+        out = bytearray()
+        for chunk in self.json_chunks(safe=safe, end=end, arcs_per_chunk=arcs_per_chunk):
+            out += chunk
+        return out
+
+    def json_chunks(self, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 16) -> Iterator[bytes]:
+        """:meth:`json_bytes` a chunk of arcs at a time, for writing as it is made (``solverplan graph -o``): only one
+        chunk's dicts and text exist at once, never the whole text."""
         import orjson
 
         safe = self.labelled if safe is None else safe
         head = orjson.dumps(self._json_header(safe))
-        out = bytearray(head[:-1])
-        out += b',"arcs":[' if len(head) > 2 else b'"arcs":['
+        yield head[:-1] + (b',"arcs":[' if len(head) > 2 else b'"arcs":[')
         for a in range(0, self.n_arcs, arcs_per_chunk):
-            if a:
-                out += b","
-            out += orjson.dumps(self._arc_dicts(a, min(self.n_arcs, a + arcs_per_chunk), safe))[1:-1]
-        out += b"]}"
-        out += end
-        return out
+            text = orjson.dumps(self._arc_dicts(a, min(self.n_arcs, a + arcs_per_chunk), safe))[1:-1]
+            yield b"," + text if a else text
+        yield b"]}" + end
 
     def _json_header(self, safe: bool) -> dict:
         out = {
@@ -596,7 +603,7 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     Memory follows the output: the graph is a structure of arrays (about 110 bytes per arc), and
     the build's peak is under 200 bytes per arc (see ``benchmarks/README.md``). Before building a
     large graph its size is estimated from a sample of the sweeps; a graph that would need more
-    memory than the limit (:func:`solverplan.limits.set_memory_limit`, by default the memory available) is
+    memory than the limit (:func:`solverplan.limits.set_memory_limit`, by default half the memory available) is
     refused up front with :class:`GraphTooLarge`, naming the estimate.
 
     Examples
@@ -628,38 +635,55 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     return _cache.store(p, digest, graph, time.perf_counter() - t0, plain=plain)
 
 
-def _build(p: Partition) -> SafeBVG:
-    """Build the safe BVG of ``p`` (no cache, no size check)."""
+def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep._Context | None = None) -> SafeBVG:
+    """Build the safe BVG of ``p`` (no cache, no size check).
+
+    With ``sources`` (segment ids), only the arcs leaving them that have a safe heading: their safe sets need only
+    the sweeps at the two ends of each source (module docstring, step 3), so the work is that of those sweeps. The
+    rows are those of the whole graph's arcs from ``sources`` with ``n_intervals > 0``, equal arrays
+    (:func:`reachable_safe_graph`; a property test compares them)."""
     import time
 
     env = p.env
     N = len(p.segments)
     t0 = time.perf_counter()
-    sw = build_sweeps(p)
+    ctx = context if context is not None else _sweep._Context(p)
+    sw = build_sweeps(p, sources, ctx)
     t1 = time.perf_counter()
     n_sweeps, n_entries = len(sw.origin), len(sw.seg)
     sweep_checks, sweep_casts = sw.exact_checks, sw.exact_casts
-    exact = ExactPoints([s.a for s in p.segments], _edge_vectors(env))
+    exact = ctx.exact  # the points of P′ as homogeneous integers, with the exact edge vectors
     ends = _Ends(exact)
     seg_edge = np.asarray(p.seg_edge, dtype=np.int64)
+    wanted = None
+    if sources is not None:
+        wanted = np.zeros(N, dtype=bool)
+        wanted[np.asarray(sources, dtype=np.int64)] = True
 
     # ---- roles: entries of "+" sweeps belong to the segment starting at the origin (x = a),
     # entries of "−" sweeps to the segment ending there (x = b)
     e_plus = sw.plus_seg[sw.sweep]
     ia = np.flatnonzero(e_plus >= 0)
+    if wanted is not None:  # a sweep at a vertex serves the segments on both sides: keep the wanted role only
+        ia = ia[wanted[e_plus[ia]]]
     A_key = e_plus[ia] * N + sw.seg[ia]
     del e_plus
     e_minus = sw.minus_seg[sw.sweep]
     ib = np.flatnonzero(e_minus >= 0)
+    if wanted is not None:
+        ib = ib[wanted[e_minus[ib]]]
     B_key = e_minus[ib] * N + sw.seg[ib]
     del e_minus
 
-    # ---- arcs: every pair met by some sweep, both directions
-    keys = np.concatenate([A_key, B_key])
-    keys = np.concatenate([keys, (keys % N) * N + keys // N])
-    keys.sort()
-    if len(keys):
-        keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
+    if wanted is None:
+        # ---- arcs: every pair met by some sweep, both directions
+        keys = np.concatenate([A_key, B_key])
+        keys = np.concatenate([keys, (keys % N) * N + keys // N])
+        keys.sort()
+        if len(keys):
+            keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
+    else:  # ---- arcs that may be safe: met by the sweeps at both ends of the source
+        keys = np.intersect1d(A_key, B_key)
     source, target = keys // N, keys % N
     n_arcs = len(keys)
 
@@ -690,6 +714,7 @@ def _build(p: Partition) -> SafeBVG:
     del pkey, lo_pick, hi_pick, frm
     # the entries are consumed: keep only what the hole step reads
     sw.sweep = sw.seg = sw.lo_to = sw.hi_to = sw.lo = sw.hi = sw.lo_err = sw.hi_err = None  # type: ignore[assignment]
+    step("safe BVG: safe sets", 1, 4)
     edge_of = seg_edge[source]
     pieces = _nonempty(pieces, ends, edge_of)
 
@@ -699,6 +724,7 @@ def _build(p: Partition) -> SafeBVG:
     del sw
 
     # ---- single points: closures may add isolated points; check them exactly
+    step("safe BVG: safe sets", 2, 4)
     single = _singletons(pieces, ends, edge_of)
     n_single = int(np.count_nonzero(single))
     if n_single:
@@ -744,6 +770,7 @@ def _build(p: Partition) -> SafeBVG:
     del pieces
 
     # ---- transitions and φ (they depend on the two edges only)
+    step("safe BVG: safe sets", 3, 4)
     transition, phi = _transitions(env, seg_edge[source], seg_edge[target])
     t3 = time.perf_counter()
     stats = {
@@ -757,6 +784,14 @@ def _build(p: Partition) -> SafeBVG:
         "singletons_checked": n_single,
     }
     logger.debug("safe BVG of %r: %s", env.name, stats)
+    if wanted is not None:  # only the arcs with a safe heading
+        keep = np.flatnonzero(counts > 0)
+        take = np.repeat(offsets[keep], counts[keep]) + ragged_arange(counts[keep])
+        source, target, lo, hi, counts = source[keep], target[keep], lo[keep], hi[keep], counts[keep]
+        transition, phi = transition[keep], phi[keep]
+        set_lo, set_hi = set_lo[take], set_hi[take]
+        set_ends = tuple(a[take] for a in set_ends)
+        offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     return SafeBVG(
         partition=p,
         source=source.astype(np.int64),
@@ -772,6 +807,105 @@ def _build(p: Partition) -> SafeBVG:
         _set_ends=set_ends,
         stats=stats,
     )
+
+
+LAZY_MIN_ARCS = 2_000_000
+"""Planners build only the reachable safe arcs (:func:`reachable_safe_graph`) when the whole safe BVG is estimated
+to have at least this many arcs (and is not cached): below it the whole graph builds in a few seconds."""
+
+
+def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray | list[int], *,
+                         max_depth: int | None = None) -> SafeBVG:
+    """The part of the safe BVG a search from the segments ``start`` can use: every arc with a safe heading leaving a
+    segment reachable from ``start`` by such arcs (within ``max_depth`` arcs when given: the sources at depths
+    0 … max_depth − 1), built on demand layer by layer.
+
+    The safe set of an arc needs only the sweeps at the two ends of its source, so each layer costs the sweeps of
+    its new segments (vectorised, in batches sized to the entries they produce), not the whole graph's. The rows are
+    exactly the whole graph's rows of those sources with a safe heading (equal arrays: a property test compares
+    them), so a search over it gives the same answers; arcs without a safe heading, and those of unreachable
+    sources, are left out. ``stats`` says how many sources and sweeps were built (``"reachable_sources"``).
+
+    Examples
+    --------
+    >>> from solverplan.environment import Environment
+    >>> ell = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]])
+    >>> whole, part = safe_bounce_visibility_graph(ell), reachable_safe_graph(ell, [0], max_depth=1)
+    >>> part.source.tolist() == [0] * part.n_arcs, part.n_arcs == int(whole.select(source=0).safe.sum())
+    (True, True)
+    >>> reachable_safe_graph(ell, [0]).n_safe_arcs == whole.n_safe_arcs   # every segment is reachable here
+    True
+    """
+    import time
+
+    p = _as_partition(partition)
+    N = len(p.segments)
+    frontier = np.unique(np.asarray(start, dtype=np.int64))
+    if len(frontier) and not (0 <= frontier[0] and frontier[-1] < N):
+        raise InvalidBoundarySet(f"start segments must be in 0..{N - 1}")
+    t0 = time.perf_counter()
+    ctx = _sweep._Context(p)
+    seen = np.zeros(N, dtype=bool)
+    parts: list[SafeBVG] = []
+    batch, depth, sweeps, kept = 64, 0, 0, 0
+    limit, limit_source = memory_limit()
+    while len(frontier) and (max_depth is None or depth < max_depth):
+        seen[frontier] = True
+        found = []
+        for b0 in range(0, len(frontier), batch):
+            step("safe BVG: reachable part", int(seen.sum()) - len(frontier) + b0, N)
+            chunk = frontier[b0:b0 + batch]
+            g = _build(p, chunk, ctx)
+            parts.append(g)
+            found.append(g.target)
+            kept += g.n_arcs
+            if limit is not None and _BASE_BYTES + PLANNED_BYTES_PER_ARC * kept > limit:
+                _refuse_reachable(p, kept, int(seen.sum()), limit, limit_source)
+            sweeps += g.stats["sweeps"]
+            # next batch: about 2²⁰ sweep entries (≈ 200 MB of temporaries at the build's peak)
+            per_source = max(1.0, g.stats["entries"] / len(chunk))
+            batch = int(min(8192, max(8, (1 << 20) / per_source)))
+        targets = np.unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
+        frontier = targets[~seen[targets]]
+        depth += 1
+    graph = _concat_rows(p, parts)
+    graph.stats.update({"reachable_sources": int(seen.sum()), "sweeps": sweeps, "layers": depth,
+                        "seconds_total": time.perf_counter() - t0, "lazy": True})
+    return graph
+
+
+PLANNED_BYTES_PER_ARC = 400
+"""Memory per safe arc a query keeps (bytes): the graph's arrays, and the planner's admissible intervals (Python
+lists of floats per source) — what :func:`reachable_safe_graph` checks against the memory limit as it grows."""
+
+
+def _refuse_reachable(p: Partition, kept: int, sources: int, limit: int, source: str) -> None:
+    """Raise :class:`GraphTooLarge` for a reachable part that outgrew the memory limit, naming a simplification."""
+    arcs = estimate_graph(p)[0]
+    name = p.env.name if len(p.env.name) <= 30 else p.env.name[:29] + "…"
+    hint = fitting_simplification(p.env, arcs, limit)
+    advice = f"; --simplify {hint[0]:g} at import would fit (≈ {hint[1]:,} vertices)" if hint is not None else ""
+    raise GraphTooLarge(f"the safe arcs a query reaches in {name!r} outgrew {source} ({_gib(limit)}) after "
+                        f"{kept:,} arcs from {sources:,} of {len(p.segments):,} segments{advice}")
+
+
+def _concat_rows(p: Partition, parts: list[SafeBVG]) -> SafeBVG:
+    """One graph of the arcs of ``parts`` (disjoint sources), sorted by (source, target)."""
+    cat = lambda name: np.concatenate([getattr(g, name) for g in parts]) if parts else np.zeros(0)  # noqa: E731
+    source = cat("source").astype(np.int64)
+    target = cat("target").astype(np.int64)
+    counts = cat("n_intervals").astype(np.int64)
+    order = np.lexsort((target, source))
+    offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    take = np.repeat(offsets[:-1][order], counts[order]) + ragged_arange(counts[order])
+    counts = counts[order]
+    ends = tuple(np.concatenate([g._set_ends[t] for g in parts])[take] if parts else np.zeros(0, dtype=np.int64)
+                 for t in range(4))
+    return SafeBVG(partition=p, source=source[order], target=target[order], lo=cat("lo")[order], hi=cat("hi")[order],
+                   n_intervals=counts, set_offsets=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
+                   set_lo=cat("set_lo")[take], set_hi=cat("set_hi")[take],
+                   transition=cat("transition").astype(np.int8)[order], phi=cat("phi")[order],
+                   _set_ends=ends, stats={})  # type: ignore[arg-type]
 
 
 def _refine_ends(p: Partition, pieces: _Pieces, edge_of: np.ndarray) -> None:
@@ -999,6 +1133,7 @@ def _subtract_holes(p: Partition, sw: Sweeps, pieces: _Pieces, ends: _Ends, sour
     minus_of[sw.minus_seg[ok]] = np.flatnonzero(ok)
     H = side.shape[1]
     for h in range(H):
+        step("safe BVG: holes", h, H)
         arc = pieces.arc
         i, j = source[arc], target[arc]
         applies = side[seg_edge[i], h] & side[seg_edge[j], h]
@@ -1116,18 +1251,62 @@ def _gib(n: float) -> str:
     return f"{n / 2**30:.1f} GB" if n >= 2**30 else f"{n / 2**20:.0f} MB"
 
 
-def check_graph_memory(p: Partition) -> None:
+def check_graph_memory(p: Partition, estimate: tuple[int, int] | None = None) -> None:
     """Raise :class:`GraphTooLarge` when the safe BVG of ``p`` is estimated to exceed the memory limit
     (:func:`solverplan.limits.memory_limit`). Free for graphs that would fit even with every pair of segments
-    as an arc; otherwise it samples the sweeps (:func:`estimate_graph`)."""
+    as an arc; otherwise it samples the sweeps (:func:`estimate_graph`), unless the caller has its ``estimate``."""
     limit, source = memory_limit()
     N = len(p.segments)
     if limit is None or _BASE_BYTES + BYTES_PER_ARC * N * (N - 1) <= limit:
         return
-    arcs, need = estimate_graph(p)
+    arcs, need = estimate if estimate is not None else estimate_graph(p)
     if need > limit:
         name = p.env.name if len(p.env.name) <= 30 else p.env.name[:29] + "…"
+        hint = fitting_simplification(p.env, arcs, limit)
+        advice = (f"; --simplify {hint[0]:g} at import would fit (≈ {hint[1]:,} vertices)" if hint is not None
+                  else "; see --max-memory")
         raise GraphTooLarge(f"the safe BVG of {name!r} would need ≈ {_gib(need)} (≈ {arcs:,} arcs, {N:,} segments), "
-                            f"more than {source} ({_gib(limit)}; see --max-memory)")
+                            f"more than {source} ({_gib(limit)}){advice}")
+
+
+# Arcs grow about as the fourth power of the vertex count on ragged floor plans (segments of P′ as its square:
+# every reflex vertex casts a line through every vertex it sees; arcs as the segments' square), measured on the
+# warehouse maps of benchmarks/README.md; a smaller exponent would promise too much of a simplification.
+_ARCS_EXPONENT = 4.0
+
+
+def fitting_simplification(env: Environment, arcs: int, limit: int) -> tuple[float, int] | None:
+    """The smallest simplification tolerance (a round number in the environment's units: 1, 2 or 5 × 10^k) after
+    which the safe BVG is estimated to fit in ``limit`` bytes, and the vertex count it leaves; None if none does.
+
+    The outline is simplified as the importer does (topology-preserving Douglas–Peucker, :mod:`shapely`), and the
+    arcs are extrapolated from ``arcs`` (the estimate for ``env``) by the vertex count to the power 4 — a rule of
+    thumb for the message of :class:`GraphTooLarge`, not a promise.
+
+    >>> from solverplan.environment import Environment
+    >>> ring = [[x / 10, (x % 2) / 100] for x in range(0, 101)] + [[10, 5], [0, 5]]
+    >>> fitting_simplification(Environment.from_coords(ring), arcs=10**9, limit=2**30)
+    (0.01, 4)
+    """
+    import shapely
+
+    n = env.n_vertices
+    shape = env.to_shapely()
+    lo, hi = shape.bounds[:2], shape.bounds[2:]
+    size = max(hi[0] - lo[0], hi[1] - lo[1])
+    if not size > 0:
+        return None
+    step = 10.0 ** math.floor(math.log10(size * 1e-4))
+    while step < size / 10:
+        for factor in (1, 2, 5):
+            tolerance = float(f"{factor * step:.1g}")
+            simple = shapely.simplify(shape, tolerance, preserve_topology=True)
+            if simple.is_empty or simple.geom_type != "Polygon":
+                return None
+            m = len(simple.exterior.coords) - 1 + sum(len(r.coords) - 1 for r in simple.interiors)
+            if _BASE_BYTES + BYTES_PER_ARC * arcs * (m / n) ** _ARCS_EXPONENT <= limit:
+                return tolerance, m
+        step *= 10
+    return None
 
 

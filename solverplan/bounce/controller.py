@@ -14,8 +14,8 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import dataclass, field
-from typing import Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any, Sequence
 
 from solverplan.bounce._cycle_core import (
     CycleCore,
@@ -28,12 +28,12 @@ from solverplan.bounce._cycle_core import (
 )
 from solverplan.bounce.constant_map import GRID_ONE, ConstantMap, merge_grid_intervals
 from solverplan.bounce.cycles import LimitCycle, _build
-from solverplan.bounce.dynamics import ExactHeading
+from solverplan.bounce.dynamics import ExactHeading, parse_heading
 from solverplan.bounce.partition import partition
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.interval import DEFAULT_HEADING_MARGIN
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 
 __all__ = ["ConstantController", "constant_controller", "DEFAULT_CONTROLLER_TANGENTS"]
 
@@ -49,8 +49,9 @@ runs close to the walls, where Prop. 4's proof looks for contraction), then thei
 _ALGORITHM = "exact enclosure of f_θ^k(∂P) on a 2⁻⁹⁶ grid inside verified basins"
 
 
+@answer_kind("controller")
 @dataclass(frozen=True)
-class ConstantController:
+class ConstantController(Answer):
     """A constant heading under which every start converges to a verified limit cycle (Prop. 4), or the
     record of the attempts; follows the result protocol of :mod:`solverplan.result`.
 
@@ -98,9 +99,12 @@ class ConstantController:
         return self.status is Status.FOUND
 
     def to_json(self) -> dict:
+        if self.environment is None:
+            return replace(self, environment=EnvironmentRecord.of(self.env)).to_json()
+        return super().to_json()
+
+    def _fields(self) -> dict:
         return {
-            "status": self.status.value,
-            "environment": (self.environment or EnvironmentRecord.of(self.env)).to_json(),
             "theta": None if self.heading is None else self.heading.theta,
             "theta_exact": None if self.heading is None else self.heading.spec(),
             "proved": self.proved,
@@ -108,9 +112,21 @@ class ConstantController:
             "heading_margin": self.heading_margin,
             "cycles": [c.to_json() for c in self.cycles],
             "tried": [{"theta_exact": s, "outcome": o} for s, o in self.tried],
-            "optimality": self.optimality.to_json(),
-            "stats": self.stats.to_json(),
         }
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> ConstantController:
+        """Read a constant controller back in ``env`` (required, as for its cycles)."""
+        r = Reader(data, "controller")
+        env, record = r.in_environment(env, 'constant controller')
+        heading = parse_heading(r.string("theta_exact")) if r.has("theta_exact") else None
+        if heading is not None and not isinstance(heading, ExactHeading):
+            raise InputError("controller.theta_exact: expected an exact heading (tan:P/Q or dir:C,S)")
+        return cls(env=env, heading=heading, cycles=tuple(LimitCycle.from_json(c.data, env=env) for c in r.items("cycles")),
+                   bounces=r.integer("bounces", None),
+                   tried=tuple((t.string("theta_exact"), t.string("outcome")) for t in r.items("tried")),
+                   status=r.status(), optimality=r.optimality(), stats=r.stats(), environment=record,
+                   heading_margin=r.number("heading_margin", DEFAULT_HEADING_MARGIN))
 
     def to_text(self, *, width: int = 100) -> str:
         head = (f"constant controller θ = {self.heading.theta:.12g} ({self.heading.spec()}): "

@@ -42,7 +42,7 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Iterable, Literal, Sequence
+from typing import Any, Iterable, Literal, Sequence
 
 from solverplan.bounce._cycle_core import (
     CycleCore,
@@ -68,11 +68,11 @@ from solverplan.bounce.partition import Partition, partition
 from solverplan.bounce.rules import check_edges
 from solverplan.bounce.transitions import AffineMap
 from solverplan.environment import Environment
-from solverplan.errors import InputError, InvalidBoundarySet, SolverFailed
+from solverplan.errors import InputError, InvalidBoundarySet, MalformedFile, SolverFailed
 from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.exact import ExactPoint, format_number, to_fraction
 from solverplan.interval import Interval
-from solverplan.result import AffineStep, EnvironmentRecord, Method, Optimality, Stage, Stats, Status
+from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_kind
 
 __all__ = ["CyclePoint", "LimitCycle", "limit_cycle", "limit_cycles"]
 
@@ -111,8 +111,9 @@ class CyclePoint:
         return out
 
 
+@answer_kind("cycle")
 @dataclass(frozen=True)
-class LimitCycle:
+class LimitCycle(Answer):
     """A limit cycle of the constant rule, or the reason there is none.
 
     Made by :func:`limit_cycle`; follows the result protocol of :mod:`solverplan.result`.
@@ -249,12 +250,15 @@ class LimitCycle:
     def to_json(self) -> dict:
         """The cycle answer of ``docs/contract.md`` (plus the exact details): ``method`` is the way the cycle
         was chosen (theorem1 / iterate / edges), ``optimality`` what is proved about it."""
+        if self.environment is None:
+            return replace(self, environment=EnvironmentRecord.of(self.env)).to_json()
+        return super().to_json()
+
+    def _fields(self) -> dict:
         pc = self.point_cycles or (None,) * len(self.points)
         out: dict = {
-            "status": self.status.value,
             "reason": self.reason,
             "method": self.method,
-            "environment": (self.environment or EnvironmentRecord.of(self.env)).to_json(),
             "theta": self.theta,
             "theta_exact": self.heading.spec(),
             "theta_used": self.heading.theta,
@@ -282,9 +286,41 @@ class LimitCycle:
             out["epsilon"] = self.epsilon
             out["cycles_to_epsilon"] = self.cycles_to_epsilon
             out["epsilon_width"] = self.epsilon_width
-        out["optimality"] = self.optimality.to_json()
-        out["stats"] = self.stats.to_json()
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> LimitCycle:
+        """Read a limit cycle back in ``env`` (required: the cycle's distances and Lemma 3 are of its edges)."""
+        r = Reader(data, "cycle")
+        env, record = r.in_environment(env, 'limit cycle')
+        heading = parse_heading(r.string("theta_exact"))
+        if not isinstance(heading, ExactHeading):
+            raise MalformedFile(f"cycle.theta_exact: expected an exact heading (tan:P/Q or dir:C,S), got {quote(r.get('theta_exact'))}")
+        points, counts = [], []
+        for p in r.items("fixed_point"):
+            basin = p.get("basin", None)
+            b = p.numbers("basin", 2) if basin is not None else None
+            t = p.exact("t_exact")
+            points.append(CyclePoint(p.integer("edge"), t, env.exact_point_at(p.integer("edge"), t),
+                                     None if b is None else (Fraction(b[0]), Fraction(b[1]))))
+            counts.append(p.integer("cycles_to_epsilon", None))
+        start = r.sub("start") if r.has("start") else None
+        lemma3 = None
+        if r.has("lemma3"):
+            lemma3 = lemma3_range(env, clockwise=r.sub("lemma3").boolean("clockwise"))
+        theorem1 = r.sub("theorem1") if r.has("theorem1") else None
+        exact = r.get("contraction_exact", None)
+        return cls(env=env, status=r.status(), reason=r.string("reason", ""), method=r.string("method"),
+                   heading=heading, theta=r.number("theta"), edges=tuple(r.ints("edges")),
+                   stages=tuple(Stage.from_json(st.data, st.where) for st in r.items("cycle")),
+                   entry=tuple(Stage.from_json(st.data, st.where) for st in r.items("entry")), points=tuple(points),
+                   contraction_exact=None if exact is None else r.exact("contraction_exact"),
+                   contraction=r.number("contraction", None), scope=r.string("scope", "none"),
+                   start=None if start is None else (start.integer("edge"), start.exact("t_exact")), lemma3=lemma3,
+                   theorem1_d=None if theorem1 is None else theorem1.number("d"), epsilon=r.number("epsilon", None),
+                   cycles_to_epsilon=r.integer("cycles_to_epsilon", None), epsilon_width=r.number("epsilon_width", None),
+                   point_cycles=tuple(counts) if any(c is not None for c in counts) else (),
+                   optimality=r.optimality(), stats=r.stats(), environment=record)
 
     def to_text(self, *, width: int = 100) -> str:
         lines = [f"limit cycle of the constant heading θ = {self.theta:.12g} ({self.heading.spec()}) in "

@@ -51,10 +51,12 @@ strategies*, IJRR 2021, §4 (Algorithm 1, Prop. 1).
 from __future__ import annotations
 
 import bisect
+import threading
+from collections import OrderedDict
 import io
 import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from functools import cached_property
 from typing import Iterator, Sequence
@@ -65,6 +67,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.exact import FLOAT_FILTER_REL, ExactPoint, format_number, format_point, json_number
 from solverplan.geometry.raycast import cast_ray
+from solverplan.progress import step
 
 __all__ = ["PartitionSegment", "InsertedPoint", "Partition", "partition"]
 
@@ -425,10 +428,34 @@ def partition(env: Environment) -> Partition:
     float work with small constants, plus O(n) exact work per pair re-resolved by
     :func:`~solverplan.geometry.raycast.cast_ray` (pairs with exact collinearities only).
     """
+    with _recent_lock:
+        known = _recent.get(env)
+        if known is not None:
+            _recent.move_to_end(env)
+            return known if known.env is env else replace(known, env=env)
+    p = _partition(env)
+    with _recent_lock:
+        _recent[env] = p
+        while len(_recent) > _RECENT:
+            _recent.popitem(last=False)
+    return p
+
+
+_RECENT = 2
+"""Partitions kept per process, by environment (equal environments share one): a query builds its own, and the
+exact check of its answer, the certificate and the graph cache ask again — 30 s each for a raw 1,200-vertex map."""
+_recent: OrderedDict[Environment, Partition] = OrderedDict()
+_recent_lock = threading.Lock()
+
+
+def _partition(env: Environment) -> Partition:
+    """:func:`partition`, computed."""
     kernel = _Kernel(env)
     found: dict[tuple[int, Fraction], list[tuple[int, int | None]]] = {}
     points: dict[tuple[int, Fraction], ExactPoint] = {}
-    for r in env.reflex_vertices:
+    reflex = env.reflex_vertices
+    for done, r in enumerate(reflex):
+        step("partition of the boundary", done, len(reflex))  # the progress bar, and where a timeout stops it
         for v, edge, t, point in kernel.shots(r):
             key = (edge, t)
             source = (r, None if v in (kernel.prv[r], kernel.nxt[r]) else v)
@@ -515,10 +542,14 @@ class _Kernel:
 
     def _edge_signs(self) -> np.ndarray:
         """E[i, x] = exact orient(vertex i, next vertex of i, vertex x): the side of x w.r.t. edge i."""
-        P = self.P
-        _, sign, _ = self._signs(P[:, None, :], P[self.nxt][:, None, :], P[None, :, :])
+        P, n, nxt = self.P, self.n, self.nxt
+        sign = np.empty((n, n), dtype=np.int8)
+        block = max(1, (1 << 20) // max(n, 1))  # rows at a time: the float temporaries stay near 50 MB
+        for r0 in range(0, n, block):
+            step("partition of the boundary: sides of the edges", r0, n)  # a stop point on very large maps
+            rs = slice(r0, min(n, r0 + block))
+            _, sign[rs], _ = self._signs(P[rs][:, None, :], P[nxt[rs]][:, None, :], P[None, :, :])
         rows, cols = np.nonzero(sign == 0)
-        nxt = self.nxt
         for i, x in zip(rows.tolist(), cols.tolist()):
             sign[i, x] = 0 if x in (i, nxt[i]) else self._orient(i, int(nxt[i]), x)
         return sign

@@ -4,16 +4,20 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from solverplan.environment import Environment, load_environment
 from solverplan.cli._errors import Shell
 from solverplan.cli._output import EnvFormat, OutputFormat, set_json_indent
+from solverplan.cli._progress import command_progress
+
+if TYPE_CHECKING:  # numpy comes with the environment: only commands that read one pay for it
+    from solverplan.environment import Environment
 
 
 app = typer.Typer(
+    rich_markup_mode=None,  # plain help: typer's rich help imports rich and markdown-it (≈ 0.1 s of every start)
     name="solverplan",
     cls=Shell,
     help="Planning with proofs for minimal bouncing robots. Answers are JSON on stdout (see docs/contract.md).",
@@ -88,8 +92,11 @@ def _root(
     max_memory: Annotated[
         str | None,
         typer.Option("--max-memory", metavar="SIZE", envvar="SOLVERPLAN_MAX_MEMORY", show_default=False,
-                     help="Refuse up front a job (a safe BVG, rollouts, a patrol search) estimated to need more than SIZE bytes (e.g. 2G, 500M; default: the memory available)."),
+                     help="Refuse up front a job (a safe BVG, rollouts, a patrol search) estimated to need more than SIZE bytes (e.g. 2G, 500M; default: half the memory available)."),
     ] = None,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", help="No progress bar on stderr (jobs over 2 s show one when stderr is a terminal).")
+    ] = False,
 ) -> None:
     """Planning with proofs for minimal bouncing robots in polygonal environments."""
     from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, config, default_cache_directory
@@ -108,6 +115,7 @@ def _root(
     set_json_indent(-1 if compact else indent)
     ctx.call_on_close(lambda: set_json_indent(None))
     ctx.with_resource(config(**changes))
+    ctx.with_resource(command_progress(quiet))
 
 
 def parse_size(text: str, option: str = "--max-memory") -> int:
@@ -126,6 +134,8 @@ def parse_size(text: str, option: str = "--max-memory") -> int:
 
 def load_env(env: Path, env_format: EnvFormat | None) -> Environment:
     """The environment named on the command line (format from the extension unless given)."""
+    from solverplan.environment import load_environment
+
     return load_environment(env, env_format.value if env_format else None)
 
 

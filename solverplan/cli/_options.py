@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import sys
+import time
 from pathlib import Path
 from typing import Annotated, Any, Iterator
 
@@ -31,10 +32,44 @@ HeadingMarginOpt = Annotated[
 ]
 TimeoutOpt = Annotated[
     float | None,
-    typer.Option("--timeout", metavar="SECONDS", help="Stop searching after this many seconds (the graph build counts, "
-                 "uninterrupted) and answer the best found so far, not proved optimal, with the bound proved so far.",
-                 show_default=False),
+    typer.Option("--timeout", metavar="SECONDS", help="Answer within about this many seconds of the command's start: "
+                 "the best found so far, not proved optimal, with the bound proved so far (plan also cuts the "
+                 "partition and the graph build; the other commands build theirs whole first).", show_default=False),
 ]
+
+
+def _process_age() -> float:
+    """Seconds since this process started (Linux ``/proc``), or since this module was imported elsewhere."""
+    try:
+        import os
+
+        with open("/proc/self/stat", encoding="ascii") as stat:
+            start_ticks = int(stat.read().rsplit(")", 1)[1].split()[19])
+        with open("/proc/uptime", encoding="ascii") as uptime:
+            up = float(uptime.read().split()[0])
+        return max(0.0, up - start_ticks / os.sysconf("SC_CLK_TCK"))
+    except (OSError, ValueError, IndexError):
+        return time.monotonic() - _IMPORTED
+
+
+_IMPORTED = time.monotonic()
+_STARTED = _IMPORTED - _process_age()
+_ANSWER_RESERVE = 0.3
+"""Seconds of a --timeout kept for what follows the search: the exact check of the answer and writing it."""
+
+
+def command_timeout(timeout: float | None) -> Any:
+    """``--timeout`` as a running deadline for the library (a :class:`~solverplan.plan._deadline.Deadline` whose limit
+    reads as the user's seconds): the process's start-up and reading the input count, and a little is kept for
+    checking and writing the answer, so that the whole command ends near ``timeout``."""
+    from solverplan.plan._deadline import Deadline, check_timeout
+
+    seconds = check_timeout(timeout)
+    if seconds is None:
+        return None
+    deadline = Deadline(max(1e-3, seconds - (time.monotonic() - _STARTED) - _ANSWER_RESERVE))
+    deadline.seconds = seconds  # the answer's limits name the user's timeout
+    return deadline
 CornerClearanceOpt = Annotated[
     float | None,
     typer.Option("--corner-clearance", metavar="K", help="Keep every landing point this far (a length) from segment ends, "

@@ -19,6 +19,7 @@ from solverplan.cli._options import (
     PictureOpt,
     PositionToleranceOpt,
     TimeoutOpt,
+    command_timeout,
     write_certificate_file,
 )
 from solverplan.cli._output import EnvFormat, OutputFormat, emit
@@ -139,7 +140,7 @@ def patrol_command(
 
     _contraction_answer(env, env_format, lambda environment: patrol(
         environment, visit, start=start, objective=objective.value, tolerance=tolerance, max_between=max_between,
-        epsilon=epsilon, heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=timeout),
+        epsilon=epsilon, heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=command_timeout(timeout)),
         certificate, picture, fmt, out, verbose, start=start)
 
 
@@ -165,7 +166,7 @@ def funnel_command(
 
     _contraction_answer(env, env_format, lambda environment: funnel(
         environment, start, goal, tolerance=tolerance, max_bounces=max_bounces, heading_margin=heading_margin,
-        corner_clearance=corner_clearance, timeout=timeout), certificate, picture, fmt, out, verbose, start=start, goal=goal)
+        corner_clearance=corner_clearance, timeout=command_timeout(timeout)), certificate, picture, fmt, out, verbose, start=start, goal=goal)
 
 
 @app.command(name="localize")
@@ -193,7 +194,7 @@ def localize_command(
 
     _contraction_answer(env, env_format, lambda environment: localize(
         environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces,
-        heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=timeout), certificate, picture, fmt,
+        heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=command_timeout(timeout)), certificate, picture, fmt,
         out, verbose, start=start)
 
 
@@ -288,10 +289,10 @@ def plan_command(
         def solve() -> Any:
             if pareto:
                 return pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin,
-                                    corner_clearance=corner_clearance, timeout=timeout)
+                                    corner_clearance=corner_clearance, timeout=command_timeout(timeout))
             return find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
                              max_bounces=max_bounces, method=method, heading_margin=heading_margin,
-                             corner_clearance=corner_clearance, timeout=timeout)
+                             corner_clearance=corner_clearance, timeout=command_timeout(timeout))
 
         checked = checked_answer(solve, env=environment, start=start, goal=goal)  # exact check before it leaves
         answer = checked.answer

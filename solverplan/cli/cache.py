@@ -13,6 +13,7 @@ from solverplan.cli._output import OutputFormat, emit
 
 
 cache_app = typer.Typer(
+    rich_markup_mode=None,  # plain help: typer's rich help imports rich and markdown-it (≈ 0.1 s of every start)
     name="cache", cls=Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
     help="The disk cache of safe BVGs (the folder of the global --graph-cache option): its size, or empty it.",
 )

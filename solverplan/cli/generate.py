@@ -18,6 +18,7 @@ logger = logging.getLogger(__name__)
 
 
 generate_app = typer.Typer(
+    rich_markup_mode=None,  # plain help: typer's rich help imports rich and markdown-it (≈ 0.1 s of every start)
     name="generate", cls=Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
     help="Random valid environments (seeded): prints the environment file, or writes it with -o (.json, .geojson, .wkt).",
 )

@@ -10,13 +10,12 @@ from typing import Annotated
 
 import typer
 
-from solverplan._io import atomic_write_bytes
+from solverplan._io import atomic_write_chunks
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
-from solverplan.describe import describe_environment
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._output import JSON_INDENT_LIMIT, OutputFormat, emit, emit_string, json_indent
+from solverplan.cli._output import OutputFormat, emit, emit_string, json_indent
 
 logger = logging.getLogger(__name__)
 
@@ -32,6 +31,8 @@ def info(
     with exit_codes(verbose):
         environment = load_env(env, env_format)
         logger.info("loaded %r: %d vertices, %d holes", environment.name, environment.n_vertices, len(environment.holes))
+        from solverplan.describe import describe_environment
+
         emit(describe_environment(environment), fmt, out)
 
 
@@ -88,16 +89,16 @@ def graph_command(
         elif fmt is GraphFormat.DOT:
             emit_string(view.to_dot(), out)
         elif fmt is GraphFormat.JSON and json_indent() in (None, -1) and view.n_arcs > 20_000:
-            # a large graph is compact JSON (json_text): the same bytes, encoded a chunk at a time
-            data = view.json_bytes(end=b"\n")
-            if len(data) <= JSON_INDENT_LIMIT:
-                emit(view, OutputFormat.JSON, out)
-            elif out is None:
-                sys.stdout.buffer.write(data)
+            # a large graph (its text well over JSON_INDENT_LIMIT) is compact JSON (json_text): the same bytes,
+            # encoded and written a chunk of arcs at a time (never the whole text in memory)
+            chunks = view.json_chunks(end=b"\n")
+            if out is None:
+                for chunk in chunks:
+                    sys.stdout.buffer.write(chunk)
                 sys.stdout.flush()
             else:
                 try:
-                    atomic_write_bytes(out, data)  # type: ignore[arg-type]  # any bytes-like object
+                    atomic_write_chunks(out, chunks)
                 except OSError as exc:
                     raise InputError(f"{out}: cannot write ({exc.strerror or exc.__class__.__name__})") from None
                 logger.info("wrote %s", out)

@@ -19,23 +19,18 @@ def _answer_option(kind: str, what: str) -> Any:
 
 @app.command(name="report")
 def report_command(
-    out: Annotated[Path, typer.Option("-o", "--output", help="The HTML file to write (.html or .htm).", show_default=False)],
-    env: Annotated[
+    file: Annotated[
         Path | None,
-        typer.Argument(metavar="ENV", help="The environment the answer was made in (file or shipped model); none for --study.",
+        typer.Argument(metavar="ANSWER.json", help="The answer (any command's -o file); in the older form 'report ENV --plan P.json', the environment.",
                        show_default=False),
     ] = None,
-    plan_file: Annotated[Path | None, _answer_option("plan", "A plan or a Pareto front (from 'solverplan plan -o').")] = None,
-    patrol_file: Annotated[Path | None, _answer_option("patrol", "A patrol cycle (from 'solverplan patrol -o').")] = None,
-    funnel_file: Annotated[
-        Path | None, _answer_option("funnel", "A funnel or localisation strategy (from 'solverplan funnel -o' or 'localize -o').")
-    ] = None,
-    cycle_file: Annotated[
-        Path | None, _answer_option("cycle", "A limit cycle or constant controller (from 'solverplan cycle -o').")
-    ] = None,
-    study_file: Annotated[
-        Path | None, _answer_option("study", "A study (from 'solverplan study ... -o', or the study's NAME.json); no ENV.")
-    ] = None,
+    out: Annotated[Path | None, typer.Option("-o", "--output", help="The HTML file to write (.html or .htm; default: the answer's name with .html).", show_default=False)] = None,
+    env: Annotated[Path | None, typer.Option("--env", metavar="ENV", help="The environment the answer was made in (default: the certificate's, or the shipped model the answer names).", show_default=False)] = None,
+    plan_file: Annotated[Path | None, _answer_option("plan", "Older form: a plan or a Pareto front, with ENV as the argument.")] = None,
+    patrol_file: Annotated[Path | None, _answer_option("patrol", "Older form: a patrol cycle.")] = None,
+    funnel_file: Annotated[Path | None, _answer_option("funnel", "Older form: a funnel or localisation strategy.")] = None,
+    cycle_file: Annotated[Path | None, _answer_option("cycle", "Older form: a limit cycle or constant controller.")] = None,
+    study_file: Annotated[Path | None, _answer_option("study", "Older form: a study (no ENV).")] = None,
     certificate: Annotated[
         Path | None,
         typer.Option("--certificate", metavar="CERT.json", help="The answer's certificate: checked exactly now, its status shown.",
@@ -45,28 +40,26 @@ def report_command(
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,
 ) -> None:
-    """A self-contained HTML report of an answer: the environment and the answer as SVG with hover details, the
-    certificate checked exactly, the numbers, the command that reproduces it; prints {"written", "bytes", ...}."""
-    from solverplan.render.html import html_report, load_answer, write_report
+    """A self-contained HTML report of an answer of any kind: the answer drawn as SVG (zoom, pan, hover details), its
+    certificate checked exactly, the numbers, the command that reproduces it; prints {"written", "kind", "bytes", ...}."""
+    from solverplan.render.report import make_report
 
     with exit_codes(verbose):
         given = [(name, path) for name, path in (("plan", plan_file), ("patrol", patrol_file), ("funnel", funnel_file),
                                                  ("cycle", cycle_file), ("study", study_file)) if path is not None]
-        if len(given) != 1:
-            raise InputError("give exactly one answer: --plan, --patrol, --funnel, --cycle or --study")
-        if out.suffix.lower() not in (".html", ".htm"):
-            raise InputError(f"-o {out}: a report is an .html file: give -o REPORT.html")
-        option, path = given[0]
-        answer = load_answer(path, option=option)
-        environment = load_env(env, env_format) if env is not None else None
-        cert = None
-        if certificate is not None:
-            from solverplan.certify.schema import load_certificate
-
-            cert = load_certificate(certificate)
-        page = html_report(answer, environment, certificate=cert, certificate_path=str(certificate) if certificate else None,
-                           env_label=str(env) if env is not None else None, output=str(out))
-        saved = write_report(page, out)
+        if len(given) > 1:
+            raise InputError("give one answer: ANSWER.json, or one of --plan, --patrol, --funnel, --cycle, --study")
+        option, answer = given[0] if given else (None, file)
+        env_path = file if given else env
+        if answer is None:
+            raise InputError("give the answer: solverplan report ANSWER.json [--certificate C.json] -o REPORT.html")
+        if given and env is not None:
+            raise InputError("the older form names the environment as its argument: drop --env")
+        out = out if out is not None else answer.with_suffix(".html")
+        environment = load_env(env_path, env_format) if env_path is not None else None
+        saved = make_report(answer, out, env=environment, env_label=str(env_path) if env_path is not None else None,
+                            certificate_path=certificate, option=option)
         emit(saved, fmt, None)
-    if page.certificate is not None and not page.certificate["valid"]:
-        raise fail(f"certificate invalid: {page.certificate['failures'][0]} (the report {out} shows every failure)", 1)
+    verdict = saved.report.certificate
+    if verdict is not None and not verdict["valid"]:
+        raise fail(f"certificate invalid: {verdict['failures'][0]} (the report {out} shows every failure)", 1)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -53,8 +53,6 @@ def rooms_command(
 ) -> None:
     """Rooms and doors of a rectilinear polygon (Algorithm 1 of the rooms paper); with --simulate, the bounce rules compared."""
     from solverplan.rectilinear import decompose_rooms
-    from solverplan.render import save_figure
-    from solverplan.render.rooms import render_rooms
 
     if check is not None:
         from solverplan.rectilinear.check import check_rooms, load_rooms_answer
@@ -78,7 +76,7 @@ def rooms_command(
         dec = decompose_rooms(load_env(env, env_format))
         if not simulate:
             if picture is not None:
-                save_figure(render_rooms(dec), picture)
+                _save_rooms_picture(dec, None, picture)
             emit(dec, fmt, out)
             return
         from solverplan.studies.rooms import RULES, compare_rules
@@ -89,5 +87,13 @@ def rooms_command(
         answer = compare_rules(dec, start, walk[-1], rules=names, trials=trials, seed=seed, max_bounces=max_bounces,
                                doors=doors.value, per_room=per_room, walk=walk, keep=1 if picture is not None else 0)
         if picture is not None:
-            save_figure(render_rooms(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}), picture)
+            _save_rooms_picture(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}, picture)
         emit(answer if rule is RoomRule.ALL else answer.runs[rule.value], fmt, out)
+
+
+def _save_rooms_picture(dec: Any, trajectories: Any, picture: Path) -> None:
+    """--picture: matplotlib is imported here only (about 0.3 s), not by every ``rooms`` command."""
+    from solverplan.render import save_figure
+    from solverplan.render.rooms import render_rooms
+
+    save_figure(render_rooms(dec, trajectories) if trajectories is not None else render_rooms(dec), picture)

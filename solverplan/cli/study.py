@@ -16,6 +16,7 @@ from solverplan.cli._output import OutputFormat, emit
 
 
 study_app = typer.Typer(
+    rich_markup_mode=None,  # plain help: typer's rich help imports rich and markdown-it (≈ 0.1 s of every start)
     name="study", cls=Shell, no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
     help="Batch studies over random environments (paper §7.3-7.4, §8.2): tables (CSV, JSON) and heatmaps; resumable.",
 )

@@ -24,12 +24,13 @@ from typing import Literal, Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.exact import ExactPoint, exact_point, format_point
+from solverplan.exact import ExactPoint, exact_point, format_number, format_point
 from solverplan.explore.bounds import Cost, exploration_cost, views_bound
 from solverplan.explore.windows import Window, point_on_part, unexplored_parts, windows
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
 from solverplan.geometry.walls import StraightWalls
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from typing import Any
 
 __all__ = ["CHOICES", "Exploration", "explore_depth_first"]
 
@@ -40,7 +41,7 @@ CHOICES: tuple[str, ...] = ("first", "random", "far")
 current viewpoint. On the chosen part the viewpoint is the simplest rational point of its middle third."""
 
 
-class ViewpointRun:
+class ViewpointRun(Answer):
     """What every exploration answer derives from its viewpoints and path: the counts, the path's length, the
     cost T and the answer fields they share (Algorithm A's :class:`Exploration` and Algorithm B's
     :class:`~solverplan.explore.range_limited.RangeExploration`)."""
@@ -79,7 +80,6 @@ class ViewpointRun:
     def _answer_json(self) -> dict:
         """The contract's exploration fields, then the counts, the cost, the chain and the path."""
         return {
-            "status": self.status.value,
             "algorithm": self.algorithm,
             "viewpoints": [[float(x), float(y)] for x, y in self.viewpoints],
             "views": self.n_views,
@@ -92,9 +92,22 @@ class ViewpointRun:
             "parents": list(self.parents),
             "path": [[float(x), float(y)] for x, y in self.path],
             "choice": self.choice,
+            # the exact points (the floats above are for plotting): what the answer is read back from
+            "viewpoints_exact": [[format_number(x), format_number(y)] for x, y in self.viewpoints],
+            "path_exact": [[format_number(x), format_number(y)] for x, y in self.path],
         }
 
+    @staticmethod
+    def _read_run(r: Reader, env: Environment | None, kind: str) -> dict:
+        """The fields every exploration's JSON has, read back (the exact points; ``env`` is required)."""
+        env, record = r.in_environment(env, kind)
+        return {"status": r.status(), "viewpoints": tuple(r.points("viewpoints_exact")), "parents": tuple(r.ints("parents")),
+                "path": tuple(r.points("path_exact")), "reflex": r.integer("reflex"), "bound": r.integer("bound"),
+                "covered_fraction": r.number("covered_fraction"), "optimality": r.optimality(), "stats": r.stats(),
+                "environment": record, "algorithm": r.string("algorithm"), "choice": r.string("choice")}
 
+
+@answer_kind("exploration")
 @dataclass(frozen=True)
 class Exploration(ViewpointRun):
     """An exploration: viewpoints in visiting order, the views, the path and what they cost.
@@ -152,13 +165,22 @@ class Exploration(ViewpointRun):
     environment: EnvironmentRecord | None = None
     algorithm: str = "A"
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         """The exploration answer of ``docs/contract.md``."""
         out = self._answer_json()
         if self.seed is not None:
             out["seed"] = self.seed
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> Exploration:
+        """Read an exploration back in ``env`` (required): the exact viewpoints and path; the views recomputed exactly
+        (a view is the visibility polygon of its viewpoint)."""
+        r = Reader(data, "exploration")
+        fields = ViewpointRun._read_run(r, env, "exploration")
+        assert env is not None
+        views = tuple(visibility_polygon(env, p) for p in fields["viewpoints"])
+        return cls(views=views, seed=r.integer("seed", None), **fields)
 
     def to_text(self, *, width: int = 100) -> str:
         """A short report: counts, bound, coverage, then the viewpoints."""

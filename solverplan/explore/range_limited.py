@@ -42,13 +42,14 @@ from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.exact import ExactPoint, exact_point, format_point, orient, to_fraction
+from solverplan.exact import ExactPoint, exact_point, format_number, format_point, orient, to_fraction
 from solverplan.explore.bounds import range_ratio_bound, range_views_bound, range_views_lower_bound
 from solverplan.explore.depth_first import CHOICES, ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
 from solverplan.geometry.walls import StraightWalls
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from typing import Any
 
 __all__ = ["RangeExploration", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]
 
@@ -64,6 +65,7 @@ PHASES = ("start", "open", "boundary", "frontier")
 ``boundary`` following a ring (Steps 3–5); ``frontier`` any other part of CP's frontier (constructed edges)."""
 
 
+@answer_kind("range-exploration")
 @dataclass(frozen=True)
 class RangeExploration(ViewpointRun):
     """An exploration with range-limited views (Algorithm B, or Algorithm A when Theorem 3 applies).
@@ -133,7 +135,7 @@ class RangeExploration(ViewpointRun):
         """Views over Theorem 5's lower bound: an upper estimate of the competitive ratio on this instance."""
         return self.n_views / self.lower_bound
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         """The exploration answer of ``docs/contract.md`` with the range fields."""
         out = self._answer_json()
         out.update({
@@ -145,9 +147,24 @@ class RangeExploration(ViewpointRun):
             "epsilon": float(self.epsilon),
             "phases": list(self.phases),
             "arcs": [[a.to_json() for a in v.arcs] for v in self.views],
+            "rings": list(self.rings),
+            "range_exact": format_number(self.range),
+            "epsilon_exact": format_number(self.epsilon),
         })
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> RangeExploration:
+        """Read a range-limited exploration back in ``env`` (required): the exact viewpoints, path, R and ε; the views
+        recomputed exactly (RVP of each viewpoint)."""
+        r = Reader(data, "range-exploration")
+        fields = ViewpointRun._read_run(r, env, "range-exploration")
+        assert env is not None
+        R = r.exact("range_exact")
+        views = tuple(range_visibility(env, p, R) for p in fields["viewpoints"])
+        return cls(views=views, phases=tuple(r.texts("phases")), rings=tuple(r.ints("rings")), holes=r.integer("holes"),
+                   lower_bound=r.integer("lower_bound"), ratio_bound=r.number("ratio_bound"), range=R,
+                   epsilon=r.exact("epsilon_exact"), **fields)
 
     def to_text(self, *, width: int = 100) -> str:
         lines = [

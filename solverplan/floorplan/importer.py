@@ -18,7 +18,7 @@ from solverplan.errors import InputError, MalformedFile
 from solverplan.floorplan.occupancy import read_occupancy_map, trace_free_space
 from solverplan.floorplan.outline import finish_outline, grid_quantum
 from solverplan.floorplan.vector import arrange_rings, read_dxf_rings, read_svg_rings
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind
 
 __all__ = ["FloorplanImport", "import_floorplan", "PlanFormat"]
 
@@ -31,8 +31,9 @@ _ALGORITHMS = {
 }
 
 
+@answer_kind("import")
 @dataclass(frozen=True)
-class FloorplanImport:
+class FloorplanImport(Answer):
     """A floor plan read into an environment (the ``import`` answer of docs/contract.md).
 
     Attributes
@@ -113,7 +114,7 @@ class FloorplanImport:
         return (f"{n} vertices: planning time grows as n^4, so plans on this environment will be slow; "
                 f"for planning, import with {hint}, and --rectilinear 10 for an indoor map")
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         """The import summary of docs/contract.md."""
         out: dict[str, Any] = {
             "written": self.written,
@@ -121,7 +122,6 @@ class FloorplanImport:
             "holes": self.holes,
             "dropped": dict(self.dropped),
             "area": self.area,
-            "status": self.status.value,
             "format": self.format,
             "source": self.source,
             "name": self.environment_value.name,
@@ -133,7 +133,6 @@ class FloorplanImport:
             out["resolution"] = self.resolution
         if self.advice is not None:
             out["advice"] = self.advice
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
 
     def to_text(self, *, width: int = 100) -> str:

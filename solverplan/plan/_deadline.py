@@ -10,8 +10,9 @@ beliefs"`` in ``optimality.limits`` (``docs/contract.md``, "Timeouts"). With no 
 
 The clock is :func:`time.monotonic` (immune to changes of the system time), read at every check: a read costs
 tens of nanoseconds, far less than one expansion, so a search overshoots its deadline by about one expansion.
-The safe BVG a query builds first is not interrupted (it is one vectorised sweep); the deadline counts it, and
-a query whose graph took the whole budget stops before searching.
+The partition and the safe BVG a query builds first are cut too: the query runs them inside
+:meth:`Deadline.watching`, they check the time between blocks of their work (:mod:`solverplan.progress`), and a
+query stopped there answers ``not-found`` with the timeout and the step it reached in ``optimality.limits``.
 
 >>> Deadline(None).expired(), NEVER.remaining() is None
 (False, True)
@@ -29,12 +30,13 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Callable
+from typing import Callable, ContextManager
 
 import numpy as np
 
 from solverplan.errors import InputError
 from solverplan.limits import quote
+from solverplan.progress import tick, watching
 
 __all__ = ["Deadline", "NEVER", "check_timeout", "deadline_of", "in_chunks"]
 
@@ -80,7 +82,9 @@ class Deadline:
         self.hit = False
 
     def expired(self) -> bool:
-        """Has the deadline passed? (Always False without a limit.)"""
+        """Has the deadline passed? (Always False without a limit.) Every search asks at each expansion: it is
+        also where a search reports that it is alive (:func:`solverplan.progress.tick`, the progress bar)."""
+        tick("search")
         if self._end is None:
             return False
         if not self.hit and time.monotonic() >= self._end:
@@ -92,6 +96,12 @@ class Deadline:
         if self._end is None:
             return None
         return max(0.0, self._end - time.monotonic())
+
+    def watching(self) -> ContextManager[None]:
+        """A :func:`solverplan.progress.watching` that stops the work inside at this deadline: the partition and the
+        safe BVG a query builds check it between blocks and raise :class:`~solverplan.progress.Stopped`, so the
+        timeout covers them too."""
+        return watching(stop_at=self._end)
 
     def limit(self, progress: str) -> str:
         """The ``optimality.limits`` entry of a search cut by this deadline after ``progress`` (e.g. "12 beliefs")."""

@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any
 
 from solverplan.bounce.cones import heading_cone
 from solverplan.bounce.partition import Partition
 from solverplan.environment import BoundarySet, Environment
 from solverplan.interval import Interval
-from solverplan.result import EnvironmentRecord, Optimality, Stage, Stats, Status, piece_json
+from solverplan.result import Answer, EnvironmentRecord, Optimality, Reader, Stage, Stats, Status, piece_json
 
 __all__ = ["OnPartition", "PositionStrategy", "heading_cone"]
 
@@ -43,7 +43,7 @@ class OnPartition:
 
 
 @dataclass(frozen=True, kw_only=True)
-class PositionStrategy(OnPartition):
+class PositionStrategy(OnPartition, Answer):
     """An open-loop strategy over exact position sets (a funnel or a localisation strategy), or why there is none.
 
     Attributes
@@ -69,8 +69,6 @@ class PositionStrategy(OnPartition):
     partition
         The partition P′ of the environment (not serialised): for rollouts and certificates.
     """
-
-    kind: ClassVar[str] = ""
 
     status: Status
     optimality: Optimality
@@ -107,12 +105,9 @@ class PositionStrategy(OnPartition):
         goal = self.goal if self.goal is not None else BoundarySet(self.stages[-1].positions)
         return self.intervals, targets, goal
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         out: dict[str, Any] = {
-            "status": self.status.value,
             "reason": self.reason,
-            "environment": self.environment.to_json(),
-            "kind": self.kind,
             "start": str(self.start),
             "goal": None if self.goal is None else str(self.goal),
             "tolerance": self.tolerance,
@@ -124,9 +119,25 @@ class PositionStrategy(OnPartition):
             "final_positions": [piece_json(p) for p in (self.stages[-1].positions if self.stages else ())],
         }
         out.update(self._extra_json())
-        out["optimality"] = self.optimality.to_json()
-        out["stats"] = self.stats.to_json()
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> PositionStrategy:
+        """Read a funnel or localisation answer back in ``env`` (required: its positions are pieces of its edges)."""
+        from solverplan.bounce.partition import partition
+
+        r = Reader(data, cls.kind)
+        env, record = r.in_environment(env, cls.kind)
+        goal = r.string("goal", None)
+        return cls(status=r.status(), optimality=r.optimality(), environment=record or EnvironmentRecord.of(env),
+                   start=env.boundary_set(r.string("start")), tolerance=r.number("tolerance"), partition=partition(env),
+                   stages=tuple(Stage.from_json(st.data, st.where) for st in r.items("stages")),
+                   goal=None if goal is None else env.boundary_set(goal), reason=r.string("reason", ""),
+                   stats=r.stats(), **cls._extra_from_json(r))
+
+    @classmethod
+    def _extra_from_json(cls, r: Reader) -> dict:
+        return {}
 
     def _extra_json(self) -> dict:
         return {}

@@ -39,12 +39,12 @@ from solverplan.environment import BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
-from solverplan.plan._deadline import deadline_of
+from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, SearchOutcome, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import Walls
 from solverplan.plan.search import straight_walls_graph
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
+from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 
 __all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "DEFAULT_MAX_ROWS", "NARROW_PASSES", "safe_plan_exists"]
 
@@ -66,6 +66,7 @@ def widening_passes(beam: int, n_headings: int) -> list[tuple[int, int]]:
     return [(b, h) for b, h in NARROW_PASSES if b < beam and h <= n_headings] + [(beam, n_headings)]
 
 
+@answer_kind("funnel")
 @dataclass(frozen=True, kw_only=True)
 class Funnel(PositionStrategy):
     """A funnel (a plan whose stages carry exact ``positions``, ``docs/contract.md``), or why there is none.
@@ -107,12 +108,14 @@ class Funnel(PositionStrategy):
     [[0.4144, 0.4903]]
     """
 
-    kind = "funnel"
-
     safe_plan: bool | None = None
 
     def _extra_json(self) -> dict:
         return {"safe_plan_exists": self.safe_plan}
+
+    @classmethod
+    def _extra_from_json(cls, r: Reader) -> dict:
+        return {"safe_plan": r.boolean("safe_plan_exists", None)}
 
     def _head(self) -> str:
         return f"{super()._head()} to {self.goal}"
@@ -203,7 +206,7 @@ def funnel(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     corner_clearance: float | None = None,
     max_rows: int | None = DEFAULT_MAX_ROWS,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> Funnel:
     """A funnel from ``start`` to ``goal``: fixed-width heading intervals that squeeze every start into the goal.
 

@@ -49,17 +49,18 @@ from solverplan.bounce.partition import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
-from solverplan.plan._deadline import deadline_of
+from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import Walls
 from solverplan.plan.funnel import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, position_scope,
                                     search_optimality, search_stats)
-from solverplan.result import EnvironmentRecord, Method, Optimality, Status
+from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Status, answer_kind
 
 __all__ = ["Localization", "localize", "rotational_symmetry"]
 
 
+@answer_kind("localize")
 @dataclass(frozen=True, kw_only=True)
 class Localization(PositionStrategy):
     """A localisation strategy: after its stages every start of ``start`` lies in ``goal``, one interval of one
@@ -68,12 +69,14 @@ class Localization(PositionStrategy):
     :class:`~solverplan.plan._results.PositionStrategy`'s.
     """
 
-    kind = "localize"
-
     epsilon: float
 
     def _extra_json(self) -> dict:
         return {"epsilon": self.epsilon}
+
+    @classmethod
+    def _extra_from_json(cls, r: Reader) -> dict:
+        return {"epsilon": r.number("epsilon")}
 
     def _head(self) -> str:
         return f"{super()._head()} to one interval shorter than {self.epsilon:g}"
@@ -143,7 +146,7 @@ def localize(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     corner_clearance: float | None = None,
     max_rows: int | None = DEFAULT_MAX_ROWS,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> Localization:
     """A localisation strategy: stages after which every start lies in one interval shorter than ``epsilon``.
 

@@ -64,7 +64,7 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Literal, Sequence
+from typing import Any, Literal, Sequence
 
 import numpy as np
 
@@ -92,7 +92,7 @@ from solverplan.plan._graphs import (
 )
 from solverplan.plan._results import OnPartition, heading_cone
 from solverplan.plan.search import straight_walls_graph
-from solverplan.result import AffineStep, EnvironmentRecord, Method, Optimality, Stage, Stats, Status
+from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_kind
 
 __all__ = ["Objective", "DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
 
@@ -131,8 +131,9 @@ class PatrolPoint:
                 "point": [float(self.point[0]), float(self.point[1])]}
 
 
+@answer_kind("patrol")
 @dataclass(frozen=True, kw_only=True)
-class Patrol(OnPartition):
+class Patrol(OnPartition, Answer):
     """A patrol strategy (``docs/contract.md``: cycle answer) or the reason there is none.
 
     Attributes
@@ -242,11 +243,9 @@ class Patrol(OnPartition):
         targets = [tuple(part.segments[t] for t in s.to_segments) for s in (*self.entry, *self.cycle)]
         return tuple(intervals), tuple(targets), len(self.entry)
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         out: dict = {
-            "status": self.status.value,
             "reason": self.reason,
-            "environment": self.environment.to_json(),
             "visit": [f"e{e}" for e in self.visit],
             "objective": self.objective,
             "tolerance": self.tolerance,
@@ -267,17 +266,47 @@ class Patrol(OnPartition):
             },
             "fixed_point": [p.to_json() for p in self.points],
             "attractor_width": self.attractor,
-            "optimality": self.optimality.to_json(),
             "bound_all_classes": self.bound_all_classes,
             "bound_all_classes_note": self.bound_all_classes_note,
             "solvers": self.solvers,
-            "stats": self.stats.to_json(),
         }
         if self.epsilon is not None:
             out["epsilon"] = self.epsilon
             out["cycles_to_epsilon"] = self.cycles_to_epsilon
             out["cycles_to_epsilon_nominal"] = self.cycles_to_epsilon_nominal
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> Patrol:
+        """Read a patrol answer back in ``env`` (required: its stages name segments of P′ of ``env``)."""
+        r = Reader(data, "patrol")
+        env, record = r.in_environment(env, 'patrol')
+        ret = r.sub("return_map") if r.has("return_map") else None
+        start = r.string("start", None)
+        exact = r.get("contraction_exact", None)
+        points = tuple(PatrolPoint(p.integer("edge"), p.integer("segment"), p.exact("t_exact"),
+                                   env.exact_point_at(p.integer("edge"), p.exact("t_exact")))
+                       for p in r.items("fixed_point"))
+        tolerance, between = r.get("tolerance", None), r.get("max_between", None)
+        return cls(status=r.status(), optimality=r.optimality(), environment=record or EnvironmentRecord.of(env),
+                   partition=partition(env), reason=r.string("reason", ""),
+                   visit=tuple(parse_visit(env, ",".join(r.texts("visit")))) if r.array("visit") else (),
+                   objective=r.string("objective"), tolerance=None if tolerance is None else r.number("tolerance"),
+                   max_between=None if between is None else r.integer("max_between"),
+                   start=None if start is None else env.boundary_set(start),
+                   entry=tuple(Stage.from_json(st.data, st.where) for st in r.items("entry")),
+                   cycle=tuple(Stage.from_json(st.data, st.where) for st in r.items("cycle")),
+                   contraction=r.number("contraction", None),
+                   contraction_exact=None if exact is None else r.exact("contraction_exact"),
+                   rate=r.number("rate", None), periods=r.integer("periods", 0),
+                   nominal_alpha=None if ret is None else ret.exact("alpha"),
+                   nominal_beta=None if ret is None else ret.exact("beta"), points=points,
+                   attractor=r.number("attractor_width", None), epsilon=r.number("epsilon", None),
+                   cycles_to_epsilon=r.integer("cycles_to_epsilon", None),
+                   cycles_to_epsilon_nominal=r.integer("cycles_to_epsilon_nominal", None),
+                   bound_all_classes=r.number("bound_all_classes", None),
+                   bound_all_classes_note=r.string("bound_all_classes_note", ""),
+                   solvers=dict(r.sub("solvers").data) if r.has("solvers") else {}, stats=r.stats())
 
     def to_text(self, *, width: int = 100) -> str:
         seq = " → ".join(f"e{e}" for e in self.visit)
@@ -583,7 +612,7 @@ def patrol(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> Patrol:
     """A patrol cycle visiting ``visit`` in order, optimal for ``objective`` (module docstring).
 

@@ -35,7 +35,7 @@ from solverplan.errors import InputError, MalformedFile
 from solverplan.exact import to_fraction
 from solverplan.interval import Interval
 from solverplan.limits import quote
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stage, Stats, Status, answer_kind
 
 __all__ = [
     "Objective",
@@ -47,6 +47,7 @@ __all__ = [
     "load_plan",
     "read_optimality",
     "read_environment",
+    "read_stats",
 ]
 
 
@@ -86,8 +87,9 @@ def read_environment(data: object, where: str = "environment") -> EnvironmentRec
         raise MalformedFile(str(exc)) from None
 
 
+@answer_kind("plan")
 @dataclass(frozen=True)
-class Plan:
+class Plan(Answer):
     """A plan (``docs/contract.md``): heading intervals, one per bounce, from every start to the goal set.
 
     The intervals take the robot from every point of the start set to the goal set whatever headings inside
@@ -215,16 +217,14 @@ class Plan:
                                      f"0..{n_segments - 1}")
 
     # ------------------------------------------------------------------ output
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         """The contract's plan, then the extra fields described in the module docstring."""
         out: dict[str, Any] = {
-            "status": self.status.value,
             "objective": self.objective,
             "bounces": self.bounces,
             "min_width": self.min_width,
             "tolerance": self.tolerance,
             "stages": [s.to_json() for s in self.stages],
-            "optimality": self.optimality.to_json(),
         }
         if not self.found:
             out["reason"] = self.reason
@@ -232,13 +232,14 @@ class Plan:
         out["start"] = self.start
         out["goal"] = self.goal
         out["max_bounces"] = self.max_bounces
-        if self.environment is not None:
-            out["environment"] = self.environment.to_json()
         if self.margins:
             out["margins"] = dict(self.margins)
-        if self.stats:
-            out["stats"] = self.stats.to_json()
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> Plan:
+        """:func:`parse_plan` (``env`` is not needed: a plan names its environment by its SHA-256)."""
+        return parse_plan(data)
 
     def to_text(self, *, width: int = 100) -> str:
         """A table like the paper's (§7.1.2): stage, from, to, interval, width."""
@@ -285,8 +286,9 @@ class ParetoPoint:
                 "plan": self.plan.to_json()}
 
 
+@answer_kind("pareto")
 @dataclass(frozen=True)
-class ParetoFront:
+class ParetoFront(Answer):
     """The Pareto front bounces ↔ tolerance: the most tolerant plan for each number of bounces that helps.
 
     Points have strictly increasing bounces and strictly increasing min width. Every plan with b bounces has
@@ -345,24 +347,40 @@ class ParetoFront:
                 chosen = p
         return chosen
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         out: dict[str, Any] = {
-            "status": self.status.value,
             "objective": "tolerance",
             "front": [{"bounces": p.bounces, "min_width": p.min_width, "tolerance": p.tolerance} for p in self.points],
             "points": [p.to_json() for p in self.points],
-            "optimality": self.optimality.to_json(),
             "start": self.start,
             "goal": self.goal,
             "max_bounces": self.max_bounces,
         }
         if not self.points:
             out["reason"] = self.reason
-        if self.environment is not None:
-            out["environment"] = self.environment.to_json()
-        if self.stats:
-            out["stats"] = self.stats.to_json()
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> ParetoFront:
+        """Read a front back: each point's plan by :func:`parse_plan`; raises :class:`MalformedFile` naming the place."""
+        if not isinstance(data, dict):
+            raise MalformedFile("pareto: expected a JSON object (a Pareto front)")
+        raw = data.get("points")
+        if not isinstance(raw, list):
+            raise MalformedFile("pareto: points: expected a list of {bounces, min_width, plan}")
+        points = []
+        for k, item in enumerate(raw):
+            if not isinstance(item, dict) or not isinstance(item.get("bounces"), int):
+                raise MalformedFile(f"pareto: points[{k}]: expected an object with bounces, min_width, plan")
+            points.append(ParetoPoint(item["bounces"], _number(item.get("min_width"), f"pareto: points[{k}].min_width"),
+                                      parse_plan(item.get("plan"), f"pareto: points[{k}].plan")))
+        budget = data.get("max_bounces")
+        return cls(tuple(points), read_optimality(data.get("optimality"), "pareto: optimality"),
+                   start=_text_or_none(data.get("start"), "pareto: start"), goal=_text_or_none(data.get("goal"), "pareto: goal"),
+                   max_bounces=budget if isinstance(budget, int) and not isinstance(budget, bool) else None,
+                   reason=_text_or_none(data.get("reason"), "pareto: reason"),
+                   environment=read_environment(data.get("environment"), "pareto: environment"),
+                   stats=read_stats(data.get("stats")))
 
     def to_text(self, *, width: int = 100) -> str:
         buf = io.StringIO()
@@ -412,8 +430,8 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
     if not isinstance(data, dict):
         raise MalformedFile(f"{source}: expected a JSON object (a plan)")
     status = data.get("status")
-    if status not in ("found", "infeasible"):
-        raise MalformedFile(f"{source}: status must be 'found' or 'infeasible', got {quote(status)}")
+    if status not in ("found", "infeasible", "not-found"):
+        raise MalformedFile(f"{source}: status must be 'found', 'infeasible' or 'not-found', got {quote(status)}")
     objective = data.get("objective", "fewest")
     if not isinstance(objective, str):
         raise MalformedFile(f"{source}: objective must be a string")
@@ -476,13 +494,28 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
         objective=objective,
         stages=tuple(stages) if status == "found" else (),
         optimality=optimality,
-        reason=data.get("reason") if status == "infeasible" else None,
+        reason=data.get("reason") if status != "found" else None,
         start=start,
         goal=goal,
         max_bounces=max_bounces if isinstance(max_bounces, int) and not isinstance(max_bounces, bool) else None,
         environment=environment,
         margins=data.get("margins") or {},
+        stats=read_stats(data.get("stats")),
     )
+
+
+def _text_or_none(value: object, where: str) -> str | None:
+    if value is not None and not isinstance(value, str):
+        raise MalformedFile(f"{where}: expected a string or null, got {quote(value)}")
+    return value
+
+
+def read_stats(data: object) -> Stats:
+    """The :class:`~solverplan.result.Stats` of an answer's JSON (empty when missing; stats are never checked)."""
+    if not isinstance(data, dict):
+        return Stats()
+    known = {k: data[k] for k in ("seconds_setup", "seconds_search", "expanded") if k in data}
+    return Stats(**known, counts={k: v for k, v in data.items() if k not in known})
 
 
 def _sources(raw: object, moves: tuple[tuple[int, int], ...], where: str) -> tuple[BoundaryPiece, ...]:

@@ -41,8 +41,9 @@ part of a segment the goal set covers, with the interval cut so that every landi
 
 Timeouts
 --------
-``timeout=`` (seconds) bounds the wall time of a query (:mod:`solverplan.plan._deadline`). The safe BVG is
-built first and not interrupted; every search then stops at the deadline and the query answers its best plan
+``timeout=`` (seconds) bounds the wall time of a query (:mod:`solverplan.plan._deadline`). The partition and the
+safe BVG are built first and stop at the deadline too (between reflex vertices and blocks of sweeps: the query
+then answers ``not-found`` with the step it reached); every search then stops at the deadline and the query answers its best plan
 so far (found, exact like every plan) or ``not-found``, with ``optimality.proved`` false, ``optimality.bound``
 the bound the search had proved (a lower bound on the bounces for ``fewest``, an upper bound on the width or
 the sum otherwise) and ``"timeout T s reached after …"`` in ``optimality.limits``. The LP and MILP of
@@ -85,6 +86,7 @@ from solverplan.plan._problem import Problem
 from solverplan.plan._walls import Walls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
+from solverplan.progress import Stopped
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
 __all__ = ["find_plan", "pareto_front", "planning_problem", "METHODS", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN"]
@@ -137,8 +139,10 @@ def planning_problem(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
+    max_depth: int | None = None,
 ) -> Problem:
-    """The belief-state graph of a query (for tests, benchmarks and the other planners of the package)."""
+    """The belief-state graph of a query (for tests, benchmarks and the other planners of the package); ``max_depth``:
+    the bounce budget, when the query has one (a graph built on demand stops there, :func:`query_graph`)."""
     if not isinstance(env, Environment):
         raise InputError(f"expected an Environment, got {type(env).__name__}")
     margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
@@ -148,7 +152,9 @@ def planning_problem(
     walls = Walls(env)
     if graph is not None and graph.partition.env not in (env, walls.merged):
         raise InputError("the safe BVG given was built for another environment")
-    return Problem(straight_walls_graph(walls, graph), start_set, goal_set, margins=margins, walls=walls)
+    if graph is None or graph.partition.env != walls.merged:
+        graph = query_graph(walls, start_set, max_depth)
+    return Problem(graph, start_set, goal_set, margins=margins, walls=walls)
 
 
 def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
@@ -158,6 +164,44 @@ def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
     if graph is not None and graph.partition.env == walls.merged:
         return graph
     return safe_bounce_visibility_graph(walls.merged)
+
+
+def query_graph(walls: Walls, start: BoundarySet, max_depth: int | None = None) -> SafeBVG:
+    """The safe BVG one query from ``start`` needs (on the straight walls): the whole graph when it is cached or
+    small (under :data:`~solverplan.bounce.bvg.LAZY_MIN_ARCS` estimated arcs), else only the safe arcs a search
+    from the start segments can reach within ``max_depth`` stages (:func:`~solverplan.bounce.bvg.reachable_safe_graph`:
+    the same rows, so the same answers, for a fraction of the work and memory on large maps).
+
+    A start set covering part of a segment needs every segment its host sees (a start piece sees no more than the
+    whole segment, but sees parts of it the ends do not), which only the whole graph lists: such queries use it."""
+    from solverplan.bounce import _cache
+    from solverplan.bounce.bvg import LAZY_MIN_ARCS, check_graph_memory, estimate_graph, reachable_safe_graph
+    from solverplan.bounce.partition import partition
+
+    found = _cache.lookup_environment(walls.merged)
+    if found is not None:
+        return found
+    p = partition(walls.merged)
+    N = len(p.segments)
+    starts: list[int] = []
+    for edge, pieces in walls.to_merged(start).by_edge().items():
+        for k in p.edge_segments[edge]:
+            seg = p.segments[k]
+            for lo, hi in pieces:
+                if lo <= seg.t0 and seg.t1 <= hi:
+                    starts.append(k)
+                elif lo < seg.t1 and seg.t0 < hi:  # a start piece
+                    return safe_bounce_visibility_graph(p)
+    if N * (N - 1) < LAZY_MIN_ARCS:
+        return safe_bounce_visibility_graph(p)
+    estimate = estimate_graph(p)
+    if estimate[0] < LAZY_MIN_ARCS:
+        return safe_bounce_visibility_graph(p)
+    if max_depth is None:
+        # without a budget a search reaches nearly every segment of a connected map within a few layers
+        # (benchmarks/README.md): refuse now, not after minutes of building, what would not fit whole
+        check_graph_memory(p, estimate)
+    return reachable_safe_graph(p, starts, max_depth=max_depth)
 
 
 # ---------------------------------------------------------------------- results
@@ -235,7 +279,7 @@ def find_plan(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> Plan:
     """The optimal plan from ``start`` to ``goal`` for ``objective``, or a proof that there is none.
 
@@ -259,8 +303,9 @@ def find_plan(
         δ and μ (radians) and κ (a length; default 10⁻⁶ of the environment's diagonal) of the one margin
         policy of every planner (:mod:`solverplan.plan.margins`).
     timeout
-        Seconds of wall time (positive, finite; None: no limit), the graph build included (it is not
-        interrupted). At the deadline the search stops: the best plan found so far, or ``not-found``, with
+        Seconds of wall time (positive, finite; None: no limit; or a running
+        :class:`~solverplan.plan._deadline.Deadline`), the partition and the graph build included (they stop at it
+        too). At the deadline the search stops: the best plan found so far, or ``not-found``, with
         ``optimality.proved`` false, the bound proved so far and the timeout in ``optimality.limits``.
 
     Returns
@@ -311,8 +356,15 @@ def find_plan(
         method = allowed[1]
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin,
-                               corner_clearance=corner_clearance)
+    try:
+        with deadline.watching():
+            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
+                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
+                                       max_depth=k_max)
+    except Stopped as exc:
+        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+                                          corner_clearance=corner_clearance)
+        return _stopped_in_setup(env, start, goal, objective, k_max, deadline, exc, time.perf_counter() - t0, margins)
     common = _common(problem, k_max)
     t1 = time.perf_counter()
     if deadline.expired():
@@ -325,9 +377,33 @@ def find_plan(
                              start_segments=list(problem.user_segments(problem.start_belief)),
                              goal_segments=list(problem.user_segments(problem.goal_whole)),
                              partial_goal_segments=_partial_user_goal(problem), options_built=problem.options_built,
-                             admissible_intervals=problem.n_admissible)
+                             admissible_intervals=problem.n_admissible, **_graph_counts(problem))
     logger.info("%s plan: %s in %.3f s", objective, plan.status.value, t2 - t1)
     return plan.with_(stats=stats)
+
+
+def _stopped_in_setup(env: Environment, start: str | BoundarySet, goal: str | BoundarySet, objective: str,
+                      k_max: int | None, deadline: Deadline, exc: Stopped, seconds: float, margins: Margins) -> Plan:
+    """The answer of a query whose timeout came while it built its partition or safe BVG: ``not-found``, nothing
+    proved, the timeout and the step it reached in ``optimality.limits``."""
+    start_set, goal_set = _boundary(env, start, "start"), _boundary(env, goal, "goal")
+    where = str(exc).removeprefix("stopped during ")
+    limit = deadline.limit(f"{where}, while building the query's graph")
+    opt = Optimality(Method.SEARCH_EXHAUSTED, False, None, scope="", algorithm="none: the timeout came before the search",
+                     limits=(limit,))
+    return Plan(Status.NOT_FOUND, objective, (), opt, reason=f"{limit} before any plan was found: not a proof",
+                stats=Stats(seconds_setup=round(seconds, 6)), start=str(start_set), goal=str(goal_set),
+                max_bounces=k_max, environment=EnvironmentRecord.of(env), margins=margins.to_json())
+
+
+def _graph_counts(problem: Problem) -> dict:
+    """What the query built of the safe BVG (``stats``): its arcs, and for a graph built on demand
+    (:func:`query_graph`) the source segments it reached of all the segments."""
+    g = problem.graph
+    out = {"graph_arcs": g.n_arcs, "graph_segments": g.n_segments}
+    if g.stats.get("lazy"):
+        out["graph_reachable_sources"] = g.stats["reachable_sources"]
+    return out
 
 
 def _partial_user_goal(problem: Problem) -> list[int]:
@@ -555,7 +631,7 @@ def pareto_front(
     heading_margin: float = DEFAULT_HEADING_MARGIN,
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
-    timeout: float | None = None,
+    timeout: float | Deadline | None = None,
 ) -> ParetoFront:
     """The Pareto front bounces ↔ tolerance: the most tolerant plan for each bounce count that improves it.
 
@@ -602,8 +678,17 @@ def pareto_front(
     k_max = _check_budget(max_bounces)
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin, safe_margin=safe_margin,
-                               corner_clearance=corner_clearance)
+    try:
+        with deadline.watching():
+            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
+                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
+                                       max_depth=k_max)
+    except Stopped as exc:
+        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+                                          corner_clearance=corner_clearance)
+        plan = _stopped_in_setup(env, start, goal, "tolerance", k_max, deadline, exc, time.perf_counter() - t0, margins)
+        return ParetoFront((), plan.optimality, plan.start, plan.goal, k_max, reason=plan.reason,
+                           environment=plan.environment, stats=plan.stats)
     common = _common(problem, k_max)
     algorithm = "Pareto label setting (bounces, min width)" + (f" up to {k_max} bounces" if k_max else " to a fixed point")
     exhausted = Method.SEARCH_EXHAUSTED

@@ -84,12 +84,13 @@ from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
 from solverplan.environment import Environment
-from solverplan.errors import InputError, InvalidEnvironment, SolverFailed
+from solverplan.errors import InputError, InvalidEnvironment, MalformedFile, SolverFailed
 from solverplan.exact import (ExactPoint, exact_point, format_number, format_point, json_number, point_in_ring,
                               segment_intersection)
 from solverplan.geometry.raycast import cast_ray
 from solverplan.geometry.walls import StraightWalls
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from typing import Any
 
 __all__ = [
     "Door",
@@ -117,6 +118,28 @@ def _length(a: ExactPoint, b: ExactPoint) -> Fraction:
 def _ring_area(ring: tuple[ExactPoint, ...]) -> Fraction:
     n = len(ring)
     return sum((ring[i][0] * ring[(i + 1) % n][1] - ring[(i + 1) % n][0] * ring[i][1] for i in range(n)), Fraction(0)) / 2
+
+
+def _on_segment(p: ExactPoint, a: ExactPoint, b: ExactPoint) -> bool:
+    """Is ``p`` on the closed segment a–b (exact)?"""
+    cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+    return cross == 0 and min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= p[1] <= max(a[1], b[1])
+
+
+def _ring_with_doors(polygon: list[ExactPoint], doors: list[tuple[ExactPoint, ExactPoint]]) -> tuple[list[ExactPoint], list[int]]:
+    """A room's boundary with every door end point on it as a vertex, and what each piece is (−1 a wall, else the
+    door id): the ``ring`` and ``sides`` of :class:`Room`, from its polygon and the doors (exact)."""
+    ends = {p for door in doors for p in door}
+    ring: list[ExactPoint] = []
+    n = len(polygon)
+    for k in range(n):
+        a, b = polygon[k], polygon[(k + 1) % n]
+        inner = [p for p in ends if p != a and p != b and _on_segment(p, a, b)]
+        inner.sort(key=lambda p: abs(p[0] - a[0]) + abs(p[1] - a[1]))
+        ring += [a, *inner]
+    where = {frozenset(door): i for i, door in enumerate(doors)}
+    sides = [where.get(frozenset((ring[k], ring[(k + 1) % len(ring)])), -1) for k in range(len(ring))]
+    return ring, sides
 
 
 def _simplify(ring: list[ExactPoint]) -> list[ExactPoint]:
@@ -224,8 +247,9 @@ class Room:
         }
 
 
+@answer_kind("rooms")
 @dataclass(frozen=True, eq=False)
-class Decomposition:
+class Decomposition(Answer):
     """The rooms and doors of a rectilinear polygon (Algorithm 1), with the room tree (Remark 5).
 
     Attributes
@@ -345,18 +369,45 @@ class Decomposition:
         raise InputError(f"point {format_point(p)} is not in the polygon")
 
     # -- answers
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         return {
-            "status": self.status.value,
             "rooms": [room.to_json() for room in self.rooms],
             "doors": [door.to_json() for door in self.doors],
             "tree": [list(edge) for edge in self.tree],
             "dropped": [{"a": [json_number(a[0]), json_number(a[1])], "b": [json_number(b[0]), json_number(b[1])],
                          "reason": reason} for a, b, reason in self.dropped],
-            "optimality": self.optimality.to_json(),
-            "stats": self.stats.to_json(),
-            "environment": self.environment.to_json(),
         }
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> Decomposition:
+        """Read a rooms answer back in ``env`` (required: doors are drawn from its vertices to its edges).
+
+        Room rings (door end points as vertices) and each door's edge and walls are recomputed exactly from the
+        polygons, the doors and their exact Φ (the answer's claims are checked by the rooms checker of ``solverplan
+        rooms --check``, not here)."""
+        r = Reader(data, "rooms")
+        env, _ = r.in_environment(env, 'rooms')
+        verts = env.exact_vertices
+        doors_raw = r.items("doors")
+        segments = [(d.exact_pair("a"), d.exact_pair("b")) for d in doors_raw]
+        rooms = []
+        for k, room in enumerate(r.items("rooms")):
+            polygon = room.points("polygon")
+            ring, sides = _ring_with_doors(polygon, segments)
+            rooms.append(Room(room.integer("id"), tuple(polygon), room.exact("area_exact"), tuple(ring), tuple(sides)))
+        doors = []
+        for k, (d, (a, b)) in enumerate(zip(doors_raw, segments)):
+            pair = d.ints("rooms")
+            phi = d.at("escapability_by_room_exact", d.array("escapability_by_room_exact"))
+            if len(pair) != 2 or a == b:
+                raise MalformedFile(f"rooms.doors[{k}]: expected two rooms and two distinct end points")
+            length = _length(a, b)
+            walls = (length / phi.exact(0), length / phi.exact(1))
+            edge = next((i for i in range(env.n_edges) if _on_segment(b, env.edge(i).a, env.edge(i).b)), -1)
+            doors.append(Door(d.integer("id"), a, b, d.integer("vertex"), edge, verts.index(b) if b in verts else None,
+                              (pair[0], pair[1]), walls))
+        dropped = tuple((x.exact_pair("a"), x.exact_pair("b"), x.string("reason")) for x in r.items("dropped"))
+        return cls(env, tuple(rooms), tuple(doors), dropped, r.stats())
 
     def to_text(self, *, width: int = 100) -> str:
         def count(n: int, noun: str) -> str:

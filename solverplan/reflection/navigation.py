@@ -19,7 +19,10 @@ from typing import Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.errors import MalformedFile
+from solverplan.exact import format_number
+from typing import Any
 from solverplan.reflection.compose import FieldPlan, compose_fields
 from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, default_scenarios,
                                             simulate_scenarios)
@@ -27,8 +30,9 @@ from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, 
 __all__ = ["FieldNavigation", "navigate_fields"]
 
 
+@answer_kind("fields")
 @dataclass(frozen=True)
-class FieldNavigation:
+class FieldNavigation(Answer):
     """The composed fields (``plan``), the robot ``model`` and one :class:`ScenarioRun` per scenario (``runs``).
 
     Made by :func:`navigate_fields`; follows the result protocol of :mod:`solverplan.result`.
@@ -67,7 +71,7 @@ class FieldNavigation:
     stats: Stats = field(default_factory=Stats)
     environment: EnvironmentRecord | None = None
 
-    def to_json(self) -> dict:
+    def _fields(self) -> dict:
         plan = self.plan
         out: dict = {
             "cells": [c.to_json() for c in plan.cells],
@@ -75,7 +79,6 @@ class FieldNavigation:
             "sequence": list(plan.sequence),
             "reflection_cells": list(plan.reflection_cells),
             "scenarios": {name: run.to_json() for name, run in self.runs.items()},
-            "status": self.status.value,
             "start": [float(c) for c in plan.start],
             "goal": [float(c) for c in plan.goal],
             "flow_through": plan.flow_through,
@@ -83,9 +86,36 @@ class FieldNavigation:
             "reflection_zones": [plan.zones[c].to_json() for c in plan.reflection_cells],
             "model": self.model.to_json(),
             "seed": self.seed,
+            "start_exact": [format_number(c) for c in plan.start],
+            "goal_exact": [format_number(c) for c in plan.goal],
         }
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
+
+    _PLAN_KEYS = ("cells", "adjacency", "sequence", "reflection_cells", "flow_through", "fields", "reflection_zones")
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> FieldNavigation:
+        """Read a fields answer back in ``env`` (required). The composed fields are a function of the environment,
+        the exact start and goal and whether arc fields were allowed: they are composed again and must be the
+        answer's (cells, fields, verdicts, zones — else :class:`~solverplan.errors.MalformedFile`); the trials are
+        read from the file."""
+        r = Reader(data, "fields")
+        env, record = r.in_environment(env, 'fields')
+        arcs = any(f.sub("field").string("kind", "") == "arc" for f in r.items("fields"))
+        plan = compose_fields(env, r.exact_pair("start_exact"), r.exact_pair("goal_exact"), arcs=arcs)
+        model_data = r.sub("model").data
+        try:
+            model = RobotModel(**model_data) if isinstance(model_data, dict) else RobotModel()
+        except TypeError:
+            raise MalformedFile("fields.model: unknown robot parameters") from None
+        scenarios = r.sub("scenarios")
+        runs = {str(name): ScenarioRun.from_json(str(name), run) for name, run in scenarios.data.items()}  # type: ignore[union-attr]
+        answer = cls(plan, model, runs, r.integer("seed"), r.status(), r.optimality(), r.stats(), record)
+        mine = answer._fields()
+        for key in cls._PLAN_KEYS:
+            if mine[key] != data.get(key):
+                raise MalformedFile(f"fields.{key}: not the fields composed from this start and goal in {env.name!r}")
+        return answer
 
     def to_text(self, *, width: int = 100) -> str:
         plan = self.plan

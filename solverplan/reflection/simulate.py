@@ -193,7 +193,23 @@ class ScenarioRun:
                 "trajectories": [np.round(t, 5).tolist() for t in self.trajectories],
                 "speed": self.scenario.speed, "reflect": self.scenario.reflect,
                 "time_min": float(self.times[self.reached].min()) if self.reached.any() else None,
-                "time_max": float(self.times[self.reached].max()) if self.reached.any() else None}
+                "time_max": float(self.times[self.reached].max()) if self.reached.any() else None,
+                # every trial (null: the goal was not reached), so that the answer reads back whole
+                "times": [float(t) if np.isfinite(t) else None for t in self.times],
+                "collisions": [int(c) for c in self.collisions], "stayed_inside": bool(self.stayed_inside)}
+
+    @classmethod
+    def from_json(cls, name: str, data: dict) -> ScenarioRun:
+        """Read :meth:`to_json` back (``name``: the scenario's); raises :class:`~solverplan.errors.InputError` if
+        malformed."""
+        try:
+            times = np.array([np.nan if t is None else float(t) for t in data["times"]], dtype=float)
+            collisions = np.array([int(c) for c in data["collisions"]], dtype=np.int64)
+            trajectories = tuple(np.array(t, dtype=float).reshape(-1, 2) for t in data.get("trajectories") or [])
+            scenario = Scenario(name, float(data["speed"]), bool(data["reflect"]))
+        except (KeyError, TypeError, ValueError):
+            raise InputError(f"scenarios.{name}: expected the trials' times, collisions, speed and reflect") from None
+        return cls(scenario, times, collisions, trajectories, bool(data.get("stayed_inside", True)))
 
 
 class _Fields:

@@ -10,7 +10,7 @@ ids), :mod:`~solverplan.render.environment`, :mod:`~solverplan.render.partition`
 trajectories), :mod:`~solverplan.render.wallfollow` (the wall-following robot's cuts and cut
 diagram, pursuit plans),
 and :mod:`~solverplan.render.scenes`, whose :func:`scene` stacks the layers into a whole picture (what
-``solverplan render`` draws). :mod:`~solverplan.render.html` writes self-contained HTML reports of answers (inline
+``solverplan render`` draws). :mod:`~solverplan.render.report` writes self-contained HTML reports of answers (inline
 SVG with hover details; ``solverplan report``). Each ``draw_*`` layer takes an Axes and returns the artists it added; every
 artist has a ``gid`` that becomes its ``id`` in SVG output.
 
@@ -35,8 +35,8 @@ from solverplan.render.fields import SCENARIO_COLORS, draw_cell_fields, draw_cel
 from solverplan.render.figure import FigureFormat, SavedFigure, figure_bytes, figure_format, new_figure, save_figure
 from solverplan.render.graph import draw_graph, draw_safe_arcs
 from solverplan.render.heatmaps import draw_heatmap, render_heatmaps
-from solverplan.render.html import (ANSWER_KINDS, REPORT_OPTIONS, AnswerFile, HtmlReport, SavedReport, answer_kind,
-                                    html_report, load_answer, write_report)
+from solverplan.render.report import (ANSWER_KINDS, REPORT_OPTIONS, AnswerFile, HtmlReport, SavedReport, answer_kind,
+                                      html_report, load_answer, make_report, report_environment, write_report)
 from solverplan.render.labels import LabelPlacer, draw_edge_ids, draw_vertex_ids
 from solverplan.render.partition import draw_partition
 from solverplan.render.plans import draw_plan, plan_title
@@ -100,6 +100,8 @@ __all__ = [
     "html_report",
     "load_answer",
     "write_report",
+    "make_report",
+    "report_environment",
     "SHADOW_COLORS",
     "render_pursuit",
 ]

@@ -32,6 +32,7 @@ from typing import Any, Callable, Iterator
 
 from solverplan._io import atomic_write_text
 from solverplan.errors import InputError, SolverFailed, SolverplanError
+from solverplan.result import answer_kind
 from solverplan.studies.store import RowStore
 from solverplan.studies.study import Study, StudyTable, Task, run_task
 
@@ -63,6 +64,7 @@ def output_paths(study: Study, out_dir: str | os.PathLike[str]) -> dict[str, Pat
 
 
 # ---------------------------------------------------------------------- results
+@answer_kind("study")
 @dataclass(frozen=True)
 class StudyResult:
     """A finished study: its table, the files written, and how the rows were obtained."""
@@ -102,6 +104,7 @@ class StudyResult:
     def to_json(self) -> dict:
         """Summary for stdout: study, files, row counts, timings, engine, overall and per-cell means."""
         data = {
+            "kind": "study",
             "study": self.table.study.to_json(),
             "files": dict(self.files),
             "rows": len(self.table.rows),

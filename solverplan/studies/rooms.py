@@ -34,6 +34,7 @@ import numpy as np
 
 from solverplan.errors import InputError
 from solverplan.exact import format_number
+from solverplan.result import answer_kind
 from solverplan.geometry.raycast import cast_rays_exact
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
@@ -96,6 +97,7 @@ class RoomPolicy:
         return f"{self.rule.name} rule, doors {self.doors}"
 
 
+@answer_kind("rooms-simulation")
 @dataclass(frozen=True)
 class RoomRuns:
     """Runs of one rule from a start room to a target room (module docstring).
@@ -131,6 +133,7 @@ class RoomRuns:
 
     def to_json(self) -> dict:
         out: dict[str, Any] = {
+            "kind": "rooms-simulation",
             "rule": self.rule, "from": self.walk[0], "to": self.walk[-1], "rooms": list(self.walk),
             "trials": self.trials, "max_bounces": self.max_bounces, "seed": self.seed, "doors": self.doors,
             "success": self.success, "bounces_mean": self.bounces_mean, "bounces_median": self.bounces_median,
@@ -174,6 +177,7 @@ def _table(runs: Sequence[RoomRuns], walk: tuple[int, ...], trials: int, max_bou
     return "\n".join(lines) + "\n"
 
 
+@answer_kind("rooms-rules")
 @dataclass(frozen=True)
 class RuleComparison:
     """The rules side by side (the paper's Table I): ``runs[name]`` for each rule, the same starts for all."""
@@ -181,7 +185,7 @@ class RuleComparison:
     runs: dict[str, RoomRuns]
 
     def to_json(self) -> dict:
-        out: dict[str, Any] = {"rules": {name: r.to_json() for name, r in self.runs.items()}}
+        out: dict[str, Any] = {"kind": "rooms-rules", "rules": {name: r.to_json() for name, r in self.runs.items()}}
         first = next(iter(self.runs.values()))
         out["rooms"] = list(first.walk)
         if first.recommendation is not None:

@@ -35,7 +35,7 @@ from typing import Any, Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from solverplan.wallfollow.world import Action, Observation, parse_action
 
 __all__ = ["CountingFilter", "WalkCount", "count_random_walk", "count_walk", "printed_winding", "printed_vertex_count", "step_value"]
@@ -152,8 +152,9 @@ def printed_vertex_count(actions: Sequence[Action | str], pebbles: Sequence[bool
     return None
 
 
+@answer_kind("vertex-count")
 @dataclass(frozen=True)
-class WalkCount:
+class WalkCount(Answer):
     """The filter's answer after a seeded random walk in the geometric simulator, with the ground truth.
 
     Attributes
@@ -196,13 +197,18 @@ class WalkCount:
     def stats(self) -> Stats:
         return Stats()
 
-    def to_json(self) -> dict:
-        out: dict[str, Any] = {"status": self.status.value, "n": self.n, "winding": self.winding,
-                               "displacement": self.displacement, "known_after": self.known_after,
-                               "steps": self.steps, "seed": self.seed, "true_n": self.true_n,
-                               "true_winding": self.true_winding,
-                               **protocol_json(self.optimality, environment=self.environment)}
-        return out
+    def _fields(self) -> dict:
+        return {"n": self.n, "winding": self.winding, "displacement": self.displacement,
+                "known_after": self.known_after, "steps": self.steps, "seed": self.seed, "true_n": self.true_n,
+                "true_winding": self.true_winding}
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Any = None) -> WalkCount:
+        """Read a vertex count back (every field is in its JSON; ``env`` is not needed)."""
+        r = Reader(data, "vertex_count")
+        return cls(r.integer("n", None), r.integer("winding", None), r.integer("displacement", None),
+                   r.integer("known_after", None), r.integer("steps"), r.integer("seed"), r.integer("true_n"),
+                   r.integer("true_winding"), r.environment())
 
     def to_text(self, *, width: int = 100) -> str:
         known = f"n = {self.n} (known after {self.known_after} follows)" if self.n is not None else \

@@ -39,7 +39,7 @@ from typing import Any, Literal, Protocol, Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from solverplan.wallfollow.cuts import cut_ordering
 from solverplan.wallfollow.ordering import CutOrdering
 from solverplan.wallfollow.world import Action, Observation, Touch, WallWorld
@@ -55,8 +55,9 @@ class Robot(Protocol):
     def act(self, action: Action | str) -> Observation: ...
 
 
+@answer_kind("learned-ordering")
 @dataclass(frozen=True)
-class LearnedOrdering:
+class LearnedOrdering(Answer):
     """What Strategy 1 learned, and what it cost.
 
     Attributes
@@ -99,8 +100,8 @@ class LearnedOrdering:
                           scope="the learned ordering against the exact geometric cut ordering" if proved else "",
                           algorithm="Strategy 1")
 
-    def to_json(self) -> dict:
-        out: dict[str, Any] = {"status": self.status.value, "cut_ordering": list(self.ordering.labels),
+    def _fields(self) -> dict:
+        out: dict[str, Any] = {"cut_ordering": list(self.ordering.labels),
                                "n": self.ordering.n, "reflex": list(self.ordering.reflex), "actions": self.actions,
                                "memory": self.memory, "counts": dict(self.counts)}
         if self.pebble_vertex is not None:
@@ -109,8 +110,20 @@ class LearnedOrdering:
         if self.transcript is not None:
             out["transcript"] = [{"action": a.value, "touch": o.touch.value, "pebble": o.pebble}
                                  for a, o in self.transcript]
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Any = None) -> LearnedOrdering:
+        """Read what Strategy 1 learned back (every field is in its JSON; ``env`` is not needed)."""
+        r = Reader(data, "learned_ordering")
+        transcript = None
+        if r.has("transcript"):
+            transcript = tuple((Action(t.string("action")), Observation(Touch(t.string("touch")), t.boolean("pebble")))
+                               for t in r.items("transcript"))
+        counts = r.sub("counts")
+        return cls(CutOrdering.from_labels(r.texts("cut_ordering")), r.integer("actions"), r.integer("memory"),
+                   {str(k): counts.integer(k) for k in counts.data}, transcript, r.integer("pebble_vertex", None),
+                   r.boolean("matches_geometry", None), r.environment(), r.stats())
 
     def to_text(self, *, width: int = 100) -> str:
         lines = [f"Strategy 1: learned from {self.actions} actions ({self.counts.get('comparisons', 0)} comparisons), "

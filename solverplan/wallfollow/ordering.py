@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 from typing import Any, Iterable, Sequence
 
 from solverplan.errors import InputError
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 
 __all__ = ["CutOrdering", "parse_label"]
 
@@ -46,8 +46,9 @@ def parse_label(label: str) -> tuple[str, int]:
     return match.group(1), int(match.group(2))
 
 
+@answer_kind("cut-ordering")
 @dataclass(frozen=True)
-class CutOrdering:
+class CutOrdering(Answer):
     """A cut ordering, as names in counter-clockwise order starting at ``v0`` (module docstring).
 
     Build one with :meth:`from_labels` (validated) or :func:`solverplan.wallfollow.cut_ordering` (from a
@@ -187,9 +188,15 @@ class CutOrdering:
     def status(self) -> Status:
         return Status.FOUND
 
-    def to_json(self) -> dict:
-        return {"status": self.status.value, "cut_ordering": list(self.labels), "n": self.n, "reflex": list(self.reflex),
-                **protocol_json(self.optimality, self.stats, self.environment)}
+    def _fields(self) -> dict:
+        return {"cut_ordering": list(self.labels), "n": self.n, "reflex": list(self.reflex)}
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Any = None) -> CutOrdering:
+        """Read a cut ordering answer back (validated by :meth:`from_labels`; ``env`` is not needed)."""
+        r = Reader(data, "cut_ordering")
+        return cls.from_labels(r.texts("cut_ordering"), environment=r.environment(), optimality=r.optimality(),
+                               stats=r.stats())
 
     def to_text(self, *, width: int = 100) -> str:
         head = f"cut ordering: {self.n} vertices, {len(self.reflex)} reflex ({len(self.labels)} points)"

@@ -46,7 +46,7 @@ from solverplan.errors import InputError, SolverFailed
 from solverplan.limits import quote
 from solverplan.exact import ExactPoint, format_point, segment_intersection
 from solverplan.geometry.visibility import visibility_polygon
-from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, protocol_json
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from solverplan.wallfollow.bitangents import bitangents
 from solverplan.wallfollow.cuts import corner_polygon, cut_ordering, cuts, merged_count
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
@@ -205,8 +205,9 @@ class GapSensor:
         return out
 
 
-@dataclass(frozen=True, slots=True)
-class PursuitPlan:
+@answer_kind("pursuit")
+@dataclass(frozen=True)
+class PursuitPlan(Answer):
     """A pursuit plan of the wall-following robot, or the proof that none exists.
 
     Attributes
@@ -274,8 +275,8 @@ class PursuitPlan:
         bound = float(len(self.actions)) if self.status is Status.FOUND else None
         return Optimality(Method.SEARCH_EXHAUSTED, True, bound, scope=scope, algorithm=algorithm)
 
-    def to_json(self) -> dict:
-        out: dict[str, Any] = {"status": self.status.value, "plan": list(self.actions), "verified": self.verified,
+    def _fields(self) -> dict:
+        out: dict[str, Any] = {"plan": list(self.actions), "verified": self.verified,
                                "sensor": self.sensor, "start": self.start, "plan_length": len(self.actions),
                                "positions": list(self.positions), "states": self.states,
                                "cut_ordering": list(self.ordering.labels)}
@@ -289,8 +290,33 @@ class PursuitPlan:
             out["learning_actions"] = self.learning.actions
             out["visibility_queries"] = self.learning.visibility_queries
             out["bitangents"] = [[f"v{b.i}", f"v{b.j}", b.after_ij, b.after_ji] for b in self.learning.bitangents]
-        out.update(protocol_json(self.optimality, self.stats, self.environment))
+            out["bitangent_candidates"] = self.learning.candidates
         return out
+
+    @classmethod
+    def from_json(cls, data: Any, *, env: Environment | None = None) -> PursuitPlan:
+        """Read a pursuit plan back in ``env`` (required): the plan is replayed again by the geometric ground-truth
+        checker (its verdict, samples and shadow labels are recomputed, not read)."""
+        from solverplan.wallfollow.pebble import LearnedBitangent, LearnedBitangents
+
+        r = Reader(data, "pursuit")
+        env, record = r.in_environment(env, 'pursuit')
+        actions = tuple(r.texts("plan"))
+        start = r.string("start")
+        learning = None
+        if r.has("learning_actions"):
+            found = []
+            for k, b in enumerate(r.array("bitangents")):
+                item = r.at(f"bitangents[{k}]", b)
+                found.append(LearnedBitangent(parse_label(item.string(0))[1], parse_label(item.string(1))[1],
+                                              item.string(2), item.string(3)))
+            learning = LearnedBitangents(tuple(found), r.integer("bitangent_candidates"), r.integer("learning_actions"),
+                                         r.integer("visibility_queries"))
+        return cls(r.status(), actions, start, r.string("sensor"), tuple(r.texts("positions")), r.integer("states"),
+                   CutOrdering.from_labels(r.texts("cut_ordering")),
+                   check=check_pursuit(env, actions, start) if r.get("verified", None) is not None else None,
+                   reason=r.string("reason", ""), limits=r.optimality().limits, environment=record, stats=r.stats(),
+                   learning=learning)
 
     def to_text(self, *, width: int = 100) -> str:
         if self.status is Status.FOUND:

@@ -7,6 +7,7 @@ References: the exact predicate :func:`~solverplan.geometry.visibility.segments_
 from __future__ import annotations
 
 import json
+import re
 import math
 from pathlib import Path
 
@@ -486,10 +487,16 @@ def test_size_estimate_and_refusal_up_front(no_cache):
     assert abs(arcs - g.n_arcs) <= 0.1 * g.n_arcs
     assert need > bvg_api.BYTES_PER_ARC * arcs
     bvg_api.clear_graph_cache()
-    set_memory_limit(need // 2)
+    set_memory_limit(bvg_api._BASE_BYTES + (need - bvg_api._BASE_BYTES) // 2)  # half the graph's own bytes fit
     with pytest.raises(bvg_api.GraphTooLarge, match=r"would need ≈ .* arcs, 629 segments\), more than the memory limit") as info:
         safe_bounce_visibility_graph(p)
     assert "\n" not in str(info.value) and len(str(info.value)) < 200
+    # the refusal names the simplification that would fit, and that simplification leaves the vertices it says
+    hint = re.search(r"--simplify ([0-9.e-]+) at import would fit \(≈ ([0-9,]+) vertices\)", str(info.value))
+    assert hint is not None, str(info.value)
+    import shapely
+    simple = shapely.simplify(env.to_shapely(), float(hint[1]), preserve_topology=True)
+    assert len(simple.exterior.coords) - 1 == int(hint[2].replace(",", "")) < env.n_vertices
     set_memory_limit(need * 2)
     assert safe_bounce_visibility_graph(p).n_arcs == g.n_arcs
     with pytest.raises(InputError, match="positive number of bytes"):

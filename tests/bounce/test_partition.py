@@ -309,7 +309,16 @@ def test_exact_fallback_agrees_with_the_float_path(name, monkeypatch):
     env = model(name)
     fast = partition(env)
     monkeypatch.setattr(partition_module, "_LAMBDA_REL", 1e6)
-    assert partition(env) == fast
+    assert partition_module._partition(env) == fast  # computed again (partition() keeps recent ones)
+
+
+def test_recent_partitions_are_reused_and_equal_to_a_fresh_one():
+    """partition() keeps the last partitions by environment: an equal environment gets the same answer at once."""
+    env = model("two_holes")
+    first = partition(env)
+    again = Environment(env.rings, name="renamed")  # equal rings: the same partition, on the environment asked for
+    assert partition(again) == first and partition(again).env is again
+    assert partition_module._partition(env) == first
 
 
 def test_offset_and_scaled_coordinates_give_the_same_parameters():

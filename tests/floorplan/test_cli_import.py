@@ -28,7 +28,7 @@ def test_import_prints_the_summary_and_writes_the_environment(tmp_path, office_m
     result = runner.invoke(app, ["import", str(office_map), "-o", str(out), "--simplify", "0.1", "--rectilinear", "2"])
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
-    assert list(summary)[:5] == ["written", "outer_vertices", "holes", "dropped", "area"]
+    assert list(summary)[:7] == ["kind", "status", "written", "outer_vertices", "holes", "dropped", "area"]
     assert summary["written"] == str(out) and summary["holes"] == 2 and summary["format"] == "ros"
     environment = load_environment(out)
     assert summary["outer_vertices"] == len(environment.outer)

@@ -16,7 +16,8 @@ MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 TWO_ROOMS = MODELS / "two_rooms.json"
 runner = CliRunner()
 
-CONTRACT_KEYS = ["status", "objective", "bounces", "min_width", "tolerance", "stages", "optimality"]
+# the contract's plan fields, in the one key order of every answer: kind, status, the plan's fields, ... optimality
+CONTRACT_KEYS = ["kind", "status", "objective", "bounces", "min_width", "tolerance", "stages"]
 
 
 def run(*args: object):
@@ -37,7 +38,8 @@ def test_plan_prints_the_contract_plan_and_writes_a_verified_certificate(tmp_pat
                  "--certificate", cert)
     assert result.exit_code == 0, result.stderr
     plan = json.loads(result.stdout)
-    assert list(plan)[: len(CONTRACT_KEYS)] == CONTRACT_KEYS and "reason" not in plan
+    assert list(plan)[: len(CONTRACT_KEYS)] == CONTRACT_KEYS and "reason" not in plan and plan["kind"] == "plan"
+    assert list(plan)[-3:] == ["optimality", "stats", "environment"]
     assert plan["status"] == "found" and plan["tolerance"] == pytest.approx(plan["min_width"] / 2)
     assert set(plan["stages"][0]) >= {"from_segments", "to_segments", "interval"}
     assert plan["optimality"]["method"] == "search-exhausted" and plan["optimality"]["proved"] is True

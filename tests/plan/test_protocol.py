@@ -67,6 +67,16 @@ def test_to_json_round_trips_through_json(answer):
     assert data["environment"]["sha256"] == answer.environment.sha256
 
 
+def test_every_answer_has_its_kind_first_and_reads_back_to_the_same_json(answer):
+    from solverplan.answers import read_answer
+
+    data = json.loads(json.dumps(answer.to_json()))
+    assert list(data)[:2] == ["kind", "status"] and data["kind"] == type(answer).kind
+    env = SQUARE if answer.environment.name == "square" else TRIANGLE
+    back = read_answer(data, env=env)
+    assert type(back) is type(answer) and json.loads(json.dumps(back.to_json())) == data
+
+
 def test_proved_is_false_whenever_a_limit_was_hit(answer):
     opt = answer.optimality
     if opt.limits:

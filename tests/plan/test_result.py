@@ -50,7 +50,7 @@ def test_text_table():
     "data, message",
     [
         ([], r"^plan: expected a JSON object \(a plan\)$"),
-        ({"status": "maybe"}, r"^plan: status must be 'found' or 'infeasible', got 'maybe'$"),
+        ({"status": "maybe"}, r"^plan: status must be 'found', 'infeasible' or 'not-found', got 'maybe'$"),
         ({"status": "found", "stages": [{"from_segments": [0], "to_segments": [1], "interval": [1.0]}]},
          r"^plan: stages\[0\].interval: expected \[lo, hi\]$"),
         ({"status": "found", "stages": [{"from_segments": [0], "to_segments": [1], "interval": [1.0, 0.5]}]},

@@ -276,7 +276,9 @@ def test_a_real_timeout_returns_soon_with_an_honest_answer():
     plan = find_plan(env, "e45,e94", "e88", objective="tolerance", timeout=0.02)
     assert time.monotonic() - t0 < 30
     assert plan.status is Status.NOT_FOUND and not plan.optimality.proved
-    assert plan.optimality.limits == ("timeout 0.02 s reached after building the safe BVG and the query",)
+    (limit,) = plan.optimality.limits  # cut inside the build (#24), or after it when the graph was cached
+    assert limit.startswith("timeout 0.02 s reached after ")
+    assert limit.endswith(", while building the query's graph") or limit.endswith("building the safe BVG and the query")
 
 
 def test_a_real_timeout_cuts_a_long_localisation():
@@ -290,3 +292,45 @@ def test_a_real_timeout_cuts_a_long_localisation():
         assert loc.status is Status.NOT_FOUND and not loc.optimality.proved
     else:  # the search ended by itself first: then it obeys its other caps
         assert loc.status in (Status.FOUND, Status.NOT_FOUND, Status.INFEASIBLE)
+
+
+# ---------------------------------------------------------------------- the timeout covers the graph build (#24)
+def test_a_timeout_during_the_partition_answers_not_found_not_proved():
+    """The deadline stops the partition of the boundary between reflex vertices: the query answers at once."""
+    import time
+
+    from solverplan.bounce import _cache
+    from solverplan.generators import star_polygon
+    from solverplan.plan.search import find_plan, pareto_front
+
+    env = star_polygon(400, 0.3, 0.3, seed=11)
+    _cache.clear_graph_cache()
+    started = time.monotonic()
+    plan = find_plan(env, "e0", "e200", objective="tolerance", timeout=0.05)
+    front = pareto_front(env, "e0", "e200", timeout=0.05)
+    assert time.monotonic() - started < 5.0  # the whole partition of 400 vertices takes longer than this
+    for answer in (plan, front):
+        assert answer.optimality.proved is False
+        assert any("while building the query's graph" in limit for limit in answer.optimality.limits)
+    assert plan.status.value == "not-found" and plan.stages == ()
+    assert "before any plan was found: not a proof" in plan.reason
+    assert front.points == () and "timeout 0.05 s" in front.reason
+
+
+def test_the_cli_timeout_counts_from_the_process_start():
+    """--timeout is the whole command's: the library's deadline is what is left of it, named as the user gave it."""
+    from solverplan.cli._options import _ANSWER_RESERVE, _STARTED, command_timeout
+
+    budget = 3600.0
+    deadline = command_timeout(budget)
+    assert deadline.seconds == budget  # the answer's limit names the user's timeout
+    left = deadline.remaining()
+    assert left is not None and 0 < left <= budget - _ANSWER_RESERVE - time_since(_STARTED)
+    assert command_timeout(1e-6).remaining() <= 1e-3  # a test process older than the timeout: stop at once
+    assert command_timeout(None) is None
+
+
+def time_since(moment: float) -> float:
+    import time
+
+    return time.monotonic() - moment - 0.01  # the clock moved on between the two reads

@@ -20,7 +20,7 @@ def test_fields_answers_with_the_contract_fields(tmp_path):
     result = runner.invoke(app, [*ARGS, "--trials", "3", "--seed", "1", "--trajectories", "2", "--picture", str(picture)])
     assert result.exit_code == 0, result.output
     answer = json.loads(result.stdout)
-    assert list(answer)[:5] == ["cells", "adjacency", "sequence", "reflection_cells", "scenarios"]
+    assert list(answer)[:7] == ["kind", "status", "cells", "adjacency", "sequence", "reflection_cells", "scenarios"]
     assert list(answer)[-3:] == ["optimality", "stats", "environment"]
     assert all(set(c) == {"id", "polygon"} for c in answer["cells"]) and len(answer["cells"]) == 9
     assert answer["adjacency"] == [[0, 1], [0, 3], [1, 2], [2, 4], [3, 7], [5, 6], [5, 8], [6, 7]]

@@ -130,6 +130,16 @@ EXPECTED = {
     "cycle": ['id="scene"', 'id="fixed-points"', 'class="hover contact"'],
     "controller": ['id="scene"', 'id="tried"', 'id="cycle-0"'],
     "study": ['class="heat"', 'id="cells"', 'class="hover cell"'],
+    # the other robot models (issue #23): every kind has a report; the picture zooms and pans (the script's buttons)
+    "rooms": ['id="scene"', 'id="zoom"', 'class="hover room"', 'class="hover door"', 'class="hover tree"', 'id="doors"',
+              "Φ leaving i"],
+    "exploration": ['id="scene"', 'class="hover view"', 'class="hover viewpoint"', 'id="viewpoints"'],
+    "range-exploration": ['id="scene"', 'class="range"', 'id="viewpoints"'],
+    "cut-ordering": ['id="scene"', 'class="hover chord"', 'id="ordering"'],
+    "learned-ordering": ['id="scene"', 'class="hover chord"', 'id="ordering"'],
+    "vertex-count": ['id="summary"', "true_winding"],
+    "pursuit": ['id="scene"', 'class="hover step"', 'id="steps"'],
+    "fields": ['id="scene"', 'class="hover cell"', 'class="hover trajectory"', 'id="scenarios"', 'id="fields"'],
 }
 
 

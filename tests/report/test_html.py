@@ -1,4 +1,4 @@
-"""The HTML report (solverplan.render.html, ``solverplan report``): well-formed, self-contained, escaped, and
+"""The HTML report (solverplan.render.report, ``solverplan report``): well-formed, self-contained, escaped, and
 showing what the answer and its certificate say — the certificate checked, never trusted."""
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import pytest
 from solverplan.certify.schema import load_certificate
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, MalformedFile
-from solverplan.render.html import AnswerFile, answer_kind, html_report, load_answer
+from solverplan.render.report import AnswerFile, answer_kind, html_report, load_answer
 
 from .conftest import ANSWER_COMMANDS, CERTIFICATES, ENVIRONMENTS, report_args, run
 
@@ -315,13 +315,25 @@ def test_mismatched_certificate_is_bad_input(answers, tmp_path):
 
 def test_usage_mistakes_are_bad_input(answers, tmp_path):
     out = tmp_path / "r.html"
-    _bad(["report", "two_rooms", "-o", out], "give exactly one answer", tmp_path)
+    _bad(["report", "two_rooms", "-o", out], "is an environment, not an answer", tmp_path)
     _bad(["report", "two_rooms", "--plan", answers / "plan.json", "--cycle", answers / "cycle.json", "-o", out],
-         "give exactly one answer", tmp_path)
+         "give one answer", tmp_path)
     _bad(["report", "two_rooms", "--plan", answers / "plan.json", "-o", tmp_path / "r.png"], "a report is an .html file",
          tmp_path)
     _bad(["report", "two_rooms", "--study", answers / "study.json", "-o", out], "give no ENV with --study", tmp_path)
-    _bad(["report", "--plan", answers / "plan.json", "-o", out], "give ENV", tmp_path)
+    _bad(["report", "--plan", answers / "plan.json", "--env", "two_rooms", "-o", out], "drop --env", tmp_path)
+
+
+def test_the_environment_is_found_by_the_answers_name_or_its_certificate(answers, tmp_path):
+    """``report ANSWER.json``: a shipped model named by the answer (same SHA-256), else the certificate's rings."""
+    out = tmp_path / "r.html"
+    assert run("report", answers / "plan.json", "-o", out).exit_code == 0 and out.exists()
+    renamed = json.loads((answers / "plan.json").read_text())
+    renamed["environment"]["name"] = "not a model"
+    (tmp_path / "p.json").write_text(json.dumps(renamed))
+    _bad(["report", tmp_path / "p.json", "-o", tmp_path / "q.html"], "give it (--env ENV)", tmp_path)
+    result = run("report", tmp_path / "p.json", "--certificate", answers / "cert.json", "-o", out)
+    assert result.exit_code == 0 and json.loads(result.stdout)["certificate"]["valid"] is True
 
 
 def test_segment_ids_beyond_the_partition_are_bad_input(tmp_path):
