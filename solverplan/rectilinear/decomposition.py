@@ -675,6 +675,7 @@ def decompose_rooms(env: Environment) -> Decomposition:
     ...
     solverplan.errors.InvalidEnvironment: rooms need a rectilinear polygon: edge 2 from (10, 3) to (16, 2) is neither horizontal nor vertical
     """
+    check_rectilinear(env)  # bad input is named in the file's numbering
     walls = StraightWalls(env)
     if not walls.identity:
         return _in_user_numbering(walls, decompose_rooms(walls.merged))
