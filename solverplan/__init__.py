@@ -87,6 +87,7 @@ _EXPORTS: dict[str, str] = {
     "import_floorplan": "solverplan.floorplan.importer",
     "FloorplanImport": "solverplan.floorplan.importer",
     "read_occupancy_map": "solverplan.floorplan.occupancy",
+    "read_keepout_mask": "solverplan.floorplan.occupancy",
     # planners
     "find_plan": "solverplan.plan.search",
     "pareto_front": "solverplan.plan.search",
@@ -94,6 +95,8 @@ _EXPORTS: dict[str, str] = {
     "funnel": "solverplan.plan.funnel",
     "localize": "solverplan.plan.localize",
     "load_plan": "solverplan.plan.result",
+    "export_plan": "solverplan.plan.export",
+    "plan_in_world": "solverplan.plan.export",
     # the result protocol
     "Status": "solverplan.result",
     "StatusGroup": "solverplan.result",
@@ -150,13 +153,14 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
                                    SolverplanError)
     from solverplan.explore.depth_first import Exploration, explore_depth_first
     from solverplan.floorplan.importer import FloorplanImport, import_floorplan
-    from solverplan.floorplan.occupancy import read_occupancy_map
+    from solverplan.floorplan.occupancy import read_keepout_mask, read_occupancy_map
     from solverplan.explore.range_limited import RangeExploration, explore_range_limited
     from solverplan.explore.range_view import RangeView, range_visibility
     from solverplan.interval import Interval
     from solverplan.plan.funnel import Funnel, funnel
     from solverplan.plan.localize import localize
     from solverplan.plan.patrol import Patrol, patrol
+    from solverplan.plan.export import export_plan, plan_in_world
     from solverplan.plan.result import ParetoFront, Plan, load_plan
     from solverplan.plan.search import find_plan, pareto_front
     from solverplan.rectilinear.decomposition import decompose_rooms

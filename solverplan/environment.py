@@ -37,7 +37,7 @@ from fractions import Fraction
 from functools import cached_property
 from os import PathLike
 from pathlib import Path
-from typing import Iterable, Literal, Sequence
+from typing import Any, Iterable, Literal, Sequence
 
 import numpy as np
 
@@ -299,6 +299,33 @@ class Environment:
             raise InvalidEnvironment(f"environment has {total} vertices (at most {MAX_VERTICES})")
         return cls(tuple(rings), name=name, reoriented=tuple(flipped))
 
+    @classmethod
+    def from_shapely(cls, geometry: Any, *, name: str = "") -> Environment:
+        """An environment from a shapely ``Polygon`` (or a ``MultiPolygon`` of one part), coordinates taken at their
+        shortest decimal, rings in either orientation, validated like every environment.
+
+        >>> import shapely
+        >>> env = Environment.from_shapely(shapely.Polygon([(0, 0), (4, 0), (4, 3), (0, 3)], [[(1, 1), (2, 1), (2, 2)]]))
+        >>> env.area, len(env.holes)
+        (Fraction(23, 2), 1)
+        >>> Environment.from_shapely(env.to_shapely()) == env
+        True
+        """
+        kind = getattr(geometry, "geom_type", None)
+        if kind == "MultiPolygon":
+            parts = list(geometry.geoms)
+            if len(parts) != 1:
+                raise InvalidEnvironment(f"a MultiPolygon of {len(parts)} parts is not one environment: pass one part "
+                                         "(e.g. the largest: max(geometry.geoms, key=lambda p: p.area))")
+            geometry, kind = parts[0], "Polygon"
+        if kind != "Polygon":
+            raise InvalidEnvironment(f"expected a shapely Polygon (or a MultiPolygon of one part), got {kind or type(geometry).__name__}")
+        if geometry.is_empty:
+            raise InvalidEnvironment("the shapely Polygon is empty")
+        outer = [(float(x), float(y)) for x, y, *_ in geometry.exterior.coords]
+        holes = [[(float(x), float(y)) for x, y, *_ in ring.coords] for ring in geometry.interiors]
+        return cls.from_coords(outer, holes, name=name)
+
     # ------------------------------------------------------------------ structure
     def ring(self, index: int) -> tuple[ExactPoint, ...]:
         """Ring ``index`` (0 = outer), normalised."""
@@ -554,7 +581,10 @@ class Environment:
 
     # ------------------------------------------------------------------ conversion
     def to_shapely(self):
-        """The free space as a :class:`shapely.Polygon` (floats)."""
+        """The free space as a :class:`shapely.Polygon` (floats; outer ring CCW, holes CW).
+
+        :meth:`from_shapely` and :func:`load_environment` take it back (coordinates at their shortest decimal).
+        """
         import shapely
 
         return shapely.Polygon(
@@ -1161,15 +1191,16 @@ def _no_such_file(path: str) -> str:
     return f"{path}: no such file, nor a shipped model (they are {', '.join(model_names())})"
 
 
-def load_environment(path: str | PathLike[str], fmt: FileFormat | None = None) -> Environment:
-    """Read an environment file, or a shipped model by name.
+def load_environment(path: Any, fmt: FileFormat | None = None) -> Environment:
+    """Read an environment file, or a shipped model by name, or take a shapely polygon.
 
     Parameters
     ----------
     path
         An environment file (``.json``, ``.geojson`` or ``.wkt``), or the name of a shipped model
         (``"two_rooms"`` or ``"two_rooms.json"``; see :func:`solverplan.models.names`). An existing
-        file wins over a model of the same name.
+        file wins over a model of the same name. A shapely ``Polygon`` (or ``MultiPolygon`` of one part)
+        is made an environment directly (:meth:`Environment.from_shapely`).
     fmt
         The file's format, when its extension does not say (``"json"``, ``"geojson"`` or ``"wkt"``).
         Shipped models are JSON whatever ``fmt`` says.
@@ -1194,6 +1225,8 @@ def load_environment(path: str | PathLike[str], fmt: FileFormat | None = None) -
     ...
     solverplan.errors.MalformedFile: no/such/file.json: no such file, nor a shipped model
     """
+    if hasattr(path, "geom_type"):  # a shapely geometry
+        return Environment.from_shapely(path)
     if fmt:
         _format_of(Path(path), fmt)  # an unknown format is an error even for a shipped model
     file = Path(path)

@@ -29,6 +29,7 @@ from solverplan.cli import (  # noqa: F401
     bounce,
     cache,
     explore,
+    export,
     fields,
     floorplan,
     generate,

@@ -271,6 +271,12 @@ def plan_command(
     ] = None,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
+    heading_accuracy: Annotated[
+        float | None,
+        typer.Option("--heading-accuracy", metavar="A", help="The robot's heading accuracy (radians): plan only with "
+                     "intervals at least A wide (±a turning: A = 2a); infeasible answers give the best A that works.",
+                     show_default=False),
+    ] = None,
     timeout: TimeoutOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
@@ -285,6 +291,8 @@ def plan_command(
         environment = load_env(env, env_format)
         if pareto and (objective not in (None, PlanObjective.TOLERANCE) or method != "auto"):
             raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
+        if pareto and heading_accuracy is not None:
+            raise InputError("--heading-accuracy applies to one plan, not to --pareto")
 
         def solve() -> Any:
             if pareto:
@@ -292,7 +300,8 @@ def plan_command(
                                     corner_clearance=corner_clearance, timeout=command_timeout(timeout))
             return find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
                              max_bounces=max_bounces, method=method, heading_margin=heading_margin,
-                             corner_clearance=corner_clearance, timeout=command_timeout(timeout))
+                             corner_clearance=corner_clearance, timeout=command_timeout(timeout),
+                             min_width=heading_accuracy)
 
         checked = checked_answer(solve, env=environment, start=start, goal=goal)  # exact check before it leaves
         answer = checked.answer

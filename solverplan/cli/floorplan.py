@@ -8,9 +8,9 @@ from typing import Annotated
 
 import typer
 
-from solverplan.cli._app import FormatOpt, VerboseOpt, app
+from solverplan.cli._app import FormatOpt, VerboseOpt, app, check_picture
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import parse_pair
+from solverplan.cli._options import PictureOpt, parse_pair
 from solverplan.cli._output import OutputFormat, emit
 
 
@@ -24,16 +24,22 @@ class PlanInputFormat(StrEnum):
 def import_command(
     plan: Annotated[Path, typer.Argument(metavar="FILE", help="A ROS map (MAP.yaml with its PGM/PNG image), PLAN.dxf or PLAN.svg.", show_default=False)],
     output: Annotated[Path, typer.Option("-o", "--output", metavar="ENV", help="Environment file to write (atomically; .json, .geojson or .wkt).", show_default=False)],
-    seed_point: Annotated[str | None, typer.Option("--seed-point", metavar="X,Y", help="Maps: keep the free-space component holding this world point (metres); default the largest.", show_default=False)] = None,
+    seed_point: Annotated[str | None, typer.Option("--seed-point", metavar="X,Y", help="Maps and DXF: keep the free space holding this point (metres); default the largest.", show_default=False)] = None,
     simplify: Annotated[float | None, typer.Option("--simplify", metavar="M", help="Topology-preserving simplification tolerance (metres; maps default half a cell, drawings 0).", show_default=False)] = None,
-    min_hole_area: Annotated[float | None, typer.Option("--min-hole-area", metavar="M2", help="Drop holes and speckle smaller than this (m²; maps default 9 cells, drawings 0).", show_default=False)] = None,
+    min_obstacle: Annotated[float | None, typer.Option("--min-obstacle", metavar="M", help="Drop obstacles whose larger side is below this (metres; maps default 0.025, drawings 0); each is listed.", show_default=False)] = None,
+    min_hole_area: Annotated[float | None, typer.Option("--min-hole-area", metavar="M2", help="Also drop holes and speckle smaller than this area (m²; default 0); each is listed.", show_default=False)] = None,
     spur_width: Annotated[float | None, typer.Option("--spur-width", metavar="M", help="Maps: cut free protrusions narrower than this (metres; default 2 cells, 0 keeps them).", show_default=False)] = None,
     rectilinear: Annotated[float, typer.Option("--rectilinear", metavar="DEG", help="Snap edges within DEG degrees of an axis to it (0: off).")] = 0.0,
-    layer: Annotated[str | None, typer.Option("--layer", metavar="NAME", help="DXF: read only this layer.", show_default=False)] = None,
+    robot_radius: Annotated[str | None, typer.Option("--robot-radius", metavar="R", help="The robot's radius (metres): walls and obstacles inflated by it; what that closes or disconnects is listed.", show_default=False)] = None,
+    keepout: Annotated[Path | None, typer.Option("--keepout", metavar="MASK.yaml", help="A Nav2 keepout mask (map YAML + image): its occupied cells are obstacles.", show_default=False)] = None,
+    layer: Annotated[str | None, typer.Option("--layer", metavar="NAME", help="DXF: read only this layer (several: comma-separated).", show_default=False)] = None,
     units: Annotated[str | None, typer.Option("--units", metavar="UNIT", help="DXF: drawing unit (m, cm, mm, in, ft, ..., unitless), overriding $INSUNITS.", show_default=False)] = None,
-    scale: Annotated[str, typer.Option("--scale", metavar="S", help="SVG: metres per SVG user unit.")] = "1",
+    snap: Annotated[float | None, typer.Option("--snap", metavar="D", help="DXF: join line ends closer than D drawing units (default 1e-5 of the drawing's extent).", show_default=False)] = None,
+    max_jamb: Annotated[float | None, typer.Option("--max-jamb", metavar="M", help="DXF: close wall bands left open at doors across at most M metres (default 0.5; 0: never).", show_default=False)] = None,
+    scale: Annotated[str | None, typer.Option("--scale", metavar="S", help="SVG: metres per SVG user unit (default: from width/height with units, else 1).", show_default=False)] = None,
     tolerance: Annotated[float | None, typer.Option("--tolerance", metavar="M", help="DXF/SVG: largest distance between a curve and its chords (output units; default 0.01).", show_default=False)] = None,
     input_format: Annotated[PlanInputFormat | None, typer.Option("--input-format", help="ros, dxf or svg, when the extension does not say.", show_default=False)] = None,
+    picture: PictureOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,
 ) -> None:
@@ -41,9 +47,18 @@ def import_command(
     from solverplan.floorplan import import_floorplan
 
     with exit_codes(verbose):
+        check_picture(picture)
         point = parse_pair(seed_point, "--seed-point")
         answer = import_floorplan(plan, output=output, fmt=input_format.value if input_format else None,
                                   seed_point=point, simplify=simplify, min_hole_area=min_hole_area,
-                                  spur_width=spur_width, rectilinear=rectilinear, layer=layer, units=units,
-                                  scale=scale, tolerance=tolerance)
+                                  min_obstacle=min_obstacle, spur_width=spur_width, rectilinear=rectilinear,
+                                  layer=layer, units=units, scale=scale, tolerance=tolerance, snap=snap,
+                                  max_jamb=max_jamb, robot_radius=robot_radius, keepout=keepout)
+        for warning in answer.warnings:
+            typer.echo(f"warning: {warning}", err=True)
+        if picture is not None:
+            from solverplan.render import save_figure
+            from solverplan.render.floorplan import render_import
+
+            save_figure(render_import(answer), picture)
         emit(answer, fmt, None)

@@ -30,11 +30,17 @@ import numpy as np
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError, MalformedFile
+from solverplan.floorplan.drawing import DroppedFeature
 from solverplan.floorplan.outline import finish_outline, grid_quantum
 from solverplan.limits import MAX_PIXELS, quote, read_text_within_limits
 
 __all__ = ["OccupancyMap", "read_occupancy_map", "trace_free_space", "DEFAULT_FREE_THRESH",
-           "DEFAULT_OCCUPIED_THRESH"]
+           "DEFAULT_OCCUPIED_THRESH", "DEFAULT_MIN_OBSTACLE", "cell_to_world", "read_keepout_mask", "cells_to_polygons"]
+
+DEFAULT_MIN_OBSTACLE = 0.025
+"""The smallest obstacle a map import keeps by default (metres, the larger side of its bounding box): well below a
+chair leg (3–5 cm), so on maps of 5 cm cells or coarser every obstacle stays; smaller ones are listed where they
+were."""
 
 DEFAULT_OCCUPIED_THRESH = 0.65
 """``occupied_thresh`` when the YAML gives none (the value of ROS's map_saver)."""
@@ -355,6 +361,8 @@ def trace_free_space(
     spur_width: float | None = None,
     simplify: float | None = None,
     rectilinear: float = 0.0,
+    min_obstacle: float | None = None,
+    features: list[DroppedFeature] | None = None,
 ) -> tuple[Environment, dict[str, Any]]:
     """The free-space component of an occupancy map as a valid environment in world coordinates (metres).
 
@@ -366,7 +374,11 @@ def trace_free_space(
         A world point (metres) in the component to keep; ``None`` keeps the largest component.
     min_hole_area
         Obstacles inside the free space smaller than this (m²) are speckle and removed, in the raster and
-        again after simplification; ``None``: 9 cells (9 × resolution²).
+        again after simplification; ``None``: 0 (the size rule ``min_obstacle`` decides).
+    min_obstacle
+        Obstacles whose bounding box's larger side is below this (metres) are speckle and removed;
+        ``None``: :data:`DEFAULT_MIN_OBSTACLE` (2.5 cm, below a chair leg: on a map of 5 cm cells, every
+        obstacle is kept).
     spur_width
         Free protrusions narrower than this (metres) are removed by a morphological opening with a square
         of side ``spur_width`` + one cell; ``None``: 2 cells; 0: none removed.
@@ -381,7 +393,8 @@ def trace_free_space(
     (Environment, dict)
         The environment (outer ring and holes, exact decimals on a grid of
         :func:`~solverplan.floorplan.outline.grid_quantum` of the resolution) and the counts of what was
-        dropped: ``components`` (other free components) and ``component_area`` (their area, m²),
+        dropped (each dropped obstacle, component and spur is also appended to ``features``, when given, as a
+        :class:`~solverplan.floorplan.drawing.DroppedFeature` with its world position and size): ``components`` (other free components) and ``component_area`` (their area, m²),
         ``speckle`` (obstacle blobs filled), ``spurs`` (free protrusions cut), then those of
         :func:`~solverplan.floorplan.outline.finish_outline`.
 
@@ -405,11 +418,13 @@ def trace_free_space(
 
     res = float(grid.resolution)
     cell_area = res * res
-    min_hole_area = 9 * cell_area if min_hole_area is None else float(min_hole_area)
+    min_hole_area = 0.0 if min_hole_area is None else float(min_hole_area)
+    min_obstacle = DEFAULT_MIN_OBSTACLE if min_obstacle is None else float(min_obstacle)
+    features = [] if features is None else features
     spur_width = 2 * res if spur_width is None else float(spur_width)
     simplify = res / 2 if simplify is None else float(simplify)
     for name, value in (("--min-hole-area", min_hole_area), ("--spur-width", spur_width), ("--simplify", simplify),
-                        ("--rectilinear", rectilinear)):
+                        ("--rectilinear", rectilinear), ("--min-obstacle", min_obstacle)):
         if not math.isfinite(value) or value < 0:
             raise InputError(f"{name} must be a non-negative number, got {value:g}")
     if rectilinear >= 45:
@@ -424,6 +439,7 @@ def trace_free_space(
             kind = "occupied" if grid.occupied[seed_cell] else "unknown"
             raise InputError(f"no free space at the seed point {where}: its cell is {kind}")
     mask, components, component_cells = _component(grid.free, seed_cell)
+    features.extend(_blob_features(grid, grid.free & ~mask, "component", padded=False))
     exact_cell_area = grid.resolution * grid.resolution  # areas reported from cell counts, without binary noise
     dropped: dict[str, Any] = {"components": components, "component_area": float(component_cells * exact_cell_area)}
     # speckle: obstacle blobs (8-connected, the complement of 4-connected free space) not touching the border
@@ -432,10 +448,17 @@ def trace_free_space(
     blobs, count = ndimage.label(~padded, structure=eight)
     sizes = np.bincount(blobs.ravel(), minlength=count + 1)
     outside = blobs[0, 0]
-    small = np.flatnonzero((sizes * cell_area < min_hole_area) & (np.arange(count + 1) != outside))
+    extents = np.zeros(count + 1)
+    for label, box in enumerate(ndimage.find_objects(blobs), start=1):
+        if box is not None:
+            extents[label] = max(box[0].stop - box[0].start, box[1].stop - box[1].start) * res
+    small = np.flatnonzero(((sizes * cell_area < min_hole_area) | (extents < min_obstacle))
+                           & (np.arange(count + 1) != outside))
     small = small[small != 0]
     if small.size:
-        padded |= np.isin(blobs, small)
+        speck = np.isin(blobs, small)
+        features.extend(_blob_features(grid, speck, "speckle", padded=True))
+        padded |= speck
     dropped["speckle"] = int(small.size)
     # spurs: free protrusions narrower than the opening's square; the opening may split the component
     # (a square wider than the map removes everything: clamp, so a huge width is an error, not a huge array)
@@ -444,6 +467,7 @@ def trace_free_space(
         opened = _open_square(padded, side)
         cut = padded & ~opened
         dropped["spurs"] = int(ndimage.label(cut, structure=eight)[1]) if cut.any() else 0
+        features.extend(_blob_features(grid, cut, "spur", padded=True))
         if not opened.any():
             raise InputError(f"the free space is narrower than --spur-width {spur_width:g} m everywhere")
         core = opened[1:-1, 1:-1]
@@ -451,7 +475,9 @@ def trace_free_space(
         if seed_cell is not None and keep_cell is None:
             raise InputError(f"no free space at the seed point: it lies in a spur narrower than --spur-width "
                              f"{spur_width:g} m")
+        before_split = core
         core, split, split_cells = _component(core, keep_cell)
+        features.extend(_blob_features(grid, before_split & ~core, "component", padded=False))
         dropped["components"] += split
         dropped["component_area"] = float(Decimal(repr(dropped["component_area"])) + split_cells * exact_cell_area)
         padded = np.pad(core, 1, constant_values=False)
@@ -478,4 +504,100 @@ def trace_free_space(
     quantum = grid_quantum(grid.resolution)
     return finish_outline(outer, holes, quantum=quantum, offset=grid.origin, simplify=simplify,
                           min_hole_area=min_hole_area, rectilinear=rectilinear, name=grid.source.stem,
-                          dropped=dropped)
+                          dropped=dropped, features=features)
+
+
+def cell_to_world(grid: OccupancyMap, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """World coordinates (metres) of cell centres given by (row, column) of the image (floats allowed)."""
+    res = float(grid.resolution)
+    u = (np.asarray(columns, float) + 0.5) * res
+    v = (grid.shape[0] - np.asarray(rows, float) - 0.5) * res
+    c, s = math.cos(grid.yaw), math.sin(grid.yaw)
+    return np.column_stack((float(grid.origin[0]) + c * u - s * v, float(grid.origin[1]) + s * u + c * v))
+
+
+def _blob_features(grid: OccupancyMap, cells: np.ndarray, kind: str, *, padded: bool) -> list[DroppedFeature]:
+    """One :class:`DroppedFeature` per 8-connected blob of ``cells`` (image rows; ``padded``: with a one-cell
+    border to strip): the world position of a cell of it nearest its centre, the larger side of its bounding box,
+    its area."""
+    from scipy import ndimage
+
+    if padded:
+        cells = cells[1:-1, 1:-1]
+    if not cells.any():
+        return []
+    res = float(grid.resolution)
+    labels, count = ndimage.label(cells, structure=np.ones((3, 3), bool))
+    sizes = np.bincount(labels.ravel(), minlength=count + 1)
+    out = []
+    for label, box in enumerate(ndimage.find_objects(labels), start=1):
+        if box is None:
+            continue
+        rows, columns = np.nonzero(labels[box] == label)
+        centre = np.array([rows.mean(), columns.mean()])
+        k = int(np.argmin((rows - centre[0]) ** 2 + (columns - centre[1]) ** 2))  # a cell of the blob itself
+        at = cell_to_world(grid, np.array([rows[k] + box[0].start]), np.array([columns[k] + box[1].start]))[0]
+        extent = max(box[0].stop - box[0].start, box[1].stop - box[1].start) * res
+        out.append(DroppedFeature(kind, (float(at[0]), float(at[1])), extent, float(sizes[label]) * res * res))
+    return out
+
+
+def cells_to_polygons(grid: OccupancyMap, cells: np.ndarray) -> Any:
+    """The union of the given cells of a map as a shapely geometry in world coordinates (metres, exact cell edges
+    up to float rounding): runs of cells along each row become rectangles, merged by ``shapely.union_all``."""
+    import shapely
+
+    res = float(grid.resolution)
+    rows = grid.shape[0]
+    boxes = []
+    for r in np.flatnonzero(cells.any(axis=1)).tolist():
+        line = np.concatenate(([False], cells[r], [False]))
+        edges = np.flatnonzero(line[1:] != line[:-1])
+        for start, stop in zip(edges[::2].tolist(), edges[1::2].tolist()):
+            top = (rows - r) * res
+            boxes.append(shapely.box(start * res, top - res, stop * res, top))
+    if not boxes:
+        return shapely.Polygon()
+    union = shapely.union_all(boxes)
+    c, s = math.cos(grid.yaw), math.sin(grid.yaw)
+    ox, oy = float(grid.origin[0]), float(grid.origin[1])
+    matrix = np.array([[c, s], [-s, c]])
+    return shapely.transform(union, lambda p: p @ matrix + (ox, oy))
+
+
+def read_keepout_mask(source: str | Path) -> tuple[Any, OccupancyMap]:
+    """The keepout areas of a Nav2 keepout mask: the occupied cells of a map (YAML + image, read as any map).
+
+    Nav2's keepout filter forbids the cells its mask marks occupied (lethal) and leaves free and unknown cells
+    alone; solverplan does the same: the occupied cells, by the mask's own thresholds, resolution, origin and yaw,
+    become polygons in world coordinates (metres) that the import takes out of the free space as obstacles.
+
+    Parameters
+    ----------
+    source
+        The mask's YAML file (``image``, ``resolution``, ``origin``, thresholds, as any ROS map).
+
+    Returns
+    -------
+    (shapely geometry, OccupancyMap)
+        The keepout areas (a Polygon or MultiPolygon, world metres; empty when the mask marks nothing) and the mask
+        as read.
+
+    Raises
+    ------
+    MalformedFile
+        As :func:`read_occupancy_map`.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from PIL import Image
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> Image.fromarray(np.array([[254, 0, 0], [254, 254, 205]], np.uint8)).save(folder / "k.pgm")
+    >>> _ = (folder / "k.yaml").write_text("image: k.pgm\\nresolution: 0.5\\norigin: [1.0, 0.0, 0.0]\\n")
+    >>> areas, mask = read_keepout_mask(folder / "k.yaml")
+    >>> areas.bounds, areas.area
+    ((1.5, 0.5, 2.5, 1.0), 0.5)
+    """
+    mask = read_occupancy_map(source)
+    return cells_to_polygons(mask, mask.occupied), mask

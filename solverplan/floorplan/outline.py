@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from decimal import Decimal
 from fractions import Fraction
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -27,7 +27,8 @@ from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
 from solverplan.limits import MAX_VERTICES
 
-__all__ = ["finish_outline", "snap_rectilinear", "grid_quantum"]
+__all__ = ["finish_outline", "snap_rectilinear", "grid_quantum", "environment_from_polygon", "separate_touches",
+           "largest_part"]
 
 FloatRing = np.ndarray  # (n, 2) float coordinates, not closed
 
@@ -144,8 +145,9 @@ def _bad_rings(rings: Sequence[np.ndarray]) -> set[int]:
     """Rings that are not simple, or that cross or touch another ring (an STR-tree finds the pairs)."""
     import shapely
 
-    lines = [shapely.LinearRing(r) for r in rings]
-    bad = {i for i, line in enumerate(lines) if not line.is_simple}
+    bad = {i for i, r in enumerate(rings) if len(np.unique(r, axis=0)) < 3 or _ring_area(r) == 0}  # collapsed
+    lines = [shapely.LinearRing(r) if i not in bad else shapely.LinearRing() for i, r in enumerate(rings)]
+    bad |= {i for i, line in enumerate(lines) if i not in bad and not line.is_simple}
     if len(lines) > 1:
         tree = shapely.STRtree(lines)
         pairs = tree.query(lines, predicate="intersects")
@@ -185,6 +187,7 @@ def finish_outline(
     rectilinear: float = 0.0,
     name: str = "",
     dropped: dict | None = None,
+    features: list | None = None,
 ) -> tuple[Environment, dict]:
     """Simplify, snap, round and validate an outline with holes into an :class:`Environment`.
 
@@ -208,6 +211,9 @@ def finish_outline(
         The environment's name.
     dropped
         Counts of what earlier stages dropped; this stage adds its own.
+    features
+        When given, each hole dropped (small or flattened) is appended as a
+        :class:`~solverplan.floorplan.drawing.DroppedFeature` (``small_hole``) with its position and size.
 
     Returns
     -------
@@ -228,7 +234,7 @@ def finish_outline(
     >>> hole = np.array([[0.5, 0.5], [0.5, 0.6], [0.6, 0.6], [0.6, 0.5]], float)
     >>> env, dropped = finish_outline(square, [hole], quantum=Decimal("0.001"), min_hole_area=0.05)
     >>> env.outer, dropped["small_holes"], dropped["collinear_vertices"]
-    (((Fraction(0, 1), Fraction(0, 1)), (Fraction(2, 1), Fraction(0, 1)), (Fraction(2, 1), Fraction(2, 1)), (Fraction(0, 1), Fraction(2, 1))), 1, 1)
+    (((Fraction(2, 1), Fraction(0, 1)), (Fraction(2, 1), Fraction(2, 1)), (Fraction(0, 1), Fraction(2, 1)), (Fraction(0, 1), Fraction(0, 1))), 1, 1)
     """
     import shapely
 
@@ -240,7 +246,23 @@ def finish_outline(
     # traced vertices lie on a half-cell lattice — is seen as the touch it is, not hidden by binary rounding.
     unit = float(quantum)
     unit_area = unit * unit
-    kept = [h for h in holes if abs(_ring_area(h)) >= min_hole_area]
+    fx, fy = float(offset[0]), float(offset[1])
+
+    def note(ring: np.ndarray, scale: float = 1.0) -> None:
+        if features is not None and len(ring):
+            from solverplan.floorplan.drawing import DroppedFeature
+
+            points = np.asarray(ring, float) * scale
+            low, high = points.min(axis=0), points.max(axis=0)
+            features.append(DroppedFeature("small_hole", (float(points[:, 0].mean()) + fx, float(points[:, 1].mean()) + fy),
+                                           float((high - low).max()), abs(_ring_area(points))))
+
+    kept = []
+    for h in holes:
+        if abs(_ring_area(h)) >= min_hole_area:
+            kept.append(h)
+        else:
+            note(h)
     counts["small_holes"] += len(holes) - len(kept)
     grid_outer, grid_holes = np.rint(outer / unit), [np.rint(h / unit) for h in kept]
     polygon = shapely.Polygon(grid_outer, grid_holes)
@@ -254,6 +276,8 @@ def finish_outline(
         after = len(polygon.exterior.coords) + sum(len(r.coords) for r in polygon.interiors)
         counts["simplified_vertices"] += before - after
         small = [r for r in polygon.interiors if shapely.Polygon(r).area * unit_area < min_hole_area]
+        for r in small:
+            note(np.asarray(r.coords[:-1], float), unit)
         if small:
             counts["small_holes"] += len(small)
             polygon = shapely.Polygon(polygon.exterior,
@@ -271,12 +295,20 @@ def finish_outline(
             bad = _bad_rings(chosen) - reverted
             if not bad:
                 break
-            for index in bad:
+            # an obstacle near a wall is what conflicts with the wall's snapped run: revert the obstacle's own
+            # snap first and keep the walls straight (reverting the outer ring un-snapped every wall of a map
+            # that keeps its posts); the outer ring goes back only when no hole is left to blame
+            holes_bad = bad - {0}
+            for index in holes_bad or bad:
                 chosen[index] = rings[index]
-            reverted |= bad
+            reverted |= holes_bad or bad
+        walls_only = [chosen[0], *rings[1:]]
         if _valid_rings(chosen):
             rings = chosen
             counts["rectilinear_skipped"] += len(reverted)
+        elif 0 not in reverted and _valid_rings(walls_only):  # keep the walls snapped, the obstacles as they were
+            rings = walls_only
+            counts["rectilinear_skipped"] += len(rings) - 1
         else:  # e.g. a hole snapped out of the outer ring: keep the outline as simplified
             counts["rectilinear_skipped"] += len(rings)
     grid_rings: list[np.ndarray] = []
@@ -291,8 +323,12 @@ def finish_outline(
             if index == 0:
                 raise InvalidEnvironment("the outline vanished when rounded to the coordinate grid: it is too small")
             counts["degenerate_holes"] += 1
+            note(ring, unit)
             continue
-        grid_rings.append(grid)
+        # a canonical first vertex (the lowest, rightmost among the lowest), so that edge ids do not depend on where
+        # the tracer or the drawing happened to start the ring, nor on noise far from that corner
+        first = int(np.lexsort((-grid[:, 0], grid[:, 1]))[0])
+        grid_rings.append(np.roll(grid, -first, axis=0))
     step = Fraction(quantum)
     ox, oy = offset
     # one common denominator: each coordinate is then one Fraction built from two integers, not a sum of
@@ -312,3 +348,95 @@ def finish_outline(
                                  "simplify more (--simplify METRES)")
     environment = Environment.from_coords(exact(grid_rings[0]), [exact(r) for r in grid_rings[1:]], name=name)
     return environment, counts
+
+
+def largest_part(geometry: Any) -> tuple[Any, list[Any]]:
+    """The largest polygon of a shapely geometry and the other polygons (largest first); (None, []) if none."""
+    parts = [g for g in getattr(geometry, "geoms", [geometry]) if g.geom_type == "Polygon" and not g.is_empty]
+    if not parts:
+        return None, []
+    parts.sort(key=lambda g: -g.area)
+    return parts[0], parts[1:]
+
+
+def separate_touches(polygon: Any, grid: float) -> tuple[Any, list[Any]]:
+    """Take a square of side 4 × ``grid`` out of ``polygon`` wherever two of its rings touch (GEOS allows a hole
+    to touch the outer ring or another hole at a point, an environment does not): the obstacle is joined to the
+    wall there and the free space only shrinks. Returns the polygon (or pieces) and the points separated."""
+    import shapely
+
+    rings = [polygon.exterior, *polygon.interiors]
+    lines = [shapely.LineString(r.coords) for r in rings]
+    points = []
+    for k, line in enumerate(lines):  # a ring touching itself (a pinched outer ring)
+        if not line.is_simple:
+            nodes = shapely.node(line)
+            counts: dict = {}
+            for piece in nodes.geoms:
+                for end in (piece.coords[0], piece.coords[-1]):
+                    counts[end] = counts.get(end, 0) + 1
+            points += [shapely.Point(p) for p, c in counts.items() if c > 2]
+    if len(lines) > 1:
+        tree = shapely.STRtree(lines)
+        left, right = tree.query(lines, predicate="intersects")
+        for i, j in zip(left.tolist(), right.tolist()):
+            if i < j:
+                meet = lines[i].intersection(lines[j])
+                for part in getattr(meet, "geoms", [meet]):
+                    if not part.is_empty:
+                        points.append(part.representative_point())
+    if not points:
+        return polygon, []
+    cut = shapely.union_all([p.buffer(2 * grid, cap_style="square") for p in points])
+    return shapely.set_precision(polygon.difference(cut), grid), points
+
+
+def environment_from_polygon(polygon: Any, *, quantum: Decimal, offset: tuple[Fraction, Fraction] = (Fraction(0), Fraction(0)),
+                             name: str = "") -> tuple[Environment, list[Any], list[Any]]:
+    """A shapely polygon (absolute float coordinates) as an environment on the decimal grid ``offset + k · quantum``.
+
+    The polygon is rounded to the grid with GEOS's snap-rounding (``shapely.set_precision``, which keeps it
+    valid), rings that touch are separated (:func:`separate_touches`), and the largest piece is made an
+    environment through :func:`finish_outline` (exact decimals, the project's validator).
+
+    Returns
+    -------
+    (Environment, list, list)
+        The environment, the other pieces (shapely polygons, absolute coordinates: free space that is lost)
+        and the points where touching rings were separated.
+
+    Raises
+    ------
+    InvalidEnvironment
+        When nothing is left on the grid, or the result is still not a valid environment.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> ring = shapely.Polygon([(0, 0), (3, 0), (3, 2), (0, 2)], [[(0, 1), (1, 0.5), (1, 1.5)]])  # a hole touching
+    >>> env, lost, touched = environment_from_polygon(ring, quantum=Decimal("0.01"))
+    >>> len(env.holes), [(p.x, p.y) for p in touched], round(float(env.area), 4)
+    (0, [(0.0, 1.0)], 5.4994)
+    """
+    import shapely
+
+    ox, oy = float(offset[0]), float(offset[1])
+    grid = float(quantum)
+    moved = shapely.transform(polygon, lambda c: c - (ox, oy)) if (ox or oy) else polygon
+    rounded = shapely.set_precision(moved, grid)
+    main, rest = largest_part(rounded)
+    if main is None:
+        raise InvalidEnvironment("the free space vanished on the coordinate grid: it is too small")
+    separated, touched = separate_touches(main, grid)
+    main, more = largest_part(separated)
+    if main is None:
+        raise InvalidEnvironment("the free space vanished when its touching rings were separated")
+    rest += more
+    outer = np.asarray(main.exterior.coords[:-1], float)
+    holes = [np.asarray(r.coords[:-1], float) for r in main.interiors]
+    environment, _ = finish_outline(outer, holes, quantum=quantum, offset=offset, name=name)
+
+    def back(g: Any) -> Any:
+        return shapely.transform(g, lambda c: c + (ox, oy)) if (ox or oy) else g
+
+    return environment, [back(g) for g in rest], [back(p) for p in touched]

@@ -9,14 +9,17 @@ outside the outer ring are dropped and counted.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 from decimal import Decimal
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
+import numpy as np
+
 from solverplan.errors import InputError, MalformedFile
 from solverplan.limits import checked_file_size, quote
 
-__all__ = ["read_dxf_rings", "read_svg_rings", "arrange_rings", "DXF_UNITS", "UNIT_NAMES", "ExactRing"]
+__all__ = ["read_dxf_rings", "read_dxf_linework", "Linework", "read_svg_rings", "arrange_rings", "DXF_UNITS", "UNIT_NAMES", "ExactRing"]
 
 ExactRing = list[tuple[Decimal, Decimal]]
 
@@ -214,6 +217,211 @@ def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | N
     return rings, {"units": unit_name, **counts}
 
 
+def _circumscribed(cx: float, cy: float, r: float, tolerance: float) -> np.ndarray:
+    """A regular polygon around the circle (centre, radius r): every point of the circle is inside it, and it is
+    at most ``tolerance`` from the circle (its corners at r / cos(π/n)); closed (first point repeated)."""
+    if r <= 0:
+        return np.empty((0, 2))
+    ratio = min(max(1.0 - tolerance / (r + tolerance), -1.0), 1.0)  # cos(π/n) ≥ r / (r + tolerance)
+    n = max(8, math.ceil(math.pi / math.acos(ratio))) if ratio < 1 else 8
+    n = min(n, 4096)
+    corner = r / math.cos(math.pi / n)
+    angles = 2 * math.pi * (np.arange(n + 1) % n) / n
+    return np.column_stack((cx + corner * np.cos(angles), cy + corner * np.sin(angles)))
+
+
+@dataclass(frozen=True)
+class Linework:
+    """A drawing's lines and solids in drawing units, and what was read (see :func:`read_dxf_linework`)."""
+
+    lines: list[np.ndarray]
+    solids: list[Any]
+    unit: str
+    factor: Decimal | None
+    counts: dict[str, Any]
+    door_swings: list[tuple[float, float, float]] = field(default_factory=list)  # (cx, cy, r), drawing units
+
+
+DOOR_SWING_RADII = (0.5, 1.3)
+"""Radii (metres) of an ARC read as a door's swing when it turns 75–105°: not a wall (it would close the doorway)."""
+
+
+def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str | None = None,
+                      tolerance: float = 0.01) -> Linework:
+    """Every line of a DXF drawing's model space, curves flattened, hatches and SOLIDs as solids (drawing units).
+
+    Parameters
+    ----------
+    path
+        The DXF file.
+    layer
+        Read only entities on these layers: one name or several joined by commas (case-insensitive); ``None``:
+        every layer.
+    units
+        The drawing unit (:data:`UNIT_NAMES`), overriding the header's ``$INSUNITS``.
+    tolerance
+        Largest distance (output units: metres, or drawing units when unitless) between a curve and the chords
+        replacing it. ARC, ELLIPSE, SPLINE and polyline bulges: chords between points on the curve; CIRCLE: a
+        regular polygon *around* the circle (a column is never made thinner), its corners within ``tolerance``.
+
+    Returns
+    -------
+    Linework
+        ``lines`` (polylines as float arrays, closed ones repeating their first point), ``solids`` (shapely
+        polygons of HATCH boundary paths, even-odd, of SOLID/TRACE/3DFACE entities and of the band of a polyline
+        drawn with a width), MLINE multilines as their lines, the unit and its size
+        in metres, and counts: ``lines``, ``polylines``, ``circles``, ``curves`` (arcs, ellipses, splines,
+        bulged polylines), ``hatches``, ``solids``, ``door_swings`` (ARCs of 75–105° with a radius in
+        :data:`DOOR_SWING_RADII`: a door's swing, left out with the line of its leaf, ``door_leaves``, so that the
+        doorway stays open; listed in ``door_swings``), ``other_layers`` (entities
+        skipped by ``layer``) and ``unsupported`` (entities of other kinds by type: TEXT, DIMENSION, ...).
+
+    Examples
+    --------
+    >>> import ezdxf, tempfile, pathlib
+    >>> doc = ezdxf.new(units=4)  # millimetres
+    >>> space = doc.modelspace()
+    >>> _ = space.add_line((0, 0), (2500, 0)); _ = space.add_circle((1000, 1000), 150)
+    >>> _ = space.add_text("Room 1")
+    >>> file = pathlib.Path(tempfile.mkdtemp()) / "plan.dxf"; doc.saveas(file)
+    >>> work = read_dxf_linework(file)
+    >>> work.unit, work.counts["lines"], work.counts["circles"], work.counts["unsupported"]
+    ('mm', 1, 1, {'TEXT': 1})
+    """
+    import ezdxf
+    import shapely
+    from ezdxf import path as dxf_path
+    from ezdxf.entities import Arc, Circle, Ellipse, Hatch, Line, LWPolyline, Polyline, Spline
+
+    path = Path(path)
+    checked_file_size(path)
+    if units is not None and units not in UNIT_NAMES:
+        raise InputError(f"--units {quote(units)}: use one of {', '.join(UNIT_NAMES)}")
+    try:
+        doc = ezdxf.readfile(path)
+    except (OSError, UnicodeDecodeError) as exc:
+        raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
+    except ezdxf.DXFError as exc:
+        raise MalformedFile(f"{path}: not a valid DXF file ({str(exc)[:80] or exc.__class__.__name__})") from None
+    if units is None:
+        code = doc.header.get("$INSUNITS", 0)
+        if code not in DXF_UNITS:
+            raise MalformedFile(f"{path}: $INSUNITS {code} is not a length unit solverplan reads: say --units")
+        unit_name, factor = DXF_UNITS[code]
+    else:
+        unit_name, factor = units, UNIT_NAMES[units]
+    drawing_tolerance = tolerance / float(factor) if factor else tolerance
+    wanted = None if layer is None else {name.strip().lower() for name in layer.split(",") if name.strip()}
+    counts: dict[str, Any] = {"lines": 0, "polylines": 0, "circles": 0, "curves": 0, "hatches": 0, "solids": 0,
+                              "other_layers": 0, "unsupported": {}}
+    lines: list[np.ndarray] = []
+    solids: list[Any] = []
+    swings: list[tuple[float, float, float]] = []
+
+    def flat(entity: Any) -> np.ndarray:
+        points = [(v.x, v.y) for v in dxf_path.make_path(entity).flattening(drawing_tolerance)]
+        return np.asarray(points, float).reshape(-1, 2)
+
+    for entity, entity_layer in _flattened(doc.modelspace()):
+        if wanted is not None and entity_layer.lower() not in wanted:
+            counts["other_layers"] += 1
+            continue
+        try:
+            if isinstance(entity, Line):
+                start, end = entity.dxf.start, entity.dxf.end
+                lines.append(np.array([(start.x, start.y), (end.x, end.y)], float))
+                counts["lines"] += 1
+            elif isinstance(entity, LWPolyline) or (isinstance(entity, Polyline) and not (
+                    entity.is_polygon_mesh or entity.is_poly_face_mesh)):
+                width = 0.0
+                if isinstance(entity, LWPolyline):
+                    bulged = any(b for *_, b in entity.get_points("xyb"))
+                    points = np.array([(x, y) for x, y, *_ in entity.get_points("xy")], float)
+                    closed = bool(entity.closed)
+                    widths = [w for _, _, s0, e0, _ in entity.get_points("xyseb") for w in (s0, e0)]
+                    width = max([float(entity.dxf.get("const_width", 0) or 0), *map(float, widths)])
+                else:
+                    bulged = any(v.dxf.get("bulge", 0) for v in entity.vertices)
+                    points = np.array([(p.x, p.y) for p in entity.points()], float)
+                    closed = bool(entity.is_closed)
+                if bulged:
+                    points = flat(entity)
+                    counts["curves"] += 1
+                elif closed and len(points) >= 2:
+                    points = np.vstack((points, points[:1]))
+                counts["polylines"] += 1
+                lines.append(points.reshape(-1, 2))
+                if width > 0 and len(points) >= 2:  # a wall drawn as a thick polyline: its band is solid
+                    band = shapely.LineString(points).buffer(width / 2, cap_style="flat", join_style="mitre")
+                    if not band.is_empty:
+                        solids.append(band)
+                        counts["solids"] += 1
+            elif isinstance(entity, Circle) and not isinstance(entity, Arc):
+                centre = entity.dxf.center
+                lines.append(_circumscribed(centre.x, centre.y, float(entity.dxf.radius), drawing_tolerance))
+                counts["circles"] += 1
+            elif isinstance(entity, (Arc, Ellipse, Spline)):
+                if isinstance(entity, Arc) and factor is not None:
+                    sweep = (float(entity.dxf.end_angle) - float(entity.dxf.start_angle)) % 360
+                    radius_m = float(entity.dxf.radius) * float(factor)
+                    if DOOR_SWING_RADII[0] <= radius_m <= DOOR_SWING_RADII[1] and 75 <= sweep <= 105:
+                        centre = entity.dxf.center
+                        swings.append((float(centre.x), float(centre.y), float(entity.dxf.radius)))
+                        continue
+                lines.append(flat(entity))
+                counts["curves"] += 1
+            elif isinstance(entity, Hatch):
+                rings = []
+                for boundary in dxf_path.from_hatch(entity):
+                    ring = [(v.x, v.y) for v in boundary.flattening(drawing_tolerance)]
+                    if len(ring) >= 3:
+                        rings.append(shapely.Polygon(ring).buffer(0))
+                region = None
+                for ring_shape in rings:  # even-odd: a path inside another is a hole of it
+                    region = ring_shape if region is None else region.symmetric_difference(ring_shape)
+                if region is not None and not region.is_empty:
+                    solids.append(region)
+                counts["hatches"] += 1
+            elif entity.dxftype() == "MLINE":  # a multiline (AutoCAD's wall tool): its parallel lines
+                for part in entity.virtual_entities():
+                    if isinstance(part, Line):
+                        start, end = part.dxf.start, part.dxf.end
+                        lines.append(np.array([(start.x, start.y), (end.x, end.y)], float))
+                counts["lines"] += 1
+            elif entity.dxftype() in ("SOLID", "TRACE", "3DFACE"):  # SOLID, TRACE, 3DFACE: corners 1, 2, 4, 3 in drawing order
+                corners = [entity.dxf.get(f"vtx{k}") for k in (0, 1, 3, 2)]
+                ring = [(v.x, v.y) for v in corners if v is not None]
+                shape = shapely.Polygon(ring).buffer(0) if len(ring) >= 3 else None
+                if shape is not None and not shape.is_empty:
+                    solids.append(shape)
+                counts["solids"] += 1
+            else:
+                kind = entity.dxftype()
+                counts["unsupported"][kind] = counts["unsupported"].get(kind, 0) + 1
+        except (ezdxf.DXFError, ValueError, TypeError, AttributeError) as exc:
+            raise MalformedFile(f"{path}: cannot read a {entity.dxftype()} entity "
+                                f"({str(exc)[:60] or exc.__class__.__name__})") from None
+    for line in lines:
+        if not np.isfinite(line).all():
+            raise MalformedFile(f"{path}: a coordinate is not a finite number")
+    if swings:  # a door's leaf: a two-point line from a swing's centre out to its radius
+        def is_leaf(line: np.ndarray) -> bool:
+            if len(line) != 2:
+                return False
+            for cx, cy, r in swings:
+                d0, d1 = (math.hypot(p[0] - cx, p[1] - cy) for p in line)
+                tol = 0.02 * r
+                if min(d0, d1) <= tol and abs(max(d0, d1) - r) <= tol:
+                    return True
+            return False
+
+        kept = [line for line in lines if not is_leaf(line)]
+        counts["door_leaves"] = len(lines) - len(kept)
+        lines = kept
+    counts["door_swings"] = len(swings)
+    return Linework(lines, solids, unit_name, factor, counts, swings)
+
+
 def _flatten(segment: Any, tolerance: float, depth: int = 0, t0: float = 0.0, t1: float = 1.0) -> list[tuple[float, float]]:
     """Points of a curve segment after its start, up to its end: chords within ``tolerance`` of the curve.
 
@@ -237,26 +445,51 @@ def _flatten(segment: Any, tolerance: float, depth: int = 0, t0: float = 0.0, t1
     return _flatten(segment, tolerance, depth + 1, t0, middle) + _flatten(segment, tolerance, depth + 1, middle, t1)
 
 
-def read_svg_rings(path: str | Path, *, scale: Decimal = Decimal(1), tolerance: float = 0.01) -> tuple[list[ExactRing], dict[str, Any]]:
-    """The closed sub-paths of an SVG drawing (paths, rectangles, polygons, circles, ...), y up, scaled.
+_CSS_UNITS: dict[str, Decimal] = {"mm": Decimal("0.001"), "cm": Decimal("0.01"), "m": Decimal(1), "in": Decimal("0.0254"),
+                                  "pt": Decimal("0.0254") / 72, "pc": Decimal("0.0254") / 6, "q": Decimal("0.00025")}
+"""Absolute CSS length units of an SVG ``width``/``height``, in metres (``px`` and bare numbers are not physical)."""
+
+
+def _svg_length(text: object) -> tuple[Decimal, str] | None:
+    """``"210mm"`` → (210, "mm"); a bare number → (n, ""); anything else (percentages, junk) → None."""
+    import re
+
+    if not isinstance(text, str):
+        return None
+    match = re.fullmatch(r"\s*([0-9.eE+-]+)\s*([a-zA-Z%]*)\s*", text)
+    if not match:
+        return None
+    try:
+        number = Decimal(match.group(1))
+    except ArithmeticError:
+        return None
+    return (number, match.group(2).lower()) if number.is_finite() and number > 0 else None
+
+
+def read_svg_rings(path: str | Path, *, scale: Decimal | None = None,
+                   tolerance: float = 0.01) -> tuple[list[ExactRing], dict[str, Any]]:
+    """The closed sub-paths of an SVG drawing (paths, rectangles, polygons, circles, ...) in user units, y up, scaled.
 
     Parameters
     ----------
     path
-        The SVG file; transforms and the viewBox are applied (svgelements), so coordinates are in the
-        document's user units (px).
+        The SVG file. Transforms are applied; coordinates are the root's **user units** (the ``viewBox``'s
+        units; without a viewBox, CSS pixels), whatever ``width`` and ``height`` say.
     scale
-        Output units (metres) per user unit.
+        Output units (metres) per user unit. ``None``: from the document when its ``width`` has an absolute
+        unit (``mm``, ``cm``, ``m``, ``in``, ``pt``, ``pc``): width in metres over the viewBox width (an
+        Inkscape drawing of ``width="210mm" viewBox="0 0 210 297"`` is 1 mm per user unit); else 1 (user units).
     tolerance
         Largest distance (output units) between a curve (arc, Bézier) and the chords replacing it.
 
     Returns
     -------
     (rings, info)
-        Closed rings of exact decimals: x' = scale · x and y' = scale · (height − y), with ``height`` the
-        document's height (0 when it has none), so the drawing keeps its look with y pointing up. Line
-        end points are exact; curve points are rounded to a power of ten at most ``tolerance`` / 8.
-        ``info`` counts ``open_paths`` (sub-paths that do not close).
+        Closed rings of exact decimals: x' = scale · x and y' = scale · (top − y), with ``top`` the bottom edge
+        of the viewBox (or the height; 0 when there is none), so the drawing keeps its look with y pointing up.
+        Line end points are exact up to 10⁻⁹ of a user unit; curve points are rounded to a power of ten at most
+        ``tolerance`` / 8. ``info``: ``units`` (``m`` when the scale is known, else ``user units``), ``scale``
+        (exact text), ``open_paths`` (sub-paths that do not close).
 
     Raises
     ------
@@ -267,11 +500,13 @@ def read_svg_rings(path: str | Path, *, scale: Decimal = Decimal(1), tolerance: 
     --------
     >>> import tempfile, pathlib
     >>> file = pathlib.Path(tempfile.mkdtemp()) / "plan.svg"
-    >>> _ = file.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="30">'
+    >>> _ = file.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="40mm" height="30mm" viewBox="0 0 40 30">'
     ...                     '<path d="M 0 0 H 40 V 30 H 0 Z M 10 10 h 5 v 5 h -5 z"/></svg>')
-    >>> rings, info = read_svg_rings(file, scale=Decimal("0.1"))
+    >>> rings, info = read_svg_rings(file)
     >>> [[tuple(map(float, p)) for p in ring] for ring in rings]  # doctest: +NORMALIZE_WHITESPACE
-    [[(0.0, 3.0), (4.0, 3.0), (4.0, 0.0), (0.0, 0.0)], [(1.0, 2.0), (1.5, 2.0), (1.5, 1.5), (1.0, 1.5)]]
+    [[(0.0, 0.03), (0.04, 0.03), (0.04, 0.0), (0.0, 0.0)], [(0.01, 0.02), (0.015, 0.02), (0.015, 0.015), (0.01, 0.015)]]
+    >>> info["units"], info["scale"]
+    ('m', '0.001')
     """
     import xml.etree.ElementTree as ElementTree
 
@@ -281,7 +516,7 @@ def read_svg_rings(path: str | Path, *, scale: Decimal = Decimal(1), tolerance: 
 
     path = Path(path)
     checked_file_size(path)
-    if not scale > 0:
+    if scale is not None and not scale > 0:
         raise InputError(f"--scale must be positive, got {scale}")
     try:
         document = svg.SVG.parse(str(path), reify=True)
@@ -289,17 +524,48 @@ def read_svg_rings(path: str | Path, *, scale: Decimal = Decimal(1), tolerance: 
         raise MalformedFile(f"{path}: cannot read ({exc.__class__.__name__})") from None
     except (ElementTree.ParseError, ValueError, TypeError, AttributeError) as exc:
         raise MalformedFile(f"{path}: not a valid SVG file ({str(exc)[:80] or exc.__class__.__name__})") from None
-    height = _decimal(float(document.height)) if getattr(document, "height", None) else Decimal(0)
+    # svgelements maps the viewBox onto the viewport (CSS pixels); undo that to get back to user units
+    to_user = None
+    box = getattr(document, "viewbox", None)
+    transform = getattr(document, "viewbox_transform", None)
+    if box is not None and transform:
+        to_user = ~svg.Matrix(transform)
+    if box is not None and getattr(box, "height", None):
+        top = _decimal(float(box.y) + float(box.height))
+        user_width = Decimal(repr(float(box.width)))
+    else:
+        height = _svg_length(document.values.get("height"))
+        top = _decimal(float(document.height)) if getattr(document, "height", None) else Decimal(0)
+        user_width = _decimal(float(document.width)) if getattr(document, "width", None) else Decimal(0)
+        del height
+    unit_name = "user units"
+    if scale is None:
+        width = _svg_length(document.values.get("width"))
+        if width is not None and width[1] in _CSS_UNITS and user_width > 0:
+            scale = width[0] * _CSS_UNITS[width[1]] / user_width
+            unit_name = "m"
+        else:
+            scale = Decimal(1)
+    else:
+        unit_name = "m"
     drawing_tolerance = tolerance / float(scale)
     quantum = grid_quantum(Decimal(repr(float(tolerance))))
 
+    def user(x: float, y: float) -> tuple[float, float]:
+        if to_user is None:
+            return x, y
+        p = to_user.point_in_matrix_space((x, y))
+        return float(p.x), float(p.y)
+
     def exact(x: float, y: float) -> tuple[Decimal, Decimal]:
-        return _decimal(x) * scale, (height - _decimal(y)) * scale
+        ux, uy = user(x, y)
+        return _decimal(round(ux, 9)) * scale, (top - _decimal(round(uy, 9))) * scale
 
     def rounded(x: float, y: float) -> tuple[Decimal, Decimal]:
         px, py = exact(x, y)
         return px.quantize(quantum), py.quantize(quantum)
 
+    user_scale = 1.0 if to_user is None else float(abs(to_user.a) or 1.0)
     rings: list[ExactRing] = []
     open_paths = 0
     for element in document.elements():
@@ -316,8 +582,8 @@ def read_svg_rings(path: str | Path, *, scale: Decimal = Decimal(1), tolerance: 
                     closed = True
                 elif isinstance(segment, svg.Line):
                     points.append(exact(segment.end.x, segment.end.y))
-                else:  # arcs and Bézier curves
-                    chords = _flatten(segment, drawing_tolerance)
+                else:  # arcs and Bézier curves (in viewport pixels: the tolerance converted there)
+                    chords = _flatten(segment, drawing_tolerance / user_scale)
                     points.extend(rounded(x, y) for x, y in chords[:-1])
                     points.append(exact(segment.end.x, segment.end.y))
             ring = _dedupe(points)
@@ -327,7 +593,7 @@ def read_svg_rings(path: str | Path, *, scale: Decimal = Decimal(1), tolerance: 
                 rings.append(ring)
             elif points:
                 open_paths += 1
-    return rings, {"open_paths": open_paths}
+    return rings, {"open_paths": open_paths, "units": unit_name, "scale": str(scale)}
 
 
 def _area2(ring: Sequence[tuple[Decimal, Decimal]]) -> Decimal:

@@ -24,6 +24,7 @@ from solverplan.plan.result import (
     load_plan,
     parse_plan,
 )
+from solverplan.plan.export import EXPORT_FORMATS, export_plan, plan_in_world
 from solverplan.plan.funnel import Funnel
 from solverplan.plan.localize import Localization
 from solverplan.plan.patrol import Patrol
@@ -37,6 +38,9 @@ from solverplan.plan.search import (
 )
 
 __all__ = [
+    "EXPORT_FORMATS",
+    "export_plan",
+    "plan_in_world",
     "Funnel",
     "Localization",
     "Patrol",

@@ -280,6 +280,7 @@ def find_plan(
     safe_margin: float = DEFAULT_SAFE_MARGIN,
     corner_clearance: float | None = None,
     timeout: float | Deadline | None = None,
+    min_width: float | None = None,
 ) -> Plan:
     """The optimal plan from ``start`` to ``goal`` for ``objective``, or a proof that there is none.
 
@@ -307,6 +308,14 @@ def find_plan(
         :class:`~solverplan.plan._deadline.Deadline`), the partition and the graph build included (they stop at it
         too). At the deadline the search stops: the best plan found so far, or ``not-found``, with
         ``optimality.proved`` false, the bound proved so far and the timeout in ``optimality.limits``.
+    min_width
+        The robot's heading accuracy A (radians): plan only with intervals at least A wide (a robot that turns
+        within ±a needs A = 2a). ``fewest``: the fewest bounces among plans whose every interval is at least A wide
+        (breadth-first search over the options that wide; the claim is about that class, so ``optimality.proved``
+        is false: certificates do not express it); ``tolerance`` and ``constant``: the optimum, if it is at least
+        A. When no plan is that wide the answer is ``infeasible`` and its reason gives the best accuracy that
+        would work (the tolerance optimum W*) and the start pieces that block (those whose own best plan is
+        narrower than A).
 
     Returns
     -------
@@ -354,6 +363,12 @@ def find_plan(
         raise InputError("method 'milp' needs max_bounces (--max-bounces K): it works on the time-expanded network")
     if method == "auto":
         method = allowed[1]
+    if min_width is not None:
+        if isinstance(min_width, bool) or not isinstance(min_width, (int, float)) or not 0 < min_width < math.pi:
+            raise InputError(f"the heading accuracy must be a number of radians in (0, π), got {quote(min_width)}")
+        if objective == "sum" or method in ("milp", "lp"):
+            raise InputError("a heading accuracy (--heading-accuracy) applies to the fewest, tolerance and constant "
+                             "objectives with their default methods")
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
     try:
@@ -370,6 +385,8 @@ def find_plan(
     if deadline.expired():
         plan = _cut(problem, objective, k_max, deadline, "building the safe BVG and the query", None,
                     "", common, {})
+    elif min_width is not None:
+        plan = _solve_accuracy(problem, objective, k_max, method, common, deadline, float(min_width))
     else:
         plan = _solve(problem, objective, k_max, method, common, deadline)
     t2 = time.perf_counter()
@@ -565,6 +582,68 @@ def _solve(problem: Problem, objective: str, k_max: int | None, method: str, com
     assert interval is not None
     return _found(problem, objective, path, claim(exhausted, True, interval[1] - interval[0], algorithm),
                   common, stats, constant=interval)
+
+
+def _solve_accuracy(problem: Problem, objective: str, k_max: int | None, method: str, common: dict,
+                    deadline: Deadline, accuracy: float) -> Plan:
+    """:func:`find_plan` for a robot whose headings are only good to ``accuracy`` radians (``min_width``)."""
+    scope = f"; every interval at least {accuracy:g} rad wide (the robot's heading accuracy)"
+
+    def claim(proved: bool, bound: float | None, algorithm: str) -> Optimality:
+        opt = _claim(Method.SEARCH_EXHAUSTED, proved, bound, algorithm, problem, k_max)
+        return replace(opt, scope=opt.scope + scope)
+
+    if objective == "fewest" and not problem.start_in_goal and _precheck(problem, objective, k_max) is None:
+        path, stats = _search.bfs(problem, threshold=accuracy, max_bounces=k_max, deadline=deadline)
+        algorithm = (f"belief-state BFS over the options at least {accuracy:g} rad wide: the fewest bounces among "
+                     "plans whose intervals are all that wide")
+        if stats.get("timed_out"):
+            return _cut(problem, objective, k_max, deadline, f"{stats['beliefs']} beliefs", float(stats["depth"]),
+                        algorithm, common, stats)
+        if path is not None:
+            return _found(problem, objective, path, claim(False, float(len(path)), algorithm), common,
+                          {**stats, "heading_accuracy": accuracy})
+        plan = None
+    else:
+        plan = _solve(problem, objective, k_max, method, common, deadline)
+        if plan.status != Status.FOUND or plan.min_width is None or plan.min_width >= accuracy or not plan.stages:
+            if plan.status == Status.FOUND:
+                return plan.with_(optimality=replace(plan.optimality, scope=plan.optimality.scope + scope))
+            return plan
+    if deadline.expired():
+        return _cut(problem, objective, k_max, deadline, "the search for a plan that wide", None, "", common, {})
+    return _infeasible(objective, _accuracy_reason(problem, accuracy, k_max, deadline),
+                       claim(True, None, "search over the options at least that wide, then the tolerance optimum W* "
+                                         "and each start piece's own"), common, {"heading_accuracy": accuracy})
+
+
+def _accuracy_reason(problem: Problem, accuracy: float, k_max: int | None, deadline: Deadline) -> str:
+    """Why no plan is ``accuracy`` wide: the best accuracy that works (W*, no budget) and the start pieces that block."""
+    best, _ = _search.bottleneck(problem, deadline=deadline)
+    blocking = []
+    for s in sorted(problem.start_belief):
+        width = problem.belief_bounds((s,))[1]
+        if width < accuracy:
+            try:
+                text = problem.segment_text(s)
+            except (IndexError, KeyError, TypeError):
+                text = f"start piece {s}"
+            blocking.append((width, text))
+    budget = f" within {k_max} bounces" if k_max is not None else ""
+    reason = f"no plan{budget} has every interval at least {accuracy:g} rad wide"
+    if best > 0:
+        reason += (f"; the best heading accuracy that would work is {best:.6g} rad ({math.degrees(best):.4g}°: the "
+                   f"widest narrowest interval of any plan, without a bounce budget)")
+    else:
+        reason += "; no plan exists at any accuracy"
+    if blocking:
+        blocking.sort()
+        shown = "; ".join(f"{text} (its best {w:.4g} rad)" for w, text in blocking[:5])
+        more = f"; and {len(blocking) - 5} more" if len(blocking) > 5 else ""
+        reason += f"; start pieces that block (their own best plan is narrower): {shown}{more}"
+    elif best > 0:
+        reason += "; every start piece alone has such a plan: it is the start set as a whole (one interval from all of it) that blocks"
+    return reason
 
 
 def _fewest(problem: Problem, k_max: int | None, common: dict, deadline: Deadline = NEVER) -> Plan:

@@ -31,6 +31,7 @@ from solverplan.render.environment import (
     render_environment,
 )
 from solverplan.render.explore import render_exploration
+from solverplan.render.floorplan import FEATURE_STYLES, render_import
 from solverplan.render.fields import SCENARIO_COLORS, draw_cell_fields, draw_cells, render_fields
 from solverplan.render.figure import FigureFormat, SavedFigure, figure_bytes, figure_format, new_figure, save_figure
 from solverplan.render.graph import draw_graph, draw_safe_arcs
@@ -47,6 +48,8 @@ from solverplan.render.wallfollow import (CUT_COLORS, SHADOW_COLORS, draw_cut_di
                                           render_pursuit)
 
 __all__ = [
+    "render_import",
+    "FEATURE_STYLES",
     "render_exploration",
     "render_fields",
     "draw_cells",

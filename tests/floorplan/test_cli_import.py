@@ -25,9 +25,13 @@ def office_map(tmp_path):
 
 def test_import_prints_the_summary_and_writes_the_environment(tmp_path, office_map):
     out = tmp_path / "office.json"
-    result = runner.invoke(app, ["import", str(office_map), "-o", str(out), "--simplify", "0.1", "--rectilinear", "2"])
+    result = runner.invoke(app, ["import", str(office_map), "-o", str(out), "--simplify", "0.1", "--rectilinear", "2",
+                                 "--min-obstacle", "0.25"])
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
+    specks = [f for f in summary["features"] if f["kind"] == "speckle"]
+    assert len(specks) == summary["dropped"]["speckle"] > 0 and all(f["size"] < 0.25 for f in specks)
+    assert summary["settings"]["min_obstacle_m"] == 0.25 and summary["warnings"] == []
     assert list(summary)[:7] == ["kind", "status", "written", "outer_vertices", "holes", "dropped", "area"]
     assert summary["written"] == str(out) and summary["holes"] == 2 and summary["format"] == "ros"
     environment = load_environment(out)
@@ -37,7 +41,8 @@ def test_import_prints_the_summary_and_writes_the_environment(tmp_path, office_m
 
 
 def test_import_text_report(tmp_path, office_map):
-    result = runner.invoke(app, ["import", str(office_map), "-o", str(tmp_path / "o.wkt"), "--format", "text"])
+    result = runner.invoke(app, ["import", str(office_map), "-o", str(tmp_path / "o.wkt"), "--format", "text",
+                                 "--min-obstacle", "0.25"])
     assert result.exit_code == 0, result.output
     assert result.stdout.startswith(f"import {office_map} (ros): found\n") and "2 holes" in result.stdout
     assert (tmp_path / "o.wkt").read_text().startswith("POLYGON ((")
@@ -93,7 +98,7 @@ def test_a_seed_point_off_the_free_space_exits_2(tmp_path, point, message):
     assert result.exit_code == 2 and message in result.stderr and result.stderr.count("\n") == 1, result.stderr
 
 
-@pytest.mark.parametrize("options,message", [(["--layer", "A"], "--layer and --units apply to DXF"),
+@pytest.mark.parametrize("options,message", [(["--layer", "A"], "--layer, --units, --snap and --max-jamb apply to DXF"),
                                              (["--scale", "2"], "--scale applies to SVG"),
                                              (["--tolerance", "0.1"], "--tolerance applies to DXF and SVG"),
                                              (["--simplify", "-1"], "--simplify must be a non-negative"),

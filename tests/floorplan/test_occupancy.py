@@ -39,8 +39,10 @@ def test_a_rasterised_polygon_imports_back_within_a_resolution_bound(tmp_path, r
     truth = office_polygon()
     image, origin = rasterise(truth, resolution, seed=7, **NOISE[noise])
     source = write_map(tmp_path, image, origin, resolution)
-    done = import_floorplan(source, output=tmp_path / "env.json")
-    environment = done.environment_value
+    specks = "speckle" in NOISE[noise]
+    # sensor specks are single cells: keep them out by size (each is listed where it was), obstacles stay
+    done = import_floorplan(source, output=tmp_path / "env.json", min_obstacle=4 * resolution if specks else None)
+    environment = done.environment
     noisy = noise not in ("clean", "occupied margin")
     # the traced boundary lies on cell edges (± half a cell on slanted walls), simplification adds its tolerance
     # (half a cell) and ragged walls one more cell
@@ -49,8 +51,13 @@ def test_a_rasterised_polygon_imports_back_within_a_resolution_bound(tmp_path, r
     assert abs(float(environment.area) - truth.area) <= truth.length * resolution * (0.5 if noisy else 0.25)
     assert len(environment.holes) == 2
     assert done.to_json()["holes"] == 2 and done.to_json()["outer_vertices"] == len(environment.outer)
-    if noise in ("speckle", "ragged+speckle"):
+    if specks:
         assert done.dropped["speckle"] > 0 or done.dropped["components"] > 0
+        listed = [f for f in done.features if f.kind == "speckle"]
+        assert len(listed) == done.dropped["speckle"]
+        minx, miny, maxx, maxy = truth.bounds
+        assert all(minx - 1 <= f.at[0] <= maxx + 1 and miny - 1 <= f.at[1] <= maxy + 1 for f in listed)
+        assert all(f.size < 4 * resolution for f in listed)
     # the file written reads back as the very same environment (short exact decimals)
     assert load_environment(tmp_path / "env.json") == environment
     assert all(len(json.dumps(float(c))) <= 12 for p in environment.exact_vertices for c in p)
@@ -62,17 +69,17 @@ def test_the_seed_point_picks_its_component_and_the_largest_is_the_default(tmp_p
     image, origin = rasterise(shapely.MultiPolygon([big, small]), 0.1, wall=0.2)
     source = write_map(tmp_path, image, origin, 0.1)
     largest = import_floorplan(source)
-    assert float(largest.environment_value.area) == pytest.approx(12, abs=0.2)
+    assert float(largest.environment.area) == pytest.approx(12, abs=0.2)
     assert largest.dropped["components"] == 1 and largest.dropped["component_area"] == pytest.approx(2.25, abs=0.2)
     chosen = import_floorplan(source, seed_point=("5.5", "0.5"))
-    assert float(chosen.environment_value.area) == pytest.approx(2.25, abs=0.1)
+    assert float(chosen.environment.area) == pytest.approx(2.25, abs=0.1)
 
 
 def test_world_coordinates_put_the_origin_at_the_lower_left_pixel_corner(tmp_path):
     image = np.full((4, 6), OCCUPIED, np.uint8)
     image[1:3, 1:5] = FREE  # rows 1-2 from the top: the second and third rows from the bottom
     source = write_map(tmp_path, image, (10.0, -5.0), 0.5)
-    environment = import_floorplan(source, simplify=0, spur_width=0).environment_value
+    environment = import_floorplan(source, simplify=0, spur_width=0).environment
     xs = sorted({float(x) for x, _ in environment.outer})
     ys = sorted({float(y) for _, y in environment.outer})
     assert xs == [10.5, 12.5] and ys == [-4.5, -3.5]
@@ -100,7 +107,7 @@ def test_unknown_cells_are_not_free(tmp_path):
     image = np.full((10, 10), UNKNOWN, np.uint8)
     image[2:8, 2:5] = FREE
     source = write_map(tmp_path, image, (0.0, 0.0), 1.0)
-    assert float(import_floorplan(source, spur_width=0).environment_value.area) == 18
+    assert float(import_floorplan(source, spur_width=0).environment.area) == 18
 
 
 def test_png_with_transparency_reads_transparent_cells_as_unknown(tmp_path):
@@ -122,19 +129,28 @@ def test_spurs_and_speckle_are_removed_and_counted(tmp_path):
     image[12, 12] = OCCUPIED  # a speck
     image[25:29, 25:29] = OCCUPIED  # a real obstacle, 16 cells
     source = write_map(tmp_path, image, (0.0, 0.0), 0.1)
-    done = import_floorplan(source)
+    kept = import_floorplan(source)  # by default a 10 cm speck is an obstacle (a post): kept
+    assert kept.dropped["spurs"] == 1 and kept.dropped["speckle"] == 0 and len(kept.environment.holes) == 2
+    done = import_floorplan(source, min_obstacle=0.15)
     assert done.dropped["spurs"] == 1 and done.dropped["speckle"] == 1
-    assert len(done.environment_value.holes) == 1
-    kept = import_floorplan(source, spur_width=0, min_hole_area=0)
-    assert kept.dropped["spurs"] == 0 and len(kept.environment_value.holes) == 2
+    assert len(done.environment.holes) == 1
+    speck = [f for f in done.features if f.kind == "speckle"]
+    assert len(speck) == 1 and speck[0].at == pytest.approx((1.25, 2.75)) and speck[0].size == pytest.approx(0.1)
+    spur = [f for f in done.features if f.kind == "spur"]
+    assert len(spur) == 1 and spur[0].at[0] > 3.5 and spur[0].area == pytest.approx(0.04)
+    assert "speckle at (1.25, 2.75)" in done.to_text()
+    by_area = import_floorplan(source, min_hole_area=0.05)  # the old area rule still works
+    assert by_area.dropped["speckle"] == 1
+    bare = import_floorplan(source, spur_width=0)
+    assert bare.dropped["spurs"] == 0 and len(bare.environment.holes) == 2
 
 
 def test_rectilinear_snapping_straightens_a_slightly_turned_map(tmp_path):
     truth = shapely.affinity.rotate(office_polygon(), 1.0, origin=(0, 0))
     image, origin = rasterise(truth, 0.05, ragged=0.2, seed=3)
     source = write_map(tmp_path, image, origin, 0.05)
-    done = import_floorplan(source, simplify=0.1, rectilinear=3)
-    environment = done.environment_value
+    done = import_floorplan(source, simplify=0.1, rectilinear=3, min_obstacle=0.06)  # one-cell specks out
+    environment = done.environment
     outer = environment.outer
     axis = [a[0] == b[0] or a[1] == b[1] for a, b in zip(outer, outer[1:] + outer[:1])]
     assert all(axis) and len(outer) == 6
@@ -155,7 +171,7 @@ def test_a_yaw_turns_the_map_about_its_origin(tmp_path):
     image[1:5, 1:7] = FREE
     source = write_map(tmp_path, image, (0.0, 0.0), 1.0)
     source.write_text(source.read_text().replace("0.0]", f"{math.pi / 2!r}]"))
-    environment = import_floorplan(source, simplify=0, spur_width=0).environment_value
+    environment = import_floorplan(source, simplify=0, spur_width=0).environment
     xs = sorted({round(float(x), 6) for x, _ in environment.outer})
     ys = sorted({round(float(y), 6) for _, y in environment.outer})
     assert xs == [-5.0, -1.0] and ys == [1.0, 7.0]
@@ -203,3 +219,27 @@ def test_a_spur_width_wider_than_the_map_is_one_clear_error(tmp_path):
     for width in (16, 1e300):
         with pytest.raises(InputError, match="narrower than --spur-width"):
             import_floorplan(office, output=tmp_path / "o.json", spur_width=width)
+
+
+def test_snapping_survives_posts_near_the_walls(tmp_path):
+    """A depot hall: ragged walls, 10–15 cm posts (some 10 cm from a wall) and a 20 × 40 cm box. The posts and the box
+    are kept by default, and snapping the walls to the axes does not give up on the walls because of them."""
+    hall = shapely.box(0, 0, 12, 6)
+    posts = [shapely.box(x, y, x + s, y + s) for x, y, s in ((2, 2, 0.1), (4, 2, 0.15), (6, 4, 0.1), (0.2, 3, 0.1),
+                                                              (11.7, 1, 0.15), (8, 5.7, 0.1))]
+    box = shapely.box(9, 2, 9.4, 2.2)
+    free = hall.difference(shapely.union_all([*posts, box]))
+    image, origin = rasterise(free, 0.05, ragged=0.1, seed=5)
+    source = write_map(tmp_path, image, origin, 0.05)
+    done = import_floorplan(source, simplify=0.1, rectilinear=10)
+    assert done.holes >= 4  # posts in the open; those 10 cm from a wall may join it (the gap is a spur, listed)
+    assert done.dropped["rectilinear_skipped"] < done.holes and done.dropped["speckle"] == 0  # walls snapped
+    outer = done.environment.outer
+    assert all(a[0] == b[0] or a[1] == b[1] for a, b in zip(outer, outer[1:] + outer[:1]))
+    assert done.area == pytest.approx(free.area, rel=0.02)
+    kept = shapely.Polygon([(float(x), float(y)) for x, y in outer])
+    for post in (*posts, box):  # every post and the box: a hole, or outside the outer ring (joined to a wall)
+        centre = post.centroid
+        in_hole = any(shapely.Polygon([(float(x), float(y)) for x, y in h]).buffer(0.05).contains(centre)
+                      for h in done.environment.holes)
+        assert in_hole or not kept.buffer(-0.01).contains(centre)

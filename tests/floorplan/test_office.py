@@ -25,7 +25,7 @@ def test_the_office_map_is_what_its_script_writes():
 
 def test_the_readme_tutorial_imports_and_plans_through_the_door(tmp_path):
     done = import_floorplan(MODELS / "office.yaml", output=tmp_path / "office.json", simplify=0.15, rectilinear=10)
-    env = done.environment_value
+    env = done.environment
     assert (done.outer_vertices, done.holes, env.n_vertices) == (14, 2, 23)
     assert 52.5 < done.area < 54.5  # 10 m × 6 m less the wall, desk, table and shelf (54.2 m²) less ragged edges
     # e8 is the left room's far wall, e0 the right room's: the README's edge ids
@@ -37,7 +37,7 @@ def test_the_readme_tutorial_imports_and_plans_through_the_door(tmp_path):
 
 def test_a_fine_import_advises_the_simplification_that_planning_needs(tmp_path):
     fine = import_floorplan(MODELS / "office.yaml", output=tmp_path / "fine.json")  # half a cell: ~400 vertices
-    assert fine.environment_value.n_vertices > 150 and "--simplify 0.1 (two cells)" in fine.to_json()["advice"]
+    assert fine.environment.n_vertices > 150 and "--simplify 0.1 (two cells)" in fine.to_json()["advice"]
     assert "advice:" in fine.to_text()
     coarse = import_floorplan(MODELS / "office.yaml", output=tmp_path / "coarse.json", simplify=0.1, rectilinear=10)
     assert coarse.advice is None and "advice" not in coarse.to_json()

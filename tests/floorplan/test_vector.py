@@ -46,13 +46,24 @@ def test_dxf_polylines_and_chained_lines_read_back_exactly_in_metres(tmp_path):
     want = _expected([("0", "0"), ("12.5", "0"), ("12.5", "8.25"), ("0", "8.25")],
                      [[("1", "1"), ("2", "1"), ("2", "1.75"), ("1", "1.75")],
                       [("5", "5"), ("5.5", "5"), ("5.5", "5.5"), ("5", "5.5")]])
-    got = done.environment_value
+    got = done.environment
     assert _canonical(got.outer) == _canonical(want.outer)
-    assert sorted(map(_canonical, got.holes)) == sorted(map(_canonical, want.holes))
+    squares = [h for h in got.holes if len(h) == 4]
+    assert sorted(map(_canonical, squares)) == sorted(map(_canonical, want.holes))
+    # the CIRCLE is a column: a regular polygon around it, within the tolerance (1 cm)
+    column = [h for h in got.holes if len(h) > 4]
+    assert len(column) == 1
+    radii = [math.hypot(float(x) - 7, float(y) - 3) for x, y in column[0]]
+    assert all(0.3 <= r <= 0.3 + 0.01 for r in radii)
     assert load_environment(tmp_path / "plan.json") == got
-    assert done.units == "m" and done.area == 12.5 * 8.25 - 0.75 - 0.25
-    assert done.dropped["open_chains"] == 1 and done.dropped["other_layers"] == 1 and done.dropped["unsupported"] == 1
-    assert done.dropped["duplicates"] == 1
+    column_area = float(Environment.from_coords(column[0]).area)
+    assert math.pi * 0.09 <= column_area <= math.pi * 0.31 ** 2
+    assert done.units == "m" and done.area == pytest.approx(12.5 * 8.25 - 0.75 - 0.25 - column_area, abs=1e-9)
+    assert done.dropped["other_layers"] == 1 and done.dropped["unsupported"] == {}
+    dangling = [f for f in done.features if f.kind == "dangling_line"]
+    assert len(dangling) == 1 and dangling[0].at == pytest.approx((0.15, 0.2)) and dangling[0].size == pytest.approx(
+        math.hypot(0.1, 0.2))
+    assert done.warnings == ()
 
 
 def test_dxf_units_come_from_the_header_and_units_overrides_them(tmp_path):
@@ -60,10 +71,10 @@ def test_dxf_units_come_from_the_header_and_units_overrides_them(tmp_path):
     doc.modelspace().add_lwpolyline([(0, 0), (100, 0), (100, 50), (0, 50)], close=True)
     file = tmp_path / "inches.dxf"
     doc.saveas(file)
-    inches = import_floorplan(file).environment_value
+    inches = import_floorplan(file).environment
     assert inches.area == F(254, 100) * F(127, 100)  # 2.54 m × 1.27 m, exactly
     unitless = import_floorplan(file, units="unitless")
-    assert unitless.units == "unitless" and unitless.environment_value.area == 5000
+    assert unitless.units == "unitless" and unitless.environment.area == 5000
     with pytest.raises(InputError, match="--units 'parsec'"):
         import_floorplan(file, units="parsec")
 
@@ -104,7 +115,7 @@ def test_svg_closed_paths_read_back_exactly_with_y_flipped_and_scaled(tmp_path):
     file = tmp_path / "plan.svg"
     file.write_text(SVG)
     done = import_floorplan(file, scale="0.05", output=tmp_path / "plan.json")
-    got = done.environment_value
+    got = done.environment
     assert _canonical(got.outer) == _canonical(_expected([("0", "0"), ("10", "0"), ("10", "5"), ("0", "5")]).outer)
     holes = [_canonical(h) for h in got.holes]
     triangle = _expected([("0", "0"), ("10", "0"), ("10", "5"), ("0", "5")], [[("1", "4"), ("2", "4"), ("2", "2.5")]])
@@ -144,10 +155,10 @@ def test_a_skewed_drawing_is_snapped_and_simplified_on_request(tmp_path):
     doc.modelspace().add_lwpolyline([(0, 0), (3, 0.004), (6, 0.02), (6.03, 4), (0, 4.01)], close=True)
     file = tmp_path / "skewed.dxf"
     doc.saveas(file)
-    exact = import_floorplan(file).environment_value
+    exact = import_floorplan(file).environment
     assert len(exact.outer) == 5 and exact.outer[1] == (F(3), F(4, 1000))
     done = import_floorplan(file, simplify=0.01, rectilinear=2)
-    outer = done.environment_value.outer
+    outer = done.environment.outer
     assert len(outer) == 4 and done.dropped["simplified_vertices"] == 1
     assert all(a[0] == b[0] or a[1] == b[1] for a, b in zip(outer, outer[1:] + outer[:1]))
 
@@ -172,6 +183,6 @@ def test_dxf_block_references_are_expanded_on_their_layer(tmp_path):
     file = tmp_path / "columns.dxf"
     doc.saveas(file)
     done = import_floorplan(file, layer="WALLS")
-    holes = sorted(_canonical(h) for h in done.environment_value.holes)
+    holes = sorted(_canonical(h) for h in done.environment.holes)
     assert [h[0] for h in holes] == [(F(2), F(2)), (F(7), F(3))]
     assert done.area == 60 - 2 * 0.25 and done.dropped["other_layers"] == 1

@@ -1,0 +1,42 @@
+"""``export``: plans out to robots (world coordinates: waypoints, CSV, GeoJSON)."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from solverplan.cli._app import EnvFormatOpt, VerboseOpt, app, load_env
+from solverplan.cli._errors import exit_codes
+
+
+class ExportFormat(StrEnum):
+    WAYPOINTS = "waypoints"
+    CSV = "csv"
+    GEOJSON = "geojson"
+
+
+@app.command(name="export")
+def export_command(
+    plan_file: Annotated[Path, typer.Argument(metavar="PLAN.json", help="A plan written by 'solverplan plan -o PLAN.json'.", show_default=False)],
+    env: Annotated[str, typer.Option("--env", metavar="ENV", help="The plan's environment (file or shipped model).")],
+    export_format: Annotated[ExportFormat, typer.Option("--format", help="waypoints (JSON poses in the map frame), csv (a row per contact) or geojson.")] = ExportFormat.WAYPOINTS,
+    out: Annotated[Path | None, typer.Option("-o", "--output", metavar="FILE", help="Write the export atomically instead of printing it.", show_default=False)] = None,
+    env_format: EnvFormatOpt = None,
+    verbose: VerboseOpt = 0,
+) -> None:
+    """A plan in world coordinates for a robot stack: contact ranges on the walls (metres), map-frame headings."""
+    from solverplan._io import atomic_write_text
+    from solverplan.plan.export import export_plan
+    from solverplan.plan.result import load_plan
+
+    with exit_codes(verbose):
+        environment = load_env(Path(env), env_format)
+        plan = load_plan(plan_file)
+        text = export_plan(plan, environment, export_format.value)
+        if out is not None:
+            atomic_write_text(out, text)
+        else:
+            typer.echo(text, nl=False)
