@@ -107,7 +107,7 @@ def test_single_failure_has_no_more_suffix(tmp_path):
     "mutate,fragment",
     [
         (lambda d: d.update(schema="something-else"), "not a solverplan certificate: schema is 'something-else'"),
-        (lambda d: d.update(version=4), "certificate version 4 is not supported (this solverplan reads versions 1, 2 and 3)"),
+        (lambda d: d.update(version=5), "certificate version 5 is not supported (this solverplan reads versions 1 to 4)"),
         (lambda d: d["claims"].update(min_width="abc"), "claims.min_width: 'abc' is not a number"),
         (lambda d: d["claims"].update(tolerance="1/0"), "claims.tolerance: '1/0' divides by zero"),
         (lambda d: d["stages"][0]["moves"][0].update(d_lo=[1]), "stages[0].moves[0].d_lo: expected a pair [x, y], got [1]"),
@@ -265,7 +265,7 @@ def test_issue_22_an_infeasible_plan_writes_a_certificate_that_verify_proves(tmp
     assert made.exit_code == 0 and made.stderr == "", made.stderr
     assert json.loads(made.stdout)["status"] == "infeasible"
     data = json.loads(cert.read_text())
-    assert data["version"] == 3 and data["kind"] == "infeasible" and data["stages"] == []
+    assert data["version"] == 4 and data["kind"] == "infeasible" and data["stages"] == []
     assert data["bound"]["budget"] == 4 and data["bound"]["heading_margin"] == "0.001"
     report = json.loads(run("verify", cert).stdout)
     assert report["valid"] is True and report["kind"] == "infeasible"

@@ -63,8 +63,9 @@ from typing import Any, Callable, Literal
 from solverplan._io import atomic_write_text
 from solverplan.bounce.partition import Partition, partition as make_partition
 from solverplan.certify.check import CheckReport, Failure, check_certificate
-from solverplan.certify.schema import (Certificate, Claims, EnvironmentRecord, Optimality as ClaimedOptimality, Piece,
-                                       dumps_certificate)
+from solverplan.certify import build_models as models
+from solverplan.certify.schema import (Certificate, Claims, EnvironmentRecord, ModelCertificate, Optimality as ClaimedOptimality,
+                                       Piece, dumps_certificate)
 from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_certificate
 from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, SolverplanError
@@ -72,7 +73,14 @@ from solverplan.plan._results import PositionStrategy
 from solverplan.plan.localize import Localization
 from solverplan.plan.patrol import Patrol
 from solverplan.plan.result import ParetoFront, Plan
+from solverplan.explore.depth_first import Exploration
+from solverplan.explore.range_limited import RangeExploration
+from solverplan.rectilinear.decomposition import Decomposition as RoomsDecomposition
+from solverplan.reflection.compose import FieldPlan
+from solverplan.reflection.navigation import FieldNavigation
 from solverplan.result import Status
+from solverplan.wallfollow.ordering import CutOrdering
+from solverplan.wallfollow.pursuit import PursuitPlan
 
 __all__ = ["certificate", "write_certificate", "NothingToCertify", "CertificateRejected"]
 
@@ -105,14 +113,15 @@ class CertificateRejected(SolverplanError):
     """The exact checker refused a certificate that was about to be written: ``failure`` is the first
     claim that does not hold, ``report`` the whole verdict. Nothing was written."""
 
-    def __init__(self, cert: Certificate, report: CheckReport) -> None:
+    def __init__(self, cert: Certificate | ModelCertificate, report: CheckReport) -> None:
         self.report = report
         self.failure: Failure = report.failures[0]
         super().__init__(f"the {cert.kind}'s certificate does not verify: {self.failure}")
 
 
 # ---------------------------------------------------------------------- the two calls
-def certificate(result: Any, *, env: Environment | None = None, partition: Partition | None = None) -> Certificate:
+def certificate(result: Any, *, env: Environment | None = None,
+                partition: Partition | None = None) -> Certificate | ModelCertificate:
     """The certificate of a planner's answer (see the module docstring for what each kind claims).
 
     Its claims are exact (rational numbers, the exact safe-set ends); :func:`check_certificate` re-derives them
@@ -161,10 +170,11 @@ def certificate(result: Any, *, env: Environment | None = None, partition: Parti
         if build is not None:
             return build(result, env, partition)
     raise TypeError(f"cannot certify a {type(result).__name__}: certificates are made of plans, Pareto fronts, "
-                    f"patrols, funnels and localisation strategies")
+                    f"patrols, funnels, localisation strategies, rooms, explorations, cut orderings, pursuit plans "
+                    f"and composed fields")
 
 
-def write_certificate(cert: Certificate, path: str | os.PathLike[str], *, check: bool = True) -> None:
+def write_certificate(cert: Certificate | ModelCertificate, path: str | os.PathLike[str], *, check: bool = True) -> None:
     """Write ``cert`` as JSON to ``path`` — after checking it exactly, unless ``check=False``.
 
     The file is written atomically (whole or not at all; a previous file at ``path`` stays intact on failure).
@@ -411,10 +421,22 @@ def _contraction_optimality(opt: Any) -> ClaimedOptimality | None:
     return ClaimedOptimality(str(opt.method), bool(opt.proved), Fraction(opt.bound))
 
 
-_BUILDERS: dict[type, Callable[[Any, Environment | None, Partition | None], Certificate]] = {
+def _model(make: Callable[[Any, Environment | None], ModelCertificate]) -> Callable[..., ModelCertificate]:
+    """A model certificate's builder (:mod:`solverplan.certify.build_models`) as a :data:`_BUILDERS` entry."""
+    return lambda result, env, _partition: make(result, env)
+
+
+_BUILDERS: dict[type, Callable[[Any, Environment | None, Partition | None], Certificate | ModelCertificate]] = {
     Plan: _plan,
     ParetoFront: _pareto,
     Patrol: _patrol,
     PositionStrategy: _funnel,  # funnels and localisation strategies (both track exact position sets)
+    RoomsDecomposition: _model(models.rooms_certificate),
+    Exploration: _model(models.exploration_certificate),
+    RangeExploration: _model(models.exploration_certificate),
+    CutOrdering: _model(models.cut_ordering_certificate),
+    PursuitPlan: _model(models.pursuit_certificate),
+    FieldNavigation: _model(models.fields_certificate),
+    FieldPlan: _model(models.fields_certificate),
 }
 """How each type of answer becomes a certificate; :func:`certificate` looks the answer's classes up in order."""

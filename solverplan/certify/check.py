@@ -161,8 +161,8 @@ from solverplan.certify.rational_atan import (
     heading_vector,
 )
 from solverplan.certify.invariant import Closure, Geometry, TableError
-from solverplan.certify.schema import (BoundClaim, Certificate, CycleClaim, Move, Piece, Point, SegmentRecord, Stage,
-                                       _terminating_decimal, number_text)
+from solverplan.certify.schema import (MODEL_KINDS, BoundClaim, Certificate, CycleClaim, EnvironmentRecord, ModelCertificate, Move,
+                                       Piece, Point, SegmentRecord, Stage, _terminating_decimal, number_text)
 
 __all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]
 
@@ -237,6 +237,9 @@ class CheckReport:
     goal: dict[str, Any] | None = None
     claims: dict[str, Any] = field(default_factory=dict)
     proved: tuple[str, ...] = ()
+    scope: str = ""
+    """What the statements speak about, in words (model certificates; empty for bounce certificates, whose scope
+    is their environment, start and goal)."""
 
     def to_json(self) -> dict:
         return {
@@ -251,6 +254,7 @@ class CheckReport:
             "checked": dict(self.checked),
             "not_checked": list(self.not_checked),
             "proved": list(self.proved),
+            **({"scope": self.scope} if self.scope else {}),
         }
 
     def to_text(self, *, width: int = 100) -> str:
@@ -261,8 +265,20 @@ class CheckReport:
             name = repr(env["name"]) if env["name"] else "(unnamed)"
             lines.append(f"environment: {name}, sha256 {env['sha256']}, {env['vertices']} vertices, "
                          f"{env['edges']} edges, {env['holes']} hole{'' if env['holes'] == 1 else 's'}")
+        if self.kind in MODEL_KINDS:  # a model certificate: its claims and scope in words
+            lines.append("claims: " + (", ".join(f"{k.replace('_', ' ')} {_short_claim(v)}" for k, v in self.claims.items())
+                                       or "none"))
+            lines.append(f"scope: {self.scope}")
+            lines.append(f"checked exactly: {counts}")
+            if self.valid:
+                lines.extend(f"proved: {statement}" for statement in self.proved)
+            lines.extend(f"FAIL {failure}" for failure in self.failures)
+            lines.extend(f"not checked: {item}" for item in self.not_checked)
+            return "\n".join(lines) + "\n"
         lines.append(f"start: {_set_line(self.start)}")
         lines.append(f"goal: {_set_line(self.goal) if self.goal is not None else 'none (a cycle: the cycle is the goal)'}")
+        if self.scope:
+            lines.append(f"scope: {self.scope}")
         for line in _claim_lines(self.claims):
             lines.append(line)
         lines.append(f"checked exactly: {counts}")
@@ -274,6 +290,16 @@ class CheckReport:
         for item in self.not_checked:
             lines.append(f"not checked: {item}")
         return "\n".join(lines) + "\n"
+
+
+_BOUNCE_SCOPE = ("a point robot in this environment that moves straight between bounces and, at each bounce, executes "
+                 "one heading measured from the edge it is on; the start and goal sets above")
+
+
+def _short_claim(value: Any) -> str:
+    if isinstance(value, str) and ("/" in value or "." in value) and value.replace("/", "").replace(".", "").lstrip("-").isdigit():
+        return _short(value)
+    return str(value)
 
 
 def _set_line(summary: dict[str, Any] | None) -> str:
@@ -350,7 +376,7 @@ Query = Sequence[tuple[int, Fraction, Fraction]]
 
 
 def check_certificate(
-    cert: Certificate,
+    cert: Certificate | ModelCertificate,
     *,
     expected_rings: Sequence[Sequence[Point]] | None = None,
     expected_start: Query | None = None,
@@ -391,6 +417,15 @@ def check_certificate(
     >>> report.valid, report.failures[0].claim, report.failures[0].message
     (False, 'goal', "is e0:[0, 0.3], but the query's goal set is e0:[0, 0.2]")
     """
+    if isinstance(cert, ModelCertificate):  # the other robot models (version 4): their own claims, the same verdict
+        from solverplan.certify.check_models import check_model_certificate
+
+        report = check_model_certificate(cert, expected_rings=expected_rings)
+        if expected_start is None and expected_goal is None:
+            return report
+        wrong = Failure("start" if expected_start is not None else "goal", f"a {cert.kind} certificate has no start or goal set")
+        return CheckReport(False, (wrong, *report.failures), report.checked, report.not_checked, report.kind,
+                           report.version, report.environment, None, None, report.claims, (), report.scope)
     checker = _Checker(cert)
     checker.run(expected_rings)
     if expected_start is not None:
@@ -435,8 +470,28 @@ class _Checker:
             start=summary["start"],
             goal=summary["goal"],
             claims=summary["claims"],
-            proved=tuple(self.proved),
+            proved=tuple(self._main_statement() + self.proved) if not self.failures else tuple(self.proved),
+            scope=_BOUNCE_SCOPE,
         )
+
+    def _main_statement(self) -> list[str]:
+        """What a valid plan, funnel, localisation or cycle certificate proves, in words (``verify`` prints it)."""
+        cert = self.cert
+        if cert.kind == "infeasible":
+            return []
+        k, width = cert.claims.bounces, _num(cert.claims.min_width)
+        if cert.kind == "cycle" and cert.cycle is not None:
+            return [f"executing the entry stages once and then the {len(cert.cycle.stages)} cycle stages forever, with "
+                    f"any heading inside each stage's interval, the robot never leaves the cycle's segments and converges "
+                    f"to the fixed point t = {_num(cert.cycle.fixed_point)}, by at least the factor "
+                    f"{_num(cert.cycle.contraction)} < 1 per cycle; every interval is at least {width} rad wide"]
+        out = [f"from every point of the start set, executing at stage j any heading inside its interval lands the robot "
+               f"in the goal set after {k} bounce{'s' if k != 1 else ''}; every interval is at least {width} rad wide"]
+        if cert.kind in ("funnel", "localize"):
+            out.append("after every stage the robot is within the claimed positions")
+        if cert.kind == "localize" and cert.claims.epsilon is not None:
+            out.append(f"the final positions lie in one interval shorter than ε = {_num(cert.claims.epsilon)}")
+        return out
 
     # ------------------------------------------------------------------ the run
     def run(self, expected_rings: Sequence[Sequence[Point]] | None) -> None:
@@ -1362,10 +1417,7 @@ def certified(cert: Certificate) -> dict[str, Any]:
     rings with every coordinate as exact text (``3``, ``0.25``, ``1/3``).
     """
     rings = cert.environment.rings
-    texts = [[[_canonical(x), _canonical(y)] for x, y in ring] for ring in rings]
-    digest = hashlib.sha256(json.dumps(texts, separators=(",", ":")).encode()).hexdigest()
-    n = sum(len(ring) for ring in rings)
-    environment = {"name": cert.environment.name, "sha256": digest, "vertices": n, "edges": n, "holes": max(len(rings) - 1, 0)}
+    environment = _environment_summary(cert.environment)
     squared = _squared_lengths(rings)
     claims: dict[str, Any] = {} if cert.kind == "infeasible" else {
         "bounces": cert.claims.bounces, "min_width": number_text(cert.claims.min_width),
@@ -1399,6 +1451,15 @@ def certified(cert: Certificate) -> dict[str, Any]:
         "goal": None if cert.goal is None else _set_summary(cert.goal, squared),
         "claims": claims,
     }
+
+
+def _environment_summary(record: EnvironmentRecord) -> dict[str, Any]:
+    """Name, SHA-256 of the exact rings (the planner answers' ``environment.sha256``), vertex, edge and hole counts."""
+    rings = record.rings
+    texts = [[[_canonical(x), _canonical(y)] for x, y in ring] for ring in rings]
+    digest = hashlib.sha256(json.dumps(texts, separators=(",", ":")).encode()).hexdigest()
+    n = sum(len(ring) for ring in rings)
+    return {"name": record.name, "sha256": digest, "vertices": n, "edges": n, "holes": max(len(rings) - 1, 0)}
 
 
 def _canonical(x: Fraction) -> str:

@@ -1,7 +1,8 @@
 """Check before it leaves: every answer is verified by the independent exact checker before it is given.
 
 :func:`checked_answer` runs a query, turns its answer into certificates (:func:`~solverplan.certify.build.certificate`:
-a plan, **every point** of a Pareto front, a patrol, a funnel, a localisation strategy) and checks each one with
+a plan, **every point** of a Pareto front, a patrol, a funnel, a localisation strategy; and the other models' answers:
+rooms, an exploration, a cut ordering, a pursuit plan, composed fields) and checks each one with
 :func:`~solverplan.certify.check.check_certificate`, against the query's environment, start and goal sets. The
 checker shares no code with the planner, the graph builder or the graph cache, so an answer computed from a
 corrupt or forged cached graph (arcs marked safe that are not, shifted intervals) is caught here, whatever the
@@ -39,7 +40,7 @@ from solverplan.bounce._cache import discard_graphs, fresh_graphs, read_from_dis
 from solverplan.certify import build
 from solverplan.certify.build import NothingToCertify
 from solverplan.certify.check import CheckReport, check_certificate
-from solverplan.certify.schema import Certificate
+from solverplan.certify.schema import Certificate, ModelCertificate
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.plan.result import ParetoFront, Plan
@@ -80,7 +81,7 @@ class Checked(Generic[T]):
     """
 
     answer: T
-    certificate: Certificate | None
+    certificate: Certificate | ModelCertificate | None
     checked: int
     retried: bool = False
     unchecked: str | None = None
@@ -182,7 +183,7 @@ def check_infeasibility(answer: Any, env: Environment | None) -> CheckReport | N
 @dataclass(frozen=True)
 class _Verdict:
     failure: str | None
-    certificate: Certificate | None = None
+    certificate: Certificate | ModelCertificate | None = None
     checked: int = 0
     unchecked: str | None = None
     seconds: float = 0.0
@@ -193,7 +194,9 @@ class _Verdict:
 
 def _what(answer: Any) -> str:
     names = {"Plan": "plan", "ParetoFront": "Pareto front", "Patrol": "patrol", "Funnel": "funnel",
-             "Localization": "localisation strategy"}
+             "Localization": "localisation strategy", "Decomposition": "rooms decomposition",
+             "Exploration": "exploration", "RangeExploration": "exploration", "CutOrdering": "cut ordering",
+             "PursuitPlan": "pursuit plan", "FieldNavigation": "field plan", "FieldPlan": "field plan"}
     return names.get(type(answer).__name__, type(answer).__name__)
 
 
@@ -216,7 +219,7 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
     if env is None and isinstance(answer, (Plan, ParetoFront)):
         raise TypeError("a plan does not carry its environment: call checked_answer(..., env=...)")
     plans: list[Any] = [p.plan for p in answer.points] if isinstance(answer, ParetoFront) else [answer]
-    last: Certificate | None = None
+    last: Certificate | ModelCertificate | None = None
     checked = 0
     for k, item in enumerate(plans):
         where = f"point {k} ({item.bounces} bounces) of the front: " if isinstance(answer, ParetoFront) else ""

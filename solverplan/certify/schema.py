@@ -1,4 +1,4 @@
-"""The certificate format (version 3; versions 1 and 2 are still read): frozen dataclasses, and JSON in and out.
+"""The certificate format (version 4; versions 1, 2 and 3 are still read): frozen dataclasses, and JSON in and out.
 
 A certificate is a self-contained statement that :mod:`solverplan.certify.check` re-derives in exact
 rational arithmetic: the environment, the partition segments it names, the start and goal sets, and
@@ -46,9 +46,20 @@ into ``table``) with their ``depth``, the first being the start belief at depth 
 certificate has the block and no stages (w = 0); a ``plan`` certificate may carry one as the proof of its
 optimality bound (``fewest`` with k bounces: K = k − 1, w = 0; ``tolerance``: no plan wider than w).
 
+Model certificates (version 4)
+------------------------------
+The other robot models' answers are certified by :class:`ModelCertificate`: ``{"schema", "version": 4, "kind",
+"producer", "environment", "claims"}`` with ``kind`` one of :data:`MODEL_KINDS` — ``rooms`` (doors, rooms, the
+room tree, areas, escapability Φ and reachability Ψ), ``exploration`` (views, viewpoints, the bound), ``cut-ordering``
+(cut end points and their boundary order), ``pursuit`` (a pursuit plan's motions and its shadow labels) and
+``fields`` (cells, their fields and outlets). ``claims`` is the kind's own block, exact numbers written as in a
+bounce certificate; its fields are documented with each kind's checker (:mod:`solverplan.certify.check_models`)
+and in ``docs/contract.md``. The block is read as data here: the checker reads it field by field, and a
+missing or malformed field there is a failed claim naming it.
+
 Versions
 --------
-Version 3 (written) added the ``infeasible`` kind and the ``bound`` block. Version 2 added the ``localize`` kind and its ``claims.epsilon``. Version 1 (still read) had
+Version 4 (written) added the model kinds; its bounce certificates are those of version 3. Version 3 added the ``infeasible`` kind and the ``bound`` block. Version 2 added the ``localize`` kind and its ``claims.epsilon``. Version 1 (still read) had
 neither: a localisation strategy was a ``funnel`` whose ``claims.objective`` starts with ``localize``; it
 is read as a ``localize`` certificate without an ε claim (``claims.epsilon`` is ``None``,
 :attr:`Certificate.version` is 1) and written back as version 1, unchanged.
@@ -58,10 +69,10 @@ is read as a ``localize`` certificate without an ε claim (``claims.epsilon`` is
 ('plan', 1, (Fraction(1, 1), Fraction(20, 1)))
 >>> Certificate.from_json(cert.to_json()) == cert
 True
->>> parse_certificate('{"schema": "solverplan-certificate", "version": 4}')
+>>> parse_certificate('{"schema": "solverplan-certificate", "version": 5}')
 Traceback (most recent call last):
 ...
-solverplan.certify.schema.CertificateFormatError: certificate version 4 is not supported (this solverplan reads versions 1, 2 and 3)
+solverplan.certify.schema.CertificateFormatError: certificate version 5 is not supported (this solverplan reads versions 1 to 4)
 """
 
 from __future__ import annotations
@@ -95,6 +106,8 @@ __all__ = [
     "BeliefRecord",
     "BoundClaim",
     "Certificate",
+    "ModelCertificate",
+    "MODEL_KINDS",
     "parse_number",
     "json_value",
     "number_text",
@@ -114,11 +127,13 @@ def _q(value: object, limit: int = 40) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 SCHEMA = "solverplan-certificate"
-VERSION = 3
+VERSION = 4
 """The version this solverplan writes."""
-READ_VERSIONS = (1, 2, 3)
+READ_VERSIONS = (1, 2, 3, 4)
 """The versions this solverplan reads."""
 KINDS = ("plan", "cycle", "funnel", "localize", "infeasible")
+MODEL_KINDS = ("rooms", "exploration", "cut-ordering", "pursuit", "fields")
+"""The kinds of :class:`ModelCertificate` (version 4): certificates of the other robot models' answers."""
 _KINDS_V1 = ("plan", "cycle", "funnel")
 _KINDS_V2 = ("plan", "cycle", "funnel", "localize")
 
@@ -388,14 +403,7 @@ class Certificate:
         """The certificate as JSON data (exact numbers as ints or strings)."""
         # version 1 spelled a localisation certificate as a funnel (its objective says localize)
         kind = "funnel" if self.version == 1 and self.kind == "localize" else self.kind
-        data: dict[str, Any] = {"schema": SCHEMA, "version": self.version, "kind": kind}
-        if self.producer:
-            data["producer"] = self.producer
-        env: dict[str, Any] = {}
-        if self.environment.name:
-            env["name"] = self.environment.name
-        env["rings"] = [[_point_json(p) for p in ring] for ring in self.environment.rings]
-        data["environment"] = env
+        data = _head_json(kind, self.version, self.producer, self.environment)
         data["segments"] = [
             {"id": s.id, "edge": s.edge, "t0": json_value(s.t0), "t1": json_value(s.t1), "a": _point_json(s.a), "b": _point_json(s.b)}
             for s in self.segments
@@ -451,15 +459,12 @@ class Certificate:
             place (``stages[0].moves[1].target``). Semantic problems (a ray missing its target, an
             unknown segment id) are not format errors: the checker reports them.
         """
-        top = _object(data, "certificate")
-        if top.get("schema") != SCHEMA:
-            raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
-        version = top.get("version")
-        if isinstance(version, bool) or version not in READ_VERSIONS:
-            raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1, 2 and 3)")
+        top, version = _head(data)
+        kind = _field(top, "kind", "certificate")
+        if version >= 4 and kind in MODEL_KINDS:
+            raise CertificateFormatError(f"kind: {_q(kind)} is a model certificate: read it with parse_certificate")
         fields = {"schema", "version", "kind", "producer", "environment", "segments", "start", "goal", "stages", "claims", "cycle"}
         _known(top, fields | {"bound"} if version >= 3 else fields, "certificate")
-        kind = _field(top, "kind", "certificate")
         kinds = KINDS if version >= 3 else _KINDS_V2 if version == 2 else _KINDS_V1
         if kind not in kinds:
             raise CertificateFormatError(f"kind: {_q(kind)} is not one of {', '.join(kinds)}")
@@ -512,8 +517,87 @@ class Certificate:
         return cls(kind, environment, segments, start, goal, stages, claims, cycle, producer, version, bound)
 
 
+@dataclass(frozen=True)
+class ModelCertificate:
+    """A certificate of another robot model's answer (version 4; module docstring, *Model certificates*).
+
+    ``claims`` is the kind's block as JSON data (exact numbers as ints, strings or :class:`~decimal.Decimal`);
+    :func:`solverplan.certify.check.check_certificate` reads and re-derives it. Build with
+    :func:`solverplan.certify.build.certificate`.
+
+    >>> cert = ModelCertificate("cut-ordering", EnvironmentRecord((((0, 0), (1, 0), (0, 1)),)),
+    ...                         {"cuts": [], "ordering": ["v0", "v1", "v2"]})
+    >>> ModelCertificate.from_json(cert.to_json()) == cert
+    True
+    """
+
+    kind: str
+    environment: EnvironmentRecord
+    claims: dict
+    producer: str = ""
+    version: int = VERSION
+
+    def to_json(self) -> dict:
+        """The certificate as JSON data."""
+        data = _head_json(self.kind, self.version, self.producer, self.environment)
+        data["claims"] = _plain(self.claims)
+        return data
+
+    @classmethod
+    def from_json(cls, data: object) -> ModelCertificate:
+        """Read JSON data; :class:`CertificateFormatError` for a wrong schema, version or kind or a missing field."""
+        top, version = _head(data)
+        kind = _field(top, "kind", "certificate")
+        if kind not in MODEL_KINDS or version < 4:
+            raise CertificateFormatError(f"kind: {_q(kind)} is not a model certificate kind of version {version}")
+        _known(top, {"schema", "version", "kind", "producer", "environment", "claims"}, "certificate")
+        producer = top.get("producer", "")
+        if not isinstance(producer, str):
+            raise CertificateFormatError(f"producer: expected a string, got {_q(producer)}")
+        environment = _environment(_field(top, "environment", "certificate"))
+        claims = _object(_field(top, "claims", "certificate"), "claims")
+        return cls(kind, environment, claims, producer, version)
+
+
+def _head(data: object) -> tuple[dict, int]:
+    """The top object and its version, once the schema and version are known (:class:`CertificateFormatError`)."""
+    top = _object(data, "certificate")
+    if top.get("schema") != SCHEMA:
+        raise CertificateFormatError(f"not a solverplan certificate: schema is {_q(top.get('schema'))}, expected {_q(SCHEMA)}")
+    version = top.get("version")
+    if isinstance(version, bool) or version not in READ_VERSIONS:
+        raise CertificateFormatError(f"certificate version {_q(version)} is not supported (this solverplan reads versions 1 to 4)")
+    return top, version
+
+
+def _head_json(kind: str, version: int, producer: str, environment: EnvironmentRecord) -> dict[str, Any]:
+    """What every certificate starts with: schema, version, kind, producer (if any) and the environment."""
+    data: dict[str, Any] = {"schema": SCHEMA, "version": version, "kind": kind}
+    if producer:
+        data["producer"] = producer
+    env: dict[str, Any] = {}
+    if environment.name:
+        env["name"] = environment.name
+    env["rings"] = [[_point_json(p) for p in ring] for ring in environment.rings]
+    data["environment"] = env
+    return data
+
+
+def _plain(value: Any) -> Any:
+    """JSON data with exact numbers (Fractions, Decimals) as :func:`json_value` text."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, bool) or value is None or isinstance(value, str):
+        return value
+    if isinstance(value, (int, Fraction, Decimal)):
+        return json_value(Fraction(value))
+    raise TypeError(f"a model certificate holds exact numbers, not {type(value).__name__}")
+
+
 # ---------------------------------------------------------------------- text in and out
-def parse_certificate(text: str, *, source: str = "certificate") -> Certificate:
+def parse_certificate(text: str, *, source: str = "certificate") -> Certificate | ModelCertificate:
     """Parse certificate JSON text (decimals read exactly); :class:`CertificateFormatError` if malformed."""
     try:
         data = json.loads(text, parse_float=Decimal, parse_int=_int_of, parse_constant=_reject_constant)
@@ -525,10 +609,12 @@ def parse_certificate(text: str, *, source: str = "certificate") -> Certificate:
         raise CertificateFormatError(f"{source}: JSON nested too deeply") from None
     except ValueError as exc:  # a decimal of a huge exponent, or another number Python cannot read
         raise CertificateFormatError(f"{source}: a number cannot be read ({str(exc)[:60]})") from None
+    if isinstance(data, dict) and data.get("kind") in MODEL_KINDS:
+        return ModelCertificate.from_json(data)
     return Certificate.from_json(data)
 
 
-def load_certificate(path: str | Path) -> Certificate:
+def load_certificate(path: str | Path) -> Certificate | ModelCertificate:
     """Read a certificate file; :class:`CertificateFormatError` (naming the file) if it is unreadable or malformed.
 
     Parameters
@@ -539,8 +625,9 @@ def load_certificate(path: str | Path) -> Certificate:
 
     Returns
     -------
-    Certificate
-        The parsed certificate, exact (numbers as fractions); not yet checked.
+    Certificate or ModelCertificate
+        The parsed certificate, exact (numbers as fractions); not yet checked (a :class:`ModelCertificate` for the
+        other models' kinds, :data:`MODEL_KINDS`).
 
     Raises
     ------
@@ -578,7 +665,7 @@ def load_certificate(path: str | Path) -> Certificate:
         raise CertificateFormatError(message if message.startswith(f"{path}:") else f"{path}: {message}") from None
 
 
-def dumps_certificate(cert: Certificate) -> str:
+def dumps_certificate(cert: Certificate | ModelCertificate) -> str:
     """The certificate as JSON text (two-space indent, small arrays on one line), ending in a newline."""
     return _layout(cert.to_json(), "") + "\n"
 

@@ -10,7 +10,7 @@ import typer
 from solverplan.limits import MAX_SEED
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import PictureOpt, parse_xy
+from solverplan.cli._options import CertificateOpt, PictureOpt, parse_xy, write_certificate_file
 from solverplan.cli._output import OutputFormat, emit
 
 
@@ -27,6 +27,7 @@ def explore_command(
     choice: Annotated[ZChoice, typer.Option("--choice", help="Which unexplored constructed edge the next view is taken on: first, random (with --seed) or far.")] = ZChoice.FIRST,
     seed: Annotated[int | None, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Seed of --choice random (default 0).", show_default=False)] = None,
     range_: Annotated[str | None, typer.Option("--range", metavar="R", help="Sensing range R > 0: range-limited views and Algorithm B (Algorithm A when R reaches across the polygon).", show_default=False)] = None,
+    certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
@@ -35,16 +36,23 @@ def explore_command(
 ) -> None:
     """Explore an unknown polygon with discrete views (Ghosh et al.): Algorithm A (at most r + 1 views), or with
     --range R Algorithm B (at most Lemma 4's bound)."""
+    from solverplan.certify.gate import checked_answer
     from solverplan.explore import Exploration, RangeExploration, explore_depth_first, explore_range_limited
 
     with exit_codes(verbose):
         check_picture(picture)
         environment = load_env(env, env_format)
-        run: Exploration | RangeExploration
-        if range_ is None:
-            run = explore_depth_first(environment, parse_xy(start, "--start"), choice=choice.value, seed=seed)
-        else:
-            run = explore_range_limited(environment, parse_xy(start, "--start"), range_, choice=choice.value, seed=seed)
+        point = parse_xy(start, "--start")
+
+        def solve() -> Exploration | RangeExploration:
+            if range_ is None:
+                return explore_depth_first(environment, point, choice=choice.value, seed=seed)
+            return explore_range_limited(environment, point, range_, choice=choice.value, seed=seed)
+
+        checked = checked_answer(solve, env=environment)  # the views checked exactly before the answer leaves
+        run = checked.answer
+        if certificate is not None:
+            write_certificate_file(run, certificate, environment, checked.certificate)
         if picture is not None:
             from solverplan.render import save_figure
             from solverplan.render.explore import render_exploration

@@ -10,7 +10,7 @@ import typer
 from solverplan.limits import MAX_SEED, MAX_TRAJECTORIES
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import PictureOpt, parse_xy
+from solverplan.cli._options import CertificateOpt, PictureOpt, parse_xy, write_certificate_file
 from solverplan.cli._output import OutputFormat, emit
 
 
@@ -39,6 +39,7 @@ def fields_command(
     arcs: Annotated[bool, typer.Option("--arcs", help="Arc fields in turning cells where they verify (the paper's linear/arc configuration).")] = False,
     fast: Annotated[float, typer.Option("--fast", min=1e-9, max=1e6, metavar="V", help="Speed of the unconstrained and reflection scenarios (length/s).")] = 1.5,
     slow: Annotated[float, typer.Option("--slow", min=1e-9, max=1e6, metavar="V", help="Speed of the constrained scenario (length/s).")] = 0.8,
+    certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
@@ -46,6 +47,7 @@ def fields_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """Composed local potential fields in convex cells, with reflection (Stager and Tanner): cells, sequence, reflection cells and scenario statistics."""
+    from solverplan.certify.gate import checked_answer
     from solverplan.reflection.navigation import navigate_fields
 
     with exit_codes(verbose):
@@ -54,9 +56,12 @@ def fields_command(
         names = ("constrained", "unconstrained", "reflection") if scenario is FieldScenario.ALL else (scenario.value,)
         if trajectories is None:  # a picture without runs shows empty corridors: draw a few by default
             trajectories = min(5, trials) if picture is not None else 0
-        answer = navigate_fields(environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names,
-                                 model=model.value, trials=trials, seed=seed, trajectories=trajectories, arcs=arcs,
-                                 fast=fast, slow=slow)
+        checked = checked_answer(lambda: navigate_fields(
+            environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names, model=model.value,
+            trials=trials, seed=seed, trajectories=trajectories, arcs=arcs, fast=fast, slow=slow), env=environment)
+        answer = checked.answer  # its cells and fields checked exactly before it leaves
+        if certificate is not None:
+            write_certificate_file(answer, certificate, environment, checked.certificate)
         if picture is not None:
             from solverplan.render import save_figure
             from solverplan.render.fields import render_fields

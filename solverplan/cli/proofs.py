@@ -55,12 +55,14 @@ def verify_command(
 ) -> None:
     """Check a certificate in exact rational arithmetic: exit 0 valid, 1 invalid (the first failing claim on stderr), 2 malformed."""
     from solverplan.certify.check import check_certificate
-    from solverplan.certify.schema import load_certificate
+    from solverplan.certify.schema import MODEL_KINDS, load_certificate
 
     with exit_codes(verbose):
         if (start is not None or goal is not None) and env is None:
             raise InputError("--from and --to name edges of an environment: give it with --env")
         certificate = load_certificate(cert)
+        if (start is not None or goal is not None) and certificate.kind in MODEL_KINDS:
+            raise InputError(f"--from and --to pin a plan's start and goal sets: this {certificate.kind} certificate has none")
         environment = load_env(env, env_format) if env is not None else None
         query: dict[str, Any] = {}
         if environment is not None:

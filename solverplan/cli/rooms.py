@@ -12,7 +12,7 @@ from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
 from solverplan.cli._errors import exit_codes, fail
-from solverplan.cli._options import PictureOpt
+from solverplan.cli._options import CertificateOpt, PictureOpt, write_certificate_file
 from solverplan.cli._output import OutputFormat, emit
 
 
@@ -45,6 +45,7 @@ def rooms_command(
         Path | None,
         typer.Option("--check", metavar="ROOMS.json", help="Check a rooms answer file against ENV exactly instead: exit 0 valid, 1 invalid.", show_default=False),
     ] = None,
+    certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
@@ -55,7 +56,7 @@ def rooms_command(
     from solverplan.rectilinear import decompose_rooms
 
     if check is not None:
-        from solverplan.rectilinear.check import check_rooms, load_rooms_answer
+        from solverplan.certify.rooms_answer import check_rooms, load_rooms_answer
 
         with exit_codes(verbose):
             if simulate or picture is not None or start is not None or goal is not None or tour:
@@ -69,17 +70,27 @@ def rooms_command(
         return
     with exit_codes(verbose):
         check_picture(picture)
+        if simulate and certificate is not None:
+            raise InputError("--certificate certifies the rooms and doors: drop --simulate (its statistics are not claims)")
         if not simulate and (start is not None or goal is not None or tour):
             raise InputError("--from, --to and --tour choose the rooms of --simulate: add --simulate")
         if simulate and (start is None or (goal is None) == (not tour)):
             raise InputError("--simulate needs --from ROOM and either --to ROOM or --tour")
-        dec = decompose_rooms(load_env(env, env_format))
+        environment = load_env(env, env_format)
         if not simulate:
+            from solverplan.certify.gate import checked_answer
+
+            checked = checked_answer(lambda: decompose_rooms(environment), env=environment)  # exact check first
+            dec = checked.answer
+            if certificate is not None:
+                write_certificate_file(dec, certificate, environment, checked.certificate)
             if picture is not None:
                 _save_rooms_picture(dec, None, picture)
             emit(dec, fmt, out)
             return
         from solverplan.studies.rooms import RULES, compare_rules
+
+        dec = decompose_rooms(environment)
 
         assert start is not None
         walk = dec.tour(start) if tour else dec.path(start, dec.check_room(goal))

@@ -11,7 +11,7 @@ from solverplan.limits import MAX_SEED
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import PictureOpt, parse_pair
+from solverplan.cli._options import CertificateOpt, PictureOpt, parse_pair, write_certificate_file
 from solverplan.cli._output import OutputFormat, emit
 
 
@@ -43,6 +43,7 @@ def wallfollow_command(
     sensor: Annotated[PursuitSensor, typer.Option("--sensor", help="With --pursuit: the pursuer's extra sensor (gap: Strategy 2; bitangent: Strategy 3; pebble: Strategies 4–5, pebble visibility; contact: Strategy 6, touch and pebble only).")] = PursuitSensor.GAP,
     origin: Annotated[str, typer.Option("--from", metavar="POINT", help="With --pursuit: the pursuer's start, a point of the cut ordering (v0, r3).")] = "v0",
     max_states: Annotated[int, typer.Option("--max-states", min=1, max=10_000_000, metavar="N", help="With --pursuit: cap on the derived I-states searched.")] = 200_000,
+    certificate: CertificateOpt = None,
     picture: PictureOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
@@ -65,6 +66,8 @@ def wallfollow_command(
             raise InputError("--start and --heading place the robot of --learn or --count")
         if not count and (steps != 1000 or seed != 0):
             raise InputError("--steps and --seed belong to --count")
+        if count and certificate is not None:
+            raise InputError("--certificate certifies a cut ordering or a pursuit plan: --count is a random walk's estimate")
         check_picture(picture)
         environment = load_env(env, env_format)
         where, towards = parse_pair(start, "--start"), parse_pair(heading or "1,0", "--heading")
@@ -80,6 +83,13 @@ def wallfollow_command(
             answer = pursuit_plan(environment, sensor=sensor.value, start=origin, max_states=max_states)
         else:
             answer = exact_cut_ordering(environment)
+        if not count:  # the exact check before the answer leaves (a learned ordering: in the true numbering)
+            from solverplan.certify.gate import checked_answer
+
+            certified = answer.ordering.relabel(answer.pebble_vertex) if learn else answer
+            checked = checked_answer(lambda: certified, env=environment)
+            if certificate is not None:
+                write_certificate_file(certified, certificate, environment, checked.certificate)
         if picture is not None:
             from solverplan.render import save_figure
             from solverplan.render.wallfollow import render_cuts, render_pursuit

@@ -7,7 +7,6 @@
 - :mod:`~solverplan.rectilinear.doors` — the rooms as the simulator's walls, doors open or closed per robot,
   and the door-control policy for a room sequence (§V–VI).
 - :mod:`~solverplan.rectilinear.rules` — the billiard, random and one-bit smart rules (§VI, Eq. 1).
-- :mod:`~solverplan.rectilinear.check` — an independent exact check of a rooms answer (``rooms --check``).
 
 Simulations and the rules' comparison (Table I) are in :mod:`solverplan.studies.rooms`; pictures in
 :mod:`solverplan.render.rooms`; the command is ``solverplan rooms``.
@@ -18,7 +17,6 @@ Simulations and the rules' comparison (Table I) are in :mod:`solverplan.studies.
 (5, 4, '1/300')
 """
 
-from solverplan.rectilinear.check import RoomsCheck, check_rooms, load_rooms_answer
 from solverplan.rectilinear.decomposition import Decomposition, Door, Room, decompose_rooms
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
 from solverplan.rectilinear.metrics import (SMART_THRESHOLD, Reachability, RuleRecommendation, escapability,
@@ -28,5 +26,4 @@ from solverplan.rectilinear.rules import RULES, Billiard, Random, Smart, make_ru
 
 __all__ = ["Decomposition", "Door", "Room", "decompose_rooms", "SMART_THRESHOLD", "Reachability", "RuleRecommendation",
            "escapability", "reachability", "reachability_along", "reachability_graph", "recommend_rule", "DoorControl", "RoomWorld",
-           "RULES", "Billiard", "Random", "Smart", "make_rule", "room_tangents", "smart_tangent", "RoomsCheck",
-           "check_rooms", "load_rooms_answer"]
+           "RULES", "Billiard", "Random", "Smart", "make_rule", "room_tangents", "smart_tangent"]

@@ -13,7 +13,8 @@ import mpmath
 import pytest
 
 from solverplan.bounce.partition import partition
-from solverplan.certify import check, exact2d, invariant, rational_atan
+from solverplan.certify import (check, check_exploration, check_fields, check_models, check_rooms, check_wallfollow, exact2d,
+                               invariant, rational_atan)
 from solverplan.certify.check import check_certificate
 from solverplan.certify.exact2d import affine_coefficients
 from solverplan.certify.rational_atan import angle_enclosure, atan_enclosure, compare_angle, heading_enclosure, pi_enclosure
@@ -43,7 +44,8 @@ def assert_fails(data: dict, claim: str, fragment: str, *, first: bool = True):
 
 
 # ---------------------------------------------------------------------- independence
-CHECKER_MODULES = [check, exact2d, rational_atan, invariant]
+CHECKER_MODULES = [check, exact2d, rational_atan, invariant, check_models, check_rooms, check_exploration, check_wallfollow,
+                   check_fields]
 """The independent checker: it must share no code with the planner (only each other and the schema)."""
 
 
@@ -131,14 +133,17 @@ def test_report_json_and_text():
     data = report.to_json()
     assert data["valid"] is True and data["kind"] == "plan" and data["failures"] == []
     assert data["checked"]["corner_rays"] == 4
-    assert data["version"] == 3 and data["start"] == {"set": "e0:0.1:0.9", "length": "8", "length_exact": True}
+    assert data["version"] == 4 and data["start"] == {"set": "e0:0.1:0.9", "length": "8", "length_exact": True}
     assert data["goal"]["set"] == "e2" and data["claims"]["bounces"] == 1
     lines = report.to_text().splitlines()
     assert lines[0] == "certificate (plan): VALID"
     assert lines[1].startswith("environment: 'square', sha256 ") and lines[1].endswith("4 vertices, 4 edges, 0 holes")
     assert lines[2:4] == ["start: e0:0.1:0.9 (length 8)", "goal: e2 (length 10)"]
-    assert lines[4].startswith("claims: bounces 1, min_width 0.0999")
-    assert lines[5].startswith("checked exactly: 1 stages")
+    assert lines[4].startswith("scope: a point robot in this environment that moves straight between bounces")
+    assert lines[5].startswith("claims: bounces 1, min_width 0.0999")
+    assert lines[6].startswith("checked exactly: 1 stages")
+    assert lines[7].startswith("proved: from every point of the start set, executing at stage j any heading inside its "
+                               "interval lands the robot in the goal set after 1 bounce")
 
 
 # ---------------------------------------------------------------------- tampering: one claim at a time

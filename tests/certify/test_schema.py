@@ -82,7 +82,7 @@ def test_kind_specific_blocks():
 def test_epsilon_belongs_to_localize_certificates_of_version_2():
     from solverplan.certify.schema import READ_VERSIONS, VERSION, CertificateFormatError
 
-    assert VERSION == 3 and READ_VERSIONS == (1, 2, 3)
+    assert VERSION == 4 and READ_VERSIONS == (1, 2, 3, 4)
     cert = Certificate.from_json(cases.localize_square())
     assert cert.kind == "localize" and cert.claims.epsilon == Fraction(19, 2)
     assert Certificate.from_json(cert.to_json()) == cert and cert.to_json()["claims"]["epsilon"] == "9.5"

@@ -171,10 +171,10 @@ def test_localisation_certificate_claims_epsilon_and_verify_prints_it(triangle_l
     from fractions import Fraction
 
     cert = certificate(triangle_localised)
-    assert cert.kind == "localize" and cert.version == 3 and cert.claims.epsilon == Fraction(1, 20)
+    assert cert.kind == "localize" and cert.version == 4 and cert.claims.epsilon == Fraction(1, 20)
     path = _certificate_file(tmp_path, triangle_localised)
     data = json.loads(path.read_text())
-    assert data["version"] == 3 and data["kind"] == "localize" and data["claims"]["epsilon"] == "0.05"
+    assert data["version"] == 4 and data["kind"] == "localize" and data["claims"]["epsilon"] == "0.05"
     result = runner.invoke(cli.app, ["verify", str(path)])
     assert result.exit_code == 0, result.stderr
     report = json.loads(result.stdout)

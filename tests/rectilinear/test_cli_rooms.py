@@ -110,7 +110,7 @@ def test_check_a_rooms_answer_file(tmp_path):
     answer.write_text(json.dumps(data))
     bad = run("rooms", "warehouse", "--check", answer)
     assert bad.exit_code == 1 and json.loads(bad.stdout)["valid"] is False
-    assert bad.stderr.startswith("error: rooms answer invalid: room 0: area 63 claimed, 64 exactly")
+    assert bad.stderr.startswith("error: rooms answer invalid: claims.rooms[0].area: claims 63, the room's area is 64")
     one_line_error(run("rooms", "warehouse", "--check", tmp_path / "none.json"), "no such file")
     (tmp_path / "junk.json").write_text("{")
     one_line_error(run("rooms", "warehouse", "--check", tmp_path / "junk.json"), "not valid JSON")

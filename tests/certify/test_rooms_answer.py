@@ -1,5 +1,5 @@
-"""The independent exact check of rooms answers: every answer of Algorithm 1 passes, tampered ones fail naming
-the claim."""
+"""The exact check of rooms answers (the rooms certificate's checker on an answer's claims): every answer of
+Algorithm 1 passes, tampered ones fail naming the claim."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solverplan.environment import load_environment
-from solverplan.rectilinear.check import check_rooms
+from solverplan.certify.rooms_answer import check_rooms
 from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.generators import rectilinear_polygon
 
@@ -28,8 +28,9 @@ def test_every_answer_of_algorithm_1_checks(n, size, seed):
     env = rectilinear_polygon(n, seed=seed, max_size=size)
     answer = json.loads(json.dumps(decompose_rooms(env).to_json()))  # through JSON, as a file would be read
     report = check_rooms(env, answer)
-    assert report.valid, report.failures
-    assert report.checked >= len(answer["doors"]) + len(answer["rooms"])
+    assert report.valid, [str(f) for f in report.failures]
+    counts = dict(report.checked)
+    assert counts["rooms"] == len(answer["rooms"]) and counts.get("doors", 0) == len(answer["doors"])
 
 
 @pytest.mark.parametrize("model", ["warehouse", "spiral", "comb", "hallway", "narrow_door", "l_shape", "square"])
@@ -47,20 +48,22 @@ def tampered(answer, change):
 def test_tampered_answers_fail_naming_the_claim(chambers):
     env, answer = chambers
     cases = {
-        "area": (lambda d: d["rooms"][0].update(area_exact="901"), "room 0: area 901 claimed, 900 exactly"),
-        "sum": (lambda d: d["rooms"].pop(), "the room areas add up to 2712"),
-        "tree": (lambda d: d["doors"].pop(), "5 rooms for 3 doors"),
-        "phi": (lambda d: d["doors"][2]["escapability_by_room_exact"].__setitem__(0, "1/30"), "door 2: escapability from room 1 claimed 1/30, 0.1 exactly"),
-        "rooms": (lambda d: d["doors"][0].update(rooms=[0, 1]), "door 0 lies on a side of rooms [0, 4]; the answer says it joins rooms [0, 1]"),
+        "area": (lambda d: d["rooms"][0].update(area_exact="901"), "claims.rooms[0].area: claims 901, the room's area is 900"),
+        "sum": (lambda d: d["rooms"].pop(), "claims.doors[0].rooms: [0, 4] are not two different rooms of 0 … 3"),
+        "tree": (lambda d: d["doors"].pop(), "claims.doors: 5 rooms for 3 doors"),
+        "phi": (lambda d: d["doors"][2]["escapability_by_room_exact"].__setitem__(0, "1/30"),
+                "claims.doors[2].escapability[0]: claims 1/30, Φ from room 1 is |door| / |wall| = 3 / 30 = 0.1"),
+        "rooms": (lambda d: d["doors"][0].update(rooms=[0, 1]),
+                  "claims.doors[0].rooms: claims rooms [0, 1], the door is a side of rooms [0, 4]"),
         "side": (lambda d: d["rooms"][4].update(polygon=[[30, 14.5], [34, 14.5], [34, 16.5], [30, 16.5]], area_exact="8"),
-                 "room 4: its side (34, 16.5)–(30, 16.5) is neither wall nor door"),  # the doorway made 2 high
+                 "claims.rooms[4].polygon: side (34, 16.5)–(30, 16.5) is neither wall nor door"),  # the doorway 2 high
         "outside": (lambda d: d["rooms"][4].update(polygon=[[30, 14.5], [34, 14.5], [34, 15.5], [31, 15.5], [31, 40], [30, 40]]),
-                    "room 4: a vertex lies outside the polygon"),
+                    "claims.rooms[4].polygon: side (31, 15.5)–(31, 40) is neither wall nor door"),
     }
     for name, (change, message) in cases.items():
         report = check_rooms(env, tampered(answer, change))
         assert not report.valid, name
-        assert any(message in failure for failure in report.failures), (name, report.failures)
+        assert any(message in str(failure) for failure in report.failures), (name, [str(f) for f in report.failures])
 
 
 def test_a_door_must_start_at_a_reflex_vertex():
@@ -69,7 +72,7 @@ def test_a_door_must_start_at_a_reflex_vertex():
     door = answer["doors"][0]
     door["a"], door["b"] = door["b"], door["a"]
     failures = check_rooms(env, answer).failures
-    assert len(failures) == 1 and "a is not a reflex vertex of the polygon" in failures[0]
+    assert [f.claim for f in failures] == ["claims.doors[0].a"] and "is not a reflex vertex of the polygon" in failures[0].message
 
 
 def test_crossing_doors_fail(chambers):
@@ -81,11 +84,18 @@ def test_crossing_doors_fail(chambers):
     assert check_rooms(env, answer).valid
     answer["doors"].append({"a": [21, 13], "b": [21, 18], "rooms": [0, 1]})  # the dropped door of Prop. 2's counterexample
     failures = check_rooms(env, answer).failures
-    assert any(f.startswith(f"doors ") and f.endswith(f"and {len(answer['doors']) - 1} cross") for f in failures), failures
+    assert any(f.claim == f"claims.doors[{len(answer['doors']) - 1}]" and f.message.startswith("crosses or overlaps door")
+               for f in failures), [str(f) for f in failures]
 
 
 def test_a_malformed_answer_is_one_failure(chambers):
     env, _ = chambers
     report = check_rooms(env, {"rooms": []})
-    assert not report.valid and report.failures[0].startswith("malformed answer")
-    assert report.to_json() == {"valid": False, "checked": 0, "failures": list(report.failures)}
+    assert not report.valid and [f.claim for f in report.failures] == ["claims.doors"]
+    assert report.to_json()["valid"] is False and report.to_json()["kind"] == "rooms"
+
+
+def test_an_answer_states_no_lengths_or_psi_they_are_listed_not_checked(chambers):
+    env, answer = chambers
+    report = check_rooms(env, answer)
+    assert report.valid and any("Ψ" in item for item in report.not_checked)
