@@ -15,6 +15,13 @@ after each rewriting of :mod:`solverplan.studies.rewrite` with the query mapped:
 (e) ``reverse`` — every ring written in the opposite order (the loader renormalises it);
 (f) ``mirror`` — the mirror image (with ``--mirror``).
 
+With ``--patrols`` each query also asks for a patrol (:func:`~solverplan.plan.patrol.patrol`) of the outer ring's
+first and middle edges from the start set (objectives ``contraction`` and ``rate``, ε = 0.01, at most one
+intermediate bounce). A visit names whole edges, which a vertex inside them would split (no visit list names "e′ or
+e″"), so for patrols (a) and (b) put their vertices only where no visited edge is: at the start set's ends and at
+the midpoints of the edges not visited; the other rewritings are the same. Patrols compare status, proof, cycle and
+entry bounces, periods, contraction, rate and tolerance.
+
 An answer *changes* when :func:`~solverplan.studies.rewrite.answer_differences` finds a difference: status,
 proof, bounces, the objective's value (to 10⁻⁹ rad), the Pareto points. Printed: a table of changed answers per
 rewriting and objective, the first examples of changes (environment, query, both answers) and the total time.
@@ -39,10 +46,12 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.p
 from solverplan import models  # noqa: E402
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment  # noqa: E402
 from solverplan.plan import find_plan, pareto_front  # noqa: E402
+from solverplan.plan.patrol import patrol  # noqa: E402
 from solverplan.studies import rewrite as rw  # noqa: E402
 from solverplan.generators import rectilinear_polygon, star_polygon, star_polygon_with_holes  # noqa: E402
 
 ANSWERS = ("fewest", "tolerance", "sum", "constant", "pareto")
+PATROLS = ("patrol-contraction", "patrol-rate")
 REWRITINGS = ("ends", "split", "motion", "roll", "reverse", "mirror")
 MAX_MODEL_EDGES = 40
 
@@ -111,6 +120,22 @@ def _rewritten(name: str, env: Environment, start: BoundarySet, goal: BoundarySe
     raise ValueError(f"unknown rewriting {name!r}")
 
 
+def _patrol_rewritten(name: str, env: Environment, start: BoundarySet, visit: tuple[int, ...], r: rw.Rewritten,
+                      ) -> rw.Rewritten:
+    """The rewriting a patrol is compared under: ``r``, except that vertices go only where no edge is visited."""
+    if name == "ends":
+        points = [(p.edge, t) for p in start.pieces for t in (p.t0, p.t1) if 0 < t < 1 and p.edge not in visit]
+        return rw.insert_vertices(env, points, start) if points else rw.identity(env, start)
+    if name == "split":
+        return rw.insert_vertices(env, [(e, Fraction(1, 2)) for e in range(env.n_edges) if e not in visit], start)
+    return r
+
+
+def _patrols(env: Environment, visit: tuple[int, ...], start: BoundarySet, timeout: float) -> dict[str, object]:
+    return {what: patrol(env, list(visit), start=start, objective=what.removeprefix("patrol-"), tolerance=0.01,
+                         max_between=1, timeout=timeout) for what in PATROLS}
+
+
 def _answers(env: Environment, start: BoundarySet, goal: BoundarySet, k: int, timeout: float) -> dict[str, object]:
     out: dict[str, object] = {}
     for objective in ANSWERS[:4]:
@@ -134,41 +159,54 @@ def _kind(a, b, length_scale) -> tuple[str, float]:
     sa, sb = rw.answer_summary(a), rw.answer_summary(b, length_scale=length_scale)
     if sa["status"] != sb["status"] or sa.get("proved") != sb.get("proved"):
         return "status", 0.0
-    if sa.get("bounces") != sb.get("bounces") or [p[0] for p in sa.get("front", [])] != [p[0] for p in sb.get("front", [])]:
+    if (sa.get("bounces") != sb.get("bounces") or sa.get("entry") != sb.get("entry")
+            or [p[0] for p in sa.get("front", [])] != [p[0] for p in sb.get("front", [])]):
         return "bounces", 0.0
-    deltas = [abs(x - y) for key in ("min_width", "sum_width") if isinstance(x := sa.get(key), float)
+    deltas = [abs(x - y) for key in ("min_width", "sum_width", "contraction", "rate", "tolerance")
+              if isinstance(x := sa.get(key), float)
               and isinstance(y := sb.get(key), float)]
     deltas += [abs(p[1] - q[1]) for p, q in zip(sa.get("front", []), sb.get("front", []))]
     return "value", max(deltas, default=0.0)
 
 
-def run_query(index: int, seed: int, rewritings: tuple[str, ...], timeout: float) -> Outcome:
+def run_query(index: int, seed: int, rewritings: tuple[str, ...], timeout: float, patrols: bool = False) -> Outcome:
     rng = random.Random(f"{seed}:{index}")
     t0 = time.perf_counter()
     env = _environment(rng)
     start, goal = _set(env, rng), _set(env, rng)
     k = rng.randint(4, 6)
-    query = f"--from {start} --to {goal} --max-bounces {k}"
+    visit = (0, len(env.outer) // 2)
+    query = f"--from {start} --to {goal} --max-bounces {k}" + (f" (patrol e{visit[0]},e{visit[1]})" if patrols else "")
     out = Outcome(index, env.name or "unnamed", query)
+    answers = ANSWERS + (PATROLS if patrols else ())
     base = _answers(env, start, goal, k, timeout)
+    if patrols:
+        base.update(_patrols(env, visit, start, timeout))
     for name in rewritings:
         try:
             r = _rewritten(name, env, start, goal, rng)
             again = _answers(r.env, *r.sets, k, timeout)
+            if patrols:
+                rp = _patrol_rewritten(name, env, start, visit, r)
+                again.update(_patrols(rp.env, rp.map_edges(visit), rp.sets[0], timeout))
         except Exception as exc:  # a crash on a rewritten environment is a finding too
-            for what in ANSWERS:
+            for what in answers:
                 out.verdicts[(name, what)] = "error"
             out.changes.append((name, "all", [f"{type(exc).__name__}: {exc}"], "", ""))
             continue
-        for what in ANSWERS:
+        for what in answers:
             a, b = base[what], again[what]
+            if what in PATROLS and name in ("ends", "split"):
+                r_len = rp.length_scale
+            else:
+                r_len = r.length_scale
             if _timed_out(a) or _timed_out(b):
                 out.verdicts[(name, what)] = "timeout"
                 continue
-            diff = rw.answer_differences(a, b, length_scale=r.length_scale)
+            diff = rw.answer_differences(a, b, length_scale=r_len)
             out.verdicts[(name, what)] = "changed" if diff else "same"
             if diff:
-                out.kinds[(name, what)] = _kind(a, b, r.length_scale)
+                out.kinds[(name, what)] = _kind(a, b, r_len)
                 mapped = f"--from {r.sets[0]} --to {r.sets[1]}"
                 out.changes.append((name, what, diff, _brief(a), f"{_brief(b)}   [{r.description}: {mapped}]"))
     out.seconds = time.perf_counter() - t0
@@ -182,30 +220,33 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=min(2, os.cpu_count() or 1), help="worker processes")
     parser.add_argument("--timeout", type=float, default=20.0, help="seconds per planner call")
     parser.add_argument("--mirror", action="store_true", help="also compare the mirror image")
+    parser.add_argument("--patrols", action="store_true", help="also compare a patrol from the start set")
     parser.add_argument("--examples", type=int, default=3, help="examples of changes printed per rewriting")
     args = parser.parse_args(argv)
     rewritings = REWRITINGS if args.mirror else REWRITINGS[:-1]
+    answers = ANSWERS + (PATROLS if args.patrols else ())
     t0 = time.perf_counter()
     print(f"python {platform.python_version()}, {platform.machine()}; {args.queries} queries, seed {args.seed}, "
           f"{args.jobs} jobs, timeout {args.timeout:g} s per planner call\n")
     if args.jobs > 1:
         with ProcessPoolExecutor(args.jobs) as pool:
             outcomes = list(pool.map(run_query, range(args.queries), [args.seed] * args.queries,
-                                     [rewritings] * args.queries, [args.timeout] * args.queries))
+                                     [rewritings] * args.queries, [args.timeout] * args.queries,
+                                     [args.patrols] * args.queries))
     else:
-        outcomes = [run_query(i, args.seed, rewritings, args.timeout) for i in range(args.queries)]
+        outcomes = [run_query(i, args.seed, rewritings, args.timeout, args.patrols) for i in range(args.queries)]
     counts = Counter((name, what, o.verdicts.get((name, what))) for o in outcomes for name in rewritings
-                     for what in ANSWERS)
+                     for what in answers)
     print("Changed answers (changed / compared; timeouts and errors apart):\n")
-    print("| rewriting | " + " | ".join(ANSWERS) + " | queries with any change |")
-    print("|---|" + "---:|" * (len(ANSWERS) + 1))
+    print("| rewriting | " + " | ".join(answers) + " | queries with any change |")
+    print("|---|" + "---:|" * (len(answers) + 1))
     for name in rewritings:
         cells = []
-        for what in ANSWERS:
+        for what in answers:
             changed, same = counts[(name, what, "changed")], counts[(name, what, "same")]
             extra = [f"{counts[(name, what, v)]} {v}" for v in ("timeout", "error") if counts[(name, what, v)]]
             cells.append(f"{changed} / {changed + same}" + (f" ({', '.join(extra)})" if extra else ""))
-        anyc = sum(any(o.verdicts.get((name, w)) in ("changed", "error") for w in ANSWERS) for o in outcomes)
+        anyc = sum(any(o.verdicts.get((name, w)) in ("changed", "error") for w in answers) for o in outcomes)
         print(f"| {name} | " + " | ".join(cells) + f" | {anyc} / {len(outcomes)} |")
     print("\nHow they changed (all answers of the table together): status or proof / bounce counts or front points / "
           "only a width (largest |Δ| in radians):\n")

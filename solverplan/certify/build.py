@@ -355,13 +355,34 @@ def _patrol(result: Patrol, env: Environment | None, part: Partition | None) -> 
     for st in result.entry:
         stages.append(StageSpec(st.interval, _plan_moves(part, st.moves, st.sources)))
     for cs in result.cycle:
-        stages.append(StageSpec(cs.interval, (MoveSpec(source=cs.from_segment, target=cs.to_segment),)))
+        stages.append(StageSpec(cs.interval, (_cycle_move(env, part, cs),)))
     start = result.start if result.start is not None else [result.cycle[0].from_segment]
     return build_certificate(
         env, part, stages, start=start, kind="cycle",
         cycle=CycleSpec(len(result.entry), headings=tuple(cs.step.heading for cs in result.cycle), visits=result.visit),
         objective=f"patrol-{result.objective}", optimality=_contraction_optimality(result.optimality),
     )
+
+
+def _cycle_move(env: Environment, part: Partition, stage: Any) -> MoveSpec:
+    """The one move of a patrol's cycle stage. Patrols search the straight walls (collinear vertices merged), so a
+    stage may leave from a run of user segments over collinear vertices and land on one: such a source is the run's
+    span on the line of the edge where the run begins (the stage's ``from_edge``; t beyond [0, 1] runs on over the
+    collinear neighbours), and such a target is the straight wall through the edge where the target run begins
+    (its ``to_edge``), claiming the exact image."""
+    src, dst = stage.from_segments, stage.to_segments
+    source: int | tuple[int, Fraction, Fraction] = src[0]
+    if len(src) > 1:
+        edge = stage.step.from_edge
+        a, b = env.edge(edge).a, env.edge(edge).b
+        ex, ey = b[0] - a[0], b[1] - a[1]
+        norm = ex * ex + ey * ey
+        ts = [Fraction((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / norm
+              for k in src for x in (part.segments[k].a, part.segments[k].b)]
+        source = (edge, min(ts), max(ts))
+    if len(dst) > 1:
+        return MoveSpec(source=source, target_edge=stage.step.to_edge)
+    return MoveSpec(source=source, target=dst[0])
 
 
 def _funnel(result: PositionStrategy, env: Environment | None, part: Partition | None) -> Certificate:

@@ -16,7 +16,11 @@ What is checked
 2. **Segments and sets.** Each named segment lies on its edge (``a``, ``b`` are the points of ``t0``,
    ``t1``); start, goal and position pieces are intervals of existing edges.
 3. **Moves** (each stage, each move) — with source points P, Q (parameters p < q on edge e, vector E),
-   cone d_lo → d_hi, target edge e′ (line L) and target range (segment or edge) τ ∈ [lo, hi]:
+   cone d_lo → d_hi, target edge e′ (line L) and target range (segment or edge) τ ∈ [lo, hi]. A source
+   without a named segment may run on along the straight wall through e (consecutive collinear edges: the
+   vertices between them are no corners), p < 0 or q > 1 on e's line, as a target without a named segment
+   may; it then counts as its pieces on the wall's edges (chaining, ends) and the wall's other edges may meet
+   the swept region only within [P, Q]:
 
    - both directions leave e into the free space: cross(E, d) > 0; the cone turns counter-clockwise
      from d_lo to d_hi: cross(d_lo, d_hi) ≥ 0 (with both directions on the left of E, the turn is
@@ -734,8 +738,11 @@ class _Checker:
                                              "leaving an edge into the free space comes back to its line")
             return None
         p, q = move.source
-        if not 0 <= p < q <= 1:
-            self.fail(f"{path}.source", f"[{_num(p)}, {_num(q)}] is not an interval 0 ≤ p < q ≤ 1 of edge {move.edge}")
+        w_lo, w_hi = (_ZERO, _ONE) if move.source_segment is not None else self.wall_range(move.edge)
+        if not w_lo <= p < q <= w_hi:
+            where = (f"edge {move.edge}" if (w_lo, w_hi) == (_ZERO, _ONE) else
+                     f"the straight wall through edge {move.edge} (t in [{_num(w_lo)}, {_num(w_hi)}])")
+            self.fail(f"{path}.source", f"[{_num(p)}, {_num(q)}] is not an interval p < q of {where}")
             return None
         sound = True
         if move.source_segment is not None:
@@ -798,7 +805,7 @@ class _Checker:
         hits: list[Point] = []
         corners_ok = True
         for end, t, origin in ends:
-            vertex = t == 0 or t == 1
+            vertex = t == 0 or t == 1 or t == w_lo or t == w_hi
             for name, vec in directions:
                 self.counts["corner_rays"] += 1
                 where = f"corner ray from {_pt(origin)} (t = {_num(t)} of edge {move.edge}) along {_pt(vec)}"
@@ -839,7 +846,7 @@ class _Checker:
             sound = False
 
         # ---- the swept region
-        allowed = {origin for _, t, origin in ends if t == 0 or t == 1}
+        allowed = {origin for _, t, origin in ends if t == 0 or t == 1 or t == w_lo or t == w_hi}
         swept_ok = self.check_swept(path, move, (ends[0][2], ends[1][2], *hits), allowed, (t_lo, t_hi))
         result.sound = sound and swept_ok
         return result
@@ -864,6 +871,13 @@ class _Checker:
             l0, l1 = clip
             if edge.id == move.edge:
                 if p <= l0 and l1 <= q:
+                    continue
+            elif move.source_segment is None and self.wall[edge.id][0] == self.wall[move.edge][0]:
+                # another edge of the straight wall the source runs on: within the source only
+                _, o_e, s_e = self.wall[edge.id]
+                _, o_s, s_s = self.wall[move.edge]
+                m0, m1 = sorted(((o_e + s_e * l - o_s) / s_s for l in (l0, l1)))
+                if p <= m0 and m1 <= q:
                     continue
             elif edge.id == move.target_edge:
                 if target_range[0] <= l0 and l1 <= target_range[1]:
@@ -1021,10 +1035,13 @@ class _Checker:
                 feeding += [p for m in stages[n - 1].moves for p in self.on_walls(m.target_edge, *m.target)]
             for edge, a, b in feeding:
                 inflow.setdefault(edge, set()).update((a, b))
+            pieces = [self._source_pieces(move) for move in stage.moves]
             for m, move in enumerate(stage.moves):
-                others = {t for j, o in enumerate(stage.moves) if j != m and o.edge == move.edge for t in o.source}
-                known = {_ZERO, _ONE} | segment_ends.get(move.edge, set()) | inflow.get(move.edge, set()) | others
-                for name, t in zip(("p", "q"), move.source):
+                # the ends of the source, each on the edge that holds it (a source on a straight wall runs on)
+                ends = ((pieces[m][0][0], pieces[m][0][1]), (pieces[m][-1][0], pieces[m][-1][2]))
+                for name, (edge, t) in zip(("p", "q"), ends):
+                    others = {x for j, ps in enumerate(pieces) if j != m for e, a, b in ps if e == edge for x in (a, b)}
+                    known = {_ZERO, _ONE} | segment_ends.get(edge, set()) | inflow.get(edge, set()) | others
                     if t not in known:
                         flowing = "the start set" if k == 0 else f"stages[{k - 1}]'s targets"
                         self.fail(
@@ -1034,12 +1051,20 @@ class _Checker:
                         )
                         break
 
-    @staticmethod
-    def _sources(stage: Stage) -> dict[int, list[tuple[Fraction, Fraction]]]:
+    def _sources(self, stage: Stage) -> dict[int, list[tuple[Fraction, Fraction]]]:
+        """The sources of a stage per edge (a source on a straight wall as its pieces on the wall's edges)."""
         out: dict[int, list[tuple[Fraction, Fraction]]] = {}
         for move in stage.moves:
-            out.setdefault(move.edge, []).append(move.source)
+            for edge, a, b in self._source_pieces(move):
+                out.setdefault(edge, []).append((a, b))
         return out
+
+    def _source_pieces(self, move: Move) -> list[tuple[int, Fraction, Fraction]]:
+        """A move's source as pieces of edges: itself, or its pieces on the edges of its straight wall, in order
+        along the wall."""
+        if not 0 <= move.edge < len(self.edges):
+            return [(move.edge, *move.source)]
+        return sorted(self.on_walls(move.edge, *move.source), key=lambda piece: self.wall[piece[0]][1])
 
     # ------------------------------------------------------------------ positions
     def check_positions(self, k: int, stage: Stage, results: Sequence[_MoveResult | None]) -> None:
@@ -1424,7 +1449,9 @@ class _Checker:
         elif worst >= 1:
             self.fail("cycle.contraction", f"the cycle does not contract: the worst case of |α| over the cones is {_num(worst)} ≥ 1")
         if cycle.visits is not None:
-            visited = [stages[i].moves[0].edge for i in cycle.stages]
+            # a stage visits the edge it leaves from; one leaving from a run over a straight wall visits no one edge
+            visited = [m.edge if _ZERO <= m.source[0] and m.source[1] <= _ONE else None
+                       for m in (stages[i].moves[0] for i in cycle.stages)]
             if not any(_is_subsequence(cycle.visits, visited[s:] + visited[:s]) for s in range(len(visited))):
                 self.fail("cycle.visits", f"the cycle bounces on edges {visited} (cyclically), which does not visit {list(cycle.visits)} in that order")
 
@@ -1566,6 +1593,6 @@ def _merged(pieces: Iterable[tuple[int, Fraction, Fraction]]) -> dict[int, list[
     return {e: union(v) for e, v in by_edge.items()}
 
 
-def _is_subsequence(needle: Sequence[int], haystack: Sequence[int]) -> bool:
+def _is_subsequence(needle: Sequence[int], haystack: Sequence[int | None]) -> bool:
     it = iter(haystack)
     return all(any(x == y for y in it) for x in needle)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 import random
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Literal, Sequence
 
@@ -28,6 +28,7 @@ from solverplan.exact import ExactPoint, exact_point, format_number, format_poin
 from solverplan.explore.bounds import Cost, exploration_cost, views_bound
 from solverplan.explore.windows import Window, point_on_part, unexplored_parts, windows
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
+from solverplan.geometry.walls import StraightWalls
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from typing import Any
 
@@ -233,7 +234,9 @@ def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Ch
     Returns
     -------
     Exploration
-        Status ``found`` with viewpoints, views, the chain and the path.
+        Status ``found`` with viewpoints, views, the chain and the path. The exploration runs on the canonical walls
+        of ``env`` (:class:`~solverplan.geometry.walls.StraightWalls`; the views' edge ids are theirs), so that the
+        answer does not depend on how the walls are written.
 
     Raises
     ------
@@ -253,6 +256,14 @@ def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Ch
         raise InputError(f"unknown z-choice rule {choice!r}: use {', '.join(CHOICES)}")
     if seed is not None and choice != "random":
         raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
+    walls = StraightWalls(env)
+    if not walls.identity:
+        # the same free space with its walls written canonically (collinear vertices merged, each ring from its
+        # canonical vertex): views, windows and the "first" window's ring order then do not depend on how the walls
+        # are written
+        run = explore_depth_first(walls.merged, start, choice=choice, seed=seed, max_views=max_views)
+        return replace(run, environment=EnvironmentRecord.of(env),
+                       stats=run.stats.with_(collinear_vertices_merged=walls.n_merged_vertices))
     rng = random.Random(0 if seed is None else seed)
     bound = views_bound(env)
     limit = 2 * bound + 2 if max_views is None else max_views

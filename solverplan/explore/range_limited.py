@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Sequence
 
@@ -52,6 +52,7 @@ from solverplan.explore.bounds import range_ratio_bound, range_views_bound, rang
 from solverplan.explore.depth_first import CHOICES, ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
+from solverplan.geometry.walls import StraightWalls
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from typing import Any
 
@@ -645,6 +646,12 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     ('B', 'found', True, True)
     """
     R = check_range(range_)
+    walls = StraightWalls(env)
+    if not walls.identity:  # the canonical walls, as for Algorithm A (explore.depth_first)
+        canonical = explore_range_limited(walls.merged, start, R, epsilon=epsilon, max_views=max_views, choice=choice,
+                                          seed=seed)
+        return replace(canonical, environment=EnvironmentRecord.of(env),
+                       stats=canonical.stats.with_(collinear_vertices_merged=walls.n_merged_vertices))
     bound = range_views_bound(env, float(R))
     lower = range_views_lower_bound(env, float(R))
     ratio_bound = range_ratio_bound(env, float(R))

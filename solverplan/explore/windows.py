@@ -162,17 +162,13 @@ def simplest_between(lo: Fraction, hi: Fraction) -> Fraction:
 
 
 def point_on_part(window: Window, part: tuple[Fraction, Fraction]) -> ExactPoint:
-    """A point with simple coordinates on the middle third of a part of ``window``.
+    """The point of ``window`` at the simplest rational parameter λ (a + λ(b − a)) in the middle third of a part.
 
-    The coordinate that varies more along the window is the simplest rational in the middle third of the
-    part; the other follows exactly from the window's line.
+    The parameter is the window's own (from its reflex vertex a to b), so the point is the same wherever the room
+    is moved, turned, scaled or mirrored, however its walls are written (issue #22): a rule on the coordinates
+    (their simplest value) would pick another point when the room moves.
     """
     a, b = window.a, window.b
     lo, hi = part
-    t0, t1 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
-    c = 0 if abs(b[0] - a[0]) >= abs(b[1] - a[1]) else 1
-    u0, u1 = a[c] + t0 * (b[c] - a[c]), a[c] + t1 * (b[c] - a[c])
-    s = simplest_between(min(u0, u1), max(u0, u1))
-    lam = (s - a[c]) / (b[c] - a[c])
-    other = a[1 - c] + lam * (b[1 - c] - a[1 - c])
-    return (s, other) if c == 0 else (other, s)
+    lam = simplest_between(lo + (hi - lo) / 3, hi - (hi - lo) / 3)
+    return (a[0] + lam * (b[0] - a[0]), a[1] + lam * (b[1] - a[1]))

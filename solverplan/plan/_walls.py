@@ -7,7 +7,8 @@ add further cut points that mark no visibility event. A planner whose stages lan
 would then see a different (smaller) class of plans in the same free space, and its "optimal" answers would
 change with the vertex list.
 
-The planners therefore search the **merged** environment — the same rings with every collinear vertex
+The planners therefore search the **merged** environment (:mod:`solverplan.geometry.walls`, shared with every
+robot model) — the same rings with every collinear vertex
 removed (the same free space, exactly) — and report in the user's numbering:
 
 - user edge k lies on merged edge ``m`` with merged parameter s = s₀ + t·(s₁ − s₀) (exact: the merged edge
@@ -29,79 +30,56 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import cached_property
-from typing import Iterable
+from typing import Iterable, Mapping
 
-from solverplan.bounce.partition import Partition, partition as make_partition
+from solverplan.bounce.partition import Partition, PartitionSegment, partition as make_partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
-from solverplan.exact import ExactPoint, orient
+from solverplan.geometry.walls import StraightWalls, canonical_start, collinear_vertices
 
-__all__ = ["Walls", "canonical_start", "collinear_vertices"]
-
-
-def _straight(p: ExactPoint, v: ExactPoint, q: ExactPoint) -> bool:
-    """Is v a collinear vertex between p and q (angle exactly π: on the line pq, strictly between them)?"""
-    if orient(p, v, q) != 0:
-        return False
-    return (v[0] - p[0]) * (q[0] - v[0]) + (v[1] - p[1]) * (q[1] - v[1]) > 0
+__all__ = ["Walls", "canonical_start", "collinear_vertices", "cut_partition"]
 
 
-def collinear_vertices(env: Environment) -> tuple[int, ...]:
-    """Global indices of the vertices of ``env`` whose interior angle is exactly π (exact test)."""
-    out: list[int] = []
-    base = 0
-    for ring in env.rings:
-        n = len(ring)
-        out.extend(base + i for i in range(n) if _straight(ring[i - 1], ring[i], ring[(i + 1) % n]))
-        base += n
-    return tuple(out)
+def cut_partition(part: Partition, cuts: Mapping[int, Iterable[Fraction]]) -> Partition:
+    """``part`` cut again at the points ``cuts`` (edge → parameters strictly inside (0, 1)), exact. The new points
+    are no vertices and no Algorithm-1 events: they are where a query's sets end (patrol visits ending at a
+    collinear vertex), so the searched segments lie inside or outside them. ``part`` when nothing new is cut.
 
-
-def canonical_start(ring: list[ExactPoint]) -> int:
-    """The index a ring's vertex list starts at in the straight walls: the vertex whose sequence of shapes (per
-    vertex from there on: the squared length of the edge into it, and the dot and cross products of the edges into
-    and out of it, all exact) is lexicographically least among the ring's rotations (Booth's least rotation, O(n)).
-    Rotations, translations and the first vertex of the input do not change the sequence, and a uniform scaling
-    multiplies every term by one positive factor, which keeps the order: so the planners number the walls the same
-    however the environment is written, and break ties the same way. A symmetric ring has several least rotations,
-    which the symmetry maps onto each other: any of them gives the same answers.
-
-    >>> canonical_start([(0, 0), (4, 0), (4, 1), (0, 2)]), canonical_start([(4, 1), (0, 2), (0, 0), (4, 0)])
-    (2, 0)
+    >>> from solverplan.environment import Environment
+    >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])
+    >>> p = cut_partition(make_partition(square), {0: [Fraction(1, 2)], 2: [Fraction(1, 4), Fraction(1, 2)]})
+    >>> [(s.edge, s.t0, s.t1) for s in p.segments][:3], len(p.segments)
+    ([(0, Fraction(0, 1), Fraction(1, 2)), (0, Fraction(1, 2), Fraction(1, 1)), (1, Fraction(0, 1), Fraction(1, 1))], 7)
     """
-    n = len(ring)
-    shape = []
-    for i in range(n):
-        p, v, q = ring[i - 1], ring[i], ring[(i + 1) % n]
-        ux, uy, wx, wy = v[0] - p[0], v[1] - p[1], q[0] - v[0], q[1] - v[1]
-        shape.append((ux * ux + uy * uy, ux * wx + uy * wy, ux * wy - uy * wx))
-    # Booth's algorithm on the doubled sequence
-    seq = shape + shape
-    fail = [-1] * len(seq)
-    k = 0
-    for j in range(1, len(seq)):
-        sj = seq[j]
-        i = fail[j - k - 1]
-        while i != -1 and sj != seq[k + i + 1]:
-            if sj < seq[k + i + 1]:
-                k = j - i - 1
-            i = fail[i]
-        if sj != seq[k + i + 1]:
-            if sj < seq[k]:
-                k = j
-            fail[j - k] = -1
-        else:
-            fail[j - k] = i + 1
-    return k % n
+    extra = {e: {Fraction(t) for t in ts} for e, ts in cuts.items()}
+    for e, ts in extra.items():
+        if any(not 0 < t < 1 for t in ts):
+            raise ValueError(f"cut_partition: a cut of edge {e} is not strictly inside (0, 1)")
+    env = part.env
+    segments: list[PartitionSegment] = []
+    changed = False
+    for seg in part.segments:
+        inside = sorted(t for t in extra.get(seg.edge, ()) if seg.t0 < t < seg.t1)
+        if not inside:
+            segments.append(PartitionSegment(len(segments), seg.edge, seg.t0, seg.t1, seg.a, seg.b))
+            continue
+        changed = True
+        bounds = [seg.t0, *inside, seg.t1]
+        ps = [seg.a, *(env.exact_point_at(seg.edge, t) for t in inside), seg.b]
+        for k in range(len(bounds) - 1):
+            segments.append(PartitionSegment(len(segments), seg.edge, bounds[k], bounds[k + 1], ps[k], ps[k + 1]))
+    if not changed:
+        return part
+    offsets = [0]
+    for ring in range(len(env.rings)):
+        last = env.ring_offsets[ring + 1] - 1
+        offsets.append(1 + max(s.id for s in segments if s.edge <= last))
+    return Partition(env, tuple(segments), tuple(offsets), part.inserted)
 
 
-def _param(a: ExactPoint, b: ExactPoint, x: ExactPoint) -> Fraction:
-    """The parameter of point x on the line a → b (x on it): (x − a)·(b − a) / |b − a|², exact."""
-    ex, ey = b[0] - a[0], b[1] - a[1]
-    return Fraction((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey)
-
-
-class Walls:
-    """The straight walls of ``env``: its merged environment and the maps between the two numberings.
+class Walls(StraightWalls):
+    """The straight walls of ``env`` (:class:`~solverplan.geometry.walls.StraightWalls`: its merged environment and
+    the maps between the two numberings), with the maps between the segments of P′ of the two environments that
+    the planners need.
 
     Attributes
     ----------
@@ -118,86 +96,15 @@ class Walls:
     the same however the walls are written.
     """
 
-    def __init__(self, env: Environment) -> None:
-        self.env = env
-        rings: list[tuple[ExactPoint, ...]] = []
-        edge_map: list[tuple[int, Fraction, Fraction]] = []
-        merged_base = 0
-        for ring in env.rings:
-            n = len(ring)
-            keep = [i for i in range(n) if not _straight(ring[i - 1], ring[i], ring[(i + 1) % n])]
-            first = canonical_start([ring[i] for i in keep])
-            keep = keep[first:] + keep[:first]
-            rings.append(tuple(ring[i] for i in keep))
-            # the merged edge of user edge i starts at the last kept vertex at or before i (cyclically)
-            owner = [0] * n
-            last = max(keep)  # the last kept vertex before vertex 0, cyclically
-            kept = set(keep)
-            for i in range(n):
-                if i in kept:
-                    last = i
-                owner[i] = last
-            index = {v: k for k, v in enumerate(keep)}
-            for i in range(n):
-                k = index[owner[i]]
-                a, b = ring[keep[k]], ring[keep[(k + 1) % len(keep)]]
-                s0 = _param(a, b, ring[i])
-                s1 = _param(a, b, ring[(i + 1) % n]) if (i + 1) % n != keep[(k + 1) % len(keep)] else Fraction(1)
-                edge_map.append((merged_base + k, s0, s1))
-            merged_base += len(keep)
-        self.edge_map: tuple[tuple[int, Fraction, Fraction], ...] = tuple(edge_map)
-        self.identity = all(m == k and s0 == 0 and s1 == 1 for k, (m, s0, s1) in enumerate(edge_map))
-        self.merged = env if self.identity else Environment(tuple(rings), name=env.name, reoriented=env.reoriented)
-
-    # ------------------------------------------------------------------ sets
-    def to_merged(self, bset: BoundarySet) -> BoundarySet:
-        """The same boundary points, in the merged numbering (exact; pieces of one wall joined)."""
-        if self.identity:
-            return bset
-        pieces = []
-        for piece in bset.pieces:
-            m, s0, s1 = self.edge_map[piece.edge]
-            pieces.append(BoundaryPiece(m, s0 + piece.t0 * (s1 - s0), s0 + piece.t1 * (s1 - s0)))
-        return BoundarySet(tuple(pieces)).merged()
-
-    @cached_property
-    def user_edges(self) -> tuple[tuple[tuple[int, Fraction, Fraction], ...], ...]:
-        """For every merged edge m: the user edges on it, in order along it, each ``(k, s0, s1)`` (its merged
-        parameter range)."""
-        out: list[list[tuple[int, Fraction, Fraction]]] = [[] for _ in range(self.merged.n_edges)]
-        for k, (m, s0, s1) in enumerate(self.edge_map):
-            out[m].append((k, s0, s1))
-        return tuple(tuple(sorted(items, key=lambda item: item[1])) for items in out)
-
-    def user_edge_at(self, edge: int, s: Fraction) -> int:
-        """The user edge holding the point at merged parameter ``s`` of merged edge ``edge`` (at a collinear
-        vertex: the edge that starts there)."""
-        users = self.user_edges[edge]
-        return next((k for k, s0, s1 in users if s0 <= s < s1), users[-1][0])
-
-    def to_user(self, pieces: Iterable[BoundaryPiece]) -> tuple[BoundaryPiece, ...]:
-        """Merged pieces as pieces of the user's edges, in order: a piece on a merged edge splits at the
-        collinear vertices into pieces of consecutive user edges (exact; a point stays one point)."""
-        if self.identity:
-            return tuple(pieces)
-        out: list[BoundaryPiece] = []
-        for piece in pieces:
-            users = self.user_edges[piece.edge]
-            if piece.t0 == piece.t1:
-                k = self.user_edge_at(piece.edge, piece.t0)
-                _, s0, s1 = self.edge_map[k]
-                t = (piece.t0 - s0) / (s1 - s0)
-                out.append(BoundaryPiece(k, t, t))
-                continue
-            for k, s0, s1 in users:
-                lo, hi = max(piece.t0, s0), min(piece.t1, s1)
-                if lo < hi:
-                    out.append(BoundaryPiece(k, (lo - s0) / (s1 - s0), (hi - s0) / (s1 - s0)))
-        return tuple(out)
-
-    def to_user_set(self, bset: BoundarySet) -> BoundarySet:
-        """:meth:`to_user` of a boundary set (pieces of one user edge joined)."""
-        return bset if self.identity else BoundarySet(self.to_user(bset.pieces)).merged()
+    def visit_cuts(self, edges: Iterable[int]) -> dict[int, list[Fraction]]:
+        """Where the user edges ``edges`` end inside merged edges (at collinear vertices): merged edge → its
+        parameters there, sorted. A patrol visit of user edge k means landing on k's part of its wall, so the
+        searched partition is cut there (:func:`cut_partition`)."""
+        out: dict[int, set[Fraction]] = {}
+        for k in edges:
+            m, s0, s1 = self.edge_map[k]
+            out.setdefault(m, set()).update(s for s in (s0, s1) if 0 < s < 1)
+        return {m: sorted(ts) for m, ts in out.items() if ts}
 
     # ------------------------------------------------------------------ segments
     @cached_property

@@ -81,6 +81,7 @@ from solverplan.plan import _search
 from solverplan.plan._choices import ArcChoices, arc_choices, max_tolerance
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
+from solverplan.plan._walls import Walls, cut_partition
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan._graphs import (
     KARP_MAX_NODES,
@@ -90,6 +91,7 @@ from solverplan.plan._graphs import (
     lp_min_mean_cycle,
 )
 from solverplan.plan._results import OnPartition, heading_cone
+from solverplan.plan.search import straight_walls_graph
 from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_kind
 
 __all__ = ["Objective", "DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
@@ -376,9 +378,10 @@ class _Entry:
     breadth-first searches. An entry stage is one option of the problem at least 2ε wide; an entry ends on *one*
     known segment of the cycle (the cycle's stages depend on the segment)."""
 
-    def __init__(self, graph: SafeBVG, start: BoundarySet, margins: Margins, deadline: Deadline = NEVER) -> None:
-        self.graph, self.start, self.margins, self.deadline = graph, start, margins, deadline
-        self.problem = Problem(graph, start, None, margins=margins)
+    def __init__(self, graph: SafeBVG, start: BoundarySet, margins: Margins, deadline: Deadline = NEVER,
+                 walls: Walls | None = None) -> None:
+        self.graph, self.start, self.margins, self.deadline, self.walls = graph, start, margins, deadline, walls
+        self.problem = Problem(graph, start, None, margins=margins, walls=walls)
         self.start_belief = self.problem.start_belief
         self._singletons: dict[float, tuple[frozenset[int], tuple[str, ...]]] = {}
 
@@ -396,15 +399,18 @@ class _Entry:
         return self._singletons[eps]
 
     def plan(self, targets: dict[int, int], eps: float) -> tuple[tuple[Stage, ...], int] | None:
-        """The fewest-stage entry onto one segment of ``targets`` with stages ≥ 2ε wide, and that segment.
-        ``targets`` maps each cycle segment to the corner the cycle's arc from it runs into (0 for none): an entry
-        that arrives near that corner is not accepted (no corner ping-pong across the junction)."""
+        """The fewest-stage entry onto one segment of ``targets`` with stages ≥ 2ε wide (in the user's numbering:
+        :meth:`Problem.user_stage`), and that segment (of the search). ``targets`` maps each cycle segment to the
+        corner the cycle's arc from it runs into (0 for none): an entry that arrives near that corner is not
+        accepted (no corner ping-pong across the junction)."""
         if len(self.start_belief) == 1 and self.start_belief[0] in targets:
             return (), self.start_belief[0]
         part = self.graph.partition
         goal = BoundarySet(tuple(BoundaryPiece(part.segments[s].edge, part.segments[s].t0, part.segments[s].t1)
                                  for s in sorted(targets)))
-        problem = Problem(self.graph, self.start, goal, margins=self.margins)
+        if self.walls is not None:  # the problem takes its sets in the user's numbering
+            goal = self.walls.to_user_set(goal)
+        problem = Problem(self.graph, self.start, goal, margins=self.margins, walls=self.walls)
         n = problem.n_segments
 
         def accept(belief) -> bool:
@@ -417,10 +423,28 @@ class _Entry:
         if path is None:
             return None
         stages = tuple(problem.user_stage(belief, o, Interval(o.lo, o.hi)) for belief, o in _search.walk(problem, path))
-        return stages, stages[-1].to_segments[0]
+        return stages, problem.segment(path[-1].next[0])
 
 
 # ---------------------------------------------------------------------- the product graph
+Visits = tuple[np.ndarray, ...]
+"""For every required visit in order, a boolean mask over the searched segments: the segments landing on which is
+that visit (the segments of the visited edge's part of its straight wall)."""
+
+
+def _visit_targets(part: Partition, walls: Walls, edges: tuple[int, ...]) -> Visits:
+    """The segments of the searched partition (of the straight walls, cut where the visited edges end: every
+    segment lies inside or outside each visited edge) that lie on each visited user edge."""
+    out = []
+    for k in edges:
+        m, s0, s1 = walls.edge_map[k]
+        rows = [i for i in part.edge_segments[m] if s0 <= part.segments[i].t0 and part.segments[i].t1 <= s1]
+        mask = np.zeros(len(part.segments), dtype=bool)
+        mask[rows] = True
+        out.append(mask)
+    return tuple(out)
+
+
 @dataclass(frozen=True)
 class _Product:
     """Arcs of the product of the safe BVG (at one tolerance) with the sequence automaton."""
@@ -448,12 +472,11 @@ def _tagged(choices: ArcChoices, rows: np.ndarray, N: int) -> tuple[np.ndarray, 
     return np.concatenate(src), np.concatenate(dst), np.concatenate(out)
 
 
-def _product(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: int | None,
+def _product(part: Partition, choices: ArcChoices, visit: Visits, H: int | None,
              allowed: frozenset[int] | None) -> _Product:
     """Nodes (c, q, h) over tagged segments c (:func:`_tagged`), h ∈ 0..H; ``H=None``: no h, within-layer cycles
-    allowed: node (c, q)."""
+    allowed: node (c, q). ``visit``: for each required visit, which segments it lands on (:func:`_visit_targets`)."""
     N, k = len(part.segments), len(visit)
-    seg_edge = np.asarray(part.seg_edge, dtype=np.int64)
     rows = np.arange(len(choices.arc))
     if allowed is not None:
         mask = np.isin(choices.source, list(allowed)) & np.isin(choices.target, list(allowed))
@@ -468,7 +491,7 @@ def _product(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: in
     src, dst, ch, adv = [], [], [], []
     for q in range(k):
         nxt = (q + 1) % k
-        lands = seg_edge[t % N] == visit[nxt]
+        lands = visit[nxt][t % N]
         for h in hs:
             here = (q * nh + h) * M + s
             # advancing arcs
@@ -504,12 +527,11 @@ def _compact(prod: _Product) -> tuple[int, np.ndarray, np.ndarray]:
 
 
 # ---------------------------------------------------------------------- one-period DP (objective a)
-def _period_dp(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: int,
+def _period_dp(part: Partition, choices: ArcChoices, visit: Visits, H: int,
                allowed: frozenset[int] | None) -> tuple[float, list[int]] | None:
     """Minimum total weight of a walk from a segment of e_1 through e_2, …, e_k back to the same segment with at
     most H intermediate bounces between required visits: (weight, rows of ``choices`` in order), or None."""
     N, k = len(part.segments), len(visit)
-    seg_edge = np.asarray(part.seg_edge, dtype=np.int64)
     rows = np.arange(len(choices.arc))
     if allowed is not None:
         rows = rows[np.isin(choices.source, list(allowed)) & np.isin(choices.target, list(allowed))]
@@ -520,7 +542,8 @@ def _period_dp(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: 
     s, t, rows = _tagged(choices, rows, N)
     w = choices.weight[rows]
     M = 4 * N
-    anchors = [a + N * tag for a in part.edge_segments[visit[0]] if allowed is None or a in allowed for tag in range(4)]
+    anchors = [a + N * tag for a in np.flatnonzero(visit[0]).tolist() if allowed is None or a in allowed
+               for tag in range(4)]
     if not anchors:
         return None
     A = len(anchors)
@@ -532,7 +555,7 @@ def _period_dp(part: Partition, choices: ArcChoices, visit: tuple[int, ...], H: 
     for i, a in enumerate(anchors):
         dist[0, i, a] = 0.0
     for j in range(k):
-        lands = seg_edge[t % N] == visit[(j + 1) % k]
+        lands = visit[(j + 1) % k][t % N]
         for h in range(H + 1):
             L = j * (H + 1) + h
             cand = dist[L][:, s] + w[None, :]  # (A, arcs)
@@ -660,11 +683,22 @@ def patrol(
         raise InputError(f"epsilon {epsilon!r} must be a positive length")
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    g = graph if graph is not None else safe_bounce_visibility_graph(partition(env))
+    # Collinear vertices are no corners: search the straight walls (the same free space with them merged, each ring
+    # from its canonical vertex: plan._walls), cut again only where a visited edge ends inside a wall (a visit of
+    # user edge k means landing on k's part of its wall), and answer in the user's edges
+    walls = Walls(env)
+    if graph is not None and graph.partition.env not in (env, walls.merged):
+        raise InputError("the safe BVG given was built for another environment")
+    cuts = walls.visit_cuts(edges)
+    if cuts:
+        base = graph.partition if graph is not None and graph.partition.env == walls.merged else partition(walls.merged)
+        g = safe_bounce_visibility_graph(cut_partition(base, cuts))
+    else:
+        g = straight_walls_graph(walls, graph)
     t1 = time.perf_counter()
-    margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+    margins = Margins.for_environment(walls.merged, heading_margin=heading_margin, safe_margin=safe_margin,
                                       corner_clearance=corner_clearance)
-    result = _solve(env, g, edges, objective, tolerance, max_between, start_set, epsilon, solver, margins, deadline)
+    result = _solve(walls, g, edges, objective, tolerance, max_between, start_set, epsilon, solver, margins, deadline)
     stats = Stats(seconds_setup=round(t1 - t0, 6), seconds_search=round(time.perf_counter() - t1, 6))
     logger.info("patrol (%s): %s in %.3f s", objective, result.status.value, time.perf_counter() - t1)
     return replace(result, stats=stats)
@@ -676,8 +710,9 @@ def _scope(H: int, eps: float | None, start_set: BoundarySet | None, *, one_peri
     width = "" if eps is None else f", intervals {2 * eps:g} rad wide at the contracting end of each admissible interval"
     reach = "" if start_set is None else f", on segments a safe plan from {start_set} reaches with certainty"
     return (f"{what} with at most {H} intermediate bounces between consecutive required visits{width}{reach}, "
-            "every stage an arc of the safe BVG between segments of P′ of the vertex list as given (a collinear "
-            "vertex ends a segment here) (within the margin policy: no two consecutive arcs into one corner)")
+            "every stage an arc of the safe BVG between segments of P′ of the straight walls (collinear vertices "
+            "merged; cut where a visited edge ends inside a wall) (within the margin policy: no two consecutive arcs "
+            "into one corner)")
 
 
 def _claim(method: Method, bound: float | None, scope: str, algorithm: str, limits: tuple[str, ...],
@@ -686,17 +721,32 @@ def _claim(method: Method, bound: float | None, scope: str, algorithm: str, limi
     return Optimality(method, not limits, bound, scope=scope, gap=gap, algorithm=algorithm, limits=limits)
 
 
-def _solve(env, g: SafeBVG, edges, objective, tolerance, max_between, start_set, epsilon, solver,
+def _solve(walls: Walls, g: SafeBVG, edges, objective, tolerance, max_between, start_set, epsilon, solver,
            margins: Margins, deadline: Deadline = NEVER) -> Patrol:
+    """The patrol of ``edges`` (user edges) searched on ``g`` (the safe BVG of the straight walls of
+    ``walls``); the answer in the user's numbering (:func:`_to_user`)."""
     part = g.partition
+    env = part.env
+    visits = _visit_targets(part, walls, edges)
     eps = float(tolerance) if tolerance is not None else DEFAULT_TOLERANCE
-    entry = _Entry(g, start_set, margins, deadline) if start_set is not None else None
+    entry = _Entry(g, start_set, margins, deadline, walls) if start_set is not None else None
     classes = [max_between] if max_between is not None else list(range(MAX_BETWEEN_SEARCHED + 1))
-    base = dict(environment=EnvironmentRecord.of(env, part.n_segments), partition=part, visit=edges,
+    user_part = walls.user_partition if not walls.identity else part
+    base = dict(environment=EnvironmentRecord.of(walls.env, user_part.n_segments), partition=user_part, visit=edges,
                 objective=objective, start=start_set)
 
     if objective == "tolerance":
-        return _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base, deadline)
+        answer = _objective_tolerance(env, part, g, visits, classes, entry, margins, epsilon, base, deadline)
+    else:
+        answer = _objective_cycle(env, part, g, visits, objective, eps, classes, entry, epsilon, solver, margins,
+                                  base, deadline)
+    return _to_user(walls, part, answer)
+
+
+def _objective_cycle(env, part, g, visits: Visits, objective, eps, classes, entry, epsilon, solver, margins, base,
+                     deadline: Deadline) -> Patrol:
+    """(a) and (c): the best cycle of each class H in turn; the first class with a cycle answers."""
+    start_set, edges = base["start"], base["visit"]
 
     choices = arc_choices(g, eps, margins)
     allowed, limits = _allowed(choices, entry, eps)
@@ -714,23 +764,23 @@ def _solve(env, g: SafeBVG, edges, objective, tolerance, max_between, start_set,
             break
         scope = _scope(H, eps, start_set, one_period=one_period)
         if one_period:
-            found = _period_dp(part, choices, edges, H, allowed)
+            found = _period_dp(part, choices, visits, H, allowed)
             if found is None:
                 continue
             value, rows = found
-            wider, note = _period_bound(part, choices, edges, allowed, value)
+            wider, note = _period_bound(part, choices, visits, allowed, value)
             opt = _claim(Method.SEARCH_EXHAUSTED, math.exp(value), scope,
                          f"dynamic programming over the one-period product DAG, H = {H}", limits)
             solvers = {"dp_log_contraction": value}
             periods = 1
         else:
-            prod = _product(part, choices, edges, H, allowed)
+            prod = _product(part, choices, visits, H, allowed)
             if len(prod.src) == 0:
                 continue
             value, cyc, solvers = _min_mean(prod, solver)
             rows = [int(prod.choice[a]) for a in cyc]
             periods = int(prod.advance[cyc].sum()) // len(edges)
-            loose = _product(part, choices, edges, None, allowed)
+            loose = _product(part, choices, visits, None, allowed)
             lb = _min_mean(loose, solver, karp=False)[0] if len(loose.src) else value
             wider = math.exp(lb)
             note = (f"over all patrol cycles (any number of intermediate bounces) the per-bounce contraction is "
@@ -738,7 +788,7 @@ def _solve(env, g: SafeBVG, edges, objective, tolerance, max_between, start_set,
             opt = _claim(Method.LP_DUALITY, math.exp(value), scope,
                          f"minimum mean cycle: LP (duality) and Karp's algorithm agree, H = {H}", limits)
         return _answer(env, part, g, choices, rows, eps, H, entry, epsilon, opt, solvers, base, periods,
-                       bound_all_classes=(wider, note))
+                       bound_all_classes=(wider, note), visits=visits)
     where = "" if entry is None else f", among the segments reachable from {start_set}"
     status = Status.NOT_FOUND if limits else Status.INFEASIBLE
     return Patrol(status=status, tolerance=eps, max_between=classes[-1],
@@ -793,9 +843,9 @@ def _allowed(choices: ArcChoices, entry: _Entry | None, eps: float) -> tuple[fro
     return frozenset(out), limits
 
 
-def _period_bound(part, choices, edges, allowed, value) -> tuple[float | None, str]:
+def _period_bound(part, choices, visits: Visits, allowed, value) -> tuple[float | None, str]:
     """Lower bound on the one-period contraction over every class (any number of intermediate bounces)."""
-    loose = _product(part, choices, edges, None, allowed)
+    loose = _product(part, choices, visits, None, allowed)
     within = ~loose.advance
     if within.any():
         n, src, dst = loose.n_nodes, loose.src[within], loose.dst[within]
@@ -803,9 +853,9 @@ def _period_bound(part, choices, edges, allowed, value) -> tuple[float | None, s
             return 0.0, ("a contracting cycle between two required visits exists, so with more intermediate bounces "
                          "the per-period contraction can be made arbitrarily small")
     N = len(part.segments)
-    if N * len(edges) * N > 200000:
+    if N * len(visits) * N > 200000:
         return None, "no bound over larger classes computed (too many segments)"
-    deep = _period_dp(part, choices, edges, N, allowed)
+    deep = _period_dp(part, choices, visits, N, allowed)
     if deep is None:  # pragma: no cover - the deeper class contains the found walk
         return None, ""
     return math.exp(deep[0]), (f"over every class (any number of intermediate bounces) the optimum is "
@@ -833,9 +883,10 @@ def _min_mean(prod: _Product, solver: str | None, *, karp: bool = True) -> tuple
     return mean, cycle, solvers
 
 
-def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, base,
+def _objective_tolerance(env, part, g, visits: Visits, classes, entry, margins, epsilon, base,
                          deadline: Deadline = NEVER) -> Patrol:
     """(b): bisection on ε with negative-cycle detection; at the deadline, the bracket reached (not proved)."""
+    edges = base["visit"]
     top = max_tolerance(g, margins)
     hit_limits: set[str] = set()  # caps the reachability search hit at any ε tried
 
@@ -845,7 +896,7 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
         hit_limits.update(limits)
         if allowed is not None and not allowed:
             return None
-        prod = _product(part, ch, edges, H, allowed)
+        prod = _product(part, ch, visits, H, allowed)
         if len(prod.src) == 0:
             return None
         cyc = find_negative_cycle(prod.n_nodes, prod.src, prod.dst, prod.w)
@@ -883,7 +934,8 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
                  f"safe interval: the largest tolerance ε with a contracting cycle, ε* ∈ [{lo:.12g}, {hi:.12g}]")
         opt = _claim(Method.BISECTION, hi, scope, f"bisection with Bellman-Ford negative-cycle detection, H = {H}",
                      tuple(sorted(hit_limits)))
-        return _answer(env, part, g, ch, rows, lo, H, entry, epsilon, opt, {"bracket": [lo, hi]}, base, periods)
+        return _answer(env, part, g, ch, rows, lo, H, entry, epsilon, opt, {"bracket": [lo, hi]}, base, periods,
+                       visits=visits)
     limits = tuple(sorted(hit_limits))
     return Patrol(status=Status.NOT_FOUND if limits else Status.INFEASIBLE, tolerance=None, max_between=classes[-1],
                   reason=(f"no contracting patrol cycle visits {', '.join(f'e{e}' for e in edges)} in order with at most "
@@ -897,8 +949,9 @@ def _objective_tolerance(env, part, g, edges, classes, entry, margins, epsilon, 
 # ---------------------------------------------------------------------- building the answer
 def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: int, entry: _Entry | None, epsilon,
             opt: Optimality, solvers: dict, base: dict, periods: int = 1,
-            bound_all_classes: tuple[float | None, str] = (None, "")) -> Patrol:
-    edges = base["visit"]
+            bound_all_classes: tuple[float | None, str] = (None, ""), *, visits: Visits) -> Patrol:
+    """The answer of a cycle (``rows`` of ``choices``) found on ``part`` (the searched partition): the cycle in the
+    searched numbering, the entry in the user's (:func:`_to_user` maps the cycle)."""
     segs = [int(choices.source[r]) for r in rows]
     # entry: a belief plan from the start set to some segment of the cycle; rotate the cycle to begin there
     entry_stages: tuple[Stage, ...] = ()
@@ -918,7 +971,7 @@ def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: i
     else:
         # begin with a bounce leaving a segment of the first required edge when there is one
         for k, s in enumerate(segs):
-            if int(part.seg_edge[s]) == edges[0]:
+            if visits[0][s]:
                 rotate = k
                 break
     rows = rows[rotate:] + rows[:rotate]
@@ -958,6 +1011,35 @@ def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: i
         attractor=attractor, epsilon=epsilon, cycles_to_epsilon=counts, cycles_to_epsilon_nominal=nominal_cycles,
         optimality=opt, bound_all_classes=bound_all_classes[0], bound_all_classes_note=bound_all_classes[1],
         solvers=solvers, **base)
+
+
+def _to_user(walls: Walls, part: Partition, answer: Patrol) -> Patrol:
+    """A patrol found on ``part`` (P′ of the straight walls, maybe cut where visits end) in the user's numbering:
+    each cycle stage leaves from the run of user segments its segment is made of and lands on a run; its exact
+    map is stated between the user edges where the two runs begin (the edges' lines are the walls' lines, so the
+    map runs on over the collinear neighbours: t < 0 or t > 1 there), and so is the return map; the orbit's points
+    lie on the user edges that hold them (t in [0, 1]). Entry stages are in the user's numbering already."""
+    if walls.identity or not answer.cycle:
+        return answer
+    user = walls.user_partition
+    runs = walls.runs(part)
+    env = walls.env
+    stages = []
+    alpha, beta = Fraction(1), Fraction(0)
+    for st in answer.cycle:
+        a = st.step
+        src, dst = runs[st.from_segment], runs[st.to_segment]
+        fe, te = user.segments[src[0]].edge, user.segments[dst[0]].edge
+        m = affine_map(env, fe, a.direction, te)
+        affine = replace(a, from_edge=fe, to_edge=te, alpha=m.alpha, beta=m.beta)
+        alpha, beta = m.alpha * alpha, m.alpha * beta + m.beta
+        stages.append(Stage(src, tuple(sorted(dst)), st.interval, moves=tuple((u, v) for u in src for v in dst),
+                            affine=affine))
+    points = []
+    for p in answer.points:
+        edge, t = walls.user_point(p.edge, p.t)
+        points.append(PatrolPoint(edge, user.segment_at(edge, t), t, p.point))
+    return replace(answer, cycle=tuple(stages), nominal_alpha=alpha, nominal_beta=beta, points=tuple(points))
 
 
 def _stage(env: Environment, part: Partition, g: SafeBVG, choices: ArcChoices, r: int) -> Stage:

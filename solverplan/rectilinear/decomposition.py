@@ -45,7 +45,9 @@ edge while line 7 only ever ends one at an edge's *closest* point, and the two c
 the proof would use is not the closest point of its edge) and crosses the door (18, 17)–(22, 17) of length 4.
 Rooms need doors that do not cross, so after line 19 the doors are taken shortest first (ties in the order
 found) and a door that crosses one already taken is dropped (reason ``"crossing"``). When Prop. 2 holds,
-nothing is dropped. Prop. 1 (two segments ab, bc span a triangle inside P) fails the same way, for diagonal
+nothing is dropped. (That is in the vertex order as written; :func:`decompose_rooms` breaks ties between equally
+short bottlenecks in the order of the straight walls — the ring from its canonical vertex, so that the rooms do not
+depend on how the polygon is written — and there (21, 13) reaches (18, 17), a diagonal that line 19 drops.) Prop. 1 (two segments ab, bc span a triangle inside P) fails the same way, for diagonal
 segments: (22, 20)–(18, 16) and (18, 16)–(14, 15) in ``(31,10) (31,22) (22,22) (22,20) (18,20) (18,16) (14,16)
 (14,15) (10,15) (10,11) (18,11) (18,10)``; line 19 drops both, and no counterexample among the doors is known.
 
@@ -66,11 +68,11 @@ adds them (reflex vertex order); a door's ``a`` is its reflex vertex, ``b`` the 
 >>> from solverplan.environment import Environment
 >>> ell = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])
 >>> rooms = decompose_rooms(ell)
->>> [room.polygon for room in rooms.rooms] == [((0, 0), (2, 0), (2, 4), (0, 4)), ((2, 0), (4, 0), (4, 2), (2, 2))]
+>>> [room.polygon for room in rooms.rooms] == [((0, 0), (4, 0), (4, 2), (0, 2)), ((0, 2), (2, 2), (2, 4), (0, 4))]
 True
->>> door = rooms.doors[0]          # four candidates of length 2 tie: the one to edge 0 (the floor) wins
+>>> door = rooms.doors[0]     # the floor and the left wall tie at length 2: the first in the walls' canonical order wins
 >>> door.a, door.b, door.rooms, door.length
-((Fraction(2, 1), Fraction(2, 1)), (Fraction(2, 1), Fraction(0, 1)), (0, 1), Fraction(2, 1))
+((Fraction(2, 1), Fraction(2, 1)), (Fraction(0, 1), Fraction(2, 1)), (0, 1), Fraction(2, 1))
 >>> [room.area for room in rooms.rooms], rooms.tree
 ([Fraction(8, 1), Fraction(4, 1)], ((0, 1),))
 """
@@ -78,7 +80,7 @@ True
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
 from solverplan.environment import Environment
@@ -86,6 +88,7 @@ from solverplan.errors import InputError, InvalidEnvironment, MalformedFile, Sol
 from solverplan.exact import (ExactPoint, exact_point, format_number, format_point, json_number, point_in_ring,
                               segment_intersection)
 from solverplan.geometry.raycast import cast_ray
+from solverplan.geometry.walls import StraightWalls
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from typing import Any
 
@@ -650,6 +653,14 @@ def decompose_rooms(env: Environment) -> Decomposition:
     InvalidEnvironment
         For holes or an edge that is neither horizontal nor vertical.
 
+    Notes
+    -----
+    Algorithm 1 runs on the straight walls of ``env`` (:class:`~solverplan.geometry.walls.StraightWalls`: collinear
+    vertices merged, the ring from its canonical vertex), so that how the walls are written — collinear vertices,
+    split edges, the first vertex, the orientation — changes neither the rooms nor the doors, nor which of equally
+    short bottlenecks wins; door ids (in the order of their reflex vertices in ``env``) and vertex and edge numbers
+    are then given in ``env``'s numbering.
+
     Examples
     --------
     >>> import solverplan as sp
@@ -658,12 +669,16 @@ def decompose_rooms(env: Environment) -> Decomposition:
     ([Fraction(40, 1), Fraction(24, 1)], ((0, 1),))
     >>> door = rooms.doors[0]
     >>> door.rooms, door.a, door.b                               # the door's end points
-    ((0, 1), (Fraction(4, 1), Fraction(4, 1)), (Fraction(4, 1), Fraction(0, 1)))
+    ((0, 1), (Fraction(4, 1), Fraction(4, 1)), (Fraction(0, 1), Fraction(4, 1)))
     >>> sp.decompose_rooms(sp.load_environment("two_rooms"))
     Traceback (most recent call last):
     ...
     solverplan.errors.InvalidEnvironment: rooms need a rectilinear polygon: edge 2 from (10, 3) to (16, 2) is neither horizontal nor vertical
     """
+    check_rectilinear(env)  # bad input is named in the file's numbering
+    walls = StraightWalls(env)
+    if not walls.identity:
+        return _in_user_numbering(walls, decompose_rooms(walls.merged))
     started = time.perf_counter()
     found = bottleneck_segments(env)
     verts = env.exact_vertices
@@ -704,6 +719,32 @@ def decompose_rooms(env: Environment) -> Decomposition:
                                  counts={"reflex": len(env.reflex_vertices), "segments": len(segments)}))
     _check_remark_5(result)
     return result
+
+
+def _in_user_numbering(walls: StraightWalls, dec: Decomposition) -> Decomposition:
+    """A decomposition of the straight walls (:func:`decompose_rooms`) told in the user's numbering: each door's
+    reflex vertex, the edge it reaches (the user edge holding its end ``b``) and ``b``'s vertex, if any; doors in the
+    order of their reflex vertices. A door that Algorithm 1 also draws in the vertex order as written (every door
+    but where a tie between equally short bottlenecks went the other way) keeps that drawing: a door between two
+    reflex vertices starts at the one met first in the user's ring, as it always did."""
+    env = walls.env
+    verts = env.exact_vertices
+    as_written = {frozenset((verts[v], p)): (v, p, e) for v, p, e in bottleneck_segments(env)}
+    doors = []
+    for door in dec.doors:
+        same = as_written.get(frozenset((door.a, door.b)))
+        if same is not None:
+            v, p, e = same
+            doors.append(replace(door, a=verts[v], b=p, vertex=v, edge=e))
+        else:
+            doors.append(replace(door, vertex=walls.user_vertex(door.vertex),
+                                 edge=walls.user_edge_of_point(door.edge, door.b)))
+    order = sorted(doors, key=lambda door: door.vertex)
+    new_id = {door.id: k for k, door in enumerate(order)}
+    doors = [replace(door, id=k, b_vertex=verts.index(door.b) if door.b in verts else None)
+             for k, door in enumerate(order)]
+    rooms = tuple(replace(room, sides=tuple(new_id.get(side, side) for side in room.sides)) for room in dec.rooms)
+    return replace(dec, env=env, rooms=rooms, doors=tuple(doors))
 
 
 def _check_remark_5(dec: Decomposition) -> None:

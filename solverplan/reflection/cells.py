@@ -20,7 +20,7 @@ n_i·(q − p_i) ≥ 0 for every i. Normals here are the exact left normals of t
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from functools import cached_property
 from typing import Sequence
@@ -30,6 +30,7 @@ import numpy as np
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, cross, exact_point, format_point, signed_area2
+from solverplan.geometry.walls import StraightWalls
 
 __all__ = ["Side", "Cell", "Decomposition", "decompose_free_space", "with_corner_projections", "CELL_KINDS"]
 
@@ -251,9 +252,12 @@ def with_corner_projections(env: Environment) -> Environment:
 def decompose_free_space(env: Environment, cells: str = "convex") -> Decomposition:
     """Convex cells of ``env``'s free space (holes included), with their adjacency over shared facets.
 
-    The cells are made by Hertel–Mehlhorn merging of a constrained Delaunay triangulation. Every cell vertex is an exact vertex of ``env``; the cells are counter-clockwise, strictly convex (no angle
-    of π is created by a merge; collinear vertices of the environment stay), and cover the free space exactly
-    (their areas sum to the environment's exact area — checked).
+    The cells are made by Hertel–Mehlhorn merging of a constrained Delaunay triangulation. Every cell vertex is an
+    exact vertex of ``env``; the cells are counter-clockwise, strictly convex (no angle of π is created by a merge),
+    and cover the free space exactly (their areas sum to the environment's exact area — checked). The triangulation
+    is made of the canonical walls of ``env`` (:class:`~solverplan.geometry.walls.StraightWalls`: collinear vertices
+    merged — they are no corners — and each ring from its canonical vertex), so that the cells do not depend on how
+    the walls are written.
 
     Parameters
     ----------
@@ -283,12 +287,15 @@ def decompose_free_space(env: Environment, cells: str = "convex") -> Decompositi
     (True, True)
     >>> dec = decompose_free_space(load_environment("l_shape"))      # two cells, split along the reflex corner's diagonal
     >>> [[(int(x), int(y)) for x, y in cell.vertices] for cell in dec.cells], dec.adjacency
-    ([[(0, 0), (4, 4), (4, 10), (0, 10)], [(0, 0), (10, 0), (10, 4), (4, 4)]], ((0, 1),))
+    ([[(0, 0), (10, 0), (10, 4), (4, 4)], [(0, 0), (4, 4), (4, 10), (0, 10)]], ((0, 1),))
     """
     import shapely
 
     if cells not in CELL_KINDS:
         raise InputError(f"unknown decomposition {cells!r}: use {', '.join(CELL_KINDS)}")
+    walls = StraightWalls(env)
+    if not walls.identity:  # canonical walls first: the corner projections below add collinear vertices of their own
+        return replace(decompose_free_space(walls.merged, cells), env=env)
     if cells == "corners":
         env = with_corner_projections(env)
     exact = env.exact_vertices

@@ -223,7 +223,7 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
     >>> import solverplan as sp
     >>> plan = compose_fields(sp.load_environment("l_shape"), (8, 2), (2, 8))
     >>> plan.sequence, sorted(plan.policies), plan.policies[plan.goal_cell].field.kind
-    ((1, 0), [0, 1], 'goal')
+    ((0, 1), [0, 1], 'goal')
     """
     dec = decomposition or decompose_free_space(env, cells)
     p_line = to_fraction(gain_line, where="gain_line")

@@ -65,7 +65,7 @@ class FieldNavigation(Answer):
     ...                          model="integrator", trials=2, seed=1)
     >>> run = nav.runs["reflection"]
     >>> nav.status.value, nav.plan.sequence, run.success, run.collisions.tolist()
-    ('found', (1, 0), 1.0, [0, 0])
+    ('found', (0, 1), 1.0, [0, 0])
     """
 
     plan: FieldPlan
@@ -253,7 +253,7 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     >>> import solverplan as sp
     >>> nav = navigate_fields(sp.load_environment("l_shape"), (5, 2), (2, 5), model="integrator", trials=2)
     >>> nav.status.value, nav.to_json()["sequence"], {name: run.success for name, run in nav.runs.items()}
-    ('found', [1, 0], {'constrained': 1.0, 'unconstrained': 1.0, 'reflection': 1.0})
+    ('found', [0, 1], {'constrained': 1.0, 'unconstrained': 1.0, 'reflection': 1.0})
     """
     began = time.perf_counter()
     unknown = [s for s in scenarios if s not in SCENARIOS]

@@ -35,7 +35,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
 from solverplan.exact import ExactPoint, format_point, orient, point_in_ring, segment_intersection
 from solverplan.geometry.raycast import cast_ray
-from solverplan.wallfollow.cuts import Cut, cuts
+from solverplan.wallfollow.cuts import Cut, corner_polygon, cuts
 from solverplan.wallfollow.ordering import CutOrdering
 
 __all__ = ["Bitangent", "inflections", "bitangents", "mutually_visible", "reflex_chains", "boundary_between"]
@@ -72,6 +72,7 @@ class Bitangent:
 
 def inflections(env: Environment) -> tuple[Cut, ...]:
     """The right and left inflections (cuts), in the order of :func:`~solverplan.wallfollow.cuts.cuts`."""
+    env = corner_polygon(env)
     n = env.n_vertices
     reflex = set(env.reflex_vertices)
     return tuple(c for c in cuts(env)
@@ -80,7 +81,9 @@ def inflections(env: Environment) -> tuple[Cut, ...]:
 
 
 def reflex_chains(env: Environment) -> tuple[tuple[int, ...], ...]:
-    """Maximal runs of consecutive reflex vertices (counter-clockwise), each a tuple of vertex ids."""
+    """Maximal runs of consecutive reflex vertices (counter-clockwise), each a tuple of vertex ids (of the corners,
+    :func:`~solverplan.wallfollow.cuts.corner_polygon`)."""
+    env = corner_polygon(env)
     n = env.n_vertices
     reflex = set(env.reflex_vertices)
     if len(reflex) == n:  # impossible for a polygon, but keep the loop below finite
@@ -102,7 +105,7 @@ def mutually_visible(env: Environment, a: int, b: int) -> bool:
     In general position the segment contains no other vertex, so it is inside iff it crosses no edge away from
     its ends and its midpoint is inside.
     """
-    pts = env.exact_vertices
+    pts = corner_polygon(env).exact_vertices
     n = len(pts)
     p, q = pts[a], pts[b]
     for e in range(n):
@@ -164,6 +167,7 @@ def bitangents(env: Environment, pairs: Sequence[tuple[int, int]] | None = None)
     """
     from solverplan.wallfollow.cuts import cut_ordering
 
+    env = corner_polygon(env)
     all_cuts = cuts(env)
     order = cut_ordering(env)
     pts = env.exact_vertices

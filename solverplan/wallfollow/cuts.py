@@ -11,8 +11,14 @@ wall-following robot*, §III–V). The segment it travels is a **cut**:
 
 End points are found by the project's exact ray caster, so they are exact rational points.
 
+**Corners.** A vertex with an angle of exactly π (collinear with its two neighbours) is no corner: the robot
+following the wall passes it sensing "on an edge", and no cut starts or ends there. Every entry point of the model
+therefore works on :func:`corner_polygon` — the polygon with those vertices merged, exactly, the same free space —
+and its vertices v0, v1, … are the polygon's **corners** in the order written, from the first corner at or after
+vertex 0 (the same numbers as the file's when it has no collinear vertex); answers record how many were merged.
+
 **General position.** The paper assumes that no three vertices are collinear, and, for the cut ordering, that
-no two cut end points coincide. A cut lies on the line of an edge, so a cut that runs into a vertex means three
+no two cut end points coincide; checked on the corners. A cut lies on the line of an edge, so a cut that runs into a vertex means three
 collinear vertices; it is reported as such a cut because that names the cause. Every violation is an
 :class:`~solverplan.errors.InvalidEnvironment` naming the offending vertices, as are holes (the model needs a
 simply connected environment).
@@ -39,10 +45,11 @@ from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
 from solverplan.exact import ExactPoint, format_point, orient
 from solverplan.geometry.raycast import cast_ray
+from solverplan.geometry.walls import StraightWalls
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stats
 from solverplan.wallfollow.ordering import CutOrdering
 
-__all__ = ["Cut", "cuts", "cut_ordering", "check_general_position", "collinear_triple"]
+__all__ = ["Cut", "cuts", "cut_ordering", "check_general_position", "collinear_triple", "corner_polygon"]
 
 Side = Literal["l", "r"]
 
@@ -75,6 +82,24 @@ class Cut:
     def label(self) -> str:
         """The end point's name in a cut ordering: ``l4`` (ℓ₄) or ``r4`` (r₄)."""
         return f"{self.side}{self.vertex}"
+
+
+def corner_polygon(env: Environment) -> Environment:
+    """The polygon the wall-following robot perceives: ``env`` with every vertex of angle exactly π merged (exact:
+    the same free space, :class:`~solverplan.geometry.walls.StraightWalls`), its corners in the order written from
+    the first corner at or after vertex 0. ``env`` itself when it has no such vertex.
+
+    >>> from solverplan.environment import Environment
+    >>> corner_polygon(Environment.from_coords([[0, 0], [2, 0], [4, 0], [4, 4], [0, 4]])).outer[1]
+    (Fraction(4, 1), Fraction(0, 1))
+    """
+    return StraightWalls(env, keep_start=True).merged
+
+
+def merged_count(env: Environment, corners: Environment) -> dict[str, int]:
+    """``{"collinear_vertices_merged": k}`` for an answer's stats when :func:`corner_polygon` merged k > 0 vertices."""
+    k = env.n_vertices - corners.n_vertices
+    return {"collinear_vertices_merged": k} if k else {}
 
 
 def _check_simply_connected(env: Environment) -> None:
@@ -159,6 +184,7 @@ def cuts(env: Environment) -> tuple[Cut, ...]:
         end points at the same point — one line naming the vertices.
     """
     _check_simply_connected(env)
+    env = corner_polygon(env)
     out: list[Cut] = []
     for vertex in env.reflex_vertices:
         out.append(_cast_cut(env, vertex, "l"))
@@ -220,6 +246,7 @@ def cut_ordering(env: Environment) -> CutOrdering:
     >>> cut_ordering(room).labels
     ('v0', 'l3', 'v1', 'v2', 'v3', 'v4', 'v5', 'r3')
     """
+    user, env = env, corner_polygon(env)
     all_cuts = cuts(env)
     by_edge: dict[int, list[Cut]] = {}
     for cut in all_cuts:
@@ -229,7 +256,7 @@ def cut_ordering(env: Environment) -> CutOrdering:
         labels.append(f"v{e}")
         labels.extend(c.label for c in sorted(by_edge.get(e, ()), key=lambda c: c.t))
     return CutOrdering(
-        tuple(labels), EnvironmentRecord.of(env),
+        tuple(labels), EnvironmentRecord.of(user),
         Optimality(Method.EXACT_CHECK, True, None, scope="the exact cut end points of the polygon",
                    algorithm="exact ray casts from each reflex vertex"),
-        Stats(counts={"n": env.n_vertices, "m": len(all_cuts) // 2}))
+        Stats(counts={"n": env.n_vertices, "m": len(all_cuts) // 2, **merged_count(user, env)}))

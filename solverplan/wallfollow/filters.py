@@ -245,7 +245,7 @@ def count_random_walk(env: Environment, steps: int = 1000, seed: int = 0,
     f = CountingFilter()
     f.start(world.observe())
     rng = random.Random(seed)
-    n = env.n_vertices
+    n = world.env.n_vertices  # the corners (collinear vertices are passed on an edge)
     lift, known_after = 0, None
     for k in range(steps):
         action = Action.RFOLLOW if rng.random() < 0.5 else Action.LFOLLOW

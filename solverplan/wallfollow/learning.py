@@ -363,4 +363,4 @@ def learn_cut_ordering(env: Environment, start: Sequence[object] | None = None, 
     truth = cut_ordering(env)
     return LearnedOrdering(learned.ordering, learned.actions, learned.memory, learned.counts, learned.transcript,
                            p, learned.ordering.relabel(p).labels == truth.labels, EnvironmentRecord.of(env),
-                           Stats(counts={"n": env.n_vertices, "m": len(env.reflex_vertices)}))
+                           Stats(counts={"n": world.env.n_vertices, "m": len(env.reflex_vertices)}))

@@ -42,7 +42,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, line_intersection, orient
 from solverplan.geometry.visibility import sees
-from solverplan.wallfollow.cuts import cut_ordering
+from solverplan.wallfollow.cuts import corner_polygon, cut_ordering
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
 from solverplan.wallfollow.world import Action, Observation, WallWorld
 
@@ -336,6 +336,7 @@ def learn_bitangents(env: Environment, order: CutOrdering | None = None) -> Lear
     >>> learned.bitangents[0], len(learned.bitangents), learned.actions, learned.visibility_queries
     (LearnedBitangent(i=9, j=12, after_ij='v6', after_ji='v13'), 2, 120, 14)
     """
+    env = corner_polygon(env)
     order = order or cut_ordering(env)
     world = PebbleWorld(env)
     robot = _Robot(world, order)

@@ -48,7 +48,7 @@ from solverplan.exact import ExactPoint, format_point, segment_intersection
 from solverplan.geometry.visibility import visibility_polygon
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 from solverplan.wallfollow.bitangents import bitangents
-from solverplan.wallfollow.cuts import cut_ordering, cuts
+from solverplan.wallfollow.cuts import corner_polygon, cut_ordering, cuts, merged_count
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
 from solverplan.wallfollow.pursuit_check import PursuitCheck, Transfer, check_pursuit
 from solverplan.wallfollow.world import Action
@@ -393,6 +393,7 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     if isinstance(max_states, bool) or not isinstance(max_states, int) or max_states < 1:
         raise InputError(f"max_states must be a positive integer, got {max_states!r}")
     t0 = time.perf_counter()
+    user, env = env, corner_polygon(env)  # collinear vertices are no corners (wallfollow.cuts)
     order = cut_ordering(env)
     if start not in order.labels:
         names = " ".join(order.labels[:8]) + (" ..." if len(order.labels) > 8 else "")  # one short line
@@ -475,7 +476,8 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     t2 = time.perf_counter()
     states = len(parent)
     stats = Stats(seconds_setup=t1 - t0, seconds_search=t2 - t1, expanded=states)
-    record = EnvironmentRecord.of(env)
+    record = EnvironmentRecord.of(user)
+    stats = stats.with_(**merged_count(user, env))
     if goal is None:
         status = Status.NOT_FOUND if limits or sensor not in COMPLETE else Status.INFEASIBLE
         if limits:

@@ -40,7 +40,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, format_number, format_point, point_in_ring, to_fraction
 from solverplan.geometry.raycast import cast_ray
-from solverplan.wallfollow.cuts import Cut, cuts
+from solverplan.wallfollow.cuts import Cut, corner_polygon, cuts
 
 __all__ = ["Action", "Touch", "Observation", "ActionNotApplicable", "WallWorld", "Position", "parse_action"]
 
@@ -136,6 +136,7 @@ class WallWorld:
 
     def __init__(self, env: Environment, start: Sequence[object] | None = None,
                  heading: Sequence[object] = (1, 0), *, carrying: bool = True) -> None:
+        env = corner_polygon(env)  # collinear vertices are no corners: the robot passes them on an edge
         self.env = env
         self.cuts: tuple[Cut, ...] = cuts(env)  # validates the environment
         self._pts = env.exact_vertices

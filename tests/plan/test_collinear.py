@@ -132,14 +132,16 @@ def test_pareto_front_on_a_split_polygon():
 
 
 def test_patrol_on_a_split_square():
-    """Patrols search the vertex list as given (their scope says so); on the split square the optimal cycle lands
-    on the visited halves, so the answer is the same."""
+    """Patrols search the straight walls, cut where a visited edge ends inside a wall (their scope says so): a visit
+    of a half means landing on that half; on the split square the optimal cycle lands on the visited halves, so the
+    answer is the same."""
     square = models.load("square")
     split, new_of = midpoints(square)
     p = patrol(square, "e0,e1,e2,e3", tolerance=0.05, objective="contraction")
     q = patrol(split, ",".join(f"e{new_of[k][0]}" for k in range(4)), tolerance=0.05, objective="contraction")
     assert p.found and q.found and abs(p.contraction - q.contraction) <= 1e-12
-    assert "vertex list as given" in q.optimality.scope
+    assert "cut where a visited edge ends inside a wall" in q.optimality.scope
+    assert all(len(st.from_segments) == 1 for st in q.cycle)  # every stage leaves from one half (a user segment)
 
 
 def test_the_checker_bounds_a_wall_landing_by_the_wall():

@@ -14,7 +14,8 @@ from hypothesis import strategies as st
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, InvalidEnvironment
 from solverplan.exact import orient, point_in_ring, segment_intersection
-from solverplan.rectilinear.decomposition import bottleneck_segments, decompose_rooms
+from solverplan.rectilinear.decomposition import (_chain_drops, _crossing_drops, bottleneck_segments,
+                                                  decompose_rooms)
 from solverplan.generators import rectilinear_polygon
 
 
@@ -31,19 +32,23 @@ def box_area(x0, y0, x1, y1):
 
 
 # ---------------------------------------------------------------------- hand-built polygons
-def test_l_shape_one_door_from_the_reflex_vertex_to_the_floor():
-    # the reflex vertex (2, 2) sees four closest points at distance 2: (2, 0) on edge 0 (the floor), (4, 2) on
-    # edge 1, (2, 4) on edge 4 and (0, 2) on edge 5; line 10's strict < keeps the first edge's
+def test_l_shape_one_door_from_the_reflex_vertex_to_the_wall():
+    # the reflex vertex (2, 2) sees two valid closest points at distance 2: (2, 0) on edge 0 (the floor) and (0, 2) on
+    # edge 5 (the left wall); line 10's strict < keeps the first edge's in the order of the straight walls (the ring
+    # from its canonical vertex, geometry.walls.canonical_start), whatever vertex the file starts at: the left wall
     ell = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])
     dec = decompose_rooms(ell)
-    assert door_set(dec) == {frozenset((F(2, 2), F(2, 0)))}
-    assert [set(room.polygon) for room in dec.rooms] == [{F(0, 0), F(2, 0), F(2, 4), F(0, 4)},
-                                                         {F(2, 0), F(4, 0), F(4, 2), F(2, 2)}]
-    assert [room.area for room in dec.rooms] == [box_area(0, 0, 2, 4), box_area(2, 0, 4, 2)]
+    assert door_set(dec) == {frozenset((F(2, 2), F(0, 2)))}
+    assert [set(room.polygon) for room in dec.rooms] == [{F(0, 0), F(4, 0), F(4, 2), F(0, 2)},
+                                                         {F(0, 2), F(2, 2), F(2, 4), F(0, 4)}]
+    assert [room.area for room in dec.rooms] == [box_area(0, 0, 4, 2), box_area(0, 2, 2, 4)]
     door = dec.doors[0]
-    assert (door.vertex, door.edge, door.b_vertex, door.rooms) == (3, 0, None, (0, 1))
-    # the wall the door lies on: x = 2 from 0 to 4 in room 0 (length 4), from 0 to 2 in room 1 (the whole side)
+    assert (door.vertex, door.edge, door.b_vertex, door.rooms) == (3, 5, None, (0, 1))
+    # the wall the door lies on: y = 2 from 0 to 4 in room 0 (length 4), from 0 to 2 in room 1 (the whole side)
     assert door.walls == (4, 2) and door.escapability(0) == Fraction(1, 2) and door.escapability(1) == 1
+    for k in range(6):  # any first vertex: the same door
+        rolled = Environment.from_coords(list(ell.outer[k:]) + list(ell.outer[:k]))
+        assert door_set(decompose_rooms(rolled)) == door_set(dec)
     assert dec.tree == ((0, 1),) and dec.path(1, 0) == (1, 0)
 
 
@@ -85,16 +90,25 @@ def test_a_diagonal_shortest_segment_is_dropped_and_leaves_no_door():
 
 
 def test_a_chain_of_three_doors_keeps_its_middle_door():
-    # reflex vertices (11, 5), (11, 8), (8, 8): their doors run (11, 5)–(12, 5) (length 1), (11, 8)–(11, 5)
-    # (length 3; ties with (8, 8) but edge 0 comes first) and (8, 8)–(11, 8): a chain of three
+    # reflex vertices (11, 5), (11, 8), (8, 8): in the vertex order as written their doors run (11, 5)–(12, 5)
+    # (length 1), (11, 8)–(11, 5) (length 3; ties with (8, 8) but edge 0 comes first) and (8, 8)–(11, 8): a chain of
+    # three, of which lines 20–21 keep the middle door
     env = Environment.from_coords([[11, 5], [11, 2], [12, 2], [12, 8], [11, 8], [11, 11], [8, 11], [8, 8], [5, 8], [5, 5]])
-    raw = {frozenset((env.exact_vertices[v], p)) for v, p, _ in bottleneck_segments(env)}
-    assert raw == {frozenset((F(11, 5), F(12, 5))), frozenset((F(11, 8), F(11, 5))), frozenset((F(8, 8), F(11, 8)))}
+    found = bottleneck_segments(env)
+    segments = [(env.exact_vertices[v], p) for v, p, _ in found]
+    assert {frozenset(s) for s in segments} == {frozenset((F(11, 5), F(12, 5))), frozenset((F(11, 8), F(11, 5))),
+                                                frozenset((F(8, 8), F(11, 8)))}
+    assert {frozenset(segments[k]) for k in _chain_drops(segments)} == {frozenset((F(11, 5), F(12, 5))),
+                                                                        frozenset((F(8, 8), F(11, 8)))}
+    # decompose_rooms breaks the tie in the order of the straight walls (canonical ring start): (11, 8) adds no door
+    # of its own ((8, 8)–(11, 8) is one already), no chain forms, and every way of writing the ring gives that answer
     dec = decompose_rooms(env)
-    assert door_set(dec) == {frozenset((F(11, 8), F(11, 5)))}
-    assert {(a, b, r) for a, b, r in dec.dropped} == {(F(11, 5), F(12, 5), "chain"), (F(8, 8), F(11, 8), "chain")}
-    assert [room.area for room in dec.rooms] == [box_area(11, 2, 12, 8), box_area(5, 5, 11, 8) + box_area(8, 8, 11, 11)]
-    assert len(dec.rooms[1].polygon) == 6 and not dec.rooms[1].is_rectangle
+    assert door_set(dec) == {frozenset((F(11, 5), F(12, 5))), frozenset((F(8, 8), F(11, 8)))} and not dec.dropped
+    assert sorted(room.area for room in dec.rooms) == [box_area(11, 2, 12, 5), box_area(8, 8, 11, 11),
+                                                       box_area(5, 5, 11, 8) + box_area(11, 5, 12, 8)]
+    for k in range(len(env.outer)):
+        rolled = Environment.from_coords(list(env.outer[k:]) + list(env.outer[:k]))
+        assert door_set(decompose_rooms(rolled)) == door_set(dec)
 
 
 CROSSING = [(9, 4), (9, 0), (15, 0), (15, 2), (21, 2), (21, 4), (15, 4), (15, 7), (21, 7), (21, 13), (22, 13), (22, 18),
@@ -107,9 +121,19 @@ def test_prop_2_fails_for_closest_points_and_the_longer_crossing_door_is_dropped
     up, across = frozenset((F(21, 13), F(21, 18))), frozenset((F(18, 17), F(22, 17)))
     assert up in raw and across in raw
     assert segment_intersection(F(21, 13), F(21, 18), F(18, 17), F(22, 17)).points == (F(21, 17),)
+    # lines 19–22 on the doors as found in the vertex order as written: the longer of the two crossing doors goes
+    straight = [(env.exact_vertices[v], p) for v, p, _ in bottleneck_segments(env)
+                if env.exact_vertices[v][0] == p[0] or env.exact_vertices[v][1] == p[1]]
+    assert {frozenset(straight[k]) for k in _crossing_drops(straight)} == {up}
+    # decompose_rooms breaks ties between equally short bottlenecks in the order of the straight walls (canonical
+    # ring start), where (21, 13) reaches (18, 17) instead (diagonal, dropped): no door crosses another, whatever
+    # vertex the ring starts at
     dec = decompose_rooms(env)
     assert across in door_set(dec) and up not in door_set(dec)
-    assert (F(21, 13), F(21, 18), "crossing") in dec.dropped
+    assert (F(21, 13), F(18, 17), "diagonal") in dec.dropped
+    for k in (1, 7, 13):
+        rolled = Environment.from_coords(CROSSING[k:] + CROSSING[:k])
+        assert door_set(decompose_rooms(rolled)) == door_set(dec)
 
 
 def test_warehouse_rooms_doors_and_doorway_cells():
