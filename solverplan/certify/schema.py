@@ -124,7 +124,7 @@ def _q(value: object, limit: int = 40) -> str:
     """``repr(value)`` cut to ``limit`` characters with ``…``: messages quote the input but stay one short line."""
     if isinstance(value, int) and value.bit_length() > 13_000:  # repr would hit Python's digit guard
         return f"(an integer of about {int(value.bit_length() * 0.30103):,} digits)"
-    text = repr(value)
+    text = str(value) if type(value).__name__ == "Decimal" else repr(value)  # a JSON number as it was written
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 SCHEMA = "solverplan-certificate"
