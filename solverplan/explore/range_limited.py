@@ -651,6 +651,7 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
         canonical = explore_range_limited(walls.merged, start, R, epsilon=epsilon, max_views=max_views, choice=choice,
                                           seed=seed)
         return replace(canonical, environment=EnvironmentRecord.of(env),
+                       unseen_vertices=tuple(sorted(walls.user_vertex(v) for v in canonical.unseen_vertices)),
                        stats=canonical.stats.with_(collinear_vertices_merged=walls.n_merged_vertices))
     bound = range_views_bound(env, float(R))
     lower = range_views_lower_bound(env, float(R))
