@@ -1203,10 +1203,16 @@ def _format_of(path: Path, fmt: str | None) -> FileFormat:
 
 
 def _no_such_file(path: str) -> str:
-    """The one-line error for a path that is neither a file nor a shipped model (listing the models for a bare name)."""
+    """The one-line error for a path that is neither a file nor a shipped model: for a bare name, the shipped models
+    it resembles (the whole list would pass the 200-character cap of an error line)."""
     if "/" in path or "\\" in path:
         return f"{shown_path(path)}: no such file, nor a shipped model"
-    return f"{shown_path(path)}: no such file, nor a shipped model (they are {', '.join(model_names())})"
+    import difflib
+
+    names = model_names()
+    close = difflib.get_close_matches(path, names, n=3, cutoff=0.6)
+    hint = f"did you mean {' or '.join(close)}?" if close else f"{len(names)} models, e.g. {', '.join(names[:4])}, …"
+    return f"{shown_path(path)}: no such file, nor a shipped model ({hint})"
 
 
 def load_environment(path: Any, fmt: FileFormat | None = None) -> Environment:

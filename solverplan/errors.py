@@ -96,7 +96,7 @@ class MalformedFile(InputError):
     >>> sp.load_environment("no_such_floor.json")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    solverplan.errors.MalformedFile: no_such_floor.json: no such file, nor a shipped model (they are comb, ...)
+    solverplan.errors.MalformedFile: no_such_floor.json: no such file, nor a shipped model (19 models, e.g. comb, ...)
     """
 
 

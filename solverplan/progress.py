@@ -58,7 +58,7 @@ class Stopped(Exception):
     ...         sp.partition(ell)
     ... except sp.Stopped as stop:
     ...     print(stop.task, stop.done, stop.total)
-    partition of the boundary 0 1
+    partition of the boundary: sides of the edges 0 6
     """
 
     def __init__(self, task: str, done: float = 0, total: float | None = None) -> None:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from solverplan.environment import Environment, load_environment
 from solverplan.explore.depth_first import explore_depth_first
 from solverplan.explore.optimum import chained_optimum
@@ -15,6 +17,7 @@ def test_convex_needs_one_view_and_the_l_two():
     assert chained_optimum(ell, (3, 1)).views == 2
 
 
+@pytest.mark.slow  # the optimum over every arrangement cell of the comb takes about a minute
 def test_theorem_2_online_views_within_r_plus_1_over_2_of_the_optimum_on_the_comb():
     comb = load_environment("comb")
     run = explore_depth_first(comb, (1, 1))
