@@ -8,13 +8,14 @@ outside the outer ring are dropped and counted.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import math
 import struct
 from dataclasses import dataclass, field
 from decimal import Decimal
 from pathlib import Path
-from typing import Any, Iterable, Sequence
+from typing import Any, Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -41,6 +42,21 @@ _PARSER_FAILURES = (ValueError, TypeError, AttributeError, KeyError, IndexError,
                     RecursionError, ZeroDivisionError, OverflowError, ArithmeticError, UnicodeError, AssertionError,
                     EOFError, struct.error)
 """What the third-party drawing parsers (ezdxf, svgelements) raise on malformed input they do not anticipate."""
+
+
+@contextlib.contextmanager
+def _dxf_failures(name: str) -> Iterator[None]:
+    """ezdxf's errors, and what it raises on input it does not anticipate, as one-line bad input naming the file."""
+    import ezdxf
+
+    try:
+        yield
+    except (MalformedFile, InputError, MemoryError):
+        raise
+    except ezdxf.DXFError as exc:
+        raise MalformedFile(f"{name}: not a valid DXF file ({str(exc)[:60] or exc.__class__.__name__})") from None
+    except _PARSER_FAILURES as exc:
+        raise MalformedFile(f"{name}: not a valid DXF file ({exc.__class__.__name__}: {str(exc)[:40]})") from None
 
 
 class _Budget:
@@ -197,21 +213,13 @@ def read_dxf_rings(path: str | Path, *, layer: str | None = None, units: str | N
     >>> [tuple(map(float, p)) for p in rings[0]], info["units"]
     ([(0.0, 0.0), (2.5, 0.0), (2.5, 1.5), (0.0, 1.5)], 'mm')
     """
-    import ezdxf
-
     path = Path(path)
     name = shown_path(path)
     data = read_input_bytes(path)  # regular files only, never read past the limit
     if units is not None and units not in UNIT_NAMES:
         raise InputError(f"--units {quote(units)}: use one of {', '.join(UNIT_NAMES)}")
-    try:
+    with _dxf_failures(name):
         return _dxf_rings(_dxf_document(data, name), name, layer, units, tolerance)
-    except (MalformedFile, InputError, MemoryError):
-        raise
-    except ezdxf.DXFError as exc:
-        raise MalformedFile(f"{name}: not a valid DXF file ({str(exc)[:60] or exc.__class__.__name__})") from None
-    except _PARSER_FAILURES as exc:
-        raise MalformedFile(f"{name}: not a valid DXF file ({exc.__class__.__name__}: {str(exc)[:40]})") from None
 
 
 def _dxf_document(data: bytes, name: str) -> Any:
@@ -371,16 +379,9 @@ def read_dxf_linework(path: str | Path, *, layer: str | None = None, units: str 
     >>> work.unit, work.counts["lines"], work.counts["circles"], work.counts["unsupported"]
     ('mm', 1, 1, {'TEXT': 1})
     """
-    import ezdxf
-
-    try:
+    # the drawing may break while it is read or while its entities are (a block reference to a missing block)
+    with _dxf_failures(shown_path(Path(path))):
         return _read_dxf_linework(path, layer=layer, units=units, tolerance=tolerance)
-    except (MalformedFile, InputError, MemoryError):
-        raise
-    except ezdxf.DXFError as exc:  # a malformed drawing met while its entities are read (a missing block)
-        raise MalformedFile(f"{shown_path(Path(path))}: not a valid DXF file ({str(exc)[:60] or exc.__class__.__name__})") from None
-    except _PARSER_FAILURES as exc:
-        raise MalformedFile(f"{shown_path(Path(path))}: not a valid DXF file ({exc.__class__.__name__}: {str(exc)[:40]})") from None
 
 
 def _read_dxf_linework(path: str | Path, *, layer: str | None, units: str | None, tolerance: float) -> Linework:
@@ -395,14 +396,7 @@ def _read_dxf_linework(path: str | Path, *, layer: str | None, units: str | None
     data = read_input_bytes(path)  # regular files only, never read past the limit
     if units is not None and units not in UNIT_NAMES:
         raise InputError(f"--units {quote(units)}: use one of {', '.join(UNIT_NAMES)}")
-    try:
-        doc = _dxf_document(data, name)
-    except (MalformedFile, InputError, MemoryError):
-        raise
-    except ezdxf.DXFError as exc:
-        raise MalformedFile(f"{name}: not a valid DXF file ({str(exc)[:60] or exc.__class__.__name__})") from None
-    except _PARSER_FAILURES as exc:
-        raise MalformedFile(f"{name}: not a valid DXF file ({exc.__class__.__name__}: {str(exc)[:40]})") from None
+    doc = _dxf_document(data, name)  # its errors: read_dxf_linework's _dxf_failures
     del data
     if units is None:
         code = doc.header.get("$INSUNITS", 0)
