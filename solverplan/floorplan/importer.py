@@ -257,7 +257,7 @@ def import_floorplan(
     min_hole_area: float | None = None,
     min_obstacle: float | None = None,
     spur_width: float | None = None,
-    rectilinear: float = 0.0,
+    rectilinear: float | None = None,
     layer: str | None = None,
     units: str | None = None,
     scale: str | Decimal | None = None,
@@ -282,8 +282,11 @@ def import_floorplan(
         A point ``(x, y)`` (output units: metres; numbers or numeric strings, read exactly) in the free space to
         keep: a map's free component, a DXF drawing's face; ``None``: the largest.
     simplify
-        Topology-preserving simplification tolerance (output units); maps default to half a cell, drawings
-        to 0 (every vertex kept, coordinates exact).
+        Topology-preserving simplification tolerance (output units); drawings default to 0 (every vertex kept,
+        coordinates exact). Maps default to the walls' measured noise (half a cell to 3 cells), **conservatively**:
+        the environment then lies inside the traced free space, so a plan valid on it is valid on the map
+        (:func:`~solverplan.floorplan.occupancy.auto_simplification`; ``settings`` says what was chosen, and what the
+        shrinking closed is listed in ``features``).
     min_hole_area
         Holes (and, in maps, obstacle speckle) smaller than this (output units squared) are removed; default 0.
     min_obstacle
@@ -292,7 +295,8 @@ def import_floorplan(
     spur_width
         Maps: free protrusions narrower than this (metres) are cut; default 2 cells.
     rectilinear
-        Snap edges within this many degrees of an axis to it (0: no snapping; below 45).
+        Snap edges within this many degrees of an axis to it (0: no snapping; below 45). Default: drawings 0; maps
+        10 when 90 % of their walls' length lies that close to an axis, else 0 (``settings["rectilinear_deg"]``).
     layer
         DXF: read only this layer (or these, joined by commas).
     units
@@ -360,7 +364,9 @@ def import_floorplan(
                           ("--rectilinear", rectilinear), ("--tolerance", tolerance), ("--min-obstacle", min_obstacle),
                           ("--snap", snap), ("--max-jamb", max_jamb)):
         _non_negative(option, value)
-    if not 0 <= rectilinear < 45:
+    if kind != "ros" and rectilinear is None:
+        rectilinear = 0.0
+    if rectilinear is not None and not 0 <= rectilinear < 45:
         raise InputError(f"--rectilinear must be below 45 degrees (an edge is near one axis only), got {rectilinear:g}")
     if tolerance is not None and tolerance <= 0:
         raise InputError(f"--tolerance must be positive, got {tolerance:g}")
@@ -393,15 +399,20 @@ def import_floorplan(
         if not path.is_file():
             raise MalformedFile(f"{path}: no such file")
         grid = read_occupancy_map(path)
+        chosen: dict[str, Any] = {}
         environment, dropped = trace_free_space(grid, seed_point=point, min_hole_area=min_hole_area,
                                                 spur_width=spur_width, simplify=simplify, rectilinear=rectilinear,
-                                                min_obstacle=min_obstacle, features=features)
+                                                min_obstacle=min_obstacle, features=features, chosen=chosen)
         resolution, unit = str(grid.resolution), "m"
         quantum, offset = grid_quantum(grid.resolution), grid.origin
         settings = {"min_obstacle_m": DEFAULT_MIN_OBSTACLE if min_obstacle is None else min_obstacle,
                     "min_hole_area_m2": min_hole_area or 0.0,
                     "spur_width_m": 2 * float(grid.resolution) if spur_width is None else spur_width,
-                    "simplify_m": float(grid.resolution) / 2 if simplify is None else simplify}
+                    "simplify_m": chosen["simplify_m"], "inside_traced": chosen["inside"],
+                    "rectilinear_deg": chosen["rectilinear_deg"],
+                    "measured": {"wall_noise_m": chosen["wall_noise_m"],
+                                 "axis_parallel_share": chosen["axis_parallel_share"]}}
+        warnings += _map_default_warnings(dropped, chosen, min_obstacle, simplify, rectilinear)
     elif kind == "dxf":
         environment, dropped, unit, quantum, more = _dxf_environment(
             path, layer=layer, units=units, tolerance=chord_tolerance, snap=snap, max_jamb=max_jamb, point=point,
@@ -465,6 +476,26 @@ def import_floorplan(
     return FloorplanImport(Status.FOUND, environment, written, dropped, str(path), kind, unit, resolution,
                            rectilinear_edges, optimality, stats, tuple(features), tuple(warnings), settings,
                            uninflated, keepout_areas)
+
+
+def _map_default_warnings(dropped: dict, chosen: dict, min_obstacle: float | None, simplify: float | None,
+                          rectilinear: float | None) -> list[str]:
+    """What a map's defaults did that changes the free space, one line each (the details are in ``features``)."""
+    out = []
+    if min_obstacle is None and dropped.get("speckle"):
+        out.append(f"{dropped['speckle']} obstacles smaller than {DEFAULT_MIN_OBSTACLE:g} m (lidar specks) dropped, each "
+                   "listed in features: --min-obstacle 0 keeps them")
+    if simplify is None and chosen["simplify_m"] > 0:
+        closed = dropped.get("passages_closed", 0)
+        text = (f"outline simplified within {chosen['simplify_m']:g} m (the walls' measured noise) inside the traced "
+                f"free space: walls move in by up to {2 * chosen['simplify_m']:g} m")
+        if closed:
+            text += f"; {closed} passages narrower than that closed (listed in features)"
+        out.append(text + "; --simplify M for another tolerance (not shrunk)")
+    if rectilinear is None and chosen["rectilinear_deg"]:
+        out.append(f"walls within {chosen['rectilinear_deg']:g}° of an axis snapped to it, inwards "
+                   f"({100 * chosen['axis_parallel_share']:.0f} % of them are): --rectilinear 0 keeps them as traced")
+    return out
 
 
 def _radius(value: str | float | Decimal) -> Decimal:

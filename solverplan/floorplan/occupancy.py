@@ -39,12 +39,22 @@ from solverplan.floorplan.outline import finish_outline, grid_quantum
 from solverplan.limits import BYTES_PER_PIXEL, MAX_PIXELS, quote, refuse_beyond_memory
 
 __all__ = ["OccupancyMap", "read_occupancy_map", "trace_free_space", "DEFAULT_FREE_THRESH",
-           "DEFAULT_OCCUPIED_THRESH", "DEFAULT_MIN_OBSTACLE", "cell_to_world", "read_keepout_mask", "cells_to_polygons"]
+           "DEFAULT_OCCUPIED_THRESH", "DEFAULT_MIN_OBSTACLE", "AUTO_RECTILINEAR", "AXIS_PARALLEL_SHARE", "cell_to_world",
+           "read_keepout_mask", "cells_to_polygons", "auto_simplification"]
 
-DEFAULT_MIN_OBSTACLE = 0.025
-"""The smallest obstacle a map import keeps by default (metres, the larger side of its bounding box): well below a
-chair leg (3–5 cm), so on maps of 5 cm cells or coarser every obstacle stays; smaller ones are listed where they
-were."""
+DEFAULT_MIN_OBSTACLE = 0.06
+"""The smallest obstacle a map import keeps by default (metres, the larger side of its bounding box): on the usual
+5 cm maps a lone occupied cell is gone (a lidar speck — a SLAM map of a warehouse has hundreds, each a hole of four
+reflex corners for the planner), two cells (a post of 10 cm) stay; on coarser maps every obstacle stays. Each one
+dropped is listed where it was, and the import warns how many (``--min-obstacle 0`` keeps them)."""
+
+AUTO_RECTILINEAR = 10.0
+"""The snapping angle (degrees) a map import uses when ``rectilinear`` is not given and its walls are
+overwhelmingly axis-parallel (:data:`AXIS_PARALLEL_SHARE` of their length within it)."""
+
+AXIS_PARALLEL_SHARE = 0.9
+"""The share of the walls' length (simplified within 3 cells) within :data:`AUTO_RECTILINEAR` of an axis above which a
+map's walls are snapped by default."""
 
 DEFAULT_OCCUPIED_THRESH = 0.65
 """``occupied_thresh`` when the YAML gives none (the value of ROS's map_saver)."""
@@ -427,9 +437,10 @@ def trace_free_space(
     min_hole_area: float | None = None,
     spur_width: float | None = None,
     simplify: float | None = None,
-    rectilinear: float = 0.0,
+    rectilinear: float | None = 0.0,
     min_obstacle: float | None = None,
     features: list[DroppedFeature] | None = None,
+    chosen: dict[str, Any] | None = None,
 ) -> tuple[Environment, dict[str, Any]]:
     """The free-space component of an occupancy map as a valid environment in world coordinates (metres).
 
@@ -450,10 +461,18 @@ def trace_free_space(
         Free protrusions narrower than this (metres) are removed by a morphological opening with a square
         of side ``spur_width`` + one cell; ``None``: 2 cells; 0: none removed.
     simplify
-        Topology-preserving simplification tolerance (metres); ``None``: half a cell (more would turn a
-        2 × 2-cell obstacle into a diamond); 0: no simplification.
+        Topology-preserving simplification tolerance (metres); 0: no simplification. ``None``: chosen from the map
+        and **conservative** (:func:`auto_simplification`): the tolerance is the walls' measured noise (at most 3
+        cells), and the outline is made inside the traced free space (shrunk by the tolerance,
+        then simplified within it: :func:`~solverplan.floorplan.outline.finish_outline` ``inside``), so that a plan
+        valid on the environment is valid on the map; what the shrinking closes or joins is listed in ``features``.
     rectilinear
-        Snap edges within this many degrees of an axis (0: no snapping).
+        Snap edges within this many degrees of an axis (0: no snapping); ``None``: :data:`AUTO_RECTILINEAR` when
+        the walls are overwhelmingly axis-parallel (:data:`AXIS_PARALLEL_SHARE`), else 0 — conservatively when the
+        simplification is.
+    chosen
+        When given, filled with what the defaults chose and why: ``simplify_m``, ``wall_noise_m``, ``inside``,
+        ``rectilinear_deg``, ``axis_parallel_share``.
 
     Returns
     -------
@@ -489,12 +508,12 @@ def trace_free_space(
     min_obstacle = DEFAULT_MIN_OBSTACLE if min_obstacle is None else float(min_obstacle)
     features = [] if features is None else features
     spur_width = 2 * res if spur_width is None else float(spur_width)
-    simplify = res / 2 if simplify is None else float(simplify)
-    for name, value in (("--min-hole-area", min_hole_area), ("--spur-width", spur_width), ("--simplify", simplify),
-                        ("--rectilinear", rectilinear), ("--min-obstacle", min_obstacle)):
+    for name, value in (("--min-hole-area", min_hole_area), ("--spur-width", spur_width),
+                        ("--simplify", 0.0 if simplify is None else simplify),
+                        ("--rectilinear", 0.0 if rectilinear is None else rectilinear), ("--min-obstacle", min_obstacle)):
         if not math.isfinite(value) or value < 0:
             raise InputError(f"{name} must be a non-negative number, got {value:g}")
-    if rectilinear >= 45:
+    if rectilinear is not None and rectilinear >= 45:
         raise InputError(f"--rectilinear must be below 45 degrees (an edge is near one axis only), got {rectilinear:g}")
     seed_cell = None
     if seed_point is not None:
@@ -569,9 +588,43 @@ def trace_free_space(
     outer = rings[outer_index]
     holes = [r for k, r in enumerate(rings) if k != outer_index]
     quantum = grid_quantum(grid.resolution)
+    auto = auto_simplification([outer, *holes], res)
+    inside = simplify is None
+    simplify = auto["simplify_m"] if simplify is None else float(simplify)
+    if rectilinear is None:
+        rectilinear = auto["rectilinear_deg"]
+    if chosen is not None:
+        chosen.update(auto, simplify_m=simplify, rectilinear_deg=rectilinear, inside=inside)
+    keep = None
+    if seed_point is not None:
+        keep = (float(seed_point[0] - grid.origin[0]), float(seed_point[1] - grid.origin[1]))
     return finish_outline(outer, holes, quantum=quantum, offset=grid.origin, simplify=simplify,
                           min_hole_area=min_hole_area, rectilinear=rectilinear, name=grid.source.stem,
-                          dropped=dropped, features=features)
+                          dropped=dropped, features=features, inside=inside, keep_point=keep)
+
+
+def auto_simplification(rings: list[np.ndarray], cell: float) -> dict[str, Any]:
+    """The simplification a map import uses by default, from its traced rings (metres) and its cell size.
+
+    ``simplify_m``: the walls' noise (:func:`~solverplan.floorplan.outline.wall_noise`, about half a cell on a clean
+    map's slanted walls, traced in half-cell steps), at most 3 cells, to a tenth of a millimetre; 0 below a tenth of
+    a cell (a clean map of straight walls traces them exactly: every vertex is a corner);
+    ``rectilinear_deg``: :data:`AUTO_RECTILINEAR` if at least :data:`AXIS_PARALLEL_SHARE` of the walls' length
+    (simplified within 3 cells) lies within it of an axis, else 0. Also ``wall_noise_m`` and
+    ``axis_parallel_share`` (the measurements).
+
+    >>> ragged = np.array([[0, 0], [2, 0.05], [4, 0], [6, 0.05], [8, 0], [8, 3], [0, 3]], float)
+    >>> auto_simplification([ragged], 0.05)
+    {'simplify_m': 0.05, 'wall_noise_m': 0.05, 'rectilinear_deg': 10.0, 'axis_parallel_share': 1.0}
+    """
+    from solverplan.floorplan.outline import axis_parallel_share, coarse_ring, wall_noise
+
+    noise = wall_noise(rings, cell)
+    tolerance = round(min(noise, 3 * cell), 4) if noise >= cell / 10 else 0.0
+    coarse = [np.asarray(coarse_ring(r, 3 * cell).coords[:-1], float) for r in rings if len(r) >= 3]
+    share = axis_parallel_share([c for c in coarse if len(c) >= 3], AUTO_RECTILINEAR)
+    return {"simplify_m": tolerance, "wall_noise_m": noise,
+            "rectilinear_deg": AUTO_RECTILINEAR if share >= AXIS_PARALLEL_SHARE else 0.0, "axis_parallel_share": share}
 
 
 def cell_to_world(grid: OccupancyMap, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:

@@ -17,6 +17,7 @@ What each step removed is counted in a ``dropped`` dictionary, reported by the i
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from decimal import Decimal
 from fractions import Fraction
 from typing import Any, Sequence
@@ -28,7 +29,7 @@ from solverplan.errors import InvalidEnvironment
 from solverplan.limits import MAX_VERTICES
 
 __all__ = ["finish_outline", "snap_rectilinear", "grid_quantum", "environment_from_polygon", "separate_touches",
-           "largest_part"]
+           "largest_part", "wall_noise", "axis_parallel_share", "coarse_ring"]
 
 FloatRing = np.ndarray  # (n, 2) float coordinates, not closed
 
@@ -53,7 +54,8 @@ def _ring_area(ring: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) -> tuple[FloatRing, int]:
+def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0, *,
+                     inside: bool = False, max_step: float = 0.0) -> tuple[FloatRing, int]:
     """Make the edges of ``ring`` within ``degrees`` of an axis exactly axis-parallel.
 
     Consecutive near-horizontal edges form a run that gets one y (their length-weighted mean); likewise
@@ -65,10 +67,22 @@ def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) 
     a collapsed corner, are left collinear or repeated for the rounding step to remove) and the number of
     edges snapped or collapsed.
 
+    ``inside``: give back no free space, the free space lying on the **left** of the ring's edges (an outer ring
+    counter-clockwise, holes clockwise): a run gets the coordinate of its vertex farthest into the free space
+    instead of the mean (a run whose edges go both ways is left as it is), and a chain of oblique edges (together
+    at most ``max_chamfer`` long) between a horizontal and a vertical run is collapsed into their corner when every
+    one of its edges has the corner on its free side (the obstacle takes what is cut off). That keeps each run's line on the free side of its own vertices;
+    :func:`finish_outline` checks the whole ring. With ``inside``, an edge that strays at most ``max_step`` across an
+    axis (and less than half its length) belongs to that axis's runs, and so do the edges between two runs of one
+    kind that together stray at most ``max_step`` across its axis: the jogs and teeth of a ragged wall go, the wall's
+    line taking their farther side.
+
     >>> ring = np.array([[0, 0], [4, 0.05], [4.02, 3], [0, 3]], float)
     >>> snapped, count = snap_rectilinear(ring, 2.0)
     >>> count, snapped.round(3).tolist()
     (4, [[0.0, 0.025], [4.01, 0.025], [4.01, 3.0], [0.0, 3.0]])
+    >>> snap_rectilinear(ring, 2.0, inside=True)[0].round(3).tolist()   # counter-clockwise: the room shrinks
+    [[0.0, 0.05], [4.0, 0.05], [4.0, 3.0], [0.0, 3.0]]
     """
     n = len(ring)
     if n < 3 or degrees <= 0:
@@ -82,6 +96,14 @@ def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) 
     kind[np.abs(angle - 90.0) <= degrees] = "v"
     if (kind == "o").all():
         return ring.copy(), 0
+    own = kind.copy()
+    if inside and max_step > 0:
+        # a ragged wall simplified zigzags across a band a step wide: an edge rising at most a step (and by less than
+        # half its run) belongs to the run of its axis, whose line takes the band's farther side
+        dx, dy = np.abs(delta[:, 0]), np.abs(delta[:, 1])
+        kind[(kind == "o") & (dy <= max_step) & (dx > 2 * dy)] = "h"
+        kind[(kind == "o") & (dx <= max_step) & (dy > 2 * dx)] = "v"
+        _absorb_steps(kind, starts, ends, max_step)
     # runs of one kind, cyclically: start the walk just after a change of kind (there is one unless all edges
     # share a kind, impossible for a closed ring of h edges only or v edges only with non-zero area)
     changes = [i for i in range(n) if kind[i] != kind[i - 1]]
@@ -92,19 +114,37 @@ def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) 
     first = changes[0]
     run = -1
     weights: list[tuple[float, float]] = []
+    extremes: list[set[float]] = []  # inside: the run's farthest coordinate into the free space, signed (+ max, − min)
     for step in range(n):
         i = (first + step) % n
         if step == 0 or kind[i] != kind[i - 1]:
             run += 1
             weights.append((0.0, 0.0))
+            extremes.append(set())
         run_of[i] = run
         if kind[i] != "o":
             axis = 1 if kind[i] == "h" else 0  # the coordinate a run shares
             middle = 0.5 * (starts[i, axis] + ends[i, axis])
             total, weighted = weights[run]
             weights[run] = (total + lengths[i], weighted + lengths[i] * middle)
-    for total, weighted in weights:
-        values.append(weighted / total if total > 0 else 0.0)
+            # the free side (left) of an edge going +x is +y, of an edge going +y is −x; a step joined to the run
+            # (another kind of its own) says nothing of the direction, its ends count for the extreme
+            extremes[run].update((starts[i, axis], ends[i, axis]))
+            if own[i] == kind[i]:
+                up = bool(delta[i, 0] > 0) if kind[i] == "h" else bool(delta[i, 1] < 0)
+                extremes[run].add(math.inf if up else -math.inf)  # the direction, to find runs that go both ways
+    for (total, weighted), found in zip(weights, extremes):
+        coordinates = found - {math.inf, -math.inf}
+        if not inside:
+            values.append(weighted / total if total > 0 else 0.0)
+        elif (math.inf in found) == (-math.inf in found):
+            values.append(math.nan)  # both ways (or no direction): not snapped
+        else:
+            values.append(max(coordinates) if math.inf in found else min(coordinates))
+    if inside:
+        for i in range(n):
+            if kind[i] != "o" and math.isnan(values[run_of[i]]):
+                kind[i] = "o"
     out = ring.astype(float).copy()
     for i in range(n):  # vertex i sits between edge i - 1 and edge i
         for edge in (i - 1, i):
@@ -114,7 +154,7 @@ def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) 
             elif k == "v":
                 out[i, 0] = values[run_of[edge % n]]
     collapsed = 0
-    if max_chamfer > 0:
+    if max_chamfer > 0 and not inside:
         for i in np.flatnonzero((kind == "o") & (lengths <= max_chamfer)).tolist():
             before, after = kind[i - 1], kind[(i + 1) % n]
             if {before, after} != {"h", "v"}:
@@ -125,7 +165,182 @@ def snap_rectilinear(ring: FloatRing, degrees: float, max_chamfer: float = 0.0) 
             out[i] = corner
             out[(i + 1) % n] = corner
             collapsed += 1
+    elif max_chamfer > 0:  # a chain of oblique edges between a horizontal and a vertical run, cut off from free space
+        oblique = kind == "o"
+        if oblique.any() and not oblique.all():
+            first_edge = int(np.flatnonzero(~oblique)[0])
+            t = 0
+            while t < n:
+                i = (first_edge + t) % n
+                if not oblique[i]:
+                    t += 1
+                    continue
+                u = t
+                while u < n and oblique[(first_edge + u) % n]:
+                    u += 1
+                chain = [(first_edge + k) % n for k in range(t, u)]
+                t = u
+                before, after = kind[chain[0] - 1], kind[(chain[-1] + 1) % n]
+                if {before, after} != {"h", "v"} or float(lengths[chain].sum()) > max_chamfer:
+                    continue
+                horizontal = (chain[0] - 1) % n if before == "h" else (chain[-1] + 1) % n
+                vertical = (chain[-1] + 1) % n if before == "h" else (chain[0] - 1) % n
+                corner = (values[run_of[vertical]], values[run_of[horizontal]])
+                # every edge of the chain must have the corner on its left: the region given to the obstacle is free
+                if any(delta[k, 0] * (corner[1] - starts[k, 1]) - delta[k, 1] * (corner[0] - starts[k, 0]) < 0
+                       for k in chain):
+                    continue
+                for k in chain:
+                    out[k] = corner
+                out[(chain[-1] + 1) % n] = corner
+                collapsed += len(chain)
     return out, int((kind != "o").sum()) + collapsed
+
+
+def _absorb_steps(kind: np.ndarray, starts: np.ndarray, ends: np.ndarray, max_step: float) -> None:
+    """Relabel, in place, every maximal sequence of edges not of kind K (``h``, then ``v``) that lies between two edges
+    of kind K and strays at most ``max_step`` across K's axis, as K (:func:`snap_rectilinear` ``max_step``)."""
+    n = len(kind)
+    for axis in ("h", "v"):
+        across = 1 if axis == "h" else 0
+        mine = np.flatnonzero(kind == axis)
+        if not len(mine) or len(mine) == n:
+            continue
+        order = (int(mine[0]) + np.arange(n)) % n  # from an edge of this kind, once round
+        t = 0
+        while t < n:
+            if kind[order[t]] != axis:
+                u = t
+                while u < n and kind[order[u]] != axis:
+                    u += 1
+                gap = order[t:u]  # between order[t - 1] and order[u % n], both of this kind
+                values = np.concatenate((starts[gap, across], ends[gap, across]))
+                if float(values.max() - values.min()) <= max_step:
+                    kind[gap] = axis
+                t = u
+            t += 1
+
+
+def _gives_back(ring: np.ndarray, snapped: np.ndarray, *, hole: bool) -> bool:
+    """Does ``snapped`` (the ring after snapping) add free space to ``ring``: reach outside an outer ring, or uncover
+    part of a hole? (Grid units; a sliver of area below a hundredth of a unit square is rounding, not a gift.)"""
+    import shapely
+
+    before, after = shapely.Polygon(ring).buffer(0), shapely.Polygon(snapped).buffer(0)
+    gained = before.difference(after) if hole else after.difference(before)
+    return bool(gained.area > 1e-2)
+
+
+def _box_of(ring: np.ndarray, step: float) -> np.ndarray | None:
+    """The bounding box of a hole (grid units, clockwise like the hole) when it adds no more than a band ``step``
+    wide along the hole's outline (a ragged rack or post), else ``None``."""
+    import shapely
+
+    hole = shapely.Polygon(ring)
+    low, high = np.floor(ring.min(axis=0)), np.ceil(ring.max(axis=0))
+    box = shapely.box(low[0], low[1], high[0], high[1])
+    if box.area - hole.area > step * hole.length / 2:
+        return None
+    corners = np.array([[low[0], low[1]], [low[0], high[1]], [high[0], high[1]], [high[0], low[1]]])  # clockwise
+    return corners if not shapely.LinearRing(ring).is_ccw else corners[::-1]
+
+
+def _within(ring: np.ndarray, snapped: np.ndarray, *, hole: bool) -> np.ndarray | None:
+    """The snapped ring cut back to give back nothing: an outer ring intersected with ``ring``'s polygon, a hole
+    joined with it (on the grid); ``None`` if that is not one simple ring."""
+    import shapely
+
+    before, after = shapely.Polygon(ring).buffer(0), shapely.Polygon(snapped).buffer(0)
+    fixed = shapely.set_precision(after.union(before) if hole else after.intersection(before), 1.0)
+    part, _ = largest_part(fixed)
+    if part is None or (hole and len(part.interiors)):
+        return None
+    coords = np.asarray(part.exterior.coords[:-1], float)
+    return coords if shapely.LinearRing(ring).is_ccw == shapely.LinearRing(coords).is_ccw else coords[::-1]
+
+
+def _shrink_inside(polygon: Any, tolerance: float, *, keep_point: tuple[float, float] | None) -> tuple[Any, list]:
+    """``polygon`` (grid units) shrunk by ``tolerance`` + 1 (mitred) and simplified within ``tolerance``: inside
+    ``polygon`` with a margin for the rounding to the grid (:func:`finish_outline` ``inside``); with the changes of
+    topology (:func:`~solverplan.floorplan.robot.topology_changes`, grid units)."""
+    import shapely
+
+    from solverplan.floorplan.robot import topology_changes
+
+    shrunk = polygon.buffer(-(tolerance + 1.0), join_style="mitre", mitre_limit=10.0)
+    simplified = shrunk.simplify(tolerance, preserve_topology=True)
+    # Douglas–Peucker keeps the result within the tolerance of what it simplifies, but GEOS may also drop a ring's
+    # first vertex by another rule (seen: 1.26 tolerances away): what passes the margin of one step is cut off
+    margin = polygon.buffer(-1.0, join_style="mitre", mitre_limit=10.0)
+    if not margin.covers(simplified):
+        simplified = simplified.intersection(margin)
+    main, rest = largest_part(simplified)
+    if main is None:
+        raise InvalidEnvironment(f"the free space vanished when shrunk by the simplification tolerance "
+                                 f"({tolerance:g} grid steps): simplify less (--simplify METRES)")
+    if keep_point is not None:
+        point = shapely.Point(keep_point)
+        holding = [p for p in (main, *rest) if p.covers(point)]
+        if holding and holding[0] is not main:
+            rest = [main, *[p for p in rest if p is not holding[0]]]
+            main = holding[0]
+    return main, topology_changes(polygon, main, rest, reach=2 * tolerance + 1.0, grid=1.0)
+
+
+def wall_noise(rings: Sequence[FloatRing], cell: float) -> float:
+    """How far a traced outline strays from its walls (output units): the 90th percentile of the distance from its
+    vertices to the outline simplified within 3 cells, over the rings at least 12 cells across.
+
+    A clean map traces its straight walls exactly (0) and its slanted ones in half-cell steps (about half a cell);
+    a lidar map's ragged walls, where cells along a wall come out free or occupied at random, a cell or more.
+
+    >>> square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    >>> wall_noise([square], 0.5)
+    0.0
+    >>> x = np.arange(0, 10, 0.5)
+    >>> ragged = np.vstack([np.column_stack([x, np.where(np.arange(len(x)) % 2, 0.5, 0.0)]), [[10, 0], [10, 10], [0, 10]]])
+    >>> wall_noise([ragged], 0.5)
+    0.5
+    """
+    import shapely
+
+    distances = []
+    for ring in rings:
+        if len(ring) < 4 or float(np.ptp(ring, axis=0).max()) < 12 * cell:
+            continue
+        coarse = coarse_ring(ring, 3 * cell)
+        if coarse.is_empty:
+            continue
+        distances.append(shapely.distance(shapely.points(ring), coarse))
+    if not distances:
+        return 0.0
+    return float(np.round(np.percentile(np.concatenate(distances), 90), 9))
+
+
+def coarse_ring(ring: FloatRing, tolerance: float) -> Any:
+    """``ring`` simplified within ``tolerance`` (Douglas–Peucker) as a shapely LinearRing, started at its lowest
+    vertex (a corner of its convex hull: Douglas–Peucker keeps the start of a ring, which must not be the middle of a
+    wall)."""
+    import shapely
+
+    first = int(np.lexsort((ring[:, 0], ring[:, 1]))[0])
+    return shapely.LinearRing(np.roll(ring, -first, axis=0)).simplify(tolerance, preserve_topology=False)
+
+
+def axis_parallel_share(rings: Sequence[FloatRing], degrees: float) -> float:
+    """The share of the outline's length (0–1) in edges within ``degrees`` of an axis.
+
+    >>> axis_parallel_share([np.array([[0, 0], [4, 0], [4, 3], [1, 4]], float)], 10.0)   # 7 of 7 + √10 + √17
+    0.49
+    """
+    total = near = 0.0
+    for ring in rings:
+        delta = np.roll(ring, -1, axis=0) - ring
+        lengths = np.hypot(delta[:, 0], delta[:, 1])
+        angle = np.degrees(np.arctan2(delta[:, 1], delta[:, 0])) % 90.0
+        total += float(lengths.sum())
+        near += float(lengths[(angle <= degrees) | (angle >= 90.0 - degrees)].sum())
+    return round(near / total, 4) if total > 0 else 0.0
 
 
 def _valid_rings(rings: Sequence[np.ndarray]) -> bool:
@@ -188,6 +403,8 @@ def finish_outline(
     name: str = "",
     dropped: dict | None = None,
     features: list | None = None,
+    inside: bool = False,
+    keep_point: tuple[float, float] | None = None,
 ) -> tuple[Environment, dict]:
     """Simplify, snap, round and validate an outline with holes into an :class:`Environment`.
 
@@ -214,6 +431,19 @@ def finish_outline(
     features
         When given, each hole dropped (small or flattened) is appended as a
         :class:`~solverplan.floorplan.drawing.DroppedFeature` (``small_hole``) with its position and size.
+    inside
+        Simplify and snap **conservatively**: the environment lies inside the outline given (a plan valid on it is
+        valid on the map). The free space is first shrunk by ``simplify`` plus one grid step (mitred, so corners are
+        not rounded off) and then simplified within ``simplify`` (Douglas–Peucker keeps every point within the
+        tolerance of the boundary it simplifies, so nothing goes back past the outline given, rounding included);
+        snapped runs take the coordinate of their vertex farthest into the free space
+        (:func:`snap_rectilinear` ``inside``), and a ring whose snap still gives back free space keeps its
+        simplified shape. Passages the shrinking closes and obstacles it joins to a wall or to one another are
+        listed in ``features`` (``passage_closed``, ``merged_obstacle``, ``disconnected``), and counted in
+        ``dropped["passages_closed"]``.
+    keep_point
+        With ``inside``: a point (output units, relative to ``offset``) whose part to keep when the shrinking splits
+        the free space; ``None``: the largest part.
 
     Returns
     -------
@@ -270,7 +500,19 @@ def finish_outline(
         # a traced outline is valid by construction; a drawn one may not be: say where, as the validator would
         reason = shapely.is_valid_reason(shapely.Polygon(outer, kept))
         raise InvalidEnvironment(f"the outline is not a valid polygon: {reason}")
-    if simplify > 0:
+    traced = polygon
+    if simplify > 0 and inside:
+        counts.setdefault("passages_closed", 0)
+        before = len(polygon.exterior.coords) + sum(len(r.coords) for r in polygon.interiors)
+        polygon, changes = _shrink_inside(polygon, simplify / unit, keep_point=None if keep_point is None else
+                                          (keep_point[0] / unit, keep_point[1] / unit))
+        after = len(polygon.exterior.coords) + sum(len(r.coords) for r in polygon.interiors)
+        counts["simplified_vertices"] += max(before - after, 0)
+        counts["passages_closed"] += sum(1 for c in changes if c.kind == "passage_closed")
+        if features is not None:
+            for change in (c.scaled(unit) for c in changes):
+                features.append(replace(change, at=(change.at[0] + fx, change.at[1] + fy)))
+    elif simplify > 0:
         before = len(polygon.exterior.coords) + sum(len(r.coords) for r in polygon.interiors)
         polygon = polygon.simplify(simplify / unit, preserve_topology=True)
         after = len(polygon.exterior.coords) + sum(len(r.coords) for r in polygon.interiors)
@@ -282,15 +524,30 @@ def finish_outline(
             counts["small_holes"] += len(small)
             polygon = shapely.Polygon(polygon.exterior,
                                       [r for r in polygon.interiors if shapely.Polygon(r).area * unit_area >= min_hole_area])
+    if inside:  # on the grid (snap-rounding keeps it valid; the shrinking left a step of margin for it), free space
+        # on the left of every edge
+        polygon = shapely.orient_polygons(largest_part(shapely.set_precision(polygon, 1.0))[0])
     rings = [np.asarray(polygon.exterior.coords[:-1], float)] + [np.asarray(r.coords[:-1], float) for r in polygon.interiors]
     if rectilinear > 0:
         snapped: list[np.ndarray] = []
-        for ring in rings:
-            candidate, count = snap_rectilinear(ring, rectilinear, max_chamfer=4 * simplify / unit)
-            snapped.append(np.rint(candidate))
+        reverted: set[int] = set()
+        for index, ring in enumerate(rings):
+            candidate, count = snap_rectilinear(ring, rectilinear, max_chamfer=(8 if inside else 4) * simplify / unit,
+                                                inside=inside,
+                                                max_step=2 * simplify / unit + 2)
+            candidate = np.rint(candidate)
+            if inside and index > 0:  # an obstacle whose bounding box adds at most a step along its outline: the box
+                box = _box_of(ring, 2 * simplify / unit + 2)
+                if box is not None:
+                    candidate, count = box, len(ring)
+            if inside and _gives_back(ring, candidate, hole=index > 0):
+                candidate = _within(ring, candidate, hole=index > 0)  # its new points lie on ``ring``'s edges,
+                if candidate is None:  # a step inside the traced outline: the rounding keeps them inside
+                    candidate, count = ring, 0
+                    reverted.add(index)
+            snapped.append(candidate)
             counts["rectilinear_edges"] += count
         chosen = list(snapped)
-        reverted: set[int] = set()
         while True:  # revert the snaps that make a ring cross or touch itself or another, until none does
             bad = _bad_rings(chosen) - reverted
             if not bad:

@@ -26,7 +26,7 @@ from solverplan.errors import InputError
 from solverplan.floorplan.drawing import DroppedFeature
 from solverplan.floorplan.outline import largest_part
 
-__all__ = ["QUAD_SEGS", "inflation_distance", "erode_free_space"]
+__all__ = ["QUAD_SEGS", "inflation_distance", "erode_free_space", "topology_changes"]
 
 QUAD_SEGS = 4
 """Chords per quarter circle of the rounded inflation (16 per full turn)."""
@@ -112,6 +112,24 @@ def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple
                              f"{radius:g} to a wall or obstacle")
         main = holding[0]
         rest = [p for p in parts if p is not main]
+    return main, topology_changes(free, main, rest, reach=reach, grid=grid)
+
+
+def topology_changes(free: Any, main: Any, rest: list[Any], *, reach: float, grid: float) -> list[DroppedFeature]:
+    """What shrinking ``free`` into ``main`` (and the lost parts ``rest``) changed in its topology, with positions.
+
+    ``disconnected`` parts and the ``passage_closed`` gap to each; every obstacle (hole of ``free``) that is no longer
+    alone in a hole of ``main`` (``merged_obstacle``) and the gap to its nearest wall or obstacle. ``reach`` is how
+    far the walls moved at most (obstacles farther than 1.5 ``reach`` from ``main`` lie in lost parts: not listed).
+
+    >>> import shapely
+    >>> free = shapely.Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(1, 1), (1, 2), (2, 2), (2, 1)]])
+    >>> main = free.buffer(-0.6, join_style="mitre")
+    >>> [(c.kind, c.size) for c in topology_changes(free, main, [], reach=0.6, grid=0.01)]
+    [('merged_obstacle', 1.0), ('passage_closed', 1.0)]
+    """
+    import shapely
+
     changes: list[DroppedFeature] = []
     for part in rest:
         changes.append(DroppedFeature.of("disconnected", part))
@@ -138,7 +156,7 @@ def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple
                           key=lambda item: item[0])
             a, b = _nearest(hole, nearest[1])
             changes.append(_gap(free, a, b))
-    return main, changes
+    return changes
 
 
 def _nearest(a: Any, b: Any) -> tuple[Any, Any]:
