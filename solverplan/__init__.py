@@ -91,9 +91,9 @@ _EXPORTS: dict[str, str] = {
     # planners
     "find_plan": "solverplan.plan.search",
     "pareto_front": "solverplan.plan.search",
-    "patrol": "solverplan.plan.patrol",
-    "funnel": "solverplan.plan.funnel",
-    "localize": "solverplan.plan.localize",
+    "patrol": "solverplan.plan.patrols",
+    "funnel": "solverplan.plan.funnels",
+    "localize": "solverplan.plan.localization",
     "load_plan": "solverplan.plan.result",
     "export_plan": "solverplan.plan.export",
     "plan_in_world": "solverplan.plan.export",
@@ -106,8 +106,8 @@ _EXPORTS: dict[str, str] = {
     "Stage": "solverplan.result",
     "Plan": "solverplan.plan.result",
     "ParetoFront": "solverplan.plan.result",
-    "Patrol": "solverplan.plan.patrol",
-    "Funnel": "solverplan.plan.funnel",
+    "Patrol": "solverplan.plan.patrols",
+    "Funnel": "solverplan.plan.funnels",
     "LimitCycle": "solverplan.bounce.cycles",
     # ground truth and proofs
     "simulate_plan": "solverplan.simulate",
@@ -157,9 +157,9 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.explore.range_limited import RangeExploration, explore_range_limited
     from solverplan.explore.range_view import RangeView, range_visibility
     from solverplan.interval import Interval
-    from solverplan.plan.funnel import Funnel, funnel
-    from solverplan.plan.localize import localize
-    from solverplan.plan.patrol import Patrol, patrol
+    from solverplan.plan.funnels import Funnel, funnel
+    from solverplan.plan.localization import localize
+    from solverplan.plan.patrols import Patrol, patrol
     from solverplan.plan.export import export_plan, plan_in_world
     from solverplan.plan.result import ParetoFront, Plan, load_plan
     from solverplan.plan.search import find_plan, pareto_front

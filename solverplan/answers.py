@@ -41,9 +41,9 @@ from solverplan.explore.depth_first import Exploration
 from solverplan.explore.range_limited import RangeExploration
 from solverplan.floorplan.importer import FloorplanImport
 from solverplan.limits import read_text_within_limits
-from solverplan.plan.funnel import Funnel
-from solverplan.plan.localize import Localization
-from solverplan.plan.patrol import Patrol
+from solverplan.plan.funnels import Funnel
+from solverplan.plan.localization import Localization
+from solverplan.plan.patrols import Patrol
 from solverplan.plan.result import ParetoFront, Plan
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.reflection.navigation import FieldNavigation
