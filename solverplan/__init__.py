@@ -66,7 +66,7 @@ _EXPORTS: dict[str, str] = {
     "range_visibility": "solverplan.explore.range_view",
     "RangeView": "solverplan.explore.range_view",
     # the wall-following robot (Yershova, Tovar, Katsev, Ghrist and LaValle)
-    "cut_ordering": "solverplan.wallfollow.cuts",
+    "cut_ordering": "solverplan.wallfollow.cut",
     "CutOrdering": "solverplan.wallfollow.ordering",
     "WallWorld": "solverplan.wallfollow.world",
     "learn_cut_ordering": "solverplan.wallfollow.learning",
@@ -168,7 +168,7 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.render.report import HtmlReport, html_report, load_answer, make_report, write_report
     from solverplan.result import Answer, Method, Optimality, Stage, Stats, Status, StatusGroup
     from solverplan.simulate import simulate_plan, simulate_rule
-    from solverplan.wallfollow.cuts import cut_ordering
+    from solverplan.wallfollow.cut import cut_ordering
     from solverplan.wallfollow.learning import learn_cut_ordering
     from solverplan.wallfollow.ordering import CutOrdering
     from solverplan.wallfollow.pursuit import PursuitPlan, pursuit_plan
