@@ -232,17 +232,25 @@ def _gives_back(ring: np.ndarray, snapped: np.ndarray, *, hole: bool) -> bool:
 
 
 def _box_of(ring: np.ndarray, step: float) -> np.ndarray | None:
-    """The bounding box of a hole (grid units, clockwise like the hole) when it adds no more than a band ``step``
+    """The bounding box of a hole (grid units, clockwise like the hole) when it adds no more area than a band ``step``
     wide along the hole's outline (a ragged rack or post), else ``None``."""
     import shapely
 
     hole = shapely.Polygon(ring)
     low, high = np.floor(ring.min(axis=0)), np.ceil(ring.max(axis=0))
     box = shapely.box(low[0], low[1], high[0], high[1])
-    if box.area - hole.area > step * hole.length / 2:
+    if box.area - hole.area > step * hole.length:
         return None
     corners = np.array([[low[0], low[1]], [low[0], high[1]], [high[0], high[1]], [high[0], low[1]]])  # clockwise
     return corners if not shapely.LinearRing(ring).is_ccw else corners[::-1]
+
+
+def _simple(ring: np.ndarray) -> bool:
+    """Is ``ring`` (repeated vertices allowed) a simple ring?"""
+    import shapely
+
+    keep = np.any(ring != np.roll(ring, 1, axis=0), axis=1)
+    return len(ring[keep]) >= 3 and bool(shapely.LinearRing(ring[keep]).is_simple)
 
 
 def _within(ring: np.ndarray, snapped: np.ndarray, *, hole: bool) -> np.ndarray | None:
@@ -534,13 +542,13 @@ def finish_outline(
         for index, ring in enumerate(rings):
             candidate, count = snap_rectilinear(ring, rectilinear, max_chamfer=(8 if inside else 4) * simplify / unit,
                                                 inside=inside,
-                                                max_step=2 * simplify / unit + 2)
+                                                max_step=3 * simplify / unit + 2)
             candidate = np.rint(candidate)
             if inside and index > 0:  # an obstacle whose bounding box adds at most a step along its outline: the box
-                box = _box_of(ring, 2 * simplify / unit + 2)
+                box = _box_of(ring, 3 * simplify / unit + 2)
                 if box is not None:
                     candidate, count = box, len(ring)
-            if inside and _gives_back(ring, candidate, hole=index > 0):
+            if inside and (not _simple(candidate) or _gives_back(ring, candidate, hole=index > 0)):
                 candidate = _within(ring, candidate, hole=index > 0)  # its new points lie on ``ring``'s edges,
                 if candidate is None:  # a step inside the traced outline: the rounding keeps them inside
                     candidate, count = ring, 0

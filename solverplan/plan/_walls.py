@@ -28,6 +28,7 @@ removed (the same free space, exactly) — and report in the user's numbering:
 
 from __future__ import annotations
 
+import bisect
 from fractions import Fraction
 from functools import cached_property
 from typing import Iterable, Mapping
@@ -122,12 +123,19 @@ class Walls(StraightWalls):
             by_edge[m].append((s0 + seg.t0 * (s1 - s0), s0 + seg.t1 * (s1 - s0), seg.id))
         return tuple(tuple(sorted(items)) for items in by_edge)
 
+    @cached_property
+    def _user_starts_by_edge(self) -> tuple[tuple[Fraction, ...], ...]:
+        """For every merged edge: the merged parameter ``s1`` where each of its user segments ends, in order."""
+        return tuple(tuple(s1 for _, s1, _ in items) for items in self._user_segments_by_edge)
+
     def pieces_of(self, piece: BoundaryPiece) -> tuple[tuple[int, BoundaryPiece], ...]:
         """A piece of a merged edge (positive length) as the user segments it overlaps, in order along it, each with
         the exact overlap as a piece of the user's edge."""
         user = self.user_partition
         out = []
-        for s0, s1, u in self._user_segments_by_edge[piece.edge]:
+        items = self._user_segments_by_edge[piece.edge]
+        first = bisect.bisect_right(self._user_starts_by_edge[piece.edge], piece.t0)  # the first ending after t0
+        for s0, s1, u in items[first:]:
             if s0 >= piece.t1:
                 break
             lo, hi = max(s0, piece.t0), min(s1, piece.t1)
@@ -143,6 +151,8 @@ class Walls(StraightWalls):
         merged one, so these are whole user segments)."""
         if search.env != self.merged:
             raise ValueError("the partition is not one of the merged environment of these walls")
+        if self.identity and len(search.segments) == len(self.user_partition.segments):  # P′ of the same walls
+            return tuple(((seg.id, BoundaryPiece(seg.edge, seg.t0, seg.t1)),) for seg in search.segments)
         return tuple(self.pieces_of(BoundaryPiece(seg.edge, seg.t0, seg.t1)) for seg in search.segments)
 
     def runs(self, search: Partition) -> tuple[tuple[int, ...], ...]:
