@@ -47,6 +47,16 @@ TABLE_SOURCE = "P′ of the straight walls (collinear vertices merged) refined a
 MAX_BELIEFS = 20_000
 """Most beliefs an invariant may list before the builder gives up (the certificate would be unreadable)."""
 
+MAX_PROOF_SEGMENTS = 1_000
+"""Largest table (segments of P′) over which the builder tries an exact closure at all. Each source segment whose
+exact runs the closure needs costs work proportional to the table (about 0.4 ms of CPU per segment of the table
+here: 2 s per source on a raw warehouse map of 5,140 segments, where one proof ran for over 6 minutes), so on
+larger tables the answer goes without a bound block (its optimality claim stays the search's, not certified)."""
+
+MAX_PROOF_WORK = 100_000
+"""Most work (source segments whose exact runs were computed × segments of the table) a closure may take before the
+builder gives up: about 40 s of CPU at the measured rate; tables up to 316 segments never reach it."""
+
 
 class NoBound(Exception):
     """No invariant proves the bound: ``why`` says why in a few words (the margin-free class has a plan).
@@ -166,9 +176,13 @@ def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budg
     """The invariant proving that no plan of the class (module docstring) with ≤ ``budget`` stages (None: any
     number) whose intervals are wider than ``threshold`` takes ``start`` to ``goal``.
 
-    Raises :class:`NoBound` when the exact closure reaches the goal (naming the stage count), or lists more than
-    :data:`MAX_BELIEFS` beliefs."""
+    Raises :class:`NoBound` when the exact closure reaches the goal (naming the stage count), lists more than
+    :data:`MAX_BELIEFS` beliefs, or would take more work than :data:`MAX_PROOF_SEGMENTS` and :data:`MAX_PROOF_WORK`
+    allow."""
     table = segment_table(env, start, goal)
+    if len(table) > MAX_PROOF_SEGMENTS:
+        raise NoBound(f"the exact closure over a table of {len(table):,} segments is not tried (at most "
+                      f"{MAX_PROOF_SEGMENTS:,}: its work grows as the square of the table)")
     edges, nxt = _edges(env)
     geo = Geometry(edges, nxt, table)
     start_pieces = [(p.edge, Fraction(p.t0), Fraction(p.t1)) for p in start.merged().pieces]
@@ -186,6 +200,9 @@ def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budg
     while frontier and (budget is None or depth < budget):
         nxt_frontier = []
         for belief in frontier:
+            if len(closure._runs) * len(table) > MAX_PROOF_WORK:
+                raise NoBound(f"the exact closure would take more than {MAX_PROOF_WORK:,} units of work (sources × "
+                              f"table segments; {len(table):,} segments)")
             for targets, (lo, hi) in closure.successors(belief):
                 nb = tuple(sorted(set(targets)))
                 width = min(narrowest[belief], _stage_width(lo, hi, delta))
