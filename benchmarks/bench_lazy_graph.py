@@ -1,8 +1,9 @@
 """The safe BVG built on demand against the whole build, on warehouse maps of several sizes (issue #24).
 
 Run ``python benchmarks/bench_lazy_graph.py [--sizes 12x8,20x10,30x15] [--simplify 0.1]`` from the repository root.
-For each size it draws a SLAM-style warehouse (``benchmarks/warehouse_map.py``), imports it (``--simplify``,
-``--rectilinear 10``), and measures in-process (CPU seconds, ``time.process_time``): the partition P′; the whole
+For each size it draws a SLAM-style warehouse (``benchmarks/warehouse_map.py``), imports it (``--simplify`` and
+``--rectilinear``; ``--simplify auto``, the default: the import's own defaults, inside the traced free space), and
+measures in-process (CPU seconds, ``time.process_time``): the partition P′; the whole
 safe BVG (arcs, safe arcs, time; skipped past ``--max-arcs`` estimated arcs); ``reachable_safe_graph`` from the
 first edge's segments with budgets of 2 and 4 bounces and without one (arcs kept, sources reached, time); and a
 tolerance plan from e0 to the edge half-way round, over each graph (status, width, whether they agree).
@@ -37,9 +38,9 @@ def main() -> None:
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="12x8,20x10")
-    parser.add_argument("--simplify", type=float, default=0.1)
+    parser.add_argument("--simplify", default="auto")
     parser.add_argument("--max-arcs", type=int, default=20_000_000)
-    parser.add_argument("--rectilinear", type=float, default=10.0)
+    parser.add_argument("--rectilinear", type=float, default=None)
     options = parser.parse_args()
     folder = Path(tempfile.mkdtemp())
     print("| map (m) | vertices | holes | segments | partition s | whole: arcs / safe / s | budget | on demand: arcs / "
@@ -48,7 +49,8 @@ def main() -> None:
     for size in options.sizes.split(","):
         width, height = (float(x) for x in size.split("x"))
         yaml = write_map(folder, f"w{size}", warehouse_map(width, height, seed=1))
-        env = import_floorplan(yaml, simplify=options.simplify, rectilinear=options.rectilinear).environment_value
+        simplify = None if options.simplify == "auto" else float(options.simplify)
+        env = import_floorplan(yaml, simplify=simplify, rectilinear=options.rectilinear).environment
         _cache.clear_graph_cache()
         p, t_part = cpu(lambda: partition(env))
         N = len(p.segments)

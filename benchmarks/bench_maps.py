@@ -5,7 +5,8 @@ package importable: installed or ``PYTHONPATH=.``). For each map of ``benchmarks
 PGM + YAML to a temporary folder and runs, each as a subprocess (wall time, CPU time and peak resident memory of
 the process from ``wait4``):
 
-1. ``solverplan import MAP.yaml -o ENV.json`` with the defaults (vertices and holes of the environment);
+1. ``solverplan import MAP.yaml -o ENV.json`` with the defaults (vertices and holes of the environment), and with
+   ``--simplify 0 --rectilinear 0`` for the traced vertices;
 2. ``solverplan --quiet plan ENV.json --from e0 --to eK --objective tolerance --timeout T`` (K: the edge half-way
    round the outer ring; status, arcs the query built against the segments of P′, the sources it reached);
 3. ``solverplan graph star_1000.json --safe -o G.json`` on the 1,000-vertex star of the other benchmarks;
@@ -67,15 +68,18 @@ def main() -> None:
     options = parser.parse_args()
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores\n")
     folder = Path(tempfile.mkdtemp())
-    print("| map | size (m) | vertices | holes | import s | plan status | plan s (wall / CPU) | peak MB | "
+    print("| map | size (m) | traced vertices | vertices | holes | import s | plan status | plan s (wall / CPU) | peak MB | "
           "segments of P′ | arcs built | sources reached |")
-    print("|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|")
+    print("|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|")
     for name in options.sizes.split(","):
         width, height = SIZES[name]
         yaml = write_map(folder, name, warehouse_map(width, height))
         env_file = folder / f"{name}.json"
         w_imp, _, _, p = child(CLI + ["import", str(yaml), "-o", str(env_file)])
         info = json.loads(p.stdout)
+        _, _, _, raw = child(CLI + ["import", str(yaml), "-o", str(folder / f"{name}_raw.json"), "--simplify", "0",
+                                    "--rectilinear", "0"])
+        traced = json.loads(raw.stdout)["vertices"]
         from solverplan.environment import load_environment
 
         environment = load_environment(env_file)
@@ -89,7 +93,7 @@ def main() -> None:
                 status += " (timeout)"
         except json.JSONDecodeError:
             status, stats = f"exit {p.returncode}: {p.stderr.strip()[-120:]}", {}
-        print(f"| {name} | {width:g} × {height:g} | {environment.n_vertices:,} | "
+        print(f"| {name} | {width:g} × {height:g} | {traced:,} | {environment.n_vertices:,} | "
               f"{info.get('holes')} | {w_imp:.1f} | {status} | {w:.1f} / {c:.1f} | {m:.0f} | "
               f"{stats.get('graph_segments', '–')} | {stats.get('graph_arcs', '–')} | "
               f"{stats.get('graph_reachable_sources', 'all' if 'graph_arcs' in stats else '–')} |")

@@ -150,6 +150,8 @@ class FloorplanImport(Answer):
         if n <= PLANNING_VERTICES:
             return None
         hint = f"--simplify {2 * float(self.resolution):g} (two cells)" if self.resolution else "a larger --simplify"
+        if self.settings.get("inside_traced"):
+            hint += ", which unlike the default does not keep the outline inside the traced free space"
         return (f"{n} vertices: planning time grows as n^4, so plans on this environment will be slow; "
                 f"for planning, import with {hint}, and --rectilinear 10 for an indoor map")
 
@@ -364,8 +366,7 @@ def import_floorplan(
                           ("--rectilinear", rectilinear), ("--tolerance", tolerance), ("--min-obstacle", min_obstacle),
                           ("--snap", snap), ("--max-jamb", max_jamb)):
         _non_negative(option, value)
-    if kind != "ros" and rectilinear is None:
-        rectilinear = 0.0
+    drawn_rectilinear = 0.0 if rectilinear is None else rectilinear  # drawings are taken as drawn by default
     if rectilinear is not None and not 0 <= rectilinear < 45:
         raise InputError(f"--rectilinear must be below 45 degrees (an edge is near one axis only), got {rectilinear:g}")
     if tolerance is not None and tolerance <= 0:
@@ -417,7 +418,7 @@ def import_floorplan(
         environment, dropped, unit, quantum, more = _dxf_environment(
             path, layer=layer, units=units, tolerance=chord_tolerance, snap=snap, max_jamb=max_jamb, point=point,
             simplify=simplify or 0.0, min_hole_area=min_hole_area or 0.0, min_obstacle=min_obstacle or 0.0,
-            rectilinear=rectilinear, name=name or path.stem, features=features, warnings=warnings)
+            rectilinear=drawn_rectilinear, name=name or path.stem, features=features, warnings=warnings)
         settings = more
     else:
         rings, info = read_svg_rings(path, scale=scale_value, tolerance=chord_tolerance)
@@ -426,7 +427,7 @@ def import_floorplan(
                     "tolerance": chord_tolerance}
         outer, holes, counts = arrange_rings(rings, str(path))
         dropped = dict(info) | counts
-        environment, more = _drawn_environment(outer, holes, simplify or 0.0, min_hole_area or 0.0, rectilinear,
+        environment, more = _drawn_environment(outer, holes, simplify or 0.0, min_hole_area or 0.0, drawn_rectilinear,
                                                name or path.stem, features)
         dropped |= more
         quantum = _drawing_quantum(environment)

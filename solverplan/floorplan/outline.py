@@ -549,8 +549,10 @@ def finish_outline(
                 if box is not None:
                     candidate, count = box, len(ring)
             if inside and (not _simple(candidate) or _gives_back(ring, candidate, hole=index > 0)):
-                candidate = _within(ring, candidate, hole=index > 0)  # its new points lie on ``ring``'s edges,
-                if candidate is None:  # a step inside the traced outline: the rounding keeps them inside
+                fixed = _within(ring, candidate, hole=index > 0)  # its new points lie on ``ring``'s edges,
+                if fixed is not None:  # a step inside the traced outline: the rounding keeps them inside
+                    candidate = fixed
+                else:
                     candidate, count = ring, 0
                     reverted.add(index)
             snapped.append(candidate)
