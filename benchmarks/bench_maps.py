@@ -7,7 +7,7 @@ the process from ``wait4``):
 
 1. ``solverplan import MAP.yaml -o ENV.json`` with the defaults (vertices and holes of the environment), and with
    ``--simplify 0 --rectilinear 0`` for the traced vertices;
-2. ``solverplan --quiet plan ENV.json --from e0 --to eK --objective tolerance --timeout T`` (K: the edge half-way
+2. ``solverplan --quiet --graph-cache off plan ENV.json --from e0 --to eK --objective tolerance --timeout T`` (K: the edge half-way
    round the outer ring; status, arcs the query built against the segments of P′, the sources it reached);
 3. ``solverplan graph star_1000.json --safe -o G.json`` on the 1,000-vertex star of the other benchmarks;
 4. start-up: ``solverplan --help`` and ``solverplan info square``.
@@ -84,7 +84,7 @@ def main() -> None:
 
         environment = load_environment(env_file)
         goal = f"e{len(environment.rings[0]) // 2}"
-        w, c, m, p = child(CLI + ["--quiet", "plan", str(env_file), "--from", "e0", "--to", goal, "--objective",
+        w, c, m, p = child(CLI + ["--quiet", "--graph-cache", "off", "plan", str(env_file), "--from", "e0", "--to", goal, "--objective",
                                   "tolerance", "--timeout", str(options.timeout)], timeout=options.timeout * 3)
         try:
             answer = json.loads(p.stdout)

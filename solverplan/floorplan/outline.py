@@ -29,7 +29,7 @@ from solverplan.errors import InvalidEnvironment
 from solverplan.limits import MAX_VERTICES
 
 __all__ = ["finish_outline", "snap_rectilinear", "grid_quantum", "environment_from_polygon", "separate_touches",
-           "largest_part", "wall_noise", "axis_parallel_share", "coarse_ring"]
+           "largest_part", "wall_noise", "axis_parallel_share", "coarse_ring", "simplify_inside", "part_to_keep"]
 
 FloatRing = np.ndarray  # (n, 2) float coordinates, not closed
 
@@ -271,28 +271,54 @@ def _shrink_inside(polygon: Any, tolerance: float, *, keep_point: tuple[float, f
     """``polygon`` (grid units) shrunk by ``tolerance`` + 1 (mitred) and simplified within ``tolerance``: inside
     ``polygon`` with a margin for the rounding to the grid (:func:`finish_outline` ``inside``); with the changes of
     topology (:func:`~solverplan.floorplan.robot.topology_changes`, grid units)."""
-    import shapely
-
     from solverplan.floorplan.robot import topology_changes
 
-    shrunk = polygon.buffer(-(tolerance + 1.0), join_style="mitre", mitre_limit=10.0)
-    simplified = shrunk.simplify(tolerance, preserve_topology=True)
-    # Douglas–Peucker keeps the result within the tolerance of what it simplifies, but GEOS may also drop a ring's
-    # first vertex by another rule (seen: 1.26 tolerances away): what passes the margin of one step is cut off
-    margin = polygon.buffer(-1.0, join_style="mitre", mitre_limit=10.0)
-    if not margin.covers(simplified):
-        simplified = simplified.intersection(margin)
-    main, rest = largest_part(simplified)
+    simplified = simplify_inside(polygon.buffer(-1.0, join_style="mitre", mitre_limit=10.0), tolerance)
+    main, rest, _ = part_to_keep(simplified, keep_point)
     if main is None:
         raise InvalidEnvironment(f"the free space vanished when shrunk by the simplification tolerance "
                                  f"({tolerance:g} grid steps): simplify less (--simplify METRES)")
-    if keep_point is not None:
-        point = shapely.Point(keep_point)
-        holding = [p for p in (main, *rest) if p.covers(point)]
-        if holding and holding[0] is not main:
-            rest = [main, *[p for p in rest if p is not holding[0]]]
-            main = holding[0]
     return main, topology_changes(polygon, main, rest, reach=2 * tolerance + 1.0, grid=1.0)
+
+
+def simplify_inside(region: Any, tolerance: float) -> Any:
+    """``region`` (a shapely polygon) shrunk by ``tolerance`` (mitred: corners are not rounded off) and simplified
+    within it, so that the result lies inside ``region``.
+
+    Douglas–Peucker keeps every point of its result within the tolerance of the boundary it simplifies, so nothing
+    passes back out of ``region``; but GEOS's topology-preserving simplifier may also drop a ring's first vertex by
+    another rule (seen 1.26 tolerances away), so what still leaves ``region`` is cut off.
+
+    >>> import shapely
+    >>> room = shapely.Polygon([(0, 0), (4, 0), (4, 0.05), (4.1, 0.05), (4.1, 3), (0, 3)])
+    >>> inner = simplify_inside(room, 0.1)
+    >>> room.covers(inner), len(inner.exterior.coords) - 1
+    (True, 4)
+    """
+    shrunk = region.buffer(-tolerance, join_style="mitre", mitre_limit=10.0)
+    simplified = shrunk.simplify(tolerance, preserve_topology=True)
+    return simplified if region.covers(simplified) else simplified.intersection(region)
+
+
+def part_to_keep(geometry: Any, point: tuple[float, float] | None) -> tuple[Any, list[Any], bool]:
+    """The polygon of ``geometry`` to keep: the one covering ``point`` when one does (then True), else the largest
+    (then False); with the other polygons. ``(None, [], False)`` when there is none.
+
+    >>> import shapely
+    >>> kept, others, held = part_to_keep(shapely.MultiPolygon([shapely.box(0, 0, 2, 2), shapely.box(3, 0, 4, 1)]), (3.5, 0.5))
+    >>> kept.bounds, len(others), held
+    ((3.0, 0.0, 4.0, 1.0), 1, True)
+    """
+    import shapely
+
+    main, rest = largest_part(geometry)
+    if main is None or point is None:
+        return main, rest, False
+    where = shapely.Point(point)
+    for part in (main, *rest):
+        if part.covers(where):
+            return part, [p for p in (main, *rest) if p is not part], True
+    return main, rest, False
 
 
 def wall_noise(rings: Sequence[FloatRing], cell: float) -> float:

@@ -24,7 +24,7 @@ from typing import Any
 
 from solverplan.errors import InputError
 from solverplan.floorplan.drawing import DroppedFeature
-from solverplan.floorplan.outline import largest_part
+from solverplan.floorplan.outline import part_to_keep, simplify_inside
 
 __all__ = ["QUAD_SEGS", "inflation_distance", "erode_free_space", "topology_changes"]
 
@@ -89,29 +89,21 @@ def erode_free_space(free: Any, radius: float, *, grid: float, seed_point: tuple
     >>> [c.kind for c in changes], round(kept.area, 2), round(changes[1].size, 2)
     (['disconnected', 'passage_closed'], 2.74, 0.3)
     """
-    import shapely
-
     if not math.isfinite(radius) or radius <= 0:
         raise InputError(f"--robot-radius must be a positive number of metres, got {radius:g}")
     distance = inflation_distance(radius, grid) + margin
     eroded = free.buffer(-distance, quad_segs=QUAD_SEGS, join_style="round")
     simplify = min(simplify, radius / 4)
     if simplify > 0:
-        eroded = eroded.buffer(-simplify, join_style="mitre").simplify(simplify, preserve_topology=True)
+        eroded = simplify_inside(eroded, simplify)
     reach = distance + simplify  # what the walls grew by, at most
-    main, rest = largest_part(eroded)
+    main, rest, held = part_to_keep(eroded, seed_point)
     if main is None:
         raise InputError(f"a robot of radius {radius:g} fits nowhere in the free space (its widest place is narrower "
                          f"than {2 * radius:g})")
-    if seed_point is not None:
-        point = shapely.Point(seed_point)
-        parts = [main, *rest]
-        holding = [p for p in parts if p.covers(point)]
-        if not holding:
-            raise InputError(f"the seed point ({seed_point[0]:g}, {seed_point[1]:g}) is closer than --robot-radius "
-                             f"{radius:g} to a wall or obstacle")
-        main = holding[0]
-        rest = [p for p in parts if p is not main]
+    if seed_point is not None and not held:
+        raise InputError(f"the seed point ({seed_point[0]:g}, {seed_point[1]:g}) is closer than --robot-radius "
+                         f"{radius:g} to a wall or obstacle")
     return main, topology_changes(free, main, rest, reach=reach, grid=grid)
 
 
