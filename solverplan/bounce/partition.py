@@ -442,6 +442,39 @@ def partition(env: Environment) -> Partition:
     return p
 
 
+def renumbered(p: Partition, env: Environment, vertex_of: Sequence[int]) -> Partition:
+    """P′ of ``env``, an environment with the same rings as ``p.env`` each started at another vertex, from ``p``:
+    ``vertex_of[k]`` is ``env``'s vertex (global index) at ``p.env``'s vertex k (so edge k, from vertex k, becomes edge
+    ``vertex_of[k]``). Algorithm 1's points are where lines through two vertices meet the boundary, whatever the
+    numbering: the same points, on the renamed edges, with the same pairs (r, v) renamed, the first in the order of
+    the new numbers. Equal to ``partition(env)``, without casting the rays again.
+
+    >>> from solverplan.environment import Environment
+    >>> ell = [[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]]
+    >>> p = partition(Environment.from_coords(ell))
+    >>> turned = Environment.from_coords(ell[2:] + ell[:2])
+    >>> renumbered(p, turned, [4, 5, 0, 1, 2, 3]) == partition(turned)
+    True
+    """
+    old = p.env
+    if len(vertex_of) != old.n_vertices or env.n_vertices != old.n_vertices or sorted(vertex_of) != list(range(env.n_vertices)):
+        raise ValueError("renumbered: vertex_of must map every vertex of the partition's environment to one of env's")
+    verts, mine = old.exact_vertices, env.exact_vertices
+    if any(verts[k] != mine[vertex_of[k]] for k in range(len(vertex_of))) or any(
+            int(env.next_vertex[vertex_of[k]]) != vertex_of[int(old.next_vertex[k])] for k in range(len(vertex_of))):
+        raise ValueError("renumbered: env's rings are not the partition's, started elsewhere")
+
+    def order(src: tuple[int, int | None]) -> tuple[int, int, int]:
+        return (src[0], 0 if src[1] is None else 1, -1 if src[1] is None else src[1])
+
+    inserted = []
+    for q in p.inserted:
+        sources = tuple(sorted(((vertex_of[r], None if v is None else vertex_of[v]) for r, v in q.sources), key=order))
+        inserted.append(InsertedPoint(q.point, vertex_of[q.edge], q.t, sources[0][0], sources[0][1], sources))
+    inserted.sort(key=lambda q: (q.edge, q.t))
+    return _assemble(env, tuple(inserted))
+
+
 _RECENT = 2
 """Partitions kept per process, by environment (equal environments share one): a query builds its own, and the
 exact check of its answer, the certificate and the graph cache ask again — 30 s each for a raw 1,200-vertex map."""

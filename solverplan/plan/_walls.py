@@ -33,7 +33,7 @@ from fractions import Fraction
 from functools import cached_property
 from typing import Iterable, Mapping
 
-from solverplan.bounce.partition import Partition, PartitionSegment, partition as make_partition
+from solverplan.bounce.partition import Partition, PartitionSegment, partition as make_partition, renumbered
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.geometry.walls import StraightWalls, canonical_start, collinear_vertices
 
@@ -110,7 +110,11 @@ class Walls(StraightWalls):
     # ------------------------------------------------------------------ segments
     @cached_property
     def user_partition(self) -> Partition:
-        """The partition P′ of the user's environment (the ids answers are reported in)."""
+        """The partition P′ of the user's environment (the ids answers are reported in). When the straight walls are
+        the user's rings started elsewhere (no vertex merged), it is the straight walls' P′ renumbered
+        (:func:`~solverplan.bounce.partition.renumbered`: the same points, without casting the rays again)."""
+        if not self.identity and self.merged.n_vertices == self.env.n_vertices:
+            return renumbered(make_partition(self.merged), self.env, self.vertex_map)
         return make_partition(self.env)
 
     @cached_property
