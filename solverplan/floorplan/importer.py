@@ -410,7 +410,7 @@ def import_floorplan(
                     "min_hole_area_m2": min_hole_area or 0.0,
                     "spur_width_m": 2 * float(grid.resolution) if spur_width is None else spur_width,
                     "simplify_m": chosen["simplify_m"], "inside_traced": chosen["inside"],
-                    "rectilinear_deg": chosen["rectilinear_deg"],
+                    "rectilinear_deg": chosen["rectilinear_deg"], "rectilinear_axes_deg": chosen["axes_deg"],
                     "measured": {"wall_noise_m": chosen["wall_noise_m"],
                                  "axis_parallel_share": chosen["axis_parallel_share"]}}
         warnings += _map_default_warnings(dropped, chosen, min_obstacle, simplify, rectilinear)
@@ -494,7 +494,8 @@ def _map_default_warnings(dropped: dict, chosen: dict, min_obstacle: float | Non
             text += f"; {closed} passages narrower than that closed (listed in features)"
         out.append(text + "; --simplify M for another tolerance (not shrunk)")
     if rectilinear is None and chosen["rectilinear_deg"]:
-        out.append(f"walls within {chosen['rectilinear_deg']:g}° of an axis snapped to it, inwards "
+        axes = f" (the walls' axes, turned {chosen['axes_deg']:g}°)" if chosen["axes_deg"] else ""
+        out.append(f"walls within {chosen['rectilinear_deg']:g}° of an axis{axes} snapped to it, inwards "
                    f"({100 * chosen['axis_parallel_share']:.0f} % of them are): --rectilinear 0 keeps them as traced")
     return out
 

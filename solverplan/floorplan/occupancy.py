@@ -591,6 +591,7 @@ def trace_free_space(
     auto = auto_simplification([outer, *holes], res)
     inside = simplify is None
     simplify = auto["simplify_m"] if simplify is None else float(simplify)
+    chosen_rectilinear_auto = rectilinear is None
     if rectilinear is None:
         rectilinear = auto["rectilinear_deg"]
     if chosen is not None:
@@ -598,7 +599,8 @@ def trace_free_space(
     keep = None
     if seed_point is not None:
         keep = (float(seed_point[0] - grid.origin[0]), float(seed_point[1] - grid.origin[1]))
-    return finish_outline(outer, holes, quantum=quantum, offset=grid.origin, simplify=simplify,
+    axes = auto["axes_deg"] if chosen_rectilinear_auto else 0.0
+    return finish_outline(outer, holes, quantum=quantum, axes=axes, offset=grid.origin, simplify=simplify,
                           min_hole_area=min_hole_area, rectilinear=rectilinear, name=grid.source.stem,
                           dropped=dropped, features=features, inside=inside, keep_point=keep)
 
@@ -610,21 +612,30 @@ def auto_simplification(rings: list[np.ndarray], cell: float) -> dict[str, Any]:
     map's slanted walls, traced in half-cell steps), at most 3 cells, to a tenth of a millimetre; 0 below a tenth of
     a cell (a clean map of straight walls traces them exactly: every vertex is a corner);
     ``rectilinear_deg``: :data:`AUTO_RECTILINEAR` if at least :data:`AXIS_PARALLEL_SHARE` of the walls' length
-    (simplified within 3 cells) lies within it of an axis, else 0. Also ``wall_noise_m`` and
+    (simplified within 3 cells) lies within it of an axis — of the walls' own axes, ``axes_deg`` (the turn,
+    :func:`~solverplan.floorplan.outline.wall_axes`), for a map drawn at an angle — else 0. Also ``wall_noise_m`` and
     ``axis_parallel_share`` (the measurements).
 
     >>> ragged = np.array([[0, 0], [2, 0.05], [4, 0], [6, 0.05], [8, 0], [8, 3], [0, 3]], float)
     >>> auto_simplification([ragged], 0.05)
-    {'simplify_m': 0.05, 'wall_noise_m': 0.05, 'rectilinear_deg': 10.0, 'axis_parallel_share': 1.0}
+    {'simplify_m': 0.05, 'wall_noise_m': 0.05, 'rectilinear_deg': 10.0, 'axis_parallel_share': 1.0, 'axes_deg': 0.0}
     """
-    from solverplan.floorplan.outline import axis_parallel_share, coarse_ring, wall_noise
+    from solverplan.floorplan.outline import axis_parallel_share, coarse_ring, wall_axes, wall_noise
 
     noise = wall_noise(rings, cell)
     tolerance = round(min(noise, 3 * cell), 4) if noise >= cell / 10 else 0.0
     coarse = [np.asarray(coarse_ring(r, 3 * cell).coords[:-1], float) for r in rings if len(r) >= 3]
-    share = axis_parallel_share([c for c in coarse if len(c) >= 3], AUTO_RECTILINEAR)
+    coarse = [c for c in coarse if len(c) >= 3]
+    axes = 0.0
+    share = axis_parallel_share(coarse, AUTO_RECTILINEAR)
+    if share < AXIS_PARALLEL_SHARE:  # a map drawn at an angle: its walls' own axes
+        turned = wall_axes(coarse, AUTO_RECTILINEAR / 2)
+        turned_share = axis_parallel_share(coarse, AUTO_RECTILINEAR, turned)
+        if turned_share >= AXIS_PARALLEL_SHARE:
+            axes, share = turned, turned_share
     return {"simplify_m": tolerance, "wall_noise_m": noise,
-            "rectilinear_deg": AUTO_RECTILINEAR if share >= AXIS_PARALLEL_SHARE else 0.0, "axis_parallel_share": share}
+            "rectilinear_deg": AUTO_RECTILINEAR if share >= AXIS_PARALLEL_SHARE else 0.0, "axis_parallel_share": share,
+            "axes_deg": axes}
 
 
 def cell_to_world(grid: OccupancyMap, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:

@@ -29,7 +29,7 @@ from solverplan.errors import InvalidEnvironment
 from solverplan.limits import MAX_VERTICES
 
 __all__ = ["finish_outline", "snap_rectilinear", "grid_quantum", "environment_from_polygon", "separate_touches",
-           "largest_part", "wall_noise", "axis_parallel_share", "coarse_ring", "simplify_inside", "part_to_keep"]
+           "largest_part", "wall_noise", "axis_parallel_share", "coarse_ring", "simplify_inside", "part_to_keep", "wall_axes"]
 
 FloatRing = np.ndarray  # (n, 2) float coordinates, not closed
 
@@ -231,6 +231,49 @@ def _gives_back(ring: np.ndarray, snapped: np.ndarray, *, hole: bool) -> bool:
     return bool(gained.area > 1e-2)
 
 
+def _join_walls(rings: list[np.ndarray], joined: set[int]) -> tuple[np.ndarray, set[int]] | None:
+    """The outer ring ``rings[0]`` (grid units) with the holes that meet it taken out of it (the obstacles join the
+    wall: free space only shrinks), and those holes; ``None`` when that does not leave one ring without holes."""
+    import shapely
+
+    outer = shapely.Polygon(rings[0]).buffer(0)
+    line = shapely.LinearRing(rings[0])
+    meeting = {k for k in range(1, len(rings)) if k not in joined and shapely.LinearRing(rings[k]).intersects(line)}
+    if not meeting:
+        return None
+    cut = outer.difference(shapely.union_all([shapely.Polygon(rings[k]).buffer(0) for k in meeting]))
+    part, _ = largest_part(shapely.set_precision(cut, 1.0))
+    if part is None or len(part.interiors):
+        return None
+    coords = np.asarray(part.exterior.coords[:-1], float)
+    if shapely.LinearRing(coords).is_ccw != line.is_ccw:
+        coords = coords[::-1]
+    return coords, meeting
+
+
+def _turned_back(ring: np.ndarray, turn: np.ndarray, *, hole: bool) -> np.ndarray:
+    """A ring snapped in a turned frame (:func:`finish_outline` ``axes``), without its straight and repeated vertices,
+    grown (a hole) or shrunk (the outer ring) by one grid step, mitred, and turned back to the map's frame."""
+    import shapely
+
+    keep = np.any(np.abs(ring - np.roll(ring, 1, axis=0)) > 1e-9, axis=1)
+    ring = ring[keep]
+    if len(ring) >= 3:
+        a, b = ring - np.roll(ring, 1, axis=0), np.roll(ring, -1, axis=0) - ring
+        cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+        scale = np.hypot(*a.T) * np.hypot(*b.T)
+        ring = ring[np.abs(cross) > 1e-9 * np.maximum(scale, 1.0)]
+    if len(ring) < 3:
+        return ring @ turn.T
+    moved, _ = largest_part(shapely.Polygon(ring).buffer(1.0 if hole else -1.0, join_style="mitre", mitre_limit=10.0))
+    if moved is None:
+        return ring @ turn.T
+    coords = np.asarray(moved.exterior.coords[:-1], float)
+    if shapely.LinearRing(coords).is_ccw != shapely.LinearRing(ring).is_ccw:
+        coords = coords[::-1]
+    return coords @ turn.T
+
+
 def _box_of(ring: np.ndarray, step: float) -> np.ndarray | None:
     """The bounding box of a hole (grid units, clockwise like the hole) when it adds no more area than a band ``step``
     wide along the hole's outline (a ragged rack or post), else ``None``."""
@@ -361,8 +404,9 @@ def coarse_ring(ring: FloatRing, tolerance: float) -> Any:
     return shapely.LinearRing(np.roll(ring, -first, axis=0)).simplify(tolerance, preserve_topology=False)
 
 
-def axis_parallel_share(rings: Sequence[FloatRing], degrees: float) -> float:
-    """The share of the outline's length (0–1) in edges within ``degrees`` of an axis.
+def axis_parallel_share(rings: Sequence[FloatRing], degrees: float, axes: float = 0.0) -> float:
+    """The share of the outline's length (0–1) in edges within ``degrees`` of an axis (of the axes turned by ``axes``
+    degrees).
 
     >>> axis_parallel_share([np.array([[0, 0], [4, 0], [4, 3], [1, 4]], float)], 10.0)   # 7 of 7 + √10 + √17
     0.49
@@ -371,10 +415,35 @@ def axis_parallel_share(rings: Sequence[FloatRing], degrees: float) -> float:
     for ring in rings:
         delta = np.roll(ring, -1, axis=0) - ring
         lengths = np.hypot(delta[:, 0], delta[:, 1])
-        angle = np.degrees(np.arctan2(delta[:, 1], delta[:, 0])) % 90.0
+        angle = (np.degrees(np.arctan2(delta[:, 1], delta[:, 0])) - axes) % 90.0
         total += float(lengths.sum())
         near += float(lengths[(angle <= degrees) | (angle >= 90.0 - degrees)].sum())
     return round(near / total, 4) if total > 0 else 0.0
+
+
+def wall_axes(rings: Sequence[FloatRing], degrees: float) -> float:
+    """The turn of the axes (degrees in [0, 90), to a tenth) that the most outline length lies within ``degrees`` of:
+    the walls' directions of a map drawn at an angle.
+
+    >>> square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    >>> turned = square @ np.array([[np.cos(0.5), np.sin(0.5)], [-np.sin(0.5), np.cos(0.5)]])   # 0.5 rad ≈ 28.6°
+    >>> wall_axes([turned], 5.0), wall_axes([square], 5.0)
+    (28.6, 0.0)
+    """
+    angles, weights = [], []
+    for ring in rings:
+        delta = np.roll(ring, -1, axis=0) - ring
+        angles.append(np.degrees(np.arctan2(delta[:, 1], delta[:, 0])) % 90.0)
+        weights.append(np.hypot(delta[:, 0], delta[:, 1]))
+    if not angles:
+        return 0.0
+    angle, weight = np.concatenate(angles), np.concatenate(weights)
+    candidates = np.arange(0.0, 90.0, 0.1)
+    off = np.abs((angle[None, :] - candidates[:, None] + 45.0) % 90.0 - 45.0)
+    best = float(candidates[int(np.argmax(((off <= degrees) * weight[None, :]).sum(axis=1)))])
+    near = np.abs((angle - best + 45.0) % 90.0 - 45.0) <= degrees  # refine: the weighted mean offset of those near it
+    mean = best + float(np.average((angle[near] - best + 45.0) % 90.0 - 45.0, weights=weight[near]))
+    return round(mean % 90.0, 1) % 90.0
 
 
 def _valid_rings(rings: Sequence[np.ndarray]) -> bool:
@@ -439,6 +508,7 @@ def finish_outline(
     features: list | None = None,
     inside: bool = False,
     keep_point: tuple[float, float] | None = None,
+    axes: float = 0.0,
 ) -> tuple[Environment, dict]:
     """Simplify, snap, round and validate an outline with holes into an :class:`Environment`.
 
@@ -474,7 +544,12 @@ def finish_outline(
         (:func:`snap_rectilinear` ``inside``), and a ring whose snap still gives back free space keeps its
         simplified shape. Passages the shrinking closes and obstacles it joins to a wall or to one another are
         listed in ``features`` (``passage_closed``, ``merged_obstacle``, ``disconnected``), and counted in
-        ``dropped["passages_closed"]``.
+        ``dropped["passages_closed"]``; an obstacle that meets a wall snapped inwards joins the wall (listed as
+        ``merged_obstacle``, counted in ``dropped["obstacles_joined"]``).
+    axes
+        The walls' directions (degrees, counter-clockwise from the x axis, below 90) that ``rectilinear`` snaps to, when
+        they are not the axes: a map drawn at an angle is snapped in its own frame (turned back, the snapped rings
+        one grid step further into the obstacles so that the rounding gives nothing back).
     keep_point
         With ``inside``: a point (output units, relative to ``offset``) whose part to keep when the shrinking splits
         the free space; ``None``: the largest part.
@@ -566,14 +641,19 @@ def finish_outline(
         snapped: list[np.ndarray] = []
         reverted: set[int] = set()
         for index, ring in enumerate(rings):
-            candidate, count = snap_rectilinear(ring, rectilinear, max_chamfer=(8 if inside else 4) * simplify / unit,
+            turn = np.array([[math.cos(math.radians(axes)), -math.sin(math.radians(axes))],
+                             [math.sin(math.radians(axes)), math.cos(math.radians(axes))]])
+            frame = ring @ turn if axes else ring  # the ring with the walls' axes along x and y (turned by −axes)
+            candidate, count = snap_rectilinear(frame, rectilinear, max_chamfer=(8 if inside else 4) * simplify / unit,
                                                 inside=inside,
                                                 max_step=3 * simplify / unit + 2)
-            candidate = np.rint(candidate)
             if inside and index > 0:  # an obstacle whose bounding box adds at most a step along its outline: the box
-                box = _box_of(ring, 3 * simplify / unit + 2)
+                box = _box_of(frame, 3 * simplify / unit + 2)
                 if box is not None:
                     candidate, count = box, len(ring)
+            if axes:  # back to the map's frame, one step further into the obstacles so that the rounding gives nothing
+                candidate = _turned_back(candidate, turn, hole=index > 0)
+            candidate = np.rint(candidate)
             if inside and (not _simple(candidate) or _gives_back(ring, candidate, hole=index > 0)):
                 fixed = _within(ring, candidate, hole=index > 0)  # its new points lie on ``ring``'s edges,
                 if fixed is not None:  # a step inside the traced outline: the rounding keeps them inside
@@ -584,17 +664,35 @@ def finish_outline(
             snapped.append(candidate)
             counts["rectilinear_edges"] += count
         chosen = list(snapped)
+        joined: set[int] = set()
         while True:  # revert the snaps that make a ring cross or touch itself or another, until none does
-            bad = _bad_rings(chosen) - reverted
+            bad = _bad_rings([r for k, r in enumerate(chosen) if k not in joined])
+            bad = {[k for k in range(len(chosen)) if k not in joined][i] for i in bad} - reverted
             if not bad:
                 break
             # an obstacle near a wall is what conflicts with the wall's snapped run: revert the obstacle's own
             # snap first and keep the walls straight (reverting the outer ring un-snapped every wall of a map
-            # that keeps its posts); the outer ring goes back only when no hole is left to blame
+            # that keeps its posts); the outer ring goes back only when no hole is left to blame — or, inside, when
+            # the obstacles it meets cannot join the wall (the free space only shrinks where they do)
             holes_bad = bad - {0}
+            if inside and bad == {0}:
+                merged = _join_walls(chosen, joined)
+                if merged is not None:
+                    chosen[0], more = merged
+                    joined |= more
+                    continue
             for index in holes_bad or bad:
                 chosen[index] = rings[index]
             reverted |= holes_bad or bad
+        if joined:
+            counts["obstacles_joined"] = counts.get("obstacles_joined", 0) + len(joined)
+            if features is not None:
+                from solverplan.floorplan.drawing import DroppedFeature
+
+                for k in sorted(joined):  # listed where they were (world coordinates), as the shrinking's are
+                    features.append(DroppedFeature.of("merged_obstacle", shapely.Polygon(rings[k] * unit + (fx, fy))))
+            chosen = [r for k, r in enumerate(chosen) if k not in joined]
+            rings = [r for k, r in enumerate(rings) if k not in joined]
         walls_only = [chosen[0], *rings[1:]]
         if _valid_rings(chosen):
             rings = chosen

@@ -58,16 +58,20 @@ def test_explicit_options_keep_their_meaning(raw_store):
     assert not any("lidar specks" in w or "snapped" in w for w in done.warnings)
 
 
-def test_a_turned_map_is_not_snapped_and_stays_inside(tmp_path):
+def test_a_turned_map_is_snapped_to_its_own_axes_and_stays_inside(tmp_path):
     turned = shapely.affinity.rotate(_store(rows=1, bays=2), 30, origin=(0, 0))
     image, origin = rasterise(turned, 0.05, ragged=0.25, seed=5)
     source = write_map(tmp_path, image, origin, 0.05)
     done = import_floorplan(source)
     traced = import_floorplan(source, simplify=0, rectilinear=0)
-    assert done.settings["rectilinear_deg"] == 0 and done.rectilinear_edges == 0
-    assert done.settings["measured"]["axis_parallel_share"] < 0.9
+    assert done.settings["rectilinear_deg"] == 10 and done.settings["rectilinear_axes_deg"] == pytest.approx(30, abs=1)
+    assert done.settings["measured"]["axis_parallel_share"] >= 0.9 and any("turned" in w for w in done.warnings)
     assert traced.environment.to_shapely().covers(done.environment.to_shapely())
-    assert len(done.environment.holes) == 3
+    assert len(done.environment.holes) == 3 and all(len(h) == 4 for h in done.environment.holes)
+    assert traced.environment.n_vertices > 10 * done.environment.n_vertices
+    plain = import_floorplan(source, rectilinear=0)  # not snapped: inside all the same, more vertices
+    assert traced.environment.to_shapely().covers(plain.environment.to_shapely())
+    assert plain.environment.n_vertices > done.environment.n_vertices
 
 
 def test_a_clean_map_of_straight_walls_is_kept_exactly(tmp_path):
