@@ -317,10 +317,16 @@ def _shrink_inside(polygon: Any, tolerance: float, *, keep_point: tuple[float, f
     from solverplan.floorplan.robot import topology_changes
 
     simplified = simplify_inside(polygon.buffer(-1.0, join_style="mitre", mitre_limit=10.0), tolerance)
-    main, rest, _ = part_to_keep(simplified, keep_point)
+    main, rest, held = part_to_keep(simplified, keep_point)
     if main is None:
         raise InvalidEnvironment(f"the free space vanished when shrunk by the simplification tolerance "
                                  f"({tolerance:g} grid steps): simplify less (--simplify METRES)")
+    if keep_point is not None and not held and rest:  # the seed point lies in the strip shrunk away: its nearest part
+        import shapely
+
+        parts = [main, *rest]
+        main = min(parts, key=lambda part: part.distance(shapely.Point(keep_point)))
+        rest = [part for part in parts if part is not main]
     return main, topology_changes(polygon, main, rest, reach=2 * tolerance + 1.0, grid=1.0)
 
 

@@ -81,3 +81,15 @@ def test_a_clean_map_of_straight_walls_is_kept_exactly(tmp_path):
     assert done.settings["simplify_m"] == 0 and done.settings["measured"]["wall_noise_m"] == 0
     assert float(done.environment.area) == pytest.approx(11.0) and done.environment.n_vertices == 8
     assert not any("inside the traced" in w for w in done.warnings)
+
+
+def test_what_the_shrinking_closes_is_listed_and_the_seed_points_room_is_kept(tmp_path):
+    rooms = shapely.union_all([shapely.box(0, 0, 4, 3), shapely.box(4, 1.45, 4.6, 1.55), shapely.box(4.6, 0, 6.6, 3)])
+    image, origin = rasterise(rooms, 0.05, ragged=0.25, seed=2)
+    source = write_map(tmp_path, image, origin, 0.05)
+    done = import_floorplan(source, seed_point=("5.6", "1.5"), spur_width=0)  # the raster keeps the passage
+    assert done.settings["simplify_m"] > 0.02
+    closed = [f for f in done.features if f.kind == "passage_closed"]
+    assert closed and all(f.size < 0.3 for f in closed)  # each listed where it was, with its width
+    assert float(done.environment.area) < 6.5  # the small room only (2 × 3 m less its shrunk walls)
+    assert done.environment.to_shapely().contains(shapely.Point(5.6, 1.5))
