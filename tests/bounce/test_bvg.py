@@ -443,6 +443,10 @@ def test_json_bytes_are_the_bytes_of_to_json(no_cache):
         want = orjson.dumps(view.to_json())
         assert bytes(view.json_bytes(arcs_per_chunk=7)) == want
         assert bytes(view.json_bytes(end=b"\n")) == want + b"\n"
+        for safe in (True, False):  # the columnar encoder against the dicts, one arc per chunk too
+            want = orjson.dumps(view.to_json(safe=safe))
+            assert bytes(view.json_bytes(safe=safe, arcs_per_chunk=1)) == want
+            assert bytes(view.json_bytes(safe=safe, arcs_per_chunk=1000)) == want
     empty = g.select(source=0, heading=3.1)
     assert bytes(empty.json_bytes()) == orjson.dumps(empty.to_json())
 
