@@ -53,7 +53,7 @@ from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import Walls
-from solverplan.plan.funnel import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, position_scope,
+from solverplan.plan.funnels import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, position_scope,
                                     search_optimality, search_stats)
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Status, answer_kind
 
@@ -152,7 +152,7 @@ def localize(
 
     After its stages every start in ``start`` (default: the whole boundary) is inside one interval of one edge
     shorter than ``epsilon`` (arc length). The search widens: narrow passes
-    (:data:`~solverplan.plan.funnel.NARROW_PASSES`) run first and the full ``beam`` × ``n_headings`` pass only if
+    (:data:`~solverplan.plan.funnels.NARROW_PASSES`) run first and the full ``beam`` × ``n_headings`` pass only if
     they find nothing, all within one work budget ``max_rows``, so that the answer comes in seconds.
 
     Parameters
@@ -164,9 +164,9 @@ def localize(
     start
         The boundary set the robot may start on (default: the whole boundary).
     tolerance
-        ε, radians: every interval is [θ − ε, θ + ε] (default :data:`~solverplan.plan.funnel.DEFAULT_FUNNEL_TOLERANCE`).
+        ε, radians: every interval is [θ − ε, θ + ε] (default :data:`~solverplan.plan.funnels.DEFAULT_FUNNEL_TOLERANCE`).
     max_bounces, n_headings, beam
-        The search's bounds, as for :func:`~solverplan.plan.funnel.funnel`.
+        The search's bounds, as for :func:`~solverplan.plan.funnels.funnel`.
     graph
         A precomputed safe BVG of ``env``.
     heading_margin, corner_clearance
