@@ -148,7 +148,9 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     partition's exact content (:func:`~solverplan.bounce._cache.partition_digest`: the rings and every
     segment's exact ``(edge, t0, t1)``, so a partition refined at extra cut points has its own graph),
     and on disk when a cache directory is set
-    (:func:`~solverplan.bounce._cache.set_graph_cache`; the command line keeps one, see docs/contract.md).
+    (:func:`~solverplan.bounce._cache.set_graph_cache`; the command line keeps one, see docs/contract.md). The graph
+    of P′ itself is found on disk by the environment's exact rings, with P′, so a call with an environment that
+    finds it makes no partition either.
     A reused graph is the same answer (equal arrays), with ``stats["cached"]`` set when it was read
     from disk; its arrays are read-only, shared by every caller.
 
@@ -180,9 +182,9 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     if found is not None:
         return found
     check_graph_memory(p)
-    t0 = time.perf_counter()
+    t0 = time.process_time()  # CPU time: what is worth keeping does not depend on the machine's load
     graph = _build(p)
-    return _cache.store(p, digest, graph, time.perf_counter() - t0, plain=plain)
+    return _cache.store(p, digest, graph, time.process_time() - t0, plain=plain)
 
 
 def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.SweepContext | None = None) -> SafeBVG:
