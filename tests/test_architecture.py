@@ -96,7 +96,7 @@ def test_library_modules_never_print():
 
 
 # modules still named like a function they define, with the reason they wait (empty when the house is in order)
-_NAME_CLASH_PENDING = {"bounce/partition.py", "proofs/line_field.py"}
+_NAME_CLASH_PENDING = {"bounce/partition.py"}  # helpers perf and inv edit it this session: renamed last
 
 
 def test_no_module_is_named_like_a_function_it_defines():
