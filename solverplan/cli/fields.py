@@ -75,7 +75,7 @@ def fields_command(
     """Composed local potential fields in convex cells, with reflection (Stager and Tanner): cells, sequence, reflection cells and scenario statistics."""
     from solverplan.certify.gate import checked_answer
     from solverplan.reflection.navigation import navigate_fields
-    from solverplan.reflection.simulate import RobotModel
+    from solverplan.reflection.simulate import FieldRobotDynamics
 
     with exit_codes(verbose):
         check_picture(picture)
@@ -84,7 +84,7 @@ def fields_command(
         if trajectories is None:  # a picture without runs shows empty corridors: draw a few by default
             trajectories = min(5, trials) if picture is not None else 0
         physics = max(400.0, control_rate)
-        robot = RobotModel(kind=model.value, accel=accel, restitution=restitution, control_rate=control_rate,
+        robot = FieldRobotDynamics(kind=model.value, accel=accel, restitution=restitution, control_rate=control_rate,
                            physics_rate=control_rate * max(1, round(physics / control_rate)))
         checked = checked_answer(lambda: navigate_fields(
             environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names, model=robot,

@@ -19,11 +19,11 @@ Simulations and the rules' comparison (Table I) are in :mod:`solverplan.studies.
 
 from solverplan.rectilinear.decomposition import Decomposition, Door, Room, decompose_rooms
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
-from solverplan.rectilinear.metrics import (SMART_THRESHOLD, Reachability, RuleRecommendation, escapability,
+from solverplan.rectilinear.metrics import (SMART_THRESHOLD, RoomReachability, RuleRecommendation, escapability,
                                             reachability, reachability_along, reachability_graph, recommend_rule)
 
 from solverplan.rectilinear.rules import RULES, Billiard, Random, Smart, make_rule, room_tangents, smart_tangent
 
-__all__ = ["Decomposition", "Door", "Room", "decompose_rooms", "SMART_THRESHOLD", "Reachability", "RuleRecommendation",
+__all__ = ["Decomposition", "Door", "Room", "decompose_rooms", "SMART_THRESHOLD", "RoomReachability", "RuleRecommendation",
            "escapability", "reachability", "reachability_along", "reachability_graph", "recommend_rule", "DoorControl", "RoomWorld",
            "RULES", "Billiard", "Random", "Smart", "make_rule", "room_tangents", "smart_tangent"]

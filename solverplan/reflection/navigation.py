@@ -30,7 +30,7 @@ import numpy as np
 
 from solverplan.reflection.compose import FieldPlan, compose_fields
 from solverplan.reflection.payoff import ROLLOUT_TRIALS, ZoneTest, prune_zones
-from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, default_scenarios,
+from solverplan.reflection.simulate import (SCENARIOS, FieldRobotDynamics, ScenarioRun, default_scenarios,
                                             simulate_scenarios)
 
 __all__ = ["FieldNavigation", "navigate_fields", "random_starts", "ROLLOUT_SEED"]
@@ -48,7 +48,7 @@ class FieldNavigation(Answer):
     plan
         The composed field policy (:func:`~solverplan.reflection.compose.compose_fields`).
     model
-        The :class:`~solverplan.reflection.simulate.RobotModel` the rollouts used.
+        The :class:`~solverplan.reflection.simulate.FieldRobotDynamics` the rollouts used.
     runs
         Scenario name → its trials (success share, times in seconds, collisions, kept trajectories).
     seed
@@ -69,7 +69,7 @@ class FieldNavigation(Answer):
     """
 
     plan: FieldPlan
-    model: RobotModel
+    model: FieldRobotDynamics
     runs: dict[str, ScenarioRun]
     seed: int
     status: Status
@@ -138,7 +138,7 @@ class FieldNavigation(Answer):
         plan = plan.without_zones([c for c in plan.zones if c not in kept], dropped)
         model_data = r.sub("model").data
         try:
-            model = RobotModel(**model_data) if isinstance(model_data, dict) else RobotModel()
+            model = FieldRobotDynamics(**model_data) if isinstance(model_data, dict) else FieldRobotDynamics()
         except TypeError:
             raise MalformedFile("fields.model: unknown robot parameters") from None
         scenarios = r.sub("scenarios")
@@ -203,7 +203,7 @@ reported)."""
 
 
 def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
-                    scenarios: Sequence[str] = SCENARIOS, model: str | RobotModel = "inertial", trials: int = 25,
+                    scenarios: Sequence[str] = SCENARIOS, model: str | FieldRobotDynamics = "inertial", trials: int = 25,
                     seed: int = 0, trajectories: int = 0, arcs: bool = False, fast: float = 1.5,
                     slow: float = 0.8, gain_line: object = 3, gain_arc: object = 1, reflections: str = "payoff",
                     starts: str = "fixed", cells: str = "convex") -> FieldNavigation:
@@ -218,7 +218,7 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     scenarios
         Names among ``constrained``, ``unconstrained``, ``reflection`` (in the order wanted).
     model
-        ``"integrator"``, ``"inertial"`` or a :class:`~solverplan.reflection.simulate.RobotModel`.
+        ``"integrator"``, ``"inertial"`` or a :class:`~solverplan.reflection.simulate.FieldRobotDynamics`.
     trials, seed
         Rollouts per scenario and the random seed.
     trajectories
@@ -260,7 +260,7 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     if unknown or not scenarios:
         raise InputError(f"unknown scenario {unknown[0] if unknown else '(none)'!r}: use "
                          f"{', '.join(SCENARIOS)}")
-    robot = model if isinstance(model, RobotModel) else RobotModel(kind=model)
+    robot = model if isinstance(model, FieldRobotDynamics) else FieldRobotDynamics(kind=model)
     if not 0 <= trajectories <= trials:
         raise InputError(f"trajectories must be between 0 and the number of trials ({trials}), got {trajectories}")
     for name, value in (("fast", fast), ("slow", slow)):
