@@ -44,12 +44,12 @@ from typing import Any, Iterable, Literal, Protocol, Sequence, runtime_checkable
 
 import numpy as np
 
+from solverplan.choices import Sampling, Ties
 from solverplan.interval import Interval, heading_interval
 from solverplan.bounce.rules import (
     HEADING_MARGIN,
     SAMPLINGS,
     BounceRule,
-    Sampling,
     check_edges,
     sample_headings,
 )
@@ -202,13 +202,13 @@ class RulePolicy:
         trial, or one for all), or ``None`` for all of (0, π).
     sampling, initial_sampling
         How headings are drawn from the rule's non-deterministic sets and from ``initial``
-        (:data:`~solverplan.bounce.rules.Sampling`: uniform, endpoints (adversarial), lo, hi, mid).
+        (:class:`~solverplan.choices.Sampling`: uniform, endpoints (adversarial), lo, hi, mid).
     """
 
     rule: BounceRule
     initial: Interval | np.ndarray | Sequence[float] | None = None  # a sequence is stored as a float array
-    sampling: Sampling = "uniform"
-    initial_sampling: Sampling = "uniform"
+    sampling: Sampling | str = "uniform"
+    initial_sampling: Sampling | str = "uniform"
 
     def __post_init__(self) -> None:
         _check_sampling(self.sampling)
@@ -229,8 +229,7 @@ class RulePolicy:
 
 
 def _check_sampling(sampling: str) -> None:
-    if sampling not in SAMPLINGS:
-        raise InputError(f"unknown sampling {sampling!r}: use {', '.join(SAMPLINGS)}")
+    sampling = Sampling.parse(sampling, "sampling").value
 
 
 def _check_initial(initial):
@@ -293,7 +292,7 @@ class StagePolicy:
     goal: Any = None
     repeat_from: int | None = None
     stop_at_goal: bool = False
-    sampling: Sampling = "uniform"
+    sampling: Sampling | str = "uniform"
 
     def __post_init__(self) -> None:
         stages = tuple(self.stages)
@@ -634,8 +633,7 @@ def simulate_policy(
     if trials is not None and (isinstance(trials, bool) or not isinstance(trials, (int, np.integer))
                                or not 1 <= trials <= MAX_TRIALS):
         raise InputError(f"trials must be an integer in [1, {MAX_TRIALS:,}], got {quote(trials)}")
-    if ties not in ("flag", "exact"):
-        raise InputError(f"ties must be 'flag' or 'exact', got {ties!r}")
+    ties = Ties.parse(ties, "ties").value
     if record not in ("all", "ends"):
         raise InputError(f"record must be 'all' or 'ends', got {record!r}")
     if not isinstance(policy, Policy):
@@ -745,8 +743,8 @@ def simulate_rule(
     trials: int | None = None,
     seed: int | np.random.Generator | None = None,
     initial: Interval | np.ndarray | Sequence[float] | None = None,
-    sampling: Sampling = "uniform",
-    initial_sampling: Sampling = "uniform",
+    sampling: Sampling | str = "uniform",
+    initial_sampling: Sampling | str = "uniform",
     ties: Literal["flag", "exact"] = "flag",
     record: Literal["all", "ends"] = "all",
 ) -> Rollouts:
@@ -798,7 +796,7 @@ def simulate_rule(
 
 
 # ---------------------------------------------------------------------- plans
-def plan_policy(env: Environment, plan: Any, *, sampling: Sampling = "uniform", partition: Any = None) -> tuple[StagePolicy, BoundarySet]:
+def plan_policy(env: Environment, plan: Any, *, sampling: Sampling | str = "uniform", partition: Any = None) -> tuple[StagePolicy, BoundarySet]:
     """The :class:`StagePolicy` that executes a :class:`~solverplan.plan.Plan`, and its start set.
 
     Stage k's interval is executed at the k-th contact; landing outside stage k's ``to_segments`` fails
@@ -839,7 +837,7 @@ def simulate_plan(
     *,
     trials: int,
     seed: int | np.random.Generator | None = None,
-    sampling: Sampling = "uniform",
+    sampling: Sampling | str = "uniform",
     ties: Literal["flag", "exact"] = "exact",
     record: Literal["all", "ends"] = "ends",
     partition: Any = None,

@@ -20,7 +20,8 @@ LAYERS = {
     "_arrays": 0,
     "progress": 0,  # what long loops report, and where a timeout stops them (no imports)
     "runtime": 0.25,  # the run-time settings (graph cache, memory limit) read where they apply
-    "limits": 0.5,  # the documented input limits every reader checks (raise errors: after it)
+    "limits": 0.5,
+    "choices": 0.5,  # the named options of the library's functions (enumerations; raise errors: after it)  # the documented input limits every reader checks (raise errors: after it)
     "_shipped": 0,  # where the shipped model files are: environment accepts a model's name
     "interval": 1,
     "exact": 1,

@@ -67,6 +67,7 @@ from typing import TYPE_CHECKING, ClassVar, Literal, Protocol, Sequence, runtime
 
 import numpy as np
 
+from solverplan.choices import Sampling
 from solverplan.interval import Interval, heading_interval
 from solverplan.errors import InputError, InvalidBoundarySet
 
@@ -92,12 +93,11 @@ __all__ = [
     "check_headings",
 ]
 
-Sampling = Literal["uniform", "endpoints", "lo", "hi", "mid"]
 """How a heading is drawn from a non-deterministic set [lo, hi]: ``uniform`` on [lo, hi];
 ``endpoints`` lo or hi with probability 1/2 each (adversarial: worst cases of contraction and of
 safety sit at the ends); ``lo`` / ``hi`` always that end; ``mid`` the midpoint."""
 
-SAMPLINGS: tuple[str, ...] = ("uniform", "endpoints", "lo", "hi", "mid")
+SAMPLINGS: tuple[str, ...] = Sampling.values()
 
 HEADING_MARGIN = 1e-12
 """Headings are kept in [HEADING_MARGIN, π − HEADING_MARGIN] (radians): a nominal heading at 0 or π
@@ -225,7 +225,7 @@ def _alpha(edges: np.ndarray, v: np.ndarray, tangent: np.ndarray, normal: np.nda
 
 
 def sample_headings(
-    lo: np.ndarray, hi: np.ndarray, rng: np.random.Generator | None, sampling: Sampling = "uniform"
+    lo: np.ndarray, hi: np.ndarray, rng: np.random.Generator | None, sampling: Sampling | str = "uniform"
 ) -> np.ndarray:
     """Draw one heading in each [lo[k], hi[k]] (see :data:`Sampling`); ``rng`` may be None for ``lo``/``hi``/``mid``
     and for degenerate sets (lo == hi everywhere)."""
@@ -279,7 +279,7 @@ class BounceRule(Protocol):
         incoming: np.ndarray,
         rng: np.random.Generator | None = None,
         *,
-        sampling: Sampling = "uniform",
+        sampling: Sampling | str = "uniform",
     ) -> np.ndarray:
         """A heading executed at each contact, drawn from :meth:`bounds` by ``sampling``."""
         ...
@@ -321,7 +321,7 @@ class _Rule:
         incoming: np.ndarray,
         rng: np.random.Generator | None = None,
         *,
-        sampling: Sampling = "uniform",
+        sampling: Sampling | str = "uniform",
     ) -> np.ndarray:
         lo, hi = self.bounds(env, edges, incoming)
         return sample_headings(lo, hi, rng, sampling)

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
+from solverplan.choices import CycleMethod, Objective, PatrolObjective, Sampling, Ties
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
@@ -23,13 +23,6 @@ from solverplan.cli._options import (
     write_certificate_file,
 )
 from solverplan.cli._output import EnvFormat, OutputFormat, emit
-
-
-class CycleMethod(StrEnum):
-    AUTO = "auto"
-    THEOREM1 = "theorem1"
-    ITERATE = "iterate"
-    EDGES = "edges"
 
 
 @app.command(name="cycle")
@@ -92,12 +85,6 @@ def cycle_command(
         result = limit_cycle(environment, theta, edges=edges, method=method.value, start=cycle_start, epsilon=epsilon,
                              max_bounces=max_bounces)
         emit(result, fmt, out)
-
-
-class PatrolObjective(StrEnum):
-    CONTRACTION = "contraction"
-    TOLERANCE = "tolerance"
-    RATE = "rate"
 
 
 @app.command(name="patrol")
@@ -225,33 +212,13 @@ def _write_extras(result: Any, certificate: Path | None, picture: Path | None, c
         save_figure(render_answer(result), picture)
 
 
-class PlanObjective(StrEnum):
-    FEWEST = "fewest"
-    TOLERANCE = "tolerance"
-    SUM = "sum"
-    CONSTANT = "constant"
-
-
-class PlanSampling(StrEnum):
-    UNIFORM = "uniform"
-    ENDPOINTS = "endpoints"
-    LO = "lo"
-    HI = "hi"
-    MID = "mid"
-
-
-class TieMode(StrEnum):
-    EXACT = "exact"
-    FLAG = "flag"
-
-
 @app.command(name="plan")
 def plan_command(
     env: EnvArg,
     start: Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4 (may span edges and segments: the plan works from every point).")],
     goal: Annotated[str, typer.Option("--to", metavar="SET", help="Goal set, same syntax.")],
     objective: Annotated[
-        PlanObjective | None,
+        Objective | None,
         typer.Option("--objective", help="fewest bounces (default); tolerance: the narrowest interval as wide as possible; sum: "
                      "the sum of the widths within --max-bounces; constant: one interval at every stage (Algorithm 2).", show_default=False),
     ] = None,
@@ -289,7 +256,7 @@ def plan_command(
 
     with exit_codes(verbose):
         environment = load_env(env, env_format)
-        if pareto and (objective not in (None, PlanObjective.TOLERANCE) or method != "auto"):
+        if pareto and (objective not in (None, Objective.TOLERANCE) or method != "auto"):
             raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
         if pareto and heading_accuracy is not None:
             raise InputError("--heading-accuracy applies to one plan, not to --pareto")
@@ -298,7 +265,7 @@ def plan_command(
             if pareto:
                 return pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin,
                                     corner_clearance=corner_clearance, timeout=command_timeout(timeout))
-            return find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
+            return find_plan(environment, start, goal, objective=(objective or Objective.FEWEST).value,
                              max_bounces=max_bounces, method=method, heading_margin=heading_margin,
                              corner_clearance=corner_clearance, timeout=command_timeout(timeout),
                              min_width=heading_accuracy)
@@ -317,12 +284,12 @@ def simulate_command(
     trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="N", help="Number of rollouts.")] = 10000,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed (recorded in the answer).")] = 0,
     sampling: Annotated[
-        PlanSampling,
+        Sampling,
         typer.Option("--sampling", help="How headings are drawn from each interval: uniform, or endpoints (adversarial: an end of the interval)."),
-    ] = PlanSampling.UNIFORM,
+    ] = Sampling.UNIFORM,
     ties: Annotated[
-        TieMode, typer.Option("--ties", help="exact: re-resolve rays the float caster cannot call; flag: stop and count them.")
-    ] = TieMode.EXACT,
+        Ties, typer.Option("--ties", help="exact: re-resolve rays the float caster cannot call; flag: stop and count them.")
+    ] = Ties.EXACT,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,

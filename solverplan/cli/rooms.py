@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from solverplan.choices import DoorPolicy, RoomRule, ThetaMode, or_all
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
@@ -15,25 +15,10 @@ from solverplan.cli._errors import exit_codes, fail
 from solverplan.cli._options import CertificateOpt, PictureOpt, write_certificate_file
 from solverplan.cli._output import OutputFormat, emit
 
-
-class RoomRule(StrEnum):
-    SMART = "smart"
-    SMART_PAPER = "smart-paper"
-    SMART_PER_ROOM = "smart-per-room"
-    RANDOM = "random"
-    BILLIARD = "billiard"
-    ALL = "all"
-
-
-class ThetaMode(StrEnum):
-    SAFE = "safe"
-    PAPER = "paper"
-    PER_ROOM = "per-room"
-
-
-class DoorMode(StrEnum):
-    CONTROL = "control"
-    OPEN = "open"
+if TYPE_CHECKING:
+    from solverplan.choices import Choice as RoomRuleOrAll
+else:
+    RoomRuleOrAll = or_all(RoomRule)
 
 
 @app.command(name="rooms")
@@ -42,11 +27,11 @@ def rooms_command(
     simulate: Annotated[bool, typer.Option("--simulate", help="Simulate robots from room --from to room --to instead.")] = False,
     start: Annotated[int | None, typer.Option("--from", min=0, metavar="ROOM", help="Start room (with --simulate).", show_default=False)] = None,
     goal: Annotated[int | None, typer.Option("--to", min=0, metavar="ROOM", help="Target room (with --simulate).", show_default=False)] = None,
-    rule: Annotated[RoomRule, typer.Option("--rule", help="Bounce rule: smart (θ from --theta), smart-paper, smart-per-room, random, billiard, or all side by side. Every rule is simulated with the same starts to make the recommendation.")] = RoomRule.SMART,
+    rule: Annotated[RoomRuleOrAll, typer.Option("--rule", help="Bounce rule: smart (θ from --theta), smart-paper, smart-per-room, random, billiard, or all side by side. Every rule is simulated with the same starts to make the recommendation.")] = RoomRuleOrAll("smart"),
     trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="N", help="Robots per rule.")] = 100,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the starts (and of the random rule).")] = 0,
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of each robot.")] = 5000,
-    doors: Annotated[DoorMode, typer.Option("--doors", help="control: the door-control policy for the room sequence; open: every door open.")] = DoorMode.CONTROL,
+    doors: Annotated[DoorPolicy, typer.Option("--doors", help="control: the door-control policy for the room sequence; open: every door open.")] = DoorPolicy.CONTROL,
     per_room: Annotated[bool, typer.Option("--per-room", help="Tell the smart robot the θ of the room it is in (the same as --theta per-room).")] = False,
     theta: Annotated[ThetaMode, typer.Option("--theta", help="The smart rule's θ: safe (tan θ = ℓ/2D, arrives from every start tried), paper (Eq. 1's ℓ/h: faster, some starts trapped) or per-room (the safe θ of the room it is in).")] = ThetaMode.SAFE,
     tour: Annotated[bool, typer.Option("--tour", help="Visit every room from --from (depth first) instead of going to --to.")] = False,
@@ -103,13 +88,13 @@ def rooms_command(
 
         assert start is not None
         walk = dec.tour(start) if tour else dec.path(start, dec.check_room(goal))
-        names = RULE_VARIANTS if rule is RoomRule.ALL else (rule.value,) + tuple(n for n in RULE_VARIANTS if n != rule.value)
+        names = RULE_VARIANTS if rule == "all" else (rule.value,) + tuple(n for n in RULE_VARIANTS if n != rule.value)
         answer = compare_rules(dec, start, walk[-1], rules=names, trials=trials, seed=seed, max_bounces=max_bounces,
                                doors=doors.value, per_room=per_room, theta=theta.value, walk=walk,
                                keep=1 if picture is not None else 0)
         if picture is not None:
             _save_rooms_picture(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}, picture)
-        emit(answer if rule is RoomRule.ALL else answer.runs[rule.value], fmt, out)
+        emit(answer if rule == "all" else answer.runs[rule.value], fmt, out)
 
 
 def _save_rooms_picture(dec: Any, trajectories: Any, picture: Path) -> None:

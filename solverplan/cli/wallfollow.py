@@ -2,29 +2,17 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from typing import Annotated, Any
 
 import typer
 
+from solverplan.choices import Comparisons, Sensor
 from solverplan.limits import MAX_SEED
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
 from solverplan.cli._errors import exit_codes
 from solverplan.cli._options import CertificateOpt, PictureOpt, parse_pair, write_certificate_file
 from solverplan.cli._output import OutputFormat, emit
-
-
-class Comparisons(StrEnum):
-    PAIRWISE = "pairwise"
-    SORT = "sort"
-
-
-class PursuitSensor(StrEnum):
-    GAP = "gap"
-    BITANGENT = "bitangent"
-    PEBBLE = "pebble"
-    CONTACT = "contact"
 
 
 @app.command(name="wallfollow")
@@ -40,7 +28,7 @@ def wallfollow_command(
     steps: Annotated[int, typer.Option("--steps", min=0, max=10_000_000, metavar="K", help="With --count: follows of the random walk (at most 10,000,000).")] = 1000,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="With --count: seed of the random walk.")] = 0,
     pursuit: Annotated[bool, typer.Option("--pursuit", help="A shortest pursuit-evasion plan, replayed by the geometric ground-truth checker.")] = False,
-    sensor: Annotated[PursuitSensor, typer.Option("--sensor", help="With --pursuit: the pursuer's extra sensor (gap: Strategy 2; bitangent: Strategy 3; pebble: Strategies 4–5, pebble visibility; contact: Strategy 6, touch and pebble only).")] = PursuitSensor.GAP,
+    sensor: Annotated[Sensor, typer.Option("--sensor", help="With --pursuit: the pursuer's extra sensor (gap: Strategy 2; bitangent: Strategy 3; pebble: Strategies 4–5, pebble visibility; contact: Strategy 6, touch and pebble only).")] = Sensor.GAP,
     origin: Annotated[str, typer.Option("--from", metavar="POINT", help="With --pursuit: the pursuer's start, a point of the cut ordering (v0, r3).")] = "v0",
     max_states: Annotated[int, typer.Option("--max-states", min=1, max=10_000_000, metavar="N", help="With --pursuit: cap on the derived I-states searched.")] = 200_000,
     perturb: Annotated[bool, typer.Option("--perturb", help="Make a degenerate polygon general by an infinitesimal symbolic perturbation (simulation of simplicity): grazing JUMPs pass one fixed side, coinciding cut end points are ordered one fixed way.")] = False,
@@ -59,7 +47,7 @@ def wallfollow_command(
     with exit_codes(verbose):
         if cut_ordering + learn + count + pursuit > 1:
             raise InputError("choose one of --cut-ordering, --learn, --count and --pursuit")
-        if not pursuit and (sensor is not PursuitSensor.GAP or origin != "v0" or max_states != 200_000):
+        if not pursuit and (sensor is not Sensor.GAP or origin != "v0" or max_states != 200_000):
             raise InputError("--sensor, --from and --max-states belong to --pursuit")
         if not learn and (transcript or comparisons is not Comparisons.PAIRWISE):
             raise InputError("--comparisons and --transcript belong to --learn")

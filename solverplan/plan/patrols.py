@@ -64,10 +64,11 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, Literal, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
+from solverplan.choices import PatrolObjective
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.dynamics import ExactHeading, cycles_to_epsilon
 from solverplan.interval import Interval
@@ -94,12 +95,11 @@ from solverplan.plan._results import OnPartition, heading_cone
 from solverplan.plan.search import straight_walls_graph
 from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_kind
 
-__all__ = ["Objective", "DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
+__all__ = ["DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
 
 logger = logging.getLogger(__name__)
 
-Objective = Literal["contraction", "tolerance", "rate"]
-OBJECTIVES = ("contraction", "tolerance", "rate")
+OBJECTIVES = PatrolObjective.values()
 
 DEFAULT_TOLERANCE = 0.01
 """Radians: the heading tolerance ε (half-width of every interval) used by objectives ``contraction`` and
@@ -603,7 +603,7 @@ def patrol(
     visit: str | Sequence[int],
     *,
     start: str | BoundarySet | None = None,
-    objective: Objective = "contraction",
+    objective: PatrolObjective | str = "contraction",
     tolerance: float | None = None,
     max_between: int | None = None,
     epsilon: float | None = None,
@@ -671,8 +671,7 @@ def patrol(
     >>> sp.patrol(sp.load_environment("hexagon"), "e0,e3").max_between    # one bounce between visits is not enough
     2
     """
-    if objective not in OBJECTIVES:
-        raise InputError(f"unknown patrol objective {objective!r}: use {', '.join(OBJECTIVES)}")
+    objective = PatrolObjective.parse(objective, "patrol objective").value
     edges = parse_visit(env, visit)
     start_set = _start_set(env, start)
     if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < float(tolerance) < math.pi / 2):

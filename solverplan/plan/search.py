@@ -75,6 +75,7 @@ import math
 import time
 from dataclasses import replace
 
+from solverplan.choices import Objective
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.environment import BoundarySet, Environment
@@ -347,8 +348,7 @@ def find_plan(
     >>> plan.status.value, plan.optimality.proved, plan.reason
     ('infeasible', True, 'exhausted all plans with ≤ 1 bounces (1 beliefs reached): none reaches the goal')
     """
-    if objective not in OBJECTIVES:
-        raise InputError(f"unknown objective {objective!r}: use {', '.join(OBJECTIVES)}")
+    objective = Objective.parse(objective, "objective").value
     allowed = METHODS[objective]
     if method not in allowed:
         raise InputError(f"unknown method {method!r} for objective {objective!r}: use {', '.join(allowed)}")

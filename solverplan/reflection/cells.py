@@ -27,6 +27,7 @@ from typing import Sequence
 
 import numpy as np
 
+from solverplan.choices import CellKind
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, cross, exact_point, format_point, signed_area2
@@ -203,7 +204,7 @@ def _between(p: Sequence[Fraction], a: ExactPoint, b: ExactPoint) -> bool:
     return min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= p[1] <= max(a[1], b[1])
 
 
-CELL_KINDS = ("convex", "corners")
+CELL_KINDS = CellKind.values()
 """Decompositions: ``convex`` (Hertel–Mehlhorn on the environment's own vertices) and ``corners`` (the same after
 adding the projections of every reflex vertex along its two walls, :func:`with_corner_projections`)."""
 
@@ -291,8 +292,7 @@ def decompose_free_space(env: Environment, cells: str = "convex") -> CellDecompo
     """
     import shapely
 
-    if cells not in CELL_KINDS:
-        raise InputError(f"unknown decomposition {cells!r}: use {', '.join(CELL_KINDS)}")
+    cells = CellKind.parse(cells, "decomposition").value
     walls = StraightWalls(env)
     if not walls.identity:  # canonical walls first: the corner projections below add collinear vertices of their own
         return replace(decompose_free_space(walls.merged, cells), env=env)

@@ -17,6 +17,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Sequence
 
+from solverplan.choices import Reflections, ScenarioName, Starts
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
@@ -256,10 +257,9 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     ('found', [0, 1], {'constrained': 1.0, 'unconstrained': 1.0, 'reflection': 1.0})
     """
     began = time.perf_counter()
-    unknown = [s for s in scenarios if s not in SCENARIOS]
-    if unknown or not scenarios:
-        raise InputError(f"unknown scenario {unknown[0] if unknown else '(none)'!r}: use "
-                         f"{', '.join(SCENARIOS)}")
+    if not scenarios:
+        raise InputError(f"no scenario: use one or more of {', '.join(SCENARIOS)}")
+    scenarios = [ScenarioName.parse(s, "scenario").value for s in scenarios]
     robot = model if isinstance(model, FieldRobotDynamics) else FieldRobotDynamics(kind=model)
     if not 0 <= trajectories <= trials:
         raise InputError(f"trajectories must be between 0 and the number of trials ({trials}), got {trajectories}")
@@ -267,10 +267,8 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
         if not value > robot.dead_band:  # below it the robot never moves: every trial would run to the time limit
             raise InputError(f"the {name} speed must exceed the robot's dead band {robot.dead_band:g} "
                              f"(length/s), got {value:g}")
-    if reflections not in ("payoff", "all", "none"):
-        raise InputError(f"reflections must be payoff, all or none, got {reflections!r}")
-    if starts not in ("fixed", "random"):
-        raise InputError(f"starts must be fixed or random, got {starts!r}")
+    reflections = Reflections.parse(reflections, "reflections").value
+    starts = Starts.parse(starts, "starts").value
     plan = compose_fields(env, start, goal, arcs=arcs, gain_line=gain_line, gain_arc=gain_arc,
                           reflection=reflections != "none", cells=cells)
     points = random_starts(plan, trials, seed) if starts == "random" else None

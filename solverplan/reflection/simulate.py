@@ -37,14 +37,15 @@ from typing import Sequence
 
 import numpy as np
 
+from solverplan.choices import RobotKind, ScenarioName
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import RayCaster
 from solverplan.reflection.compose import FieldPlan
 
 __all__ = ["FieldRobotDynamics", "Scenario", "SCENARIOS", "ScenarioRun", "simulate_scenarios", "default_scenarios"]
 
-MODELS = ("integrator", "inertial")
-SCENARIOS = ("constrained", "unconstrained", "reflection")
+MODELS = RobotKind.values()
+SCENARIOS = ScenarioName.values()
 
 
 MAX_AUTO_TIME = 600.0
@@ -115,8 +116,7 @@ class FieldRobotDynamics:
     max_time: float | None = None
 
     def __post_init__(self) -> None:
-        if self.kind not in MODELS:
-            raise InputError(f"unknown robot model {self.kind!r}: use integrator or inertial")
+        object.__setattr__(self, "kind", RobotKind.parse(self.kind, "robot model").value)
         substeps = self.physics_rate / self.control_rate
         if self.control_rate <= 0 or substeps < 1 or abs(substeps - round(substeps)) > 1e-9:
             raise InputError("physics_rate must be a positive multiple of control_rate")

@@ -28,10 +28,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, Literal, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
+from solverplan.choices import DoorPolicy
 from solverplan.limits import refuse_beyond_memory
 from solverplan.errors import InputError
 from solverplan.exact import format_number
@@ -49,7 +50,7 @@ __all__ = ["RoomPolicy", "RoomRuns", "RuleComparison", "RouteRecommendation", "s
 DEFAULT_MAX_BOUNCES = 5000
 """Bounce budget of a run when none is given (the smart rule sweeps a room in steps of half a door)."""
 
-Doors = Literal["control", "open"]
+Doors = DoorPolicy | str
 
 
 class RoomPolicy:
@@ -62,12 +63,10 @@ class RoomPolicy:
 
     def __init__(self, dec: Decomposition, rule: Rule, walk: Sequence[int], initial: np.ndarray, *,
                  doors: Doors = "control") -> None:
-        if doors not in ("control", "open"):
-            raise InputError(f"doors must be 'control' or 'open', got {doors!r}")
         self.dec = dec
         self.rule = rule
         self.control = DoorControl(dec, walk)
-        self.doors = doors
+        self.doors = DoorPolicy.parse(doors, "door policy").value
         self.initial = np.asarray(initial, dtype=float)
         self.positions = np.zeros(len(self.initial), dtype=np.int64)
         self.walls = RoomWorld(dec, is_open=None if doors == "open" else self._is_open)
