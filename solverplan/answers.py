@@ -49,9 +49,9 @@ from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.reflection.navigation import FieldNavigation
 from solverplan.render.report import make_report
 from solverplan.result import answer_kinds
-from solverplan.simulate import Rollouts
+from solverplan.rollout import Rollouts
 from solverplan.studies.execute import StudyResult
-from solverplan.studies.rooms import RoomRuns, RuleComparison
+from solverplan.rectilinear.simulation import RoomRuns, RuleComparison
 from solverplan.wallfollow.filters import WalkCount
 from solverplan.wallfollow.learning import LearnedOrdering
 from solverplan.wallfollow.ordering import CutOrdering

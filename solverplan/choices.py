@@ -28,7 +28,7 @@ from solverplan.errors import InputError
 __all__ = [
     "Choice", "Objective", "PatrolObjective", "CycleMethod", "Sampling", "Ties", "ExportFormat", "ViewChoice",
     "RoomRule", "ThetaMode", "DoorPolicy", "Sensor", "Comparisons", "RobotKind", "ScenarioName", "CellKind",
-    "Reflections", "Starts", "or_all",
+    "Reflections", "StartMode", "or_all",
 ]
 
 C = TypeVar("C", bound="Choice")
@@ -188,7 +188,7 @@ class Reflections(Choice):
     NONE = "none"
 
 
-class Starts(Choice):
+class StartMode(Choice):
     """Where a fields trial starts: the given start, or a uniform random point of the free space."""
 
     FIXED = "fixed"

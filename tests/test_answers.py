@@ -117,7 +117,7 @@ def _simulation():
 
 
 def _rooms_runs(rule):
-    from solverplan.studies.rooms import compare_rules
+    from solverplan.rectilinear.simulation import compare_rules
 
     env, dec = _rooms()
     walk = dec.path(0, len(dec.rooms) - 1)

@@ -1,7 +1,7 @@
 """Data flows one way: each layer imports only from layers to its left.
 
-environment → geometry kernel → model structures (bounce, rectilinear, …) → planners →
-results (simulate, studies, certificates) → renderings / descriptions → CLI.
+environment → geometry kernel → the rollout engine → model structures (bounce, rectilinear, …, each with its own
+simulation) → planners → results (simulate, studies, certificates) → renderings / descriptions → CLI.
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ LAYERS = {
     "environment": 2,
     "result": 3,
     "geometry": 3,
+    "rollout": 3.5,  # the rollout engine (policies ask, one batch of rays per bounce): below every model that simulates
     "floorplan": 3.5,  # floor plans in (ROS maps, DXF, SVG): they make environments (2) and answer like results (3)
     "models": 3,
     "generators": 4.5,  # seeded random environments, valid by construction (spiked combs keep the wall-following model's general position, 4)  # the shipped environments by name: they load through environment (2)
@@ -38,8 +39,8 @@ LAYERS = {
     "reflection": 4,
     "plan": 5,
     "proofs": 5,  # sympy proofs; one checks the exact safe set of bounce (4); only the CLI imports them
-    "simulate": 6,
-    "studies": 7,  # studies run simulations (simulate, 6) and feed render (7, via plain arrays)
+    "simulate": 6,  # the bouncing robot's policies (rules, plans) on the rollout engine (3.5)
+    "studies": 7,  # studies run simulations (simulate, 6; each model's own, 4) and feed render (7, via plain arrays)
     "certify": 6,
     "describe": 7,
     "render": 7,

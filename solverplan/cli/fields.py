@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from solverplan.choices import CellKind, Reflections, RobotKind, ScenarioName, Starts, or_all
+from solverplan.choices import CellKind, Reflections, RobotKind, ScenarioName, StartMode, or_all
 from solverplan.limits import MAX_SEED, MAX_TRAJECTORIES
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
 from solverplan.cli._errors import exit_codes
@@ -40,7 +40,7 @@ def fields_command(
     gain_arc: Annotated[str, typer.Option("--gain-arc", metavar="P", help="Gain of the arc fields (1/length), read exactly.")] = "1",
     reflections: Annotated[Reflections, typer.Option("--reflections", help="payoff: plan a reflection only where the wall turns the robot to the exit, the robot would overshoot and rollouts predict a gain; all: every zone the geometry allows (the paper); none.")] = Reflections.PAYOFF,
     cells: Annotated[CellKind, typer.Option("--cells", help="convex: Hertel–Mehlhorn cells; corners: with the reflex corners projected along their walls, so turns get corner cells (reflection candidates).")] = CellKind.CONVEX,
-    starts: Annotated[Starts, typer.Option("--starts", help="fixed: every trial from --from; random: each trial from a uniform random point of the free space (seeded, the same in every scenario).")] = Starts.FIXED,
+    starts: Annotated[StartMode, typer.Option("--starts", help="fixed: every trial from --from; random: each trial from a uniform random point of the free space (seeded, the same in every scenario).")] = StartMode.FIXED,
     export: Annotated[Path | None, typer.Option("--export", metavar="FIELD.json", help="Also write the composed field for a controller (cells as half-planes, fields, reflection zones), atomically.", show_default=False)] = None,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,

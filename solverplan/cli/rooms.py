@@ -82,7 +82,7 @@ def rooms_command(
                 _save_rooms_picture(dec, None, picture)
             emit(dec, fmt, out)
             return
-        from solverplan.studies.rooms import RULE_VARIANTS, compare_rules
+        from solverplan.rectilinear.simulation import RULE_VARIANTS, compare_rules
 
         dec = decompose_rooms(environment)
 

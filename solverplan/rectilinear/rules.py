@@ -165,7 +165,7 @@ class Smart:
     step-th hit (module docstring). With ``per_room`` (one θ per room, :func:`room_tangents`) the central
     system tells the robot the θ of the room it is in — the paper's variant with updated information; the
     bit is still the robot's only memory. ``tangent`` and ``room_tangents`` are the exact tan θ when known
-    (the exact replay of :func:`solverplan.studies.rooms.periodic_orbit` moves along them)."""
+    (the exact replay of :func:`solverplan.rectilinear.simulation.periodic_orbit` moves along them)."""
 
     theta: float
     per_room: tuple[float, ...] = ()

@@ -17,7 +17,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Sequence
 
-from solverplan.choices import Reflections, ScenarioName, Starts
+from solverplan.choices import Reflections, ScenarioName, StartMode
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
@@ -268,7 +268,7 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
             raise InputError(f"the {name} speed must exceed the robot's dead band {robot.dead_band:g} "
                              f"(length/s), got {value:g}")
     reflections = Reflections.parse(reflections, "reflections").value
-    starts = Starts.parse(starts, "starts").value
+    starts = StartMode.parse(starts, "starts").value
     plan = compose_fields(env, start, goal, arcs=arcs, gain_line=gain_line, gain_arc=gain_arc,
                           reflection=reflections != "none", cells=cells)
     points = random_starts(plan, trials, seed) if starts == "random" else None

@@ -5,7 +5,7 @@ A robot starts at a uniform random point of the start room, moving in a uniform 
 :mod:`solverplan.rectilinear.rules` until it is in the target room or has made ``max_bounces`` bounces.
 Doors follow the paper's door control (:class:`~solverplan.rectilinear.doors.DoorControl`) for the room
 sequence from start to target, for every rule alike (``doors="control"``), or are all open
-(``doors="open"``). Runs go through the simulator (:func:`solverplan.simulate.simulate_policy`) with the
+(``doors="open"``). Runs go through the simulator (:func:`solverplan.rollout.simulate_policy`) with the
 rooms as its walls; a run that reaches the target room counts its bounces (a pass through an open door is not
 a bounce; a bounce off a closed door is).
 
@@ -42,7 +42,7 @@ from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
 from solverplan.rectilinear.metrics import RuleRecommendation, recommend_rule
 from solverplan.rectilinear.rules import GUARANTEED, GUARANTEES, RULE_VARIANTS, RULES, Rule, Smart, make_rule
-from solverplan.simulate import Contacts, Outcome, simulate_policy
+from solverplan.rollout import Contacts, Outcome, simulate_policy
 
 __all__ = ["RoomPolicy", "RoomRuns", "RuleComparison", "RouteRecommendation", "simulate_rooms", "compare_rules",
            "recommend_from_runs", "periodic_orbit", "DEFAULT_MAX_BOUNCES", "RULE_VARIANTS", "NEAR_FASTEST"]
@@ -54,8 +54,8 @@ Doors = DoorPolicy | str
 
 
 class RoomPolicy:
-    """A rule executed in the rooms of a decomposition, with door control (:class:`solverplan.simulate.Policy`
-    with its own :class:`~solverplan.simulate.PolicyWalls`).
+    """A rule executed in the rooms of a decomposition, with door control (:class:`solverplan.rollout.Policy`
+    with its own :class:`~solverplan.rollout.PolicyWalls`).
 
     The robot of rollout i is at position ``positions[i]`` of the room sequence; it reaches the goal when it is
     at the last one. Without control (``control=None``) every door is open and the goal is being in ``goal``.
