@@ -111,3 +111,14 @@ def test_no_module_is_named_like_a_function_it_defines():
         tree = ast.parse(path.read_text())
         defined = {node.name for node in tree.body if isinstance(node, (ast.FunctionDef, ast.ClassDef))}
         assert path.stem not in defined, f"{rel} defines {path.stem}(): name the module for what it holds"
+
+
+def test_every_command_fits_one_screen():
+    """The CLI only parses, calls and emits: a command function (options one a line, through Annotated aliases)
+    longer than a screen is doing the library's work."""
+    for path in sorted((PACKAGE / "cli").glob("*.py")):
+        tree = ast.parse(path.read_text())
+        for node in tree.body:
+            if isinstance(node, ast.FunctionDef) and node.decorator_list:
+                lines = node.end_lineno - node.lineno + 1 + len(node.decorator_list)  # type: ignore[operator]
+                assert lines <= 50, f"cli/{path.name}:{node.name} is {lines} lines: delegate its work (at most 50)"

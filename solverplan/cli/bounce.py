@@ -25,42 +25,30 @@ from solverplan.cli._options import (
 from solverplan.cli._output import EnvFormat, OutputFormat, emit
 
 
+ThetaOpt = Annotated[str, typer.Option(
+    "--theta", metavar="THETA",
+    help="The constant heading (CCW from each wall): radians, e.g. 0.3 or pi/12 (taken at the exact direction (cos θ, sin θ) "
+    "of its binary floats, < 1e-15 rad away; theta_exact in the answer says which); tan:P/Q (exact rational tangent, alias "
+    "atan:P/Q; negative for θ > π/2); dir:C,S (exact direction pair); or auto (search a heading that drives every start into "
+    "a verified cycle, Prop. 4).")]
+CycleEdgesOpt = Annotated[str | None, typer.Option("--edges", metavar="e0,e1,...", help="Ask for the cycle along this edge sequence.", show_default=False)]
+CycleEpsilonOpt = Annotated[float | None, typer.Option("--epsilon", metavar="E", help="Also report the cycles needed to shrink the position set below E (Cor. 4; a length).", show_default=False)]
+CycleMethodOpt = Annotated[CycleMethod, typer.Option("--method", help="theorem1 (convex polygons: the CCW cycle), iterate (follow the rule from --start), edges (--edges); auto picks.")]
+CycleStartOpt = Annotated[str | None, typer.Option("--start", metavar="eK:T", help="Iterate: the start point (default e0:0.5).", show_default=False)]
+CycleBouncesOpt = Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Iterate: bounce budget.")]
+AutoMarginOpt = Annotated[float | None, typer.Option("--heading-margin", metavar="D", help="With --theta auto: try no heading within D radians of a wall (default 0.001; a heading given with --theta is used as asked).", show_default=False)]
+
+
 @app.command(name="cycle")
 def cycle_command(
     env: EnvArg,
-    theta: Annotated[
-        str,
-        typer.Option(
-            "--theta", metavar="THETA",
-            help="The constant heading (CCW from each wall): radians, e.g. 0.3 or pi/12 (taken at the exact direction "
-            "(cos θ, sin θ) of its binary floats, < 1e-15 rad away; theta_exact in the answer says which); tan:P/Q "
-            "(exact rational tangent, alias atan:P/Q; negative for θ > π/2); dir:C,S (exact direction pair); or auto "
-            "(search a heading that drives every start into a verified cycle, Prop. 4).",
-        ),
-    ],
-    edges: Annotated[
-        str | None,
-        typer.Option("--edges", metavar="e0,e1,...", help="Ask for the cycle along this edge sequence.", show_default=False),
-    ] = None,
-    epsilon: Annotated[
-        float | None,
-        typer.Option("--epsilon", metavar="E", help="Also report the cycles needed to shrink the position set below E (Cor. 4; a length).", show_default=False),
-    ] = None,
-    method: Annotated[
-        CycleMethod,
-        typer.Option("--method", help="theorem1 (convex polygons: the CCW cycle), iterate (follow the rule from --start), "
-                     "edges (--edges); auto picks."),
-    ] = CycleMethod.AUTO,
-    cycle_start: Annotated[
-        str | None,
-        typer.Option("--start", metavar="eK:T", help="Iterate: the start point (default e0:0.5).", show_default=False),
-    ] = None,
-    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Iterate: bounce budget.")] = 20000,
-    heading_margin: Annotated[
-        float | None,
-        typer.Option("--heading-margin", metavar="D", help="With --theta auto: try no heading within D radians of a wall "
-                     "(default 0.001; a heading given with --theta is used as asked).", show_default=False),
-    ] = None,
+    theta: ThetaOpt,
+    edges: CycleEdgesOpt = None,
+    epsilon: CycleEpsilonOpt = None,
+    method: CycleMethodOpt = CycleMethod.AUTO,
+    cycle_start: CycleStartOpt = None,
+    max_bounces: CycleBouncesOpt = 20000,
+    heading_margin: AutoMarginOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,
@@ -212,38 +200,29 @@ def _write_extras(result: Any, certificate: Path | None, picture: Path | None, c
         save_figure(render_answer(result), picture)
 
 
+FromSetOpt = Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4 (may span edges and segments: the plan works from every point).")]
+ToSetOpt = Annotated[str, typer.Option("--to", metavar="SET", help="Goal set, same syntax.")]
+ObjectiveOpt = Annotated[Objective | None, typer.Option("--objective", help="fewest bounces (default); tolerance: the narrowest interval as wide as possible; sum: the sum of the widths within --max-bounces; constant: one interval at every stage (Algorithm 2).", show_default=False)]
+PlanBouncesOpt = Annotated[int | None, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget (needed by --objective sum).", show_default=False)]
+ParetoOpt = Annotated[bool, typer.Option("--pareto", help="Answer the Pareto front bounces ↔ tolerance instead of one plan (objective tolerance).")]
+PlanMethodOpt = Annotated[str, typer.Option("--method", metavar="M", help="auto, or: fewest bfs; tolerance label|milp; sum dp|lp; constant label.")]
+PlanCertificateOpt = Annotated[Path | None, typer.Option("--certificate", metavar="FILE", help="Also write the plan's certificate (checked before it is written; verify it with 'solverplan verify'). With --pareto: of the most tolerant plan.", show_default=False)]
+HeadingAccuracyOpt = Annotated[float | None, typer.Option("--heading-accuracy", metavar="A", help="The robot's heading accuracy (radians): plan only with intervals at least A wide (±a turning: A = 2a); infeasible answers give the best A that works.", show_default=False)]
+
+
 @app.command(name="plan")
 def plan_command(
     env: EnvArg,
-    start: Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4 (may span edges and segments: the plan works from every point).")],
-    goal: Annotated[str, typer.Option("--to", metavar="SET", help="Goal set, same syntax.")],
-    objective: Annotated[
-        Objective | None,
-        typer.Option("--objective", help="fewest bounces (default); tolerance: the narrowest interval as wide as possible; sum: "
-                     "the sum of the widths within --max-bounces; constant: one interval at every stage (Algorithm 2).", show_default=False),
-    ] = None,
-    max_bounces: Annotated[
-        int | None, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget (needed by --objective sum).", show_default=False)
-    ] = None,
-    pareto: Annotated[
-        bool, typer.Option("--pareto", help="Answer the Pareto front bounces ↔ tolerance instead of one plan (objective tolerance).")
-    ] = False,
-    method: Annotated[
-        str, typer.Option("--method", metavar="M", help="auto, or: fewest bfs; tolerance label|milp; sum dp|lp; constant label.")
-    ] = "auto",
-    certificate: Annotated[
-        Path | None,
-        typer.Option("--certificate", metavar="FILE", help="Also write the plan's certificate (checked before it is written; "
-                     "verify it with 'solverplan verify'). With --pareto: of the most tolerant plan.", show_default=False),
-    ] = None,
+    start: FromSetOpt,
+    goal: ToSetOpt,
+    objective: ObjectiveOpt = None,
+    max_bounces: PlanBouncesOpt = None,
+    pareto: ParetoOpt = False,
+    method: PlanMethodOpt = "auto",
+    certificate: PlanCertificateOpt = None,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
-    heading_accuracy: Annotated[
-        float | None,
-        typer.Option("--heading-accuracy", metavar="A", help="The robot's heading accuracy (radians): plan only with "
-                     "intervals at least A wide (±a turning: A = 2a); infeasible answers give the best A that works.",
-                     show_default=False),
-    ] = None,
+    heading_accuracy: HeadingAccuracyOpt = None,
     timeout: TimeoutOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -52,7 +52,6 @@ def fields_command(
     """Composed local potential fields in convex cells, with reflection (Stager and Tanner): cells, sequence, reflection cells and scenario statistics."""
     from solverplan.certify.gate import checked_answer
     from solverplan.reflection.navigation import navigate_fields
-    from solverplan.reflection.simulate import FieldRobotDynamics
 
     with exit_codes(verbose):
         check_picture(picture)
@@ -60,21 +59,34 @@ def fields_command(
         names = ScenarioName.values() if scenario == "all" else (scenario.value,)
         if trajectories is None:  # a picture without runs shows empty corridors: draw a few by default
             trajectories = min(5, trials) if picture is not None else 0
-        physics = max(400.0, control_rate)
-        robot = FieldRobotDynamics(kind=model.value, accel=accel, restitution=restitution, control_rate=control_rate,
-                           physics_rate=control_rate * max(1, round(physics / control_rate)))
+        robot = _robot(model, accel, restitution, control_rate)
         checked = checked_answer(lambda: navigate_fields(
             environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names, model=robot,
             trials=trials, seed=seed, trajectories=trajectories, arcs=arcs, fast=fast, slow=slow, gain_line=gain_line,
             gain_arc=gain_arc, reflections=reflections.value, starts=starts.value, cells=cells.value), env=environment)
-        answer = checked.answer  # its cells and fields checked exactly before it leaves
-        if certificate is not None:
-            write_certificate_file(answer, certificate, environment, checked.certificate)
-        if export is not None:
-            emit_string(json_text(answer.plan.export(), 1) + "\n", export)
-        if picture is not None:
-            from solverplan.render import save_figure
-            from solverplan.render.fields import render_fields
+        _write_extras(checked, environment, certificate, export, picture)  # checked exactly before it leaves
+        emit(checked.answer, fmt, out)
 
-            save_figure(render_fields(answer), picture)
-        emit(answer, fmt, out)
+
+def _robot(model: RobotKind, accel: float, restitution: float, control_rate: float) -> Any:
+    """The robot of the options: the physics at 400 Hz, or at the control rate if higher, a multiple of it."""
+    from solverplan.reflection.simulate import FieldRobotDynamics
+
+    physics = max(400.0, control_rate)
+    return FieldRobotDynamics(kind=model.value, accel=accel, restitution=restitution, control_rate=control_rate,
+                              physics_rate=control_rate * max(1, round(physics / control_rate)))
+
+
+def _write_extras(checked: Any, environment: Any, certificate: Path | None, export: Path | None,
+                  picture: Path | None) -> None:
+    """The --certificate, --export (the composed field for a controller) and --picture files."""
+    answer = checked.answer
+    if certificate is not None:
+        write_certificate_file(answer, certificate, environment, checked.certificate)
+    if export is not None:
+        emit_string(json_text(answer.plan.export(), 1) + "\n", export)
+    if picture is not None:
+        from solverplan.render import save_figure
+        from solverplan.render.fields import render_fields
+
+        save_figure(render_fields(answer), picture)
