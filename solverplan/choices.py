@@ -21,14 +21,14 @@ solverplan.errors.InputError: unknown objective 'fastest': use fewest, tolerance
 from __future__ import annotations
 
 from enum import StrEnum
-from typing import TypeVar
+from typing import Iterable, TypeVar
 
 from solverplan.errors import InputError
 
 __all__ = [
     "Choice", "Objective", "PatrolObjective", "CycleMethod", "Sampling", "Ties", "ExportFormat", "ViewChoice",
     "RoomRule", "ThetaMode", "DoorPolicy", "Sensor", "Comparisons", "RobotKind", "ScenarioName", "CellKind",
-    "Reflections", "StartMode", "or_all",
+    "Reflections", "StartMode", "StudyGenerator", "EnvironmentFormat", "FloorplanFormat", "named_choice", "or_all",
 ]
 
 C = TypeVar("C", bound="Choice")
@@ -195,11 +195,47 @@ class StartMode(Choice):
     RANDOM = "random"
 
 
+# ---------------------------------------------------------------- studies and files
+class StudyGenerator(Choice):
+    """The random environments a study runs over (the generators with a default grid)."""
+
+    STAR = "star"
+    HOLES = "holes"
+    ROOMS = "rooms"
+    RECTILINEAR = "rectilinear"
+
+
+
+class EnvironmentFormat(Choice):
+    """The environment file formats: the JSON of ``docs/contract.md``, GeoJSON, WKT."""
+
+    JSON = "json"
+    GEOJSON = "geojson"
+    WKT = "wkt"
+
+
+class FloorplanFormat(Choice):
+    """The floor plans :func:`~solverplan.floorplan.importer.import_floorplan` reads: ROS maps, DXF, SVG."""
+
+    ROS = "ros"
+    DXF = "dxf"
+    SVG = "svg"
+
+
+def named_choice(name: str, values: Iterable[str]) -> type[Choice]:
+    """A :class:`Choice` of ``values`` made where they are kept (e.g. the keys of a registry of generators).
+
+    >>> [member.value for member in named_choice("Colour", ["red", "dark-blue"])]
+    ['red', 'dark-blue']
+    """
+    members = [(value.upper().replace("-", "_"), value) for value in values]
+    return Choice(name, members, module=__name__)  # type: ignore[call-arg, return-value]
+
+
 def or_all(cls: type[C]) -> type[Choice]:
     """``cls``'s members and ``all`` (every member at once), for an option that may ask for all of them.
 
     >>> [member.value for member in or_all(ScenarioName)]
     ['constrained', 'unconstrained', 'reflection', 'all']
     """
-    members = [(member.name, member.value) for member in cls] + [("ALL", "all")]
-    return Choice(f"{cls.__name__}OrAll", members, module=__name__)  # type: ignore[call-arg, return-value]
+    return named_choice(f"{cls.__name__}OrAll", [*cls.values(), "all"])

@@ -42,6 +42,7 @@ from typing import Any, Iterable, Literal, Sequence
 
 import numpy as np
 
+from solverplan.choices import EnvironmentFormat
 from solverplan._io import atomic_write_text, check_json_values, read_input_text, shown_path
 from solverplan._shipped import model_file, model_names
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
@@ -1192,7 +1193,7 @@ def format_environment(env: Environment, fmt: FileFormat = "json") -> str:
 
 def _format_of(path: Path, fmt: str | None) -> FileFormat:
     if fmt:
-        if fmt not in ("json", "geojson", "wkt"):
+        if fmt not in EnvironmentFormat.values():
             raise MalformedFile(f"unknown format {fmt!r}: use json, geojson or wkt")
         return fmt  # type: ignore[return-value]
     try:
