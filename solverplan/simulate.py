@@ -30,7 +30,7 @@ import numpy as np
 
 from solverplan.choices import Sampling
 from solverplan.interval import Interval, heading_interval
-from solverplan.bounce.rules import HEADING_MARGIN, SAMPLINGS, BounceRule, sample_headings
+from solverplan.bounce.rules import HEADING_MARGIN, BounceRule, sample_headings
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.rollout import (Contacts, Outcome, Policy, PolicyWalls, Rollouts, Starts, in_boundary_set,
@@ -110,7 +110,7 @@ class RulePolicy:
 
 
 def _check_sampling(sampling: str) -> None:
-    sampling = Sampling.parse(sampling, "sampling").value
+    Sampling.parse(sampling, "sampling")
 
 
 def _check_initial(initial):

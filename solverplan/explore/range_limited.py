@@ -50,7 +50,7 @@ from solverplan.errors import InputError
 from solverplan.exact import (ExactPoint, exact_point, format_number, format_point, orient, point_in_ring,
                               to_fraction)
 from solverplan.explore.bounds import range_ratio_bound, range_views_bound, range_views_lower_bound
-from solverplan.explore.depth_first import CHOICES, ViewpointRun, explore_depth_first
+from solverplan.explore.depth_first import ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
 from solverplan.geometry.walls import StraightWalls

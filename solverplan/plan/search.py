@@ -86,7 +86,7 @@ from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
 from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
-from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
+from solverplan.plan.result import ParetoFront, ParetoPoint, Plan
 from solverplan.progress import Stopped
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
