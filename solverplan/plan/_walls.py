@@ -19,7 +19,7 @@ removed (the same free space, exactly) — and report in the user's numbering:
 
 >>> from solverplan.environment import Environment
 >>> split = Environment.from_coords([[0, 0], [2, 0], [4, 0], [4, 4], [0, 4]])   # (2, 0) is collinear
->>> walls = Walls(split)
+>>> walls = PartitionedWalls(split)
 >>> walls.identity, walls.merged.n_edges, walls.edge_map[1]
 (False, 4, (0, Fraction(1, 2), Fraction(1, 1)))
 >>> str(walls.to_merged(split.boundary_set("e1:0:0.5,e2")))
@@ -36,7 +36,7 @@ from solverplan.bounce.partition import Partition, PartitionSegment, partition a
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.geometry.walls import StraightWalls, canonical_start, collinear_vertices
 
-__all__ = ["Walls", "canonical_start", "collinear_vertices", "cut_partition"]
+__all__ = ["PartitionedWalls", "canonical_start", "collinear_vertices", "cut_partition"]
 
 
 def cut_partition(part: Partition, cuts: Mapping[int, Iterable[Fraction]]) -> Partition:
@@ -76,7 +76,7 @@ def cut_partition(part: Partition, cuts: Mapping[int, Iterable[Fraction]]) -> Pa
     return Partition(env, tuple(segments), tuple(offsets), part.inserted)
 
 
-class Walls(StraightWalls):
+class PartitionedWalls(StraightWalls):
     """The straight walls of ``env`` (:class:`~solverplan.geometry.walls.StraightWalls`: its merged environment and
     the maps between the two numberings), with the maps between the segments of P′ of the two environments that
     the planners need.
