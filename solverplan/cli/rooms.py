@@ -4,15 +4,15 @@ from __future__ import annotations
 
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated
 
 import typer
 
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
-from solverplan.cli._errors import exit_codes, fail
-from solverplan.cli._options import CertificateOpt, PictureOpt, write_certificate_file
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
+from solverplan.cli._errors import exit_codes, invalid
+from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, save_picture
 from solverplan.cli._output import OutputFormat, emit
 
 
@@ -73,29 +73,22 @@ def rooms_command(
             report = check_rooms(load_env(env, env_format), load_rooms_answer(check))
             emit(report, fmt, out)
         if not report.valid:
-            more = len(report.failures) - 1
-            suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
-            raise fail(f"rooms answer invalid: {report.failures[0]}", 1, suffix)
+            raise invalid("rooms answer", report.failures)
         return
     with exit_codes(verbose):
-        check_picture(picture)
         if simulate and certificate is not None:
             raise InputError("--certificate certifies the rooms and doors: drop --simulate (its statistics are not claims)")
         if not simulate and (start is not None or goal is not None or tour):
             raise InputError("--from, --to and --tour choose the rooms of --simulate: add --simulate")
         if simulate and (start is None or (goal is None) == (not tour)):
             raise InputError("--simulate needs --from ROOM and either --to ROOM or --tour")
-        environment = load_env(env, env_format)
+        environment = load_env(env, env_format, picture)
         if not simulate:
             from solverplan.certify.gate import checked_answer
 
             checked = checked_answer(lambda: decompose_rooms(environment), env=environment)  # exact check first
-            dec = checked.answer
-            if certificate is not None:
-                write_certificate_file(dec, certificate, environment, checked.certificate)
-            if picture is not None:
-                _save_rooms_picture(dec, None, picture)
-            emit(dec, fmt, out)
+            emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture,
+                         renderer="rooms.render_rooms")
             return
         from solverplan.studies.rooms import RULE_VARIANTS, compare_rules
 
@@ -108,13 +101,6 @@ def rooms_command(
                                doors=doors.value, per_room=per_room, theta=theta.value, walk=walk,
                                keep=1 if picture is not None else 0)
         if picture is not None:
-            _save_rooms_picture(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}, picture)
+            save_picture(picture, "rooms.render_rooms", dec,
+                         {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories})
         emit(answer if rule is RoomRule.ALL else answer.runs[rule.value], fmt, out)
-
-
-def _save_rooms_picture(dec: Any, trajectories: Any, picture: Path) -> None:
-    """--picture: matplotlib is imported here only (about 0.3 s), not by every ``rooms`` command."""
-    from solverplan.render import save_figure
-    from solverplan.render.rooms import render_rooms
-
-    save_figure(render_rooms(dec, trajectories) if trajectories is not None else render_rooms(dec), picture)

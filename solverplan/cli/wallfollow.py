@@ -9,9 +9,9 @@ import typer
 
 from solverplan.limits import MAX_SEED
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import CertificateOpt, PictureOpt, parse_pair, write_certificate_file
+from solverplan.cli._options import CertificateOpt, PictureOpt, parse_pair, save_picture, write_certificate_file
 from solverplan.cli._output import OutputFormat, emit
 
 
@@ -69,8 +69,7 @@ def wallfollow_command(
             raise InputError("--steps and --seed belong to --count")
         if count and certificate is not None:
             raise InputError("--certificate certifies a cut ordering or a pursuit plan: --count is a random walk's estimate")
-        check_picture(picture)
-        environment = load_env(env, env_format)
+        environment = load_env(env, env_format, picture)
         perturbation = None
         if perturb:
             from solverplan.wallfollow.perturb import PerturbedAnswer, perturb as make_general
@@ -97,11 +96,9 @@ def wallfollow_command(
             checked = checked_answer(lambda: certified, env=environment)
             if certificate is not None:
                 write_certificate_file(certified, certificate, environment, checked.certificate)
-        if picture is not None:
-            from solverplan.render import save_figure
-            from solverplan.render.wallfollow import render_cuts, render_pursuit
-
-            save_figure(render_pursuit(environment, answer) if pursuit else
-                        render_cuts(environment, answer.ordering.relabel(answer.pebble_vertex) if learn else None),
-                        picture)
+        if pursuit:
+            save_picture(picture, "wallfollow.render_pursuit", environment, answer)
+        else:
+            save_picture(picture, "wallfollow.render_cuts", environment,
+                         answer.ordering.relabel(answer.pebble_vertex) if learn else None)
         emit(answer if perturbation is None else PerturbedAnswer(answer, perturbation), fmt, out)
