@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from fractions import Fraction
 from numbers import Rational
-from typing import Literal, Sequence
+from typing import Literal, Sequence, TypeVar
 
 import numpy as np
 
@@ -56,6 +56,8 @@ __all__ = [
 
 ExactPoint = tuple[Fraction, Fraction]
 """A point with exact rational coordinates."""
+
+_P = TypeVar("_P")
 
 # Relative error bound of the float orientation determinant when the coordinates are
 # themselves roundings of exact rationals (one rounding per coordinate, then two
@@ -166,14 +168,14 @@ def exact_segment(seg: object, *, where: str = "segment") -> tuple[ExactPoint, E
     return a, b
 
 
-def ring_without_repeats(points: Sequence[ExactPoint]) -> list[ExactPoint]:
+def ring_without_repeats(points: Sequence[_P]) -> list[_P]:
     """The closed ring through ``points`` without repeated consecutive points (the last one included, against the
     first).
 
     >>> ring_without_repeats([(0, 0), (1, 0), (1, 0), (1, 1), (0, 0)])
     [(0, 0), (1, 0), (1, 1)]
     """
-    ring: list[ExactPoint] = []
+    ring: list[_P] = []
     for p in points:
         if not ring or ring[-1] != p:
             ring.append(p)
