@@ -129,23 +129,29 @@ def write_certificate_file(answer: Any, path: Path, env: Any = None, checked: An
 
 def save_picture(picture: Path | None, renderer: str, *args: Any) -> None:
     """--picture: ``solverplan.render.MODULE.FUNCTION(*args)`` (``renderer`` is ``"MODULE.FUNCTION"``) saved to
-    ``picture``. The renderer is imported only when a picture is asked (matplotlib costs ≈ 0.3 s of a start)."""
+    ``picture``; ``renderer`` ``""``: the picture hook of the answer ``args[0]``'s kind (:data:`solverplan.answers.KINDS`).
+    The renderer is imported only when a picture is asked (matplotlib costs ≈ 0.3 s of a start)."""
     if picture is None:
         return
     import importlib
 
     from solverplan.render import save_figure
 
-    module, name = renderer.rsplit(".", 1)
-    draw = getattr(importlib.import_module(f"solverplan.render.{module}"), name)
+    if renderer:
+        module, name = renderer.rsplit(".", 1)
+        draw = getattr(importlib.import_module(f"solverplan.render.{module}"), name)
+    else:
+        from solverplan.answers import KINDS
+
+        draw = KINDS[args[0].kind].picture
     save_figure(draw(*args), picture)
 
 
 def emit_checked(checked: Any, fmt: OutputFormat, out: Path | None, *, env: Any = None, certificate: Path | None = None,
-                 picture: Path | None = None, renderer: str = "answers.render_answer", draw: tuple = ()) -> None:
+                 picture: Path | None = None, renderer: str = "", draw: tuple = ()) -> None:
     """The end of a command whose answer passed the exact gate (:func:`~solverplan.certify.gate.checked_answer`):
-    its --certificate (the certificate the gate checked), its --picture (``renderer(answer, *draw)``, see
-    :func:`save_picture`), then the answer itself."""
+    its --certificate (the certificate the gate checked), its --picture (``renderer(answer, *draw)``, by default the
+    picture of its kind: see :func:`save_picture`), then the answer itself."""
     answer = checked.answer
     if certificate is not None:
         write_certificate_file(answer, certificate, env, checked.certificate)

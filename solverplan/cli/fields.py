@@ -91,5 +91,4 @@ def fields_command(
             gain_arc=gain_arc, reflections=reflections.value, starts=starts.value, cells=cells.value), env=environment)
         if export is not None:  # its cells and fields checked exactly before it leaves
             emit_string(json_text(checked.answer.plan.export(), 1) + "\n", export)
-        emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture,
-                     renderer="fields.render_fields")
+        emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture)

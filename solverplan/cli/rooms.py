@@ -87,8 +87,7 @@ def rooms_command(
             from solverplan.certify.gate import checked_answer
 
             checked = checked_answer(lambda: decompose_rooms(environment), env=environment)  # exact check first
-            emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture,
-                         renderer="rooms.render_rooms")
+            emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture)
             return
         from solverplan.studies.rooms import RULE_VARIANTS, compare_rules
 
