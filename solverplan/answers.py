@@ -41,9 +41,9 @@ from solverplan.explore.depth_first import Exploration
 from solverplan.explore.range_limited import RangeExploration
 from solverplan.floorplan.importer import FloorplanImport
 from solverplan.limits import read_text_within_limits
-from solverplan.plan.funnel import Funnel
-from solverplan.plan.localize import Localization
-from solverplan.plan.patrol import Patrol
+from solverplan.plan.funnels import Funnel
+from solverplan.plan.localization import Localization
+from solverplan.plan.patrols import Patrol
 from solverplan.plan.result import ParetoFront, Plan
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.reflection.navigation import FieldNavigation
@@ -141,7 +141,7 @@ def read_answer(data: object, *, env: Environment | None = None) -> Any:
 
     Examples
     --------
-    >>> from solverplan.wallfollow.cuts import cut_ordering
+    >>> from solverplan.wallfollow.cut import cut_ordering
     >>> from solverplan.models import load
     >>> answer = read_answer(cut_ordering(load("l_shape")).to_json())
     >>> answer.kind, answer.labels[:3]
@@ -184,7 +184,7 @@ def load_answer_file(path: str | Path, *, env: Environment | None = None) -> Any
     Examples
     --------
     >>> import json, tempfile, os
-    >>> from solverplan.wallfollow.cuts import cut_ordering
+    >>> from solverplan.wallfollow.cut import cut_ordering
     >>> from solverplan.models import load
     >>> with tempfile.TemporaryDirectory() as folder:
     ...     path = os.path.join(folder, "a.json")

@@ -404,7 +404,7 @@ def spiked_comb(teeth: int, seed: int = 0, max_attempts: int = 100) -> Environme
     """
     import random
 
-    from solverplan.wallfollow.cuts import cuts
+    from solverplan.wallfollow.cut import cuts
 
     teeth = _check_int("teeth", teeth, 1)
 

@@ -677,7 +677,7 @@ class Answer:
 
     Examples
     --------
-    >>> from solverplan.wallfollow.cuts import cut_ordering
+    >>> from solverplan.wallfollow.cut import cut_ordering
     >>> from solverplan.models import load
     >>> answer = cut_ordering(load("l_shape"))
     >>> isinstance(answer, Answer), list(answer.to_json())[:3], list(answer.to_json())[-3:]

@@ -75,7 +75,7 @@ def _range_exploration():
 
 
 def _cut_ordering():
-    from solverplan.wallfollow.cuts import cut_ordering
+    from solverplan.wallfollow.cut import cut_ordering
 
     env = sp.load_environment("star")
     return env, cut_ordering(env)

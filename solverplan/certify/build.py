@@ -10,12 +10,12 @@ by its type (it reads the answers only through their public attributes, all of t
   the exact **images** of its moves (so that they can be checked to lie in the goal), every other the
   target segments. A plan does not carry its environment: pass ``env``;
 - a **Pareto front** is the certificate of its most tolerant plan;
-- a **patrol** (:class:`~solverplan.plan.patrol.Patrol`) is a ``cycle`` certificate: the entry stages
+- a **patrol** (:class:`~solverplan.plan.patrols.Patrol`) is a ``cycle`` certificate: the entry stages
   (belief stages of the safe BVG: one move per possible segment), then the cycle's stages, one move each
   from its whole source segment; the cycle block claims the exact return map of the nominal headings, its
   fixed point, the worst-case contraction (< 1) and the visits;
-- a **funnel** or a **localisation** strategy (:class:`~solverplan.plan.funnel.Funnel`,
-  :class:`~solverplan.plan.localize.Localization`) is a ``funnel`` or ``localize``
+- a **funnel** or a **localisation** strategy (:class:`~solverplan.plan.funnels.Funnel`,
+  :class:`~solverplan.plan.localization.Localization`) is a ``funnel`` or ``localize``
   certificate: every stage moves exact position pieces with the *exact cones the planner used*, so the
   images the checker recomputes are the positions the planner tracked, and each stage claims them; a
   localisation certificate also claims the strategy's ε (the final interval is shorter than it).
@@ -70,8 +70,8 @@ from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_cert
 from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, SolverplanError
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan.localize import Localization
-from solverplan.plan.patrol import Patrol
+from solverplan.plan.localization import Localization
+from solverplan.plan.patrols import Patrol
 from solverplan.plan.result import ParetoFront, Plan
 from solverplan.explore.depth_first import Exploration
 from solverplan.explore.range_limited import RangeExploration
@@ -131,7 +131,7 @@ def certificate(result: Any, *, env: Environment | None = None,
     ----------
     result
         A :class:`~solverplan.plan.Plan`, :class:`~solverplan.plan.ParetoFront` (its most tolerant plan),
-        :class:`~solverplan.plan.patrol.Patrol` or :class:`~solverplan.plan.funnel.Funnel` (funnels and
+        :class:`~solverplan.plan.patrols.Patrol` or :class:`~solverplan.plan.funnels.Funnel` (funnels and
         localisation strategies).
     env
         The environment of a plan (plans record only its name and hash; required for plans and fronts).

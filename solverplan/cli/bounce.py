@@ -136,7 +136,7 @@ def patrol_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """A stable patrol cycle visiting edges in order (paper Def. 15), optimal for the objective, from a start set."""
-    from solverplan.plan.patrol import patrol
+    from solverplan.plan.patrols import patrol
 
     _contraction_answer(env, env_format, lambda environment: patrol(
         environment, visit, start=start, objective=objective.value, tolerance=tolerance, max_between=max_between,
@@ -162,7 +162,7 @@ def funnel_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """A funnel (paper Fig. 14): track the exact set of possible positions and use contraction to shrink it into the goal."""
-    from solverplan.plan.funnel import funnel
+    from solverplan.plan.funnels import funnel
 
     _contraction_answer(env, env_format, lambda environment: funnel(
         environment, start, goal, tolerance=tolerance, max_bounces=max_bounces, heading_margin=heading_margin,
@@ -190,7 +190,7 @@ def localize_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """Localisation (paper §8.4): an open-loop strategy after which the possible positions lie in one interval shorter than X."""
-    from solverplan.plan.localize import localize
+    from solverplan.plan.localization import localize
 
     _contraction_answer(env, env_format, lambda environment: localize(
         environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces,

@@ -52,7 +52,7 @@ def wallfollow_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """The wall-following robot (Yershova et al.): cut ordering, Strategy 1, vertex counting, pursuit-evasion."""
-    from solverplan.wallfollow.cuts import cut_ordering as exact_cut_ordering
+    from solverplan.wallfollow.cut import cut_ordering as exact_cut_ordering
     from solverplan.wallfollow.filters import count_random_walk
     from solverplan.wallfollow.learning import learn_cut_ordering
 
@@ -72,7 +72,7 @@ def wallfollow_command(
         environment = load_env(env, env_format, picture)
         perturbation = None
         if perturb:
-            from solverplan.wallfollow.perturb import PerturbedAnswer, perturb as make_general
+            from solverplan.wallfollow.perturbation import PerturbedAnswer, perturb as make_general
 
             perturbation = make_general(environment)
             environment = perturbation.env

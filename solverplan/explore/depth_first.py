@@ -10,7 +10,7 @@ stack is empty: every window of every view is explored, so the union of the view
 
 The explored region is the union of the views taken so far (exact visibility polygons); it is opaque in the
 sense of the paper: a window counts only as far as it leads out of that region
-(:func:`~solverplan.explore.windows.unexplored_parts`), so a view never sends the robot back into known space.
+(:func:`~solverplan.explore.window.unexplored_parts`), so a view never sends the robot back into known space.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_number, format_point
 from solverplan.explore.bounds import Cost, exploration_cost, views_bound
-from solverplan.explore.windows import Window, point_on_part, unexplored_parts, windows
+from solverplan.explore.window import Window, point_on_part, unexplored_parts, windows
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
 from solverplan.geometry.walls import StraightWalls
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind

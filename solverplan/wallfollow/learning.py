@@ -40,7 +40,7 @@ from typing import Any, Literal, Protocol, Sequence
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
-from solverplan.wallfollow.cuts import cut_ordering
+from solverplan.wallfollow.cut import cut_ordering
 from solverplan.wallfollow.ordering import CutOrdering
 from solverplan.wallfollow.world import Action, Observation, Touch, WallWorld
 

@@ -15,9 +15,9 @@ from solverplan.certify.build import certificate
 from solverplan.certify.check import check_certificate
 from solverplan.certify.schema import Certificate
 from solverplan.environment import BoundarySet, Environment
-from solverplan.plan.funnel import funnel
-from solverplan.plan.localize import localize
-from solverplan.plan.patrol import patrol
+from solverplan.plan.funnels import funnel
+from solverplan.plan.localization import localize
+from solverplan.plan.patrols import patrol
 from solverplan.plan.search import find_plan, pareto_front
 from solverplan.plan._walls import Walls, collinear_vertices
 from solverplan.result import Method, Status

@@ -52,7 +52,7 @@ from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, to_user_stages
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import Walls
-from solverplan.plan.funnel import DEFAULT_MAX_ROWS, boundary_pieces, graded_search, search_half_width
+from solverplan.plan.funnels import DEFAULT_MAX_ROWS, boundary_pieces, graded_search, search_half_width
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Status, answer_kind
 
 __all__ = ["Localization", "localize", "rotational_symmetry"]
@@ -150,7 +150,7 @@ def localize(
 
     After its stages every start in ``start`` (default: the whole boundary) is inside one interval of one edge
     shorter than ``epsilon`` (arc length). The search widens: narrow passes
-    (:data:`~solverplan.plan.funnel.NARROW_PASSES`) run first and the full ``beam`` × ``n_headings`` pass only if
+    (:data:`~solverplan.plan.funnels.NARROW_PASSES`) run first and the full ``beam`` × ``n_headings`` pass only if
     they find nothing, all within one work budget ``max_rows``, so that the answer comes in seconds.
 
     Parameters
@@ -162,9 +162,9 @@ def localize(
     start
         The boundary set the robot may start on (default: the whole boundary).
     tolerance
-        ε, radians: every interval is [θ − ε, θ + ε] (default :data:`~solverplan.plan.funnel.DEFAULT_FUNNEL_TOLERANCE`).
+        ε, radians: every interval is [θ − ε, θ + ε] (default :data:`~solverplan.plan.funnels.DEFAULT_FUNNEL_TOLERANCE`).
     max_bounces, n_headings, beam
-        The search's bounds, as for :func:`~solverplan.plan.funnel.funnel`.
+        The search's bounds, as for :func:`~solverplan.plan.funnels.funnel`.
     graph
         A precomputed safe BVG of ``env``.
     heading_margin, corner_clearance

@@ -10,7 +10,7 @@ for a rational ε small enough to be *infinitesimal* for the polygon: every orie
 a polynomial D₀ + ε D₁ + ε² D₂ in ε whose ε² term is the orientation of three points of a parabola — never 0 —, so
 no three vertices stay collinear, and every predicate that was not degenerate keeps its sign. ε starts at 2⁻²⁴
 and shrinks by 2⁻¹⁰ until (a) the perturbed polygon is simple, (b) it is in general position
-(:func:`~solverplan.wallfollow.cuts.check_general_position`, exact) and (c) its cut ordering is the same at ε and
+(:func:`~solverplan.wallfollow.cut.check_general_position`, exact) and (c) its cut ordering is the same at ε and
 at ε·2⁻¹⁰ (the combinatorial model no longer depends on ε: it is the limit ε → 0⁺). The answer records ε and the
 displacement; everything downstream (cuts, orderings, Strategy 1, pursuit) runs on the perturbed polygon exactly.
 
@@ -28,7 +28,7 @@ combinatorics. Without ``--perturb`` a degenerate polygon is refused with the of
 >>> p = perturb(ell)
 >>> p.general, p.env.n_vertices, p.epsilon
 (False, 6, Fraction(1, 16777216))
->>> from solverplan.wallfollow.cuts import cut_ordering
+>>> from solverplan.wallfollow.cut import cut_ordering
 >>> cut_ordering(p.env).labels
 ('v0', 'l3', 'v1', 'v2', 'v3', 'v4', 'v5', 'r3')
 """
@@ -67,7 +67,7 @@ class Perturbation:
 
 
 def _general(env: Environment) -> bool:
-    from solverplan.wallfollow.cuts import check_general_position
+    from solverplan.wallfollow.cut import check_general_position
 
     try:
         check_general_position(env)
@@ -115,7 +115,7 @@ def perturb(env: Environment) -> Perturbation:
     InputError
         If no ε down to 2⁻⁸⁴ gives a stable general polygon (never seen).
     """
-    from solverplan.wallfollow.cuts import cut_ordering
+    from solverplan.wallfollow.cut import cut_ordering
 
     if _general(env):
         return Perturbation(env, Fraction(0), tuple((Fraction(0), Fraction(0)) for _ in range(env.n_vertices)), True)
