@@ -44,15 +44,14 @@ from __future__ import annotations
 
 import functools
 import math
-import os
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import TYPE_CHECKING, AbstractSet, Literal, Mapping, Sequence
 
 import numpy as np
 
-from solverplan._arrays import ragged_arange
+from solverplan._arrays import ragged_arange, thread_map
+from solverplan._arrays import workers as threads
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, format_point, to_fraction
 
@@ -532,24 +531,8 @@ BATCH_TOLERANCE = 1e-9
 _CELLS_PER_EDGE = 2.5
 _STEPS_PER_ROUND = 1
 _MAX_STEPS_PER_ROUND = 8
-# Batches of at least this many rays are cast in threads, one block per core (at most _MAX_WORKERS).
+# Batches of at least this many rays are cast in threads, one block per core (solverplan._arrays.thread_map).
 _PARALLEL_RAYS = 4096
-_MAX_WORKERS = 4
-
-
-@functools.cache
-def _workers() -> int:
-    """Threads for large batches: the cores this process may use, at most :data:`_MAX_WORKERS`."""
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        cores = os.cpu_count() or 1
-    return max(1, min(_MAX_WORKERS, cores))
-
-
-@functools.cache
-def _pool() -> ThreadPoolExecutor:
-    return ThreadPoolExecutor(max_workers=_workers(), thread_name_prefix="solverplan-raycast")
 
 
 # Polygons with at most this many edges are cast as dense (rays × edges) arrays (RayCaster._dense_block), in
@@ -896,15 +879,15 @@ class RayCaster:
         m = len(origins)
         out = [np.empty(m), np.empty(m, dtype=np.int64), np.empty(m), np.empty(m, dtype=np.int64),
                np.empty(m, dtype=bool), np.empty(m)]
-        workers = _workers() if collect is None and m >= _PARALLEL_RAYS else 1
+        workers = threads() if collect is None and m >= _PARALLEL_RAYS else 1
         size = max(256, _DENSE_CELLS // len(self._ax)) if collect is None and self.dense else _RAYS_PER_BLOCK
         size = max(1, min(size, -(-m // workers)))
         blocks = [(lo, min(m, lo + size)) for lo in range(0, m, size)]
         if workers > 1:
             # every ray's answer depends on that ray alone, so blocks cast in threads (numpy releases the GIL in
             # its loops) give the same answers as one after the other
-            parts = _pool().map(lambda b: self._march_block(origins[b[0]:b[1]], unit[b[0]:b[1]], src[b[0]:b[1]], None),
-                                blocks)
+            parts = thread_map(lambda b: self._march_block(origins[b[0]:b[1]], unit[b[0]:b[1]], src[b[0]:b[1]], None),
+                               blocks)
             for (lo, hi), part in zip(blocks, parts):
                 for arr, values in zip(out, part):
                     arr[lo:hi] = values
