@@ -56,8 +56,8 @@ _EXPORTS: dict[str, str] = {
     "constant_controller": "solverplan.bounce.controller",
     # rooms and doors of rectilinear polygons (Çağırıcı, Bahoo and LaValle)
     "decompose_rooms": "solverplan.rectilinear.decomposition",
-    "simulate_rooms": "solverplan.studies.rooms",
-    "compare_rules": "solverplan.studies.rooms",
+    "simulate_rooms": "solverplan.rectilinear.simulation",
+    "compare_rules": "solverplan.rectilinear.simulation",
     # online exploration with discrete views (Ghosh, Burdick, Bhattacharya and Sarkar)
     "explore_depth_first": "solverplan.explore.depth_first",
     "Exploration": "solverplan.explore.depth_first",
@@ -80,7 +80,7 @@ _EXPORTS: dict[str, str] = {
     "decompose_free_space": "solverplan.reflection.cells",
     "compose_fields": "solverplan.reflection.compose",
     "simulate_scenarios": "solverplan.reflection.simulate",
-    "RobotModel": "solverplan.reflection.simulate",
+    "FieldRobotDynamics": "solverplan.reflection.simulate",
     "navigate_fields": "solverplan.reflection.navigation",
     "FieldNavigation": "solverplan.reflection.navigation",
     # floor plans in: ROS occupancy maps, DXF and SVG drawings
@@ -178,8 +178,8 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.reflection.cells import decompose_free_space
     from solverplan.reflection.compose import compose_fields
     from solverplan.reflection.navigation import FieldNavigation, navigate_fields
-    from solverplan.reflection.simulate import RobotModel, simulate_scenarios
-    from solverplan.studies.rooms import compare_rules, simulate_rooms
+    from solverplan.reflection.simulate import FieldRobotDynamics, simulate_scenarios
+    from solverplan.rectilinear.simulation import compare_rules, simulate_rooms
 
 
 def __getattr__(name: str) -> Any:

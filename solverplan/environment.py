@@ -70,6 +70,7 @@ from solverplan.exact import (
 )
 
 __all__ = [
+    "check_edges",
     "Environment",
     "Edge",
     "BoundaryPiece",
@@ -1263,3 +1264,24 @@ def save_environment(env: Environment, path: str | PathLike[str], fmt: FileForma
     """Write ``env`` atomically, format from the extension unless ``fmt`` is given."""
     path = Path(path)
     atomic_write_text(path, format_environment(env, _format_of(path, fmt)))
+
+
+def check_edges(env: Environment, edges: object, *, name: str = "edge") -> np.ndarray:
+    """Edge ids as an int array, or a one-line :class:`InvalidBoundarySet` naming the first unknown one.
+
+    >>> check_edges(Environment.from_coords([[0, 0], [1, 0], [0, 1]]), [0, 7])
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InvalidBoundarySet: unknown edge e7: edges are e0..e2
+    """
+    try:
+        arr = np.asarray(edges, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} ids must be integers, got {edges!r}") from None
+    n = env.n_edges
+    bad = np.flatnonzero(~((arr >= 0) & (arr < n) & (arr == np.floor(arr))))
+    if len(bad):
+        value = arr[bad[0]]
+        shown = f"{int(value)}" if np.isfinite(value) and value == np.floor(value) else f"{value:g}"
+        raise InvalidBoundarySet(f"unknown edge e{shown}: edges are e0..e{n - 1}")
+    return arr.astype(np.int64)

@@ -13,6 +13,7 @@ from typing import Any, Iterable, Protocol
 
 import orjson
 
+from solverplan.choices import EnvironmentFormat
 from solverplan._io import atomic_write_chunks, cannot_write
 from solverplan.errors import InputError
 
@@ -32,10 +33,7 @@ class OutputFormat(StrEnum):
     TEXT = "text"
 
 
-class EnvFormat(StrEnum):
-    JSON = "json"
-    GEOJSON = "geojson"
-    WKT = "wkt"
+EnvFormat = EnvironmentFormat  # the environment file formats (--env-format), the library's
 
 
 def text_width(out: Path | None) -> int:

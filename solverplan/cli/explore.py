@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from typing import Annotated
 
 import typer
 
+from solverplan.choices import ViewChoice
 from solverplan.limits import MAX_SEED
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
@@ -14,17 +14,11 @@ from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, pa
 from solverplan.cli._output import OutputFormat
 
 
-class ZChoice(StrEnum):
-    FIRST = "first"
-    RANDOM = "random"
-    FAR = "far"
-
-
 @app.command(name="explore")
 def explore_command(
     env: EnvArg,
     start: Annotated[str, typer.Option("--start", metavar="X,Y", help="The robot's start p1, a point of the free space.")],
-    choice: Annotated[ZChoice, typer.Option("--choice", help="Which unexplored constructed edge the next view is taken on: first, random (with --seed) or far.")] = ZChoice.FIRST,
+    choice: Annotated[ViewChoice, typer.Option("--choice", help="Which unexplored constructed edge the next view is taken on: first, random (with --seed) or far.")] = ViewChoice.FIRST,
     seed: Annotated[int | None, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Seed of --choice random (default 0).", show_default=False)] = None,
     range_: Annotated[str | None, typer.Option("--range", metavar="R", help="Sensing range R > 0: range-limited views and Algorithm B (Algorithm A when R reaches across the polygon).", show_default=False)] = None,
     certificate: CertificateOpt = None,

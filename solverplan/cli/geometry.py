@@ -94,52 +94,41 @@ def graph_command(
             emit(view, OutputFormat(fmt.value), out)
 
 
+PictureOutOpt = Annotated[Path, typer.Option("-o", "--output", help="Picture file to write: .png or .svg.", show_default=False)]
+EdgeIdsOpt = Annotated[bool, typer.Option("--edge-ids", help="Label edges e<i> with arrows showing their direction.")]
+VertexIdsOpt = Annotated[bool, typer.Option("--vertex-ids", help="Label vertices v<i>.")]
+ReflexOpt = Annotated[bool, typer.Option("--reflex/--no-reflex", help="Mark reflex vertices.")]
+ShowPartitionOpt = Annotated[bool, typer.Option("--partition", help="Draw the partition P′ (Algorithm 1): numbered segments, inserted points.")]
+ShowGraphOpt = Annotated[bool, typer.Option("--graph", help="Draw the bounce visibility graph lightly (a line between segments that see each other).")]
+SafeArcsOpt = Annotated[bool, typer.Option("--safe-arcs", help="Draw every safe arc as a ray that lands on its target segment.")]
+DrawTrajectoriesOpt = Annotated[int, typer.Option("--trajectories", min=0, max=MAX_TRAJECTORIES, metavar="N", help="Simulate N rollouts of --rule (or of --plan) and draw them.")]
+DrawRuleOpt = Annotated[str, typer.Option("--rule", metavar="RULE", help="Bounce rule of the trajectories: specular, fixed:THETA, relative:THETA or monotone:THETA (radians, pi/3 allowed).")]
+DrawStartOpt = Annotated[str | None, typer.Option("--from", metavar="SET", help="Start set of the trajectories, e.g. e0 or e3:0.25:0.75,e4 (default: the whole boundary).", show_default=False)]
+DrawBouncesOpt = Annotated[int, typer.Option("--bounces", min=0, max=MAX_BOUNCES, metavar="K", help="Bounces per trajectory.")]
+DrawSeedOpt = Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the trajectories.")]
+ShowCycleOpt = Annotated[bool, typer.Option("--cycle", help="Draw the limit cycle of the constant heading --theta on top (bold; contacts as yellow circles); --trajectories then follow that constant rule (paper Fig. 9).")]
+CycleThetaOpt = Annotated[str | None, typer.Option("--theta", metavar="THETA", help="The constant heading of --cycle, as in 'solverplan cycle'.", show_default=False)]
+DrawPlanOpt = Annotated[Path | None, typer.Option("--plan", metavar="PLAN.json", help="Draw a plan (from 'solverplan plan -o'): its cones per stage, start and goal sets; --trajectories then follow the plan.", show_default=False)]
+
+
 @app.command()
 def render(
     env: EnvArg,
-    out: Annotated[Path, typer.Option("-o", "--output", help="Picture file to write: .png or .svg.", show_default=False)],
-    edge_ids: Annotated[bool, typer.Option("--edge-ids", help="Label edges e<i> with arrows showing their direction.")] = False,
-    vertex_ids: Annotated[bool, typer.Option("--vertex-ids", help="Label vertices v<i>.")] = False,
-    reflex: Annotated[bool, typer.Option("--reflex/--no-reflex", help="Mark reflex vertices.")] = True,
-    show_partition: Annotated[
-        bool, typer.Option("--partition", help="Draw the partition P′ (Algorithm 1): numbered segments, inserted points.")
-    ] = False,
-    show_graph: Annotated[
-        bool, typer.Option("--graph", help="Draw the bounce visibility graph lightly (a line between segments that see each other).")
-    ] = False,
-    safe_arcs: Annotated[
-        bool, typer.Option("--safe-arcs", help="Draw every safe arc as a ray that lands on its target segment.")
-    ] = False,
-    trajectories: Annotated[
-        int, typer.Option("--trajectories", min=0, max=MAX_TRAJECTORIES, metavar="N", help="Simulate N rollouts of --rule (or of --plan) and draw them.")
-    ] = 0,
-    rule: Annotated[
-        str,
-        typer.Option(
-            "--rule", metavar="RULE",
-            help="Bounce rule of the trajectories: specular, fixed:THETA, relative:THETA or monotone:THETA (radians, pi/3 allowed).",
-        ),
-    ] = "specular",
-    start: Annotated[
-        str | None,
-        typer.Option("--from", metavar="SET", help="Start set of the trajectories, e.g. e0 or e3:0.25:0.75,e4 (default: the whole boundary).", show_default=False),
-    ] = None,
-    bounces: Annotated[int, typer.Option("--bounces", min=0, max=MAX_BOUNCES, metavar="K", help="Bounces per trajectory.")] = 20,
-    seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the trajectories.")] = 0,
-    show_cycle: Annotated[
-        bool,
-        typer.Option("--cycle", help="Draw the limit cycle of the constant heading --theta on top (bold; contacts as yellow "
-                     "circles); --trajectories then follow that constant rule (paper Fig. 9)."),
-    ] = False,
-    cycle_theta: Annotated[
-        str | None,
-        typer.Option("--theta", metavar="THETA", help="The constant heading of --cycle, as in 'solverplan cycle'.", show_default=False),
-    ] = None,
-    plan_file: Annotated[
-        Path | None,
-        typer.Option("--plan", metavar="PLAN.json", help="Draw a plan (from 'solverplan plan -o'): its cones per stage, start and goal "
-                     "sets; --trajectories then follow the plan.", show_default=False),
-    ] = None,
+    out: PictureOutOpt,
+    edge_ids: EdgeIdsOpt = False,
+    vertex_ids: VertexIdsOpt = False,
+    reflex: ReflexOpt = True,
+    show_partition: ShowPartitionOpt = False,
+    show_graph: ShowGraphOpt = False,
+    safe_arcs: SafeArcsOpt = False,
+    trajectories: DrawTrajectoriesOpt = 0,
+    rule: DrawRuleOpt = "specular",
+    start: DrawStartOpt = None,
+    bounces: DrawBouncesOpt = 20,
+    seed: DrawSeedOpt = 0,
+    show_cycle: ShowCycleOpt = False,
+    cycle_theta: CycleThetaOpt = None,
+    plan_file: DrawPlanOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,

@@ -20,8 +20,9 @@ import random
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Literal, Sequence
+from typing import Sequence
 
+from solverplan.choices import ViewChoice
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_number, format_point
@@ -34,8 +35,7 @@ from typing import Any
 
 __all__ = ["CHOICES", "Exploration", "explore_depth_first"]
 
-Choice = Literal["first", "random", "far"]
-CHOICES: tuple[str, ...] = ("first", "random", "far")
+CHOICES: tuple[str, ...] = ViewChoice.values()
 """The z-choice rules: ``first`` — the first unexplored window part in the current view's CCW ring order;
 ``random`` — a uniformly random one (seeded); ``far`` — the one whose chosen point is farthest from the
 current viewpoint. On the chosen part the viewpoint is the simplest rational point of its middle third."""
@@ -213,7 +213,7 @@ def _start_point(env: Environment, start: Sequence[object]) -> tuple[ExactPoint,
         raise InputError(f"start {format_point(p)} is not in the free space of {env.name or 'the environment'}") from None
 
 
-def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Choice = "first",
+def explore_depth_first(env: Environment, start: Sequence[object], *, choice: ViewChoice | str = "first",
                         seed: int | None = None, max_views: int | None = None) -> Exploration:
     """Explore ``env`` from ``start`` with Algorithm A.
 
@@ -252,8 +252,7 @@ def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Ch
     >>> run.n_views, run.bound, run.covered_fraction
     (2, 2, 1.0)
     """
-    if choice not in CHOICES:
-        raise InputError(f"unknown z-choice rule {choice!r}: use {', '.join(CHOICES)}")
+    choice = ViewChoice.parse(choice, "z-choice rule").value
     if seed is not None and choice != "random":
         raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
     walls = StraightWalls(env)

@@ -43,7 +43,7 @@ from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, SearchOutcome, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.search import straight_walls_graph
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 
@@ -290,7 +290,7 @@ def funnel(
     deadline = deadline_of(timeout)
     # Collinear vertices are no corners: search the straight walls (the same free space with them merged) and
     # answer in the user's edges (plan._walls, to_user_stages)
-    walls = Walls(env)
+    walls = PartitionedWalls(env)
     user_start, user_goal = start_set, goal_set
     g = straight_walls_graph(walls, graph)
     part = g.partition

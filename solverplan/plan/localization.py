@@ -51,7 +51,7 @@ from solverplan.plan.margins import DEFAULT_HEADING_MARGIN
 from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, to_user_stages
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.funnels import DEFAULT_MAX_ROWS, boundary_pieces, graded_search, search_half_width
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Status, answer_kind
 
@@ -215,7 +215,7 @@ def localize(
     # Collinear vertices are no corners: search the straight walls (the same free space with them merged) and
     # answer in the user's edges (plan._walls, to_user_stages). A final interval may then straddle a collinear
     # vertex: it is one interval of one straight wall.
-    walls = Walls(env)
+    walls = PartitionedWalls(env)
     user_start = start_set
     # the search needs only the partition of the straight walls (the graph's, when one is given): no safe BVG
     part = graph.partition if graph is not None and graph.partition.env == walls.merged else partition(walls.merged)

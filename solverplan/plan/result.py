@@ -28,8 +28,9 @@ import json
 import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
+from solverplan.choices import Objective
 from solverplan._io import read_input_text, shown_path
 from solverplan.environment import BoundaryPiece, Environment, read_json
 from solverplan.errors import InputError, MalformedFile
@@ -52,8 +53,7 @@ __all__ = [
 ]
 
 
-Objective = Literal["fewest", "tolerance", "sum", "constant"]
-OBJECTIVES: tuple[str, ...] = ("fewest", "tolerance", "sum", "constant")
+OBJECTIVES: tuple[str, ...] = Objective.values()
 
 _OLD_METHODS = {"dag-exhausted": Method.SEARCH_EXHAUSTED, "search": Method.HEURISTIC}
 """Method spellings of older answers and what they mean now (reading is lenient; constructing is strict)."""

@@ -75,6 +75,7 @@ import math
 import time
 from dataclasses import replace
 
+from solverplan.choices import Objective
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.environment import BoundarySet, Environment
@@ -83,9 +84,9 @@ from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan import _search
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
-from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
+from solverplan.plan.result import ParetoFront, ParetoPoint, Plan
 from solverplan.progress import Stopped
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
@@ -149,7 +150,7 @@ def planning_problem(
                                       corner_clearance=corner_clearance)
     start_set = _boundary(env, start, "start")
     goal_set = _boundary(env, goal, "goal")
-    walls = Walls(env)
+    walls = PartitionedWalls(env)
     if graph is not None and graph.partition.env not in (env, walls.merged):
         raise InputError("the safe BVG given was built for another environment")
     if graph is None or graph.partition.env != walls.merged:
@@ -157,7 +158,7 @@ def planning_problem(
     return Problem(graph, start_set, goal_set, margins=margins, walls=walls)
 
 
-def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
+def straight_walls_graph(walls: PartitionedWalls, graph: SafeBVG | None = None) -> SafeBVG:
     """The safe BVG the planners search: the one of P′ of the straight walls (collinear vertices merged, the same
     free space: :mod:`solverplan.plan._walls`), so that it does not depend on how the walls are written; ``graph``
     when it is that graph already."""
@@ -166,7 +167,7 @@ def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
     return safe_bounce_visibility_graph(walls.merged)
 
 
-def query_graph(walls: Walls, start: BoundarySet, max_depth: int | None = None) -> SafeBVG:
+def query_graph(walls: PartitionedWalls, start: BoundarySet, max_depth: int | None = None) -> SafeBVG:
     """The safe BVG one query from ``start`` needs (on the straight walls): the whole graph when it is cached or
     small (under :data:`~solverplan.bounce.bvg.LAZY_MIN_ARCS` estimated arcs), else only the safe arcs a search
     from the start segments can reach within ``max_depth`` stages (:func:`~solverplan.bounce.bvg.reachable_safe_graph`:
@@ -347,8 +348,7 @@ def find_plan(
     >>> plan.status.value, plan.optimality.proved, plan.reason
     ('infeasible', True, 'exhausted all plans with ≤ 1 bounces (1 beliefs reached): none reaches the goal')
     """
-    if objective not in OBJECTIVES:
-        raise InputError(f"unknown objective {objective!r}: use {', '.join(OBJECTIVES)}")
+    objective = Objective.parse(objective, "objective").value
     allowed = METHODS[objective]
     if method not in allowed:
         raise InputError(f"unknown method {method!r} for objective {objective!r}: use {', '.join(allowed)}")

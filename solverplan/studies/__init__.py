@@ -13,9 +13,10 @@
 - :mod:`~solverplan.studies.rewrite` — the same walls written differently (collinear vertices, split edges,
   exact rotations, another ring start, the opposite vertex order) with the query mapped exactly, and answer
   summaries to compare: issue #22's invariance tests and ``benchmarks/invariance_study.py``.
-- :mod:`~solverplan.studies.rooms` — robots bouncing through the rooms and doors of a rectilinear polygon
-  (Çağırıcı, Bahoo and LaValle): the smart, random and billiard rules side by side (their Table I), with door
-  control and exact detection of periodic orbits.
+
+The rooms model's simulation (the smart, random and billiard rules side by side, their Table I) sits with its
+model in :mod:`solverplan.rectilinear.simulation`, on the rollout engine below the models
+(:mod:`solverplan.rollout`); it is re-exported here for the studies that compare rules.
 
 Programs that run a study on a process pool must guard their entry point
 (``if __name__ == "__main__":``): the workers start with the ``forkserver`` method.
@@ -24,7 +25,7 @@ Programs that run a study on a process pool must guard their entry point
 from solverplan.studies.catalog import DEFAULT_GRIDS, STUDIES, build_study
 from solverplan.studies.execute import StudyInterrupted, StudyResult, run_study
 from solverplan.studies.metrics import ConnectivityMetric, Metric, ReachabilityMetric
-from solverplan.studies.rooms import RoomRuns, RuleComparison, compare_rules, periodic_orbit, simulate_rooms
+from solverplan.rectilinear.simulation import RoomRuns, RuleComparison, compare_rules, periodic_orbit, simulate_rooms
 from solverplan.studies.rule_systems import RuleReachability
 from solverplan.studies.study import Heatmap, Study, StudyTable, parse_grid, parse_values, row_seed, run_task
 
