@@ -41,6 +41,8 @@ _EXPORTS: dict[str, str] = {
     "load_environment": "solverplan.environment",
     "Interval": "solverplan.interval",
     "models": "solverplan.models",
+    # the named options of the library's functions: each takes the member or its string
+    "choices": "solverplan.choices",
     # run-time settings: the graph cache and the memory limit
     "config": "solverplan.runtime",
     "watching": "solverplan.progress",
@@ -138,7 +140,7 @@ _EXPORTS: dict[str, str] = {
 __all__ = sorted(_EXPORTS)
 
 if TYPE_CHECKING:  # what type checkers and readers see; at run time the names load lazily
-    from solverplan import models
+    from solverplan import choices, models
     from solverplan.runtime import Settings, config, configure, settings
     from solverplan.progress import Stopped, watching
     from solverplan.bounce.bvg import bounce_visibility_graph, safe_bounce_visibility_graph
