@@ -42,8 +42,7 @@ from typing import Any, Iterable, Literal, Sequence
 
 import numpy as np
 
-from solverplan.choices import EnvironmentFormat
-from solverplan._io import atomic_write_text, check_json_values, read_input_text, shown_path
+from solverplan._io import atomic_write_text, check_json_values, file_format, read_input_text, shown_path
 from solverplan._shipped import model_file, model_names
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
 from solverplan.limits import (
@@ -1192,16 +1191,7 @@ def format_environment(env: Environment, fmt: FileFormat = "json") -> str:
 
 
 def _format_of(path: Path, fmt: str | None) -> FileFormat:
-    if fmt:
-        if fmt not in EnvironmentFormat.values():
-            raise MalformedFile(f"unknown format {fmt!r}: use json, geojson or wkt")
-        return fmt  # type: ignore[return-value]
-    try:
-        return _EXTENSIONS[path.suffix.lower()]
-    except KeyError:
-        raise MalformedFile(
-            f"{path}: cannot tell the format from the extension {path.suffix!r}: use .json, .geojson or .wkt, or name the format"
-        ) from None
+    return file_format(path, fmt, _EXTENSIONS)  # type: ignore[return-value]
 
 
 def _no_such_file(path: str) -> str:

@@ -347,10 +347,7 @@ def _partial_goal_segments(env: Environment, part: Partition, goal: str) -> set[
 
 # ---------------------------------------------------------------------- contraction answers
 def _patrol(result: Patrol, env: Environment | None, part: Partition | None) -> Certificate:
-    if not result.found:
-        raise NothingToCertify(f"the patrol has status {result.status.value!r}: there is no cycle to certify",
-                               why=f"the patrol has status {result.status.value!r}")
-    env, part = _own_environment(result, env, part)
+    env, part = _found_in_own_environment(result, env, part, "the patrol", "cycle")
     stages: list[StageSpec] = []
     for st in result.entry:
         stages.append(StageSpec(st.interval, _plan_moves(part, st.moves, st.sources)))
@@ -388,10 +385,7 @@ def _cycle_move(env: Environment, part: Partition, stage: Any) -> MoveSpec:
 def _funnel(result: PositionStrategy, env: Environment | None, part: Partition | None) -> Certificate:
     """Funnels and localisation strategies: each stage's moves leave the exact position pieces with the
     planner's exact cones."""
-    if not result.found:
-        raise NothingToCertify(f"the answer has status {result.status.value!r}: there is no strategy to certify",
-                               why=f"the {result.kind} has status {result.status.value!r}")
-    env, part = _own_environment(result, env, part)
+    env, part = _found_in_own_environment(result, env, part, f"the {result.kind}", "strategy")
     stages: list[StageSpec] = []
     for st in result.stages:
         if st.sources is None or st.cones is None:
@@ -403,6 +397,16 @@ def _funnel(result: PositionStrategy, env: Environment | None, part: Partition |
     return build_certificate(env, part, stages, start=result.start, goal=result.goal,
                              kind="localize" if epsilon is not None else "funnel", epsilon=epsilon,
                              objective=f"{result.kind}-fewest", optimality=_contraction_optimality(result.optimality))
+
+
+def _found_in_own_environment(result: Any, env: Environment | None, part: Partition | None, answer: str,
+                              certified: str) -> tuple[Environment, Partition]:
+    """:func:`_own_environment` of a found contraction answer; for any other, :class:`NothingToCertify` saying
+    that ``answer`` (its name in words) has no ``certified`` thing to certify."""
+    if not result.found:
+        status = f"{answer} has status {result.status.value!r}"
+        raise NothingToCertify(f"{status}: there is no {certified} to certify", why=status)
+    return _own_environment(result, env, part)
 
 
 def _own_environment(result: Any, env: Environment | None, part: Partition | None) -> tuple[Environment, Partition]:

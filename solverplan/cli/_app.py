@@ -117,10 +117,12 @@ def parse_size(text: str, option: str = "--max-memory") -> int:
     return int(value * units[unit])
 
 
-def load_env(env: Path, env_format: EnvFormat | None) -> Environment:
-    """The environment named on the command line (format from the extension unless given)."""
+def load_env(env: Path, env_format: EnvFormat | None, picture: Path | None = None) -> Environment:
+    """The environment named on the command line (format from the extension unless given); a ``picture`` path
+    (--picture) with an unknown extension is refused first."""
     from solverplan.environment import load_environment
 
+    check_picture(picture)
     return load_environment(env, env_format.value if env_format else None)
 
 

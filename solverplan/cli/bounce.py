@@ -10,7 +10,7 @@ import typer
 from solverplan.choices import CycleMethod, Objective, PatrolObjective, Sampling, Ties
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
 from solverplan.cli._options import (
     CertificateOpt,
@@ -20,7 +20,7 @@ from solverplan.cli._options import (
     PositionToleranceOpt,
     TimeoutOpt,
     command_timeout,
-    write_certificate_file,
+    emit_checked,
 )
 from solverplan.cli._output import EnvFormat, OutputFormat, emit
 
@@ -181,23 +181,10 @@ def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, cer
     from solverplan.certify.gate import checked_answer
 
     with exit_codes(verbose):
-        check_picture(picture)
-        environment = load_env(env, env_format)
+        environment = load_env(env, env_format, picture)
         checked = checked_answer(lambda: solve(environment), env=environment, start=start, goal=goal)
-        result = checked.answer
-        if result.found:
-            _write_extras(result, certificate, picture, checked.certificate)
-        emit(result, fmt, out)
-
-
-def _write_extras(result: Any, certificate: Path | None, picture: Path | None, checked: Any = None) -> None:
-    """The --certificate and --picture files of a contraction answer (patrol, funnel, localize)."""
-    if certificate is not None:
-        write_certificate_file(result, certificate, checked=checked)
-    if picture is not None:
-        from solverplan.render import render_answer, save_figure
-
-        save_figure(render_answer(result), picture)
+        found = checked.answer.found  # a strategy not found has nothing to certify or draw
+        emit_checked(checked, fmt, out, certificate=certificate if found else None, picture=picture if found else None)
 
 
 FromSetOpt = Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4 (may span edges and segments: the plan works from every point).")]
@@ -250,10 +237,7 @@ def plan_command(
                              min_width=heading_accuracy)
 
         checked = checked_answer(solve, env=environment, start=start, goal=goal)  # exact check before it leaves
-        answer = checked.answer
-        if certificate is not None:
-            write_certificate_file(answer, certificate, environment, checked.certificate)
-        emit(answer, fmt, out)
+        emit_checked(checked, fmt, out, env=environment, certificate=certificate)
 
 
 @app.command(name="simulate")

@@ -9,10 +9,10 @@ import typer
 
 from solverplan.choices import CellKind, Reflections, RobotKind, ScenarioName, StartMode, or_all
 from solverplan.limits import MAX_SEED, MAX_TRAJECTORIES
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import CertificateOpt, PictureOpt, parse_xy, write_certificate_file
-from solverplan.cli._output import OutputFormat, emit, emit_string, json_text
+from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, parse_xy
+from solverplan.cli._output import OutputFormat, emit_string, json_text
 
 if TYPE_CHECKING:
     from solverplan.choices import Choice as ScenarioOrAll
@@ -54,8 +54,7 @@ def fields_command(
     from solverplan.reflection.navigation import navigate_fields
 
     with exit_codes(verbose):
-        check_picture(picture)
-        environment = load_env(env, env_format)
+        environment = load_env(env, env_format, picture)
         names = ScenarioName.values() if scenario == "all" else (scenario.value,)
         if trajectories is None:  # a picture without runs shows empty corridors: draw a few by default
             trajectories = min(5, trials) if picture is not None else 0
@@ -64,8 +63,9 @@ def fields_command(
             environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names, model=robot,
             trials=trials, seed=seed, trajectories=trajectories, arcs=arcs, fast=fast, slow=slow, gain_line=gain_line,
             gain_arc=gain_arc, reflections=reflections.value, starts=starts.value, cells=cells.value), env=environment)
-        _write_extras(checked, environment, certificate, export, picture)  # checked exactly before it leaves
-        emit(checked.answer, fmt, out)
+        if export is not None:  # its cells and fields checked exactly before it leaves
+            emit_string(json_text(checked.answer.plan.export(), 1) + "\n", export)
+        emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture)
 
 
 def _robot(model: RobotKind, accel: float, restitution: float, control_rate: float) -> Any:
@@ -75,18 +75,3 @@ def _robot(model: RobotKind, accel: float, restitution: float, control_rate: flo
     physics = max(400.0, control_rate)
     return FieldRobotDynamics(kind=model.value, accel=accel, restitution=restitution, control_rate=control_rate,
                               physics_rate=control_rate * max(1, round(physics / control_rate)))
-
-
-def _write_extras(checked: Any, environment: Any, certificate: Path | None, export: Path | None,
-                  picture: Path | None) -> None:
-    """The --certificate, --export (the composed field for a controller) and --picture files."""
-    answer = checked.answer
-    if certificate is not None:
-        write_certificate_file(answer, certificate, environment, checked.certificate)
-    if export is not None:
-        emit_string(json_text(answer.plan.export(), 1) + "\n", export)
-    if picture is not None:
-        from solverplan.render import save_figure
-        from solverplan.render.fields import render_fields
-
-        save_figure(render_fields(answer), picture)

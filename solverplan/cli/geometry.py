@@ -3,19 +3,17 @@
 from __future__ import annotations
 
 import logging
-import sys
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from solverplan._io import atomic_write_chunks, cannot_write
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._output import OutputFormat, emit, emit_string, json_indent
+from solverplan.cli._output import OutputFormat, emit, emit_chunks, emit_string, json_indent
 
 logger = logging.getLogger(__name__)
 
@@ -91,17 +89,7 @@ def graph_command(
         elif fmt is GraphFormat.JSON and json_indent() in (None, -1) and view.n_arcs > 20_000:
             # a large graph (its text well over JSON_INDENT_LIMIT) is compact JSON (json_text): the same bytes,
             # encoded and written a chunk of arcs at a time (never the whole text in memory)
-            chunks = view.json_chunks(end=b"\n")
-            if out is None:
-                for chunk in chunks:
-                    sys.stdout.buffer.write(chunk)
-                sys.stdout.flush()
-            else:
-                try:
-                    atomic_write_chunks(out, chunks)
-                except OSError as exc:
-                    raise InputError(cannot_write(out, exc)) from None
-                logger.info("wrote %s", out)
+            emit_chunks(view.json_chunks(end=b"\n"), out)
         else:
             emit(view, OutputFormat(fmt.value), out)
 

@@ -10,9 +10,9 @@ import typer
 from solverplan.choices import DoorPolicy, RoomRule, ThetaMode, or_all
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
-from solverplan.cli._errors import exit_codes, fail
-from solverplan.cli._options import CertificateOpt, PictureOpt, write_certificate_file
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
+from solverplan.cli._errors import exit_codes, invalid
+from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, save_picture
 from solverplan.cli._output import OutputFormat, emit
 
 if TYPE_CHECKING:
@@ -53,16 +53,15 @@ def rooms_command(
                 raise InputError("--check checks an answer file: drop the options of --simulate and --picture")
         return _check_answer(env, env_format, check, fmt, out, verbose)
     with exit_codes(verbose):
-        check_picture(picture)
         if simulate and certificate is not None:
             raise InputError("--certificate certifies the rooms and doors: drop --simulate (its statistics are not claims)")
         if not simulate and (start is not None or goal is not None or tour):
             raise InputError("--from, --to and --tour choose the rooms of --simulate: add --simulate")
         if simulate and (start is None or (goal is None) == (not tour)):
             raise InputError("--simulate needs --from ROOM and either --to ROOM or --tour")
-        environment = load_env(env, env_format)
+        environment = load_env(env, env_format, picture)
         if not simulate:
-            return _decompose(environment, certificate, picture, fmt, out)
+            return _decompose(environment, certificate, fmt, out, picture)
         assert start is not None
         _simulate(environment, start, goal, tour, rule, picture, fmt, out, trials=trials, seed=seed,
                   max_bounces=max_bounces, doors=doors.value, per_room=per_room, theta=theta.value)
@@ -80,7 +79,8 @@ def _simulate(environment: Any, start: int, goal: int | None, tour: bool, rule: 
     names = RULE_VARIANTS if rule == "all" else (rule.value,) + tuple(n for n in RULE_VARIANTS if n != rule.value)
     answer = compare_rules(dec, start, walk[-1], rules=names, walk=walk, keep=1 if picture else 0, **options)
     if picture is not None:
-        _save_rooms_picture(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}, picture)
+        save_picture(picture, "rooms.render_rooms", dec,
+                     {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories})
     emit(answer if rule == "all" else answer.runs[rule.value], fmt, out)
 
 
@@ -92,28 +92,14 @@ def _check_answer(env: Path, env_format: Any, check: Path, fmt: OutputFormat, ou
         report = check_rooms(load_env(env, env_format), load_rooms_answer(check))
         emit(report, fmt, out)
     if not report.valid:
-        more = len(report.failures) - 1
-        suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
-        raise fail(f"rooms answer invalid: {report.failures[0]}", 1, suffix)
+        raise invalid("rooms answer", report.failures)
 
 
-def _decompose(environment: Any, certificate: Path | None, picture: Path | None, fmt: OutputFormat,
-               out: Path | None) -> None:
+def _decompose(environment: Any, certificate: Path | None, fmt: OutputFormat, out: Path | None,
+               picture: Path | None) -> None:
     """The rooms and doors, checked exactly before they leave, with the --certificate and --picture."""
     from solverplan.certify.gate import checked_answer
     from solverplan.rectilinear import decompose_rooms
 
     checked = checked_answer(lambda: decompose_rooms(environment), env=environment)
-    if certificate is not None:
-        write_certificate_file(checked.answer, certificate, environment, checked.certificate)
-    if picture is not None:
-        _save_rooms_picture(checked.answer, None, picture)
-    emit(checked.answer, fmt, out)
-
-
-def _save_rooms_picture(dec: Any, trajectories: Any, picture: Path) -> None:
-    """--picture: matplotlib is imported here only (about 0.3 s), not by every ``rooms`` command."""
-    from solverplan.render import save_figure
-    from solverplan.render.rooms import render_rooms
-
-    save_figure(render_rooms(dec, trajectories) if trajectories is not None else render_rooms(dec), picture)
+    emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture)

@@ -10,9 +10,9 @@ import typer
 from solverplan.choices import Comparisons, Sensor
 from solverplan.limits import MAX_SEED
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import CertificateOpt, PictureOpt, parse_pair, write_certificate_file
+from solverplan.cli._options import CertificateOpt, PictureOpt, parse_pair, save_picture, write_certificate_file
 from solverplan.cli._output import OutputFormat, emit
 
 
@@ -45,8 +45,7 @@ def wallfollow_command(
         _check_modes(cut_ordering, learn, count, pursuit, pursuit_options=(sensor, origin, max_states),
                      learn_options=(transcript, comparisons), place=(start, heading), walk=(steps, seed),
                      certificate=certificate)
-        check_picture(picture)
-        environment = load_env(env, env_format)
+        environment = load_env(env, env_format, picture)
         perturbation = None
         if perturb:
             from solverplan.wallfollow.perturbation import perturb as make_general
@@ -114,9 +113,7 @@ def _check_and_draw(environment: Any, answer: Any, mode: str, certificate: Path 
         checked = checked_answer(lambda: certified, env=environment)
         if certificate is not None:
             write_certificate_file(certified, certificate, environment, checked.certificate)
-    if picture is not None:
-        from solverplan.render import save_figure
-        from solverplan.render.wallfollow import render_cuts, render_pursuit
-
-        figure = render_pursuit(environment, answer) if mode == "pursuit" else render_cuts(environment, learned)
-        save_figure(figure, picture)
+    if mode == "pursuit":
+        save_picture(picture, "wallfollow.render_pursuit", environment, answer)
+    else:
+        save_picture(picture, "wallfollow.render_cuts", environment, learned)

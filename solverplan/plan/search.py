@@ -371,15 +371,10 @@ def find_plan(
                              "objectives with their default methods")
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    try:
-        with deadline.watching():
-            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
-                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
-                                       max_depth=k_max)
-    except Stopped as exc:
-        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
-                                          corner_clearance=corner_clearance)
-        return _stopped_in_setup(env, start, goal, objective, k_max, deadline, exc, time.perf_counter() - t0, margins)
+    problem = _query_problem(env, start, goal, objective, k_max, deadline, t0, graph=graph,
+                             heading_margin=heading_margin, safe_margin=safe_margin, corner_clearance=corner_clearance)
+    if isinstance(problem, Plan):
+        return problem
     common = _common(problem, k_max)
     t1 = time.perf_counter()
     if deadline.expired():
@@ -397,6 +392,21 @@ def find_plan(
                              admissible_intervals=problem.n_admissible, **_graph_counts(problem))
     logger.info("%s plan: %s in %.3f s", objective, plan.status.value, t2 - t1)
     return plan.with_(stats=stats)
+
+
+def _query_problem(env: Environment, start: str | BoundarySet, goal: str | BoundarySet, objective: str,
+                   k_max: int | None, deadline: Deadline, t0: float, *, graph: SafeBVG | None, heading_margin: float,
+                   safe_margin: float, corner_clearance: float | None) -> Problem | Plan:
+    """The query's planning problem, built under ``deadline`` (started at ``t0``); or, when the timeout comes while
+    it is built, the ``not-found`` plan of :func:`_stopped_in_setup`."""
+    try:
+        with deadline.watching():
+            return planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
+                                    safe_margin=safe_margin, corner_clearance=corner_clearance, max_depth=k_max)
+    except Stopped as exc:
+        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+                                          corner_clearance=corner_clearance)
+        return _stopped_in_setup(env, start, goal, objective, k_max, deadline, exc, time.perf_counter() - t0, margins)
 
 
 def _stopped_in_setup(env: Environment, start: str | BoundarySet, goal: str | BoundarySet, objective: str,
@@ -757,15 +767,10 @@ def pareto_front(
     k_max = _check_budget(max_bounces)
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    try:
-        with deadline.watching():
-            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
-                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
-                                       max_depth=k_max)
-    except Stopped as exc:
-        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
-                                          corner_clearance=corner_clearance)
-        plan = _stopped_in_setup(env, start, goal, "tolerance", k_max, deadline, exc, time.perf_counter() - t0, margins)
+    problem = _query_problem(env, start, goal, "tolerance", k_max, deadline, t0, graph=graph,
+                             heading_margin=heading_margin, safe_margin=safe_margin, corner_clearance=corner_clearance)
+    if isinstance(problem, Plan):  # the timeout came while the query was built
+        plan = problem
         return ParetoFront((), plan.optimality, plan.start, plan.goal, k_max, reason=plan.reason,
                            environment=plan.environment, stats=plan.stats)
     common = _common(problem, k_max)

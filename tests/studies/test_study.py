@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 
 from solverplan.errors import InputError, SolverFailed
+from solverplan.generators import generate
 from solverplan.studies import (
     ConnectivityMetric,
     ReachabilityMetric,
     Study,
     StudyInterrupted,
     build_study,
-    generate,
     parse_grid,
     parse_values,
     row_seed,
