@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import logging
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from solverplan.choices import GraphFormat
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
@@ -48,13 +48,6 @@ def partition_command(
     with exit_codes(verbose):
         environment = load_env(env, env_format)
         emit(partition_boundary(environment), fmt, out)
-
-
-class GraphFormat(StrEnum):
-    JSON = "json"
-    TEXT = "text"
-    GRAPHML = "graphml"
-    DOT = "dot"
 
 
 @app.command(name="graph")
