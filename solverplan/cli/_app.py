@@ -96,7 +96,10 @@ def _root(
     }
     if max_memory is not None:
         changes["max_memory"] = parse_size(max_memory)
-    # the layout and the settings belong to this one command line (tests run many in one process)
+    # the layout, the settings and the --timeout clock belong to this one command line (tests run many in one process)
+    from solverplan.cli._options import start_command_clock
+
+    start_command_clock()
     set_json_indent(-1 if compact else indent)
     ctx.call_on_close(lambda: set_json_indent(None))
     ctx.with_resource(config(**changes))

@@ -56,6 +56,16 @@ def _process_age() -> float:
 
 _IMPORTED = time.monotonic()
 _STARTED = _IMPORTED - _process_age()
+_COMMANDS = 0
+
+
+def start_command_clock() -> None:
+    """Called as each command line starts: the first in a process counts from the process's start (its start-up is
+    part of the user's wait); a later one in the same process (tests, a notebook calling ``app``) from now."""
+    global _STARTED, _COMMANDS
+    if _COMMANDS:
+        _STARTED = time.monotonic()
+    _COMMANDS += 1
 _ANSWER_RESERVE = 0.3
 """Seconds of a --timeout kept for what follows the search: the exact check of the answer and writing it."""
 
