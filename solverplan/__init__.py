@@ -51,7 +51,7 @@ _EXPORTS: dict[str, str] = {
     "settings": "solverplan.runtime",
     "Settings": "solverplan.runtime",
     # model structures of the main paper
-    "partition": "solverplan.bounce.partition",
+    "partition": "solverplan.bounce.partitions",
     "bounce_visibility_graph": "solverplan.bounce.bvg",
     "safe_bounce_visibility_graph": "solverplan.bounce.bvg",
     "limit_cycle": "solverplan.bounce.cycles",
@@ -146,7 +146,7 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.bounce.bvg import bounce_visibility_graph, safe_bounce_visibility_graph
     from solverplan.bounce.controller import constant_controller
     from solverplan.bounce.cycles import LimitCycle, limit_cycle
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
     from solverplan.certify.build import certificate, write_certificate
     from solverplan.certify.check import check_certificate
     from solverplan.certify.schema import load_certificate

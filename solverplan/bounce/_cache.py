@@ -74,7 +74,7 @@ from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, configure, d
 
 if TYPE_CHECKING:
     from solverplan.bounce.bvg.graph import SafeBVG
-    from solverplan.bounce.partition import Partition
+    from solverplan.bounce.partitions import Partition
     from solverplan.environment import Environment
 
 __all__ = ["FORMAT_VERSION", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "GraphCacheReport", "set_graph_cache",

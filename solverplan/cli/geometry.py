@@ -43,7 +43,7 @@ def partition_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """The partition P′ of Algorithm 1: vertices per ring, segments (id, edge, t0, t1, a, b), inserted points."""
-    from solverplan.bounce.partition import partition as partition_boundary
+    from solverplan.bounce.partitions import partition as partition_boundary
 
     with exit_codes(verbose):
         environment = load_env(env, env_format)

@@ -17,7 +17,7 @@ import pytest
 from solverplan.bounce import _cache
 from solverplan.bounce import bvg as bvg_api
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
-from solverplan.bounce.partition import Partition, PartitionSegment, partition
+from solverplan.bounce.partitions import Partition, PartitionSegment, partition
 from solverplan.environment import Environment, load_environment
 from solverplan.generators import star_polygon
 from tests.cache_entries import interval_rows, old_digest, read_entry, with_sets, write_entry
@@ -96,7 +96,7 @@ def test_loading_does_not_rebuild_the_partition(cache, monkeypatch):
     p = partition(load_environment("two_rooms"))
     built = safe_bounce_visibility_graph(p)
     bvg_api.clear_graph_cache()
-    monkeypatch.setattr("solverplan.bounce.partition.partition", lambda e: pytest.fail("partition rebuilt"))
+    monkeypatch.setattr("solverplan.bounce.partitions.partition", lambda e: pytest.fail("partition rebuilt"))
     monkeypatch.setattr("solverplan.bounce.bvg.graph.make_partition", lambda e: pytest.fail("partition rebuilt"))
     read = safe_bounce_visibility_graph(p)
     assert read.stats.get("cached") is True and read.partition is p and same_graph(read, built)
