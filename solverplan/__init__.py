@@ -41,6 +41,8 @@ _EXPORTS: dict[str, str] = {
     "load_environment": "solverplan.environment",
     "Interval": "solverplan.interval",
     "models": "solverplan.models",
+    # the named options of the library's functions: each takes the member or its string
+    "choices": "solverplan.choices",
     # run-time settings: the graph cache and the memory limit
     "config": "solverplan.runtime",
     "watching": "solverplan.progress",
@@ -49,7 +51,7 @@ _EXPORTS: dict[str, str] = {
     "settings": "solverplan.runtime",
     "Settings": "solverplan.runtime",
     # model structures of the main paper
-    "partition": "solverplan.bounce.partition",
+    "partition": "solverplan.bounce.partitions",
     "bounce_visibility_graph": "solverplan.bounce.bvg",
     "safe_bounce_visibility_graph": "solverplan.bounce.bvg",
     "limit_cycle": "solverplan.bounce.cycles",
@@ -138,13 +140,13 @@ _EXPORTS: dict[str, str] = {
 __all__ = sorted(_EXPORTS)
 
 if TYPE_CHECKING:  # what type checkers and readers see; at run time the names load lazily
-    from solverplan import models
+    from solverplan import choices, models
     from solverplan.runtime import Settings, config, configure, settings
     from solverplan.progress import Stopped, watching
     from solverplan.bounce.bvg import bounce_visibility_graph, safe_bounce_visibility_graph
     from solverplan.bounce.controller import constant_controller
     from solverplan.bounce.cycles import LimitCycle, limit_cycle
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
     from solverplan.certify.build import certificate, write_certificate
     from solverplan.certify.check import check_certificate
     from solverplan.certify.schema import load_certificate

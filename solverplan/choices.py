@@ -28,7 +28,7 @@ from solverplan.errors import InputError
 __all__ = [
     "Choice", "Objective", "PatrolObjective", "CycleMethod", "Sampling", "Ties", "ExportFormat", "ViewChoice",
     "RoomRule", "ThetaMode", "DoorPolicy", "Sensor", "Comparisons", "RobotKind", "ScenarioName", "CellKind",
-    "Reflections", "StartMode", "StudyGenerator", "EnvironmentFormat", "FloorplanFormat", "named_choice", "or_all",
+    "Reflections", "StartMode", "StudyGenerator", "EnvironmentFormat", "GraphFormat", "FloorplanFormat", "named_choice", "or_all",
 ]
 
 C = TypeVar("C", bound="Choice")
@@ -212,6 +212,15 @@ class EnvironmentFormat(Choice):
     JSON = "json"
     GEOJSON = "geojson"
     WKT = "wkt"
+
+
+class GraphFormat(Choice):
+    """How a safe bounce visibility graph is written: the JSON of ``docs/contract.md``, text, GraphML, Graphviz DOT."""
+
+    JSON = "json"
+    TEXT = "text"
+    GRAPHML = "graphml"
+    DOT = "dot"
 
 
 class FloorplanFormat(Choice):

@@ -321,7 +321,7 @@ class Rollouts:
     def segments(self, partition: Any) -> np.ndarray:
         """The P′ segment id of every recorded contact (−1 where there is none), shaped like ``edge``.
 
-        ``partition`` is a :class:`~solverplan.bounce.partition.Partition` (its ``segments_at``; a float
+        ``partition`` is a :class:`~solverplan.bounce.partitions.Partition` (its ``segments_at``; a float
         t within rounding of an inserted point may land on either side of it).
         """
         out = np.full(self.edge.shape, -1, dtype=np.int64)

@@ -315,7 +315,7 @@ def plan_policy(env: Environment, plan: Any, *, sampling: Sampling | str = "unif
     Raises :class:`InputError` for an infeasible plan, a plan without stages, or a plan made in
     another environment.
     """
-    from solverplan.bounce.partition import partition as make_partition
+    from solverplan.bounce.partitions import partition as make_partition
     from solverplan.plan.result import Plan
 
     if not isinstance(plan, Plan):

@@ -97,17 +97,11 @@ def test_library_modules_never_print():
         assert not calls, f"{path.relative_to(PACKAGE)} calls print() on line {calls[0].lineno}"
 
 
-# modules still named like a function they define, with the reason they wait (empty when the house is in order)
-_NAME_CLASH_PENDING = {"bounce/partition.py"}  # helpers perf and inv edit it this session: renamed last
-
-
 def test_no_module_is_named_like_a_function_it_defines():
     """``solverplan.plan.patrols`` is the module and ``patrol`` its function: a package that re-exports a function
     named like one of its modules makes ``package.name`` mean the module or the function by import order."""
     for path, _part in _modules():
         rel = str(path.relative_to(PACKAGE))
-        if rel in _NAME_CLASH_PENDING:
-            continue
         tree = ast.parse(path.read_text())
         defined = {node.name for node in tree.body if isinstance(node, (ast.FunctionDef, ast.ClassDef))}
         assert path.stem not in defined, f"{rel} defines {path.stem}(): name the module for what it holds"

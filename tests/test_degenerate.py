@@ -29,7 +29,7 @@ from typer.testing import CliRunner
 from solverplan import cli
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.cycles import limit_cycle
-from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.partitions import Partition, partition
 from solverplan.environment import Environment
 from solverplan.exact import to_fraction
 from solverplan.plan import find_plan

@@ -4,7 +4,7 @@ A safe BVG is a function of its partition P′ alone: the environment's exact ri
 points of every segment (Algorithm 1's, and any extra cut a planner refines the partition with). So a
 graph is keyed by the **partition digest** (:func:`partition_digest`): the SHA-256 of the rings and of
 every segment's exact ``(edge, t0, t1)``. Computing it reads the partition the caller already has; it
-never rebuilds one. The graph of P′ itself — the partition :func:`~solverplan.bounce.partition.partition`
+never rebuilds one. The graph of P′ itself — the partition :func:`~solverplan.bounce.partitions.partition`
 makes, which is a function of the environment's exact rings alone — is keyed by the **environment digest**
 (:func:`environment_digest`, the SHA-256 of the exact rings: of the canonical walls when the planners ask) and
 its entry keeps P′'s inserted points, so a process that finds it rebuilds neither the graph nor the
@@ -83,7 +83,7 @@ from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, configure, d
 
 if TYPE_CHECKING:
     from solverplan.bounce.bvg.graph import SafeBVG
-    from solverplan.bounce.partition import InsertedPoint, Partition
+    from solverplan.bounce.partitions import InsertedPoint, Partition
     from solverplan.environment import Environment
 
 __all__ = ["FORMAT_VERSION", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "GraphCacheReport", "set_graph_cache",
@@ -234,8 +234,8 @@ def _entry_name(digest: str, kind: str = "partition") -> str:
 
 
 def _is_plain(p: Partition) -> bool:
-    """Is ``p`` P′ of its environment, as :func:`~solverplan.bounce.partition.partition` made it in this process?"""
-    from solverplan.bounce.partition import is_remembered
+    """Is ``p`` P′ of its environment, as :func:`~solverplan.bounce.partitions.partition` made it in this process?"""
+    from solverplan.bounce.partitions import is_remembered
 
     return is_remembered(p)
 
@@ -243,7 +243,7 @@ def _is_plain(p: Partition) -> bool:
 # ---------------------------------------------------------------------- lookup and store
 def lookup_environment(env: Environment) -> SafeBVG | None:
     """The graph of ``env``'s plain partition P′ if it is in memory or in the disk cache, else ``None``; no partition
-    is made (one read from disk comes with its P′, which :func:`~solverplan.bounce.partition.partition` then
+    is made (one read from disk comes with its P′, which :func:`~solverplan.bounce.partitions.partition` then
     returns for ``env`` in this process)."""
     with _lock:
         if _fresh:
@@ -396,7 +396,7 @@ def _inserted_rows(p: Partition) -> list[list]:
 def _load_plain(directory: Path, env: Environment) -> SafeBVG | None:
     """The graph of P′ of ``env`` with P′ itself rebuilt from the entry's inserted points (no Algorithm 1), if the
     entry passes every check and P′ has the partition digest it names; else ``None`` (a miss)."""
-    from solverplan.bounce.partition import assemble, remember
+    from solverplan.bounce.partitions import assemble, remember
 
     path = directory / f"{_entry_name(environment_digest(env), 'environment')}{_SUFFIX}"
     found = _read_entry(path, None, None)
@@ -420,7 +420,7 @@ def _load_plain(directory: Path, env: Environment) -> SafeBVG | None:
 def _inserted_points(env: Environment, rows: object) -> list[InsertedPoint]:
     """The inserted points of an entry's header, checked to be points strictly inside edges of ``env`` with
     provenance in range (their exact points are computed here, not read)."""
-    from solverplan.bounce.partition import InsertedPoint
+    from solverplan.bounce.partitions import InsertedPoint
 
     n = env.n_vertices
     if not isinstance(rows, list):

@@ -65,7 +65,7 @@ from solverplan.bounce.dynamics import (
     parse_heading,
     theorem1_fixed_point,
 )
-from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.partitions import Partition, partition
 from solverplan.bounce.rules import check_edges
 from solverplan.bounce.transitions import AffineMap
 from solverplan.environment import Environment

@@ -371,7 +371,7 @@ def safe_interval(src: object, dst: object) -> Interval:
     ----------
     src, dst
         Two end points each (numbers as in :func:`solverplan.exact.to_fraction`), or objects with
-        ``.a`` and ``.b`` (a :class:`~solverplan.bounce.partition.PartitionSegment`, an
+        ``.a`` and ``.b`` (a :class:`~solverplan.bounce.partitions.PartitionSegment`, an
         :class:`~solverplan.environment.Edge`).
 
     >>> safe_interval(((0, 0), (2, 0)), ((4, 2), (0, 2)))          # lines meet below e_i: case 1

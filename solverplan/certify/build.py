@@ -61,7 +61,7 @@ from pathlib import Path
 from typing import Any, Callable, Literal
 
 from solverplan._io import atomic_write_text
-from solverplan.bounce.partition import Partition, partition as make_partition
+from solverplan.bounce.partitions import Partition, partition as make_partition
 from solverplan.certify.check import CheckReport, Failure, check_certificate
 from solverplan.certify import build_models as models
 from solverplan.certify.schema import (Certificate, Claims, EnvironmentRecord, ModelCertificate, Optimality as ClaimedOptimality,
@@ -138,7 +138,7 @@ def certificate(result: Any, *, env: Environment | None = None,
         Answers that carry their environment need none; if given, it must have the same rings.
     partition
         The partition P′ of ``env`` the answer's segment ids refer to (default: the answer's own, or
-        :func:`~solverplan.bounce.partition.partition` of ``env``).
+        :func:`~solverplan.bounce.partitions.partition` of ``env``).
 
     Returns
     -------

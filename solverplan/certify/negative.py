@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 import re
 from fractions import Fraction
-from solverplan.bounce.partition import partition as make_partition
+from solverplan.bounce.partitions import partition as make_partition
 from solverplan.certify.invariant import Closure, Geometry
 from solverplan.certify.schema import BeliefRecord, BoundClaim, Point
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment

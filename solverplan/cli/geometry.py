@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import logging
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from solverplan.choices import GraphFormat
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
@@ -43,18 +43,11 @@ def partition_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """The partition P′ of Algorithm 1: vertices per ring, segments (id, edge, t0, t1, a, b), inserted points."""
-    from solverplan.bounce.partition import partition as partition_boundary
+    from solverplan.bounce.partitions import partition as partition_boundary
 
     with exit_codes(verbose):
         environment = load_env(env, env_format)
         emit(partition_boundary(environment), fmt, out)
-
-
-class GraphFormat(StrEnum):
-    JSON = "json"
-    TEXT = "text"
-    GRAPHML = "graphml"
-    DOT = "dot"
 
 
 @app.command(name="graph")

@@ -49,7 +49,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from solverplan.interval import Interval
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError

@@ -35,7 +35,7 @@ from fractions import Fraction
 from functools import cached_property
 from typing import Iterable, Mapping
 
-from solverplan.bounce.partition import Partition, PartitionSegment, partition as make_partition
+from solverplan.bounce.partitions import Partition, PartitionSegment, partition as make_partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.geometry.walls import StraightWalls, canonical_start, collinear_vertices
 

@@ -109,7 +109,7 @@ def plan_in_world(plan: Any, env: Environment) -> list[dict]:
     >>> stage["lands_on"][0]["wall"]
     [[6.0, 3.0], [-2.0, 3.0]]
     """
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     if not getattr(plan, "found", False):
         raise InputError(f"only a found plan can be exported, this one is {plan.status.value!r}")

@@ -35,7 +35,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
-from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.partitions import Partition, partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.limits import MAX_BOUNCES, quote

@@ -44,7 +44,7 @@ from fractions import Fraction
 import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN

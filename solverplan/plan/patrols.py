@@ -72,7 +72,7 @@ from solverplan.choices import PatrolObjective
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.dynamics import ExactHeading, cycles_to_epsilon
 from solverplan.interval import Interval
-from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.partitions import Partition, partition
 from solverplan.bounce.transitions import affine_map
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet, SolverFailed

@@ -177,7 +177,7 @@ def query_graph(walls: PartitionedWalls, start: BoundarySet, max_depth: int | No
     whole segment, but sees parts of it the ends do not), which only the whole graph lists: such queries use it."""
     from solverplan.bounce import _cache
     from solverplan.bounce.bvg import LAZY_MIN_ARCS, check_graph_memory, estimate_graph, reachable_safe_graph
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     found = _cache.lookup_environment(walls.merged)
     if found is not None:

@@ -22,7 +22,7 @@ import solverplan.bounce._sweep as sweep_module
 from solverplan import cli
 from solverplan.bounce.bvg import SafeBVG, bounce_visibility_graph, safe_bounce_visibility_graph
 from solverplan.interval import Interval
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.limits import reset_memory_limit, set_memory_limit
 from solverplan.bounce.safe import safe_set
 from solverplan.environment import Environment, load_environment
@@ -532,7 +532,7 @@ def test_point_vectors_are_accurate_far_from_zero():
     difference itself, and the plain path is the float difference where that is already accurate."""
     from fractions import Fraction as F
 
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     off = 10**12
     env = Environment.from_coords([[off, off], [off + 10, off], [off + F(10, 3), off + F(1, 7)]])

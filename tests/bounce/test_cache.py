@@ -17,7 +17,7 @@ import pytest
 from solverplan.bounce import _cache
 from solverplan.bounce import bvg as bvg_api
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
-from solverplan.bounce.partition import Partition, PartitionSegment, partition
+from solverplan.bounce.partitions import Partition, PartitionSegment, partition
 from solverplan.environment import Environment, load_environment
 from solverplan.generators import star_polygon
 from tests.cache_entries import interval_rows, old_digest, read_entry, with_sets, write_entry
@@ -96,7 +96,7 @@ def test_loading_does_not_rebuild_the_partition(cache, monkeypatch):
     p = partition(load_environment("two_rooms"))
     built = safe_bounce_visibility_graph(p)
     bvg_api.clear_graph_cache()
-    monkeypatch.setattr("solverplan.bounce.partition.partition", lambda e: pytest.fail("partition rebuilt"))
+    monkeypatch.setattr("solverplan.bounce.partitions.partition", lambda e: pytest.fail("partition rebuilt"))
     monkeypatch.setattr("solverplan.bounce.bvg.graph.make_partition", lambda e: pytest.fail("partition rebuilt"))
     read = safe_bounce_visibility_graph(p)
     assert read.stats.get("cached") is True and read.partition is p and same_graph(read, built)
@@ -105,7 +105,7 @@ def test_loading_does_not_rebuild_the_partition(cache, monkeypatch):
 def test_a_new_process_finds_the_graph_of_an_environment_without_partitioning_it(cache, monkeypatch):
     """P′'s graph is keyed by the environment's exact rings and keeps P′'s inserted points: a process that finds it
     runs Algorithm 1 neither for the graph nor for later partition() calls on the environment (issue #24)."""
-    import solverplan.bounce.partition as partition_module
+    import solverplan.bounce.partitions as partition_module
 
     env = star_polygon(30, 0.2, 0.3, seed=4)
     built = safe_bounce_visibility_graph(env)
@@ -145,7 +145,7 @@ PLAIN_TAMPERING = {
 
 @pytest.mark.parametrize("how", list(PLAIN_TAMPERING))
 def test_a_tampered_entry_of_an_environment_is_a_logged_miss(cache, caplog, monkeypatch, how):
-    import solverplan.bounce.partition as partition_module
+    import solverplan.bounce.partitions as partition_module
 
     env = star_polygon(20, 0.2, 0.3, seed=11)
     built = safe_bounce_visibility_graph(env)

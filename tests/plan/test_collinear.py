@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solverplan import models
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.certify.build import certificate
 from solverplan.certify.check import check_certificate
 from solverplan.certify.schema import Certificate

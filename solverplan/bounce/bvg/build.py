@@ -64,7 +64,7 @@ from solverplan.bounce.bvg._safe_sets import (Pieces, equal_ends, nonempty, refi
 from solverplan.bounce.bvg.graph import SafeBVG, as_partition
 from solverplan.bounce.bvg.size import BASE_BYTES, PLANNED_BYTES_PER_ARC, check_graph_memory, refuse_reachable
 from solverplan.bounce.bvg.tolerances import EndComparator
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.environment import Environment
 from solverplan.errors import InvalidBoundarySet
 from solverplan.limits import memory_limit
@@ -123,7 +123,7 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     Parameters
     ----------
     partition
-        The partition P′ (:func:`~solverplan.bounce.partition.partition`), or an environment (it is partitioned
+        The partition P′ (:func:`~solverplan.bounce.partitions.partition`), or an environment (it is partitioned
         first).
 
     Returns

@@ -16,7 +16,7 @@ import numpy as np
 from solverplan._arrays import ragged_arange
 from solverplan.bounce._sweep import MARK_PI, MARK_ZERO
 from solverplan.bounce.bvg import serialise
-from solverplan.bounce.partition import Partition, partition as make_partition
+from solverplan.bounce.partitions import Partition, partition as make_partition
 from solverplan.bounce.safe import Direction, SafeInterval, SafeSet
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet

@@ -31,7 +31,7 @@ from solverplan.render.figure import (
 from solverplan.result import EnvironmentRecord
 
 if TYPE_CHECKING:  # pragma: no cover
-    from solverplan.bounce.partition import Partition
+    from solverplan.bounce.partitions import Partition
 from solverplan.render.report._kinds import AnswerFile, HOLE_COLOR, _EXACT_CELL
 from solverplan.render.report.format import Exact, cell_html, _e, _heading_interval, _interval, _num, _plain, _rad, _short_exact
 from solverplan.result import finite_number, index_list
@@ -184,7 +184,7 @@ class _View:
     @cached_property
     def partition(self) -> Partition:
         """P′ of the environment (Algorithm 1): the segments stage ids refer to, built once per report."""
-        from solverplan.bounce.partition import partition
+        from solverplan.bounce.partitions import partition
 
         return partition(self.env)
 
