@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, Iterator
 
 import typer
 
-from solverplan.cli._errors import Shell
+from solverplan.cli._errors import Shell, exit_codes
 from solverplan.limits import MAX_INDENT
 from solverplan.cli._output import EnvFormat, OutputFormat, set_json_indent
 from solverplan.cli._progress import command_progress
@@ -127,6 +128,16 @@ def load_env(env: Path, env_format: EnvFormat | None, picture: Path | None = Non
 
     check_picture(picture)
     return load_environment(env, env_format.value if env_format else None)
+
+
+@contextlib.contextmanager
+def loaded(env: Path, env_format: EnvFormat | None, picture: Path | None = None, *,
+           verbose: int = 0) -> Iterator[Environment]:
+    """Run a command body on the environment named on the command line: :func:`load_env` inside
+    :func:`~solverplan.cli._errors.exit_codes`, so a bad file, format or --picture path and every error of
+    the body leave with one line and the exit code of docs/contract.md."""
+    with exit_codes(verbose):
+        yield load_env(env, env_format, picture)
 
 
 def check_picture(picture: Path | None) -> None:

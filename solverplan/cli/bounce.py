@@ -10,8 +10,7 @@ import typer
 from solverplan.choices import CycleMethod, Objective, PatrolObjective, Sampling, Ties
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
-from solverplan.cli._errors import exit_codes
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, loaded
 from solverplan.cli._options import (
     CertificateOpt,
     CornerClearanceOpt,
@@ -60,8 +59,7 @@ def cycle_command(
     from solverplan.bounce.cycles import limit_cycle
     from solverplan.interval import DEFAULT_HEADING_MARGIN
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         if theta.strip().lower() == "auto":
             if edges is not None or cycle_start is not None or method is not CycleMethod.AUTO:
                 raise InputError("--theta auto searches for one heading for every start: drop --edges, --start and --method")
@@ -180,8 +178,7 @@ def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, cer
     --certificate and --picture of a found answer, emit the answer."""
     from solverplan.certify.gate import checked_answer
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format, picture)
+    with loaded(env, env_format, picture, verbose=verbose) as environment:
         checked = checked_answer(lambda: solve(environment), env=environment, start=start, goal=goal)
         found = checked.answer.found  # a strategy not found has nothing to certify or draw
         emit_checked(checked, fmt, out, certificate=certificate if found else None, picture=picture if found else None)
@@ -220,8 +217,7 @@ def plan_command(
     from solverplan.certify.gate import checked_answer
     from solverplan.plan.search import find_plan, pareto_front
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         if pareto and (objective not in (None, Objective.TOLERANCE) or method != "auto"):
             raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
         if pareto and heading_accuracy is not None:
@@ -262,8 +258,7 @@ def simulate_command(
     from solverplan.plan import load_plan
     from solverplan.simulate import simulate_plan
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         plan = load_plan(plan_file)
         runs = simulate_plan(environment, plan, trials=trials, seed=seed, sampling=sampling.value, ties=ties.value)
         emit(runs, fmt, out)

@@ -8,8 +8,7 @@ import typer
 
 from solverplan.choices import ViewChoice
 from solverplan.limits import MAX_SEED
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
-from solverplan.cli._errors import exit_codes
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, loaded
 from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, parse_xy
 from solverplan.cli._output import OutputFormat
 
@@ -33,8 +32,7 @@ def explore_command(
     from solverplan.certify.gate import checked_answer
     from solverplan.explore import Exploration, RangeExploration, explore_depth_first, explore_range_limited
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format, picture)
+    with loaded(env, env_format, picture, verbose=verbose) as environment:
         point = parse_xy(start, "--start")
 
         def solve() -> Exploration | RangeExploration:

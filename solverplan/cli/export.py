@@ -8,8 +8,7 @@ from typing import Annotated
 import typer
 
 from solverplan.choices import ExportFormat
-from solverplan.cli._app import EnvFormatOpt, VerboseOpt, app, load_env
-from solverplan.cli._errors import exit_codes
+from solverplan.cli._app import EnvFormatOpt, VerboseOpt, app, loaded
 
 
 @app.command(name="export")
@@ -26,8 +25,7 @@ def export_command(
     from solverplan.plan.export import export_plan
     from solverplan.plan.result import load_plan
 
-    with exit_codes(verbose):
-        environment = load_env(Path(env), env_format)
+    with loaded(Path(env), env_format, verbose=verbose) as environment:
         plan = load_plan(plan_file)
         text = export_plan(plan, environment, export_format.value)
         if out is not None:

@@ -9,8 +9,7 @@ import typer
 
 from solverplan.choices import CellKind, Reflections, RobotKind, ScenarioName, StartMode, or_all
 from solverplan.limits import MAX_SEED, MAX_TRAJECTORIES
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
-from solverplan.cli._errors import exit_codes
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, loaded
 from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, parse_xy
 from solverplan.cli._output import OutputFormat, emit_string, json_text
 
@@ -53,8 +52,7 @@ def fields_command(
     from solverplan.certify.gate import checked_answer
     from solverplan.reflection.navigation import navigate_fields
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format, picture)
+    with loaded(env, env_format, picture, verbose=verbose) as environment:
         names = ScenarioName.values() if scenario == "all" else (scenario.value,)
         if trajectories is None:  # a picture without runs shows empty corridors: draw a few by default
             trajectories = min(5, trials) if picture is not None else 0

@@ -11,7 +11,7 @@ import typer
 from solverplan.choices import GraphFormat
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env, loaded
 from solverplan.cli._errors import exit_codes
 from solverplan.cli._output import OutputFormat, emit, emit_chunks, emit_string, json_indent
 
@@ -26,8 +26,7 @@ def info(
     verbose: VerboseOpt = 0,
 ) -> None:
     """Describe an environment: vertices, rings, edges (id, ring, end points, length), reflex vertices, area, perimeter."""
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         logger.info("loaded %r: %d vertices, %d holes", environment.name, environment.n_vertices, len(environment.holes))
         from solverplan.describe import describe_environment
 
@@ -45,8 +44,7 @@ def partition_command(
     """The partition P′ of Algorithm 1: vertices per ring, segments (id, edge, t0, t1, a, b), inserted points."""
     from solverplan.bounce.partitions import partition as partition_boundary
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         emit(partition_boundary(environment), fmt, out)
 
 
@@ -69,8 +67,7 @@ def graph_command(
     """The bounce visibility graph of P′: arcs between segments that see each other; with --safe, their safe headings."""
     from solverplan.bounce.bvg import safe_bounce_visibility_graph
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         graph = safe_bounce_visibility_graph(environment)
         logger.info("safe BVG: %d segments, %d arcs, %d safe (%.3f s)", graph.n_segments, graph.n_arcs, graph.n_safe_arcs,
                     graph.stats.get("seconds_total", 0.0))
