@@ -2,8 +2,9 @@
 10⁻³ to 10⁻¹² wide — on random walls, random ranges and starts.
 
 For every run that answers ``found``, exact points spread along each needle's axis (up to a millionth of its length
-from the tip), every vertex and a lattice of the room must lie in some view (exact ``RangeView.contains``); a run
-that answers ``not-found`` must list what is left (uncovered pieces or unseen vertices).
+from the tip), every vertex and a lattice of the room must lie in some view (exact ``RangeView.contains``), and the
+answer's certificate must pass the exact checker with its cover proved (arcs kept exact); a run that answers
+``not-found`` must list what is left (uncovered pieces or unseen vertices).
 
     PYTHONPATH=. python benchmarks/needles.py [--rooms 40] [--seed 1]
 """
@@ -15,6 +16,8 @@ import random
 import time
 from fractions import Fraction as F
 
+from solverplan.certify.build import certificate
+from solverplan.certify.check import check_certificate
 from solverplan.environment import Environment
 from solverplan.explore import explore_range_limited
 
@@ -70,12 +73,16 @@ def main() -> None:
             if missed:
                 wrong += 1
                 print(f"WRONG: found, yet {len(missed)} points unseen, e.g. {missed[0]} in {env.exact_vertices}")
+            report = check_certificate(certificate(run, env=env))
+            if not report.valid or report.not_checked:
+                wrong += 1
+                print(f"CERTIFICATE: {report.failures[:1]} {report.not_checked} in {env.exact_vertices}")
         else:
             not_found += 1
             if not (run.uncovered or run.unseen_vertices):
                 wrong += 1
                 print(f"WRONG: {run.status.value} lists nothing left in {env.exact_vertices}")
-    print(f"{args.rooms} needle rooms (seed {args.seed}): {found} found (every sampled point seen), {not_found} "
+    print(f"{args.rooms} needle rooms (seed {args.seed}): {found} found (every sampled point seen, the cover proved by the checker), {not_found} "
           f"not-found (what is left listed); {wrong} wrong; {time.process_time() - began:.0f} CPU s")
 
 
