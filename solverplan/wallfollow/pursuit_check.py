@@ -7,9 +7,9 @@ of RFOLLOW / LFOLLOW / JUMP actions) in the geometric simulator :class:`~solverp
 and follows the labels **continuously** along every motion, independently of any strategy's reasoning:
 
 - every motion is a straight segment (a follow runs along one edge, a JUMP along a cut); the shadow can change
-  its topology only where the pursuer crosses a line through a reflex vertex (where every window starts) and
-  another vertex (inflections, bitangents and the extensions of edges at reflex vertices are all such lines), so
-  the checker cuts the segment at **every** crossing with such a line (exact) and looks at the shadow just after
+  its topology only where the pursuer crosses a line through two reflex vertices or the line of an edge at a
+  reflex vertex (every window starts at a reflex vertex: inflections, bitangents and the extensions of edges),
+  so the checker cuts the segment at **every** crossing with such a line (exact) and looks at the shadow just after
   the start and just before the end of each piece (a millionth of its length in) and at the segment's ends;
 - the shadow is computed exactly: the project's exact visibility polygon
   (:func:`~solverplan.geometry.visibility.visibility_polygon`) has one *window* per shadow component (in a
@@ -100,12 +100,15 @@ NEAR = Fraction(1, 10**6)
 
 def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint,
                    per_piece: int = 0) -> list[tuple[ExactPoint, bool]]:
-    """Where the checker looks along the segment p0 → p1: ``(point, across)`` with ``across`` true when a line
-    through a reflex vertex and another vertex lies between the point and the one before it (exact points).
+    """Where the checker looks along the segment p0 → p1: ``(point, across)`` with ``across`` true when an event
+    line lies between the point and the one before it (exact points).
 
-    The segment is cut at every crossing with a line through a reflex vertex and another vertex (a window starts
-    at a reflex vertex r, and what it cuts off changes only when the line of sight through r meets another
-    vertex: lines through two convex vertices change nothing); in each piece the checker looks just
+    The event lines are the lines through two reflex vertices and the lines of the edges at reflex vertices: a
+    window starts at a reflex vertex r, it appears or vanishes where the line of sight through r turns along an
+    edge at r, and r is hidden or seen again only where the sight line touches another vertex between — which
+    must be reflex (a sight line cannot pass a convex corner inside the free space). Where the sight line past r
+    meets a convex vertex the component changes shape, not identity. The segment is cut at every crossing with an
+    event line; in each piece the checker looks just
     after its start and just before its end (a fraction :data:`NEAR` of its length in) and at ``per_piece``
     evenly spaced points between; the segment's ends come first and last.
     """
@@ -113,10 +116,11 @@ def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint,
         raise InputError(f"per_piece must be at least 0, got {per_piece}")
     pts = env.exact_vertices
     reflex = set(env.reflex_vertices)
+    n = len(pts)
     params = {Fraction(0), Fraction(1)}
-    for i, j in combinations(range(len(pts)), 2):
-        if i not in reflex and j not in reflex:
-            continue
+    for i, j in combinations(range(n), 2):
+        if not (i in reflex and j in reflex) and not ((i in reflex or j in reflex) and (j - i) % n in (1, n - 1)):
+            continue  # neither two reflex vertices nor an edge at a reflex vertex
         a, b = pts[i], pts[j]
         s = _line_crossing(p0, p1, a, b)
         if s is not None:
