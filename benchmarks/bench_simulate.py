@@ -19,7 +19,7 @@ from solverplan.bounce.rules import Fixed, Relative, Specular
 from solverplan.environment import load_environment
 from solverplan.geometry import raycast
 from solverplan.simulate import simulate_rule
-from solverplan.studies import star_polygon
+from solverplan.generators import star_polygon
 
 MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
 

@@ -17,8 +17,8 @@ from fractions import Fraction
 
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.environment import load_environment
-from solverplan.plan.funnel import funnel
-from solverplan.plan.patrol import patrol
+from solverplan.plan.funnels import funnel
+from solverplan.plan.patrols import patrol
 from solverplan.plan.search import find_plan
 from solverplan.simulate import StagePolicy, simulate_plan, simulate_policy
 

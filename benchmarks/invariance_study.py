@@ -15,7 +15,7 @@ after each rewriting of :mod:`solverplan.studies.rewrite` with the query mapped:
 (e) ``reverse`` — every ring written in the opposite order (the loader renormalises it);
 (f) ``mirror`` — the mirror image (with ``--mirror``).
 
-With ``--patrols`` each query also asks for a patrol (:func:`~solverplan.plan.patrol.patrol`) of the outer ring's
+With ``--patrols`` each query also asks for a patrol (:func:`~solverplan.plan.patrols.patrol`) of the outer ring's
 first and middle edges from the start set (objectives ``contraction`` and ``rate``, ε = 0.01, at most one
 intermediate bounce). A visit names whole edges, which a vertex inside them would split (no visit list names "e′ or
 e″"), so for patrols (a) and (b) put their vertices only where no visited edge is: at the start set's ends and at
@@ -46,7 +46,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.p
 from solverplan import models  # noqa: E402
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment  # noqa: E402
 from solverplan.plan import find_plan, pareto_front  # noqa: E402
-from solverplan.plan.patrol import patrol  # noqa: E402
+from solverplan.plan.patrols import patrol  # noqa: E402
 from solverplan.studies import rewrite as rw  # noqa: E402
 from solverplan.generators import rectilinear_polygon, star_polygon, star_polygon_with_holes  # noqa: E402
 

@@ -21,7 +21,7 @@ import networkx as nx
 
 from solverplan.rectilinear import decompose_rooms
 from solverplan.generators import generate
-from solverplan.studies.rooms import RULE_VARIANTS, compare_rules
+from solverplan.rectilinear.simulation import RULE_VARIANTS, compare_rules
 
 
 def _far_route(dec) -> tuple[int, int]:

@@ -56,8 +56,8 @@ _EXPORTS: dict[str, str] = {
     "constant_controller": "solverplan.bounce.controller",
     # rooms and doors of rectilinear polygons (Çağırıcı, Bahoo and LaValle)
     "decompose_rooms": "solverplan.rectilinear.decomposition",
-    "simulate_rooms": "solverplan.studies.rooms",
-    "compare_rules": "solverplan.studies.rooms",
+    "simulate_rooms": "solverplan.rectilinear.simulation",
+    "compare_rules": "solverplan.rectilinear.simulation",
     # online exploration with discrete views (Ghosh, Burdick, Bhattacharya and Sarkar)
     "explore_depth_first": "solverplan.explore.depth_first",
     "Exploration": "solverplan.explore.depth_first",
@@ -66,7 +66,7 @@ _EXPORTS: dict[str, str] = {
     "range_visibility": "solverplan.explore.range_view",
     "RangeView": "solverplan.explore.range_view",
     # the wall-following robot (Yershova, Tovar, Katsev, Ghrist and LaValle)
-    "cut_ordering": "solverplan.wallfollow.cuts",
+    "cut_ordering": "solverplan.wallfollow.cut",
     "CutOrdering": "solverplan.wallfollow.ordering",
     "WallWorld": "solverplan.wallfollow.world",
     "learn_cut_ordering": "solverplan.wallfollow.learning",
@@ -80,7 +80,7 @@ _EXPORTS: dict[str, str] = {
     "decompose_free_space": "solverplan.reflection.cells",
     "compose_fields": "solverplan.reflection.compose",
     "simulate_scenarios": "solverplan.reflection.simulate",
-    "RobotModel": "solverplan.reflection.simulate",
+    "FieldRobotDynamics": "solverplan.reflection.simulate",
     "navigate_fields": "solverplan.reflection.navigation",
     "FieldNavigation": "solverplan.reflection.navigation",
     # floor plans in: ROS occupancy maps, DXF and SVG drawings
@@ -91,9 +91,9 @@ _EXPORTS: dict[str, str] = {
     # planners
     "find_plan": "solverplan.plan.search",
     "pareto_front": "solverplan.plan.search",
-    "patrol": "solverplan.plan.patrol",
-    "funnel": "solverplan.plan.funnel",
-    "localize": "solverplan.plan.localize",
+    "patrol": "solverplan.plan.patrols",
+    "funnel": "solverplan.plan.funnels",
+    "localize": "solverplan.plan.localization",
     "load_plan": "solverplan.plan.result",
     "export_plan": "solverplan.plan.export",
     "plan_in_world": "solverplan.plan.export",
@@ -106,8 +106,8 @@ _EXPORTS: dict[str, str] = {
     "Stage": "solverplan.result",
     "Plan": "solverplan.plan.result",
     "ParetoFront": "solverplan.plan.result",
-    "Patrol": "solverplan.plan.patrol",
-    "Funnel": "solverplan.plan.funnel",
+    "Patrol": "solverplan.plan.patrols",
+    "Funnel": "solverplan.plan.funnels",
     "LimitCycle": "solverplan.bounce.cycles",
     # ground truth and proofs
     "simulate_plan": "solverplan.simulate",
@@ -157,9 +157,9 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.explore.range_limited import RangeExploration, explore_range_limited
     from solverplan.explore.range_view import RangeView, range_visibility
     from solverplan.interval import Interval
-    from solverplan.plan.funnel import Funnel, funnel
-    from solverplan.plan.localize import localize
-    from solverplan.plan.patrol import Patrol, patrol
+    from solverplan.plan.funnels import Funnel, funnel
+    from solverplan.plan.localization import localize
+    from solverplan.plan.patrols import Patrol, patrol
     from solverplan.plan.export import export_plan, plan_in_world
     from solverplan.plan.result import ParetoFront, Plan, load_plan
     from solverplan.plan.search import find_plan, pareto_front
@@ -168,7 +168,7 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.render.report import HtmlReport, html_report, load_answer, make_report, write_report
     from solverplan.result import Answer, Method, Optimality, Stage, Stats, Status, StatusGroup
     from solverplan.simulate import simulate_plan, simulate_rule
-    from solverplan.wallfollow.cuts import cut_ordering
+    from solverplan.wallfollow.cut import cut_ordering
     from solverplan.wallfollow.learning import learn_cut_ordering
     from solverplan.wallfollow.ordering import CutOrdering
     from solverplan.wallfollow.pursuit import PursuitPlan, pursuit_plan
@@ -178,8 +178,8 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.reflection.cells import decompose_free_space
     from solverplan.reflection.compose import compose_fields
     from solverplan.reflection.navigation import FieldNavigation, navigate_fields
-    from solverplan.reflection.simulate import RobotModel, simulate_scenarios
-    from solverplan.studies.rooms import compare_rules, simulate_rooms
+    from solverplan.reflection.simulate import FieldRobotDynamics, simulate_scenarios
+    from solverplan.rectilinear.simulation import compare_rules, simulate_rooms
 
 
 def __getattr__(name: str) -> Any:

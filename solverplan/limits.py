@@ -177,10 +177,9 @@ def _mapped_bytes() -> int:
 
 def set_memory_limit(limit: int | None) -> None:
     """Refuse jobs estimated to need more than ``limit`` bytes (``None``: no limit) in the whole process:
-    ``configure(max_memory=limit)``; :func:`solverplan.config` changes it for a block (the CLI's ``--max-memory``).
+    ``configure(max_memory=limit)``, which checks it (:class:`~solverplan.runtime.Settings`);
+    :func:`solverplan.config` changes it for a block (the CLI's ``--max-memory``).
     """
-    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, int) or limit <= 0):
-        raise InputError(f"memory limit must be a positive number of bytes, got {quote(limit)}")
     configure(max_memory=limit)
 
 

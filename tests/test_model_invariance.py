@@ -38,7 +38,7 @@ from solverplan.reflection.compose import compose_fields
 from solverplan.rectilinear import decompose_rooms, reachability
 from solverplan.studies import rewrite as rw
 from solverplan.generators import rectilinear_polygon
-from solverplan.wallfollow.cuts import corner_polygon, cut_ordering
+from solverplan.wallfollow.cut import corner_polygon, cut_ordering
 from solverplan.wallfollow.pursuit import pursuit_plan
 from tests.strategies import polygons_with_holes, simple_polygons
 

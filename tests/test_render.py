@@ -258,7 +258,7 @@ def test_scene_of_a_cycle_draws_the_cycle_over_rollouts_of_its_constant_heading(
 
 
 def test_scene_of_a_funnel_answer_has_its_title_and_swept_regions_holding_the_positions():
-    from solverplan.plan.funnel import funnel
+    from solverplan.plan.funnels import funnel
 
     answer = funnel(BOX, "e0", "e2:0.4:0.6")
     assert answer.found
@@ -274,7 +274,7 @@ def test_scene_of_a_funnel_answer_has_its_title_and_swept_regions_holding_the_po
 
 
 def test_scene_draws_what_render_answer_draws():
-    from solverplan.plan.funnel import funnel
+    from solverplan.plan.funnels import funnel
 
     answer = funnel(BOX, "e0", "e2:0.4:0.6")
     assert figure_bytes(scene(BOX, answer=answer, edge_ids=True), "svg") == figure_bytes(render_answer(answer), "svg")

@@ -73,7 +73,7 @@ from solverplan.result import EnvironmentRecord
 from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, configure, default_cache_directory, settings
 
 if TYPE_CHECKING:
-    from solverplan.bounce.bvg import SafeBVG
+    from solverplan.bounce.bvg.graph import SafeBVG
     from solverplan.bounce.partition import Partition
     from solverplan.environment import Environment
 
@@ -346,7 +346,7 @@ def _load(directory: Path, digest: str, p: Partition) -> SafeBVG | None:
     except ValueError as exc:
         logger.info("graph cache: ignoring %s (%s)", path.name, exc)
         return None
-    from solverplan.bounce.bvg import SafeBVG
+    from solverplan.bounce.bvg.graph import SafeBVG
 
     stats = {k: v for k, v in (header.get("stats") or {}).items() if isinstance(v, (int, float))}
     stats["cached"] = True

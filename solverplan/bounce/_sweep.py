@@ -101,7 +101,7 @@ def float_edge_vectors(env) -> np.ndarray:
     float vertices where it is well conditioned, else the exact difference rounded once."""
     A, B = env.edge_start, env.edge_end
     ev = B - A
-    mag = _ninf(A) + _ninf(B)
+    mag = max_norm(A) + max_norm(B)
     bad = np.flatnonzero(ANGLE_REL * mag > REFINE * np.hypot(ev[:, 0], ev[:, 1]))
     if len(bad):
         ev = ev.copy()
@@ -242,7 +242,7 @@ class Sweeps:
     exact_casts: int = 0
 
 
-class _Context:
+class SweepContext:
     """Float and exact views of one partition shared by the sweep steps."""
 
     depth_pairs: int  # set by _hit_edges (diagnostics): (sector, covering edge) pairs, and those tested after pruning
@@ -300,16 +300,16 @@ class _Context:
         return (c > 0) - (c < 0)
 
 
-def build_sweeps(partition, sources: np.ndarray | None = None, context: _Context | None = None) -> Sweeps:
+def build_sweeps(partition, sources: np.ndarray | None = None, context: SweepContext | None = None) -> Sweeps:
     """All sweeps of ``partition`` and their entries (see the module docstring); with ``sources`` (segment ids),
     only the sweeps at the two ends of those segments (each sweep is computed on its own: the same entries).
 
     Memory follows the output: the (sweep × vertex) tables of steps 1–2 exist for one block of
     sweeps at a time (:data:`_BLOCK` cells), and only their compact results are kept — the
     direction tables, and per (sweep, covering edge) pair its range of sectors. ``context``: the partition's
-    :class:`_Context`, when the caller keeps one for several calls.
+    :class:`SweepContext`, when the caller keeps one for several calls.
     """
-    ctx = context if context is not None else _Context(partition)
+    ctx = context if context is not None else SweepContext(partition)
     ctx.exact_checks = ctx.exact_casts = 0
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
     if sources is not None:
@@ -372,7 +372,7 @@ def build_sweeps(partition, sources: np.ndarray | None = None, context: _Context
     return sweeps
 
 
-def _define_sweeps(ctx: _Context):
+def _define_sweeps(ctx: SweepContext):
     """One sweep per inserted / flat vertex of P′, two per convex or reflex original vertex."""
     N = ctx.N
     k = np.arange(N, dtype=np.int64)
@@ -395,7 +395,7 @@ def _define_sweeps(ctx: _Context):
     return origin, frame, plus_seg, minus_seg, lo_lim, hi_lim
 
 
-def _headings(ctx: _Context, origin: np.ndarray, frame: np.ndarray, pts: np.ndarray):
+def _headings(ctx: SweepContext, origin: np.ndarray, frame: np.ndarray, pts: np.ndarray):
     """Float headings of points ``pts`` (shape (M, k, 2)) from the sweep origins, with error bounds
     and the raw cross/dot (frame unit vector × relative vector)."""
     X = ctx.P[origin][:, None, :]
@@ -404,13 +404,13 @@ def _headings(ctx: _Context, origin: np.ndarray, frame: np.ndarray, pts: np.ndar
     cr = f[..., 0] * rel[..., 1] - f[..., 1] * rel[..., 0]
     dt = f[..., 0] * rel[..., 0] + f[..., 1] * rel[..., 1]
     length = np.hypot(rel[..., 0], rel[..., 1])
-    mag = _ninf(X) + _ninf(pts)
+    mag = max_norm(X) + max_norm(pts)
     with np.errstate(divide="ignore", invalid="ignore"):
         err = ANGLE_REL * mag / length + 1e-15
     return np.arctan2(cr, dt), err, cr, length, mag
 
 
-def _classify(ctx: _Context, origin, frame, lo_lim, hi_lim):
+def _classify(ctx: SweepContext, origin, frame, lo_lim, hi_lim):
     """Class of every (sweep, original vertex), its heading and heading error (exact near ties)."""
     M, n = len(origin), ctx.n
     cls = np.empty((M, n), dtype=np.int8)
@@ -461,7 +461,7 @@ def _classify(ctx: _Context, origin, frame, lo_lim, hi_lim):
             crl = rel[..., 0] * Lrel[:, None, 1] - rel[..., 1] * Lrel[:, None, 0]
             if at == _AT_LO:
                 crl = -crl
-            tol = CROSS_REL * (_ninf(rel) * _ninf(Lrel)[:, None] + 0.1 * ctx.scale * (_ninf(rel) + _ninf(Lrel)[:, None])) + 1e-300
+            tol = CROSS_REL * (max_norm(rel) * max_norm(Lrel)[:, None] + 0.1 * ctx.scale * (max_norm(rel) + max_norm(Lrel)[:, None])) + 1e-300
             sub = c[rows_lim]
             cand = sub == _IN
             sure_in = cand & (crl > tol)
@@ -477,7 +477,7 @@ def _classify(ctx: _Context, origin, frame, lo_lim, hi_lim):
     return cls, ang, err
 
 
-def _lim_heading(ctx: _Context, origin, frame, lim, default: float):
+def _lim_heading(ctx: SweepContext, origin, frame, lim, default: float):
     out = np.full(len(origin), default)
     errs = np.zeros(len(origin))
     rows = np.flatnonzero(lim >= 0)
@@ -487,7 +487,7 @@ def _lim_heading(ctx: _Context, origin, frame, lim, default: float):
     return out, errs
 
 
-def _rank(ctx: _Context, origin, frame, lo_lim, hi_lim, cls, ang, err):
+def _rank(ctx: SweepContext, origin, frame, lo_lim, hi_lim, cls, ang, err):
     """Distinct critical directions per sweep (exact ties merged), ranks of the vertices, sector tables.
 
     Returns rank (M, n) (1..K for inside vertices), K (M,), flat direction tables indexed by
@@ -542,12 +542,12 @@ def _rank(ctx: _Context, origin, frame, lo_lim, hi_lim, cls, ang, err):
     return rank, K, dir_ang, dir_to, dir_err, dir_off, thin
 
 
-def _ninf(x: np.ndarray) -> np.ndarray:
+def max_norm(x: np.ndarray) -> np.ndarray:
     """Max-norm over the last axis (of length 2), without a slow axis reduction."""
     return np.maximum(np.abs(x[..., 0]), np.abs(x[..., 1]))
 
 
-def _front_facing(ctx: _Context, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _front_facing(ctx: SweepContext, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Pairs (sweep row, edge) with the origin strictly left of the edge's line (exact near ties)."""
     M, n = len(origin), ctx.n
     rows_out, edges_out = [], []
@@ -559,7 +559,7 @@ def _front_facing(ctx: _Context, origin: np.ndarray) -> tuple[np.ndarray, np.nda
         X = ctx.P[o]
         rel = X[:, None, :] - A[None, :, :]
         cr = d[None, :, 0] * rel[..., 1] - d[None, :, 1] * rel[..., 0]
-        tol = 0.1 * CROSS_REL * (_ninf(d)[None, :] * (_ninf(rel) + ctx.scale))
+        tol = 0.1 * CROSS_REL * (max_norm(d)[None, :] * (max_norm(rel) + ctx.scale))
         front = cr > tol
         unsure = np.abs(cr) <= tol
         r = np.arange(len(o))
@@ -578,7 +578,7 @@ def _front_facing(ctx: _Context, origin: np.ndarray) -> tuple[np.ndarray, np.nda
     return np.concatenate(rows_out).astype(np.int64), np.concatenate(edges_out).astype(np.int64)
 
 
-def _covering(ctx: _Context, origin, cls, rank, K):
+def _covering(ctx: SweepContext, origin, cls, rank, K):
     """(sweep row, edge, first sector, sector count) of every front-facing edge covering at least one
     sector of its sweep: the edge spans the sectors from its start vertex's rank to its end's."""
     m_idx, e_idx = _front_facing(ctx, origin)
@@ -604,7 +604,7 @@ def _point_segment_distance(X: np.ndarray, A: np.ndarray, B: np.ndarray) -> np.n
     return np.hypot(w[:, 0] - t * d[:, 0], w[:, 1] - t * d[:, 1])
 
 
-def _hit_edges(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_off, thin, pairs) -> np.ndarray:
+def _hit_edges(ctx: SweepContext, origin, frame, K, dir_ang, dir_to, dir_off, thin, pairs) -> np.ndarray:
     """The first-hit edge of every sector (flat index dir_off[m] + k − m), −1 if none.
 
     ``pairs`` = (sweep, edge, first sector, count) of the covering edges (:func:`_covering`),
@@ -674,8 +674,8 @@ def _hit_block(ctx, origin, frame, dir_ang, dir_off, thin, n_sec, sec_off, m0, m
     # error of a distance numer / cross(u, d) along a unit u: the coordinates are rounded (2⁻⁵³ of
     # their magnitude), d is accurate to rounding; with a margin of 8, it is at most
     # 2⁻⁴⁹ (err_num + distance · err_den) / |cross(u, d)| (see the tie test below)
-    dn = _ninf(dvec)
-    err_num = (_ninf(X) + _ninf(A) + _ninf(rel)) * dn
+    dn = max_norm(dvec)
+    err_num = (max_norm(X) + max_norm(A) + max_norm(rel)) * dn
     del X, A, B, rel, dvec
     ms = np.arange(m0, m1)
     ns = n_sec[m0:m1]
@@ -781,7 +781,7 @@ def _hit_block(ctx, origin, frame, dir_ang, dir_off, thin, n_sec, sec_off, m0, m
     return hit, bad
 
 
-def _exact_sector_hit(ctx: _Context, o: int, frame: int, lo_to: int, hi_to: int) -> int:
+def _exact_sector_hit(ctx: SweepContext, o: int, frame: int, lo_to: int, hi_to: int) -> int:
     """The edge hit inside an open sector, by an exact ray along an exact bisector."""
     ctx.exact_casts += 1
     ex = ctx.exact
@@ -800,7 +800,7 @@ def _exact_sector_hit(ctx: _Context, o: int, frame: int, lo_to: int, hi_to: int)
     return hit.edge
 
 
-def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off, hit):
+def _entries(ctx: SweepContext, origin, frame, K, dir_ang, dir_to, dir_err, dir_off, hit):
     """Runs of sectors hitting one edge, cut by the P′ vertices on that edge into entries."""
     n_sec = K + 1
     sec_off = np.concatenate([[0], np.cumsum(n_sec)]).astype(np.int64)  # first sector of each sweep
@@ -868,7 +868,7 @@ def _entries(ctx: _Context, origin, frame, K, dir_ang, dir_to, dir_err, dir_off,
     return em, seg, lo_to, hi_to, lo, hi, lo_err, hi_err
 
 
-def _run_cuts(ctx: _Context, origin, frame, dir_to, r_m, r_lo, r_hi, c0, ccount):
+def _run_cuts(ctx: SweepContext, origin, frame, dir_to, r_m, r_lo, r_hi, c0, ccount):
     """For runs (sweep, start and end direction index, first interior P′ vertex of the edge and
     their count): the number of interior vertices before the run's start direction, and strictly
     inside the run (exact near ties)."""
@@ -892,10 +892,10 @@ def _run_cuts(ctx: _Context, origin, frame, dir_to, r_m, r_lo, r_hi, c0, ccount)
     # before: cross(y − x, Ds) >= 0; after: cross(De, y − x) >= 0
     cb = rel[:, 0] * ds[:, 1] - rel[:, 1] * ds[:, 0]
     ca = de[:, 0] * rel[:, 1] - de[:, 1] * rel[:, 0]
-    mag = _ninf(X) + _ninf(Y)
-    n_rel = _ninf(rel)
-    tol_b = CROSS_REL * (n_rel * _ninf(ds) + 0.1 * mag * (_ninf(ds) + n_rel)) + 1e-300
-    tol_a = CROSS_REL * (n_rel * _ninf(de) + 0.1 * mag * (_ninf(de) + n_rel)) + 1e-300
+    mag = max_norm(X) + max_norm(Y)
+    n_rel = max_norm(rel)
+    tol_b = CROSS_REL * (n_rel * max_norm(ds) + 0.1 * mag * (max_norm(ds) + n_rel)) + 1e-300
+    tol_a = CROSS_REL * (n_rel * max_norm(de) + 0.1 * mag * (max_norm(de) + n_rel)) + 1e-300
     before = cb > tol_b
     after = ca > tol_a
     unsure_b = np.abs(cb) <= tol_b
@@ -911,7 +911,7 @@ def _run_cuts(ctx: _Context, origin, frame, dir_to, r_m, r_lo, r_hi, c0, ccount)
     return nb, ni
 
 
-def _dir_cross_sign(ctx: _Context, o: int, y: int, to: int, frame: int) -> int:
+def _dir_cross_sign(ctx: SweepContext, o: int, y: int, to: int, frame: int) -> int:
     """Exact sign of cross(P′[y] − P′[o], D) for a direction reference D (P′ id or mark)."""
     ctx.exact_checks += 1
     ux, uy, _ = ctx.exact.vec(o, y)
@@ -920,7 +920,7 @@ def _dir_cross_sign(ctx: _Context, o: int, y: int, to: int, frame: int) -> int:
     return (c > 0) - (c < 0)
 
 
-def _special_entries(ctx: _Context, origin, frame, lo_lim, hi_lim):
+def _special_entries(ctx: SweepContext, origin, frame, lo_lim, hi_lim):
     """Cor. 1 at convex vertices: beyond the wall, the ray from x ± ε meets the neighbouring segment."""
     rows_hi = np.flatnonzero(hi_lim >= 0)  # "+" sweep of a convex vertex: (ang(prev − x), π) → prev segment
     rows_lo = np.flatnonzero(lo_lim >= 0)  # "−" sweep: (0, ang(next − x)) → the segment starting at x
@@ -937,7 +937,7 @@ def _special_entries(ctx: _Context, origin, frame, lo_lim, hi_lim):
     return sweep.astype(np.int64), seg.astype(np.int64), lo_to, hi_to, lo, hi, lo_err, hi_err
 
 
-def _hole_extremes(ctx: _Context, origin, frame, ang, err) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _hole_extremes(ctx: SweepContext, origin, frame, ang, err) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Per sweep and hole: the largest and smallest heading of the hole's vertices (their P′ ids):
     ``(alpha, alpha_v, beta, beta_v)``, each of shape (sweeps, holes)."""
     env = ctx.env
@@ -977,7 +977,7 @@ def estimate_entries(partition, sample: int = 256) -> tuple[int, int]:
     """(estimated number of entries of all sweeps, number of sweeps), from the sweeps of an evenly
     spaced sample of ``sample`` origins (all of them when there are fewer): the size of the BVG
     before it is built (its arcs are about 0.95 times its entries)."""
-    ctx = _Context(partition)
+    ctx = SweepContext(partition)
     origin, frame, plus_seg, minus_seg, lo_lim, hi_lim = _define_sweeps(ctx)
     M = len(origin)
     rows = np.unique(np.linspace(0, M - 1, min(M, sample)).astype(np.int64)) if M else np.zeros(0, dtype=np.int64)

@@ -17,15 +17,8 @@ import time
 from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
-from solverplan.bounce._cycle_core import (
-    CycleCore,
-    basins_grid,
-    check_epsilon,
-    cycle_along,
-    edge_sequence_text,
-    find_cycle_edges,
-    rotation,
-)
+from solverplan.bounce._cycle_core import (CycleCore, basins_grid, check_epsilon, cycle_along, edge_sequence_text,
+                                           find_cycle_edges, rotation)
 from solverplan.bounce.constant_map import GRID_ONE, ConstantMap, merge_grid_intervals
 from solverplan.bounce.cycles import LimitCycle, _build
 from solverplan.bounce.dynamics import ExactHeading, parse_heading

@@ -10,12 +10,12 @@ by its type (it reads the answers only through their public attributes, all of t
   the exact **images** of its moves (so that they can be checked to lie in the goal), every other the
   target segments. A plan does not carry its environment: pass ``env``;
 - a **Pareto front** is the certificate of its most tolerant plan;
-- a **patrol** (:class:`~solverplan.plan.patrol.Patrol`) is a ``cycle`` certificate: the entry stages
+- a **patrol** (:class:`~solverplan.plan.patrols.Patrol`) is a ``cycle`` certificate: the entry stages
   (belief stages of the safe BVG: one move per possible segment), then the cycle's stages, one move each
   from its whole source segment; the cycle block claims the exact return map of the nominal headings, its
   fixed point, the worst-case contraction (< 1) and the visits;
-- a **funnel** or a **localisation** strategy (:class:`~solverplan.plan.funnel.Funnel`,
-  :class:`~solverplan.plan.localize.Localization`) is a ``funnel`` or ``localize``
+- a **funnel** or a **localisation** strategy (:class:`~solverplan.plan.funnels.Funnel`,
+  :class:`~solverplan.plan.localization.Localization`) is a ``funnel`` or ``localize``
   certificate: every stage moves exact position pieces with the *exact cones the planner used*, so the
   images the checker recomputes are the positions the planner tracked, and each stage claims them; a
   localisation certificate also claims the strategy's ε (the final interval is shorter than it).
@@ -70,8 +70,8 @@ from solverplan.certify.writer import CycleSpec, MoveSpec, StageSpec, build_cert
 from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, SolverplanError
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan.localize import Localization
-from solverplan.plan.patrol import Patrol
+from solverplan.plan.localization import Localization
+from solverplan.plan.patrols import Patrol
 from solverplan.plan.result import ParetoFront, Plan
 from solverplan.explore.depth_first import Exploration
 from solverplan.explore.range_limited import RangeExploration
@@ -131,7 +131,7 @@ def certificate(result: Any, *, env: Environment | None = None,
     ----------
     result
         A :class:`~solverplan.plan.Plan`, :class:`~solverplan.plan.ParetoFront` (its most tolerant plan),
-        :class:`~solverplan.plan.patrol.Patrol` or :class:`~solverplan.plan.funnel.Funnel` (funnels and
+        :class:`~solverplan.plan.patrols.Patrol` or :class:`~solverplan.plan.funnels.Funnel` (funnels and
         localisation strategies).
     env
         The environment of a plan (plans record only its name and hash; required for plans and fronts).
@@ -347,10 +347,7 @@ def _partial_goal_segments(env: Environment, part: Partition, goal: str) -> set[
 
 # ---------------------------------------------------------------------- contraction answers
 def _patrol(result: Patrol, env: Environment | None, part: Partition | None) -> Certificate:
-    if not result.found:
-        raise NothingToCertify(f"the patrol has status {result.status.value!r}: there is no cycle to certify",
-                               why=f"the patrol has status {result.status.value!r}")
-    env, part = _own_environment(result, env, part)
+    env, part = _found_in_own_environment(result, env, part, "the patrol", "cycle")
     stages: list[StageSpec] = []
     for st in result.entry:
         stages.append(StageSpec(st.interval, _plan_moves(part, st.moves, st.sources)))
@@ -388,10 +385,7 @@ def _cycle_move(env: Environment, part: Partition, stage: Any) -> MoveSpec:
 def _funnel(result: PositionStrategy, env: Environment | None, part: Partition | None) -> Certificate:
     """Funnels and localisation strategies: each stage's moves leave the exact position pieces with the
     planner's exact cones."""
-    if not result.found:
-        raise NothingToCertify(f"the answer has status {result.status.value!r}: there is no strategy to certify",
-                               why=f"the {result.kind} has status {result.status.value!r}")
-    env, part = _own_environment(result, env, part)
+    env, part = _found_in_own_environment(result, env, part, f"the {result.kind}", "strategy")
     stages: list[StageSpec] = []
     for st in result.stages:
         if st.sources is None or st.cones is None:
@@ -403,6 +397,16 @@ def _funnel(result: PositionStrategy, env: Environment | None, part: Partition |
     return build_certificate(env, part, stages, start=result.start, goal=result.goal,
                              kind="localize" if epsilon is not None else "funnel", epsilon=epsilon,
                              objective=f"{result.kind}-fewest", optimality=_contraction_optimality(result.optimality))
+
+
+def _found_in_own_environment(result: Any, env: Environment | None, part: Partition | None, answer: str,
+                              certified: str) -> tuple[Environment, Partition]:
+    """:func:`_own_environment` of a found contraction answer; for any other, :class:`NothingToCertify` saying
+    that ``answer`` (its name in words) has no ``certified`` thing to certify."""
+    if not result.found:
+        status = f"{answer} has status {result.status.value!r}"
+        raise NothingToCertify(f"{status}: there is no {certified} to certify", why=status)
+    return _own_environment(result, env, part)
 
 
 def _own_environment(result: Any, env: Environment | None, part: Partition | None) -> tuple[Environment, Partition]:

@@ -114,7 +114,7 @@ def exploration_certificate(run: Any, env: Environment | None = None) -> ModelCe
 # ---------------------------------------------------------------------- wall following
 def cut_ordering_certificate(ordering: Any, env: Environment | None = None) -> ModelCertificate:
     """The ``cut-ordering`` certificate of a cut ordering (computed or learned) in ``env``."""
-    from solverplan.wallfollow.cuts import cuts
+    from solverplan.wallfollow.cut import cuts
 
     env = _env_of(ordering, env, "cut ordering")
     claims = {"cuts": [{"label": c.label, "vertex": c.vertex, "side": c.side, "edge": c.edge, "point": _p(c.point)}
@@ -127,7 +127,7 @@ def pursuit_certificate(plan: Any, env: Environment | None = None) -> ModelCerti
     """The ``pursuit`` certificate of a pursuit plan that was found (its ground-truth replay supplies the labels)."""
     from solverplan.certify.build import NothingToCertify
     from solverplan.result import Status
-    from solverplan.wallfollow.cuts import corner_polygon
+    from solverplan.wallfollow.cut import corner_polygon
     from solverplan.wallfollow.pursuit_check import check_pursuit
 
     env = _env_of(plan, env, "pursuit plan")

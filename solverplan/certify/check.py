@@ -982,37 +982,45 @@ class _Checker:
         for k_from, k_to in links:
             sources = self._sources(stages[k_to])
             for m, move in enumerate(stages[k_from].moves):
-                self.counts["links"] += 1
-                c, d = move.target
-                for edge, a, b in self.on_walls(move.target_edge, c, d):
-                    gap = uncovered(a, b, sources.get(edge, []))
-                    if gap is not None:
-                        wrap = " (the cycle returns to its first stage)" if k_to <= k_from else ""
-                        self.fail(
-                            f"stages[{k_to}].moves",
-                            f"no move leaves t in ({_num(gap[0])}, {_num(gap[1])}) of edge {edge}, where "
-                            f"stages[{k_from}].moves[{m}] may land (its target is [{_num(c)}, {_num(d)}]"
-                            f"{'' if edge == move.target_edge else f' of edge {move.target_edge}'}){wrap}",
-                        )
-                        break
+                landing = self._uncovered_landing(move, sources)
+                if landing is not None:
+                    edge, gap = landing
+                    c, d = move.target
+                    wrap = " (the cycle returns to its first stage)" if k_to <= k_from else ""
+                    self.fail(
+                        f"stages[{k_to}].moves",
+                        f"no move leaves t in ({_num(gap[0])}, {_num(gap[1])}) of edge {edge}, where "
+                        f"stages[{k_from}].moves[{m}] may land (its target is [{_num(c)}, {_num(d)}]"
+                        f"{'' if edge == move.target_edge else f' of edge {move.target_edge}'}){wrap}",
+                    )
         if cert.goal is not None:
             goal: dict[int, list[tuple[Fraction, Fraction]]] = {}
             for piece in cert.goal:
                 goal.setdefault(piece.edge, []).append((piece.t0, piece.t1))
             last = len(stages) - 1
             for m, move in enumerate(stages[last].moves):
-                self.counts["links"] += 1
-                c, d = move.target
-                for edge, a, b in self.on_walls(move.target_edge, c, d):
-                    gap = uncovered(a, b, goal.get(edge, []))
-                    if gap is not None:
-                        self.fail(
-                            f"stages[{last}].moves[{m}].target",
-                            f"[{_num(c)}, {_num(d)}] of edge {move.target_edge} is not within the goal set: "
-                            f"t in ({_num(gap[0])}, {_num(gap[1])}){'' if edge == move.target_edge else f' of edge {edge}'} "
-                            "is outside it",
-                        )
-                        break
+                landing = self._uncovered_landing(move, goal)
+                if landing is not None:
+                    edge, gap = landing
+                    c, d = move.target
+                    self.fail(
+                        f"stages[{last}].moves[{m}].target",
+                        f"[{_num(c)}, {_num(d)}] of edge {move.target_edge} is not within the goal set: "
+                        f"t in ({_num(gap[0])}, {_num(gap[1])}){'' if edge == move.target_edge else f' of edge {edge}'} "
+                        "is outside it",
+                    )
+
+    def _uncovered_landing(self, move: Move, cover: dict[int, list[tuple[Fraction, Fraction]]]
+                           ) -> tuple[int, tuple[Fraction, Fraction]] | None:
+        """One link checked: the first edge and gap of the target of ``move`` (on the walls it runs over) that the
+        pieces ``cover`` (by edge) leave uncovered, or ``None``."""
+        self.counts["links"] += 1
+        c, d = move.target
+        for edge, a, b in self.on_walls(move.target_edge, c, d):
+            gap = uncovered(a, b, cover.get(edge, []))
+            if gap is not None:
+                return edge, gap
+        return None
 
     def check_source_ends(self) -> None:
         """Every end of a source is accounted for: an end of the edge or of a named segment, an end of a

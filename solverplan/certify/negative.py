@@ -36,7 +36,7 @@ from solverplan.bounce.partition import partition as make_partition
 from solverplan.certify.invariant import Closure, Geometry
 from solverplan.certify.schema import BeliefRecord, BoundClaim, Point
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 
 __all__ = ["NoBound", "segment_table", "bound_claim", "TABLE_SOURCE", "tolerance_threshold", "tolerance_bound",
@@ -83,7 +83,7 @@ def _edges(env: Environment) -> tuple[list[tuple[Point, Point]], list[int]]:
 def segment_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> list[list[Piece3]]:
     """The table of the certificates: P′ of the straight walls of ``env`` (:mod:`solverplan.plan._walls`), each
     segment as pieces of the user's edges, cut at every end of the start and goal sets' pieces."""
-    walls = Walls(env)  # every collinear vertex merged; the set ends are cut below (at joints too)
+    walls = PartitionedWalls(env)  # every collinear vertex merged; the set ends are cut below (at joints too)
     part = make_partition(walls.merged)
     table: list[list[Piece3]] = []
     for seg in part.segments:

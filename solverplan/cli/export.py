@@ -2,20 +2,14 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from solverplan.choices import ExportFormat
 from solverplan.cli._app import EnvFormatOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
-
-
-class ExportFormat(StrEnum):
-    WAYPOINTS = "waypoints"
-    CSV = "csv"
-    GEOJSON = "geojson"
 
 
 @app.command(name="export")

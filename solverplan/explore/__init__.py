@@ -4,7 +4,7 @@
 A point robot that knows nothing of the polygon computes visibility polygons only where it stops, and each
 stop lies in an earlier view; the goal is few views.
 
-- :mod:`~solverplan.explore.windows` — the constructed edges (windows) of a view and their unexplored parts,
+- :mod:`~solverplan.explore.window` — the constructed edges (windows) of a view and their unexplored parts,
   exact.
 - :mod:`~solverplan.explore.depth_first` — Algorithm A: depth-first over unexplored windows with an explicit
   stack, at most r + 1 views (Theorem 1); z-choice rules ``first``, ``random``, ``far``.
@@ -29,7 +29,7 @@ from solverplan.explore.bounds import (Cost, depth_first_ratio, exploration_cost
 from solverplan.explore.depth_first import CHOICES, Exploration, covered_fraction, explore_depth_first
 from solverplan.explore.range_limited import RangeExploration, covers_every_segment, explore_range_limited
 from solverplan.explore.range_view import Arc, RangeSegment, RangeView, range_visibility
-from solverplan.explore.windows import Window, unexplored_parts, windows
+from solverplan.explore.window import Window, unexplored_parts, windows
 
 __all__ = ["Arc", "CHOICES", "Cost", "Exploration", "RangeExploration", "RangeSegment", "RangeView", "Window",
            "covers_every_segment", "explore_range_limited", "range_visibility", "covered_fraction", "depth_first_ratio",

@@ -10,7 +10,7 @@ stack is empty: every window of every view is explored, so the union of the view
 
 The explored region is the union of the views taken so far (exact visibility polygons); it is opaque in the
 sense of the paper: a window counts only as far as it leads out of that region
-(:func:`~solverplan.explore.windows.unexplored_parts`), so a view never sends the robot back into known space.
+(:func:`~solverplan.explore.window.unexplored_parts`), so a view never sends the robot back into known space.
 """
 
 from __future__ import annotations
@@ -20,13 +20,14 @@ import random
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Callable, Literal, Sequence
+from typing import Callable, Sequence
 
+from solverplan.choices import ViewChoice
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_number, format_point
 from solverplan.explore.bounds import Cost, exploration_cost, views_bound
-from solverplan.explore.windows import Window, point_on_part, unexplored_parts, windows
+from solverplan.explore.window import Window, point_on_part, unexplored_parts, windows
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
 from solverplan.geometry.walls import StraightWalls
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
@@ -34,8 +35,7 @@ from typing import Any
 
 __all__ = ["CHOICES", "Exploration", "explore_depth_first"]
 
-Choice = Literal["first", "random", "far"]
-CHOICES: tuple[str, ...] = ("first", "random", "far")
+CHOICES: tuple[str, ...] = ViewChoice.values()
 """The z-choice rules: ``first`` — the first unexplored window part in the current view's CCW ring order;
 ``random`` — a uniformly random one (seeded); ``far`` — the one whose chosen point is farthest from the
 current viewpoint. On the chosen part the viewpoint is the simplest rational point of its middle third."""
@@ -217,7 +217,7 @@ def _start_point(env: Environment, start: Sequence[object]) -> tuple[ExactPoint,
         raise InputError(f"start {format_point(p)} is not in the free space of {env.name or 'the environment'}") from None
 
 
-def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Choice = "first",
+def explore_depth_first(env: Environment, start: Sequence[object], *, choice: ViewChoice | str = "first",
                         seed: int | None = None, max_views: int | None = None) -> Exploration:
     """Explore ``env`` from ``start`` with Algorithm A.
 
@@ -256,8 +256,7 @@ def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Ch
     >>> run.n_views, run.bound, run.covered_fraction
     (2, 2, 1.0)
     """
-    if choice not in CHOICES:
-        raise InputError(f"unknown z-choice rule {choice!r}: use {', '.join(CHOICES)}")
+    choice = ViewChoice.parse(choice, "z-choice rule").value
     if seed is not None and choice != "random":
         raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
     walls = StraightWalls(env)

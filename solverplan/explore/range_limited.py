@@ -44,12 +44,13 @@ from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Sequence
 
+from solverplan.choices import ViewChoice
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import (ExactPoint, exact_point, format_number, format_point, orient, point_in_ring,
                               to_fraction)
 from solverplan.explore.bounds import range_ratio_bound, range_views_bound, range_views_lower_bound
-from solverplan.explore.depth_first import CHOICES, ViewpointRun, explore_depth_first
+from solverplan.explore.depth_first import ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
 from solverplan.geometry.walls import StraightWalls
@@ -659,7 +660,7 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     p = exact_point(start, where="start")
     t0 = time.perf_counter()
     if covers_every_segment(env, R):  # Theorem 3: every view is a whole visibility polygon
-        run = explore_depth_first(env, p, max_views=limit, choice=choice, seed=seed)  # type: ignore[arg-type]
+        run = explore_depth_first(env, p, max_views=limit, choice=choice, seed=seed)
         views = tuple(range_visibility(env, q, R) for q in run.viewpoints)
         eps = Fraction(0) if epsilon is None else to_fraction(epsilon, where="epsilon")
         optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
@@ -670,8 +671,7 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
                                 len(env.holes), bound, lower, ratio_bound, run.covered_fraction, R, eps, optimality,
                                 Stats(seconds_search=time.perf_counter() - t0, counts=dict(run.stats.counts)),
                                 EnvironmentRecord.of(env), algorithm="A", choice=run.choice)
-    if choice not in CHOICES:
-        raise InputError(f"unknown z-choice rule {choice!r}: use {', '.join(CHOICES)}")
+    choice = ViewChoice.parse(choice, "z-choice rule").value
     if seed is not None and choice != "random":
         raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
     eps = _default_epsilon(env, R) if epsilon is None else to_fraction(epsilon, where="epsilon")

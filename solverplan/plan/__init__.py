@@ -3,17 +3,17 @@
 - :func:`find_plan` — objectives ``fewest``, ``tolerance``, ``sum``, ``constant`` (belief-state search when
   the start set spans several segments), each with its optimality argument and bound;
 - :func:`pareto_front` — the bounces ↔ tolerance front;
-- :mod:`~solverplan.plan.patrol` (Def. 15: contracting patrol cycles), :mod:`~solverplan.plan.funnel` and
-  :mod:`~solverplan.plan.localize` (position-set plans that use contraction, paper §6.2, §8.4);
+- :func:`patrol` (:mod:`~solverplan.plan.patrols`, Def. 15: contracting patrol cycles), :func:`funnel`
+  (:mod:`~solverplan.plan.funnels`) and :func:`localize` (:mod:`~solverplan.plan.localization`): position-set
+  plans that use contraction, paper §6.2, §8.4;
 - :mod:`~solverplan.plan.margins` — the one margin policy every planner uses;
 - :class:`Plan`, :class:`ParetoFront`, :class:`Patrol`, :class:`Funnel`, :class:`Localization` — the results,
   on the shared protocol of :mod:`solverplan.result` (``status``, ``optimality``, ``stats``, ``environment``,
   ``to_json()``, ``to_text()``; the plan JSON of ``docs/contract.md``); :func:`load_plan` / :func:`parse_plan`
   read plans back.
 
-The functions :func:`~solverplan.plan.patrol.patrol`, :func:`~solverplan.plan.funnel.funnel` and
-:func:`~solverplan.plan.localize.localize` share their modules' names, so they are not re-exported here
-(``import solverplan.plan.patrol`` is always the module): call them as ``solverplan.patrol`` etc.
+Modules are named for what they hold (``patrols``, ``funnels``, ``localization``) and never like a function they
+define, so ``solverplan.plan.patrol`` is always the function and ``solverplan.plan.patrols`` the module.
 """
 
 from solverplan.plan.result import (
@@ -25,9 +25,9 @@ from solverplan.plan.result import (
     parse_plan,
 )
 from solverplan.plan.export import EXPORT_FORMATS, export_plan, plan_in_world
-from solverplan.plan.funnel import Funnel
-from solverplan.plan.localize import Localization
-from solverplan.plan.patrol import Patrol
+from solverplan.plan.funnels import Funnel, funnel
+from solverplan.plan.localization import Localization, localize
+from solverplan.plan.patrols import Patrol, patrol
 from solverplan.plan.search import (
     DEFAULT_HEADING_MARGIN,
     DEFAULT_SAFE_MARGIN,
@@ -44,6 +44,9 @@ __all__ = [
     "Funnel",
     "Localization",
     "Patrol",
+    "funnel",
+    "localize",
+    "patrol",
     "OBJECTIVES",
     "METHODS",
     "DEFAULT_HEADING_MARGIN",

@@ -56,7 +56,7 @@ import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.environment import BoundaryPiece, BoundarySet
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.interval import Interval
 from solverplan.result import Stage
 from solverplan.plan.margins import (DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins, admissible_intervals,
@@ -115,7 +115,7 @@ class Problem:
         goal: BoundarySet | None,
         *,
         margins: Margins | None = None,
-        walls: Walls | None = None,
+        walls: PartitionedWalls | None = None,
     ) -> None:
         """``goal=None``: a problem without a goal (reachability sweeps: no goal options).
 
@@ -290,7 +290,7 @@ class Problem:
     @property
     def user_pieces(self):
         """For every place of the search (:meth:`place`: segments, then start pieces), the user segments it overlaps
-        with the exact overlap of each (a piece of the user's edge): :meth:`Walls.user_pieces`, or each segment itself
+        with the exact overlap of each (a piece of the user's edge): :meth:`PartitionedWalls.user_pieces`, or each segment itself
         when no walls were given."""
         cached = getattr(self, "_user_pieces", None)
         if cached is None:

@@ -75,6 +75,7 @@ import math
 import time
 from dataclasses import replace
 
+from solverplan.choices import Objective
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.environment import BoundarySet, Environment
@@ -83,9 +84,9 @@ from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan import _search
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
-from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
+from solverplan.plan.result import ParetoFront, ParetoPoint, Plan
 from solverplan.progress import Stopped
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
@@ -149,7 +150,7 @@ def planning_problem(
                                       corner_clearance=corner_clearance)
     start_set = _boundary(env, start, "start")
     goal_set = _boundary(env, goal, "goal")
-    walls = Walls(env)
+    walls = PartitionedWalls(env)
     if graph is not None and graph.partition.env not in (env, walls.merged):
         raise InputError("the safe BVG given was built for another environment")
     if graph is None or graph.partition.env != walls.merged:
@@ -157,7 +158,7 @@ def planning_problem(
     return Problem(graph, start_set, goal_set, margins=margins, walls=walls)
 
 
-def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
+def straight_walls_graph(walls: PartitionedWalls, graph: SafeBVG | None = None) -> SafeBVG:
     """The safe BVG the planners search: the one of P′ of the straight walls (collinear vertices merged, the same
     free space: :mod:`solverplan.plan._walls`), so that it does not depend on how the walls are written; ``graph``
     when it is that graph already."""
@@ -166,7 +167,7 @@ def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
     return safe_bounce_visibility_graph(walls.merged)
 
 
-def query_graph(walls: Walls, start: BoundarySet, max_depth: int | None = None) -> SafeBVG:
+def query_graph(walls: PartitionedWalls, start: BoundarySet, max_depth: int | None = None) -> SafeBVG:
     """The safe BVG one query from ``start`` needs (on the straight walls): the whole graph when it is cached or
     small (under :data:`~solverplan.bounce.bvg.LAZY_MIN_ARCS` estimated arcs), else only the safe arcs a search
     from the start segments can reach within ``max_depth`` stages (:func:`~solverplan.bounce.bvg.reachable_safe_graph`:
@@ -347,8 +348,7 @@ def find_plan(
     >>> plan.status.value, plan.optimality.proved, plan.reason
     ('infeasible', True, 'exhausted all plans with ≤ 1 bounces (1 beliefs reached): none reaches the goal')
     """
-    if objective not in OBJECTIVES:
-        raise InputError(f"unknown objective {objective!r}: use {', '.join(OBJECTIVES)}")
+    objective = Objective.parse(objective, "objective").value
     allowed = METHODS[objective]
     if method not in allowed:
         raise InputError(f"unknown method {method!r} for objective {objective!r}: use {', '.join(allowed)}")
@@ -371,15 +371,10 @@ def find_plan(
                              "objectives with their default methods")
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    try:
-        with deadline.watching():
-            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
-                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
-                                       max_depth=k_max)
-    except Stopped as exc:
-        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
-                                          corner_clearance=corner_clearance)
-        return _stopped_in_setup(env, start, goal, objective, k_max, deadline, exc, time.perf_counter() - t0, margins)
+    problem = _query_problem(env, start, goal, objective, k_max, deadline, t0, graph=graph,
+                             heading_margin=heading_margin, safe_margin=safe_margin, corner_clearance=corner_clearance)
+    if isinstance(problem, Plan):
+        return problem
     common = _common(problem, k_max)
     t1 = time.perf_counter()
     if deadline.expired():
@@ -397,6 +392,21 @@ def find_plan(
                              admissible_intervals=problem.n_admissible, **_graph_counts(problem))
     logger.info("%s plan: %s in %.3f s", objective, plan.status.value, t2 - t1)
     return plan.with_(stats=stats)
+
+
+def _query_problem(env: Environment, start: str | BoundarySet, goal: str | BoundarySet, objective: str,
+                   k_max: int | None, deadline: Deadline, t0: float, *, graph: SafeBVG | None, heading_margin: float,
+                   safe_margin: float, corner_clearance: float | None) -> Problem | Plan:
+    """The query's planning problem, built under ``deadline`` (started at ``t0``); or, when the timeout comes while
+    it is built, the ``not-found`` plan of :func:`_stopped_in_setup`."""
+    try:
+        with deadline.watching():
+            return planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
+                                    safe_margin=safe_margin, corner_clearance=corner_clearance, max_depth=k_max)
+    except Stopped as exc:
+        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+                                          corner_clearance=corner_clearance)
+        return _stopped_in_setup(env, start, goal, objective, k_max, deadline, exc, time.perf_counter() - t0, margins)
 
 
 def _stopped_in_setup(env: Environment, start: str | BoundarySet, goal: str | BoundarySet, objective: str,
@@ -757,15 +767,10 @@ def pareto_front(
     k_max = _check_budget(max_bounces)
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    try:
-        with deadline.watching():
-            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
-                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
-                                       max_depth=k_max)
-    except Stopped as exc:
-        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
-                                          corner_clearance=corner_clearance)
-        plan = _stopped_in_setup(env, start, goal, "tolerance", k_max, deadline, exc, time.perf_counter() - t0, margins)
+    problem = _query_problem(env, start, goal, "tolerance", k_max, deadline, t0, graph=graph,
+                             heading_margin=heading_margin, safe_margin=safe_margin, corner_clearance=corner_clearance)
+    if isinstance(problem, Plan):  # the timeout came while the query was built
+        plan = problem
         return ParetoFront((), plan.optimality, plan.start, plan.goal, k_max, reason=plan.reason,
                            environment=plan.environment, stats=plan.stats)
     common = _common(problem, k_max)

@@ -1,12 +1,12 @@
 """Contraction answers: patrols (paper Def. 15) and funnel / localisation strategies (paper Fig. 14).
 
-Every reading of the answer objects (:class:`~solverplan.plan.patrol.Patrol`,
-:class:`~solverplan.plan.funnel.Funnel`, localisation answers) for drawing sits in this module, through
+Every reading of the answer objects (:class:`~solverplan.plan.patrols.Patrol`,
+:class:`~solverplan.plan.funnels.Funnel`, localisation answers) for drawing sits in this module, through
 their public attributes only: ``env``, ``visit``, ``cycle``, ``points``, ``found``, ``status`` and the
 objective figures of a patrol; ``start``, ``goal``, ``stages`` (``sources``, ``cones``, ``positions``),
 ``widths``, ``kind`` and ``epsilon`` of a funnel or localisation answer.
 
->>> from solverplan.plan.funnel import funnel
+>>> from solverplan.plan.funnels import funnel
 >>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]], name="box")
 >>> answer = funnel(env, "e0", "e2:0.4:0.6")
 >>> fig = render_answer(answer)
@@ -44,7 +44,7 @@ def _is_patrol(answer) -> bool:
 
 
 def draw_patrol(ax: Axes, patrol, *, linewidth: float = 2.2) -> list:
-    """Draw a patrol (:class:`~solverplan.plan.patrol.Patrol`): the required edges (thick, purple), each cycle
+    """Draw a patrol (:class:`~solverplan.plan.patrols.Patrol`): the required edges (thick, purple), each cycle
     stage's heading interval as a shaded fan of rays from its nominal contact point, and the nominal limit
     cycle (bold, contact points as yellow circles). Returns the artists (gids ``patrol-edges``,
     ``patrol-cone-k``, ``patrol-cycle``, ``patrol-points``)."""

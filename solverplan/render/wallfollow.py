@@ -23,7 +23,7 @@ from solverplan.environment import Environment
 from solverplan.render.environment import draw_boundary, draw_free_space, draw_reflex_vertices
 from solverplan.render.figure import (BOUNDARY_COLOR, TRAJECTORY_COLOR, TRAJECTORY_START_COLOR, _style_axes,
                                       new_figure)
-from solverplan.wallfollow.cuts import Cut, cut_ordering, cuts
+from solverplan.wallfollow.cut import Cut, cut_ordering, cuts
 from solverplan.wallfollow.ordering import CutOrdering
 
 __all__ = ["CUT_COLORS", "SHADOW_COLORS", "draw_cuts", "draw_cut_diagram", "render_cuts", "render_pursuit"]

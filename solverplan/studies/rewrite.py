@@ -37,7 +37,7 @@ direction: the free space stays on their left). A mirror reverses every edge: ed
 edge n − 1 − i, and t becomes 1 − t.
 
 **Patrol edges.** A patrol's required visit "edge e" is satisfied by landing anywhere on e
-(:mod:`solverplan.plan.patrol`): after e is split that is "e′ or e″", which no visit list can say.
+(:mod:`solverplan.plan.patrols`): after e is split that is "e′ or e″", which no visit list can say.
 :meth:`Rewritten.map_edges` therefore maps only edges kept whole and raises :class:`~solverplan.errors.InputError`
 for a split one; test patrols with rewritings that keep the visited edges whole (insertions elsewhere, motions,
 ring starts, reversal).
@@ -77,7 +77,7 @@ from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, format_number, to_fraction
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan.patrol import Patrol
+from solverplan.plan.patrols import Patrol
 from solverplan.plan.result import ParetoFront, Plan
 
 __all__ = [

@@ -5,7 +5,7 @@ A robot in an unknown simply connected polygon that can only follow walls (RFOLL
 clockwise), JUMP straight on past a reflex vertex, and carry one pebble; it senses whether it is in the
 interior, on an edge, at a convex or at a reflex vertex, and whether it is at the pebble.
 
-- :mod:`~solverplan.wallfollow.cuts` — the exact cuts of the reflex vertices, general position, and the
+- :mod:`~solverplan.wallfollow.cut` — the exact cuts of the reflex vertices, general position, and the
   geometric cut ordering.
 - :mod:`~solverplan.wallfollow.ordering` — the cut ordering as a combinatorial object: canonical form under
   renaming, the chord-alternation test of Prop. 4.
@@ -13,7 +13,7 @@ interior, on an edge, at a convex or at a reflex vertex, and whether it is at th
 - :mod:`~solverplan.wallfollow.combinatorial` — the simulator driven by the cut ordering alone (Prop. 7).
 - :mod:`~solverplan.wallfollow.filters` — vertex counting and winding number (§IV, corrected).
 - :mod:`~solverplan.wallfollow.learning` — Strategy 1: learning the cut ordering from sensing alone.
-- :mod:`~solverplan.wallfollow.bitangents` — inflections and bitangents (exact), their end points in the cut
+- :mod:`~solverplan.wallfollow.bitangent` — inflections and bitangents (exact), their end points in the cut
   ordering: the events of pursuit-evasion (Props. 11, 13, 18 hold and are tested).
 - :mod:`~solverplan.wallfollow.pursuit_check` — the geometric ground truth of pursuit-evasion: exact shadow
   components along a plan and their labels.
@@ -32,9 +32,9 @@ The command is ``solverplan wallfollow``.
 True
 """
 
-from solverplan.wallfollow.bitangents import Bitangent, bitangents, inflections, mutually_visible, reflex_chains
+from solverplan.wallfollow.bitangent import Bitangent, bitangents, inflections, mutually_visible, reflex_chains
 from solverplan.wallfollow.combinatorial import OrderingWorld
-from solverplan.wallfollow.cuts import Cut, check_general_position, collinear_triple, cut_ordering, cuts
+from solverplan.wallfollow.cut import Cut, check_general_position, collinear_triple, cut_ordering, cuts
 from solverplan.wallfollow.filters import (CountingFilter, count_walk, printed_vertex_count, printed_winding,
                                            step_value)
 from solverplan.wallfollow.learning import LearnedOrdering, Robot, learn_cut_ordering, strategy1

@@ -1,7 +1,7 @@
 """The cut ordering: the cyclic order of vertices and cut end points along the boundary (§V-A of the paper).
 
 With n vertices, m of them reflex, the set M holds the n vertices and the 2m cut end points (ℓ_i, r_i for
-each reflex v_i, see :mod:`solverplan.wallfollow.cuts`). The **cut ordering** is M in counter-clockwise order
+each reflex v_i, see :mod:`solverplan.wallfollow.cut`). The **cut ordering** is M in counter-clockwise order
 along the boundary. It is written as a list of names — ``vK`` vertex K, ``lK`` / ``rK`` the end point of the
 left / right cut of reflex vertex K — starting at ``v0``; vertices appear as v0, v1, …, v_{n−1} in that order,
 and every reflex vertex K has exactly one ``lK`` and one ``rK``.

@@ -42,7 +42,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, line_intersection, orient
 from solverplan.geometry.visibility import sees
-from solverplan.wallfollow.cuts import corner_polygon, cut_ordering
+from solverplan.wallfollow.cut import corner_polygon, cut_ordering
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
 from solverplan.wallfollow.world import Action, Observation, WallWorld
 
@@ -155,7 +155,7 @@ class PebbleWorld(WallWorld):
 class LearnedBitangent:
     """A bitangent as Strategy 4 learns it: reflex vertices ``i``, ``j`` (right-handed: v_j ∈ [v_i, r_i]) and
     the point of the cut ordering just before each end point counter-clockwise (as
-    :class:`~solverplan.wallfollow.bitangents.Bitangent`)."""
+    :class:`~solverplan.wallfollow.bitangent.Bitangent`)."""
 
     i: int
     j: int
@@ -170,7 +170,7 @@ class LearnedBitangents:
     Attributes
     ----------
     bitangents
-        The bitangents found, in the order of :func:`~solverplan.wallfollow.bitangents.bitangents`.
+        The bitangents found, in the order of :func:`~solverplan.wallfollow.bitangent.bitangents`.
     candidates
         Bitangent candidates tested (Prop. 11).
     actions
@@ -189,7 +189,7 @@ class LearnedBitangents:
 def bitangent_candidates(order: CutOrdering) -> list[tuple[int, int]]:
     """The bitangent candidates (i, j) of Prop. 11, from the cut ordering alone: v_i ∉ (r_j, ℓ_j) and
     v_j ∉ (r_i, ℓ_i) (the line v_i v_j is tangent at both ends *if* they see each other), neighbours (an edge,
-    never a bitangent) left out. Named as :func:`~solverplan.wallfollow.bitangents.bitangents` names them:
+    never a bitangent) left out. Named as :func:`~solverplan.wallfollow.bitangent.bitangents` names them:
     right-handed (v_j ∈ [v_i, r_i]) with the smaller id first when both namings are.
 
     >>> order = CutOrdering.from_labels(["v0", "v1", "v2", "v3", "l4", "v4", "r4"])
@@ -323,7 +323,7 @@ def learn_bitangents(env: Environment, order: CutOrdering | None = None) -> Lear
     Returns
     -------
     LearnedBitangents
-        The bitangents with ``after_ij`` / ``after_ji`` as in :func:`~solverplan.wallfollow.bitangents`, and
+        The bitangents with ``after_ij`` / ``after_ji`` as in :func:`~solverplan.wallfollow.bitangent`, and
         the action and sensor-query counts.
 
     Examples
@@ -379,7 +379,7 @@ def learned_pairs(env: Environment, learned: LearnedBitangents) -> list[tuple[in
     SolverFailed
         When a learned end point's place disagrees with the ray's (a bug, never expected).
     """
-    from solverplan.wallfollow.bitangents import bitangents
+    from solverplan.wallfollow.bitangent import bitangents
 
     pairs = [(b.i, b.j) for b in learned.bitangents]
     for got, ray in zip(learned.bitangents, bitangents(env, pairs)):

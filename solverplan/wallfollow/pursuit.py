@@ -14,11 +14,11 @@ exists (Prop. 8: the reachable I-space is finite).
 How the labels travel over one action is derived from the events the motion crosses, as the paper describes
 them: the motion (a segment along an edge, or along a cut for a JUMP) is cut at every crossing with
 
-- an **inflection** (:func:`~solverplan.wallfollow.bitangents.inflections`) of reflex vertex v: the gap at v
+- an **inflection** (:func:`~solverplan.wallfollow.bitangent.inflections`) of reflex vertex v: the gap at v
   appears (label 0) or disappears;
 - any other cut — it extends an edge between two consecutive reflex vertices v, w: the gap **slides** from v
   to w or back (same component, same label);
-- a **bitangent ray** (:func:`~solverplan.wallfollow.bitangents.bitangents`) from v_i to b_ij: the gap at v_j
+- a **bitangent ray** (:func:`~solverplan.wallfollow.bitangent.bitangents`) from v_i to b_ij: the gap at v_j
   splits off the gap at v_i (it inherits its label) or merges into it (the label becomes the OR).
 
 and the gap sensor's reading between two crossings says which gaps there are. A change of the gaps that these
@@ -41,14 +41,15 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from solverplan.choices import Sensor
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.limits import quote
 from solverplan.exact import ExactPoint, format_point, segment_intersection
 from solverplan.geometry.visibility import visibility_polygon
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
-from solverplan.wallfollow.bitangents import bitangents
-from solverplan.wallfollow.cuts import corner_polygon, cut_ordering, cuts, merged_count
+from solverplan.wallfollow.bitangent import bitangents
+from solverplan.wallfollow.cut import corner_polygon, cut_ordering, cuts, merged_count
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
 from solverplan.wallfollow.pursuit_check import PursuitCheck, Transfer, check_pursuit
 from solverplan.wallfollow.world import Action
@@ -56,7 +57,7 @@ from solverplan.wallfollow.world import Action
 __all__ = ["GapSensor", "PursuitPlan", "pursuit_plan", "SENSORS", "DEFAULT_MAX_STATES"]
 
 #: The sensors ``pursuit_plan`` knows.
-SENSORS = ("gap", "bitangent", "pebble", "contact")
+SENSORS = Sensor.values()
 
 #: The strategy of each implemented sensor.
 STRATEGY = {"gap": "Strategy 2", "bitangent": "Strategy 3", "pebble": "Strategy 5", "contact": "Strategy 6"}
@@ -388,12 +389,11 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     >>> pursuit_plan(square).actions                    # convex: the evader is seen at once
     ()
     """
-    if sensor not in SENSORS:
-        raise InputError(f"unknown sensor {sensor!r}: use one of {', '.join(SENSORS)}")
+    sensor = Sensor.parse(sensor, "sensor").value
     if isinstance(max_states, bool) or not isinstance(max_states, int) or max_states < 1:
         raise InputError(f"max_states must be a positive integer, got {max_states!r}")
     t0 = time.perf_counter()
-    user, env = env, corner_polygon(env)  # collinear vertices are no corners (wallfollow.cuts)
+    user, env = env, corner_polygon(env)  # collinear vertices are no corners (wallfollow.cut)
     order = cut_ordering(env)
     if start not in order.labels:
         names = " ".join(order.labels[:8]) + (" ..." if len(order.labels) > 8 else "")  # one short line

@@ -21,7 +21,7 @@ and follows the labels **continuously** along every motion, independently of any
   (so close to the crossing a component that continues another covers nearly all of it, while one that vanished
   or appeared meets the others only in a sliver); one overlapping none gets 0: appear → 0, split → both
   inherit, merge → OR. The areas are exact (:func:`overlap_area`): a component as thin as a symbolic perturbation
-  (:mod:`~solverplan.wallfollow.perturb`) is a component, with no tolerance that could drop it.
+  (:mod:`~solverplan.wallfollow.perturbation`) is a component, with no tolerance that could drop it.
 
 The plan is *verified* when at some instant every label is 0 (no component may hold the evader: it has been
 seen). Labels are also followed symbolically (each label as the set of start components it comes from), which

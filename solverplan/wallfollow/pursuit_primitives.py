@@ -1,7 +1,7 @@
 """Strategy 3: pursuit with the bitangent sensor — primitives and compounds instead of gaps (§VI-C).
 
 Without a gap sensor the pursuer names shadow components by **primitives**: every reflex chain (a maximal run
-of consecutive reflex vertices, :func:`~solverplan.wallfollow.bitangents.reflex_chains`) c₁ … c_k has a right
+of consecutive reflex vertices, :func:`~solverplan.wallfollow.bitangent.reflex_chains`) c₁ … c_k has a right
 primitive ``R{c₁}`` (its shadow appears when the pursuer crosses the right inflection, the right cut of c₁) and
 a left primitive ``L{c_k}`` (the left cut of c_k). Which primitives are **active** at a point of the cut
 ordering follows from the ordering alone: ``R{c₁}`` exactly strictly between v_{c₁} and r_{c₁}
@@ -36,8 +36,8 @@ from typing import Sequence
 from solverplan.environment import Environment
 from solverplan.errors import SolverFailed
 from solverplan.exact import ExactPoint, cross, orient, segment_intersection
-from solverplan.wallfollow.bitangents import bitangents, reflex_chains
-from solverplan.wallfollow.cuts import cut_ordering, cuts
+from solverplan.wallfollow.bitangent import bitangents, reflex_chains
+from solverplan.wallfollow.cut import cut_ordering, cuts
 
 __all__ = ["BitangentSensor", "PrimitiveState", "BitangentRay"]
 
@@ -78,7 +78,7 @@ class BitangentSensor:
 
     def __init__(self, env: Environment, pairs: Sequence[tuple[int, int]] | None = None) -> None:
         """``pairs``: the bitangents' vertex pairs when learned (Strategy 5, :mod:`~solverplan.wallfollow.pebble`);
-        default: the exact geometry's (:func:`~solverplan.wallfollow.bitangents.bitangents`)."""
+        default: the exact geometry's (:func:`~solverplan.wallfollow.bitangent.bitangents`)."""
         self.env = env
         self.ordering = cut_ordering(env)
         n = env.n_vertices

@@ -1,6 +1,6 @@
 """The geometric simulator of the wall-following robot: actions, the touch sensor and the pebble sensor (§III).
 
-The robot is a point in a simply connected polygon in general position (:mod:`solverplan.wallfollow.cuts`).
+The robot is a point in a simply connected polygon in general position (:mod:`solverplan.wallfollow.cut`).
 Its actions (:class:`Action`):
 
 - ``RFOLLOW`` — follow the wall counter-clockwise (the wall on the robot's right) until the next vertex or the
@@ -40,7 +40,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, format_number, format_point, point_in_ring, to_fraction
 from solverplan.geometry.raycast import cast_ray
-from solverplan.wallfollow.cuts import Cut, corner_polygon, cuts
+from solverplan.wallfollow.cut import Cut, corner_polygon, cuts
 
 __all__ = ["Action", "Touch", "Observation", "ActionNotApplicable", "WallWorld", "Position", "parse_action"]
 
@@ -104,7 +104,7 @@ class WallWorld:
     Parameters
     ----------
     env
-        A simple polygon in general position (checked: :func:`~solverplan.wallfollow.cuts.cuts`).
+        A simple polygon in general position (checked: :func:`~solverplan.wallfollow.cut.cuts`).
     start
         The robot's start, a point of the polygon (interior or boundary), in the environment's length units;
         default vertex 0.

@@ -167,7 +167,7 @@ def test_exact_fallbacks_agree_with_the_float_path(monkeypatch, name):
     monkeypatch.setattr(sweep_module, "ANGLE_REL", 1e3)
     monkeypatch.setattr(sweep_module, "CROSS_REL", 1e3)
     monkeypatch.setattr(sweep_module, "_THIN", 10.0)
-    monkeypatch.setattr(bvg_module, "_SAT_REL", 1e3)
+    monkeypatch.setattr(bvg_module.tolerances, "SAT_REL", 1e3)
     bvg_module.clear_graph_cache()  # a rebuild, not the graph kept from the first call
     got = safe_bounce_visibility_graph(env)
     bvg_module.clear_graph_cache()  # nor keep this one for the other tests
@@ -422,8 +422,8 @@ def test_occlusion_pruning_changes_no_sweep_entry(monkeypatch, env, prunes):
     ever be spanned (no pruning) the sweeps are the same, and pruning did skip tests."""
     p = partition(env)
     pruned = sweep_module.build_sweeps(p)
-    ctx = sweep_module._Context(p)
-    monkeypatch.setattr(sweep_module, "_Context", lambda partition: ctx)
+    ctx = sweep_module.SweepContext(p)
+    monkeypatch.setattr(sweep_module, "SweepContext", lambda partition: ctx)
     sweep_module.build_sweeps(p)
     assert (ctx.depth_tested < ctx.depth_pairs) == prunes  # the stars' hidden spikes are skipped
     monkeypatch.setattr(sweep_module, "_CHUNK", 1 << 30)
@@ -487,7 +487,7 @@ def test_size_estimate_and_refusal_up_front(no_cache):
     assert abs(arcs - g.n_arcs) <= 0.1 * g.n_arcs
     assert need > bvg_api.BYTES_PER_ARC * arcs
     bvg_api.clear_graph_cache()
-    set_memory_limit(bvg_api._BASE_BYTES + (need - bvg_api._BASE_BYTES) // 2)  # half the graph's own bytes fit
+    set_memory_limit(bvg_api.BASE_BYTES + (need - bvg_api.BASE_BYTES) // 2)  # half the graph's own bytes fit
     with pytest.raises(bvg_api.GraphTooLarge, match=r"would need ≈ .* arcs, 629 segments\), more than the memory limit") as info:
         safe_bounce_visibility_graph(p)
     assert "\n" not in str(info.value) and len(str(info.value)) < 200

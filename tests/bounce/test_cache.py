@@ -85,7 +85,7 @@ def test_a_refined_partition_has_its_own_graph_in_memory_and_on_disk(cache):
 def test_an_environment_call_needs_no_partition_when_the_graph_is_in_memory(cache, monkeypatch):
     env = load_environment("two_rooms")
     first = safe_bounce_visibility_graph(env)
-    monkeypatch.setattr("solverplan.bounce.bvg.make_partition", lambda e: pytest.fail("partitioned again"))
+    monkeypatch.setattr("solverplan.bounce.bvg.graph.make_partition", lambda e: pytest.fail("partitioned again"))
     renamed = Environment.from_coords([[x, y] for x, y in env.outer], holes=[list(h) for h in env.holes], name="other")
     assert safe_bounce_visibility_graph(env) is first
     other = safe_bounce_visibility_graph(renamed)
@@ -97,7 +97,7 @@ def test_loading_does_not_rebuild_the_partition(cache, monkeypatch):
     built = safe_bounce_visibility_graph(p)
     bvg_api.clear_graph_cache()
     monkeypatch.setattr("solverplan.bounce.partition.partition", lambda e: pytest.fail("partition rebuilt"))
-    monkeypatch.setattr("solverplan.bounce.bvg.make_partition", lambda e: pytest.fail("partition rebuilt"))
+    monkeypatch.setattr("solverplan.bounce.bvg.graph.make_partition", lambda e: pytest.fail("partition rebuilt"))
     read = safe_bounce_visibility_graph(p)
     assert read.stats.get("cached") is True and read.partition is p and same_graph(read, built)
 

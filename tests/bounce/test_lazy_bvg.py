@@ -108,7 +108,7 @@ def test_a_reachable_part_beyond_the_memory_limit_is_refused_with_a_simplificati
 
     env = star_polygon(60, 0.2, 0.3, seed=4)
     p = partition(env)
-    set_memory_limit(bvg._BASE_BYTES + 1000 * bvg.PLANNED_BYTES_PER_ARC)  # room for 1,000 arcs
+    set_memory_limit(bvg.BASE_BYTES + 1000 * bvg.PLANNED_BYTES_PER_ARC)  # room for 1,000 arcs
     try:
         with pytest.raises(bvg.GraphTooLarge, match=r"outgrew the memory limit .* after [0-9,]+ arcs from") as info:
             reachable_safe_graph(p, [0])
@@ -130,7 +130,7 @@ def test_a_query_without_budget_is_refused_up_front_when_the_whole_graph_would_n
     monkeypatch.setattr(bvg, "LAZY_MIN_ARCS", 0)
     monkeypatch.setattr(bvg, "reachable_safe_graph", lambda *a, **k: pytest.fail("built before refusing"))
     _cache.clear_graph_cache()
-    set_memory_limit(bvg._BASE_BYTES + 1000)
+    set_memory_limit(bvg.BASE_BYTES + 1000)
     try:
         with pytest.raises(bvg.GraphTooLarge, match="would need"):
             sp.find_plan(env, "e0", "e30", objective="tolerance")

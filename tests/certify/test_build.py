@@ -16,8 +16,8 @@ from solverplan.certify.schema import load_certificate
 from solverplan.environment import load_environment
 from solverplan.errors import InputError, SolverplanError
 from solverplan.plan import find_plan, pareto_front
-from solverplan.plan.funnel import Funnel, funnel
-from solverplan.plan.patrol import patrol
+from solverplan.plan.funnels import Funnel, funnel
+from solverplan.plan.patrols import patrol
 from solverplan.result import Status
 from tests.certify.cases import MODELS
 

@@ -8,7 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from solverplan.environment import Environment
-from solverplan.explore.windows import point_on_part, simplest_between, unexplored_parts, windows
+from solverplan.explore.window import point_on_part, simplest_between, unexplored_parts, windows
 from solverplan.geometry.visibility import visibility_polygon
 
 ELL = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])

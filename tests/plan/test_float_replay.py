@@ -78,7 +78,7 @@ def test_plans_replay_in_float_rollouts_without_a_failure(query, objective):
 @settings(max_examples=30)
 @given(queries(), st.sampled_from(["contraction", "rate"]), st.booleans(), st.data())
 def test_patrols_replay_in_float_rollouts_without_a_failure(query, objective, with_start, data):
-    from solverplan.plan.patrol import patrol
+    from solverplan.plan.patrols import patrol
 
     name, env, graph, start, _ = query
     visit = data.draw(st.lists(st.integers(0, env.n_edges - 1), min_size=1, max_size=3, unique=True))
@@ -99,7 +99,7 @@ def test_patrols_replay_in_float_rollouts_without_a_failure(query, objective, wi
 @settings(max_examples=12)
 @given(st.sampled_from(["square", "l_shape", "two_rooms", "narrow_door"]), st.data())
 def test_funnels_replay_in_float_rollouts_without_a_failure(name, data):
-    from solverplan.plan.funnel import funnel
+    from solverplan.plan.funnels import funnel
 
     env, graph = _model(name)
     start = data.draw(pieces(env.n_edges))
@@ -120,7 +120,7 @@ def test_funnels_replay_in_float_rollouts_without_a_failure(name, data):
 def test_the_convex_room_patrol_keeps_the_heading_margin():
     """The contraction-optimal patrol of a convex room sits at the contracting end of each arc's safe interval —
     at the wall itself without a margin; with it, every heading is at least δ from 0 and π."""
-    from solverplan.plan.patrol import patrol
+    from solverplan.plan.patrols import patrol
 
     env, graph = _model("square")
     p = patrol(env, "e0,e1,e2,e3", objective="contraction", tolerance=0.01, graph=graph)

@@ -22,7 +22,7 @@ from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from solverplan.plan import find_plan
 from solverplan.plan._positions import Flat, _merged_images, _Reached, merge_pieces
-from solverplan.plan.funnel import funnel, safe_plan_exists
+from solverplan.plan.funnels import funnel, safe_plan_exists
 from solverplan.simulate import StagePolicy, simulate_policy
 
 MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"

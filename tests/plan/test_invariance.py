@@ -30,9 +30,9 @@ from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.exact import format_number
 from solverplan.plan import find_plan, pareto_front
-from solverplan.plan.funnel import funnel
-from solverplan.plan.localize import localize
-from solverplan.plan.patrol import patrol
+from solverplan.plan.funnels import funnel
+from solverplan.plan.localization import localize
+from solverplan.plan.patrols import patrol
 from solverplan.studies import rewrite as rw
 from solverplan.studies.rewrite import Rewritten, answer_differences
 from tests.strategies import polygons_with_holes, simple_polygons

@@ -16,7 +16,7 @@ from solverplan.certify.build import certificate
 from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment, load_environment
 from solverplan.errors import InputError
-from solverplan.plan.localize import localize, rotational_symmetry
+from solverplan.plan.localization import localize, rotational_symmetry
 from solverplan.result import Method, Status
 from solverplan.simulate import StagePolicy, simulate_policy
 

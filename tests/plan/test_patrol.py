@@ -26,7 +26,7 @@ from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.plan._choices import arc_choices
 from solverplan.plan._graphs import find_negative_cycle, karp_min_mean_cycle, lp_min_mean_cycle
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
-from solverplan.plan.patrol import patrol
+from solverplan.plan.patrols import patrol
 from solverplan.simulate import StagePolicy, simulate_policy
 
 MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"

@@ -13,12 +13,12 @@ import pytest
 
 from solverplan.environment import Environment, load_environment
 from solverplan.plan import Funnel, Localization, ParetoFront, Patrol, Plan, find_plan, pareto_front
-from solverplan.plan.funnel import funnel
-from solverplan.plan.localize import localize
-from solverplan.plan.patrol import patrol
+from solverplan.plan.funnels import funnel
+from solverplan.plan.localization import localize
+from solverplan.plan.patrols import patrol
 from solverplan.result import EnvironmentRecord, Method, Optimality, Result, Stage, Stats, Status
 
-patrol_module = importlib.import_module("solverplan.plan.patrol")  # the name `patrol` is the function
+patrol_module = importlib.import_module("solverplan.plan.patrols")
 MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"
 SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 TRIANGLE = Environment.from_coords([[0, 0], [10, 0], [3, 7]], name="triangle")

@@ -22,9 +22,9 @@ from solverplan.errors import InputError
 from solverplan.models import load as load_model
 from solverplan.plan import find_plan, pareto_front
 from solverplan.plan._deadline import NEVER, Deadline, check_timeout, deadline_of
-from solverplan.plan.funnel import funnel
-from solverplan.plan.localize import localize
-from solverplan.plan.patrol import patrol
+from solverplan.plan.funnels import funnel
+from solverplan.plan.localization import localize
+from solverplan.plan.patrols import patrol
 from solverplan.result import Status
 
 EPS = 1e-9

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from solverplan.environment import Environment
 from solverplan.exact import orient
 from solverplan.wallfollow import cuts
-from solverplan.wallfollow.bitangents import (bitangents, boundary_between, inflections, mutually_visible,
+from solverplan.wallfollow.bitangent import (bitangents, boundary_between, inflections, mutually_visible,
                                               reflex_chains)
 
 from tests.wallfollow._polygons import general_position_polygons

@@ -157,7 +157,7 @@ def test_collinear_triple_agrees_with_brute_force(points):
 
     import numpy as np
 
-    from solverplan.wallfollow.cuts import collinear_triple
+    from solverplan.wallfollow.cut import collinear_triple
 
     exact = tuple((Fraction(x), Fraction(y)) for x, y in points)
     fake = SimpleNamespace(exact_vertices=exact, vertices=np.array(points, dtype=float))

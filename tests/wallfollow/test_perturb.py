@@ -12,8 +12,8 @@ from solverplan.environment import Environment, load_environment
 from solverplan.errors import InvalidEnvironment
 from solverplan.exact import orient
 from solverplan.generators import rectilinear_polygon
-from solverplan.wallfollow.cuts import check_general_position, corner_polygon, cut_ordering
-from solverplan.wallfollow.perturb import perturb
+from solverplan.wallfollow.cut import check_general_position, corner_polygon, cut_ordering
+from solverplan.wallfollow.perturbation import perturb
 from solverplan.wallfollow.pursuit import pursuit_plan
 
 SIMPLE_MODELS = ["comb", "hallway", "two_rooms", "spiral", "warehouse", "three_chambers", "narrow_door", "serpentine"]
@@ -60,7 +60,7 @@ def test_simulation_of_simplicity_makes_rectilinear_polygons_general_and_keeps_e
                 if before != 0:
                     assert (before > 0) == (after > 0)
     if not p.general:
-        from solverplan.wallfollow.perturb import _moved
+        from solverplan.wallfollow.perturbation import _moved
 
         finer = _moved(env, p.epsilon / 1024)
         assert finer is not None and cut_ordering(finer[0]).labels == cut_ordering(p.env).labels

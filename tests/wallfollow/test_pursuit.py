@@ -249,7 +249,7 @@ def test_a_bitangent_of_reflex_chains_right_handed_from_neither_end_is_covered_i
     """In this polygon of bent arms the bitangents (17, 1) and (16, 12) are right-handed from neither end in
     the counter-clockwise order (the paper says one end always is); Strategy 6 takes them from the mirror image,
     and the plan it finds is verified (without the mirror it was not)."""
-    from solverplan.wallfollow.bitangents import boundary_between
+    from solverplan.wallfollow.bitangent import boundary_between
 
     order = cut_ordering(BENT_ARMS)
     at = {c.label: (c.edge, c.t) for c in cuts(BENT_ARMS)}

@@ -35,7 +35,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InvalidEnvironment
 from solverplan.exact import ExactPoint, format_point, orient, point_in_ring, segment_intersection
 from solverplan.geometry.raycast import cast_ray
-from solverplan.wallfollow.cuts import Cut, corner_polygon, cuts
+from solverplan.wallfollow.cut import Cut, corner_polygon, cuts
 from solverplan.wallfollow.ordering import CutOrdering
 
 __all__ = ["Bitangent", "inflections", "bitangents", "mutually_visible", "reflex_chains", "boundary_between"]
@@ -71,7 +71,7 @@ class Bitangent:
 
 
 def inflections(env: Environment) -> tuple[Cut, ...]:
-    """The right and left inflections (cuts), in the order of :func:`~solverplan.wallfollow.cuts.cuts`."""
+    """The right and left inflections (cuts), in the order of :func:`~solverplan.wallfollow.cut.cuts`."""
     env = corner_polygon(env)
     n = env.n_vertices
     reflex = set(env.reflex_vertices)
@@ -82,7 +82,7 @@ def inflections(env: Environment) -> tuple[Cut, ...]:
 
 def reflex_chains(env: Environment) -> tuple[tuple[int, ...], ...]:
     """Maximal runs of consecutive reflex vertices (counter-clockwise), each a tuple of vertex ids (of the corners,
-    :func:`~solverplan.wallfollow.cuts.corner_polygon`)."""
+    :func:`~solverplan.wallfollow.cut.corner_polygon`)."""
     env = corner_polygon(env)
     n = env.n_vertices
     reflex = set(env.reflex_vertices)
@@ -162,10 +162,10 @@ def bitangents(env: Environment, pairs: Sequence[tuple[int, int]] | None = None)
     Raises
     ------
     InvalidEnvironment
-        As :func:`~solverplan.wallfollow.cuts.cuts`, and when a bitangent ends exactly at a cut end point (the
+        As :func:`~solverplan.wallfollow.cut.cuts`, and when a bitangent ends exactly at a cut end point (the
         paper's general position leaves that out too).
     """
-    from solverplan.wallfollow.cuts import cut_ordering
+    from solverplan.wallfollow.cut import cut_ordering
 
     env = corner_polygon(env)
     all_cuts = cuts(env)

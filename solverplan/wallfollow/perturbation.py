@@ -3,7 +3,7 @@
 The wall-following model (Yershova et al.) assumes general position: no three collinear vertices, no two cut end
 points at one point. Rectilinear floor plans and most hand-drawn polygons break it (a row of reflex corners on one
 line: a JUMP runs into the next corner). :func:`perturb` first merges the vertices of angle exactly π (the robot
-cannot sense them: :func:`~solverplan.wallfollow.cuts.corner_polygon`), then moves the corner of rank r — in the
+cannot sense them: :func:`~solverplan.wallfollow.cut.corner_polygon`), then moves the corner of rank r — in the
 lexicographic (x, y) order of the corners, so the perturbation does not depend on where the ring starts or on
 split edges — by
 
@@ -14,7 +14,7 @@ a polynomial D₀ + ε D₁ + ε² D₂ in ε whose ε² term is the orientation
 ranks) — never 0 —, so no three vertices stay collinear, and every predicate that was not degenerate keeps its
 sign. ε starts at 2⁻²⁴
 and shrinks by 2⁻¹⁰ until (a) the perturbed polygon is simple, (b) it is in general position
-(:func:`~solverplan.wallfollow.cuts.check_general_position`, exact) and (c) its cut ordering is the same at ε and
+(:func:`~solverplan.wallfollow.cut.check_general_position`, exact) and (c) its cut ordering is the same at ε and
 at ε·2⁻¹⁰ (the combinatorial model no longer depends on ε: it is the limit ε → 0⁺). The answer records ε and the
 displacement; everything downstream (cuts, orderings, Strategy 1, pursuit) runs on the perturbed polygon exactly.
 
@@ -31,7 +31,7 @@ combinatorics. Without ``--perturb`` a degenerate polygon is refused with the of
 >>> p = perturb(ell)
 >>> p.general, p.env.n_vertices, p.epsilon
 (False, 6, Fraction(1, 16777216))
->>> from solverplan.wallfollow.cuts import cut_ordering
+>>> from solverplan.wallfollow.cut import cut_ordering
 >>> cut_ordering(p.env).labels
 ('v0', 'l3', 'v1', 'v2', 'v3', 'v4', 'v5', 'r3')
 """
@@ -72,7 +72,7 @@ class Perturbation:
 
 
 def _general(env: Environment) -> bool:
-    from solverplan.wallfollow.cuts import check_general_position
+    from solverplan.wallfollow.cut import check_general_position
 
     try:
         check_general_position(env)
@@ -121,7 +121,7 @@ def perturb(env: Environment) -> Perturbation:
     InputError
         If no ε down to 2⁻⁸⁴ gives a stable general polygon (never seen).
     """
-    from solverplan.wallfollow.cuts import corner_polygon, cut_ordering
+    from solverplan.wallfollow.cut import corner_polygon, cut_ordering
 
     if _general(env):
         return Perturbation(env, Fraction(0), tuple((Fraction(0), Fraction(0)) for _ in range(env.n_vertices)), True)
