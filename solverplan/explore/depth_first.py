@@ -20,7 +20,7 @@ import random
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Sequence
+from typing import Callable, Sequence
 
 from solverplan.choices import ViewChoice
 from solverplan.environment import Environment
@@ -56,6 +56,7 @@ class ViewpointRun(Answer):
     bound: int
     covered_fraction: float
     choice: str
+    optimality: Optimality
 
     @property
     def n_views(self) -> int:
@@ -96,6 +97,16 @@ class ViewpointRun(Answer):
             "viewpoints_exact": [[format_number(x), format_number(y)] for x, y in self.viewpoints],
             "path_exact": [[format_number(x), format_number(y)] for x, y in self.path],
         }
+
+    def _text(self, heading: str, counts: str, via: Callable[[int], str], width: int) -> str:
+        """The short report every exploration gives: a heading, its counts, moves and coverage, the optimality, then
+        the viewpoints (``via(k)``: how viewpoint k was reached)."""
+        lines = [heading, counts,
+                 f"moves {self.moves}, path length {self.path_length:.6g}, covered {self.covered_fraction:.12g}",
+                 f"optimality: {self.optimality.to_text()}"]
+        for k, p in enumerate(self.viewpoints):
+            lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via(k)}"[:width])
+        return "\n".join(lines)
 
     @staticmethod
     def _read_run(r: Reader, env: Environment | None, kind: str) -> dict:
@@ -184,16 +195,9 @@ class Exploration(ViewpointRun):
 
     def to_text(self, *, width: int = 100) -> str:
         """A short report: counts, bound, coverage, then the viewpoints."""
-        lines = [
-            f"exploration (Algorithm {self.algorithm}, choice {self.choice}): {self.status.value}",
-            f"views {self.n_views} (bound {self.bound}, r = {self.reflex}), moves {self.moves}, "
-            f"path length {self.path_length:.6g}, covered {self.covered_fraction:.12g}",
-            f"optimality: {self.optimality.to_text()}",
-        ]
-        for k, p in enumerate(self.viewpoints):
-            via = "" if self.parents[k] < 0 else f"  (on a window of p{self.parents[k] + 1})"
-            lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via}"[:width])
-        return "\n".join(lines)
+        return self._text(f"exploration (Algorithm {self.algorithm}, choice {self.choice}): {self.status.value}",
+                          f"views {self.n_views} (bound {self.bound}, r = {self.reflex})",
+                          lambda k: "" if self.parents[k] < 0 else f"  (on a window of p{self.parents[k] + 1})", width)
 
 
 def covered_fraction(env: Environment, views: Sequence[VisibilityPolygon]) -> float:

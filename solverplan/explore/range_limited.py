@@ -204,17 +204,13 @@ class RangeExploration(ViewpointRun):
                    epsilon=r.exact("epsilon_exact"), uncovered=tuple(uncovered), unseen_vertices=unseen, **fields)
 
     def to_text(self, *, width: int = 100) -> str:
-        lines = [
-            f"exploration (Algorithm {self.algorithm}, range R = {float(self.range):.6g}): {self.status.value}",
-            f"views {self.n_views} (Lemma 4 bound {self.bound}, Theorem 5 lower bound {self.lower_bound}, "
-            f"ratio {self.ratio:.3g} <= {self.ratio_bound:.3g}), r = {self.reflex}, h = {self.holes}",
-            f"moves {self.moves}, path length {self.path_length:.6g}, covered {self.covered_fraction:.12g}",
-            f"optimality: {self.optimality.to_text()}",
-        ]
-        for k, p in enumerate(self.viewpoints):
-            via = "" if self.parents[k] < 0 else f"  (in the view of p{self.parents[k] + 1}, {self.phases[k]})"
-            lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via}"[:width])
-        return "\n".join(lines)
+        return self._text(f"exploration (Algorithm {self.algorithm}, range R = {float(self.range):.6g}): "
+                          f"{self.status.value}",
+                          f"views {self.n_views} (Lemma 4 bound {self.bound}, Theorem 5 lower bound "
+                          f"{self.lower_bound}, ratio {self.ratio:.3g} <= {self.ratio_bound:.3g}), r = {self.reflex}, "
+                          f"h = {self.holes}",
+                          lambda k: "" if self.parents[k] < 0 else
+                          f"  (in the view of p{self.parents[k] + 1}, {self.phases[k]})", width)
 
 
 def _in_free_space(env: Environment, q: ExactPoint) -> bool:
@@ -571,15 +567,9 @@ class _Explorer:
             # from the arc of the last view that reaches farthest that way
             last = self.views[-1]
             ring = np.array(last.boundary_points(1e-4))
-            ahead = ring @ np.array(HEADING)
-            for i in np.argsort(-ahead, kind="stable")[:16].tolist():
-                s = (float(ring[i][0]), float(ring[i][1]))
-                if s in self.blocked:
-                    continue
-                placed = self.place(s, ())
-                if placed is not None:
-                    return placed[0], placed[1], "open", -1, s
-                self.blocked.add(s)
+            found = self._first_placed(ring, -(ring @ np.array(HEADING)), 16, "open")
+            if found is not None:
+                return found
         # Steps 2 and 6: a point of CP's frontier (arcs, constructed edges) farthest from every viewpoint
         pieces = self.uncovered()
         if not pieces:
@@ -594,13 +584,20 @@ class _Explorer:
         seen_from = np.array([[float(x), float(y)] for x, y in self.viewpoints])
         spread = np.min(np.linalg.norm(coords[:, None, :] - seen_from[None, :, :], axis=2), axis=1)
         arc_phase = "open" if all(not runs[k] for k in runs if self.ring_seen(k)) else "frontier"
-        for i in np.argsort(-spread, kind="stable")[:64].tolist():
+        return self._first_placed(coords, -spread, 64, arc_phase)
+
+    def _first_placed(self, coords: Any, rank: Any, tries: int, phase: str) -> Any:
+        """The first of the ``tries`` best-ranked points (lowest ``rank``) not blocked where a viewpoint can be placed:
+        (viewpoint, view, phase, -1, aim), or ``None``; the points that fail are blocked."""
+        import numpy as np
+
+        for i in np.argsort(rank, kind="stable")[:tries].tolist():
             s = (float(coords[i][0]), float(coords[i][1]))
             if s in self.blocked:
                 continue
             placed = self.place(s, ())
             if placed is not None:
-                return placed[0], placed[1], arc_phase, -1, s
+                return placed[0], placed[1], phase, -1, s
             self.blocked.add(s)
         return None
 
