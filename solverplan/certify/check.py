@@ -54,8 +54,9 @@ What is checked
    previous stage can reach, and one target may be covered by several sources); stage 0's sources
    cover the start set; the last stage's targets lie in the goal set (plans, funnels) or are covered
    by the first cycle stage's sources (cycles: the cycle closes). Every end of a source must be
-   accounted for — an end of its edge or of a named segment, an end of a set flowing into the stage
-   (the start set; the previous stage's targets; for the first cycle stage also the last stage's) or
+   accounted for — an end of its edge or of a named segment, an end of the start or goal set (a plan
+   may land on the part of a segment between them and leave from it later), an end of a set flowing
+   into the stage (the previous stage's targets; for the first cycle stage also the last stage's) or
    of another source of the stage on that edge (a split) — so a source says nothing gratuitous.
    Given the query (``expected_start``, ``expected_goal``), the start and goal sets must be exactly it.
 5. **Headings.** A robot executes one heading θ measured from the edge it is on, so a stage's action
@@ -1015,8 +1016,8 @@ class _Checker:
                         break
 
     def check_source_ends(self) -> None:
-        """Every end of a source is accounted for: an end of the edge or of a named segment, an end of a
-        set flowing into the stage (the start set, or the previous stage's targets), or an end of another
+        """Every end of a source is accounted for: an end of the edge or of a named segment, an end of the start or
+        goal set, an end of a set flowing into the stage (the previous stage's targets), or an end of another
         source of the same stage on that edge (a split). A certificate claims nothing gratuitous."""
         cert = self.cert
         stages = cert.stages
@@ -1024,6 +1025,9 @@ class _Checker:
         segment_ends: dict[int, set[Fraction]] = {}
         for seg in self.segments.values():
             segment_ends.setdefault(seg.edge, set()).update((seg.t0, seg.t1))
+        # the ends of the query's sets: a plan may land on the part of a segment between them and leave from it later
+        for piece in (*cert.start, *(cert.goal or ())):
+            segment_ends.setdefault(piece.edge, set()).update((piece.t0, piece.t1))
         for k, stage in enumerate(stages):
             inflow: dict[int, set[Fraction]] = {}
             feeding: list[tuple[int, Fraction, Fraction]] = []
@@ -1047,7 +1051,7 @@ class _Checker:
                         self.fail(
                             f"stages[{k}].moves[{m}].source",
                             f"its end {name} = {_num(t)} of edge {move.edge} is not accounted for: not an end of the edge, of a "
-                            f"named segment, of {flowing} or of another source of the stage",
+                            f"named segment, of the start or goal set, of {flowing} or of another source of the stage",
                         )
                         break
 
