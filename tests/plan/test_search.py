@@ -396,14 +396,16 @@ def test_environment_diameter_is_the_largest_distance_between_two_vertices(env):
     assert environment_diameter(env) == pytest.approx(diameter(env), rel=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason="#22: later stages leave from whole segments of P′ of the straight walls, so a "
-                   "landing that only part of a segment reaches (here the part of e3 above the goal set's end) is "
-                   "not told apart; cutting P′ where the sets end finds this plan but forbids landings across the "
-                   "cut (demo tolerance 0.1043 → 0.0919): landing units must be runs joined by those cuts")
 def test_a_plan_that_needs_the_set_ends_as_cut_points_is_found():
     """l_shape, --from e3:0.15:1,e4:0:0.25 --to e3:0.4:1,e4:0:0.05: a 4-bounce plan of min width 0.0292 exists
     (found on the same free space written with vertices where the sets end; 20,000 of 20,000 rollouts with
     endpoint headings reach the goal)."""
     env = load_environment("l_shape")
     plan = find_plan(env, "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05", objective="tolerance", max_bounces=4)
-    assert plan.found and plan.bounces == 4 and plan.min_width >= 0.029
+    assert plan.found and plan.bounces == 4 and plan.min_width >= 0.029 and plan.optimality.proved
+    # a later stage leaves from the part of e3 above the goal set's end: the certificate claims exact images
+    assert any(stage.sources for stage in plan.stages[1:])
+    from solverplan.certify import certificate, check_certificate
+
+    cert = certificate(plan, env=env)
+    assert cert.bound is not None and check_certificate(cert).valid
