@@ -2,15 +2,28 @@
 
 Belief states
 -------------
-A *belief* is the set of places the robot may be on (a sorted tuple of elements: segment ids of P′, tagged when
-the robot arrived near one of the segment's corners, see :meth:`Problem.segment`). The start belief is the start
-set **as given**: every segment of P′ it covers whole, and every part of a segment it covers in part as an element
-of its own, a *start piece* (:attr:`Problem.start_pieces`), whose admissible intervals are computed for the piece
-itself (the exact safe sets of :func:`~solverplan.bounce.safe.safe_set`, cut by the same margins): a plan must work
-from every point of the start set, and need not work from the rest of a segment it touches. After the first stage
-the robot is on whole segments of P′ (the abstraction of the paper); start pieces occur only in the start belief.
-Positions exactly on a partition point are limits of both neighbouring segments and have measure zero; like the
-paper we do not treat them separately (the certificate checker covers them by closure).
+A *belief* is the set of places the robot may be on (a sorted tuple of elements: segment ids of P′ and *landing
+units*, tagged when the robot arrived near one of their corners, see :meth:`Problem.segment`). The start belief is
+the start set **as given**: every segment of P′ it covers whole, and for every part of a segment it covers in part
+the landing unit of that part, whose admissible intervals are computed for the piece itself (the exact safe sets
+of :func:`~solverplan.bounce.safe.safe_set`, cut by the same margins): a plan must work from every point of the
+start set, and need not work from the rest of a segment it touches. Positions exactly on a partition point are
+limits of both neighbouring segments and have measure zero; like the paper we do not treat them separately (the
+certificate checker covers them by closure).
+
+Landing units
+-------------
+The ends of the start and goal sets that fall strictly inside segments of P′ cut those segments into pieces. Each
+run of consecutive pieces of one segment (other than the whole segment) is a *landing unit* (:attr:`Problem.units`);
+the segments stay units too. A stage may land on a segment (every landing point on it, the paper's abstraction) or
+on a unit (every landing point inside the unit's piece: Prop. 2's cone with the piece's ends, cut into the arc's
+admissible interval, exactly as a goal piece is, :meth:`Problem._landings`), and a later stage leaves from the unit
+with the unit's own exact safe sets. Both are open to every search, so the class of plans is exact for the query's
+cuts: a plan that needs the part of a segment beyond a set's end is found (it lands on the unit and leaves from it),
+and one whose landing straddles the end still lands on the whole segment. A segment's rows then overlap (a landing
+on a unit lies inside the landing on its segment): :meth:`Problem.options` joins such lists pair by pair. A unit
+that holds a corner of its segment keeps the corner tag of an arc into it (the ping-pong rule of
+:mod:`solverplan.plan.margins`); the clearance κ applies at the set ends a unit lands between, as at a goal piece.
 
 A *stage* from belief B executes one heading interval I (radians, measured from the wall the robot
 is on) that is admissible from **every** segment of B: for each source i ∈ B there is a target j_i
@@ -21,7 +34,9 @@ is determined; the intervals that work from all of B are therefore the cells of 
 the sources' interval lists, and :meth:`Problem.options` lists each cell once by merging the sorted
 lists source by source (the intersection of two sorted lists of disjoint intervals is again one). A
 cell's interval (the intersection of one interval per source) is the widest interval for that
-choice of targets; any sub-interval has the same targets. |B′| ≤ |B|: beliefs never grow.
+choice of targets; any sub-interval has the same targets. |B′| ≤ |B|: beliefs never grow. (Landings on units
+overlap the landings on their segments: there a heading has several targets per source, one of them the segment,
+and each choice is an option of its own.)
 
 Admissible intervals
 --------------------
@@ -42,8 +57,8 @@ piece [g₀, g₁] of target j, the landing point of every robot position is ins
 corner landings are (the landing point is affine in the position for a fixed heading), i.e. iff
 θ ∈ [ang(g₀ − b), ang(g₁ − a)] (Prop. 2's cone with the piece's ends; ang measured from b − a; an
 end of the piece at the shared corner imposes nothing). The admissible interval of i → j is cut to
-that cone (shrunk by μ) — the *goal intervals* of i. Intermediate stages always land on whole
-segments (the next stage must work from every point of them).
+that cone (shrunk by μ) — the *goal intervals* of i. Intermediate stages land on whole segments or on landing units
+(the next stage must work from every point of them).
 """
 
 from __future__ import annotations
@@ -75,8 +90,9 @@ UNIT_TAGS = 4
 
 
 class StartPiece(NamedTuple):
-    """A part of segment ``host`` that the start set covers (not the whole segment): ``piece`` on the search's edge,
-    from exact point ``a`` to ``b`` (the free space on the left, as on every segment)."""
+    """A landing unit: a part of segment ``host`` between ends of the start or goal set (not the whole segment; the
+    start set's parts of segments are units): ``piece`` on the search's edge, from exact point ``a`` to ``b`` (the
+    free space on the left, as on every segment)."""
 
     host: int
     piece: BoundaryPiece
@@ -368,15 +384,15 @@ class Problem:
             return
         src = np.repeat(np.arange(n), np.diff(np.asarray(self._off)))
         src = np.concatenate([src, np.array([r[0] for r in extra], dtype=np.int64)])
-        lo = np.concatenate([np.asarray(self._lo, dtype=float), np.array([r[1] for r in extra])])
-        hi = np.concatenate([np.asarray(self._hi, dtype=float), np.array([r[2] for r in extra])])
-        tgt = np.concatenate([np.asarray(self._tgt, dtype=np.int64), np.array([r[3] for r in extra], dtype=np.int64)])
-        code = np.concatenate([np.asarray(self._tgt_code, dtype=np.int64), np.array([r[4] for r in extra], dtype=np.int64)])
-        dive = np.concatenate([np.asarray(self._dive, dtype=np.int64), np.array([r[5] for r in extra], dtype=np.int64)])
-        order = np.lexsort((lo, src))
+        los = np.concatenate([np.asarray(self._lo, dtype=float), np.array([r[1] for r in extra])])
+        his = np.concatenate([np.asarray(self._hi, dtype=float), np.array([r[2] for r in extra])])
+        places = np.concatenate([np.asarray(self._tgt, dtype=np.int64), np.array([r[3] for r in extra], dtype=np.int64)])
+        codes = np.concatenate([np.asarray(self._tgt_code, dtype=np.int64), np.array([r[4] for r in extra], dtype=np.int64)])
+        dives = np.concatenate([np.asarray(self._dive, dtype=np.int64), np.array([r[5] for r in extra], dtype=np.int64)])
+        order = np.lexsort((los, src))
         self._off = np.searchsorted(src[order], np.arange(n + 1)).tolist()
-        self._lo, self._hi = lo[order].tolist(), hi[order].tolist()
-        self._tgt, self._tgt_code, self._dive = tgt[order].tolist(), code[order].tolist(), dive[order].tolist()
+        self._lo, self._hi = los[order].tolist(), his[order].tolist()
+        self._tgt, self._tgt_code, self._dive = places[order].tolist(), codes[order].tolist(), dives[order].tolist()
         self.n_admissible += len(extra)
 
     def is_piece(self, code: int) -> bool:
