@@ -78,7 +78,11 @@ def environment_diameter(env: Environment) -> float:
     5.0
     """
     hull = shapely.MultiPoint([(float(x), float(y)) for x, y in env.rings[0]]).convex_hull
-    pts = list(hull.exterior.coords)[:-1]  # a proper outer ring spans an area: its hull is a polygon
+    ring = list(hull.exterior.coords)[:-1]  # a proper outer ring spans an area: its hull is a polygon
+    # the hull's corners only: shapely keeps vertices on the hull's edges (collinear vertices of the walls), where the
+    # calipers' strict advance would stop early — and the answer would depend on how the walls are written
+    pts = [p for k, p in enumerate(ring)
+           if abs(_turn(ring[k - 1], p, ring[(k + 1) % len(ring)])) > 1e-12 * math.dist(ring[k - 1], p) * math.dist(p, ring[(k + 1) % len(ring)])]
     h = len(pts)
     best, j = 0.0, 1
     for i in range(h):

@@ -167,6 +167,10 @@ L_ROOM = Query.model("l_shape", "e5:0.5:1", "e0:0:0.3", [(2, "1/2")])
 # goal set's end) and a corridor (hallway: 4 bounces, width 0.0253; whole-segment landings only: infeasible)
 L_SHAPE_UNITS = Query.model("l_shape", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05", [(5, "1/2")])
 CORRIDOR = Query.model("hallway", "e8:0.28:1", "e9:0.51:1", [(0, "1/2")])
+# at_set_ends: every objective by ~10⁻⁶ rad (tolerance 0.1709921612 → 0.1709945676): the vertex at e4:0.4 lies on the
+# outer ring's convex hull, and the rotating calipers of the margins' diameter stopped at it (42.450 → 42.202)
+HULL_VERTEX = Query.of([[10, 0], [17, 22], [-2, 10], [-24, 12], [-14, -7], [-3, -13], [6, -8]], [], "e0:0.1:1",
+                       "e4:0.4:1", [(0, "1/10")])
 
 
 # ---------------------------------------------------------------------- rewritings
@@ -242,6 +246,7 @@ NO_SHRINK = (Phase.explicit, Phase.reuse, Phase.generate)
 @example(query=STAR_ENDS)
 @example(query=L_SHAPE_UNITS)
 @example(query=CORRIDOR)
+@example(query=HULL_VERTEX)
 def test_plan_invariant_under_collinear_vertices_at_set_ends(query):
     assert_plans_invariant(query, at_set_ends)
 

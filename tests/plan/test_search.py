@@ -386,6 +386,18 @@ def test_answers_do_not_change_under_an_exact_rotation(name):
         assert b.min_width == pytest.approx(a.min_width, abs=1e-9)
 
 
+def test_environment_diameter_ignores_collinear_vertices_on_the_hull():
+    """A vertex on an edge of the outer ring's hull (here where a set ends, #22's rewriting) once stopped the calipers
+    early: 42.202 instead of 42.450, and every margin moved with it."""
+    from solverplan.environment import Environment
+    from solverplan.plan.margins import environment_diameter
+
+    ring = [[10, 0], [17, 22], [-2, 10], [-24, 12], [-14, -7], [-3, -13], [6, -8]]
+    with_vertex = ring[:4] + [[-24 + Fraction(4, 10) * 10, 12 - Fraction(4, 10) * 19]] + ring[4:]
+    assert environment_diameter(Environment.from_coords(with_vertex)) == pytest.approx(
+        environment_diameter(Environment.from_coords(ring)), rel=1e-14) == pytest.approx(math.hypot(31, 29), rel=1e-14)
+
+
 @settings(max_examples=60)
 @given(st.one_of(convex_polygons(max_coord=20), simple_polygons(3, 9, 30), polygons_with_holes(5, 1, 40)))
 def test_environment_diameter_is_the_largest_distance_between_two_vertices(env):
