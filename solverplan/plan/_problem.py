@@ -373,13 +373,15 @@ class Problem:
         hosts = set(self.units_of)
         extra: list[tuple[int, float, float, int, int, int]] = []  # (source, lo, hi, place, code, dive)
         segs = self.partition.segments
-        for s in range(n):
-            a, b = self._off[s], self._off[s + 1]
-            rows = [(self._lo[r], self._hi[r], self._tgt_code[r], self._dive[r]) for r in range(a, b)
-                    if self._tgt[r] in hosts]
-            if rows:
-                for lo, hi, code, dive in self._landings(segs[s].a, segs[s].b, segs[s], rows):
-                    extra.append((s, lo, hi, self.place(code), code, dive))
+        into = np.flatnonzero(np.isin(np.asarray(self._tgt, dtype=np.int64), sorted(hosts)))  # rows into cut segments
+        sources = np.searchsorted(np.asarray(self._off), into, side="right") - 1
+        by_source: dict[int, list[int]] = {}
+        for r, s in zip(into.tolist(), sources.tolist()):
+            by_source.setdefault(s, []).append(r)
+        for s, found in by_source.items():
+            rows = [(self._lo[r], self._hi[r], self._tgt_code[r], self._dive[r]) for r in found]
+            for lo, hi, code, dive in self._landings(segs[s].a, segs[s].b, segs[s], rows):
+                extra.append((s, lo, hi, self.place(code), code, dive))
         if not extra:
             return
         src = np.repeat(np.arange(n), np.diff(np.asarray(self._off)))

@@ -343,6 +343,68 @@ def test_options_are_exactly_the_cells_where_every_source_has_an_interval(lists)
         assert o.next == tuple(sorted({j for _, j in o.moves}))
 
 
+@st.composite
+def overlapping_interval_lists(draw):
+    """2–4 sources, each a list of intervals sorted by low ends that may overlap (landings on units inside the
+    landing on their segment), with targets."""
+    lists = []
+    for _ in range(draw(st.integers(2, 4))):
+        pairs = draw(st.lists(st.tuples(st.integers(0, 59), st.integers(1, 20)), max_size=8))
+        rows = sorted((a / 20, min(a + w, 60) / 20, draw(st.integers(0, 5))) for a, w in pairs)
+        lists.append(([r[0] for r in rows], [r[1] for r in rows], [r[2] for r in rows]))
+    return lists
+
+
+@given(overlapping_interval_lists())
+def test_options_over_overlapping_lists_are_every_choice_with_a_common_interval(lists):
+    """Problem._combine with overlapping lists (the pair-by-pair join) against the product of one interval per
+    source (brute force): every choice of intervals whose intersection has positive width, once."""
+    import itertools
+
+    from solverplan.plan._problem import Problem
+
+    belief = tuple(range(10, 10 + len(lists)))
+    got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
+    expected = []
+    for combo in itertools.product(*[range(len(l[0])) for l in lists]):
+        lo = max(lists[q][0][k] for q, k in enumerate(combo))
+        hi = min(lists[q][1][k] for q, k in enumerate(combo))
+        if hi > lo:
+            expected.append((lo, hi, tuple((belief[q], lists[q][2][k]) for q, k in enumerate(combo))))
+    assert got == sorted(expected)
+
+
+QUERY_CUTS = [("l_shape", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05"), ("two_rooms", "e0:0.2:0.8", "e4:0.5:1"),
+              ("hallway", "e8:0.28:1", "e9:0.51:1"), ("three_arms", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05"),
+              ("narrow_door", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05")]
+
+
+@pytest.mark.parametrize("name, start, goal", QUERY_CUTS)
+def test_landing_units_only_add_plans(name, start, goal):
+    """Landing on the pieces between the query's set ends keeps every whole-segment landing open: the fewest stages
+    never grow and the widest min width never shrinks against the search with whole-segment landings only (the
+    class before #22's last gap), here within 4 bounces, and the objectives agree on the abstraction."""
+    from solverplan.plan import _search
+    from solverplan.plan._problem import Problem
+
+    env = load_environment(name)
+    units = planning_problem(env, start, goal)
+    whole = Problem(units.graph, units.user_start_set, units.user_goal_set, margins=units.margins, walls=units.walls,
+                    landing_units=False)
+    assert units.units and len(whole.units) <= len(units.units)
+    new, old = _search.layered_front(units, 4), _search.layered_front(whole, 4)
+    if old.points:
+        assert new.points and new.points[0][0] <= old.points[0][0]
+        assert max(w for _, w, _ in new.points) >= max(w for _, w, _ in old.points) - EPS
+    plans = {o: find_plan(env, start, goal, objective=o, max_bounces=4) for o in ("fewest", "tolerance", "sum")}
+    if new.points:
+        assert plans["fewest"].bounces == new.points[0][0]
+        assert plans["tolerance"].min_width == pytest.approx(max(w for _, w, _ in new.points), abs=1e-12)
+        assert plans["sum"].found
+    else:
+        assert not any(p.found for p in plans.values())
+
+
 @settings(max_examples=40)
 @given(queries())
 def test_start_pieces_are_never_worse_than_their_whole_segments(query):
