@@ -323,22 +323,27 @@ def interval_lists(draw):
     return lists
 
 
-@given(interval_lists())
-def test_options_are_exactly_the_cells_where_every_source_has_an_interval(lists):
-    """Problem._combine (a merge) against the product of one interval per source (brute force)."""
+def _every_choice(belief, lists) -> list:
+    """(lo, hi, moves) of every choice of one interval per source with a common interval of positive width, sorted."""
     import itertools
 
-    from solverplan.plan._problem import Problem
-
-    belief = tuple(range(10, 10 + len(lists)))
-    got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
-    expected = []
+    out = []
     for combo in itertools.product(*[range(len(l[0])) for l in lists]):
         lo = max(lists[q][0][k] for q, k in enumerate(combo))
         hi = min(lists[q][1][k] for q, k in enumerate(combo))
         if hi > lo:
-            expected.append((lo, hi, tuple((belief[q], lists[q][2][k]) for q, k in enumerate(combo))))
-    assert got == sorted(expected)
+            out.append((lo, hi, tuple((belief[q], lists[q][2][k]) for q, k in enumerate(combo))))
+    return sorted(out)
+
+
+@given(interval_lists())
+def test_options_are_exactly_the_cells_where_every_source_has_an_interval(lists):
+    """Problem._combine (a merge) against the product of one interval per source (brute force)."""
+    from solverplan.plan._problem import Problem
+
+    belief = tuple(range(10, 10 + len(lists)))
+    got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
+    assert got == _every_choice(belief, lists)
     for o in Problem._combine(belief, lists):
         assert o.next == tuple(sorted({j for _, j in o.moves}))
 
@@ -359,19 +364,11 @@ def overlapping_interval_lists(draw):
 def test_options_over_overlapping_lists_are_every_choice_with_a_common_interval(lists):
     """Problem._combine with overlapping lists (the pair-by-pair join) against the product of one interval per
     source (brute force): every choice of intervals whose intersection has positive width, once."""
-    import itertools
-
     from solverplan.plan._problem import Problem
 
     belief = tuple(range(10, 10 + len(lists)))
     got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
-    expected = []
-    for combo in itertools.product(*[range(len(l[0])) for l in lists]):
-        lo = max(lists[q][0][k] for q, k in enumerate(combo))
-        hi = min(lists[q][1][k] for q, k in enumerate(combo))
-        if hi > lo:
-            expected.append((lo, hi, tuple((belief[q], lists[q][2][k]) for q, k in enumerate(combo))))
-    assert got == sorted(expected)
+    assert got == _every_choice(belief, lists)
 
 
 QUERY_CUTS = [("l_shape", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05"), ("two_rooms", "e0:0.2:0.8", "e4:0.5:1"),
