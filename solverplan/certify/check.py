@@ -102,8 +102,8 @@ What is checked
     is a run of ≥ 2 consecutive collinear segments, no segment in two; δ ∈ [0, 3/4), w ≥ 0, K ≥ 0;
     the beliefs are non-empty, ascending, distinct sets of table segments; the first is the start set exactly,
     at depth 0, and the start set does not lie in the goal set (no plan of 0 stages); every successor of a
-    belief of depth < K (any depth when K is null) — each source landing on one table segment or one run of a
-    group's segments, the next belief every segment landed on — contains a listed belief of depth ≤ its depth + 1
+    belief of depth < K (any depth when K is null) — each source landing on one table segment or anywhere on one
+    group, the next belief every segment landed on — contains a listed belief of depth ≤ its depth + 1
     and none is a goal stage (every segment of the next belief meets the goal set). By induction on the stages left, no plan of the
     class with ≤ K stages takes the start set to the goal set; the report states this under ``proved``.
 
@@ -1177,8 +1177,8 @@ class _Checker:
         budget_text = "any number of stages" if budget is None else f"at most {budget} stage{'s' if budget != 1 else ''}"
         width_text = "positive width" if w == 0 else f"width > {_num(w)} rad"
         units = ("" if not geo.groups else
-                 f" or inside one run of consecutive segments of one of its {len(geo.groups)} groups (segments of P′ cut "
-                 f"at the query's set ends)")
+                 f" or anywhere on one of its {len(geo.groups)} groups (segments of P′ cut at the query's set ends into "
+                 f"table segments)")
         self.proved.append(
             f"no plan with {budget_text} takes the start set to the goal set, among plans whose every stage is one "
             f"heading interval of {width_text} inside [δ, π − δ] (δ = {_num(delta)} rad) and lands, from every "
@@ -1608,5 +1608,5 @@ def _is_subsequence(needle: Sequence[int], haystack: Sequence[int | None]) -> bo
 
 
 def _run_moves(sources: Sequence[int], targets: Sequence[Sequence[int]]) -> str:
-    """A successor's moves as text: ``3→5``, or ``3→5+6`` for a landing on a run of a group's segments."""
+    """A successor's moves as text: ``3→5``, or ``3→5+6`` for a landing anywhere on a group."""
     return ", ".join(f"{s}→{'+'.join(map(str, t))}" for s, t in zip(sources, targets))

@@ -13,12 +13,12 @@ The semantics
 -------------
 A stage from belief B executes one closed heading interval J (radians, counter-clockwise from the wall the
 robot is on) of width > w inside [δ, π − δ], such that from **every** segment s ∈ B, every point of open s
-with every heading of J first meets the boundary inside one closed *landing unit* U_s: a table segment, or a
-run of consecutive segments of one *group* (the table's groups: segments of P′ cut at the query's set ends,
-whose pieces a plan may land on together); the next belief is every segment of every U_s (the smallest run
-that holds the landings: a belief that holds more is harder to leave, so the smallest is the one to check).
-A stage is a *goal stage* when every segment of the next belief is a goal segment. Without groups a landing
-unit is one table segment.
+with every heading of J first meets the boundary inside one closed *landing unit* U_s: a table segment, or the
+whole of a *group* (the table's groups: segments of P′ cut at the query's set ends into pieces, the table's
+segments; a plan lands on one piece or anywhere on the whole segment, as the planner's landing units); the next
+belief is every segment of every U_s (one piece when the landings fit in one, else the whole group). A stage is a
+*goal stage* when every segment of the next belief is a goal segment. Without groups a landing unit is one table
+segment.
 
 One source, one direction
 -------------------------
@@ -34,15 +34,16 @@ lands inside the closed segment t = (c, e), T = e − c (or the closed span (c, 
 The condition is exact at every direction (no grazing exceptions): a ray from x ∈ open s runs through R°
 until it meets the line of t, and every point of R° lies on such a ray. (Necessity: the corner conditions are
 the limits of the landing points of positions next to a and b, which land on closed t; a boundary point in R°
-lies on the path of some position's ray before it reaches t.) In a group, the run is t with each neighbour
-across a joint that lies strictly between the two corner rays (the open image holds the joint).
+lies on the path of some position's ray before it reaches t.) In a group, the landings fit in t alone unless a
+joint of t with a neighbour lies strictly between the two corner rays (the open image holds the joint): then the
+unit is the whole group.
 
 Cells
 -----
 As the direction turns, the landing segment and the condition above can change only at *event directions*:
 from a or b towards a vertex of the environment or an end of a table segment (the swept region's structure
 changes only when one of its corner rays passes such a point). Between consecutive events (an open *cell*)
-the condition, and the run of a group's segments the image meets, is therefore constant; it is decided at one rational direction strictly inside the cell (the
+the condition, and which of a group's segments the image meets, is therefore constant; it is decided at one rational direction strictly inside the cell (the
 sum of the two neighbouring event directions, in heading-vector form): its landing segment is found by an
 exact ray cast from the middle of s, then the condition is tested. Consecutive cells with the same target
 are merged into one closed *run* (which over-approximates the safe set at the event directions between
@@ -75,7 +76,7 @@ IPoint = tuple[int, int]
 HPoint = tuple[int, int, int]
 """A rational point (X/W, Y/W) as the integers (X, Y, W), W > 0."""
 Run = tuple[IPoint, IPoint, tuple[int, ...]]
-"""A merged run of one source: (heading vector of its low end, of its high end, the target run of segments)."""
+"""A merged run of one source: (heading vector of its low end, of its high end, the segments of its landing unit)."""
 
 _ZERO = Fraction(0)
 _ONE = Fraction(1)
@@ -424,8 +425,8 @@ class Closure:
         return [al * x + be * y + ga for x, y in self.g.vertices]
 
     def _target(self, s: int, a: HPoint, b: HPoint, d: IPoint, f1: list[int]) -> tuple[int, ...] | None:
-        """The smallest run of segments of one group (or one segment) that every point of open s lands in at direction
-        d, or None (exact)."""
+        """The landing unit every point of open s lands in at direction d — one segment, or the whole of its group when
+        the landings cross a joint of the group — or None (exact)."""
         g = self.g
         m = (a[0] * b[2] + b[0] * a[2], a[1] * b[2] + b[1] * a[2], 2 * a[2] * b[2])
         phi = self._values(_functional(d, m, g.grid))  # side of the ray's line
@@ -462,14 +463,12 @@ class Closure:
         self.counts["region_tests"] += 1
         if not self._region_empty(a, b, d, c, T, f1):
             return None
-        # the run: t, and each neighbour in the group across a joint strictly between the two corner rays (the open
-        # image holds the joint, so it meets both sides)
-        lo = hi = pos
-        while lo > 0 and _side(d, a, g.hends[group[lo]][0]) * _side(d, b, g.hends[group[lo]][0]) < 0:
-            lo -= 1
-        while hi < len(group) - 1 and _side(d, a, g.hends[group[hi]][1]) * _side(d, b, g.hends[group[hi]][1]) < 0:
-            hi += 1
-        return group[lo:hi + 1]
+        # t alone, unless a joint of t with a neighbour in the group lies strictly between the two corner rays (the open
+        # image holds the joint): then the whole group, as the planner lands on one piece or on the whole segment
+        for joint in (g.hends[t][0] if pos > 0 else None, g.hends[t][1] if pos < len(group) - 1 else None):
+            if joint is not None and _side(d, a, joint) * _side(d, b, joint) < 0:
+                return group
+        return (t,)
 
     def _region_empty(self, a: HPoint, b: HPoint, d: IPoint, c: HPoint, T: IPoint, f1: list[int]) -> bool:
         """Does no edge meet the open region R° (module docstring)?"""
@@ -497,8 +496,8 @@ class Closure:
 
     # ------------------------------------------------------------------ beliefs
     def successors(self, belief: Sequence[int]) -> list[tuple[tuple[tuple[int, ...], ...], tuple[IPoint, IPoint]]]:
-        """Every successor of ``belief``: (the target run of each of its sources in order, the common run [lo, hi]),
-        one per common cell whose admissible part is wider than w. The next belief is every segment of those runs
+        """Every successor of ``belief``: (the landing unit of each of its sources in order, the common run [lo, hi]),
+        one per common cell whose admissible part is wider than w. The next belief is every segment of those units
         (:func:`next_belief`)."""
         lists = [self.runs(s) for s in belief]
         if any(not runs for runs in lists):
@@ -530,5 +529,5 @@ class Closure:
 
 
 def next_belief(targets: Sequence[Sequence[int]]) -> frozenset[int]:
-    """The belief after a stage whose sources land on the runs ``targets``: every segment of every run."""
+    """The belief after a stage whose sources land on the units ``targets``: every segment of every unit."""
     return frozenset(k for run in targets for k in run)

@@ -15,9 +15,9 @@ version 3) whose invariant says that **no plan exists** in a stated class —
 
 The class is over the **segment table** P′ of the environment's straight walls (collinear vertices merged, as
 the planner searches), refined at the ends of the query's start and goal sets (so that both are unions of whole
-segments), with the **groups** of the pieces each segment of P′ was cut into: a stage may land on one piece or on
-any run of consecutive pieces of one group — the planner's landing units, and its whole segments, are such runs
-(:mod:`solverplan.plan._problem`) — and the heading margin δ of the query; *margin-free* otherwise: no safe
+segments), with the **groups** of the pieces each segment of P′ was cut into: a stage may land on one piece or
+anywhere on one group — the planner's landing units and its whole segments (:mod:`solverplan.plan._problem`) — and
+the heading margin δ of the query; *margin-free* otherwise: no safe
 margin, no corner clearance, no ban on consecutive arcs into one corner. Those margins only remove options, and a
 belief of the planner is a union of table segments the invariant's beliefs split into pieces (each piece of a
 unit lands where the unit does), so the class contains every plan the planner considers, and the statement
@@ -92,7 +92,7 @@ def segment_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> li
 
 def refined_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> tuple[list[list[Piece3]], list[tuple[int, ...]]]:
     """:func:`segment_table` and its groups: for every segment of P′ the set ends cut, the table segments it was cut
-    into (the planner's landing units are the runs of consecutive ones, :mod:`solverplan.plan._problem`)."""
+    into (the planner lands on one of them or anywhere on the whole, :mod:`solverplan.plan._problem`)."""
     walls = Walls(env)  # every collinear vertex merged; the set ends are cut below (at joints too)
     part = make_partition(walls.merged)
     table: list[list[Piece3]] = []

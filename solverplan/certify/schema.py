@@ -41,8 +41,8 @@ states (:mod:`solverplan.certify.invariant` has the semantics): ``table`` partit
 segments (each a list of consecutive pieces ``[edge, t0, t1]`` of the edges, exact), ``heading_margin`` δ and
 ``threshold`` w (radians, exact) and ``budget`` K (stages; ``null``: any number) state the class — plans of at
 most K stages, every stage's interval wider than w inside [δ, π − δ], every stage landing inside one table
-segment or one run of consecutive segments of a group (``groups``, optional: lists of consecutive collinear
-table segments, each a segment of P′ cut at the query's set ends) — and ``beliefs`` lists the invariant: sets of table segments (``segments``, ascending ids = indices
+segment or anywhere on one group (``groups``, optional: lists of consecutive collinear table segments, each a
+segment of P′ cut at the query's set ends) — and ``beliefs`` lists the invariant: sets of table segments (``segments``, ascending ids = indices
 into ``table``) with their ``depth``, the first being the start belief at depth 0. An ``infeasible``
 certificate has the block and no stages (w = 0); a ``plan`` certificate may carry one as the proof of its
 optimality bound (``fewest`` with k bounces: K = k − 1, w = 0; ``tolerance``: no plan wider than w).
@@ -381,8 +381,8 @@ class BoundClaim:
     """What the table is, in words (``P′ of the straight walls refined at the query's set ends``): stated by the
     producer, not checked (the statement proved is about this table, whatever its origin)."""
     groups: tuple[tuple[int, ...], ...] = ()
-    """Runs of consecutive, collinear table segments (each a segment of P′ cut at the query's set ends) whose
-    consecutive segments a stage may land on together (:mod:`solverplan.certify.invariant`); checked."""
+    """Runs of consecutive, collinear table segments (each a segment of P′ cut at the query's set ends) that a stage
+    may land anywhere on, as on one segment (:mod:`solverplan.certify.invariant`); checked."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -14,13 +14,15 @@ certificate checker covers them by closure).
 Landing units
 -------------
 The ends of the start and goal sets that fall strictly inside segments of P′ cut those segments into pieces. Each
-run of consecutive pieces of one segment (other than the whole segment) is a *landing unit* (:attr:`Problem.units`);
-the segments stay units too. A stage may land on a segment (every landing point on it, the paper's abstraction) or
+piece is a *landing unit* (:attr:`Problem.units`, :attr:`Problem.units_of`); the segments stay units too, and the
+parts of segments the start set covers are units of the start belief (a part may span several pieces). A stage may land on a segment (every landing point on it, the paper's abstraction) or
 on a unit (every landing point inside the unit's piece: Prop. 2's cone with the piece's ends, cut into the arc's
 admissible interval, exactly as a goal piece is, :meth:`Problem._landings`), and a later stage leaves from the unit
 with the unit's own exact safe sets. Both are open to every search, so the class of plans is exact for the query's
-cuts: a plan that needs the part of a segment beyond a set's end is found (it lands on the unit and leaves from it),
-and one whose landing straddles the end still lands on the whole segment. A segment's rows then overlap (a landing
+cuts: a plan that needs the part of a segment beyond a set's end is found (it lands on the piece and leaves from
+it), and one whose landing straddles the end still lands on the whole segment. (Runs of several pieces are not
+landing units: at one heading a landing would then have as many choices as runs that hold it, and a belief of k
+sources their product; the certificates' class is the same, :mod:`solverplan.certify.negative`.) A segment's rows then overlap (a landing
 on a unit lies inside the landing on its segment): :meth:`Problem.options` joins such lists pair by pair. A unit
 that holds a corner of its segment keeps the corner tag of an arc into it (the ping-pong rule of
 :mod:`solverplan.plan.margins`); the clearance κ applies at the set ends a unit lands between, as at a goal piece.
@@ -177,7 +179,7 @@ class Problem:
                     partial[k] = parts
         self.goal_whole = frozenset(whole)
         self.goal_partial = partial
-        self._make_units(start, goal, all_runs=landing_units)
+        self._make_units(start, goal, landings=landing_units)
         self.start_belief: Belief = self._start_belief(start)
         if landing_units:
             self._add_unit_landings()
@@ -211,13 +213,14 @@ class Problem:
         self.n_admissible = int(len(lo))
 
     # ------------------------------------------------------------------ landing units
-    def _make_units(self, start: BoundarySet, goal: BoundarySet | None, *, all_runs: bool) -> None:
+    def _make_units(self, start: BoundarySet, goal: BoundarySet | None, *, landings: bool) -> None:
         """The landing units (module docstring): for every segment that an end of the start or goal set cuts (strictly
-        inside it), each run of its pieces between consecutive cuts other than the whole segment. Without
-        ``all_runs`` only the parts of segments the start set covers."""
+        inside it), each piece between consecutive cuts — the units a stage may land on (:attr:`units_of`) — and the
+        parts of segments the start set covers (start elements; a part may span several pieces). Without
+        ``landings`` only the start set's parts."""
         part = self.partition
         cuts: dict[int, set] = {}
-        for bset in (start,) if goal is None or not all_runs else (start, goal):
+        for bset in (start,) if goal is None or not landings else (start, goal):
             for edge, items in merged_pieces(bset).items():
                 for k in part.edge_segments[edge]:
                     seg = part.segments[k]
@@ -227,34 +230,36 @@ class Problem:
         index: dict[tuple[int, object, object], int] = {}
         by_host: dict[int, list[int]] = {}
 
-        def add(k: int, lo, hi) -> None:
+        def add(k: int, lo, hi) -> int | None:
             seg = part.segments[k]
-            if (k, lo, hi) in index or (lo == seg.t0 and hi == seg.t1):
-                return
-            index[(k, lo, hi)] = len(units)
-            by_host.setdefault(k, []).append(len(units))
-            units.append(StartPiece(k, BoundaryPiece(seg.edge, lo, hi), _point_on(seg, lo), _point_on(seg, hi)))
+            if lo == seg.t0 and hi == seg.t1:
+                return None
+            if (k, lo, hi) not in index:
+                index[(k, lo, hi)] = len(units)
+                units.append(StartPiece(k, BoundaryPiece(seg.edge, lo, hi), _point_on(seg, lo), _point_on(seg, hi)))
+            return index[(k, lo, hi)]
 
-        if not all_runs:
-            for edge, items in merged_pieces(start).items():
-                for k in part.edge_segments[edge]:
-                    seg = part.segments[k]
-                    for p, q in items:
-                        lo, hi = max(p, seg.t0), min(q, seg.t1)
-                        if lo < hi:
-                            add(k, lo, hi)
-        else:
+        if landings:
             for k in sorted(cuts):
                 if not cuts[k]:
                     continue
                 seg = part.segments[k]
                 ends = [seg.t0, *sorted(cuts[k]), seg.t1]
-                for i in range(len(ends) - 1):
-                    for j in range(i + 1, len(ends)):
-                        add(k, ends[i], ends[j])
+                for lo, hi in zip(ends, ends[1:]):
+                    u = add(k, lo, hi)
+                    if u is not None:
+                        by_host.setdefault(k, []).append(u)
+        for edge, items in merged_pieces(start).items():
+            for k in part.edge_segments[edge]:
+                seg = part.segments[k]
+                for p, q in items:
+                    lo, hi = max(p, seg.t0), min(q, seg.t1)
+                    if lo < hi:
+                        add(k, lo, hi)
         self.units: tuple[StartPiece, ...] = tuple(units)
         self._unit_index = index
         self.units_of: dict[int, tuple[int, ...]] = {k: tuple(v) for k, v in by_host.items()}
+        """The units each cut segment's landings may end on: its pieces between consecutive cuts."""
         self._unit_rows: dict[int, tuple[list[float], list[float], list[int], list[int]]] = {}
         self._unit_restricted: dict[int, tuple[list[float], list[float], list[int]]] = {}
         self._piece_safe: dict[tuple[int, int], list[tuple[float, float]]] = {}

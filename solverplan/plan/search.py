@@ -34,11 +34,11 @@ vertex with an angle of exactly π is no corner, so the search runs on the envir
 merged (:mod:`solverplan.plan._walls`; the same free space) and the answer names the user's edges and
 segments — a stage onto a run of collinear segments lists every segment of the run. Inserting collinear
 vertices never changes an answer, wherever they are. The query is answered as asked: the ends of the start and
-goal sets cut the segments they fall inside into pieces, and every run of those pieces is a *landing unit* as
-well as the whole segment (:mod:`solverplan.plan._problem`): a start set that covers part of a segment is such a
-unit (its own exact safe sets: the plan works from every point of the start set, not from the whole segment), any
-stage may land on a unit — every landing point inside it — and a later stage leave from it (the stage lists the
-pieces in ``sources``); the goal is reached on segments lying wholly in the goal set, or on the part of a segment
+goal sets cut the segments they fall inside into pieces, and every piece is a *landing unit* as well as the whole
+segment (:mod:`solverplan.plan._problem`): any stage may land on a piece — every landing point inside it — and a
+later stage leave from it with the piece's own exact safe sets (the stage lists the pieces in ``sources``), and a
+start set that covers part of a segment starts from that part (its own exact safe sets: the plan works from every
+point of the start set, not from the whole segment); the goal is reached on segments lying wholly in the goal set, or on the part of a segment
 the goal set covers, with the interval cut so that every landing point is inside it. So a plan that needs the
 part of a segment beyond a set's end is found, and one that lands across the end is too.
 
@@ -235,7 +235,7 @@ def _scope(problem: Problem, max_bounces: int | None) -> str:
             "segment has a safe heading to)" if problem.graph.stats.get("lazy") and problem.units else "")
     return (f"plans{budget} whose first stage works from every point of the start set as given and whose stages each "
             f"land on one landing unit and leave from it: a segment of P′ of the straight walls (collinear vertices "
-            f"merged; a run of collinear user segments is one), or a run of the pieces such a segment is cut into by "
+            f"merged; a run of collinear user segments is one), or one of the pieces such a segment is cut into by "
             f"the ends of the start and goal sets{lazy} — the last stage inside the goal set —, with intervals in the "
             f"admissible intervals of the exact safe sets (heading margin {m.heading_margin:g} rad, interval ends "
             f"{m.end_margin:.3g} rad inside, corner clearance {m.corner_clearance:.3g} at real corners and at the set "

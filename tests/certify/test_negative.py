@@ -392,13 +392,14 @@ def test_bounds_range_over_the_landing_units(l_shape_fewest):
     assert cert.bound is not None and cert.bound.groups == ((1, 2, 3), (4, 5, 6))
     report = check_certificate(cert)
     assert report.valid, [str(f) for f in report.failures]
-    assert "one run of consecutive segments of one of its 2 groups (segments of P′ cut at the query's set ends)" in report.proved[1]
+    assert "or anywhere on one of its 2 groups (segments of P′ cut at the query's set ends into table segments)" in report.proved[1]
     assert report.proved[-1] == "hence every such plan has at least 4 bounces: this plan's 4 is the fewest"
     assert parse_certificate(dumps_certificate(cert)) == cert  # the groups survive the JSON round trip
 
 
 def test_a_group_across_a_partition_point_breaks_the_invariant(l_shape_fewest):
-    """Joining two table segments at a point of P′ (not a set end) lets more stages land: the invariant is not closed."""
+    """Joining two table segments at a point of P′ (not a set end) into a group lets more stages land: the invariant
+    is not closed."""
     data = data_of(l_shape_fewest)
     data["bound"]["groups"].append([7, 8])
     assert_rejected(data, "bound.beliefs[0]", "3→7+8")
@@ -432,8 +433,9 @@ def test_groups_must_be_runs_of_consecutive_collinear_segments(l_shape_fewest):
 
 
 def test_landings_on_runs_agree_with_float_ray_casting():
-    """With the issue's sets on l_shape (cut segments on e3 and e4): every successor's run holds the float landing
-    points of sampled positions and headings, and a run of several segments is met on each of them."""
+    """With the issue's sets on l_shape (cut segments on e3 and e4): every successor's landing unit (a table segment,
+    or a whole group) holds the float landing points of sampled positions and headings, and a landing on a whole
+    group meets several of its segments."""
     env = load_environment(MODELS / "l_shape.json")
     table, groups = refined_table(env, *(env.boundary_set(s) for s in SETS))
     runs = 0
@@ -442,5 +444,5 @@ def test_landings_on_runs_agree_with_float_ray_casting():
         assert next_belief(targets) == frozenset(run) and set(met) <= {*run, None}
         if len(run) > 1:
             runs += 1
-            assert set(run) <= set(met) | {None}
+            assert run in ((1, 2, 3), (4, 5, 6)) and len(set(met) - {None}) > 1
     assert runs > 0
