@@ -46,7 +46,8 @@ from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 __all__ = ["NoBound", "segment_table", "refined_table", "bound_claim", "TABLE_SOURCE", "tolerance_threshold", "tolerance_bound",
            "heading_margin_of", "ceil12"]
 
-TABLE_SOURCE = "P′ of the straight walls (collinear vertices merged) refined at the query's set ends, grouped by segment of P′"
+TABLE_SOURCE = ("P′ of the straight walls (collinear vertices merged) refined at the query's set ends, grouped by "
+                "segment of P′")
 
 MAX_BELIEFS = 20_000
 """Most beliefs an invariant may list before the builder gives up (the certificate would be unreadable)."""

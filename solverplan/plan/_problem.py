@@ -15,17 +15,18 @@ Landing units
 -------------
 The ends of the start and goal sets that fall strictly inside segments of P′ cut those segments into pieces. Each
 piece is a *landing unit* (:attr:`Problem.units`, :attr:`Problem.units_of`); the segments stay units too, and the
-parts of segments the start set covers are units of the start belief (a part may span several pieces). A stage may land on a segment (every landing point on it, the paper's abstraction) or
-on a unit (every landing point inside the unit's piece: Prop. 2's cone with the piece's ends, cut into the arc's
-admissible interval, exactly as a goal piece is, :meth:`Problem._landings`), and a later stage leaves from the unit
-with the unit's own exact safe sets. Both are open to every search, so the class of plans is exact for the query's
-cuts: a plan that needs the part of a segment beyond a set's end is found (it lands on the piece and leaves from
-it), and one whose landing straddles the end still lands on the whole segment. (Runs of several pieces are not
-landing units: at one heading a landing would then have as many choices as runs that hold it, and a belief of k
-sources their product; the certificates' class is the same, :mod:`solverplan.certify.negative`.) A segment's rows then overlap (a landing
-on a unit lies inside the landing on its segment): :meth:`Problem.options` joins such lists pair by pair. A unit
-that holds a corner of its segment keeps the corner tag of an arc into it (the ping-pong rule of
-:mod:`solverplan.plan.margins`); the clearance κ applies at the set ends a unit lands between, as at a goal piece.
+parts of segments the start set covers are units of the start belief (a part may span several pieces). A stage may
+land on a segment (every landing point on it, the paper's abstraction) or on a unit (every landing point inside the
+unit's piece: Prop. 2's cone with the piece's ends, cut into the arc's admissible interval, exactly as a goal piece
+is, :meth:`Problem._landings`), and a later stage leaves from the unit with the unit's own exact safe sets. Both
+are open to every search, so the class of plans is exact for the query's cuts: a plan that needs the part of a
+segment beyond a set's end is found (it lands on the piece and leaves from it), and one whose landing straddles the
+end still lands on the whole segment. (Runs of several pieces are not landing units: at one heading a landing would
+then have as many choices as runs that hold it, and a belief of k sources their product; the certificates' class is
+the same, :mod:`solverplan.certify.negative`.) A segment's rows then overlap (a landing on a unit lies inside the
+landing on its segment): :meth:`Problem.options` joins such lists pair by pair. A unit that holds a corner of its
+segment keeps the corner tag of an arc into it (the ping-pong rule of :mod:`solverplan.plan.margins`); the
+clearance κ applies at the set ends a unit lands between, as at a goal piece.
 
 A *stage* from belief B executes one heading interval I (radians, measured from the wall the robot
 is on) that is admissible from **every** segment of B: for each source i ∈ B there is a target j_i

@@ -81,8 +81,11 @@ def environment_diameter(env: Environment) -> float:
     ring = list(hull.exterior.coords)[:-1]  # a proper outer ring spans an area: its hull is a polygon
     # the hull's corners only: shapely keeps vertices on the hull's edges (collinear vertices of the walls), where the
     # calipers' strict advance would stop early — and the answer would depend on how the walls are written
-    pts = [p for k, p in enumerate(ring)
-           if abs(_turn(ring[k - 1], p, ring[(k + 1) % len(ring)])) > 1e-12 * math.dist(ring[k - 1], p) * math.dist(p, ring[(k + 1) % len(ring)])]
+    pts = []
+    for k, p in enumerate(ring):
+        before, after = ring[k - 1], ring[(k + 1) % len(ring)]
+        if abs(_turn(before, p, after)) > 1e-12 * math.dist(before, p) * math.dist(p, after):
+            pts.append(p)
     h = len(pts)
     best, j = 0.0, 1
     for i in range(h):
