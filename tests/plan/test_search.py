@@ -457,10 +457,24 @@ def test_environment_diameter_ignores_collinear_vertices_on_the_hull():
         environment_diameter(Environment.from_coords(ring)), rel=1e-14) == pytest.approx(math.hypot(31, 29), rel=1e-14)
 
 
+def test_environment_diameter_turns_with_a_rectilinear_room():
+    """Rotating calipers tied on the parallel hull edges of a rectilinear room and stopped at another vertex once it
+    was turned (17.692 × 551/7 ≠ 1229.556): the invariance study's one remaining change under a motion (min width
+    0.4624116894 → 0.462439313)."""
+    from solverplan.generators import rectilinear_polygon
+    from solverplan.plan.margins import environment_diameter
+    from solverplan.studies import rewrite as rw
+
+    env = rectilinear_polygon(n_cells=4, max_size=6, seed=473979)
+    moved = rw.rotate(env, Fraction(8, 17), Fraction(15, 17)).then(rw.translate, Fraction(-5, 7), -9).then(
+        rw.scale, Fraction(551, 7))
+    assert environment_diameter(moved.env) == pytest.approx(environment_diameter(env) * 551 / 7, rel=1e-13)
+
+
 @settings(max_examples=60)
 @given(st.one_of(convex_polygons(max_coord=20), simple_polygons(3, 9, 30), polygons_with_holes(5, 1, 40)))
 def test_environment_diameter_is_the_largest_distance_between_two_vertices(env):
-    """The rotating calipers of the margins against every pair of vertices (the brute-force reference)."""
+    """The margins' diameter (every pair of hull corners) against every pair of vertices (the brute-force reference)."""
     from solverplan.plan.margins import environment_diameter
     from tests.plan.brute import diameter
 
