@@ -235,7 +235,7 @@ def _scope(problem: Problem, max_bounces: int | None) -> str:
             "segment has a safe heading to)" if problem.graph.stats.get("lazy") and problem.units else "")
     return (f"plans{budget} whose first stage works from every point of the start set as given and whose stages each "
             f"land on one landing unit and leave from it: a segment of P′ of the straight walls (collinear vertices "
-            f"merged; a run of collinear user segments is one), or one of the pieces such a segment is cut into by "
+            f"merged), a run of collinear user segments being one, or one of the pieces such a segment is cut into by "
             f"the ends of the start and goal sets{lazy} — the last stage inside the goal set —, with intervals in the "
             f"admissible intervals of the exact safe sets (heading margin {m.heading_margin:g} rad, interval ends "
             f"{m.end_margin:.3g} rad inside, corner clearance {m.corner_clearance:.3g} at real corners and at the set "
