@@ -4,11 +4,12 @@
 by its type (it reads the answers only through their public attributes, all of them in this module):
 
 - a **plan** (:class:`~solverplan.plan.Plan`) is a ``plan`` certificate: one stage per plan stage (its
-  heading interval), one move per possible source segment (source → the segment it lands on). The plan's
+  heading interval), one move per possible source segment or piece (source → the segment it lands on). The plan's
   start and goal sets become the certificate's; its objective and optimality become the claims (the bound
   as the exact value of its float). A last stage landing on a segment the goal covers only in part claims
-  the exact **images** of its moves (so that they can be checked to lie in the goal), every other the
-  target segments. A plan does not carry its environment: pass ``env``;
+  the exact **images** of its moves (so that they can be checked to lie in the goal), and so does every stage of
+  a plan with a later stage leaving from a piece of a segment (a landing unit between the query's set ends: the
+  images must lie in the pieces); otherwise the moves claim the target segments. A plan does not carry its environment: pass ``env``;
 - a **Pareto front** is the certificate of its most tolerant plan;
 - a **patrol** (:class:`~solverplan.plan.patrols.Patrol`) is a ``cycle`` certificate: the entry stages
   (belief stages of the safe BVG: one move per possible segment), then the cycle's stages, one move each
@@ -230,7 +231,11 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None, budget: A
     if not plan.stats and plan.goal:
         partial = _partial_goal_segments(env, part, plan.goal)
     on_walls = any(spec.target is None for st in stages for spec in st.moves)
-    targets: Literal["image", "segment"] = "image" if on_walls or set(plan.stages[-1].to_segments) & partial else "segment"
+    # a stage that leaves from a piece of a segment (a landing unit between the query's set ends) is covered by the
+    # exact images of the stage before it, not by whole target segments
+    from_pieces = any(stage.sources for stage in plan.stages[1:])
+    targets: Literal["image", "segment"] = ("image" if on_walls or from_pieces or set(plan.stages[-1].to_segments) & partial
+                                            else "segment")
     opt = plan.optimality
     proved = opt.proved
     value = {"tolerance": plan.min_width, "constant": plan.min_width, "sum": plan.sum_width}.get(plan.objective)

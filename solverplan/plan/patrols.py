@@ -381,7 +381,9 @@ class _Entry:
     def __init__(self, graph: SafeBVG, start: BoundarySet, margins: Margins, deadline: Deadline = NEVER,
                  walls: PartitionedWalls | None = None) -> None:
         self.graph, self.start, self.margins, self.deadline, self.walls = graph, start, margins, deadline, walls
-        self.problem = Problem(graph, start, None, margins=margins, walls=walls)
+        # entries land on whole segments (an entry ends on one known segment of the cycle): landing units only for
+        # the start set's pieces
+        self.problem = Problem(graph, start, None, margins=margins, walls=walls, landing_units=False)
         self.start_belief = self.problem.start_belief
         self._singletons: dict[float, tuple[frozenset[int], tuple[str, ...]]] = {}
 
@@ -410,7 +412,7 @@ class _Entry:
                                  for s in sorted(targets)))
         if self.walls is not None:  # the problem takes its sets in the user's numbering
             goal = self.walls.to_user_set(goal)
-        problem = Problem(self.graph, self.start, goal, margins=self.margins, walls=self.walls)
+        problem = Problem(self.graph, self.start, goal, margins=self.margins, walls=self.walls, landing_units=False)
         n = problem.n_segments
 
         def accept(belief) -> bool:

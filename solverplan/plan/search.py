@@ -33,11 +33,14 @@ optimality is over such plans. Stages land on segments of P′ of the environmen
 vertex with an angle of exactly π is no corner, so the search runs on the environment with those vertices
 merged (:mod:`solverplan.plan._walls`; the same free space) and the answer names the user's edges and
 segments — a stage onto a run of collinear segments lists every segment of the run. Inserting collinear
-vertices never changes an answer, wherever they are. The query is answered as asked: a start set that covers
-part of a segment makes that part a source of its own (a *start piece*, with the exact safe sets of the piece:
-the plan works from every point of the start set, not from the whole segment; the stage lists the pieces in
-``sources``); the goal is reached on segments lying wholly in the goal set, or — in the last stage only — on the
-part of a segment the goal set covers, with the interval cut so that every landing point is inside it.
+vertices never changes an answer, wherever they are. The query is answered as asked: the ends of the start and
+goal sets cut the segments they fall inside into pieces, and every piece is a *landing unit* as well as the whole
+segment (:mod:`solverplan.plan._problem`): any stage may land on a piece — every landing point inside it — and a
+later stage leave from it with the piece's own exact safe sets (the stage lists the pieces in ``sources``), and a
+start set that covers part of a segment starts from that part (its own exact safe sets: the plan works from every
+point of the start set, not from the whole segment); the goal is reached on segments lying wholly in the goal set, or on the part of a segment
+the goal set covers, with the interval cut so that every landing point is inside it. So a plan that needs the
+part of a segment beyond a set's end is found, and one that lands across the end is too.
 
 Timeouts
 --------
@@ -174,7 +177,9 @@ def query_graph(walls: PartitionedWalls, start: BoundarySet, max_depth: int | No
     the same rows, so the same answers, for a fraction of the work and memory on large maps).
 
     A start set covering part of a segment needs every segment its host sees (a start piece sees no more than the
-    whole segment, but sees parts of it the ends do not), which only the whole graph lists: such queries use it."""
+    whole segment, but sees parts of it the ends do not), which only the whole graph lists: such queries use it.
+    Landing units of the goal set's ends on a graph built on demand leave only along the safe arcs of their segment
+    (the answer's scope says so)."""
     from solverplan.bounce import _cache
     from solverplan.bounce.bvg import LAZY_MIN_ARCS, check_graph_memory, estimate_graph, reachable_safe_graph
     from solverplan.bounce.partitions import partition
@@ -227,12 +232,15 @@ def _scope(problem: Problem, max_bounces: int | None) -> str:
     """The class of plans every optimality claim of :func:`find_plan` and :func:`pareto_front` is about."""
     budget = f" with at most {max_bounces} bounces" if max_bounces is not None else ""
     m = problem.margins
-    return (f"plans{budget} whose first stage works from every point of the start set as given, whose later stages "
-            f"leave from whole segments of P′ of the straight walls (collinear vertices merged) and whose stages each "
-            f"land on one such segment (a run of collinear segments is one landing unit; the last stage inside the "
-            f"goal set), with intervals in the admissible intervals of the exact safe sets (heading margin "
-            f"{m.heading_margin:g} rad, interval ends {m.end_margin:.3g} rad inside, corner clearance "
-            f"{m.corner_clearance:.3g} at real corners, no two consecutive arcs into one corner)")
+    lazy = (" (this large map's safe BVG was built for the query, so a piece leaves only towards segments its whole "
+            "segment has a safe heading to)" if problem.graph.stats.get("lazy") and problem.units else "")
+    return (f"plans{budget} whose first stage works from every point of the start set as given and whose stages each "
+            f"land on one landing unit and leave from it: a segment of P′ of the straight walls (collinear vertices "
+            f"merged), a run of collinear user segments being one, or one of the pieces such a segment is cut into by "
+            f"the ends of the start and goal sets{lazy} — the last stage inside the goal set —, with intervals in the "
+            f"admissible intervals of the exact safe sets (heading margin {m.heading_margin:g} rad, interval ends "
+            f"{m.end_margin:.3g} rad inside, corner clearance {m.corner_clearance:.3g} at real corners and at the set "
+            f"ends a stage lands between, no two consecutive arcs into one corner)")
 
 
 def _claim(method: Method, proved: bool, bound: float | None, algorithm: str, problem: Problem,
