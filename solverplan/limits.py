@@ -7,7 +7,6 @@ The bounds sit far above any floor plan in practice; each says why it exists.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
 
 from solverplan._io import MAX_INPUT_BYTES, MAX_JSON_VALUES, read_input_text, shown_path

@@ -48,7 +48,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from solverplan.certify.check_models import Malformed, ModelChecker, Reader as R, pt, segment_crosses_open, text
+from solverplan.certify.check_models import Malformed, ModelChecker, Reader as R, pt
 from solverplan.certify.exact2d import cross, on_closed_segment, orient, sub
 from solverplan.certify.schema import Point
 

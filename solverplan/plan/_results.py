@@ -8,7 +8,6 @@ cones (rational world directions) they were computed with; :func:`heading_cone` 
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 

@@ -36,7 +36,7 @@ from functools import cached_property
 from typing import Iterable, Mapping
 
 from solverplan.bounce.partitions import Partition, PartitionSegment, partition as make_partition
-from solverplan.environment import BoundaryPiece, BoundarySet, Environment
+from solverplan.environment import BoundaryPiece
 from solverplan.geometry.walls import StraightWalls, canonical_start, collinear_vertices
 
 __all__ = ["PartitionedWalls", "canonical_start", "collinear_vertices", "cut_partition"]

@@ -34,8 +34,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
-from solverplan.bounce.partitions import Partition, partition
+from solverplan.bounce.bvg import SafeBVG
+from solverplan.bounce.partitions import Partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.limits import MAX_BOUNCES, quote
