@@ -33,7 +33,7 @@ demo: $(VENV)/.installed
 	@echo "demo: wrote $(OUT)/plan.json, $(OUT)/certificate.json (verified), $(OUT)/plan.png and $(OUT)/report.html"
 
 test: $(VENV)/.installed
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n auto --dist loadfile
 	$(BIN)/python -m mypy
 	$(MAKE) --no-print-directory docs
 

@@ -28,7 +28,7 @@ import warnings
 import numpy as np
 
 from solverplan.bounce.bvg import clear_graph_cache, safe_bounce_visibility_graph
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.generators import star_polygon, worst_case_polygon
 
 STAR_SIZES = [10, 20, 40, 80, 160, 320, 640, 1000]

@@ -94,7 +94,7 @@ def cpu_model() -> str:
 
 def make_inputs(folder: Path, cli: list[str], env: dict[str, str]) -> dict[str, Path]:
     from solverplan.environment import save_environment
-    from solverplan.studies import worst_case_polygon
+    from solverplan.generators import worst_case_polygon
 
     star = folder / "star80.json"
     subprocess.run([*cli, "generate", "star", "--n", "80", "--irregularity", "0.2", "--spikiness", "0.3",

@@ -32,7 +32,7 @@ def cpu(fn):
 def main() -> None:
     from solverplan.bounce import _cache, bvg
     from solverplan.bounce.bvg import estimate_graph, reachable_safe_graph, safe_bounce_visibility_graph
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
     from solverplan.floorplan import import_floorplan
     from solverplan.plan.search import find_plan
 

@@ -21,8 +21,9 @@ import time
 import numpy as np
 
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
-from solverplan.bounce.partition import partition
-from solverplan.studies import ReachabilityMetric, build_study, run_study, star_polygon
+from solverplan.bounce.partitions import partition
+from solverplan.studies import ReachabilityMetric, build_study, run_study
+from solverplan.generators import star_polygon
 from solverplan.studies.metrics import component_counts, unreachable_fraction
 from solverplan.studies.study import PAPER_GRID, Task, run_task
 

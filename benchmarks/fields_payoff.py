@@ -2,7 +2,9 @@
 generated corridors (square corners, 45° cuts, zigzags; two widths; corner cells), planned zones after the
 payoff tests against every zone the geometry allows.
 
-    PYTHONPATH=. python benchmarks/fields_payoff.py [--trials 25] [--seeds 2]
+    PYTHONPATH=. python benchmarks/fields_payoff.py [--trials 25] [--seeds 2] [--first-seed 0]
+
+Corridor seeds run from ``--first-seed`` (``--seeds`` of them); the simulations use 100 + the corridor's seed.
 """
 
 from __future__ import annotations
@@ -19,12 +21,13 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=25)
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument("--starts", default="fixed")
+    parser.add_argument("--first-seed", type=int, default=0)
     args = parser.parse_args()
     worst = -1e9
     began = time.perf_counter()
     for kind in KINDS:
         for width in (0.4, 0.8):
-            for seed in range(args.seeds):
+            for seed in range(args.first_seed, args.first_seed + args.seeds):
                 env, s, g = corridor(kind, 3, width, seed=seed)
                 row = []
                 for mode in ("payoff", "all"):

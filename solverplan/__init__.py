@@ -41,6 +41,8 @@ _EXPORTS: dict[str, str] = {
     "load_environment": "solverplan.environment",
     "Interval": "solverplan.interval",
     "models": "solverplan.models",
+    # the named options of the library's functions: each takes the member or its string
+    "choices": "solverplan.choices",
     # run-time settings: the graph cache and the memory limit
     "config": "solverplan.runtime",
     "watching": "solverplan.progress",
@@ -49,15 +51,15 @@ _EXPORTS: dict[str, str] = {
     "settings": "solverplan.runtime",
     "Settings": "solverplan.runtime",
     # model structures of the main paper
-    "partition": "solverplan.bounce.partition",
+    "partition": "solverplan.bounce.partitions",
     "bounce_visibility_graph": "solverplan.bounce.bvg",
     "safe_bounce_visibility_graph": "solverplan.bounce.bvg",
     "limit_cycle": "solverplan.bounce.cycles",
     "constant_controller": "solverplan.bounce.controller",
     # rooms and doors of rectilinear polygons (Çağırıcı, Bahoo and LaValle)
     "decompose_rooms": "solverplan.rectilinear.decomposition",
-    "simulate_rooms": "solverplan.studies.rooms",
-    "compare_rules": "solverplan.studies.rooms",
+    "simulate_rooms": "solverplan.rectilinear.simulation",
+    "compare_rules": "solverplan.rectilinear.simulation",
     # online exploration with discrete views (Ghosh, Burdick, Bhattacharya and Sarkar)
     "explore_depth_first": "solverplan.explore.depth_first",
     "Exploration": "solverplan.explore.depth_first",
@@ -80,7 +82,7 @@ _EXPORTS: dict[str, str] = {
     "decompose_free_space": "solverplan.reflection.cells",
     "compose_fields": "solverplan.reflection.compose",
     "simulate_scenarios": "solverplan.reflection.simulate",
-    "RobotModel": "solverplan.reflection.simulate",
+    "FieldRobotDynamics": "solverplan.reflection.simulate",
     "navigate_fields": "solverplan.reflection.navigation",
     "FieldNavigation": "solverplan.reflection.navigation",
     # floor plans in: ROS occupancy maps, DXF and SVG drawings
@@ -138,13 +140,13 @@ _EXPORTS: dict[str, str] = {
 __all__ = sorted(_EXPORTS)
 
 if TYPE_CHECKING:  # what type checkers and readers see; at run time the names load lazily
-    from solverplan import models
+    from solverplan import choices, models
     from solverplan.runtime import Settings, config, configure, settings
     from solverplan.progress import Stopped, watching
     from solverplan.bounce.bvg import bounce_visibility_graph, safe_bounce_visibility_graph
     from solverplan.bounce.controller import constant_controller
     from solverplan.bounce.cycles import LimitCycle, limit_cycle
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
     from solverplan.certify.build import certificate, write_certificate
     from solverplan.certify.check import check_certificate
     from solverplan.certify.schema import load_certificate
@@ -178,8 +180,8 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.reflection.cells import decompose_free_space
     from solverplan.reflection.compose import compose_fields
     from solverplan.reflection.navigation import FieldNavigation, navigate_fields
-    from solverplan.reflection.simulate import RobotModel, simulate_scenarios
-    from solverplan.studies.rooms import compare_rules, simulate_rooms
+    from solverplan.reflection.simulate import FieldRobotDynamics, simulate_scenarios
+    from solverplan.rectilinear.simulation import compare_rules, simulate_rooms
 
 
 def __getattr__(name: str) -> Any:

@@ -24,7 +24,7 @@ import sys
 import tempfile
 import threading
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any, Iterable, Mapping
 
 from solverplan.errors import MalformedFile
 
@@ -97,6 +97,33 @@ def check_json_values(text: str, name: str) -> None:
         raise MalformedFile(f"{where}JSON of about {values:,} values, more than the limit of {MAX_JSON_VALUES:,}")
 
 
+def file_format(path: Path, fmt: str | None, suffixes: Mapping[str, str], what: str = "format") -> str:
+    """The format of file ``path``: ``fmt`` when given (one of the values of ``suffixes``), else the one its extension
+    names in ``suffixes`` (``{".json": "json", ...}``, lower case). Otherwise one line (:class:`MalformedFile`) saying
+    what to give, the formats named ``what`` in it.
+
+    >>> file_format(Path("a.JSON"), None, {".json": "json", ".wkt": "wkt"})
+    'json'
+    >>> file_format(Path("a.txt"), None, {".json": "json", ".wkt": "wkt"})
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.MalformedFile: a.txt: cannot tell the format from the extension '.txt': use .json or .wkt, or name the format
+    """
+    def choices(names: Iterable[str]) -> str:
+        *most, last = dict.fromkeys(names)
+        return f"{', '.join(most)} or {last}" if most else last
+
+    if fmt:
+        if fmt not in suffixes.values():
+            raise MalformedFile(f"unknown {what} {fmt!r}: use {choices(suffixes.values())}")
+        return fmt
+    try:
+        return suffixes[path.suffix.lower()]
+    except KeyError:
+        raise MalformedFile(f"{path}: cannot tell the {what} from the extension {path.suffix!r}: use {choices(suffixes)}, "
+                            f"or name the {what}") from None
+
+
 def cannot_write(path: object, exc: OSError) -> str:
     """The one-line message of a failed write: ``PATH: cannot write (Permission denied)``, the path shortened."""
     return f"{shown_path(path)}: cannot write ({exc.strerror or exc.__class__.__name__})"
@@ -118,6 +145,14 @@ def _kind(mode: int) -> str:
 
 def _too_large(name: str, size: int, limit: int, what: str) -> MalformedFile:
     return MalformedFile(f"{name}: {what} is {size:,} bytes, more than the limit of {limit:,}")
+
+
+def _check_input(status: os.stat_result, name: str, limit: int, what: str) -> None:
+    """Refuse an input that is not a regular file, or larger than ``limit`` bytes (:class:`MalformedFile`)."""
+    if not stat.S_ISREG(status.st_mode):
+        raise MalformedFile(f"{name}: {_kind(status.st_mode)}, not a regular file")
+    if status.st_size > limit:
+        raise _too_large(name, status.st_size, limit, what)
 
 
 def read_input_bytes(path: str | os.PathLike[str], *, limit: int = MAX_INPUT_BYTES, what: str = "file",
@@ -148,11 +183,7 @@ def read_input_bytes(path: str | os.PathLike[str], *, limit: int = MAX_INPUT_BYT
     if stdin and raw == "-":
         return _read_limited(sys.stdin.buffer, limit, "standard input", what)
     try:
-        before = os.stat(raw)
-        if not stat.S_ISREG(before.st_mode):
-            raise MalformedFile(f"{name}: {_kind(before.st_mode)}, not a regular file")
-        if before.st_size > limit:
-            raise _too_large(name, before.st_size, limit, what)
+        _check_input(os.stat(raw), name, limit, what)
         fd = os.open(raw, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
                      | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0))
     except (OSError, ValueError) as exc:  # ValueError: a NUL byte in the name
@@ -161,11 +192,7 @@ def read_input_bytes(path: str | os.PathLike[str], *, limit: int = MAX_INPUT_BYT
         reason = reason_of(exc) if isinstance(exc, OSError) else "not a valid file name"
         raise MalformedFile(f"{name}: {reason}") from None
     try:
-        status = os.fstat(fd)
-        if not stat.S_ISREG(status.st_mode):
-            raise MalformedFile(f"{name}: {_kind(status.st_mode)}, not a regular file")
-        if status.st_size > limit:
-            raise _too_large(name, status.st_size, limit, what)
+        _check_input(os.fstat(fd), name, limit, what)
         with os.fdopen(os.dup(fd), "rb", buffering=0) as handle:
             return _read_limited(handle, limit, name, what)
     except OSError as exc:

@@ -3,8 +3,9 @@
 An answer's JSON says what it is in its first key, ``kind`` (:data:`solverplan.result.ANSWER_KEY_ORDER`); this
 module maps each kind to its class (:func:`solverplan.result.answer_kind` registered it) and to its hooks:
 
-- ``read``: read the JSON back into the typed answer (``cls.from_json``), or ``None`` for the kinds whose JSON is a
-  summary of what they computed (simulations, studies, room simulations, imports: their arrays are not written);
+- ``read``: read the JSON back into the typed answer (``cls.from_json``); the kinds whose JSON is a summary of what
+  they computed (simulations, studies, room simulations, imports: their arrays are not written) read back as an
+  :class:`AnswerSummary`, their JSON checked key by key;
 - ``certificate``: :func:`solverplan.certify.build.certificate`, which dispatches on the answer's type (it raises
   :class:`TypeError` for an answer it cannot certify, :class:`~solverplan.certify.build.NothingToCertify` for one
   with nothing to claim); ``check``: :func:`solverplan.certify.check.check_certificate`, the one exact checker;
@@ -26,10 +27,11 @@ True
 
 from __future__ import annotations
 
+import copy
 import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
 from solverplan.bounce.controller import ConstantController
 from solverplan.bounce.cycles import LimitCycle
@@ -48,16 +50,16 @@ from solverplan.plan.result import ParetoFront, Plan
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.reflection.navigation import FieldNavigation
 from solverplan.render.report import make_report
-from solverplan.result import answer_kinds
-from solverplan.simulate import Rollouts
+from solverplan.result import Status, answer_kinds
+from solverplan.rollout import Rollouts
 from solverplan.studies.execute import StudyResult
-from solverplan.studies.rooms import RoomRuns, RuleComparison
+from solverplan.rectilinear.simulation import RoomRuns, RuleComparison
 from solverplan.wallfollow.filters import WalkCount
 from solverplan.wallfollow.learning import LearnedOrdering
 from solverplan.wallfollow.ordering import CutOrdering
 from solverplan.wallfollow.pursuit import PursuitPlan
 
-__all__ = ["AnswerKind", "KINDS", "read_answer", "load_answer_file"]
+__all__ = ["AnswerKind", "AnswerSummary", "KINDS", "read_answer", "load_answer_file"]
 
 
 def _picture_rooms(answer: Decomposition) -> Any:
@@ -85,16 +87,91 @@ class AnswerKind:
     kind: str
     cls: type
     needs_env: bool
-    read: Callable[..., Any] | None
+    read: Callable[..., Any]
     certificate: Callable[..., Any] = build_certificate
     check: Callable[..., Any] = check_certificate
     picture: Callable[[Any], Any] | None = None
     report: Callable[..., Any] = make_report
 
 
+@dataclass(frozen=True)
+class AnswerSummary:
+    """A summary answer read back (a simulation, a rooms simulation or comparison, a study, an import): its JSON,
+    checked key by key, under its ``kind``; ``source`` is the class that wrote it, whose arrays (trajectories, tables,
+    rings) the JSON does not hold. ``to_json()`` is the JSON read.
+
+    >>> import solverplan as sp
+    >>> from solverplan.simulate import simulate_rule
+    >>> from solverplan.bounce.rules import Fixed
+    >>> runs = simulate_rule(sp.load_environment("square"), Fixed(0.5), "e0", bounces=5, trials=10, seed=1)
+    >>> back = read_answer(runs.to_json())
+    >>> back.kind, back.source.__name__, back.to_json() == runs.to_json()
+    ('simulation', 'Rollouts', True)
+    """
+
+    kind: str
+    source: type
+    data: Mapping[str, Any]
+
+    @property
+    def status(self) -> Status | None:
+        """The answer's status, for the kinds that write one (imports)."""
+        value = self.data.get("status")
+        return Status(value) if isinstance(value, str) else None
+
+    def to_json(self) -> dict:
+        """The JSON read (a copy)."""
+        return copy.deepcopy(dict(self.data))
+
+    def to_text(self, *, width: int = 100) -> str:
+        """Its plain values, one a line (the lists and objects counted)."""
+        lines = [f"{self.kind} (a summary of a {self.source.__name__}, read back)"]
+        for key, value in self.data.items():
+            if key == "kind":
+                continue
+            shown = (f"{len(value)} entries" if isinstance(value, (dict, list)) else str(value))
+            lines.append(f"{key}: {shown}"[:width])
+        return "\n".join(lines) + "\n"
+
+
+_SUMMARY_KEYS: dict[str, dict[str, type | tuple[type, ...]]] = {
+    "simulation": {"environment": str, "policy": str, "bounces": (dict, type(None)), "seed": (int, type(None)),
+                   "ties": str, "trials": int, "outcomes": dict, "success_rate": (int, float),
+                   "flagged_rate": (int, float)},
+    "rooms-simulation": {"rule": str, "from": int, "to": int, "rooms": list, "trials": int, "max_bounces": int,
+                         "doors": str, "success": (int, float), "trapped": int, "outcomes": dict},
+    "rooms-rules": {"rules": dict, "rooms": list, "recommended": str},
+    "study": {"study": dict, "files": dict, "rows": int, "computed": int, "reused": int, "means": dict,
+              "cells": list},
+    "import": {"status": str, "written": (str, type(None)), "outer_vertices": int, "holes": int, "area": (int, float),
+               "format": str, "source": str, "name": str, "vertices": int},
+}
+"""The keys every summary of a kind holds and their JSON types: what :func:`read_answer` checks."""
+
+
+def _summary_reader(cls: type) -> Callable[..., AnswerSummary]:
+    kind = cls.kind  # type: ignore[attr-defined]
+
+    def read(data: Mapping[str, Any], *, env: Environment | None = None) -> AnswerSummary:
+        for key, types in _SUMMARY_KEYS[kind].items():
+            if key not in data:
+                raise MalformedFile(f"{kind}: no {key!r} (a {kind} summary holds {', '.join(_SUMMARY_KEYS[kind])})")
+            value = data[key]
+            if isinstance(value, bool) or not isinstance(value, types):
+                raise MalformedFile(f"{kind}.{key}: unexpected value {json.dumps(value)[:60]}")
+        if "status" in data:
+            try:
+                Status(data["status"])
+            except ValueError:
+                raise MalformedFile(f"{kind}.status: unknown status {data['status']!r}") from None
+        return AnswerSummary(kind, cls, copy.deepcopy(dict(data)))
+
+    return read
+
+
 def _kind(cls: type, *, needs_env: bool, read: bool = True, picture: Callable[[Any], Any] | None = None) -> AnswerKind:
-    return AnswerKind(cls.kind, cls, needs_env, cls.from_json if read else None,  # type: ignore[attr-defined]
-                      picture=picture)
+    reader = cls.from_json if read else _summary_reader(cls)  # type: ignore[attr-defined]
+    return AnswerKind(cls.kind, cls, needs_env, reader, picture=picture)  # type: ignore[attr-defined]
 
 
 KINDS: dict[str, AnswerKind] = {k.kind: k for k in (
@@ -113,9 +190,9 @@ KINDS: dict[str, AnswerKind] = {k.kind: k for k in (
     _kind(WalkCount, needs_env=False),
     _kind(PursuitPlan, needs_env=True),
     _kind(FieldNavigation, needs_env=True, picture=_picture_fields),
-    _kind(Rollouts, needs_env=True, read=False),
-    _kind(RoomRuns, needs_env=True, read=False),
-    _kind(RuleComparison, needs_env=True, read=False),
+    _kind(Rollouts, needs_env=False, read=False),
+    _kind(RoomRuns, needs_env=False, read=False),
+    _kind(RuleComparison, needs_env=False, read=False),
     _kind(StudyResult, needs_env=False, read=False),
     _kind(FloorplanImport, needs_env=False, read=False),
 )}
@@ -137,7 +214,8 @@ def read_answer(data: object, *, env: Environment | None = None) -> Any:
     Returns
     -------
     Answer
-        The answer of the class :data:`KINDS` names; its ``to_json()`` is ``data`` again.
+        The answer of the class :data:`KINDS` names (an :class:`AnswerSummary` for the kinds whose JSON is a
+        summary); its ``to_json()`` is ``data`` again.
 
     Examples
     --------
@@ -150,7 +228,7 @@ def read_answer(data: object, *, env: Environment | None = None) -> Any:
     Raises
     ------
     MalformedFile
-        No ``kind``, an unknown kind, a malformed answer, or a kind whose JSON is only a summary.
+        No ``kind``, an unknown kind, or a malformed answer.
     InputError
         ``env`` is needed (the answer names its edges) and missing or not the answer's environment.
     """
@@ -159,8 +237,6 @@ def read_answer(data: object, *, env: Environment | None = None) -> Any:
     entry = KINDS.get(data["kind"])
     if entry is None:
         raise MalformedFile(f"unknown answer kind {data['kind']!r}: known kinds are {', '.join(sorted(KINDS))}")
-    if entry.read is None:
-        raise MalformedFile(f"a {entry.kind} answer is a summary of what was computed: it is not read back")
     if entry.needs_env and env is None:
         raise InputError(f"a {entry.kind} answer is read back in its environment: give it")
     return entry.read(data, env=env)

@@ -42,7 +42,7 @@ from typing import Any, Iterable, Literal, Sequence
 
 import numpy as np
 
-from solverplan._io import atomic_write_text, check_json_values, read_input_text, shown_path
+from solverplan._io import atomic_write_text, check_json_values, file_format, read_input_text, shown_path
 from solverplan._shipped import model_file, model_names
 from solverplan.errors import InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile
 from solverplan.limits import (
@@ -70,6 +70,7 @@ from solverplan.exact import (
 )
 
 __all__ = [
+    "check_edges",
     "Environment",
     "Edge",
     "BoundaryPiece",
@@ -1190,16 +1191,7 @@ def format_environment(env: Environment, fmt: FileFormat = "json") -> str:
 
 
 def _format_of(path: Path, fmt: str | None) -> FileFormat:
-    if fmt:
-        if fmt not in ("json", "geojson", "wkt"):
-            raise MalformedFile(f"unknown format {fmt!r}: use json, geojson or wkt")
-        return fmt  # type: ignore[return-value]
-    try:
-        return _EXTENSIONS[path.suffix.lower()]
-    except KeyError:
-        raise MalformedFile(
-            f"{path}: cannot tell the format from the extension {path.suffix!r}: use .json, .geojson or .wkt, or name the format"
-        ) from None
+    return file_format(path, fmt, _EXTENSIONS)  # type: ignore[return-value]
 
 
 def _no_such_file(path: str) -> str:
@@ -1272,3 +1264,24 @@ def save_environment(env: Environment, path: str | PathLike[str], fmt: FileForma
     """Write ``env`` atomically, format from the extension unless ``fmt`` is given."""
     path = Path(path)
     atomic_write_text(path, format_environment(env, _format_of(path, fmt)))
+
+
+def check_edges(env: Environment, edges: object, *, name: str = "edge") -> np.ndarray:
+    """Edge ids as an int array, or a one-line :class:`InvalidBoundarySet` naming the first unknown one.
+
+    >>> check_edges(Environment.from_coords([[0, 0], [1, 0], [0, 1]]), [0, 7])
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InvalidBoundarySet: unknown edge e7: edges are e0..e2
+    """
+    try:
+        arr = np.asarray(edges, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} ids must be integers, got {edges!r}") from None
+    n = env.n_edges
+    bad = np.flatnonzero(~((arr >= 0) & (arr < n) & (arr == np.floor(arr))))
+    if len(bad):
+        value = arr[bad[0]]
+        shown = f"{int(value)}" if np.isfinite(value) and value == np.floor(value) else f"{value:g}"
+        raise InvalidBoundarySet(f"unknown edge e{shown}: edges are e0..e{n - 1}")
+    return arr.astype(np.int64)

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from fractions import Fraction
 from numbers import Rational
-from typing import Literal, Sequence
+from typing import Literal, Sequence, TypeVar
 
 import numpy as np
 
@@ -39,6 +39,8 @@ __all__ = [
     "ExactPoint",
     "to_fraction",
     "exact_point",
+    "exact_segment",
+    "ring_without_repeats",
     "format_number",
     "json_number",
     "format_point",
@@ -54,6 +56,8 @@ __all__ = [
 
 ExactPoint = tuple[Fraction, Fraction]
 """A point with exact rational coordinates."""
+
+_P = TypeVar("_P")
 
 # Relative error bound of the float orientation determinant when the coordinates are
 # themselves roundings of exact rationals (one rounding per coordinate, then two
@@ -139,6 +143,45 @@ def exact_point(xy: Sequence[object], *, where: str = "point") -> ExactPoint:
     for c in point:
         check_coordinate(c, where)
     return point
+
+
+def exact_segment(seg: object, *, where: str = "segment") -> tuple[ExactPoint, ExactPoint]:
+    """The exact end points of a segment given as two points; one line naming ``where`` for anything else, or for a
+    segment of zero length.
+
+    >>> exact_segment(((0, 0), ("1/2", 1)))
+    ((Fraction(0, 1), Fraction(0, 1)), (Fraction(1, 2), Fraction(1, 1)))
+    >>> exact_segment(((1, 1), (1, 1)), where="src")
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: src has zero length: both end points are (1, 1)
+    """
+    first: Sequence[object]
+    second: Sequence[object]
+    try:
+        first, second = seg  # type: ignore[misc]
+    except (TypeError, ValueError):
+        raise InputError(f"{where}: expected two end points ((x0, y0), (x1, y1)), got {quote(seg)}") from None
+    a, b = exact_point(first, where=where), exact_point(second, where=where)
+    if a == b:
+        raise InputError(f"{where} has zero length: both end points are {format_point(a)}")
+    return a, b
+
+
+def ring_without_repeats(points: Sequence[_P]) -> list[_P]:
+    """The closed ring through ``points`` without repeated consecutive points (the last one included, against the
+    first).
+
+    >>> ring_without_repeats([(0, 0), (1, 0), (1, 0), (1, 1), (0, 0)])
+    [(0, 0), (1, 0), (1, 1)]
+    """
+    ring: list[_P] = []
+    for p in points:
+        if not ring or ring[-1] != p:
+            ring.append(p)
+    while len(ring) > 1 and ring[0] == ring[-1]:
+        ring.pop()
+    return ring
 
 
 def check_coordinate(c: Fraction, where: str) -> None:

@@ -108,6 +108,20 @@ def _is_strictly_convex(ring: list[ExactPoint]) -> bool:
 
 
 # ---------------------------------------------------------------------- star polygons
+def _first_valid(candidate: Callable[[int], Environment], max_attempts: int, failure: str, hint: str = "") -> Environment:
+    """The first environment ``candidate(attempt)`` returns in ``max_attempts`` attempts (0, 1, ...); a rejected
+    candidate raises :class:`InvalidEnvironment` saying why. After the last attempt: InvalidEnvironment with
+    ``failure``, the number of attempts, the last reason and ``hint``. A bad ``max_attempts`` is an InputError."""
+    max_attempts = _check_int("max_attempts", max_attempts, 1)
+    problem = "no candidate tried"
+    for attempt in range(max_attempts):
+        try:
+            return candidate(attempt)
+        except InvalidEnvironment as exc:
+            problem = str(exc)
+    raise InvalidEnvironment(f"{failure} in {max_attempts} attempts (last: {problem}){hint}")
+
+
 def _star_points(
     rng: np.random.Generator, n: int, irregularity: float, spikiness: float, radius: float
 ) -> np.ndarray:
@@ -194,27 +208,21 @@ def star_polygon(
     spikiness = _check_fraction_of_one("spikiness", spikiness)
     radius_f = _check_positive("radius", radius)
     decimals = _check_int("decimals", decimals, 0)
-    max_attempts = _check_int("max_attempts", max_attempts, 1)
     rng = np.random.default_rng(seed)
     name = (
         f"star_polygon(n={n}, irregularity={irregularity:g}, spikiness={spikiness:g}, "
         f"radius={radius_f:g}, seed={_seed_text(seed)})"
     )
-    problem = "no candidate tried"
-    for _ in range(max_attempts):
-        ring = _to_decimals(_star_points(rng, n, irregularity, spikiness, radius_f), decimals)
-        try:
-            env = Environment.from_coords(ring, name=name)
-        except InvalidEnvironment as exc:
-            problem = str(exc)
-            continue
-        if env.n_vertices == n:  # a rounded last vertex equal to the first would close the ring early
-            return env
-        problem = "the last vertex rounded onto the first"
-    raise InvalidEnvironment(
-        f"no valid star polygon with n={n}, irregularity={irregularity:g}, spikiness={spikiness:g}, "
-        f"radius={radius_f:g}, decimals={decimals} in {max_attempts} attempts (last: {problem})"
-    )
+
+    def candidate(_: int) -> Environment:
+        env = Environment.from_coords(_to_decimals(_star_points(rng, n, irregularity, spikiness, radius_f), decimals),
+                                      name=name)
+        if env.n_vertices != n:  # a rounded last vertex equal to the first closed the ring early
+            raise InvalidEnvironment("the last vertex rounded onto the first")
+        return env
+
+    return _first_valid(candidate, max_attempts, f"no valid star polygon with n={n}, irregularity={irregularity:g}, "
+                        f"spikiness={spikiness:g}, radius={radius_f:g}, decimals={decimals}")
 
 
 def _hole_ring(
@@ -302,10 +310,8 @@ def star_polygon_with_holes(
         Vertices of the outer ring (≥ 3).
     n_holes
         Number of holes (≥ 0).
-    seed
-        ``int``, :class:`numpy.random.Generator` or ``None`` (fresh entropy: not reproducible).
-    irregularity, spikiness, radius
-        Of the outer ring, as in :func:`star_polygon`.
+    seed, irregularity, spikiness, radius, decimals
+        As in :func:`star_polygon` (the last four: of the outer ring).
     hole_vertices
         Vertices per hole (≥ 3).
     hole_kind
@@ -313,22 +319,18 @@ def star_polygon_with_holes(
     hole_radius
         Size of each hole (distance of its vertices from its centre at most); default
         ``0.15 · radius / sqrt(n_holes)`` so the holes fit comfortably.
-    decimals
-        Number of decimal places of the exact coordinates.
     max_attempts
         Outer rings (with their holes) tried before giving up.
 
     Returns
     -------
     Environment
-        Valid, outer ring counter-clockwise, holes clockwise; ``name`` records the parameters and seed.
+        As :func:`star_polygon`'s, with the holes clockwise.
 
     Raises
     ------
-    InputError
-        A parameter is out of range (named with its value).
-    InvalidEnvironment
-        The holes could not be placed (too many or too large) or no valid candidate was found.
+    InputError, InvalidEnvironment
+        As :func:`star_polygon`; also InvalidEnvironment when the holes could not be placed (too many or too large).
 
     Examples
     --------
@@ -351,21 +353,19 @@ def star_polygon_with_holes(
     else:
         hole_radius_f = _check_positive("hole_radius", hole_radius)
     decimals = _check_int("decimals", decimals, 0)
-    max_attempts = _check_int("max_attempts", max_attempts, 1)
     rng = np.random.default_rng(seed)
     name = (
         f"star_polygon_with_holes(n={n}, n_holes={n_holes}, irregularity={irregularity:g}, "
         f"spikiness={spikiness:g}, radius={radius_f:g}, hole_vertices={hole_vertices}, "
         f"hole_kind={hole_kind!r}, hole_radius={hole_radius_f:.6g}, seed={_seed_text(seed)})"
     )
-    problem = "no candidate tried"
-    for _ in range(max_attempts):
+
+    def candidate(_: int) -> Environment:
         outer_xy = _star_points(rng, n, irregularity, spikiness, radius_f)
         outer = _to_decimals(outer_xy, decimals)
         centres = _hole_centres(rng, outer_xy, n_holes, hole_radius_f, radius_f) if n_holes else np.empty((0, 2))
         if centres is None:
-            problem = f"could not place {n_holes} holes of radius {hole_radius_f:.6g}"
-            continue
+            raise InvalidEnvironment(f"could not place {n_holes} holes of radius {hole_radius_f:.6g}")
         holes = []
         for centre in centres:
             for _ in range(20):
@@ -374,22 +374,14 @@ def star_polygon_with_holes(
                     holes.append(ring)
                     break
             else:
-                break
-        if len(holes) != n_holes:
-            problem = f"holes of radius {hole_radius_f:.6g} do not survive rounding to {decimals} decimals"
-            continue
-        try:
-            env = Environment.from_coords(outer, holes, name=name)
-        except InvalidEnvironment as exc:
-            problem = str(exc)
-            continue
-        if env.n_edges == n + n_holes * hole_vertices:
-            return env
-        problem = "the last vertex of a ring rounded onto its first"
-    raise InvalidEnvironment(
-        f"no valid star polygon with n={n} and n_holes={n_holes} (hole_radius={hole_radius_f:.6g}, "
-        f"radius={radius_f:g}) in {max_attempts} attempts (last: {problem}); use fewer or smaller holes"
-    )
+                raise InvalidEnvironment(f"holes of radius {hole_radius_f:.6g} do not survive rounding to {decimals} decimals")
+        env = Environment.from_coords(outer, holes, name=name)
+        if env.n_edges != n + n_holes * hole_vertices:
+            raise InvalidEnvironment("the last vertex of a ring rounded onto its first")
+        return env
+
+    return _first_valid(candidate, max_attempts, f"no valid star polygon with n={n} and n_holes={n_holes} "
+                        f"(hole_radius={hole_radius_f:.6g}, radius={radius_f:g})", "; use fewer or smaller holes")
 
 
 # ---------------------------------------------------------------------- the paper's worst case
@@ -415,8 +407,8 @@ def spiked_comb(teeth: int, seed: int = 0, max_attempts: int = 100) -> Environme
     from solverplan.wallfollow.cut import cuts
 
     teeth = _check_int("teeth", teeth, 1)
-    problem = "no candidate tried"
-    for attempt in range(max_attempts):
+
+    def candidate(attempt: int) -> Environment:
         rng = random.Random(seed * 1000 + attempt)
         # wide random ranges make collinear triples rare even for many teeth
         width = 10_000 * teeth + 10_000
@@ -426,14 +418,11 @@ def spiked_comb(teeth: int, seed: int = 0, max_attempts: int = 100) -> Environme
             ring += [(x + 8_000 + rng.randint(-500, 500), 1_000_000 + rng.randint(0, 50_000)),
                      (x + 4_000 + rng.randint(-500, 500), 300_000 + rng.randint(0, 200_000))]
         ring += [(5_000, 1_000_000 + rng.randint(0, 50_000)), (0, 1_000_000 + rng.randint(0, 50_000))]
-        try:
-            env = Environment.from_coords(ring, name=f"spiked_comb(teeth={teeth}, seed={seed})")
-            cuts(env)
-            return env
-        except InvalidEnvironment as exc:
-            problem = str(exc)
-    raise InvalidEnvironment(f"no spiked comb with {teeth} teeth in general position in {max_attempts} attempts "
-                             f"(last: {problem})")
+        env = Environment.from_coords(ring, name=f"spiked_comb(teeth={teeth}, seed={seed})")
+        cuts(env)
+        return env
+
+    return _first_valid(candidate, max_attempts, f"no spiked comb with {teeth} teeth in general position")
 
 
 def worst_case_polygon(t: int) -> Environment:
@@ -630,7 +619,6 @@ def rooms_and_corridors(
     spacing_f = _check_positive("spacing", spacing)
     width_f = _check_positive("corridor_width", corridor_width)
     decimals = _check_int("decimals", decimals, 0)
-    max_attempts = _check_int("max_attempts", max_attempts, 1)
     if loops > max(n_rooms // 2 - 1, 0):
         raise InputError(f"expected loops <= n_rooms // 2 - 1 = {max(n_rooms // 2 - 1, 0)} (a loop needs a ring of rooms), "
                          f"got loops={loops!r}")
@@ -650,8 +638,8 @@ def rooms_and_corridors(
         f"corridor_width={width_f:g}, seed={_seed_text(seed)})"
     )
     side = math.isqrt(n_rooms - 1) + 2
-    problem = "no candidate tried"
-    for _ in range(max_attempts):
+
+    def candidate(_: int) -> Environment:
         cells, tree = _grid_tree(rng, n_rooms, side)
         where = {cell: k for k, cell in enumerate(cells)}
         spare = sorted(
@@ -660,8 +648,7 @@ def rooms_and_corridors(
             - {(min(a, b), max(a, b)) for a, b in tree}
         )
         if len(spare) < loops:
-            problem = f"only {len(spare)} room pairs left to close loops, {loops} asked"
-            continue
+            raise InvalidEnvironment(f"only {len(spare)} room pairs left to close loops, {loops} asked")
         extra = [spare[int(k)] for k in rng.choice(len(spare), size=loops, replace=False)] if loops else []
         centres = np.asarray(cells, dtype=float) * spacing_f + rng.uniform(-0.1, 0.1, size=(n_rooms, 2)) * spacing_f
         pieces = []
@@ -675,21 +662,13 @@ def rooms_and_corridors(
             pieces.append(shapely.LineString([centres[a], centres[b]]).buffer(width_f / 2, cap_style="flat"))
         rings = _rings_of(shapely.union_all(pieces), decimals)
         if rings is None:
-            problem = "the rooms and corridors do not form one polygon"
-            continue
-        outer, holes = rings
-        try:
-            env = Environment.from_coords(outer, holes, name=name)
-        except InvalidEnvironment as exc:
-            problem = str(exc)
-            continue
-        if len(env.holes) == loops:
-            return env
-        problem = f"{len(env.holes)} holes instead of {loops}"
-    raise InvalidEnvironment(
-        f"no valid rooms-and-corridors layout with n_rooms={n_rooms}, loops={loops} in {max_attempts} attempts "
-        f"(last: {problem})"
-    )
+            raise InvalidEnvironment("the rooms and corridors do not form one polygon")
+        env = Environment.from_coords(*rings, name=name)
+        if len(env.holes) != loops:
+            raise InvalidEnvironment(f"{len(env.holes)} holes instead of {loops}")
+        return env
+
+    return _first_valid(candidate, max_attempts, f"no valid rooms-and-corridors layout with n_rooms={n_rooms}, loops={loops}")
 
 
 # ---------------------------------------------------------------------- rectilinear floor plans
@@ -783,14 +762,13 @@ def rectilinear_floor_plan(
     default = math.ceil(2.5 * min_room * math.sqrt(n_rooms)) + wall
     width = default if width is None else _check_int("width", width, min_room)
     height = default if height is None else _check_int("height", height, min_room)
-    max_attempts = _check_int("max_attempts", max_attempts, 1)
     rng = np.random.default_rng(seed)
     name = (
         f"rectilinear_floor_plan(n_rooms={n_rooms}, width={width}, height={height}, wall={wall}, door={door}, "
         f"min_room={min_room}, pillars={pillars}, seed={_seed_text(seed)})"
     )
-    problem = "no candidate tried"
-    for _ in range(max_attempts):
+
+    def candidate(_: int) -> Environment:
         rooms = [_Room(0, 0, width, height, {"left": [], "right": [], "bottom": [], "top": []})]
         walls = []
         while len(rooms) < n_rooms:
@@ -823,8 +801,7 @@ def rectilinear_floor_plan(
                              left=_clip_doors(room.doors["left"], p + wall, room.y1), right=_clip_doors(room.doors["right"], p + wall, room.y1)))
             rooms[k:k + 1] = [low, high]
         if len(rooms) < n_rooms:
-            problem = f"a {width} x {height} building holds only {len(rooms)} rooms of width >= {min_room}"
-            continue
+            raise InvalidEnvironment(f"a {width} x {height} building holds only {len(rooms)} rooms of width >= {min_room}")
         holes = []
         for k in sorted(rng.choice(len(rooms), size=pillars, replace=False).tolist()) if pillars else []:
             room = rooms[k]
@@ -834,16 +811,11 @@ def rectilinear_floor_plan(
         free = shapely.box(0, 0, width, height).difference(shapely.union_all(walls)) if walls else shapely.box(0, 0, width, height)
         rings = _rings_of(free, None)
         if rings is None:
-            problem = "the walls cut the building apart"
-            continue
-        try:
-            return Environment.from_coords(rings[0], holes, name=name)
-        except InvalidEnvironment as exc:
-            problem = str(exc)
-    raise InvalidEnvironment(
-        f"no rectilinear floor plan with n_rooms={n_rooms} in a {width} x {height} building in {max_attempts} attempts "
-        f"(last: {problem}); use a larger building or a smaller min_room"
-    )
+            raise InvalidEnvironment("the walls cut the building apart")
+        return Environment.from_coords(rings[0], holes, name=name)
+
+    return _first_valid(candidate, max_attempts, f"no rectilinear floor plan with n_rooms={n_rooms} in a {width} x {height} "
+                        "building", "; use a larger building or a smaller min_room")
 
 
 # ---------------------------------------------------------------------- random rectilinear polygons

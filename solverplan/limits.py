@@ -7,7 +7,6 @@ The bounds sit far above any floor plan in practice; each says why it exists.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
 
 from solverplan._io import MAX_INPUT_BYTES, MAX_JSON_VALUES, read_input_text, shown_path
@@ -177,10 +176,9 @@ def _mapped_bytes() -> int:
 
 def set_memory_limit(limit: int | None) -> None:
     """Refuse jobs estimated to need more than ``limit`` bytes (``None``: no limit) in the whole process:
-    ``configure(max_memory=limit)``; :func:`solverplan.config` changes it for a block (the CLI's ``--max-memory``).
+    ``configure(max_memory=limit)``, which checks it (:class:`~solverplan.runtime.Settings`);
+    :func:`solverplan.config` changes it for a block (the CLI's ``--max-memory``).
     """
-    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, int) or limit <= 0):
-        raise InputError(f"memory limit must be a positive number of bytes, got {quote(limit)}")
     configure(max_memory=limit)
 
 

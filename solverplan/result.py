@@ -705,6 +705,37 @@ class Answer:
 
 
 # ---------------------------------------------------------------------- reading answers back
+def finite_number(value: object, where: str) -> float:
+    """``value`` as a float when it is a finite JSON number (not a boolean); else :class:`MalformedFile` at ``where``.
+
+    >>> finite_number(2, "plan.stages[0].interval[0]")
+    2.0
+    >>> finite_number(True, "pareto.points[0].min_width")
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.MalformedFile: pareto.points[0].min_width: expected a finite number, got True
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(float(value)):
+        raise MalformedFile(f"{where}: expected a finite number, got {quote(value)}")
+    return float(value)
+
+
+def index_list(value: object, where: str, what: str = "non-negative integers") -> list[int]:
+    """``value`` when it is a JSON list of non-negative integers (ids: ``what`` says of what, for the message); else
+    :class:`MalformedFile` at ``where``.
+
+    >>> index_list([0, 3], "stages[0].from_segments")
+    [0, 3]
+    >>> index_list([0, -1], "stages[0].from_segments", "segment ids")
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.MalformedFile: stages[0].from_segments: expected a list of segment ids
+    """
+    if not isinstance(value, list) or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in value):
+        raise MalformedFile(f"{where}: expected a list of {what}")
+    return list(value)
+
+
 class Reader:
     """Typed access to one JSON object of an answer being read back: every getter checks the value's type and
     raises :class:`~solverplan.errors.MalformedFile` naming the place (``where.key``) and quoting the value.

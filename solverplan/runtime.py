@@ -26,6 +26,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator, Literal
 
+from solverplan.errors import InputError
+
 __all__ = ["Settings", "settings", "config", "configure", "default_cache_directory", "DEFAULT_MIN_ARCS",
            "DEFAULT_MAX_BYTES"]
 
@@ -87,15 +89,15 @@ class Settings:
         if self.graph_cache is not None and not isinstance(self.graph_cache, Path):
             object.__setattr__(self, "graph_cache", Path(self.graph_cache))
         if not _whole(self.graph_cache_min_arcs) or self.graph_cache_min_arcs < 0:
-            raise ValueError(f"graph_cache_min_arcs must be a whole number >= 0, got {self.graph_cache_min_arcs!r}")
+            raise InputError(f"graph_cache_min_arcs must be a whole number >= 0, got {self.graph_cache_min_arcs!r}")
         if not _whole(self.graph_cache_max_bytes) or self.graph_cache_max_bytes < 1:
-            raise ValueError(f"graph_cache_max_bytes must be a whole number >= 1, got {self.graph_cache_max_bytes!r}")
+            raise InputError(f"graph_cache_max_bytes must be a whole number >= 1, got {self.graph_cache_max_bytes!r}")
         seconds = self.graph_cache_min_seconds
         if seconds is not None and (isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or not seconds >= 0):
-            raise ValueError(f"graph_cache_min_seconds must be None or a number >= 0, got {seconds!r}")
+            raise InputError(f"graph_cache_min_seconds must be None or a number >= 0, got {seconds!r}")
         limit = self.max_memory
         if limit not in (None, "available") and (not _whole(limit) or limit <= 0):  # type: ignore[operator]
-            raise ValueError(f"max_memory must be a positive number of bytes, 'available' or None, got {limit!r}")
+            raise InputError(f"max_memory must be a positive number of bytes, 'available' or None, got {limit!r}")
 
 
 def _whole(x: Any) -> bool:
@@ -143,8 +145,8 @@ def config(**changes: Any) -> Iterator[Settings]:
     ------
     TypeError
         A name that is not a setting.
-    ValueError
-        A value out of range.
+    InputError
+        A value out of range (a ValueError too), one line naming the setting.
 
     Examples
     --------

@@ -1,4 +1,4 @@
-"""Read and rewrite entries of the safe-BVG disk cache (format 3, solverplan.bounce._cache) for tampering tests.
+"""Read and rewrite entries of the safe-BVG disk cache (format 4, solverplan.bounce._cache) for tampering tests.
 
 The format is parsed here from its description (magic, 8-byte header length, JSON header, the arrays in the
 documented order, a trailing SHA-256), not with the cache's own reader: a test that tampers must not trust it.

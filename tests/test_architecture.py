@@ -1,7 +1,7 @@
 """Data flows one way: each layer imports only from layers to its left.
 
-environment → geometry kernel → model structures (bounce, rectilinear, …) → planners →
-results (simulate, studies, certificates) → renderings / descriptions → CLI.
+environment → geometry kernel → the rollout engine → model structures (bounce, rectilinear, …, each with its own
+simulation) → planners → results (simulate, studies, certificates) → renderings / descriptions → CLI.
 """
 
 from __future__ import annotations
@@ -20,13 +20,15 @@ LAYERS = {
     "_arrays": 0,
     "progress": 0,  # what long loops report, and where a timeout stops them (no imports)
     "runtime": 0.25,  # the run-time settings (graph cache, memory limit) read where they apply
-    "limits": 0.5,  # the documented input limits every reader checks (raise errors: after it)
+    "limits": 0.5,
+    "choices": 0.5,  # the named options of the library's functions (enumerations; raise errors: after it)  # the documented input limits every reader checks (raise errors: after it)
     "_shipped": 0,  # where the shipped model files are: environment accepts a model's name
     "interval": 1,
     "exact": 1,
     "environment": 2,
     "result": 3,
     "geometry": 3,
+    "rollout": 3.5,  # the rollout engine (policies ask, one batch of rays per bounce): below every model that simulates
     "floorplan": 3.5,  # floor plans in (ROS maps, DXF, SVG): they make environments (2) and answer like results (3)
     "models": 3,
     "generators": 4.5,  # seeded random environments, valid by construction (spiked combs keep the wall-following model's general position, 4)  # the shipped environments by name: they load through environment (2)
@@ -37,8 +39,8 @@ LAYERS = {
     "reflection": 4,
     "plan": 5,
     "proofs": 5,  # sympy proofs; one checks the exact safe set of bounce (4); only the CLI imports them
-    "simulate": 6,
-    "studies": 7,  # studies run simulations (simulate, 6) and feed render (7, via plain arrays)
+    "simulate": 6,  # the bouncing robot's policies (rules, plans) on the rollout engine (3.5)
+    "studies": 7,  # studies run simulations (simulate, 6; each model's own, 4) and feed render (7, via plain arrays)
     "certify": 6,
     "describe": 7,
     "render": 7,
@@ -95,17 +97,22 @@ def test_library_modules_never_print():
         assert not calls, f"{path.relative_to(PACKAGE)} calls print() on line {calls[0].lineno}"
 
 
-# modules still named like a function they define, with the reason they wait (empty when the house is in order)
-_NAME_CLASH_PENDING = {"bounce/partition.py", "proofs/line_field.py"}
-
-
 def test_no_module_is_named_like_a_function_it_defines():
     """``solverplan.plan.patrols`` is the module and ``patrol`` its function: a package that re-exports a function
     named like one of its modules makes ``package.name`` mean the module or the function by import order."""
     for path, _part in _modules():
         rel = str(path.relative_to(PACKAGE))
-        if rel in _NAME_CLASH_PENDING:
-            continue
         tree = ast.parse(path.read_text())
         defined = {node.name for node in tree.body if isinstance(node, (ast.FunctionDef, ast.ClassDef))}
         assert path.stem not in defined, f"{rel} defines {path.stem}(): name the module for what it holds"
+
+
+def test_every_command_fits_one_screen():
+    """The CLI only parses, calls and emits: a command function (options one a line, through Annotated aliases)
+    longer than a screen is doing the library's work."""
+    for path in sorted((PACKAGE / "cli").glob("*.py")):
+        tree = ast.parse(path.read_text())
+        for node in tree.body:
+            if isinstance(node, ast.FunctionDef) and node.decorator_list:
+                lines = node.end_lineno - node.lineno + 1 + len(node.decorator_list)  # type: ignore[operator]
+                assert lines <= 50, f"cli/{path.name}:{node.name} is {lines} lines: delegate its work (at most 50)"

@@ -60,6 +60,20 @@ def test_a_generous_timeout_changes_nothing():
     assert a == b and a["optimality"]["proved"] is True
 
 
+def test_a_later_command_in_a_long_lived_process_gets_its_whole_timeout(monkeypatch):
+    """The first command line of a process counts its start-up; a later one (a test run, a notebook) counts from its
+    own start, not from the process's (a suite past 600 s made --timeout 600 expire at once)."""
+    import time
+
+    from solverplan.cli import _options
+
+    monkeypatch.setattr(_options, "_STARTED", time.monotonic() - 10_000)
+    monkeypatch.setattr(_options, "_COMMANDS", 1)
+    timed = run("plan", MODELS / "two_rooms.json", "--from", "e0", "--to", "e4", "--objective", "tolerance",
+                "--timeout", "600")
+    assert timed.exit_code == 0 and json.loads(timed.stdout)["optimality"]["proved"] is True
+
+
 def test_an_expired_timeout_in_text_names_the_limit():
     result = run(*COMMANDS["plan"], "--timeout", "0.001", "--format", "text")
     assert result.exit_code == 0, result.stderr

@@ -29,13 +29,13 @@ from typer.testing import CliRunner
 from solverplan import cli
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.cycles import limit_cycle
-from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.partitions import Partition, partition
 from solverplan.environment import Environment
 from solverplan.exact import to_fraction
 from solverplan.plan import find_plan
 from tests.exact_reference import (Rings, frame_direction, heading_is_safe, reference_arcs, reference_partition,
                                    reference_segments, rotate)
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from tests.plan.brute import EPS, admissible, enumerate_plans, start_elements, start_segments
 
 F = Fraction
@@ -336,7 +336,7 @@ def test_plans_equal_the_brute_force(name):
     search) against the planners on the environment as written."""
     env, p, g = built(name)
     case = CASES[name]
-    walls = Walls(env)
+    walls = PartitionedWalls(env)
     g = safe_bounce_visibility_graph(walls.merged)
 
     def merged(spec: str):

@@ -213,7 +213,7 @@ def test_main_installs_the_sigterm_handler(monkeypatch):
 
     installed = {}
     monkeypatch.setattr(cli.signal, "signal", lambda sig, handler: installed.setdefault(sig, handler))
-    monkeypatch.setattr(cli, "app", lambda: None)
+    monkeypatch.setattr(cli, "command_for", lambda app, argv: lambda: None)  # no command is run
     cli.main()
     assert installed == {signal.SIGTERM: cli._terminate}
     with pytest.raises(SystemExit) as exit_info:

@@ -17,7 +17,7 @@ from solverplan.cli import app
 from solverplan.environment import Environment, load_environment, save_environment
 from solverplan.errors import InputError, MalformedFile
 from solverplan.exact import orient
-from solverplan.studies import star_polygon, worst_case_polygon
+from solverplan.generators import star_polygon, worst_case_polygon
 
 MODELS = Path(models.__file__).resolve().parent
 FILES = sorted(MODELS.glob("*.json"))

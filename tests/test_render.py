@@ -199,7 +199,7 @@ def test_scene_of_a_bare_environment_draws_only_the_environment_layers():
 
 
 def test_scene_stacks_graph_and_safe_arcs_under_the_partition():
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     fig = scene(PILLAR, partition=True, graph=True, safe_arcs=True, edge_ids=True)
     ax = fig.axes[0]
@@ -213,7 +213,7 @@ def test_scene_stacks_graph_and_safe_arcs_under_the_partition():
 
 
 def test_scene_of_a_plan_draws_its_cones_on_the_target_segments_and_its_rollouts():
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
     from solverplan.bounce.transitions import transition_set
     from solverplan.plan import find_plan
 

@@ -240,7 +240,7 @@ def test_record_ends_keeps_the_start_and_the_final_contact():
 
 
 def test_rollouts_report_their_partition_segments(models_dir):
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     env = load_environment(models_dir / "l_shape.json")
     p = partition(env)

@@ -3,11 +3,11 @@ transitions, contraction and limit cycles (the constant map f_θ in :mod:`~solve
 its cycles in :mod:`~solverplan.bounce.cycles`, Prop. 4's constant controller in
 :mod:`~solverplan.bounce.controller`).
 
-Functions named like their module are not re-exported here, so that ``import solverplan.bounce.partition`` is
-always the module: call :func:`solverplan.partition` (or ``solverplan.bounce.partition.partition``)."""
+Modules are named for what they hold and never like a function they define: the partition P′ (Algorithm 1) is
+:func:`partition`, made in :mod:`~solverplan.bounce.partitions`."""
 
 from solverplan.interval import Interval, heading_interval
-from solverplan.bounce.partition import InsertedPoint, Partition, PartitionSegment
+from solverplan.bounce.partitions import InsertedPoint, Partition, PartitionSegment, partition
 from solverplan.bounce.rules import BounceRule, Fixed, FixedInterval, MonotoneFixed, Relative, Specular, parse_rule
 from solverplan.bounce.bvg import SafeBVG, bounce_visibility_graph, safe_bounce_visibility_graph
 from solverplan.bounce.safe import SafeSet, safe_interval, safe_set
@@ -20,7 +20,7 @@ from solverplan.bounce.cycles import CyclePoint, LimitCycle, limit_cycle, limit_
 from solverplan.bounce.controller import DEFAULT_CONTROLLER_TANGENTS, ConstantController, constant_controller
 from solverplan.bounce.cones import heading_cone, heading_direction
 
-__all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment",
+__all__ = ["Interval", "heading_interval", "InsertedPoint", "Partition", "PartitionSegment", "partition",
            "BounceRule", "Fixed", "FixedInterval", "MonotoneFixed", "Relative", "Specular", "parse_rule",
            "SafeBVG", "bounce_visibility_graph", "safe_bounce_visibility_graph", "SafeSet", "safe_interval", "safe_set",
            "AffineMap", "affine_map", "exact_transition", "transition", "transition_set",

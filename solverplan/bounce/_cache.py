@@ -4,7 +4,12 @@ A safe BVG is a function of its partition P′ alone: the environment's exact ri
 points of every segment (Algorithm 1's, and any extra cut a planner refines the partition with). So a
 graph is keyed by the **partition digest** (:func:`partition_digest`): the SHA-256 of the rings and of
 every segment's exact ``(edge, t0, t1)``. Computing it reads the partition the caller already has; it
-never rebuilds one.
+never rebuilds one. The graph of P′ itself — the partition :func:`~solverplan.bounce.partitions.partition`
+makes, which is a function of the environment's exact rings alone — is keyed by the **environment digest**
+(:func:`environment_digest`, the SHA-256 of the exact rings: of the canonical walls when the planners ask) and
+its entry keeps P′'s inserted points, so a process that finds it rebuilds neither the graph nor the
+partition (Algorithm 1 is most of a large map's cost); the partition read back is checked against the entry's
+partition digest and remembered as the environment's partition for the rest of the process.
 
 - **in memory** (always): the last few graphs built or read in this process, by partition digest (and,
   for a call with an environment, by the environment, so that a second query on it does not even
@@ -20,8 +25,10 @@ The disk format (version :data:`FORMAT_VERSION`) is plain bytes, no pickle, no z
           | SHA-256 of everything before it (32 bytes, written last)
 
 The header names the format version, the construction parameters, the partition digest it was built
-for, the number of segments, arcs and safe intervals; the loader computes every array's place from
-those counts (the file says nothing else about its layout) and requires the file size to match.
+for, the number of segments, arcs and safe intervals (and, for P′ itself, the environment digest and the
+inserted points as exact ``[edge, t numerator, t denominator, reflex vertex, from vertex, sources]``); the
+loader computes every array's place from those counts (the file says nothing else about its layout) and
+requires the file size to match.
 
 **What is checked on load, and what a failed check does.** An entry is used only if it is a regular
 file (not a symlink, not a device), no larger than the cache's size cap, starts with the magic, its
@@ -42,7 +49,8 @@ Writes are atomic (a temporary file in the folder, flushed, then renamed over th
 permissions of a plain ``open(path, "w")`` (``0o666 & ~umask``), so concurrent processes sharing a
 folder see either a whole entry or none. Only graphs of at least ``min_arcs`` arcs are written (smaller
 ones are faster to rebuild than to read: the threshold is the graph's size, not the build's wall time,
-so whether a graph is kept does not depend on the machine's load). The folder is capped at
+so whether a graph is kept does not depend on the machine's load; an optional ``min_seconds`` keeps graphs
+whose build took that much CPU time, not wall time, for the same reason). The folder is capped at
 ``max_bytes``: after a write, the least recently used entries (a hit refreshes an entry's time) are
 removed until it fits. :func:`purge_graph_cache` empties it (``solverplan cache clear``).
 
@@ -63,6 +71,7 @@ import threading
 import time
 from collections import OrderedDict
 from dataclasses import dataclass, replace
+from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
@@ -74,20 +83,22 @@ from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, configure, d
 
 if TYPE_CHECKING:
     from solverplan.bounce.bvg.graph import SafeBVG
-    from solverplan.bounce.partition import Partition
+    from solverplan.bounce.partitions import InsertedPoint, Partition
     from solverplan.environment import Environment
 
 __all__ = ["FORMAT_VERSION", "DEFAULT_MIN_ARCS", "DEFAULT_MAX_BYTES", "GraphCacheReport", "set_graph_cache",
-           "graph_cache_directory", "clear_graph_cache", "default_cache_directory", "partition_digest",
+           "graph_cache_directory", "clear_graph_cache", "default_cache_directory", "partition_digest", "environment_digest",
            "purge_graph_cache", "graph_cache_report", "discard_graphs", "fresh_graphs", "read_from_disk"]
 
 logger = logging.getLogger(__name__)
 
-FORMAT_VERSION = 3  # 3: own format with a trailing SHA-256, keyed by the partition's exact content
+FORMAT_VERSION = 4
 """Version of the cached arrays and of the construction that made them: bump it whenever either
 changes, and every older entry is ignored.
 
-2: float ends refined where rounding could show (translated or tiny features)."""
+2: float ends refined where rounding could show (translated or tiny features). 3: own format with a trailing
+SHA-256, keyed by the partition's exact content. 4: the graph of P′ itself keyed by the environment's exact rings,
+with P′'s inserted points (no partition is rebuilt to find it)."""
 
 _PARAMETERS = "partition=given;safe=exact"
 """The construction parameters a graph depends on besides its partition (part of every key)."""
@@ -95,7 +106,7 @@ _PARAMETERS = "partition=given;safe=exact"
 _MAGIC = b"solverplan safe-bvg\n"
 _SUFFIX = ".spg"
 _DIGEST = 32
-_MAX_HEADER = 1 << 20
+_MAX_HEADER = 1 << 26  # the inserted points of P′ are in the header: ≈ 40 bytes each
 
 # (name, dtype, length: "n" arcs, "n+1", "m" safe intervals), in file order
 _LAYOUT: tuple[tuple[str, str, str], ...] = (
@@ -134,8 +145,8 @@ def set_graph_cache(directory: str | os.PathLike[str] | None, *, min_arcs: int =
     min_arcs
         Only graphs with at least this many arcs are written (0: every graph).
     min_seconds
-        Also write graphs whose build took at least this long (seconds); ``None`` (default): the size
-        alone decides, so the same graphs are kept whatever the machine's load.
+        Also write graphs whose build took at least this much CPU time (seconds of this process, not wall
+        time); ``None`` (default): the size alone decides, so the same graphs are kept whatever the machine's load.
     max_bytes
         The folder's size cap: after a write, least recently used entries are removed until it fits.
     """
@@ -209,21 +220,44 @@ def partition_digest(p: Partition) -> str:
     return h.hexdigest()
 
 
-def _entry_name(digest: str) -> str:
-    return hashlib.sha256(f"solverplan-safe-bvg/{FORMAT_VERSION}/{_PARAMETERS}/{digest}".encode()).hexdigest()
+def environment_digest(env: Environment) -> str:
+    """SHA-256 (hex) of an environment's exact rings, whatever its name or file: P′ (so its safe BVG) is a function
+    of them alone. It is :class:`~solverplan.result.EnvironmentRecord`'s digest."""
+    return EnvironmentRecord.of(env).sha256
+
+
+def _entry_name(digest: str, kind: str = "partition") -> str:
+    """The file name of the entry of a partition digest (``kind`` "partition") or of P′ of an environment digest
+    ("environment")."""
+    key = digest if kind == "partition" else f"{kind}/{digest}"
+    return hashlib.sha256(f"solverplan-safe-bvg/{FORMAT_VERSION}/{_PARAMETERS}/{key}".encode()).hexdigest()
+
+
+def _is_plain(p: Partition) -> bool:
+    """Is ``p`` P′ of its environment, as :func:`~solverplan.bounce.partitions.partition` made it in this process?"""
+    from solverplan.bounce.partitions import is_remembered
+
+    return is_remembered(p)
 
 
 # ---------------------------------------------------------------------- lookup and store
 def lookup_environment(env: Environment) -> SafeBVG | None:
-    """The graph of ``env``'s plain partition P′ if it is in memory (no partition is made), else ``None``."""
+    """The graph of ``env``'s plain partition P′ if it is in memory or in the disk cache, else ``None``; no partition
+    is made (one read from disk comes with its P′, which :func:`~solverplan.bounce.partitions.partition` then
+    returns for ``env`` in this process)."""
     with _lock:
         if _fresh:
             return None
         digest = _aliases.get(env)
         graph = _memory.get(digest) if digest is not None else None
+        if graph is not None:
+            _memory.move_to_end(digest)  # type: ignore[arg-type]
+    if graph is None:
+        directory = settings().graph_cache
+        graph = _load_plain(directory, env) if directory is not None else None
         if graph is None:
             return None
-        _memory.move_to_end(digest)  # type: ignore[arg-type]
+        _remember(graph.stats["partition_digest"], graph, env)
     if env is graph.partition.env:
         return graph
     return replace(graph, partition=replace(graph.partition, env=env))
@@ -240,7 +274,7 @@ def lookup(p: Partition, digest: str, *, plain: bool = False) -> SafeBVG | None:
             _memory.move_to_end(digest)
     directory = settings().graph_cache
     if graph is None and directory is not None:
-        graph = _load(directory, digest, p)
+        graph = _load(directory, digest, p, plain=plain or _is_plain(p))
         if graph is None:
             return None
         _remember(digest, graph, p.env if plain else None)
@@ -252,7 +286,7 @@ def lookup(p: Partition, digest: str, *, plain: bool = False) -> SafeBVG | None:
 
 
 def store(p: Partition, digest: str, graph: SafeBVG, seconds: float, *, plain: bool = False) -> SafeBVG:
-    """Keep ``graph`` (the safe BVG of ``p``, built in ``seconds``); returns it with its arrays read-only."""
+    """Keep ``graph`` (the safe BVG of ``p``, built in ``seconds`` of CPU time); returns it with its arrays read-only."""
     for name in (*_ARRAYS, "_set_ends"):
         arrays = getattr(graph, name)
         for a in arrays if isinstance(arrays, tuple) else (arrays,):
@@ -261,7 +295,7 @@ def store(p: Partition, digest: str, graph: SafeBVG, seconds: float, *, plain: b
     now = settings()
     directory, min_seconds = now.graph_cache, now.graph_cache_min_seconds
     if directory is not None and (graph.n_arcs >= now.graph_cache_min_arcs or (min_seconds is not None and seconds >= min_seconds)):
-        written = _save(directory, digest, graph)
+        written = _save(directory, digest, graph, plain=plain or _is_plain(p))
         if written is not None:
             _evict(directory, now.graph_cache_max_bytes, keep=written)
     return graph
@@ -285,15 +319,23 @@ def _lengths(n: int, m: int) -> list[int]:
     return [{"n": n, "n+1": n + 1, "m": m}[kind] for _, _, kind in _LAYOUT]
 
 
-def _save(directory: Path, digest: str, graph: SafeBVG) -> Path | None:
-    """Write ``graph``'s entry atomically; the path written, or ``None`` when the folder cannot be written."""
-    name = _entry_name(digest)
+def _save(directory: Path, digest: str, graph: SafeBVG, *, plain: bool = False) -> Path | None:
+    """Write ``graph``'s entry atomically (``plain``: the graph of P′ itself, keyed by the environment, with P′'s
+    inserted points); the path written, or ``None`` when the folder cannot be written."""
     arrays = {k: getattr(graph, k) for k in _ARRAYS}
     arrays.update(zip(_END_ARRAYS, graph._set_ends))
     n, m = graph.n_arcs, len(graph.set_lo)
     header = {"format": FORMAT_VERSION, "parameters": _PARAMETERS, "partition": digest,
               "n_segments": graph.n_segments, "n_arcs": n, "n_intervals": m,
               "stats": {k: v for k, v in graph.stats.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}}
+    if plain:
+        env = graph.partition.env
+        key = environment_digest(env)
+        header["environment"] = key
+        header["inserted"] = _inserted_rows(graph.partition)
+        name = _entry_name(key, "environment")
+    else:
+        name = _entry_name(digest)
     text = json.dumps(header, sort_keys=True, separators=(",", ":")).encode()
     text += b" " * (-(len(_MAGIC) + 8 + len(text)) % 8)
     chunks: list[bytes | memoryview] = [_MAGIC, len(text).to_bytes(8, "little"), text]
@@ -330,11 +372,82 @@ def _save(directory: Path, digest: str, graph: SafeBVG) -> Path | None:
     return final
 
 
-def _load(directory: Path, digest: str, p: Partition) -> SafeBVG | None:
-    """The graph of entry ``digest`` if it passes every check (module docstring), else ``None`` (a miss)."""
-    path = directory / f"{_entry_name(digest)}{_SUFFIX}"
+def _load(directory: Path, digest: str, p: Partition, *, plain: bool = False) -> SafeBVG | None:
+    """The graph of entry ``digest`` (``plain``: of P′ of ``p.env``, which ``p`` is) if it passes every check (module
+    docstring), else ``None`` (a miss)."""
+    name = _entry_name(environment_digest(p.env), "environment") if plain else _entry_name(digest)
+    found = _read_entry(directory / f"{name}{_SUFFIX}", digest, len(p.segments))
+    if found is None:
+        return None
+    header, arrays, path = found
+    if plain and (header.get("environment") != environment_digest(p.env) or header.get("inserted") != _inserted_rows(p)):
+        # the arrays are this partition's, but a process asking by the environment would rebuild P′ from these
+        logger.info("graph cache: ignoring %s (its inserted points are not those of the partition)", path.name)
+        return None
+    return _graph(p, header, arrays, path, digest)
+
+
+def _inserted_rows(p: Partition) -> list[list]:
+    """P′'s inserted points as an entry keeps them (JSON: exact parameters as integers)."""
+    return [[q.edge, q.t.numerator, q.t.denominator, q.reflex_vertex, q.from_vertex, [list(src) for src in q.sources]]
+            for q in p.inserted]
+
+
+def _load_plain(directory: Path, env: Environment) -> SafeBVG | None:
+    """The graph of P′ of ``env`` with P′ itself rebuilt from the entry's inserted points (no Algorithm 1), if the
+    entry passes every check and P′ has the partition digest it names; else ``None`` (a miss)."""
+    from solverplan.bounce.partitions import assemble, remember
+
+    path = directory / f"{_entry_name(environment_digest(env), 'environment')}{_SUFFIX}"
+    found = _read_entry(path, None, None)
+    if found is None:
+        return None
+    header, arrays, path = found
     try:
-        data = _read(path, len(p.segments))
+        if header.get("environment") != environment_digest(env):
+            raise ValueError("written for another environment (copied under this name?)")
+        p = assemble(env, _inserted_points(env, header.get("inserted")))
+        digest = partition_digest(p)
+        if digest != header["partition"] or len(p.segments) != header["n_segments"]:
+            raise ValueError("its inserted points do not make the partition it names")
+    except ValueError as exc:
+        logger.info("graph cache: ignoring %s (%s)", path.name, exc)
+        return None
+    remember(p)
+    return _graph(p, header, arrays, path, digest)
+
+
+def _inserted_points(env: Environment, rows: object) -> list[InsertedPoint]:
+    """The inserted points of an entry's header, checked to be points strictly inside edges of ``env`` with
+    provenance in range (their exact points are computed here, not read)."""
+    from solverplan.bounce.partitions import InsertedPoint
+
+    n = env.n_vertices
+    if not isinstance(rows, list):
+        raise ValueError("no inserted points")
+    out = []
+    for row in rows:
+        if not (isinstance(row, list) and len(row) == 6 and all(type(x) is int for x in row[:4])
+                and (row[4] is None or type(row[4]) is int) and isinstance(row[5], list)):
+            raise ValueError("unreadable inserted points")
+        edge, num, den, reflex, frm, sources = row
+        if not (0 <= edge < env.n_edges and 0 < num < den and 0 <= reflex < n and (frm is None or 0 <= frm < n)
+                and all(isinstance(q, list) and len(q) == 2 and type(q[0]) is int and (q[1] is None or type(q[1]) is int)
+                        for q in sources)):
+            raise ValueError("inserted points out of range")
+        t = Fraction(num, den)
+        out.append(InsertedPoint(env.exact_point_at(edge, t), edge, t, reflex, frm, tuple((r, v) for r, v in sources)))
+    keys = [(q.edge, q.t) for q in out]
+    if any(a >= b for a, b in zip(keys, keys[1:])):
+        raise ValueError("inserted points not sorted and unique")
+    return out
+
+
+def _read_entry(path: Path, digest: str | None, n_segments: int | None) -> tuple[dict, dict[str, np.ndarray], Path] | None:
+    """Header and arrays of the entry at ``path`` if it passes the checks of :func:`_read` and :func:`_parse`
+    (``digest``, ``n_segments``: what it must have been written for, None: any), else ``None`` (a logged miss)."""
+    try:
+        data = _read(path, n_segments)
     except FileNotFoundError:
         logger.debug("graph cache: no entry %s", path.name)
         return None
@@ -342,14 +455,19 @@ def _load(directory: Path, digest: str, p: Partition) -> SafeBVG | None:
         logger.info("graph cache: ignoring %s (%s)", path.name, getattr(exc, "strerror", None) or exc)
         return None
     try:
-        header, arrays = _parse(data, digest, len(p.segments))
+        header, arrays = _parse(data, digest, n_segments)
     except ValueError as exc:
         logger.info("graph cache: ignoring %s (%s)", path.name, exc)
         return None
+    return header, arrays, path
+
+
+def _graph(p: Partition, header: dict, arrays: dict[str, np.ndarray], path: Path, digest: str) -> SafeBVG:
     from solverplan.bounce.bvg.graph import SafeBVG
 
-    stats = {k: v for k, v in (header.get("stats") or {}).items() if isinstance(v, (int, float))}
+    stats: dict = {k: v for k, v in (header.get("stats") or {}).items() if isinstance(v, (int, float))}
     stats["cached"] = True
+    stats["partition_digest"] = digest
     with _lock:
         _read_here[digest] = path
     logger.debug("graph cache: read %s (%d arcs)", path.name, header["n_arcs"])
@@ -359,7 +477,7 @@ def _load(directory: Path, digest: str, p: Partition) -> SafeBVG | None:
                    _set_ends=(arrays["lo_from"], arrays["lo_to"], arrays["hi_from"], arrays["hi_to"]), stats=stats)
 
 
-def _read(path: Path, n_segments: int) -> bytes:
+def _read(path: Path, n_segments: int | None) -> bytes:
     """The bytes of a regular file no larger than the cap (not through a symlink); refreshes its time (LRU).
 
     The header is read first and the entry's size computed from its counts (at most N(N − 1) arcs): a file
@@ -398,7 +516,7 @@ def _read(path: Path, n_segments: int) -> bytes:
     return data
 
 
-def _entry_size(header_bytes: bytes, offset: int, n_segments: int) -> int:
+def _entry_size(header_bytes: bytes, offset: int, n_segments: int | None) -> int:
     """The file size an entry's header implies (0 when its counts are unreadable or impossible)."""
     try:
         header = json.loads(header_bytes)
@@ -407,13 +525,15 @@ def _entry_size(header_bytes: bytes, offset: int, n_segments: int) -> int:
     if not isinstance(header, dict):
         return 0
     n, m, N = header.get("n_arcs"), header.get("n_intervals"), header.get("n_segments")
-    if not (isinstance(n, int) and isinstance(m, int) and N == n_segments and 0 <= n <= N * (N - 1) and m >= 0):
+    if not (isinstance(n, int) and isinstance(m, int) and isinstance(N, int) and N == (N if n_segments is None else n_segments)
+            and 0 <= n <= N * (N - 1) and m >= 0):
         return 0
     return offset + sum(length * np.dtype(dt).itemsize for (_, dt, _), length in zip(_LAYOUT, _lengths(n, m))) + _DIGEST
 
 
-def _parse(data: bytes, digest: str, n_segments: int) -> tuple[dict, dict[str, np.ndarray]]:
-    """Header and arrays of an entry's bytes; ``ValueError`` saying what is wrong when any check fails."""
+def _parse(data: bytes, digest: str | None, n_segments: int | None) -> tuple[dict, dict[str, np.ndarray]]:
+    """Header and arrays of an entry's bytes (written for partition ``digest`` on ``n_segments`` segments; None: as
+    its header says); ``ValueError`` saying what is wrong when any check fails."""
     start = len(_MAGIC) + 8
     if len(data) < start + _DIGEST or data[: len(_MAGIC)] != _MAGIC:
         raise ValueError("not an entry of this cache (no magic)")
@@ -432,10 +552,10 @@ def _parse(data: bytes, digest: str, n_segments: int) -> tuple[dict, dict[str, n
         raise ValueError(f"format {header.get('format')!r}, not {FORMAT_VERSION}")
     if not isinstance(header.get("stats", {}), dict):
         raise ValueError("unreadable header")
-    if header.get("partition") != digest:
+    if header.get("partition") != (digest if digest is not None else header.get("partition")) or not isinstance(header.get("partition"), str):
         raise ValueError("written for another partition (copied under this name?)")
     n, m, N = header.get("n_arcs"), header.get("n_intervals"), header.get("n_segments")
-    if N != n_segments:
+    if not isinstance(N, int) or N != (n_segments if n_segments is not None else N):
         raise ValueError(f"{N!r} segments, not {n_segments}")
     if not (isinstance(n, int) and isinstance(m, int) and 0 <= n <= N * (N - 1) and m >= 0):
         raise ValueError(f"impossible counts: {n!r} arcs, {m!r} safe intervals")
@@ -447,7 +567,7 @@ def _parse(data: bytes, digest: str, n_segments: int) -> tuple[dict, dict[str, n
     for (key, dtype, _), length in zip(_LAYOUT, lengths):
         arrays[key] = np.frombuffer(data, dtype=np.dtype(dtype), count=length, offset=offset)  # read-only views
         offset += length * np.dtype(dtype).itemsize
-    problem = _check(arrays, n_segments)
+    problem = _check(arrays, N)
     if problem:
         raise ValueError(problem)
     return header, arrays

@@ -117,7 +117,7 @@ def accurate_headings(partition, edge: np.ndarray, frm: np.ndarray, to: np.ndarr
     in the frames of ``edge``, accurate to a few units of 1e-16 whatever the coordinates' magnitude.
 
     The points involved are carried as double-doubles (hi = float(x), lo = float(x − hi), from the
-    exact coordinates; :meth:`~solverplan.bounce.partition.Partition.point_vectors`), so the
+    exact coordinates; :meth:`~solverplan.bounce.partitions.Partition.point_vectors`), so the
     differences are accurate to rounding relative to the *difference*; the frame is the edge's
     exact direction rounded.
     """

@@ -17,19 +17,12 @@ import time
 from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
-from solverplan.bounce._cycle_core import (
-    CycleCore,
-    basins_grid,
-    check_epsilon,
-    cycle_along,
-    edge_sequence_text,
-    find_cycle_edges,
-    rotation,
-)
+from solverplan.bounce._cycle_core import (CycleCore, basins_grid, check_epsilon, cycle_along, edge_sequence_text,
+                                           find_cycle_edges, rotation)
 from solverplan.bounce.constant_map import GRID_ONE, ConstantMap, merge_grid_intervals
 from solverplan.bounce.cycles import LimitCycle, _build
 from solverplan.bounce.dynamics import ExactHeading, parse_heading
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.interval import DEFAULT_HEADING_MARGIN

@@ -42,8 +42,9 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, Iterable, Literal, Sequence
+from typing import Any, Iterable, Sequence
 
+from solverplan.choices import CycleMethod
 from solverplan.bounce._cycle_core import (
     CycleCore,
     basins_grid,
@@ -64,7 +65,7 @@ from solverplan.bounce.dynamics import (
     parse_heading,
     theorem1_fixed_point,
 )
-from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.partitions import Partition, partition
 from solverplan.bounce.rules import check_edges
 from solverplan.bounce.transitions import AffineMap
 from solverplan.environment import Environment
@@ -78,7 +79,6 @@ __all__ = ["CyclePoint", "LimitCycle", "limit_cycle", "limit_cycles"]
 
 logger = logging.getLogger(__name__)
 
-CycleMethod = Literal["auto", "theorem1", "iterate", "edges"]
 
 _SCOPES = {
     "every-start": "every start on the boundary converges to the cycle (rays through vertices excepted)",
@@ -493,7 +493,7 @@ def limit_cycle(
     theta: HeadingSpec,
     *,
     edges: Sequence[int] | str | None = None,
-    method: CycleMethod = "auto",
+    method: CycleMethod | str = "auto",
     start: str | tuple | None = None,
     epsilon: float | None = None,
     max_bounces: int = 20000,
@@ -558,8 +558,7 @@ def limit_cycle(
         heading = ExactHeading.from_float(heading)
     else:
         value = heading.theta
-    if method not in ("auto", "theorem1", "iterate", "edges"):
-        raise InputError(f"unknown cycle method {method!r}: use auto, theorem1, iterate or edges")
+    method = CycleMethod.parse(method, "cycle method").value
     if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or not 1 <= max_bounces <= MAX_BOUNCES:
         raise InputError(f"max_bounces must be an integer in [1, {MAX_BOUNCES:,}], got {quote(max_bounces)}")
     seq = _parse_edges(env, edges) if edges is not None else None

@@ -67,7 +67,9 @@ from typing import TYPE_CHECKING, ClassVar, Literal, Protocol, Sequence, runtime
 
 import numpy as np
 
+from solverplan.choices import Sampling
 from solverplan.interval import Interval, heading_interval
+from solverplan.environment import check_edges
 from solverplan.errors import InputError, InvalidBoundarySet
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -92,12 +94,10 @@ __all__ = [
     "check_headings",
 ]
 
-Sampling = Literal["uniform", "endpoints", "lo", "hi", "mid"]
+SAMPLINGS: tuple[str, ...] = Sampling.values()
 """How a heading is drawn from a non-deterministic set [lo, hi]: ``uniform`` on [lo, hi];
 ``endpoints`` lo or hi with probability 1/2 each (adversarial: worst cases of contraction and of
 safety sit at the ends); ``lo`` / ``hi`` always that end; ``mid`` the midpoint."""
-
-SAMPLINGS: tuple[str, ...] = ("uniform", "endpoints", "lo", "hi", "mid")
 
 HEADING_MARGIN = 1e-12
 """Headings are kept in [HEADING_MARGIN, π − HEADING_MARGIN] (radians): a nominal heading at 0 or π
@@ -107,28 +107,6 @@ simulator flags it."""
 
 
 # ---------------------------------------------------------------------- input checks
-def check_edges(env: Environment, edges: object, *, name: str = "edge") -> np.ndarray:
-    """Edge ids as an int array, or a one-line :class:`InvalidBoundarySet` naming the first unknown one.
-
-    >>> from solverplan.environment import Environment
-    >>> check_edges(Environment.from_coords([[0, 0], [1, 0], [0, 1]]), [0, 7])
-    Traceback (most recent call last):
-    ...
-    solverplan.errors.InvalidBoundarySet: unknown edge e7: edges are e0..e2
-    """
-    try:
-        arr = np.asarray(edges, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} ids must be integers, got {edges!r}") from None
-    n = env.n_edges
-    bad = np.flatnonzero(~((arr >= 0) & (arr < n) & (arr == np.floor(arr))))
-    if len(bad):
-        value = arr[bad[0]]
-        shown = f"{int(value)}" if np.isfinite(value) and value == math.floor(value) else f"{value:g}"
-        raise InvalidBoundarySet(f"unknown edge e{shown}: edges are e0..e{n - 1}")
-    return arr.astype(np.int64)
-
-
 def check_headings(headings: object, *, name: str = "heading") -> np.ndarray:
     """Headings as a float array, or a one-line :class:`InvalidBoundarySet` naming the first one outside (0, π).
 
@@ -225,7 +203,7 @@ def _alpha(edges: np.ndarray, v: np.ndarray, tangent: np.ndarray, normal: np.nda
 
 
 def sample_headings(
-    lo: np.ndarray, hi: np.ndarray, rng: np.random.Generator | None, sampling: Sampling = "uniform"
+    lo: np.ndarray, hi: np.ndarray, rng: np.random.Generator | None, sampling: Sampling | str = "uniform"
 ) -> np.ndarray:
     """Draw one heading in each [lo[k], hi[k]] (see :data:`Sampling`); ``rng`` may be None for ``lo``/``hi``/``mid``
     and for degenerate sets (lo == hi everywhere)."""
@@ -279,7 +257,7 @@ class BounceRule(Protocol):
         incoming: np.ndarray,
         rng: np.random.Generator | None = None,
         *,
-        sampling: Sampling = "uniform",
+        sampling: Sampling | str = "uniform",
     ) -> np.ndarray:
         """A heading executed at each contact, drawn from :meth:`bounds` by ``sampling``."""
         ...
@@ -321,7 +299,7 @@ class _Rule:
         incoming: np.ndarray,
         rng: np.random.Generator | None = None,
         *,
-        sampling: Sampling = "uniform",
+        sampling: Sampling | str = "uniform",
     ) -> np.ndarray:
         lo, hi = self.bounds(env, edges, incoming)
         return sample_headings(lo, hi, rng, sampling)

@@ -105,7 +105,7 @@ import numpy as np
 
 from solverplan.interval import Interval
 from solverplan.errors import InputError
-from solverplan.exact import ExactPoint, cross, dot, exact_point, format_point
+from solverplan.exact import ExactPoint, cross, dot, exact_point, exact_segment
 
 if TYPE_CHECKING:  # pragma: no cover
     from solverplan.environment import Environment
@@ -151,18 +151,7 @@ def _neg(u: Direction) -> Direction:
 
 def _segment(seg: object, name: str) -> _Seg:
     """Exact end points (a, b) of a segment given as a point pair or an object with ``.a`` and ``.b``."""
-    if hasattr(seg, "a") and hasattr(seg, "b"):
-        first, second = seg.a, seg.b
-    else:
-        try:
-            first, second = seg  # type: ignore[misc]
-        except (TypeError, ValueError):
-            raise InputError(f"{name}: expected two end points ((x0, y0), (x1, y1)), got {seg!r}") from None
-    a = exact_point(first, where=name)
-    b = exact_point(second, where=name)
-    if a == b:
-        raise InputError(f"{name} has zero length: both end points are {format_point(a)}")
-    return a, b
+    return exact_segment((seg.a, seg.b) if hasattr(seg, "a") and hasattr(seg, "b") else seg, where=name)
 
 
 def heading_angle(src: object, w: Sequence[object]) -> float:
@@ -382,7 +371,7 @@ def safe_interval(src: object, dst: object) -> Interval:
     ----------
     src, dst
         Two end points each (numbers as in :func:`solverplan.exact.to_fraction`), or objects with
-        ``.a`` and ``.b`` (a :class:`~solverplan.bounce.partition.PartitionSegment`, an
+        ``.a`` and ``.b`` (a :class:`~solverplan.bounce.partitions.PartitionSegment`, an
         :class:`~solverplan.environment.Edge`).
 
     >>> safe_interval(((0, 0), (2, 0)), ((4, 2), (0, 2)))          # lines meet below e_i: case 1

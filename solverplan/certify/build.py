@@ -4,11 +4,12 @@
 by its type (it reads the answers only through their public attributes, all of them in this module):
 
 - a **plan** (:class:`~solverplan.plan.Plan`) is a ``plan`` certificate: one stage per plan stage (its
-  heading interval), one move per possible source segment (source → the segment it lands on). The plan's
+  heading interval), one move per possible source segment or piece (source → the segment it lands on). The plan's
   start and goal sets become the certificate's; its objective and optimality become the claims (the bound
   as the exact value of its float). A last stage landing on a segment the goal covers only in part claims
-  the exact **images** of its moves (so that they can be checked to lie in the goal), every other the
-  target segments. A plan does not carry its environment: pass ``env``;
+  the exact **images** of its moves (so that they can be checked to lie in the goal), and so does every stage of
+  a plan with a later stage leaving from a piece of a segment (a landing unit between the query's set ends: the
+  images must lie in the pieces); otherwise the moves claim the target segments. A plan does not carry its environment: pass ``env``;
 - a **Pareto front** is the certificate of its most tolerant plan;
 - a **patrol** (:class:`~solverplan.plan.patrols.Patrol`) is a ``cycle`` certificate: the entry stages
   (belief stages of the safe BVG: one move per possible segment), then the cycle's stages, one move each
@@ -61,7 +62,7 @@ from pathlib import Path
 from typing import Any, Callable, Literal
 
 from solverplan._io import atomic_write_text
-from solverplan.bounce.partition import Partition, partition as make_partition
+from solverplan.bounce.partitions import Partition, partition as make_partition
 from solverplan.certify.check import CheckReport, Failure, check_certificate
 from solverplan.certify import build_models as models
 from solverplan.certify.schema import (Certificate, Claims, EnvironmentRecord, ModelCertificate, Optimality as ClaimedOptimality,
@@ -138,7 +139,7 @@ def certificate(result: Any, *, env: Environment | None = None,
         Answers that carry their environment need none; if given, it must have the same rings.
     partition
         The partition P′ of ``env`` the answer's segment ids refer to (default: the answer's own, or
-        :func:`~solverplan.bounce.partition.partition` of ``env``).
+        :func:`~solverplan.bounce.partitions.partition` of ``env``).
 
     Returns
     -------
@@ -230,7 +231,11 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None, budget: A
     if not plan.stats and plan.goal:
         partial = _partial_goal_segments(env, part, plan.goal)
     on_walls = any(spec.target is None for st in stages for spec in st.moves)
-    targets: Literal["image", "segment"] = "image" if on_walls or set(plan.stages[-1].to_segments) & partial else "segment"
+    # a stage that leaves from a piece of a segment (a landing unit between the query's set ends) is covered by the
+    # exact images of the stage before it, not by whole target segments
+    from_pieces = any(stage.sources for stage in plan.stages[1:])
+    targets: Literal["image", "segment"] = ("image" if on_walls or from_pieces or set(plan.stages[-1].to_segments) & partial
+                                            else "segment")
     opt = plan.optimality
     proved = opt.proved
     value = {"tolerance": plan.min_width, "constant": plan.min_width, "sum": plan.sum_width}.get(plan.objective)
@@ -347,10 +352,7 @@ def _partial_goal_segments(env: Environment, part: Partition, goal: str) -> set[
 
 # ---------------------------------------------------------------------- contraction answers
 def _patrol(result: Patrol, env: Environment | None, part: Partition | None) -> Certificate:
-    if not result.found:
-        raise NothingToCertify(f"the patrol has status {result.status.value!r}: there is no cycle to certify",
-                               why=f"the patrol has status {result.status.value!r}")
-    env, part = _own_environment(result, env, part)
+    env, part = _found_in_own_environment(result, env, part, "the patrol", "cycle")
     stages: list[StageSpec] = []
     for st in result.entry:
         stages.append(StageSpec(st.interval, _plan_moves(part, st.moves, st.sources)))
@@ -388,10 +390,7 @@ def _cycle_move(env: Environment, part: Partition, stage: Any) -> MoveSpec:
 def _funnel(result: PositionStrategy, env: Environment | None, part: Partition | None) -> Certificate:
     """Funnels and localisation strategies: each stage's moves leave the exact position pieces with the
     planner's exact cones."""
-    if not result.found:
-        raise NothingToCertify(f"the answer has status {result.status.value!r}: there is no strategy to certify",
-                               why=f"the {result.kind} has status {result.status.value!r}")
-    env, part = _own_environment(result, env, part)
+    env, part = _found_in_own_environment(result, env, part, f"the {result.kind}", "strategy")
     stages: list[StageSpec] = []
     for st in result.stages:
         if st.sources is None or st.cones is None:
@@ -403,6 +402,16 @@ def _funnel(result: PositionStrategy, env: Environment | None, part: Partition |
     return build_certificate(env, part, stages, start=result.start, goal=result.goal,
                              kind="localize" if epsilon is not None else "funnel", epsilon=epsilon,
                              objective=f"{result.kind}-fewest", optimality=_contraction_optimality(result.optimality))
+
+
+def _found_in_own_environment(result: Any, env: Environment | None, part: Partition | None, answer: str,
+                              certified: str) -> tuple[Environment, Partition]:
+    """:func:`_own_environment` of a found contraction answer; for any other, :class:`NothingToCertify` saying
+    that ``answer`` (its name in words) has no ``certified`` thing to certify."""
+    if not result.found:
+        status = f"{answer} has status {result.status.value!r}"
+        raise NothingToCertify(f"{status}: there is no {certified} to certify", why=status)
+    return _own_environment(result, env, part)
 
 
 def _own_environment(result: Any, env: Environment | None, part: Partition | None) -> tuple[Environment, Partition]:

@@ -127,13 +127,14 @@ def pursuit_certificate(plan: Any, env: Environment | None = None) -> ModelCerti
     """The ``pursuit`` certificate of a pursuit plan that was found (its ground-truth replay supplies the labels)."""
     from solverplan.certify.build import NothingToCertify
     from solverplan.result import Status
+    from solverplan.wallfollow.cut import corner_polygon
     from solverplan.wallfollow.pursuit_check import check_pursuit
 
     env = _env_of(plan, env, "pursuit plan")
     if plan.status != Status.FOUND:
         raise NothingToCertify(f"the pursuit plan has status {plan.status.value!r}: there is no plan to certify",
                                why=f"no pursuit plan ({plan.status.value})")
-    replay = plan.check if plan.check is not None else check_pursuit(env, plan.actions, plan.start)
+    replay = plan.check if plan.check is not None else check_pursuit(corner_polygon(env), plan.actions, plan.start)
     steps = []
     for k, step in enumerate(replay.steps):
         steps.append({"action": None if step.action is None else step.action.value,

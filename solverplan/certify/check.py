@@ -54,8 +54,9 @@ What is checked
    previous stage can reach, and one target may be covered by several sources); stage 0's sources
    cover the start set; the last stage's targets lie in the goal set (plans, funnels) or are covered
    by the first cycle stage's sources (cycles: the cycle closes). Every end of a source must be
-   accounted for — an end of its edge or of a named segment, an end of a set flowing into the stage
-   (the start set; the previous stage's targets; for the first cycle stage also the last stage's) or
+   accounted for — an end of its edge or of a named segment, an end of the start or goal set (a plan
+   may land on the part of a segment between them and leave from it later), an end of a set flowing
+   into the stage (the previous stage's targets; for the first cycle stage also the last stage's) or
    of another source of the stage on that edge (a split) — so a source says nothing gratuitous.
    Given the query (``expected_start``, ``expected_goal``), the start and goal sets must be exactly it.
 5. **Headings.** A robot executes one heading θ measured from the edge it is on, so a stage's action
@@ -97,11 +98,13 @@ What is checked
 10. **Bounds** (``bound`` blocks; ``infeasible`` certificates have nothing else): an inductive invariant over
     belief states proving that no plan exists in a class, with the exact successor relation of
     :mod:`solverplan.certify.invariant` (its docstring has the semantics and why the cells are exact). Checked:
-    the table covers every edge exactly once with contiguous straight segments; δ ∈ [0, 3/4), w ≥ 0, K ≥ 0;
+    the table covers every edge exactly once with contiguous straight segments, and each of its groups (if any)
+    is a run of ≥ 2 consecutive collinear segments, no segment in two; δ ∈ [0, 3/4), w ≥ 0, K ≥ 0;
     the beliefs are non-empty, ascending, distinct sets of table segments; the first is the start set exactly,
     at depth 0, and the start set does not lie in the goal set (no plan of 0 stages); every successor of a
-    belief of depth < K (any depth when K is null) contains a listed belief of depth ≤ its depth + 1 and none is
-    a goal stage (every landing segment meets the goal set). By induction on the stages left, no plan of the
+    belief of depth < K (any depth when K is null) — each source landing on one table segment or anywhere on one
+    group, the next belief every segment landed on — contains a listed belief of depth ≤ its depth + 1
+    and none is a goal stage (every segment of the next belief meets the goal set). By induction on the stages left, no plan of the
     class with ≤ K stages takes the start set to the goal set; the report states this under ``proved``.
 
 What is certified
@@ -160,7 +163,7 @@ from solverplan.certify.rational_atan import (
     difference_vector,
     heading_vector,
 )
-from solverplan.certify.invariant import Closure, Geometry, TableError
+from solverplan.certify.invariant import next_belief, Closure, Geometry, TableError
 from solverplan.certify.schema import (MODEL_KINDS, BoundClaim, Certificate, CycleClaim, EnvironmentRecord, ModelCertificate, Move,
                                        Piece, Point, SegmentRecord, Stage, _terminating_decimal, number_text)
 
@@ -982,41 +985,49 @@ class _Checker:
         for k_from, k_to in links:
             sources = self._sources(stages[k_to])
             for m, move in enumerate(stages[k_from].moves):
-                self.counts["links"] += 1
-                c, d = move.target
-                for edge, a, b in self.on_walls(move.target_edge, c, d):
-                    gap = uncovered(a, b, sources.get(edge, []))
-                    if gap is not None:
-                        wrap = " (the cycle returns to its first stage)" if k_to <= k_from else ""
-                        self.fail(
-                            f"stages[{k_to}].moves",
-                            f"no move leaves t in ({_num(gap[0])}, {_num(gap[1])}) of edge {edge}, where "
-                            f"stages[{k_from}].moves[{m}] may land (its target is [{_num(c)}, {_num(d)}]"
-                            f"{'' if edge == move.target_edge else f' of edge {move.target_edge}'}){wrap}",
-                        )
-                        break
+                landing = self._uncovered_landing(move, sources)
+                if landing is not None:
+                    edge, gap = landing
+                    c, d = move.target
+                    wrap = " (the cycle returns to its first stage)" if k_to <= k_from else ""
+                    self.fail(
+                        f"stages[{k_to}].moves",
+                        f"no move leaves t in ({_num(gap[0])}, {_num(gap[1])}) of edge {edge}, where "
+                        f"stages[{k_from}].moves[{m}] may land (its target is [{_num(c)}, {_num(d)}]"
+                        f"{'' if edge == move.target_edge else f' of edge {move.target_edge}'}){wrap}",
+                    )
         if cert.goal is not None:
             goal: dict[int, list[tuple[Fraction, Fraction]]] = {}
             for piece in cert.goal:
                 goal.setdefault(piece.edge, []).append((piece.t0, piece.t1))
             last = len(stages) - 1
             for m, move in enumerate(stages[last].moves):
-                self.counts["links"] += 1
-                c, d = move.target
-                for edge, a, b in self.on_walls(move.target_edge, c, d):
-                    gap = uncovered(a, b, goal.get(edge, []))
-                    if gap is not None:
-                        self.fail(
-                            f"stages[{last}].moves[{m}].target",
-                            f"[{_num(c)}, {_num(d)}] of edge {move.target_edge} is not within the goal set: "
-                            f"t in ({_num(gap[0])}, {_num(gap[1])}){'' if edge == move.target_edge else f' of edge {edge}'} "
-                            "is outside it",
-                        )
-                        break
+                landing = self._uncovered_landing(move, goal)
+                if landing is not None:
+                    edge, gap = landing
+                    c, d = move.target
+                    self.fail(
+                        f"stages[{last}].moves[{m}].target",
+                        f"[{_num(c)}, {_num(d)}] of edge {move.target_edge} is not within the goal set: "
+                        f"t in ({_num(gap[0])}, {_num(gap[1])}){'' if edge == move.target_edge else f' of edge {edge}'} "
+                        "is outside it",
+                    )
+
+    def _uncovered_landing(self, move: Move, cover: dict[int, list[tuple[Fraction, Fraction]]]
+                           ) -> tuple[int, tuple[Fraction, Fraction]] | None:
+        """One link checked: the first edge and gap of the target of ``move`` (on the walls it runs over) that the
+        pieces ``cover`` (by edge) leave uncovered, or ``None``."""
+        self.counts["links"] += 1
+        c, d = move.target
+        for edge, a, b in self.on_walls(move.target_edge, c, d):
+            gap = uncovered(a, b, cover.get(edge, []))
+            if gap is not None:
+                return edge, gap
+        return None
 
     def check_source_ends(self) -> None:
-        """Every end of a source is accounted for: an end of the edge or of a named segment, an end of a
-        set flowing into the stage (the start set, or the previous stage's targets), or an end of another
+        """Every end of a source is accounted for: an end of the edge or of a named segment, an end of the start or
+        goal set, an end of a set flowing into the stage (the previous stage's targets), or an end of another
         source of the same stage on that edge (a split). A certificate claims nothing gratuitous."""
         cert = self.cert
         stages = cert.stages
@@ -1024,6 +1035,9 @@ class _Checker:
         segment_ends: dict[int, set[Fraction]] = {}
         for seg in self.segments.values():
             segment_ends.setdefault(seg.edge, set()).update((seg.t0, seg.t1))
+        # the ends of the query's sets: a plan may land on the part of a segment between them and leave from it later
+        for piece in (*cert.start, *(cert.goal or ())):
+            segment_ends.setdefault(piece.edge, set()).update((piece.t0, piece.t1))
         for k, stage in enumerate(stages):
             inflow: dict[int, set[Fraction]] = {}
             feeding: list[tuple[int, Fraction, Fraction]] = []
@@ -1047,7 +1061,7 @@ class _Checker:
                         self.fail(
                             f"stages[{k}].moves[{m}].source",
                             f"its end {name} = {_num(t)} of edge {move.edge} is not accounted for: not an end of the edge, of a "
-                            f"named segment, of {flowing} or of another source of the stage",
+                            f"named segment, of the start or goal set, of {flowing} or of another source of the stage",
                         )
                         break
 
@@ -1098,7 +1112,7 @@ class _Checker:
         if len(self.failures) > before:
             return
         try:
-            geo = Geometry([(e.a, e.b) for e in self.edges], self.nxt, bound.table)
+            geo = Geometry([(e.a, e.b) for e in self.edges], self.nxt, bound.table, bound.groups)
         except TableError as exc:
             self.fail(exc.claim, exc.message)
             return
@@ -1147,9 +1161,9 @@ class _Checker:
                 continue
             checked += 1
             for targets, (lo, hi) in closure.successors(rec.segments):
-                nxt = frozenset(targets)
+                nxt = next_belief(targets)
                 if nxt <= goal:
-                    moves = ", ".join(f"{s}→{t}" for s, t in zip(rec.segments, targets))
+                    moves = _run_moves(rec.segments, targets)
                     self.fail(f"bound.beliefs[{i}]", f"has a goal stage: headings {self._heading_range(lo, hi)} take its "
                                                      f"segments into goal segments ({moves}) at depth {rec.depth}")
                     return
@@ -1158,7 +1172,7 @@ class _Checker:
                 if exact is not None and (limit is None or bound.beliefs[exact].depth <= limit):
                     continue
                 if not any(seg <= nxt and (limit is None or depth <= limit) for seg, depth, _ in listed):
-                    moves = ", ".join(f"{s}→{t}" for s, t in zip(rec.segments, targets))
+                    moves = _run_moves(rec.segments, targets)
                     depth_text = "" if limit is None else f" of depth ≤ {limit}"
                     self.fail(f"bound.beliefs[{i}]", f"its successor {sorted(nxt)} (headings {self._heading_range(lo, hi)}: "
                                                      f"{moves}) contains no listed belief{depth_text}: the invariant is not closed")
@@ -1170,12 +1184,15 @@ class _Checker:
         self.bound_ok = True
         budget_text = "any number of stages" if budget is None else f"at most {budget} stage{'s' if budget != 1 else ''}"
         width_text = "positive width" if w == 0 else f"width > {_num(w)} rad"
+        units = ("" if not geo.groups else
+                 f" or anywhere on one of its {len(geo.groups)} groups (segments of P′ cut at the query's set ends into "
+                 f"table segments)")
         self.proved.append(
             f"no plan with {budget_text} takes the start set to the goal set, among plans whose every stage is one "
             f"heading interval of {width_text} inside [δ, π − δ] (δ = {_num(delta)} rad) and lands, from every "
             f"possible segment, inside one segment of the certificate's table ({m} segments"
-            f"{': ' + bound.table_source if bound.table_source else ''}); goal segments are the {len(goal)} table "
-            f"segments that meet the goal set")
+            f"{': ' + bound.table_source if bound.table_source else ''}){units}; goal segments are the {len(goal)} "
+            f"table segments that meet the goal set")
 
     @staticmethod
     def _heading_range(lo: tuple[int, int], hi: tuple[int, int]) -> str:
@@ -1596,3 +1613,8 @@ def _merged(pieces: Iterable[tuple[int, Fraction, Fraction]]) -> dict[int, list[
 def _is_subsequence(needle: Sequence[int], haystack: Sequence[int | None]) -> bool:
     it = iter(haystack)
     return all(any(x == y for y in it) for x in needle)
+
+
+def _run_moves(sources: Sequence[int], targets: Sequence[Sequence[int]]) -> str:
+    """A successor's moves as text: ``3→5``, or ``3→5+6`` for a landing anywhere on a group."""
+    return ", ".join(f"{s}→{'+'.join(map(str, t))}" for s, t in zip(sources, targets))

@@ -42,16 +42,19 @@ class Reader:
     """Typed reads of JSON claims that raise :class:`Malformed` naming the place."""
 
     @staticmethod
-    def obj(value: Any, where: str) -> dict:
-        if not isinstance(value, dict):
-            raise Malformed(where, "expected a JSON object")
+    def of_type(value: Any, kind: type, where: str, what: str) -> Any:
+        """``value`` when it is a ``kind``; otherwise :class:`Malformed` saying ``expected`` ``what``."""
+        if not isinstance(value, kind):
+            raise Malformed(where, f"expected {what}")
         return value
 
     @staticmethod
+    def obj(value: Any, where: str) -> dict:
+        return Reader.of_type(value, dict, where, "a JSON object")
+
+    @staticmethod
     def lst(value: Any, where: str) -> list:
-        if not isinstance(value, list):
-            raise Malformed(where, "expected a list")
-        return value
+        return Reader.of_type(value, list, where, "a list")
 
     @staticmethod
     def field(obj: dict, key: str, where: str) -> Any:
@@ -84,9 +87,7 @@ class Reader:
 
     @staticmethod
     def text(value: Any, where: str) -> str:
-        if not isinstance(value, str):
-            raise Malformed(where, "expected a string")
-        return value
+        return Reader.of_type(value, str, where, "a string")
 
 
 @dataclass

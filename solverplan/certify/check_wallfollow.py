@@ -1,5 +1,8 @@
 """Exact checks of the wall-following robot's certificates: ``cut-ordering`` and ``pursuit``.
 
+Vertices of angle exactly π are no corners for the robot (it cannot sense them): both checks first drop them, and
+vertex k of the claims is the k-th remaining corner in the order written.
+
 **Cut ordering** (``claims``: ``cuts`` ``[{"label": "r3", "vertex": 3, "side": "r", "edge", "point": [x, y]}]`` for
 every reflex vertex and side, and ``ordering``: the labels in boundary order). Re-derived exactly: the reflex
 vertices of the (hole-free, counter-clockwise) polygon; each cut's end point as the first boundary point hit by the
@@ -45,7 +48,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from solverplan.certify.check_models import Malformed, ModelChecker, Reader as R, pt, segment_crosses_open, text
+from solverplan.certify.check_models import Malformed, ModelChecker, Reader as R, pt
 from solverplan.certify.exact2d import cross, on_closed_segment, orient, sub
 from solverplan.certify.schema import Point
 
@@ -102,15 +105,24 @@ def _needs_simple(c: ModelChecker) -> bool:
     return True
 
 
+def corners(ring: list[Point]) -> list[Point]:
+    """The ring's corners: every vertex of angle exactly π dropped (the robot cannot sense it; the free space is the
+    same), the others in the order written — vertex k of the answers is the k-th corner."""
+    n = len(ring)
+    return [ring[i] for i in range(n) if orient(ring[i - 1], ring[i], ring[(i + 1) % n]) != 0]
+
+
 def _ring_and_cuts(c: ModelChecker, claim: str) -> tuple[list[Point], dict[tuple[int, str], Cut]] | None:
-    """The simple polygon's ring and its exact cuts; ``None`` (failures recorded under ``claim``) if it has holes."""
+    """The simple polygon's corners and its exact cuts; ``None`` (failures recorded under ``claim``) if it has
+    holes."""
     if not _needs_simple(c):
         return None
     assert c.env is not None
-    cuts, problems = exact_cuts(c.env.outer)
+    ring = corners(c.env.outer)
+    cuts, problems = exact_cuts(ring)
     for problem in problems:
         c.fail(claim, problem)
-    return c.env.outer, cuts
+    return ring, cuts
 
 
 def check_cut_ordering(c: ModelChecker) -> None:

@@ -13,13 +13,17 @@ The semantics
 -------------
 A stage from belief B executes one closed heading interval J (radians, counter-clockwise from the wall the
 robot is on) of width > w inside [δ, π − δ], such that from **every** segment s ∈ B, every point of open s
-with every heading of J first meets the boundary inside one (closed) table segment t_s; the next belief is
-{t_s : s ∈ B}. A stage is a *goal stage* when every t_s is a goal segment.
+with every heading of J first meets the boundary inside one closed *landing unit* U_s: a table segment, or the
+whole of a *group* (the table's groups: segments of P′ cut at the query's set ends into pieces, the table's
+segments; a plan lands on one piece or anywhere on the whole segment, as the planner's landing units); the next
+belief is every segment of every U_s (one piece when the landings fit in one, else the whole group). A stage is a
+*goal stage* when every segment of the next belief is a goal segment. Without groups a landing unit is one table
+segment.
 
 One source, one direction
 -------------------------
 For a source segment s = (a, b), E = b − a, and a direction d with cross(E, d) > 0, every point of open s
-lands inside the closed segment t = (c, e), T = e − c, iff
+lands inside the closed segment t = (c, e), T = e − c (or the closed span (c, e) of t's group), iff
 
 - d enters t from its free side, cross(T, d) < 0, and the corner rays from a and b meet the line of t at
   parameters μ ≥ 0 (along d) inside the closed segment t (τ ∈ [0, 1]);
@@ -30,14 +34,16 @@ lands inside the closed segment t = (c, e), T = e − c, iff
 The condition is exact at every direction (no grazing exceptions): a ray from x ∈ open s runs through R°
 until it meets the line of t, and every point of R° lies on such a ray. (Necessity: the corner conditions are
 the limits of the landing points of positions next to a and b, which land on closed t; a boundary point in R°
-lies on the path of some position's ray before it reaches t.)
+lies on the path of some position's ray before it reaches t.) In a group, the landings fit in t alone unless a
+joint of t with a neighbour lies strictly between the two corner rays (the open image holds the joint): then the
+unit is the whole group.
 
 Cells
 -----
 As the direction turns, the landing segment and the condition above can change only at *event directions*:
 from a or b towards a vertex of the environment or an end of a table segment (the swept region's structure
 changes only when one of its corner rays passes such a point). Between consecutive events (an open *cell*)
-the condition is therefore constant; it is decided at one rational direction strictly inside the cell (the
+the condition, and which of a group's segments the image meets, is therefore constant; it is decided at one rational direction strictly inside the cell (the
 sum of the two neighbouring event directions, in heading-vector form): its landing segment is found by an
 exact ray cast from the middle of s, then the condition is tested. Consecutive cells with the same target
 are merged into one closed *run* (which over-approximates the safe set at the event directions between
@@ -64,13 +70,13 @@ from solverplan.certify.exact2d import union
 from solverplan.certify.rational_atan import Undecided, compare_angle
 from solverplan.certify.schema import Point
 
-__all__ = ["Geometry", "TableError", "Closure", "Run"]
+__all__ = ["Geometry", "TableError", "Closure", "Run", "next_belief"]
 
 IPoint = tuple[int, int]
 HPoint = tuple[int, int, int]
 """A rational point (X/W, Y/W) as the integers (X, Y, W), W > 0."""
-Run = tuple[IPoint, IPoint, int]
-"""A merged run of one source: (heading vector of its low end, of its high end, target segment)."""
+Run = tuple[IPoint, IPoint, tuple[int, ...]]
+"""A merged run of one source: (heading vector of its low end, of its high end, the segments of its landing unit)."""
 
 _ZERO = Fraction(0)
 _ONE = Fraction(1)
@@ -157,7 +163,8 @@ class Geometry:
     every edge into consecutive, straight pieces (claims are named ``bound.table[k]``)."""
 
     def __init__(self, edges: Sequence[tuple[Point, Point]], nxt: Sequence[int],
-                 table: Sequence[Sequence[tuple[int, Fraction, Fraction]]]) -> None:
+                 table: Sequence[Sequence[tuple[int, Fraction, Fraction]]],
+                 groups: Sequence[Sequence[int]] = ()) -> None:
         n = len(edges)
         self.n_edges = n
         if not table:
@@ -223,16 +230,52 @@ class Geometry:
             for (edge, t), point in (((pieces[0][0], pieces[0][1]), ends[k][0]), ((pieces[-1][0], pieces[-1][2]), ends[k][1])):
                 params.setdefault(point, (edge, Fraction(t).numerator, Fraction(t).denominator))
         self.points: list[tuple[int, int, int]] = list(params.values())
+        self.groups: list[tuple[int, ...]] = []
+        self.group_of: dict[int, tuple[int, int]] = {}
+        for gi, group in enumerate(groups):
+            self._add_group(gi, tuple(group), edges, nxt, per_edge)
+
+    def _add_group(self, gi: int, group: tuple[int, ...], edges, nxt, per_edge) -> None:
+        """Validate group ``gi`` (consecutive table segments along the boundary, on one straight line, each in one
+        group) and record it."""
+        where = f"bound.groups[{gi}]"
+        if len(group) < 2:
+            raise TableError(where, "a group joins at least two segments")
+        for pos, k in enumerate(group):
+            if not 0 <= k < len(self.table):
+                raise TableError(where, f"segment {k} is not in the table (segments 0..{len(self.table) - 1})")
+            if k in self.group_of:
+                raise TableError(where, f"segment {k} is already in group {self.group_of[k][0]}: groups are disjoint")
+            self.group_of[k] = (gi, pos)
+        for k, k2 in zip(group, group[1:]):
+            edge, _, t1 = self.table[k][-1]
+            edge2, t0, _ = self.table[k2][0]
+            if not ((edge2 == edge and t0 == t1) or (t1 == _ONE and t0 == _ZERO and nxt[edge] == edge2)):
+                raise TableError(where, f"segment {k2} does not follow segment {k} along the boundary: a group is a run "
+                                        "of consecutive segments")
+            u = _fsub(self.ends[k][1], self.ends[k][0])
+            v = _fsub(self.ends[k2][1], self.ends[k2][0])
+            if u[0] * v[1] - u[1] * v[0] != 0 or u[0] * v[0] + u[1] * v[1] <= 0:
+                raise TableError(where, f"segments {k} and {k2} turn where they meet: a group is straight")
+        self.groups.append(group)
+
+    def members(self, t: int) -> tuple[tuple[int, ...], int]:
+        """The group of table segment t (t alone if it is in none) and t's position in it."""
+        found = self.group_of.get(t)
+        return (self.groups[found[0]], found[1]) if found is not None else ((t,), 0)
 
     def segment_of(self, edge: int, t: Fraction) -> int | None:
         """The table segment holding parameter t of ``edge`` other than at an end of a segment, else None."""
         return self._segment_at(edge, t.numerator, t.denominator)
 
-    def _segment_at(self, edge: int, num: int, den: int) -> int | None:
-        """:meth:`segment_of` at t = num/den (den > 0), in integers."""
+    def _segment_at(self, edge: int, num: int, den: int, *, joints: bool = False) -> int | None:
+        """:meth:`segment_of` at t = num/den (den > 0), in integers; with ``joints``, a point where two segments of one
+        group meet belongs to the later one."""
         for p in self.per_edge[edge]:
             lo = num * p.t0.denominator - p.t0.numerator * den
             if lo == 0:
+                if p.first and joints and self.group_of.get(p.segment, (0, 0))[1] > 0:
+                    return p.segment
                 return None if p.first else p.segment
             hi = num * p.t1.denominator - p.t1.numerator * den
             if lo > 0 and hi < 0:
@@ -381,8 +424,9 @@ class Closure:
         al, be, ga = f
         return [al * x + be * y + ga for x, y in self.g.vertices]
 
-    def _target(self, s: int, a: HPoint, b: HPoint, d: IPoint, f1: list[int]) -> int | None:
-        """The segment every point of open s lands in at direction d, or None (exact)."""
+    def _target(self, s: int, a: HPoint, b: HPoint, d: IPoint, f1: list[int]) -> tuple[int, ...] | None:
+        """The landing unit every point of open s lands in at direction d — one segment, or the whole of its group when
+        the landings cross a joint of the group — or None (exact)."""
         g = self.g
         m = (a[0] * b[2] + b[0] * a[2], a[1] * b[2] + b[1] * a[2], 2 * a[2] * b[2])
         phi = self._values(_functional(d, m, g.grid))  # side of the ray's line
@@ -403,10 +447,11 @@ class Closure:
                 best_num, best_den, best_edge, best_u = num, den, e, (u_num, den)
         if best_edge < 0:
             return None
-        t = g._segment_at(best_edge, *best_u)
+        t = g._segment_at(best_edge, *best_u, joints=True)
         if t is None or t == s:
             return None
-        c, e_pt = g.hends[t]
+        group, pos = g.members(t)
+        c, e_pt = g.hends[group[0]][0], g.hends[group[-1]][1]
         T = _hvector(c, e_pt)
         if T[0] * d[1] - T[1] * d[0] >= 0:
             return None  # d does not enter t from its free side
@@ -414,9 +459,16 @@ class Closure:
             if _side(T, o, c) > 0:  # o on the wall's side of the line of t: its ray meets the line behind o
                 return None
             if _side(d, o, c) * _side(d, o, e_pt) > 0:
-                return None  # c and e on one side of the corner ray: it lands outside the closed target
+                return None  # c and e on one side of the corner ray: it lands outside the closed group
         self.counts["region_tests"] += 1
-        return t if self._region_empty(a, b, d, c, T, f1) else None
+        if not self._region_empty(a, b, d, c, T, f1):
+            return None
+        # t alone, unless a joint of t with a neighbour in the group lies strictly between the two corner rays (the open
+        # image holds the joint): then the whole group, as the planner lands on one piece or on the whole segment
+        for joint in (g.hends[t][0] if pos > 0 else None, g.hends[t][1] if pos < len(group) - 1 else None):
+            if joint is not None and _side(d, a, joint) * _side(d, b, joint) < 0:
+                return group
+        return (t,)
 
     def _region_empty(self, a: HPoint, b: HPoint, d: IPoint, c: HPoint, T: IPoint, f1: list[int]) -> bool:
         """Does no edge meet the open region R° (module docstring)?"""
@@ -443,13 +495,14 @@ class Closure:
         return True
 
     # ------------------------------------------------------------------ beliefs
-    def successors(self, belief: Sequence[int]) -> list[tuple[tuple[int, ...], tuple[IPoint, IPoint]]]:
-        """Every successor of ``belief``: (the targets of its sources in order, the common run [lo, hi]), one per
-        common cell whose admissible part is wider than w."""
+    def successors(self, belief: Sequence[int]) -> list[tuple[tuple[tuple[int, ...], ...], tuple[IPoint, IPoint]]]:
+        """Every successor of ``belief``: (the landing unit of each of its sources in order, the common run [lo, hi]),
+        one per common cell whose admissible part is wider than w. The next belief is every segment of those units
+        (:func:`next_belief`)."""
         lists = [self.runs(s) for s in belief]
         if any(not runs for runs in lists):
             return []
-        cells: list[tuple[IPoint, IPoint, tuple[int, ...]]] = [(lo, hi, (t,)) for lo, hi, t in lists[0]]
+        cells: list[tuple[IPoint, IPoint, tuple[tuple[int, ...], ...]]] = [(lo, hi, (t,)) for lo, hi, t in lists[0]]
         for runs in lists[1:]:
             merged = []
             i = j = 0
@@ -473,3 +526,8 @@ class Closure:
                 out.append((targets, (lo, hi)))
         self.counts["successors"] += len(out)
         return out
+
+
+def next_belief(targets: Sequence[Sequence[int]]) -> frozenset[int]:
+    """The belief after a stage whose sources land on the units ``targets``: every segment of every unit."""
+    return frozenset(k for run in targets for k in run)

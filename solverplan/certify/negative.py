@@ -15,9 +15,13 @@ version 3) whose invariant says that **no plan exists** in a stated class —
 
 The class is over the **segment table** P′ of the environment's straight walls (collinear vertices merged, as
 the planner searches), refined at the ends of the query's start and goal sets (so that both are unions of whole
-segments), and the heading margin δ of the query — and *margin-free* otherwise: no safe margin, no corner
-clearance, no ban on consecutive arcs into one corner. Those margins only remove options, so the class contains
-every plan the planner considers, and the statement proved is stronger than the planner's.
+segments), with the **groups** of the pieces each segment of P′ was cut into: a stage may land on one piece or
+anywhere on one group — the planner's landing units and its whole segments (:mod:`solverplan.plan._problem`) — and
+the heading margin δ of the query; *margin-free* otherwise: no safe
+margin, no corner clearance, no ban on consecutive arcs into one corner. Those margins only remove options, and a
+belief of the planner is a union of table segments the invariant's beliefs split into pieces (each piece of a
+unit lands where the unit does), so the class contains every plan the planner considers, and the statement
+proved is stronger than the planner's.
 
 The invariant is computed with the checker's own exact successor relation (:class:`~.invariant.Closure`):
 breadth-first over beliefs from the start belief, up to depth K. There are therefore no float-versus-exact
@@ -32,17 +36,18 @@ from __future__ import annotations
 import math
 import re
 from fractions import Fraction
-from solverplan.bounce.partition import partition as make_partition
-from solverplan.certify.invariant import Closure, Geometry
+from solverplan.bounce.partitions import partition as make_partition
+from solverplan.certify.invariant import Closure, Geometry, next_belief
 from solverplan.certify.schema import BeliefRecord, BoundClaim, Point
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 
-__all__ = ["NoBound", "segment_table", "bound_claim", "TABLE_SOURCE", "tolerance_threshold", "tolerance_bound",
+__all__ = ["NoBound", "segment_table", "refined_table", "bound_claim", "TABLE_SOURCE", "tolerance_threshold", "tolerance_bound",
            "heading_margin_of", "ceil12"]
 
-TABLE_SOURCE = "P′ of the straight walls (collinear vertices merged) refined at the query's set ends"
+TABLE_SOURCE = ("P′ of the straight walls (collinear vertices merged) refined at the query's set ends, grouped by "
+                "segment of P′")
 
 MAX_BELIEFS = 20_000
 """Most beliefs an invariant may list before the builder gives up (the certificate would be unreadable)."""
@@ -93,7 +98,13 @@ def _edges(env: Environment) -> tuple[list[tuple[Point, Point]], list[int]]:
 def segment_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> list[list[Piece3]]:
     """The table of the certificates: P′ of the straight walls of ``env`` (:mod:`solverplan.plan._walls`), each
     segment as pieces of the user's edges, cut at every end of the start and goal sets' pieces."""
-    walls = Walls(env)  # every collinear vertex merged; the set ends are cut below (at joints too)
+    return refined_table(env, start, goal)[0]
+
+
+def refined_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> tuple[list[list[Piece3]], list[tuple[int, ...]]]:
+    """:func:`segment_table` and its groups: for every segment of P′ the set ends cut, the table segments it was cut
+    into (the planner lands on one of them or anywhere on the whole, :mod:`solverplan.plan._problem`)."""
+    walls = PartitionedWalls(env)  # every collinear vertex merged; the set ends are cut below (at joints too)
     part = make_partition(walls.merged)
     table: list[list[Piece3]] = []
     for seg in part.segments:
@@ -104,7 +115,9 @@ def segment_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> li
         for p in bset.merged().pieces:
             cuts.setdefault(p.edge, set()).update((Fraction(p.t0), Fraction(p.t1)))
     out: list[list[Piece3]] = []
+    groups: list[tuple[int, ...]] = []
     for seg_pieces in table:
+        first = len(out)
         current: list[Piece3] = []
         for edge, t0, t1 in seg_pieces:
             if current and (t0 in cuts.get(edge, ()) or current[-1][2] in cuts.get(current[-1][0], ())):
@@ -117,7 +130,9 @@ def segment_table(env: Environment, start: BoundarySet, goal: BoundarySet) -> li
                 current, lo = [], c
             current.append((edge, lo, t1))
         out.append(current)
-    return out
+        if len(out) - first > 1:
+            groups.append(tuple(range(first, len(out))))
+    return out, groups
 
 
 def heading_margin_of(margins: dict | None, scope: str | None = None) -> Fraction:
@@ -179,12 +194,12 @@ def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budg
     Raises :class:`NoBound` when the exact closure reaches the goal (naming the stage count), lists more than
     :data:`MAX_BELIEFS` beliefs, or would take more work than :data:`MAX_PROOF_SEGMENTS` and :data:`MAX_PROOF_WORK`
     allow."""
-    table = segment_table(env, start, goal)
+    table, groups = refined_table(env, start, goal)
     if len(table) > MAX_PROOF_SEGMENTS:
         raise NoBound(f"the exact closure over a table of {len(table):,} segments is not tried (at most "
                       f"{MAX_PROOF_SEGMENTS:,}: its work grows as the square of the table)")
     edges, nxt = _edges(env)
-    geo = Geometry(edges, nxt, table)
+    geo = Geometry(edges, nxt, table, groups)
     start_pieces = [(p.edge, Fraction(p.t0), Fraction(p.t1)) for p in start.merged().pieces]
     goal_pieces = [(p.edge, Fraction(p.t0), Fraction(p.t1)) for p in goal.merged().pieces]
     start_belief = tuple(sorted(geo.overlapping(start_pieces)))
@@ -204,7 +219,7 @@ def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budg
                 raise NoBound(f"the exact closure would take more than {MAX_PROOF_WORK:,} units of work (sources × "
                               f"table segments; {len(table):,} segments)")
             for targets, (lo, hi) in closure.successors(belief):
-                nb = tuple(sorted(set(targets)))
+                nb = tuple(sorted(next_belief(targets)))
                 width = min(narrowest[belief], _stage_width(lo, hi, delta))
                 if set(nb) <= goal_set:
                     stages = depth + 1
@@ -220,5 +235,6 @@ def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budg
         frontier = nxt_frontier
         depth += 1
     beliefs = tuple(BeliefRecord(b, d) for b, d in depth_of.items())
-    return BoundClaim(tuple(tuple(p) for p in table), heading_margin, threshold, budget, beliefs, TABLE_SOURCE)
+    return BoundClaim(tuple(tuple(p) for p in table), heading_margin, threshold, budget, beliefs, TABLE_SOURCE,
+                      tuple(groups))
 

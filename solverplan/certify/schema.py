@@ -41,7 +41,8 @@ states (:mod:`solverplan.certify.invariant` has the semantics): ``table`` partit
 segments (each a list of consecutive pieces ``[edge, t0, t1]`` of the edges, exact), ``heading_margin`` δ and
 ``threshold`` w (radians, exact) and ``budget`` K (stages; ``null``: any number) state the class — plans of at
 most K stages, every stage's interval wider than w inside [δ, π − δ], every stage landing inside one table
-segment — and ``beliefs`` lists the invariant: sets of table segments (``segments``, ascending ids = indices
+segment or anywhere on one group (``groups``, optional: lists of consecutive collinear table segments, each a
+segment of P′ cut at the query's set ends) — and ``beliefs`` lists the invariant: sets of table segments (``segments``, ascending ids = indices
 into ``table``) with their ``depth``, the first being the start belief at depth 0. An ``infeasible``
 certificate has the block and no stages (w = 0); a ``plan`` certificate may carry one as the proof of its
 optimality bound (``fewest`` with k bounces: K = k − 1, w = 0; ``tolerance``: no plan wider than w).
@@ -379,6 +380,9 @@ class BoundClaim:
     table_source: str = ""
     """What the table is, in words (``P′ of the straight walls refined at the query's set ends``): stated by the
     producer, not checked (the statement proved is about this table, whatever its origin)."""
+    groups: tuple[tuple[int, ...], ...] = ()
+    """Runs of consecutive, collinear table segments (each a segment of P′ cut at the query's set ends) that a stage
+    may land anywhere on, as on one segment (:mod:`solverplan.certify.invariant`); checked."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -927,7 +931,7 @@ def _cycle(value: object) -> CycleClaim:
 def _bound(value: object) -> BoundClaim:
     where = "bound"
     obj = _object(value, where)
-    _known(obj, {"budget", "threshold", "heading_margin", "table_source", "table", "beliefs"}, where)
+    _known(obj, {"budget", "threshold", "heading_margin", "table_source", "table", "beliefs", "groups"}, where)
     source = obj.get("table_source", "")
     if not isinstance(source, str):
         raise CertificateFormatError(f"bound.table_source: expected a string, got {_q(source)}")
@@ -953,7 +957,9 @@ def _bound(value: object) -> BoundClaim:
         beliefs.append(BeliefRecord(segs, _integer(_field(b, "depth", w), f"{w}.depth")))
     if not beliefs:
         raise CertificateFormatError("bound.beliefs: the invariant lists at least the start belief")
-    return BoundClaim(tuple(table), delta, threshold, budget, tuple(beliefs), source)
+    groups = tuple(tuple(_integer(x, f"bound.groups[{i}]") for x in _list(item, f"bound.groups[{i}]"))
+                   for i, item in enumerate(_list(obj.get("groups", []), "bound.groups")))
+    return BoundClaim(tuple(table), delta, threshold, budget, tuple(beliefs), source, groups)
 
 
 def _bound_json(b: BoundClaim) -> dict:
@@ -964,6 +970,7 @@ def _bound_json(b: BoundClaim) -> dict:
         **({"table_source": b.table_source} if b.table_source else {}),
         "beliefs": [{"depth": r.depth, "segments": list(r.segments)} for r in b.beliefs],
         "table": [[[e, json_value(t0), json_value(t1)] for e, t0, t1 in seg] for seg in b.table],
+        **({"groups": [list(g) for g in b.groups]} if b.groups else {}),
     }
 
 

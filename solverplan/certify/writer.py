@@ -22,7 +22,7 @@ that :func:`~solverplan.certify.check.check_certificate` can verify exactly:
   wrong (an interval wider than safe), the certificate says so when checked, it does not hide it.
 
 >>> from solverplan.environment import Environment
->>> from solverplan.bounce.partition import partition
+>>> from solverplan.bounce.partitions import partition
 >>> from solverplan.certify.check import check_certificate
 >>> square = Environment.from_coords([[0, 0], [10, 0], [10, 10], [0, 10]], name="square")
 >>> cert = build_certificate(square, partition(square),
@@ -43,7 +43,7 @@ from typing import Literal, Sequence, Union
 
 from solverplan.interval import Interval
 from solverplan.bounce.cones import heading_cone, heading_direction
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.certify.exact2d import affine_coefficients, line_hit
 from solverplan.certify.rational_atan import heading_enclosure
 from solverplan.certify.schema import (
@@ -178,7 +178,7 @@ def build_certificate(
     Parameters
     ----------
     env, part
-        The environment and its partition P′ (:func:`solverplan.bounce.partition.partition`).
+        The environment and its partition P′ (:func:`solverplan.bounce.partitions.partition`).
     stages
         The stages in order, each a heading interval and its moves.
     start, goal

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import gc
 import signal
+import sys
 from typing import Any
 
 # the command modules register their commands on ``app`` when imported
@@ -41,6 +42,7 @@ from solverplan.cli import (  # noqa: F401
     wallfollow,
 )
 from solverplan.cli._app import app
+from solverplan.cli._startup import command_for
 from solverplan.cli._errors import exit_codes
 from solverplan.cli._output import JSON_INDENT_LIMIT, EnvFormat, OutputFormat, emit
 
@@ -61,4 +63,4 @@ def main() -> None:
     # Collect young objects rarely; the structures have no cycles, and the process is short-lived.
     gc.freeze()
     gc.set_threshold(200_000, 50, 50)
-    app()
+    command_for(app, sys.argv[1:])()  # this command line's command only (cli/_startup.py: ≈ 0.15 s less start-up)

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, Iterator
 
 import typer
 
-from solverplan.cli._errors import Shell
+from solverplan.cli._errors import Shell, exit_codes
 from solverplan.limits import MAX_INDENT
 from solverplan.cli._output import EnvFormat, OutputFormat, set_json_indent
 from solverplan.cli._progress import command_progress
@@ -61,43 +62,27 @@ def _version(value: bool) -> None:
         raise typer.Exit(0)
 
 
+VersionOpt = Annotated[bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version and exit.")]
+IndentOpt = Annotated[int | None, typer.Option("--indent", metavar="N", min=0, max=MAX_INDENT, show_default=False, help="Indent JSON answers by N spaces per level (at most 16), however large (default: 2 up to 512 KiB, then compact).")]
+CompactOpt = Annotated[bool, typer.Option("--compact", help="Print JSON answers on one line, however small (fastest for large answers).")]
+GraphCacheOpt = Annotated[str | None, typer.Option("--graph-cache", metavar="DIR", envvar="SOLVERPLAN_GRAPH_CACHE", show_default=False, help="Keep large safe BVGs in DIR and reuse them, integrity-checked ('off': never; default: $XDG_CACHE_HOME/solverplan/graphs).")]
+GraphCacheMinArcsOpt = Annotated[int | None, typer.Option("--graph-cache-min-arcs", metavar="N", min=0, envvar="SOLVERPLAN_GRAPH_CACHE_MIN_ARCS", show_default=False, help="Write only graphs of at least N arcs to the graph cache (default 100000; 0: every graph).")]
+GraphCacheSizeOpt = Annotated[str | None, typer.Option("--graph-cache-size", metavar="SIZE", envvar="SOLVERPLAN_GRAPH_CACHE_SIZE", show_default=False, help="Cap the graph cache at SIZE bytes (e.g. 500M; default 2G): least recently used graphs go first.")]
+MaxMemoryOpt = Annotated[str | None, typer.Option("--max-memory", metavar="SIZE", envvar="SOLVERPLAN_MAX_MEMORY", show_default=False, help="Refuse up front a job (a safe BVG, rollouts, a patrol search) estimated to need more than SIZE bytes (e.g. 2G, 500M; default: half the memory available).")]
+QuietOpt = Annotated[bool, typer.Option("--quiet", help="No progress bar on stderr (jobs over 2 s show one when stderr is a terminal).")]
+
+
 @app.callback()
 def _root(
     ctx: typer.Context,
-    show_version: Annotated[
-        bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version and exit.")
-    ] = False,
-    indent: Annotated[
-        int | None,
-        typer.Option("--indent", metavar="N", min=0, max=MAX_INDENT, show_default=False,
-                     help="Indent JSON answers by N spaces per level (at most 16), however large (default: 2 up to 512 KiB, then compact)."),
-    ] = None,
-    compact: Annotated[
-        bool, typer.Option("--compact", help="Print JSON answers on one line, however small (fastest for large answers).")
-    ] = False,
-    graph_cache: Annotated[
-        str | None,
-        typer.Option("--graph-cache", metavar="DIR", envvar="SOLVERPLAN_GRAPH_CACHE", show_default=False,
-                     help="Keep large safe BVGs in DIR and reuse them, integrity-checked ('off': never; default: $XDG_CACHE_HOME/solverplan/graphs)."),
-    ] = None,
-    graph_cache_min_arcs: Annotated[
-        int | None,
-        typer.Option("--graph-cache-min-arcs", metavar="N", min=0, envvar="SOLVERPLAN_GRAPH_CACHE_MIN_ARCS", show_default=False,
-                     help="Write only graphs of at least N arcs to the graph cache (default 100000; 0: every graph)."),
-    ] = None,
-    graph_cache_size: Annotated[
-        str | None,
-        typer.Option("--graph-cache-size", metavar="SIZE", envvar="SOLVERPLAN_GRAPH_CACHE_SIZE", show_default=False,
-                     help="Cap the graph cache at SIZE bytes (e.g. 500M; default 2G): least recently used graphs go first."),
-    ] = None,
-    max_memory: Annotated[
-        str | None,
-        typer.Option("--max-memory", metavar="SIZE", envvar="SOLVERPLAN_MAX_MEMORY", show_default=False,
-                     help="Refuse up front a job (a safe BVG, rollouts, a patrol search) estimated to need more than SIZE bytes (e.g. 2G, 500M; default: half the memory available)."),
-    ] = None,
-    quiet: Annotated[
-        bool, typer.Option("--quiet", help="No progress bar on stderr (jobs over 2 s show one when stderr is a terminal).")
-    ] = False,
+    show_version: VersionOpt = False,
+    indent: IndentOpt = None,
+    compact: CompactOpt = False,
+    graph_cache: GraphCacheOpt = None,
+    graph_cache_min_arcs: GraphCacheMinArcsOpt = None,
+    graph_cache_size: GraphCacheSizeOpt = None,
+    max_memory: MaxMemoryOpt = None,
+    quiet: QuietOpt = False,
 ) -> None:
     """Planning with proofs for minimal bouncing robots in polygonal environments."""
     from solverplan.runtime import DEFAULT_MAX_BYTES, DEFAULT_MIN_ARCS, config, default_cache_directory
@@ -112,7 +97,10 @@ def _root(
     }
     if max_memory is not None:
         changes["max_memory"] = parse_size(max_memory)
-    # the layout and the settings belong to this one command line (tests run many in one process)
+    # the layout, the settings and the --timeout clock belong to this one command line (tests run many in one process)
+    from solverplan.cli._options import start_command_clock
+
+    start_command_clock()
     set_json_indent(-1 if compact else indent)
     ctx.call_on_close(lambda: set_json_indent(None))
     ctx.with_resource(config(**changes))
@@ -133,11 +121,23 @@ def parse_size(text: str, option: str = "--max-memory") -> int:
     return int(value * units[unit])
 
 
-def load_env(env: Path, env_format: EnvFormat | None) -> Environment:
-    """The environment named on the command line (format from the extension unless given)."""
+def load_env(env: Path, env_format: EnvFormat | None, picture: Path | None = None) -> Environment:
+    """The environment named on the command line (format from the extension unless given); a ``picture`` path
+    (--picture) with an unknown extension is refused first."""
     from solverplan.environment import load_environment
 
+    check_picture(picture)
     return load_environment(env, env_format.value if env_format else None)
+
+
+@contextlib.contextmanager
+def loaded(env: Path, env_format: EnvFormat | None, picture: Path | None = None, *,
+           verbose: int = 0) -> Iterator[Environment]:
+    """Run a command body on the environment named on the command line: :func:`load_env` inside
+    :func:`~solverplan.cli._errors.exit_codes`, so a bad file, format or --picture path and every error of
+    the body leave with one line and the exit code of docs/contract.md."""
+    with exit_codes(verbose):
+        yield load_env(env, env_format, picture)
 
 
 def check_picture(picture: Path | None) -> None:

@@ -7,7 +7,7 @@ import contextlib
 import re
 import sys
 import traceback
-from typing import Any, Iterator
+from typing import Any, Iterator, Sequence
 
 import typer
 from typer.core import TyperGroup
@@ -39,6 +39,14 @@ def fail(message: str, code: int, suffix: str = "") -> typer.Exit:
     sys.stderr.write(f"error: {one_line(message, limit=MAX_LINE - len('error: ') - len(suffix))}{suffix}\n")
     sys.stderr.flush()
     return typer.Exit(code)
+
+
+def invalid(what: str, failures: Sequence[Any]) -> typer.Exit:
+    """Exit 1 for a check that failed (``verify``, ``rooms --check``): ``error: WHAT invalid: FIRST FAILURE``, and
+    how many more failures the report on stdout lists."""
+    more = len(failures) - 1
+    suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
+    return fail(f"{what} invalid: {failures[0]}", 1, suffix)
 
 
 @contextlib.contextmanager

@@ -12,6 +12,7 @@ from typing import Annotated, Any, Iterator
 import typer
 
 from solverplan._io import cannot_write
+from solverplan.cli._output import OutputFormat, emit
 from solverplan.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -55,6 +56,16 @@ def _process_age() -> float:
 
 _IMPORTED = time.monotonic()
 _STARTED = _IMPORTED - _process_age()
+_COMMANDS = 0
+
+
+def start_command_clock() -> None:
+    """Called as each command line starts: the first in a process counts from the process's start (its start-up is
+    part of the user's wait); a later one in the same process (tests, a notebook calling ``app``) from now."""
+    global _STARTED, _COMMANDS
+    if _COMMANDS:
+        _STARTED = time.monotonic()
+    _COMMANDS += 1
 _ANSWER_RESERVE = 0.3
 """Seconds of a --timeout kept for what follows the search: the exact check of the answer and writing it."""
 
@@ -124,3 +135,35 @@ def write_certificate_file(answer: Any, path: Path, env: Any = None, checked: An
     except OSError as exc:
         raise InputError(cannot_write(path, exc)) from None
     logger.info("wrote certificate %s (verified)", path)
+
+
+def save_picture(picture: Path | None, renderer: str, *args: Any) -> None:
+    """--picture: ``solverplan.render.MODULE.FUNCTION(*args)`` (``renderer`` is ``"MODULE.FUNCTION"``) saved to
+    ``picture``; ``renderer`` ``""``: the picture hook of the answer ``args[0]``'s kind (:data:`solverplan.answers.KINDS`).
+    The renderer is imported only when a picture is asked (matplotlib costs ≈ 0.3 s of a start)."""
+    if picture is None:
+        return
+    import importlib
+
+    from solverplan.render import save_figure
+
+    if renderer:
+        module, name = renderer.rsplit(".", 1)
+        draw = getattr(importlib.import_module(f"solverplan.render.{module}"), name)
+    else:
+        from solverplan.answers import KINDS
+
+        draw = KINDS[args[0].kind].picture
+    save_figure(draw(*args), picture)
+
+
+def emit_checked(checked: Any, fmt: OutputFormat, out: Path | None, *, env: Any = None, certificate: Path | None = None,
+                 picture: Path | None = None, renderer: str = "", draw: tuple = ()) -> None:
+    """The end of a command whose answer passed the exact gate (:func:`~solverplan.certify.gate.checked_answer`):
+    its --certificate (the certificate the gate checked), its --picture (``renderer(answer, *draw)``, by default the
+    picture of its kind: see :func:`save_picture`), then the answer itself."""
+    answer = checked.answer
+    if certificate is not None:
+        write_certificate_file(answer, certificate, env, checked.certificate)
+    save_picture(picture, renderer, answer, *draw)
+    emit(answer, fmt, out)

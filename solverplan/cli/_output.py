@@ -9,11 +9,12 @@ import shutil
 import sys
 from enum import StrEnum
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any, Iterable, Protocol
 
 import orjson
 
-from solverplan._io import atomic_write_text, cannot_write
+from solverplan.choices import EnvironmentFormat
+from solverplan._io import atomic_write_chunks, cannot_write
 from solverplan.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -32,10 +33,7 @@ class OutputFormat(StrEnum):
     TEXT = "text"
 
 
-class EnvFormat(StrEnum):
-    JSON = "json"
-    GEOJSON = "geojson"
-    WKT = "wkt"
+EnvFormat = EnvironmentFormat  # the environment file formats (--env-format), the library's
 
 
 def text_width(out: Path | None) -> int:
@@ -114,24 +112,22 @@ def emit(answer: Answer, fmt: OutputFormat, out: Path | None) -> None:
         text = answer.to_text(width=text_width(out))
         if not text.endswith("\n"):  # a report is whole lines: the shell prompt must not follow on the last one
             text += "\n"
-    if out is None:
-        sys.stdout.write(text)
-        sys.stdout.flush()
-        return
-    try:
-        atomic_write_text(out, text)
-    except OSError as exc:
-        raise InputError(cannot_write(out, exc)) from None
-    logger.info("wrote %s", out)
+    emit_string(text, out)
+
 
 def emit_string(text: str, out: Path | None) -> None:
-    """Write ready-made text (GraphML, DOT) to stdout or atomically to ``out``."""
+    """Write ready-made text (GraphML, DOT, an answer's JSON) to stdout or atomically to ``out``."""
+    emit_chunks((text.encode("utf-8"),), out)
+
+
+def emit_chunks(chunks: Iterable[bytes], out: Path | None) -> None:
+    """Write the concatenation of ``chunks`` (UTF-8) to stdout, or atomically to ``out``, as they come: a large
+    answer never exists whole in memory. A file that cannot be written is bad input (one line, exit 2)."""
     if out is None:
-        sys.stdout.write(text)
-        sys.stdout.flush()
+        atomic_write_chunks("-", chunks)  # "-": stdout
         return
     try:
-        atomic_write_text(out, text)
+        atomic_write_chunks(out, chunks)
     except OSError as exc:
         raise InputError(cannot_write(out, exc)) from None
     logger.info("wrote %s", out)

@@ -2,16 +2,15 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
+from solverplan.choices import CycleMethod, Objective, PatrolObjective, Sampling, Ties
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
-from solverplan.cli._errors import exit_codes
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, loaded
 from solverplan.cli._options import (
     CertificateOpt,
     CornerClearanceOpt,
@@ -20,54 +19,35 @@ from solverplan.cli._options import (
     PositionToleranceOpt,
     TimeoutOpt,
     command_timeout,
-    write_certificate_file,
+    emit_checked,
 )
 from solverplan.cli._output import EnvFormat, OutputFormat, emit
 
 
-class CycleMethod(StrEnum):
-    AUTO = "auto"
-    THEOREM1 = "theorem1"
-    ITERATE = "iterate"
-    EDGES = "edges"
+ThetaOpt = Annotated[str, typer.Option(
+    "--theta", metavar="THETA",
+    help="The constant heading (CCW from each wall): radians, e.g. 0.3 or pi/12 (taken at the exact direction (cos θ, sin θ) "
+    "of its binary floats, < 1e-15 rad away; theta_exact in the answer says which); tan:P/Q (exact rational tangent, alias "
+    "atan:P/Q; negative for θ > π/2); dir:C,S (exact direction pair); or auto (search a heading that drives every start into "
+    "a verified cycle, Prop. 4).")]
+CycleEdgesOpt = Annotated[str | None, typer.Option("--edges", metavar="e0,e1,...", help="Ask for the cycle along this edge sequence.", show_default=False)]
+CycleEpsilonOpt = Annotated[float | None, typer.Option("--epsilon", metavar="E", help="Also report the cycles needed to shrink the position set below E (Cor. 4; a length).", show_default=False)]
+CycleMethodOpt = Annotated[CycleMethod, typer.Option("--method", help="theorem1 (convex polygons: the CCW cycle), iterate (follow the rule from --start), edges (--edges); auto picks.")]
+CycleStartOpt = Annotated[str | None, typer.Option("--start", metavar="eK:T", help="Iterate: the start point (default e0:0.5).", show_default=False)]
+CycleBouncesOpt = Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Iterate: bounce budget.")]
+AutoMarginOpt = Annotated[float | None, typer.Option("--heading-margin", metavar="D", help="With --theta auto: try no heading within D radians of a wall (default 0.001; a heading given with --theta is used as asked).", show_default=False)]
 
 
 @app.command(name="cycle")
 def cycle_command(
     env: EnvArg,
-    theta: Annotated[
-        str,
-        typer.Option(
-            "--theta", metavar="THETA",
-            help="The constant heading (CCW from each wall): radians, e.g. 0.3 or pi/12 (taken at the exact direction "
-            "(cos θ, sin θ) of its binary floats, < 1e-15 rad away; theta_exact in the answer says which); tan:P/Q "
-            "(exact rational tangent, alias atan:P/Q; negative for θ > π/2); dir:C,S (exact direction pair); or auto "
-            "(search a heading that drives every start into a verified cycle, Prop. 4).",
-        ),
-    ],
-    edges: Annotated[
-        str | None,
-        typer.Option("--edges", metavar="e0,e1,...", help="Ask for the cycle along this edge sequence.", show_default=False),
-    ] = None,
-    epsilon: Annotated[
-        float | None,
-        typer.Option("--epsilon", metavar="E", help="Also report the cycles needed to shrink the position set below E (Cor. 4; a length).", show_default=False),
-    ] = None,
-    method: Annotated[
-        CycleMethod,
-        typer.Option("--method", help="theorem1 (convex polygons: the CCW cycle), iterate (follow the rule from --start), "
-                     "edges (--edges); auto picks."),
-    ] = CycleMethod.AUTO,
-    cycle_start: Annotated[
-        str | None,
-        typer.Option("--start", metavar="eK:T", help="Iterate: the start point (default e0:0.5).", show_default=False),
-    ] = None,
-    max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Iterate: bounce budget.")] = 20000,
-    heading_margin: Annotated[
-        float | None,
-        typer.Option("--heading-margin", metavar="D", help="With --theta auto: try no heading within D radians of a wall "
-                     "(default 0.001; a heading given with --theta is used as asked).", show_default=False),
-    ] = None,
+    theta: ThetaOpt,
+    edges: CycleEdgesOpt = None,
+    epsilon: CycleEpsilonOpt = None,
+    method: CycleMethodOpt = CycleMethod.AUTO,
+    cycle_start: CycleStartOpt = None,
+    max_bounces: CycleBouncesOpt = 20000,
+    heading_margin: AutoMarginOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,
@@ -79,8 +59,7 @@ def cycle_command(
     from solverplan.bounce.cycles import limit_cycle
     from solverplan.interval import DEFAULT_HEADING_MARGIN
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         if theta.strip().lower() == "auto":
             if edges is not None or cycle_start is not None or method is not CycleMethod.AUTO:
                 raise InputError("--theta auto searches for one heading for every start: drop --edges, --start and --method")
@@ -92,12 +71,6 @@ def cycle_command(
         result = limit_cycle(environment, theta, edges=edges, method=method.value, start=cycle_start, epsilon=epsilon,
                              max_bounces=max_bounces)
         emit(result, fmt, out)
-
-
-class PatrolObjective(StrEnum):
-    CONTRACTION = "contraction"
-    TOLERANCE = "tolerance"
-    RATE = "rate"
 
 
 @app.command(name="patrol")
@@ -205,78 +178,35 @@ def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, cer
     --certificate and --picture of a found answer, emit the answer."""
     from solverplan.certify.gate import checked_answer
 
-    with exit_codes(verbose):
-        check_picture(picture)
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, picture, verbose=verbose) as environment:
         checked = checked_answer(lambda: solve(environment), env=environment, start=start, goal=goal)
-        result = checked.answer
-        if result.found:
-            _write_extras(result, certificate, picture, checked.certificate)
-        emit(result, fmt, out)
+        found = checked.answer.found  # a strategy not found has nothing to certify or draw
+        emit_checked(checked, fmt, out, certificate=certificate if found else None, picture=picture if found else None)
 
 
-def _write_extras(result: Any, certificate: Path | None, picture: Path | None, checked: Any = None) -> None:
-    """The --certificate and --picture files of a contraction answer (patrol, funnel, localize)."""
-    if certificate is not None:
-        write_certificate_file(result, certificate, checked=checked)
-    if picture is not None:
-        from solverplan.render import render_answer, save_figure
-
-        save_figure(render_answer(result), picture)
-
-
-class PlanObjective(StrEnum):
-    FEWEST = "fewest"
-    TOLERANCE = "tolerance"
-    SUM = "sum"
-    CONSTANT = "constant"
-
-
-class PlanSampling(StrEnum):
-    UNIFORM = "uniform"
-    ENDPOINTS = "endpoints"
-    LO = "lo"
-    HI = "hi"
-    MID = "mid"
-
-
-class TieMode(StrEnum):
-    EXACT = "exact"
-    FLAG = "flag"
+FromSetOpt = Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4 (may span edges and segments: the plan works from every point).")]
+ToSetOpt = Annotated[str, typer.Option("--to", metavar="SET", help="Goal set, same syntax.")]
+ObjectiveOpt = Annotated[Objective | None, typer.Option("--objective", help="fewest bounces (default); tolerance: the narrowest interval as wide as possible; sum: the sum of the widths within --max-bounces; constant: one interval at every stage (Algorithm 2).", show_default=False)]
+PlanBouncesOpt = Annotated[int | None, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget (needed by --objective sum).", show_default=False)]
+ParetoOpt = Annotated[bool, typer.Option("--pareto", help="Answer the Pareto front bounces ↔ tolerance instead of one plan (objective tolerance).")]
+PlanMethodOpt = Annotated[str, typer.Option("--method", metavar="M", help="auto, or: fewest bfs; tolerance label|milp; sum dp|lp; constant label.")]
+PlanCertificateOpt = Annotated[Path | None, typer.Option("--certificate", metavar="FILE", help="Also write the plan's certificate (checked before it is written; verify it with 'solverplan verify'). With --pareto: of the most tolerant plan.", show_default=False)]
+HeadingAccuracyOpt = Annotated[float | None, typer.Option("--heading-accuracy", metavar="A", help="The robot's heading accuracy (radians): plan only with intervals at least A wide (±a turning: A = 2a); infeasible answers give the best A that works.", show_default=False)]
 
 
 @app.command(name="plan")
 def plan_command(
     env: EnvArg,
-    start: Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4 (may span edges and segments: the plan works from every point).")],
-    goal: Annotated[str, typer.Option("--to", metavar="SET", help="Goal set, same syntax.")],
-    objective: Annotated[
-        PlanObjective | None,
-        typer.Option("--objective", help="fewest bounces (default); tolerance: the narrowest interval as wide as possible; sum: "
-                     "the sum of the widths within --max-bounces; constant: one interval at every stage (Algorithm 2).", show_default=False),
-    ] = None,
-    max_bounces: Annotated[
-        int | None, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget (needed by --objective sum).", show_default=False)
-    ] = None,
-    pareto: Annotated[
-        bool, typer.Option("--pareto", help="Answer the Pareto front bounces ↔ tolerance instead of one plan (objective tolerance).")
-    ] = False,
-    method: Annotated[
-        str, typer.Option("--method", metavar="M", help="auto, or: fewest bfs; tolerance label|milp; sum dp|lp; constant label.")
-    ] = "auto",
-    certificate: Annotated[
-        Path | None,
-        typer.Option("--certificate", metavar="FILE", help="Also write the plan's certificate (checked before it is written; "
-                     "verify it with 'solverplan verify'). With --pareto: of the most tolerant plan.", show_default=False),
-    ] = None,
+    start: FromSetOpt,
+    goal: ToSetOpt,
+    objective: ObjectiveOpt = None,
+    max_bounces: PlanBouncesOpt = None,
+    pareto: ParetoOpt = False,
+    method: PlanMethodOpt = "auto",
+    certificate: PlanCertificateOpt = None,
     heading_margin: HeadingMarginOpt = 1e-3,
     corner_clearance: CornerClearanceOpt = None,
-    heading_accuracy: Annotated[
-        float | None,
-        typer.Option("--heading-accuracy", metavar="A", help="The robot's heading accuracy (radians): plan only with "
-                     "intervals at least A wide (±a turning: A = 2a); infeasible answers give the best A that works.",
-                     show_default=False),
-    ] = None,
+    heading_accuracy: HeadingAccuracyOpt = None,
     timeout: TimeoutOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
@@ -287,9 +217,8 @@ def plan_command(
     from solverplan.certify.gate import checked_answer
     from solverplan.plan.search import find_plan, pareto_front
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
-        if pareto and (objective not in (None, PlanObjective.TOLERANCE) or method != "auto"):
+    with loaded(env, env_format, verbose=verbose) as environment:
+        if pareto and (objective not in (None, Objective.TOLERANCE) or method != "auto"):
             raise InputError("--pareto answers the bounces ↔ tolerance front: drop --objective and --method")
         if pareto and heading_accuracy is not None:
             raise InputError("--heading-accuracy applies to one plan, not to --pareto")
@@ -298,16 +227,13 @@ def plan_command(
             if pareto:
                 return pareto_front(environment, start, goal, max_bounces=max_bounces, heading_margin=heading_margin,
                                     corner_clearance=corner_clearance, timeout=command_timeout(timeout))
-            return find_plan(environment, start, goal, objective=(objective or PlanObjective.FEWEST).value,
+            return find_plan(environment, start, goal, objective=(objective or Objective.FEWEST).value,
                              max_bounces=max_bounces, method=method, heading_margin=heading_margin,
                              corner_clearance=corner_clearance, timeout=command_timeout(timeout),
                              min_width=heading_accuracy)
 
         checked = checked_answer(solve, env=environment, start=start, goal=goal)  # exact check before it leaves
-        answer = checked.answer
-        if certificate is not None:
-            write_certificate_file(answer, certificate, environment, checked.certificate)
-        emit(answer, fmt, out)
+        emit_checked(checked, fmt, out, env=environment, certificate=certificate)
 
 
 @app.command(name="simulate")
@@ -317,12 +243,12 @@ def simulate_command(
     trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="N", help="Number of rollouts.")] = 10000,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed (recorded in the answer).")] = 0,
     sampling: Annotated[
-        PlanSampling,
+        Sampling,
         typer.Option("--sampling", help="How headings are drawn from each interval: uniform, or endpoints (adversarial: an end of the interval)."),
-    ] = PlanSampling.UNIFORM,
+    ] = Sampling.UNIFORM,
     ties: Annotated[
-        TieMode, typer.Option("--ties", help="exact: re-resolve rays the float caster cannot call; flag: stop and count them.")
-    ] = TieMode.EXACT,
+        Ties, typer.Option("--ties", help="exact: re-resolve rays the float caster cannot call; flag: stop and count them.")
+    ] = Ties.EXACT,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     out: OutOpt = None,
@@ -332,8 +258,7 @@ def simulate_command(
     from solverplan.plan import load_plan
     from solverplan.simulate import simulate_plan
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         plan = load_plan(plan_file)
         runs = simulate_plan(environment, plan, trials=trials, seed=seed, sampling=sampling.value, ties=ties.value)
         emit(runs, fmt, out)

@@ -2,29 +2,22 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from typing import Annotated
 
 import typer
 
+from solverplan.choices import ViewChoice
 from solverplan.limits import MAX_SEED
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
-from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import CertificateOpt, PictureOpt, parse_xy, write_certificate_file
-from solverplan.cli._output import OutputFormat, emit
-
-
-class ZChoice(StrEnum):
-    FIRST = "first"
-    RANDOM = "random"
-    FAR = "far"
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, loaded
+from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, parse_xy
+from solverplan.cli._output import OutputFormat
 
 
 @app.command(name="explore")
 def explore_command(
     env: EnvArg,
     start: Annotated[str, typer.Option("--start", metavar="X,Y", help="The robot's start p1, a point of the free space.")],
-    choice: Annotated[ZChoice, typer.Option("--choice", help="Which unexplored constructed edge the next view is taken on: first, random (with --seed) or far.")] = ZChoice.FIRST,
+    choice: Annotated[ViewChoice, typer.Option("--choice", help="Which unexplored constructed edge the next view is taken on: first, random (with --seed) or far.")] = ViewChoice.FIRST,
     seed: Annotated[int | None, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Seed of --choice random (default 0).", show_default=False)] = None,
     range_: Annotated[str | None, typer.Option("--range", metavar="R", help="Sensing range R > 0: range-limited views and Algorithm B (Algorithm A when R reaches across the polygon).", show_default=False)] = None,
     certificate: CertificateOpt = None,
@@ -39,9 +32,7 @@ def explore_command(
     from solverplan.certify.gate import checked_answer
     from solverplan.explore import Exploration, RangeExploration, explore_depth_first, explore_range_limited
 
-    with exit_codes(verbose):
-        check_picture(picture)
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, picture, verbose=verbose) as environment:
         point = parse_xy(start, "--start")
 
         def solve() -> Exploration | RangeExploration:
@@ -50,12 +41,5 @@ def explore_command(
             return explore_range_limited(environment, point, range_, choice=choice.value, seed=seed)
 
         checked = checked_answer(solve, env=environment)  # the views checked exactly before the answer leaves
-        run = checked.answer
-        if certificate is not None:
-            write_certificate_file(run, certificate, environment, checked.certificate)
-        if picture is not None:
-            from solverplan.render import save_figure
-            from solverplan.render.explore import render_exploration
-
-            save_figure(render_exploration(run, environment), picture)
-        emit(run, fmt, out)
+        emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture,
+                     renderer="explore.render_exploration", draw=(environment,))

@@ -2,20 +2,13 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from solverplan.cli._app import EnvFormatOpt, VerboseOpt, app, load_env
-from solverplan.cli._errors import exit_codes
-
-
-class ExportFormat(StrEnum):
-    WAYPOINTS = "waypoints"
-    CSV = "csv"
-    GEOJSON = "geojson"
+from solverplan.choices import ExportFormat
+from solverplan.cli._app import EnvFormatOpt, VerboseOpt, app, loaded
 
 
 @app.command(name="export")
@@ -32,8 +25,7 @@ def export_command(
     from solverplan.plan.export import export_plan
     from solverplan.plan.result import load_plan
 
-    with exit_codes(verbose):
-        environment = load_env(Path(env), env_format)
+    with loaded(Path(env), env_format, verbose=verbose) as environment:
         plan = load_plan(plan_file)
         text = export_plan(plan, environment, export_format.value)
         if out is not None:

@@ -2,45 +2,21 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from solverplan.choices import CellKind, Reflections, RobotKind, ScenarioName, StartMode, or_all
 from solverplan.limits import MAX_SEED, MAX_TRAJECTORIES
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
-from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import CertificateOpt, PictureOpt, parse_xy, write_certificate_file
-from solverplan.cli._output import OutputFormat, emit, emit_string, json_text
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, loaded
+from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, parse_xy
+from solverplan.cli._output import OutputFormat, emit_string, json_text
 
-
-class FieldScenario(StrEnum):
-    CONSTRAINED = "constrained"
-    UNCONSTRAINED = "unconstrained"
-    REFLECTION = "reflection"
-    ALL = "all"
-
-
-class FieldRobot(StrEnum):
-    INTEGRATOR = "integrator"
-    INERTIAL = "inertial"
-
-
-class FieldReflections(StrEnum):
-    PAYOFF = "payoff"
-    ALL = "all"
-    NONE = "none"
-
-
-class FieldStarts(StrEnum):
-    FIXED = "fixed"
-    RANDOM = "random"
-
-
-class FieldCells(StrEnum):
-    CONVEX = "convex"
-    CORNERS = "corners"
+if TYPE_CHECKING:
+    from solverplan.choices import Choice as ScenarioOrAll
+else:
+    ScenarioOrAll = or_all(ScenarioName)
 
 
 @app.command(name="fields")
@@ -48,8 +24,8 @@ def fields_command(
     env: EnvArg,
     start: Annotated[str, typer.Option("--from", metavar="X,Y", help="The start, a point of the free space.")],
     goal: Annotated[str, typer.Option("--to", metavar="X,Y", help="The goal, a point of the free space.")],
-    scenario: Annotated[FieldScenario, typer.Option("--scenario", help="constrained (slow nominal fields), unconstrained (fast), reflection (fast, with reflection zones) or all three.")] = FieldScenario.ALL,
-    model: Annotated[FieldRobot, typer.Option("--model", help="The robot: a single integrator, or inertial (acceleration cap, restitution, dead band).")] = FieldRobot.INERTIAL,
+    scenario: Annotated[ScenarioOrAll, typer.Option("--scenario", help="constrained (slow nominal fields), unconstrained (fast), reflection (fast, with reflection zones) or all three.")] = ScenarioOrAll("all"),
+    model: Annotated[RobotKind, typer.Option("--model", help="The robot: a single integrator, or inertial (acceleration cap, restitution, dead band).")] = RobotKind.INERTIAL,
     trials: Annotated[int, typer.Option("--trials", min=1, max=10_000, metavar="N", help="Rollouts per scenario (at most 10,000).")] = 25,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the motion noise.")] = 0,
     trajectories: Annotated[int | None, typer.Option("--trajectories", min=0, max=MAX_TRAJECTORIES, metavar="K", help="Trajectories kept per scenario (at most --trials; default 0, or 5 with --picture).")] = None,
@@ -61,9 +37,9 @@ def fields_command(
     control_rate: Annotated[float, typer.Option("--control-rate", min=0.1, max=10_000.0, metavar="HZ", help="Commands per second; the physics runs at 400 Hz, or at this rate if higher (it must divide it).")] = 20.0,
     gain_line: Annotated[str, typer.Option("--gain-line", metavar="P", help="Gain of the line fields (1/length), read exactly.")] = "3",
     gain_arc: Annotated[str, typer.Option("--gain-arc", metavar="P", help="Gain of the arc fields (1/length), read exactly.")] = "1",
-    reflections: Annotated[FieldReflections, typer.Option("--reflections", help="payoff: plan a reflection only where the wall turns the robot to the exit, the robot would overshoot and rollouts predict a gain; all: every zone the geometry allows (the paper); none.")] = FieldReflections.PAYOFF,
-    cells: Annotated[FieldCells, typer.Option("--cells", help="convex: Hertel–Mehlhorn cells; corners: with the reflex corners projected along their walls, so turns get corner cells (reflection candidates).")] = FieldCells.CONVEX,
-    starts: Annotated[FieldStarts, typer.Option("--starts", help="fixed: every trial from --from; random: each trial from a uniform random point of the free space (seeded, the same in every scenario).")] = FieldStarts.FIXED,
+    reflections: Annotated[Reflections, typer.Option("--reflections", help="payoff: plan a reflection only where the wall turns the robot to the exit, the robot would overshoot and rollouts predict a gain; all: every zone the geometry allows (the paper); none.")] = Reflections.PAYOFF,
+    cells: Annotated[CellKind, typer.Option("--cells", help="convex: Hertel–Mehlhorn cells; corners: with the reflex corners projected along their walls, so turns get corner cells (reflection candidates).")] = CellKind.CONVEX,
+    starts: Annotated[StartMode, typer.Option("--starts", help="fixed: every trial from --from; random: each trial from a uniform random point of the free space (seeded, the same in every scenario).")] = StartMode.FIXED,
     export: Annotated[Path | None, typer.Option("--export", metavar="FIELD.json", help="Also write the composed field for a controller (cells as half-planes, fields, reflection zones), atomically.", show_default=False)] = None,
     certificate: CertificateOpt = None,
     picture: PictureOpt = None,
@@ -75,29 +51,25 @@ def fields_command(
     """Composed local potential fields in convex cells, with reflection (Stager and Tanner): cells, sequence, reflection cells and scenario statistics."""
     from solverplan.certify.gate import checked_answer
     from solverplan.reflection.navigation import navigate_fields
-    from solverplan.reflection.simulate import RobotModel
 
-    with exit_codes(verbose):
-        check_picture(picture)
-        environment = load_env(env, env_format)
-        names = ("constrained", "unconstrained", "reflection") if scenario is FieldScenario.ALL else (scenario.value,)
+    with loaded(env, env_format, picture, verbose=verbose) as environment:
+        names = ScenarioName.values() if scenario == "all" else (scenario.value,)
         if trajectories is None:  # a picture without runs shows empty corridors: draw a few by default
             trajectories = min(5, trials) if picture is not None else 0
-        physics = max(400.0, control_rate)
-        robot = RobotModel(kind=model.value, accel=accel, restitution=restitution, control_rate=control_rate,
-                           physics_rate=control_rate * max(1, round(physics / control_rate)))
+        robot = _robot(model, accel, restitution, control_rate)
         checked = checked_answer(lambda: navigate_fields(
             environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names, model=robot,
             trials=trials, seed=seed, trajectories=trajectories, arcs=arcs, fast=fast, slow=slow, gain_line=gain_line,
             gain_arc=gain_arc, reflections=reflections.value, starts=starts.value, cells=cells.value), env=environment)
-        answer = checked.answer  # its cells and fields checked exactly before it leaves
-        if certificate is not None:
-            write_certificate_file(answer, certificate, environment, checked.certificate)
-        if export is not None:
-            emit_string(json_text(answer.plan.export(), 1) + "\n", export)
-        if picture is not None:
-            from solverplan.render import save_figure
-            from solverplan.render.fields import render_fields
+        if export is not None:  # its cells and fields checked exactly before it leaves
+            emit_string(json_text(checked.answer.plan.export(), 1) + "\n", export)
+        emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture)
 
-            save_figure(render_fields(answer), picture)
-        emit(answer, fmt, out)
+
+def _robot(model: RobotKind, accel: float, restitution: float, control_rate: float) -> Any:
+    """The robot of the options: the physics at 400 Hz, or at the control rate if higher, a multiple of it."""
+    from solverplan.reflection.simulate import FieldRobotDynamics
+
+    physics = max(400.0, control_rate)
+    return FieldRobotDynamics(kind=model.value, accel=accel, restitution=restitution, control_rate=control_rate,
+                              physics_rate=control_rate * max(1, round(physics / control_rate)))

@@ -2,22 +2,16 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from solverplan.choices import FloorplanFormat
 from solverplan.cli._app import FormatOpt, VerboseOpt, app, check_picture
 from solverplan.cli._errors import exit_codes
 from solverplan.cli._options import PictureOpt, parse_pair
 from solverplan.cli._output import OutputFormat, emit
-
-
-class PlanInputFormat(StrEnum):
-    ROS = "ros"
-    DXF = "dxf"
-    SVG = "svg"
 
 
 @app.command(name="import")
@@ -38,7 +32,7 @@ def import_command(
     max_jamb: Annotated[float | None, typer.Option("--max-jamb", metavar="M", help="DXF: close wall bands left open at doors across at most M metres (default 0.5; 0: never).", show_default=False)] = None,
     scale: Annotated[str | None, typer.Option("--scale", metavar="S", help="SVG: metres per SVG user unit (default: from width/height with units, else 1).", show_default=False)] = None,
     tolerance: Annotated[float | None, typer.Option("--tolerance", metavar="M", help="DXF/SVG: largest distance between a curve and its chords (output units; default 0.01).", show_default=False)] = None,
-    input_format: Annotated[PlanInputFormat | None, typer.Option("--input-format", help="ros, dxf or svg, when the extension does not say.", show_default=False)] = None,
+    input_format: Annotated[FloorplanFormat | None, typer.Option("--input-format", help="ros, dxf or svg, when the extension does not say.", show_default=False)] = None,
     picture: PictureOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,

@@ -3,19 +3,17 @@
 from __future__ import annotations
 
 import logging
-import sys
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from solverplan._io import atomic_write_chunks, cannot_write
+from solverplan.choices import GraphFormat
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env, loaded
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._output import OutputFormat, emit, emit_string, json_indent
+from solverplan.cli._output import OutputFormat, emit, emit_chunks, emit_string, json_indent
 
 logger = logging.getLogger(__name__)
 
@@ -28,8 +26,7 @@ def info(
     verbose: VerboseOpt = 0,
 ) -> None:
     """Describe an environment: vertices, rings, edges (id, ring, end points, length), reflex vertices, area, perimeter."""
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         logger.info("loaded %r: %d vertices, %d holes", environment.name, environment.n_vertices, len(environment.holes))
         from solverplan.describe import describe_environment
 
@@ -45,18 +42,10 @@ def partition_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """The partition P′ of Algorithm 1: vertices per ring, segments (id, edge, t0, t1, a, b), inserted points."""
-    from solverplan.bounce.partition import partition as partition_boundary
+    from solverplan.bounce.partitions import partition as partition_boundary
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         emit(partition_boundary(environment), fmt, out)
-
-
-class GraphFormat(StrEnum):
-    JSON = "json"
-    TEXT = "text"
-    GRAPHML = "graphml"
-    DOT = "dot"
 
 
 @app.command(name="graph")
@@ -78,8 +67,7 @@ def graph_command(
     """The bounce visibility graph of P′: arcs between segments that see each other; with --safe, their safe headings."""
     from solverplan.bounce.bvg import safe_bounce_visibility_graph
 
-    with exit_codes(verbose):
-        environment = load_env(env, env_format)
+    with loaded(env, env_format, verbose=verbose) as environment:
         graph = safe_bounce_visibility_graph(environment)
         logger.info("safe BVG: %d segments, %d arcs, %d safe (%.3f s)", graph.n_segments, graph.n_arcs, graph.n_safe_arcs,
                     graph.stats.get("seconds_total", 0.0))
@@ -91,67 +79,46 @@ def graph_command(
         elif fmt is GraphFormat.JSON and json_indent() in (None, -1) and view.n_arcs > 20_000:
             # a large graph (its text well over JSON_INDENT_LIMIT) is compact JSON (json_text): the same bytes,
             # encoded and written a chunk of arcs at a time (never the whole text in memory)
-            chunks = view.json_chunks(end=b"\n")
-            if out is None:
-                for chunk in chunks:
-                    sys.stdout.buffer.write(chunk)
-                sys.stdout.flush()
-            else:
-                try:
-                    atomic_write_chunks(out, chunks)
-                except OSError as exc:
-                    raise InputError(cannot_write(out, exc)) from None
-                logger.info("wrote %s", out)
+            emit_chunks(view.json_chunks(end=b"\n"), out)
         else:
             emit(view, OutputFormat(fmt.value), out)
+
+
+PictureOutOpt = Annotated[Path, typer.Option("-o", "--output", help="Picture file to write: .png or .svg.", show_default=False)]
+EdgeIdsOpt = Annotated[bool, typer.Option("--edge-ids", help="Label edges e<i> with arrows showing their direction.")]
+VertexIdsOpt = Annotated[bool, typer.Option("--vertex-ids", help="Label vertices v<i>.")]
+ReflexOpt = Annotated[bool, typer.Option("--reflex/--no-reflex", help="Mark reflex vertices.")]
+ShowPartitionOpt = Annotated[bool, typer.Option("--partition", help="Draw the partition P′ (Algorithm 1): numbered segments, inserted points.")]
+ShowGraphOpt = Annotated[bool, typer.Option("--graph", help="Draw the bounce visibility graph lightly (a line between segments that see each other).")]
+SafeArcsOpt = Annotated[bool, typer.Option("--safe-arcs", help="Draw every safe arc as a ray that lands on its target segment.")]
+DrawTrajectoriesOpt = Annotated[int, typer.Option("--trajectories", min=0, max=MAX_TRAJECTORIES, metavar="N", help="Simulate N rollouts of --rule (or of --plan) and draw them.")]
+DrawRuleOpt = Annotated[str, typer.Option("--rule", metavar="RULE", help="Bounce rule of the trajectories: specular, fixed:THETA, relative:THETA or monotone:THETA (radians, pi/3 allowed).")]
+DrawStartOpt = Annotated[str | None, typer.Option("--from", metavar="SET", help="Start set of the trajectories, e.g. e0 or e3:0.25:0.75,e4 (default: the whole boundary).", show_default=False)]
+DrawBouncesOpt = Annotated[int, typer.Option("--bounces", min=0, max=MAX_BOUNCES, metavar="K", help="Bounces per trajectory.")]
+DrawSeedOpt = Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the trajectories.")]
+ShowCycleOpt = Annotated[bool, typer.Option("--cycle", help="Draw the limit cycle of the constant heading --theta on top (bold; contacts as yellow circles); --trajectories then follow that constant rule (paper Fig. 9).")]
+CycleThetaOpt = Annotated[str | None, typer.Option("--theta", metavar="THETA", help="The constant heading of --cycle, as in 'solverplan cycle'.", show_default=False)]
+DrawPlanOpt = Annotated[Path | None, typer.Option("--plan", metavar="PLAN.json", help="Draw a plan (from 'solverplan plan -o'): its cones per stage, start and goal sets; --trajectories then follow the plan.", show_default=False)]
 
 
 @app.command()
 def render(
     env: EnvArg,
-    out: Annotated[Path, typer.Option("-o", "--output", help="Picture file to write: .png or .svg.", show_default=False)],
-    edge_ids: Annotated[bool, typer.Option("--edge-ids", help="Label edges e<i> with arrows showing their direction.")] = False,
-    vertex_ids: Annotated[bool, typer.Option("--vertex-ids", help="Label vertices v<i>.")] = False,
-    reflex: Annotated[bool, typer.Option("--reflex/--no-reflex", help="Mark reflex vertices.")] = True,
-    show_partition: Annotated[
-        bool, typer.Option("--partition", help="Draw the partition P′ (Algorithm 1): numbered segments, inserted points.")
-    ] = False,
-    show_graph: Annotated[
-        bool, typer.Option("--graph", help="Draw the bounce visibility graph lightly (a line between segments that see each other).")
-    ] = False,
-    safe_arcs: Annotated[
-        bool, typer.Option("--safe-arcs", help="Draw every safe arc as a ray that lands on its target segment.")
-    ] = False,
-    trajectories: Annotated[
-        int, typer.Option("--trajectories", min=0, max=MAX_TRAJECTORIES, metavar="N", help="Simulate N rollouts of --rule (or of --plan) and draw them.")
-    ] = 0,
-    rule: Annotated[
-        str,
-        typer.Option(
-            "--rule", metavar="RULE",
-            help="Bounce rule of the trajectories: specular, fixed:THETA, relative:THETA or monotone:THETA (radians, pi/3 allowed).",
-        ),
-    ] = "specular",
-    start: Annotated[
-        str | None,
-        typer.Option("--from", metavar="SET", help="Start set of the trajectories, e.g. e0 or e3:0.25:0.75,e4 (default: the whole boundary).", show_default=False),
-    ] = None,
-    bounces: Annotated[int, typer.Option("--bounces", min=0, max=MAX_BOUNCES, metavar="K", help="Bounces per trajectory.")] = 20,
-    seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the trajectories.")] = 0,
-    show_cycle: Annotated[
-        bool,
-        typer.Option("--cycle", help="Draw the limit cycle of the constant heading --theta on top (bold; contacts as yellow "
-                     "circles); --trajectories then follow that constant rule (paper Fig. 9)."),
-    ] = False,
-    cycle_theta: Annotated[
-        str | None,
-        typer.Option("--theta", metavar="THETA", help="The constant heading of --cycle, as in 'solverplan cycle'.", show_default=False),
-    ] = None,
-    plan_file: Annotated[
-        Path | None,
-        typer.Option("--plan", metavar="PLAN.json", help="Draw a plan (from 'solverplan plan -o'): its cones per stage, start and goal "
-                     "sets; --trajectories then follow the plan.", show_default=False),
-    ] = None,
+    out: PictureOutOpt,
+    edge_ids: EdgeIdsOpt = False,
+    vertex_ids: VertexIdsOpt = False,
+    reflex: ReflexOpt = True,
+    show_partition: ShowPartitionOpt = False,
+    show_graph: ShowGraphOpt = False,
+    safe_arcs: SafeArcsOpt = False,
+    trajectories: DrawTrajectoriesOpt = 0,
+    rule: DrawRuleOpt = "specular",
+    start: DrawStartOpt = None,
+    bounces: DrawBouncesOpt = 20,
+    seed: DrawSeedOpt = 0,
+    show_cycle: ShowCycleOpt = False,
+    cycle_theta: CycleThetaOpt = None,
+    plan_file: DrawPlanOpt = None,
     env_format: EnvFormatOpt = None,
     fmt: FormatOpt = OutputFormat.JSON,
     verbose: VerboseOpt = 0,

@@ -9,7 +9,7 @@ import typer
 
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
-from solverplan.cli._errors import exit_codes, fail
+from solverplan.cli._errors import exit_codes, invalid
 from solverplan.cli._output import OutputFormat, emit
 
 
@@ -73,6 +73,4 @@ def verify_command(
         report = check_certificate(certificate, **query)
         emit(report, fmt, out)
     if not report.valid:
-        more = len(report.failures) - 1
-        suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
-        raise fail(f"certificate invalid: {report.failures[0]}", 1, suffix)
+        raise invalid("certificate", report.failures)

@@ -2,38 +2,23 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from solverplan.choices import DoorPolicy, RoomRule, ThetaMode, or_all
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
-from solverplan.cli._errors import exit_codes, fail
-from solverplan.cli._options import CertificateOpt, PictureOpt, write_certificate_file
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
+from solverplan.cli._errors import exit_codes, invalid
+from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, save_picture
 from solverplan.cli._output import OutputFormat, emit
 
-
-class RoomRule(StrEnum):
-    SMART = "smart"
-    SMART_PAPER = "smart-paper"
-    SMART_PER_ROOM = "smart-per-room"
-    RANDOM = "random"
-    BILLIARD = "billiard"
-    ALL = "all"
-
-
-class ThetaMode(StrEnum):
-    SAFE = "safe"
-    PAPER = "paper"
-    PER_ROOM = "per-room"
-
-
-class DoorMode(StrEnum):
-    CONTROL = "control"
-    OPEN = "open"
+if TYPE_CHECKING:
+    from solverplan.choices import Choice as RoomRuleOrAll
+else:
+    RoomRuleOrAll = or_all(RoomRule)
 
 
 @app.command(name="rooms")
@@ -42,11 +27,11 @@ def rooms_command(
     simulate: Annotated[bool, typer.Option("--simulate", help="Simulate robots from room --from to room --to instead.")] = False,
     start: Annotated[int | None, typer.Option("--from", min=0, metavar="ROOM", help="Start room (with --simulate).", show_default=False)] = None,
     goal: Annotated[int | None, typer.Option("--to", min=0, metavar="ROOM", help="Target room (with --simulate).", show_default=False)] = None,
-    rule: Annotated[RoomRule, typer.Option("--rule", help="Bounce rule: smart (θ from --theta), smart-paper, smart-per-room, random, billiard, or all side by side. Every rule is simulated with the same starts to make the recommendation.")] = RoomRule.SMART,
+    rule: Annotated[RoomRuleOrAll, typer.Option("--rule", help="Bounce rule: smart (θ from --theta), smart-paper, smart-per-room, random, billiard, or all side by side. Every rule is simulated with the same starts to make the recommendation.")] = RoomRuleOrAll("smart"),
     trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="N", help="Robots per rule.")] = 100,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="Random seed of the starts (and of the random rule).")] = 0,
     max_bounces: Annotated[int, typer.Option("--max-bounces", min=1, max=MAX_BOUNCES, metavar="K", help="Bounce budget of each robot.")] = 5000,
-    doors: Annotated[DoorMode, typer.Option("--doors", help="control: the door-control policy for the room sequence; open: every door open.")] = DoorMode.CONTROL,
+    doors: Annotated[DoorPolicy, typer.Option("--doors", help="control: the door-control policy for the room sequence; open: every door open.")] = DoorPolicy.CONTROL,
     per_room: Annotated[bool, typer.Option("--per-room", help="Tell the smart robot the θ of the room it is in (the same as --theta per-room).")] = False,
     theta: Annotated[ThetaMode, typer.Option("--theta", help="The smart rule's θ: safe (tan θ = ℓ/2D, arrives from every start tried), paper (Eq. 1's ℓ/h: faster, some starts trapped) or per-room (the safe θ of the room it is in).")] = ThetaMode.SAFE,
     tour: Annotated[bool, typer.Option("--tour", help="Visit every room from --from (depth first) instead of going to --to.")] = False,
@@ -62,59 +47,59 @@ def rooms_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """Rooms and doors of a rectilinear polygon (Algorithm 1 of the rooms paper); with --simulate, the bounce rules compared."""
-    from solverplan.rectilinear import decompose_rooms
-
     if check is not None:
-        from solverplan.certify.rooms_answer import check_rooms, load_rooms_answer
-
-        with exit_codes(verbose):
-            if simulate or picture is not None or start is not None or goal is not None or tour:
+        if simulate or picture is not None or start is not None or goal is not None or tour:
+            with exit_codes(verbose):
                 raise InputError("--check checks an answer file: drop the options of --simulate and --picture")
-            report = check_rooms(load_env(env, env_format), load_rooms_answer(check))
-            emit(report, fmt, out)
-        if not report.valid:
-            more = len(report.failures) - 1
-            suffix = f" (and {more} more failure{'s' if more > 1 else ''} in the report)" if more else ""
-            raise fail(f"rooms answer invalid: {report.failures[0]}", 1, suffix)
-        return
+        return _check_answer(env, env_format, check, fmt, out, verbose)
     with exit_codes(verbose):
-        check_picture(picture)
         if simulate and certificate is not None:
             raise InputError("--certificate certifies the rooms and doors: drop --simulate (its statistics are not claims)")
         if not simulate and (start is not None or goal is not None or tour):
             raise InputError("--from, --to and --tour choose the rooms of --simulate: add --simulate")
         if simulate and (start is None or (goal is None) == (not tour)):
             raise InputError("--simulate needs --from ROOM and either --to ROOM or --tour")
-        environment = load_env(env, env_format)
+        environment = load_env(env, env_format, picture)
         if not simulate:
-            from solverplan.certify.gate import checked_answer
-
-            checked = checked_answer(lambda: decompose_rooms(environment), env=environment)  # exact check first
-            dec = checked.answer
-            if certificate is not None:
-                write_certificate_file(dec, certificate, environment, checked.certificate)
-            if picture is not None:
-                _save_rooms_picture(dec, None, picture)
-            emit(dec, fmt, out)
-            return
-        from solverplan.studies.rooms import RULE_VARIANTS, compare_rules
-
-        dec = decompose_rooms(environment)
-
+            return _decompose(environment, certificate, fmt, out, picture)
         assert start is not None
-        walk = dec.tour(start) if tour else dec.path(start, dec.check_room(goal))
-        names = RULE_VARIANTS if rule is RoomRule.ALL else (rule.value,) + tuple(n for n in RULE_VARIANTS if n != rule.value)
-        answer = compare_rules(dec, start, walk[-1], rules=names, trials=trials, seed=seed, max_bounces=max_bounces,
-                               doors=doors.value, per_room=per_room, theta=theta.value, walk=walk,
-                               keep=1 if picture is not None else 0)
-        if picture is not None:
-            _save_rooms_picture(dec, {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories}, picture)
-        emit(answer if rule is RoomRule.ALL else answer.runs[rule.value], fmt, out)
+        _simulate(environment, start, goal, tour, rule, picture, fmt, out, trials=trials, seed=seed,
+                  max_bounces=max_bounces, doors=doors.value, per_room=per_room, theta=theta.value)
 
 
-def _save_rooms_picture(dec: Any, trajectories: Any, picture: Path) -> None:
-    """--picture: matplotlib is imported here only (about 0.3 s), not by every ``rooms`` command."""
-    from solverplan.render import save_figure
-    from solverplan.render.rooms import render_rooms
+def _simulate(environment: Any, start: int, goal: int | None, tour: bool, rule: Any, picture: Path | None,
+              fmt: OutputFormat, out: Path | None, **options: Any) -> None:
+    """--simulate: every rule through the same rooms from the same starts (the one asked for first), and its runs
+    (or all of them, with --rule all)."""
+    from solverplan.rectilinear import decompose_rooms
+    from solverplan.rectilinear.simulation import RULE_VARIANTS, compare_rules
 
-    save_figure(render_rooms(dec, trajectories) if trajectories is not None else render_rooms(dec), picture)
+    dec = decompose_rooms(environment)
+    walk = dec.tour(start) if tour else dec.path(start, dec.check_room(goal))
+    names = RULE_VARIANTS if rule == "all" else (rule.value,) + tuple(n for n in RULE_VARIANTS if n != rule.value)
+    answer = compare_rules(dec, start, walk[-1], rules=names, walk=walk, keep=1 if picture else 0, **options)
+    if picture is not None:
+        save_picture(picture, "rooms.render_rooms", dec,
+                     {name: r.trajectories[0] for name, r in answer.runs.items() if r.trajectories})
+    emit(answer if rule == "all" else answer.runs[rule.value], fmt, out)
+
+
+def _check_answer(env: Path, env_format: Any, check: Path, fmt: OutputFormat, out: Path | None, verbose: int) -> None:
+    """--check: a rooms answer file checked against ENV exactly (exit 0 valid, 1 invalid)."""
+    from solverplan.certify.rooms_answer import check_rooms, load_rooms_answer
+
+    with exit_codes(verbose):
+        report = check_rooms(load_env(env, env_format), load_rooms_answer(check))
+        emit(report, fmt, out)
+    if not report.valid:
+        raise invalid("rooms answer", report.failures)
+
+
+def _decompose(environment: Any, certificate: Path | None, fmt: OutputFormat, out: Path | None,
+               picture: Path | None) -> None:
+    """The rooms and doors, checked exactly before they leave, with the --certificate and --picture."""
+    from solverplan.certify.gate import checked_answer
+    from solverplan.rectilinear import decompose_rooms
+
+    checked = checked_answer(lambda: decompose_rooms(environment), env=environment)
+    emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture)

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
+from solverplan.choices import StudyGenerator as GeneratorName
 from solverplan.limits import MAX_BOUNCES, MAX_COUNT, MAX_SEED, MAX_TRIALS
 from solverplan.cli._app import FormatOpt, OutOpt, VerboseOpt, app
 from solverplan.cli._errors import Shell, exit_codes, fail
@@ -22,12 +22,6 @@ study_app = typer.Typer(
 )
 app.add_typer(study_app, name="study")
 
-
-class GeneratorName(StrEnum):
-    STAR = "star"
-    HOLES = "holes"
-    ROOMS = "rooms"
-    RECTILINEAR = "rectilinear"
 
 
 GeneratorOpt = Annotated[GeneratorName, typer.Option("--generator", help="The random environments.")]

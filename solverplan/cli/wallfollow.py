@@ -2,29 +2,18 @@
 
 from __future__ import annotations
 
-from enum import StrEnum
+from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
+from solverplan.choices import Comparisons, Sensor
 from solverplan.limits import MAX_SEED
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, check_picture, load_env
+from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import CertificateOpt, PictureOpt, parse_pair, write_certificate_file
+from solverplan.cli._options import CertificateOpt, PictureOpt, parse_pair, save_picture, write_certificate_file
 from solverplan.cli._output import OutputFormat, emit
-
-
-class Comparisons(StrEnum):
-    PAIRWISE = "pairwise"
-    SORT = "sort"
-
-
-class PursuitSensor(StrEnum):
-    GAP = "gap"
-    BITANGENT = "bitangent"
-    PEBBLE = "pebble"
-    CONTACT = "contact"
 
 
 @app.command(name="wallfollow")
@@ -40,7 +29,7 @@ def wallfollow_command(
     steps: Annotated[int, typer.Option("--steps", min=0, max=10_000_000, metavar="K", help="With --count: follows of the random walk (at most 10,000,000).")] = 1000,
     seed: Annotated[int, typer.Option("--seed", min=0, max=MAX_SEED, metavar="S", help="With --count: seed of the random walk.")] = 0,
     pursuit: Annotated[bool, typer.Option("--pursuit", help="A shortest pursuit-evasion plan, replayed by the geometric ground-truth checker.")] = False,
-    sensor: Annotated[PursuitSensor, typer.Option("--sensor", help="With --pursuit: the pursuer's extra sensor (gap: Strategy 2; bitangent: Strategy 3; pebble: Strategies 4–5, pebble visibility; contact: Strategy 6, touch and pebble only).")] = PursuitSensor.GAP,
+    sensor: Annotated[Sensor, typer.Option("--sensor", help="With --pursuit: the pursuer's extra sensor (gap: Strategy 2; bitangent: Strategy 3; pebble: Strategies 4–5, pebble visibility; contact: Strategy 6, touch and pebble only).")] = Sensor.GAP,
     origin: Annotated[str, typer.Option("--from", metavar="POINT", help="With --pursuit: the pursuer's start, a point of the cut ordering (v0, r3).")] = "v0",
     max_states: Annotated[int, typer.Option("--max-states", min=1, max=10_000_000, metavar="N", help="With --pursuit: cap on the derived I-states searched.")] = 200_000,
     perturb: Annotated[bool, typer.Option("--perturb", help="Make a degenerate polygon general by an infinitesimal symbolic perturbation (simulation of simplicity): grazing JUMPs pass one fixed side, coinciding cut end points are ordered one fixed way.")] = False,
@@ -52,56 +41,79 @@ def wallfollow_command(
     verbose: VerboseOpt = 0,
 ) -> None:
     """The wall-following robot (Yershova et al.): cut ordering, Strategy 1, vertex counting, pursuit-evasion."""
-    from solverplan.wallfollow.cut import cut_ordering as exact_cut_ordering
-    from solverplan.wallfollow.filters import count_random_walk
-    from solverplan.wallfollow.learning import learn_cut_ordering
-
     with exit_codes(verbose):
-        if cut_ordering + learn + count + pursuit > 1:
-            raise InputError("choose one of --cut-ordering, --learn, --count and --pursuit")
-        if not pursuit and (sensor is not PursuitSensor.GAP or origin != "v0" or max_states != 200_000):
-            raise InputError("--sensor, --from and --max-states belong to --pursuit")
-        if not learn and (transcript or comparisons is not Comparisons.PAIRWISE):
-            raise InputError("--comparisons and --transcript belong to --learn")
-        if not (learn or count) and (start is not None or heading is not None):
-            raise InputError("--start and --heading place the robot of --learn or --count")
-        if not count and (steps != 1000 or seed != 0):
-            raise InputError("--steps and --seed belong to --count")
-        if count and certificate is not None:
-            raise InputError("--certificate certifies a cut ordering or a pursuit plan: --count is a random walk's estimate")
-        check_picture(picture)
-        environment = load_env(env, env_format)
+        _check_modes(cut_ordering, learn, count, pursuit, pursuit_options=(sensor, origin, max_states),
+                     learn_options=(transcript, comparisons), place=(start, heading), walk=(steps, seed),
+                     certificate=certificate)
+        environment = load_env(env, env_format, picture)
         perturbation = None
         if perturb:
-            from solverplan.wallfollow.perturbation import PerturbedAnswer, perturb as make_general
+            from solverplan.wallfollow.perturbation import perturb as make_general
 
             perturbation = make_general(environment)
             environment = perturbation.env
         where, towards = parse_pair(start, "--start"), parse_pair(heading or "1,0", "--heading")
         assert towards is not None
-        if learn:
-            answer: Any = learn_cut_ordering(environment, where, towards, comparisons=comparisons.value,
-                                             transcript=transcript)
-        elif count:
-            answer = count_random_walk(environment, steps, seed, where, towards)
-        elif pursuit:
-            from solverplan.wallfollow.pursuit import pursuit_plan
+        mode = "learn" if learn else "count" if count else "pursuit" if pursuit else "cut-ordering"
+        answer = _answer(environment, mode, where, towards, comparisons=comparisons, transcript=transcript,
+                         steps=steps, seed=seed, sensor=sensor, origin=origin, max_states=max_states)
+        _check_and_draw(environment, answer, mode, certificate, picture)
+        if perturbation is not None:
+            from solverplan.wallfollow.perturbation import PerturbedAnswer
 
-            answer = pursuit_plan(environment, sensor=sensor.value, start=origin, max_states=max_states)
-        else:
-            answer = exact_cut_ordering(environment)
-        if not count:  # the exact check before the answer leaves (a learned ordering: in the true numbering)
-            from solverplan.certify.gate import checked_answer
+            answer = PerturbedAnswer(answer, perturbation)
+        emit(answer, fmt, out)
 
-            certified = answer.ordering.relabel(answer.pebble_vertex) if learn else answer
-            checked = checked_answer(lambda: certified, env=environment)
-            if certificate is not None:
-                write_certificate_file(certified, certificate, environment, checked.certificate)
-        if picture is not None:
-            from solverplan.render import save_figure
-            from solverplan.render.wallfollow import render_cuts, render_pursuit
 
-            save_figure(render_pursuit(environment, answer) if pursuit else
-                        render_cuts(environment, answer.ordering.relabel(answer.pebble_vertex) if learn else None),
-                        picture)
-        emit(answer if perturbation is None else PerturbedAnswer(answer, perturbation), fmt, out)
+def _check_modes(cut_ordering: bool, learn: bool, count: bool, pursuit: bool, *, pursuit_options: tuple,
+                 learn_options: tuple, place: tuple, walk: tuple, certificate: Any) -> None:
+    """One line for options that belong to another mode than the one chosen."""
+    if cut_ordering + learn + count + pursuit > 1:
+        raise InputError("choose one of --cut-ordering, --learn, --count and --pursuit")
+    if not pursuit and pursuit_options != (Sensor.GAP, "v0", 200_000):
+        raise InputError("--sensor, --from and --max-states belong to --pursuit")
+    if not learn and learn_options != (False, Comparisons.PAIRWISE):
+        raise InputError("--comparisons and --transcript belong to --learn")
+    if not (learn or count) and place != (None, None):
+        raise InputError("--start and --heading place the robot of --learn or --count")
+    if not count and walk != (1000, 0):
+        raise InputError("--steps and --seed belong to --count")
+    if count and certificate is not None:
+        raise InputError("--certificate certifies a cut ordering or a pursuit plan: --count is a random walk's estimate")
+
+
+def _answer(environment: Any, mode: str, where: Any, towards: Any, *, comparisons: Comparisons, transcript: bool,
+            steps: int, seed: int, sensor: Sensor, origin: str, max_states: int) -> Any:
+    """The library's answer for the mode chosen."""
+    if mode == "learn":
+        from solverplan.wallfollow.learning import learn_cut_ordering
+
+        return learn_cut_ordering(environment, where, towards, comparisons=comparisons.value, transcript=transcript)
+    if mode == "count":
+        from solverplan.wallfollow.filters import count_random_walk
+
+        return count_random_walk(environment, steps, seed, where, towards)
+    if mode == "pursuit":
+        from solverplan.wallfollow.pursuit import pursuit_plan
+
+        return pursuit_plan(environment, sensor=sensor.value, start=origin, max_states=max_states)
+    from solverplan.wallfollow.cut import cut_ordering
+
+    return cut_ordering(environment)
+
+
+def _check_and_draw(environment: Any, answer: Any, mode: str, certificate: Path | None, picture: Path | None) -> None:
+    """The exact check before the answer leaves (a learned ordering: in the true numbering), the --certificate and
+    the --picture."""
+    learned = answer.ordering.relabel(answer.pebble_vertex) if mode == "learn" else None
+    if mode != "count":
+        from solverplan.certify.gate import checked_answer
+
+        certified = learned if learned is not None else answer
+        checked = checked_answer(lambda: certified, env=environment)
+        if certificate is not None:
+            write_certificate_file(certified, certificate, environment, checked.certificate)
+    if mode == "pursuit":
+        save_picture(picture, "wallfollow.render_pursuit", environment, answer)
+    else:
+        save_picture(picture, "wallfollow.render_cuts", environment, learned)

@@ -20,8 +20,9 @@ import random
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Literal, Sequence
+from typing import Callable, Sequence
 
+from solverplan.choices import ViewChoice
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_number, format_point
@@ -34,8 +35,7 @@ from typing import Any
 
 __all__ = ["CHOICES", "Exploration", "explore_depth_first"]
 
-Choice = Literal["first", "random", "far"]
-CHOICES: tuple[str, ...] = ("first", "random", "far")
+CHOICES: tuple[str, ...] = ViewChoice.values()
 """The z-choice rules: ``first`` — the first unexplored window part in the current view's CCW ring order;
 ``random`` — a uniformly random one (seeded); ``far`` — the one whose chosen point is farthest from the
 current viewpoint. On the chosen part the viewpoint is the simplest rational point of its middle third."""
@@ -56,6 +56,7 @@ class ViewpointRun(Answer):
     bound: int
     covered_fraction: float
     choice: str
+    optimality: Optimality
 
     @property
     def n_views(self) -> int:
@@ -96,6 +97,16 @@ class ViewpointRun(Answer):
             "viewpoints_exact": [[format_number(x), format_number(y)] for x, y in self.viewpoints],
             "path_exact": [[format_number(x), format_number(y)] for x, y in self.path],
         }
+
+    def _text(self, heading: str, counts: str, via: Callable[[int], str], width: int) -> str:
+        """The short report every exploration gives: a heading, its counts, moves and coverage, the optimality, then
+        the viewpoints (``via(k)``: how viewpoint k was reached)."""
+        lines = [heading, counts,
+                 f"moves {self.moves}, path length {self.path_length:.6g}, covered {self.covered_fraction:.12g}",
+                 f"optimality: {self.optimality.to_text()}"]
+        for k, p in enumerate(self.viewpoints):
+            lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via(k)}"[:width])
+        return "\n".join(lines)
 
     @staticmethod
     def _read_run(r: Reader, env: Environment | None, kind: str) -> dict:
@@ -184,16 +195,9 @@ class Exploration(ViewpointRun):
 
     def to_text(self, *, width: int = 100) -> str:
         """A short report: counts, bound, coverage, then the viewpoints."""
-        lines = [
-            f"exploration (Algorithm {self.algorithm}, choice {self.choice}): {self.status.value}",
-            f"views {self.n_views} (bound {self.bound}, r = {self.reflex}), moves {self.moves}, "
-            f"path length {self.path_length:.6g}, covered {self.covered_fraction:.12g}",
-            f"optimality: {self.optimality.to_text()}",
-        ]
-        for k, p in enumerate(self.viewpoints):
-            via = "" if self.parents[k] < 0 else f"  (on a window of p{self.parents[k] + 1})"
-            lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via}"[:width])
-        return "\n".join(lines)
+        return self._text(f"exploration (Algorithm {self.algorithm}, choice {self.choice}): {self.status.value}",
+                          f"views {self.n_views} (bound {self.bound}, r = {self.reflex})",
+                          lambda k: "" if self.parents[k] < 0 else f"  (on a window of p{self.parents[k] + 1})", width)
 
 
 def covered_fraction(env: Environment, views: Sequence[VisibilityPolygon]) -> float:
@@ -213,7 +217,7 @@ def _start_point(env: Environment, start: Sequence[object]) -> tuple[ExactPoint,
         raise InputError(f"start {format_point(p)} is not in the free space of {env.name or 'the environment'}") from None
 
 
-def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Choice = "first",
+def explore_depth_first(env: Environment, start: Sequence[object], *, choice: ViewChoice | str = "first",
                         seed: int | None = None, max_views: int | None = None) -> Exploration:
     """Explore ``env`` from ``start`` with Algorithm A.
 
@@ -252,8 +256,7 @@ def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Ch
     >>> run.n_views, run.bound, run.covered_fraction
     (2, 2, 1.0)
     """
-    if choice not in CHOICES:
-        raise InputError(f"unknown z-choice rule {choice!r}: use {', '.join(CHOICES)}")
+    choice = ViewChoice.parse(choice, "z-choice rule").value
     if seed is not None and choice != "random":
         raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
     walls = StraightWalls(env)

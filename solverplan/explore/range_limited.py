@@ -44,12 +44,13 @@ from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Sequence
 
+from solverplan.choices import ViewChoice
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import (ExactPoint, exact_point, format_number, format_point, orient, point_in_ring,
                               to_fraction)
 from solverplan.explore.bounds import range_ratio_bound, range_views_bound, range_views_lower_bound
-from solverplan.explore.depth_first import CHOICES, ViewpointRun, explore_depth_first
+from solverplan.explore.depth_first import ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
 from solverplan.geometry.walls import StraightWalls
@@ -203,17 +204,13 @@ class RangeExploration(ViewpointRun):
                    epsilon=r.exact("epsilon_exact"), uncovered=tuple(uncovered), unseen_vertices=unseen, **fields)
 
     def to_text(self, *, width: int = 100) -> str:
-        lines = [
-            f"exploration (Algorithm {self.algorithm}, range R = {float(self.range):.6g}): {self.status.value}",
-            f"views {self.n_views} (Lemma 4 bound {self.bound}, Theorem 5 lower bound {self.lower_bound}, "
-            f"ratio {self.ratio:.3g} <= {self.ratio_bound:.3g}), r = {self.reflex}, h = {self.holes}",
-            f"moves {self.moves}, path length {self.path_length:.6g}, covered {self.covered_fraction:.12g}",
-            f"optimality: {self.optimality.to_text()}",
-        ]
-        for k, p in enumerate(self.viewpoints):
-            via = "" if self.parents[k] < 0 else f"  (in the view of p{self.parents[k] + 1}, {self.phases[k]})"
-            lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via}"[:width])
-        return "\n".join(lines)
+        return self._text(f"exploration (Algorithm {self.algorithm}, range R = {float(self.range):.6g}): "
+                          f"{self.status.value}",
+                          f"views {self.n_views} (Lemma 4 bound {self.bound}, Theorem 5 lower bound "
+                          f"{self.lower_bound}, ratio {self.ratio:.3g} <= {self.ratio_bound:.3g}), r = {self.reflex}, "
+                          f"h = {self.holes}",
+                          lambda k: "" if self.parents[k] < 0 else
+                          f"  (in the view of p{self.parents[k] + 1}, {self.phases[k]})", width)
 
 
 def _in_free_space(env: Environment, q: ExactPoint) -> bool:
@@ -570,15 +567,9 @@ class _Explorer:
             # from the arc of the last view that reaches farthest that way
             last = self.views[-1]
             ring = np.array(last.boundary_points(1e-4))
-            ahead = ring @ np.array(HEADING)
-            for i in np.argsort(-ahead, kind="stable")[:16].tolist():
-                s = (float(ring[i][0]), float(ring[i][1]))
-                if s in self.blocked:
-                    continue
-                placed = self.place(s, ())
-                if placed is not None:
-                    return placed[0], placed[1], "open", -1, s
-                self.blocked.add(s)
+            found = self._first_placed(ring, -(ring @ np.array(HEADING)), 16, "open")
+            if found is not None:
+                return found
         # Steps 2 and 6: a point of CP's frontier (arcs, constructed edges) farthest from every viewpoint
         pieces = self.uncovered()
         if not pieces:
@@ -593,13 +584,20 @@ class _Explorer:
         seen_from = np.array([[float(x), float(y)] for x, y in self.viewpoints])
         spread = np.min(np.linalg.norm(coords[:, None, :] - seen_from[None, :, :], axis=2), axis=1)
         arc_phase = "open" if all(not runs[k] for k in runs if self.ring_seen(k)) else "frontier"
-        for i in np.argsort(-spread, kind="stable")[:64].tolist():
+        return self._first_placed(coords, -spread, 64, arc_phase)
+
+    def _first_placed(self, coords: Any, rank: Any, tries: int, phase: str) -> Any:
+        """The first of the ``tries`` best-ranked points (lowest ``rank``) not blocked where a viewpoint can be placed:
+        (viewpoint, view, phase, -1, aim), or ``None``; the points that fail are blocked."""
+        import numpy as np
+
+        for i in np.argsort(rank, kind="stable")[:tries].tolist():
             s = (float(coords[i][0]), float(coords[i][1]))
             if s in self.blocked:
                 continue
             placed = self.place(s, ())
             if placed is not None:
-                return placed[0], placed[1], arc_phase, -1, s
+                return placed[0], placed[1], phase, -1, s
             self.blocked.add(s)
         return None
 
@@ -662,7 +660,7 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     p = exact_point(start, where="start")
     t0 = time.perf_counter()
     if covers_every_segment(env, R):  # Theorem 3: every view is a whole visibility polygon
-        run = explore_depth_first(env, p, max_views=limit, choice=choice, seed=seed)  # type: ignore[arg-type]
+        run = explore_depth_first(env, p, max_views=limit, choice=choice, seed=seed)
         views = tuple(range_visibility(env, q, R) for q in run.viewpoints)
         eps = Fraction(0) if epsilon is None else to_fraction(epsilon, where="epsilon")
         optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
@@ -673,8 +671,7 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
                                 len(env.holes), bound, lower, ratio_bound, run.covered_fraction, R, eps, optimality,
                                 Stats(seconds_search=time.perf_counter() - t0, counts=dict(run.stats.counts)),
                                 EnvironmentRecord.of(env), algorithm="A", choice=run.choice)
-    if choice not in CHOICES:
-        raise InputError(f"unknown z-choice rule {choice!r}: use {', '.join(CHOICES)}")
+    choice = ViewChoice.parse(choice, "z-choice rule").value
     if seed is not None and choice != "random":
         raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
     eps = _default_epsilon(env, R) if epsilon is None else to_fraction(epsilon, where="epsilon")

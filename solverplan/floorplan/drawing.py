@@ -23,7 +23,6 @@ are not the free space and do not touch it, parts of the free space cut off by s
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any, Sequence
 

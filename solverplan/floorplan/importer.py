@@ -13,6 +13,7 @@ from typing import Any, Literal, Sequence
 
 import numpy as np
 
+from solverplan.choices import FloorplanFormat
 from solverplan._io import cannot_write
 from solverplan.environment import Environment, save_environment
 from solverplan.errors import InputError, MalformedFile
@@ -234,7 +235,7 @@ PLANNING_VERTICES = 150
 
 def _format_of(path: Path, fmt: str | None) -> PlanFormat:
     if fmt is not None:
-        if fmt not in ("ros", "dxf", "svg"):
+        if fmt not in FloorplanFormat.values():
             raise MalformedFile(f"unknown floor plan format {fmt!r}: use ros, dxf or svg")
         return fmt  # type: ignore[return-value]
     try:

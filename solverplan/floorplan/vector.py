@@ -21,6 +21,7 @@ import numpy as np
 
 from solverplan._io import read_input_bytes, shown_path
 from solverplan.errors import InputError, MalformedFile
+from solverplan.exact import ring_without_repeats
 from solverplan.limits import MAX_HOLES, MAX_VERTICES, quote
 
 MAX_DRAWING_ENTITIES = 200_000
@@ -108,16 +109,6 @@ def _decimal(value: float) -> Decimal:
     if not math.isfinite(value):
         raise MalformedFile(f"coordinate {value!r} is not a finite number")
     return Decimal(repr(float(value)))
-
-
-def _dedupe(ring: ExactRing) -> ExactRing:
-    out: ExactRing = []
-    for p in ring:
-        if not out or out[-1] != p:
-            out.append(p)
-    while len(out) > 1 and out[0] == out[-1]:
-        out.pop()
-    return out
 
 
 
@@ -293,7 +284,7 @@ def _dxf_rings(doc: Any, path: str, layer: str | None, units: str | None,
             points = [(p.x, p.y) for p in flat]
             if closed and len(points) > 1 and points[0] == points[-1]:
                 points.pop()
-        ring = _dedupe([scaled(x, y) for x, y in points])
+        ring = ring_without_repeats([scaled(x, y) for x, y in points])
         budget.outline(len(ring), closed)
         if closed:
             if len(ring) >= 3:
@@ -762,7 +753,7 @@ def _svg_rings(document: Any, path: str, scale: Decimal | None, tolerance: float
                     chords = _flatten(segment, drawing_tolerance / user_scale)
                     points.extend(rounded(x, y) for x, y in chords[:-1])
                     points.append(exact(segment.end.x, segment.end.y))
-            ring = _dedupe(points)
+            ring = ring_without_repeats(points)
             if not closed and points and points[0] == points[-1]:
                 closed = True  # drawn back to its start without a Z
             budget.outline(len(ring), closed)

@@ -47,6 +47,8 @@ from solverplan.exact import (
     cross,
     dot,
     exact_point,
+    exact_segment,
+    ring_without_repeats,
     format_point,
     line_intersection,
     on_segment,
@@ -263,14 +265,7 @@ def _resolve_segment(env: Environment, seg: Segment, name: str) -> tuple[ExactPo
         if not 0 <= t0 < t1 <= 1:
             raise InputError(f"{name} {seg}: need 0 <= t0 < t1 <= 1")
         return _lerp(edge.a, edge.b, t0), _lerp(edge.a, edge.b, t1), seg.edge
-    try:
-        first, second = seg
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: expected two end points ((x0, y0), (x1, y1)), got {seg!r}") from None
-    p0 = exact_point(first, where=name)
-    p1 = exact_point(second, where=name)
-    if p0 == p1:
-        raise InputError(f"{name} has zero length: both end points are {format_point(p0)}")
+    p0, p1 = exact_segment(seg, where=name)
     f0, f1 = _floats([p0, p1])
     e0, e1 = env.edge_start, env.edge_end
     maybe = (orient_filter(e0, e1, f0) == 0) & (orient_filter(e0, e1, f1) == 0)
@@ -293,17 +288,6 @@ def _left_part(x0: ExactPoint, x1: ExactPoint, la: ExactPoint, lb: ExactPoint) -
         return x0, x1
     cut = _lerp(x0, x1, d0 / (d0 - d1))
     return (cut, x1) if d0 < 0 else (x0, cut)
-
-
-def _convex_ring(points: Sequence[ExactPoint]) -> list[ExactPoint]:
-    """Drop consecutive repeats (a shared end point of a and b) from a CCW convex ring."""
-    ring: list[ExactPoint] = []
-    for x in points:
-        if not ring or ring[-1] != x:
-            ring.append(x)
-    while len(ring) > 1 and ring[0] == ring[-1]:
-        ring.pop()
-    return ring
 
 
 def _edges_near_convex(env: Environment, ring: Sequence[ExactPoint], skip: Sequence[int] = ()) -> list[int]:
@@ -393,7 +377,7 @@ def is_entirely_visible(env: Environment, seg_a: Segment, seg_b: Segment) -> boo
     la, lb = (verts[ea], verts[int(nxt[ea])]), (verts[eb], verts[int(nxt[eb])])
     if _left_part(b0, b1, *la) != (b0, b1) or _left_part(a0, a1, *lb) != (a0, a1):
         return False  # some point of the open b is not strictly on A's free side, or vice versa
-    ring = _convex_ring([a0, a1, b0, b1])
+    ring = ring_without_repeats([a0, a1, b0, b1])
     for i in _edges_near_convex(env, ring, skip=(ea, eb)):
         if _meets_open_convex(ring, verts[i], verts[int(nxt[i])]):
             return False
@@ -475,7 +459,7 @@ def _weak_visibility_witness(
     if part_a is None or part_b is None:
         return None
     (a0, a1), (b0, b1) = part_a, part_b
-    quad = _convex_ring([a0, a1, b0, b1])
+    quad = ring_without_repeats([a0, a1, b0, b1])
     blockers = _edges_near_convex(env, quad, skip=(ea, eb))
     edges = [(verts[i], verts[int(nxt[i])]) for i in blockers]
 

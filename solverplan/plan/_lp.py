@@ -117,17 +117,24 @@ class _Network:
         raise SolverFailed("the LP's flow does not form a path from the start to the goal")
 
 
+def _flow_network(problem: Problem, max_bounces: int, status_key: str) -> tuple[_Network, dict, tuple | None]:
+    """The time-expanded network of the query, its size (``stats``) and its flow arrays (incidence matrix, right-hand
+    side, arc widths); no arrays when no arc enters the goal (``stats[status_key]`` says so)."""
+    net = _Network(problem, max_bounces)
+    stats: dict = {"nodes": net.n_nodes, "arcs": len(net.tails)}
+    if not any(h == net.sink for h in net.heads):
+        return net, {**stats, status_key: "no arc into the goal"}, None
+    return net, stats, (net.incidence(), net.rhs(), np.asarray(net.weights))
+
+
 def sum_lp(problem: Problem, max_bounces: int) -> tuple[float | None, Path | None, dict]:
     """The sum-of-widths plan by LP over path flows (clarabel); see the module docstring."""
     import cvxpy as cp
 
-    net = _Network(problem, max_bounces)
-    stats = {"nodes": net.n_nodes, "arcs": len(net.tails)}
-    if not any(h == net.sink for h in net.heads):
-        return None, None, {**stats, "lp_status": "no arc into the goal"}
-    A = net.incidence()
-    b = net.rhs()
-    w = np.asarray(net.weights)
+    net, stats, arrays = _flow_network(problem, max_bounces, "lp_status")
+    if arrays is None:
+        return None, None, stats
+    A, b, w = arrays
     x = cp.Variable(len(w), nonneg=True)
     balance = A @ x == b
     problem_lp = cp.Problem(cp.Maximize(w @ x), [balance])
@@ -182,13 +189,10 @@ def tolerance_milp(problem: Problem, max_bounces: int) -> tuple[float | None, Pa
 
     if "HIGHS" not in cp.installed_solvers():
         raise SolverFailed(f"the tolerance MILP needs HiGHS; installed solvers: {', '.join(cp.installed_solvers())}")
-    net = _Network(problem, max_bounces)
-    stats = {"nodes": net.n_nodes, "arcs": len(net.tails)}
-    if not any(h == net.sink for h in net.heads):
-        return None, None, {**stats, "milp_status": "no arc into the goal"}
-    A = net.incidence()
-    b = net.rhs()
-    w = np.asarray(net.weights)
+    net, stats, arrays = _flow_network(problem, max_bounces, "milp_status")
+    if arrays is None:
+        return None, None, stats
+    A, b, w = arrays
     x = cp.Variable(len(w), boolean=True)
     z = cp.Variable(nonneg=True)  # bounded by the arcs used: z ≤ wₐ where xₐ = 1
     big = math.pi

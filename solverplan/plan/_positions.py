@@ -49,14 +49,14 @@ from typing import Callable, Sequence
 import numpy as np
 
 from solverplan.interval import Interval
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import cast_from_boundary
 from solverplan.plan._deadline import NEVER, Deadline, in_chunks
 from solverplan.plan._results import heading_cone
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.result import Stage
 from solverplan.plan.margins import Margins
 
@@ -659,8 +659,8 @@ def _segments(part: Partition, pieces: Sequence[BoundaryPiece]) -> tuple[int, ..
     return tuple(sorted(out))
 
 
-def to_user_stages(walls: Walls, stages: Sequence[Stage]) -> tuple[Stage, ...]:
-    """Stages found on the straight walls (:attr:`Walls.merged <solverplan.plan._walls.Walls.merged>`) in the
+def to_user_stages(walls: PartitionedWalls, stages: Sequence[Stage]) -> tuple[Stage, ...]:
+    """Stages found on the straight walls (:attr:`PartitionedWalls.merged <solverplan.plan._walls.PartitionedWalls.merged>`) in the
     user's edges and segments (exact).
 
     Every piece (a source or a position) on a merged edge splits at the collinear vertices into pieces of
@@ -668,7 +668,7 @@ def to_user_stages(walls: Walls, stages: Sequence[Stage]) -> tuple[Stage, ...]:
     as they did: the user edges of one wall have its direction, so the headings are the same), and its target
     edge is the user edge where its exact image starts (the image may run on over the collinear neighbours of
     that edge: the straight wall it lands on). The segment ids are the user's partition P′
-    (:attr:`Walls.user_partition <solverplan.plan._walls.Walls.user_partition>`).
+    (:attr:`PartitionedWalls.user_partition <solverplan.plan._walls.PartitionedWalls.user_partition>`).
     """
     if walls.identity:
         return tuple(stages)

@@ -2,15 +2,31 @@
 
 Belief states
 -------------
-A *belief* is the set of places the robot may be on (a sorted tuple of elements: segment ids of P′, tagged when
-the robot arrived near one of the segment's corners, see :meth:`Problem.segment`). The start belief is the start
-set **as given**: every segment of P′ it covers whole, and every part of a segment it covers in part as an element
-of its own, a *start piece* (:attr:`Problem.start_pieces`), whose admissible intervals are computed for the piece
-itself (the exact safe sets of :func:`~solverplan.bounce.safe.safe_set`, cut by the same margins): a plan must work
-from every point of the start set, and need not work from the rest of a segment it touches. After the first stage
-the robot is on whole segments of P′ (the abstraction of the paper); start pieces occur only in the start belief.
-Positions exactly on a partition point are limits of both neighbouring segments and have measure zero; like the
-paper we do not treat them separately (the certificate checker covers them by closure).
+A *belief* is the set of places the robot may be on (a sorted tuple of elements: segment ids of P′ and *landing
+units*, tagged when the robot arrived near one of their corners, see :meth:`Problem.segment`). The start belief is
+the start set **as given**: every segment of P′ it covers whole, and for every part of a segment it covers in part
+the landing unit of that part, whose admissible intervals are computed for the piece itself (the exact safe sets
+of :func:`~solverplan.bounce.safe.safe_set`, cut by the same margins): a plan must work from every point of the
+start set, and need not work from the rest of a segment it touches. Positions exactly on a partition point are
+limits of both neighbouring segments and have measure zero; like the paper we do not treat them separately (the
+certificate checker covers them by closure).
+
+Landing units
+-------------
+The ends of the start and goal sets that fall strictly inside segments of P′ cut those segments into pieces. Each
+piece is a *landing unit* (:attr:`Problem.units`, :attr:`Problem.units_of`); the segments stay units too, and the
+parts of segments the start set covers are units of the start belief (a part may span several pieces). A stage may
+land on a segment (every landing point on it, the paper's abstraction) or on a unit (every landing point inside the
+unit's piece: Prop. 2's cone with the piece's ends, cut into the arc's admissible interval, exactly as a goal piece
+is, :meth:`Problem._landings`), and a later stage leaves from the unit with the unit's own exact safe sets. Both
+are open to every search, so the class of plans is exact for the query's cuts: a plan that needs the part of a
+segment beyond a set's end is found (it lands on the piece and leaves from it), and one whose landing straddles the
+end still lands on the whole segment. (Runs of several pieces are not landing units: at one heading a landing would
+then have as many choices as runs that hold it, and a belief of k sources their product; the certificates' class is
+the same, :mod:`solverplan.certify.negative`.) A segment's rows then overlap (a landing on a unit lies inside the
+landing on its segment): :meth:`Problem.options` joins such lists pair by pair. A unit that holds a corner of its
+segment keeps the corner tag of an arc into it (the ping-pong rule of :mod:`solverplan.plan.margins`); the
+clearance κ applies at the set ends a unit lands between, as at a goal piece.
 
 A *stage* from belief B executes one heading interval I (radians, measured from the wall the robot
 is on) that is admissible from **every** segment of B: for each source i ∈ B there is a target j_i
@@ -21,7 +37,9 @@ is determined; the intervals that work from all of B are therefore the cells of 
 the sources' interval lists, and :meth:`Problem.options` lists each cell once by merging the sorted
 lists source by source (the intersection of two sorted lists of disjoint intervals is again one). A
 cell's interval (the intersection of one interval per source) is the widest interval for that
-choice of targets; any sub-interval has the same targets. |B′| ≤ |B|: beliefs never grow.
+choice of targets; any sub-interval has the same targets. |B′| ≤ |B|: beliefs never grow. (Landings on units
+overlap the landings on their segments: there a heading has several targets per source, one of them the segment,
+and each choice is an option of its own.)
 
 Admissible intervals
 --------------------
@@ -42,8 +60,8 @@ piece [g₀, g₁] of target j, the landing point of every robot position is ins
 corner landings are (the landing point is affine in the position for a fixed heading), i.e. iff
 θ ∈ [ang(g₀ − b), ang(g₁ − a)] (Prop. 2's cone with the piece's ends; ang measured from b − a; an
 end of the piece at the shared corner imposes nothing). The admissible interval of i → j is cut to
-that cone (shrunk by μ) — the *goal intervals* of i. Intermediate stages always land on whole
-segments (the next stage must work from every point of them).
+that cone (shrunk by μ) — the *goal intervals* of i. Intermediate stages land on whole segments or on landing units
+(the next stage must work from every point of them).
 """
 
 from __future__ import annotations
@@ -56,7 +74,7 @@ import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.environment import BoundaryPiece, BoundarySet
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.interval import Interval
 from solverplan.result import Stage
 from solverplan.plan.margins import (DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins, admissible_intervals,
@@ -68,12 +86,16 @@ Belief = tuple[int, ...]
 
 
 PIECE_CODES = 4
-"""Belief elements ≥ ``PIECE_CODES`` × n_segments are start pieces (below: segment ids with corner tags s + n·k, k < 4)."""
+"""Belief elements ≥ ``PIECE_CODES`` × n_segments are landing units (below: segment ids with corner tags s + n·k, k < 4)."""
+
+UNIT_TAGS = 4
+"""A unit's element is ``PIECE_CODES`` × n_segments + ``UNIT_TAGS`` × unit + its corner tags (as a segment's)."""
 
 
 class StartPiece(NamedTuple):
-    """A part of segment ``host`` that the start set covers (not the whole segment): ``piece`` on the search's edge,
-    from exact point ``a`` to ``b`` (the free space on the left, as on every segment)."""
+    """A landing unit: a part of segment ``host`` between ends of the start or goal set (not the whole segment; the
+    start set's parts of segments are units): ``piece`` on the search's edge, from exact point ``a`` to ``b`` (the
+    free space on the left, as on every segment)."""
 
     host: int
     piece: BoundaryPiece
@@ -115,9 +137,14 @@ class Problem:
         goal: BoundarySet | None,
         *,
         margins: Margins | None = None,
-        walls: Walls | None = None,
+        walls: PartitionedWalls | None = None,
+        landing_units: bool = True,
     ) -> None:
         """``goal=None``: a problem without a goal (reachability sweeps: no goal options).
+
+        ``landing_units``: stages may land on the pieces of segments between the query's set ends and leave from
+        them later (module docstring, *Landing units*); False: units are only the start set's pieces, and every
+        stage lands on whole segments (the patrols' entries, which end on a visited edge's whole segments).
 
         ``walls``: the straight walls of the user's environment when ``graph`` was built on its merged
         environment (:mod:`solverplan.plan._walls`); ``start`` and ``goal`` are then in the user's numbering
@@ -138,9 +165,8 @@ class Problem:
         self.margins = margins if margins is not None else Margins.for_environment(self.env)
         self.heading_margin = self.margins.heading_margin
         self.safe_margin = self.margins.safe_margin
+        self.landing_units = landing_units
         self._build_intervals()
-        self.start_pieces: tuple[StartPiece, ...] = ()
-        self.start_belief: Belief = self._start_belief(start)
         self._goal_pieces = merged_pieces(goal) if goal is not None else {}
         whole, partial = set(), {}
         for edge, pieces in self._goal_pieces.items():
@@ -154,11 +180,16 @@ class Problem:
                     partial[k] = parts
         self.goal_whole = frozenset(whole)
         self.goal_partial = partial
+        self._make_units(start, goal, landings=landing_units)
+        self.start_belief: Belief = self._start_belief(start)
+        if landing_units:
+            self._add_unit_landings()
         start_pieces = merged_pieces(start)
         self.start_in_goal = all(
             any(p <= lo and hi <= q for p, q in self._goal_pieces.get(edge, ()))
             for edge, items in start_pieces.items() for lo, hi in items
         )
+        self._unit_bounds: dict[int, tuple[float, float]] = {}
         self._options: dict[Belief, list[Option]] = {}
         self._goal_options: dict[Belief, list[Option]] = {}
         self._goal_lists: dict[int, tuple[list[float], list[float], list[int]]] = {}
@@ -182,13 +213,63 @@ class Problem:
         self._restricted: dict[int, tuple[list[float], list[float], list[int]]] = {}
         self.n_admissible = int(len(lo))
 
-    # ------------------------------------------------------------------ the start set as given
+    # ------------------------------------------------------------------ landing units
+    def _make_units(self, start: BoundarySet, goal: BoundarySet | None, *, landings: bool) -> None:
+        """The landing units (module docstring): for every segment that an end of the start or goal set cuts (strictly
+        inside it), each piece between consecutive cuts — the units a stage may land on (:attr:`units_of`) — and the
+        parts of segments the start set covers (start elements; a part may span several pieces). Without
+        ``landings`` only the start set's parts."""
+        part = self.partition
+        cuts: dict[int, set] = {}
+        for bset in (start,) if goal is None or not landings else (start, goal):
+            for edge, items in merged_pieces(bset).items():
+                for k in part.edge_segments[edge]:
+                    seg = part.segments[k]
+                    for p, q in items:
+                        cuts.setdefault(k, set()).update(t for t in (p, q) if seg.t0 < t < seg.t1)
+        units: list[StartPiece] = []
+        index: dict[tuple[int, object, object], int] = {}
+        by_host: dict[int, list[int]] = {}
+
+        def add(k: int, lo, hi) -> int | None:
+            seg = part.segments[k]
+            if lo == seg.t0 and hi == seg.t1:
+                return None
+            if (k, lo, hi) not in index:
+                index[(k, lo, hi)] = len(units)
+                units.append(StartPiece(k, BoundaryPiece(seg.edge, lo, hi), _point_on(seg, lo), _point_on(seg, hi)))
+            return index[(k, lo, hi)]
+
+        if landings:
+            for k in sorted(cuts):
+                if not cuts[k]:
+                    continue
+                seg = part.segments[k]
+                ends = [seg.t0, *sorted(cuts[k]), seg.t1]
+                for lo, hi in zip(ends, ends[1:]):
+                    u = add(k, lo, hi)
+                    if u is not None:
+                        by_host.setdefault(k, []).append(u)
+        for edge, items in merged_pieces(start).items():
+            for k in part.edge_segments[edge]:
+                seg = part.segments[k]
+                for p, q in items:
+                    lo, hi = max(p, seg.t0), min(q, seg.t1)
+                    if lo < hi:
+                        add(k, lo, hi)
+        self.units: tuple[StartPiece, ...] = tuple(units)
+        self._unit_index = index
+        self.units_of: dict[int, tuple[int, ...]] = {k: tuple(v) for k, v in by_host.items()}
+        """The units each cut segment's landings may end on: its pieces between consecutive cuts."""
+        self._unit_rows: dict[int, tuple[list[float], list[float], list[int], list[int]]] = {}
+        self._unit_restricted: dict[int, tuple[list[float], list[float], list[int]]] = {}
+        self._piece_safe: dict[tuple[int, int], list[tuple[float, float]]] = {}
+
     def _start_belief(self, start: BoundarySet) -> Belief:
-        """The start belief: the segments the start set covers whole, and a start piece for every part of a
-        segment it covers in part (module docstring)."""
-        part, n = self.partition, self.n_segments
+        """The start belief: the segments the start set covers whole, and the unit of every part of a segment it
+        covers in part (its ends are cuts, module docstring)."""
+        part = self.partition
         elements: set[int] = set()
-        pieces: list[StartPiece] = []
         for edge, items in merged_pieces(start).items():
             for k in part.edge_segments[edge]:
                 seg = part.segments[k]
@@ -198,17 +279,38 @@ class Problem:
                         continue
                     if lo == seg.t0 and hi == seg.t1:
                         elements.add(k)
-                        continue
-                    pieces.append(StartPiece(k, BoundaryPiece(edge, lo, hi), _point_on(seg, lo), _point_on(seg, hi)))
-                    elements.add(PIECE_CODES * n + len(pieces) - 1)
-        self.start_pieces = tuple(pieces)
-        self._piece_safe: dict[tuple[int, int], list[tuple[float, float]]] = {}
-        self._piece_lists = [self._piece_intervals(PIECE_CODES * n + k, piece) for k, piece in enumerate(pieces)]
+                    else:
+                        elements.add(self.unit_code(self._unit_index[(k, lo, hi)]))
         return tuple(sorted(elements))
 
-    def _piece_intervals(self, code: int, piece: StartPiece) -> tuple[list[float], list[float], list[int]]:
-        """The admissible intervals of a start piece: the exact safe sets from the piece to every segment its host
-        segment sees (a part sees no more than the whole), cut by the margins as every arc is."""
+    @property
+    def start_pieces(self) -> tuple[StartPiece, ...]:
+        """The units of the start belief (the parts of segments the start set covers in part)."""
+        return tuple(self.piece(c) for c in self.start_belief if self.is_piece(c))
+
+    def unit_code(self, unit: int, tags: int = 0) -> int:
+        """The belief element of landing unit ``unit`` (an index of :attr:`units`) with corner tags ``tags``."""
+        return PIECE_CODES * self.n_segments + UNIT_TAGS * unit + tags
+
+    def _unit_lists(self, unit: int) -> tuple[list[float], list[float], list[int], list[int]]:
+        """The admissible intervals of a unit (sorted by their low ends; those landing on units may overlap the
+        others): lows, highs, target elements and the corner each arc dives into (as :func:`corner_arcs`)."""
+        cached = self._unit_rows.get(unit)
+        if cached is None:
+            piece = self.units[unit]
+            los, his, tgts, dives = self._piece_intervals(self.unit_code(unit), piece)
+            if self.landing_units:
+                rows = list(zip(los, his, tgts, dives))
+                rows += self._landings(piece.a, piece.b, self.partition.segments[piece.host], rows)
+                rows.sort(key=lambda r: r[0])
+                los, his, tgts, dives = ([r[0] for r in rows], [r[1] for r in rows], [r[2] for r in rows],
+                                         [r[3] for r in rows])
+            cached = self._unit_rows[unit] = (los, his, tgts, dives)
+        return cached
+
+    def _piece_intervals(self, code: int, piece: StartPiece) -> tuple[list[float], list[float], list[int], list[int]]:
+        """The admissible intervals of a unit onto whole segments: the exact safe sets from the piece to every
+        segment its host segment sees (a part sees no more than the whole), cut by the margins as every arc is."""
         from solverplan.bounce.safe import safe_set
 
         part, n = self.partition, self.n_segments
@@ -225,7 +327,7 @@ class Problem:
                 self._piece_safe[(code, j)] = found
             rows.extend((lo, hi, j, corner) for lo, hi in found)
         if not rows:
-            return [], [], []
+            return [], [], [], []
         lo = np.array([r[0] for r in rows])
         hi = np.array([r[1] for r in rows])
         tgt = np.array([r[2] for r in rows], dtype=np.int64)
@@ -240,37 +342,95 @@ class Problem:
                                 da=vectors([(a, t.b) for t in targets]), shared_c=shared == 1, shared_d=shared == 2)
         # arcs into a corner the piece shares with the target arrive near it (the corner tags of corner_arcs)
         arrival = np.where(shared == 1, 1, np.where(shared == 2, 2, 0))
+        dive = np.where(shared == 1, 2, np.where(shared == 2, 1, 0))
         keep = np.flatnonzero(hi > lo)
         keep = keep[np.argsort(lo[keep], kind="stable")]
-        return lo[keep].tolist(), hi[keep].tolist(), (tgt[keep] + n * arrival[keep]).tolist()
+        return lo[keep].tolist(), hi[keep].tolist(), (tgt[keep] + n * arrival[keep]).tolist(), dive[keep].tolist()
+
+    def _landings(self, a, b, host, rows) -> list[tuple[float, float, int, int]]:
+        """The rows landing on units: for every row (lo, hi, target element, dive) of a source (a, b) on segment
+        ``host`` whose target segment has units, each unit's part of it — the headings whose every landing point
+        lies in the unit: Prop. 2's cone with the unit's ends, pulled in by the clearance as a goal piece is
+        (:meth:`goal_intervals`), shrunk by μ. The unit keeps the row's corner tag if it holds that corner."""
+        n, part = self.n_segments, self.partition
+        e = (float(b[0] - a[0]), float(b[1] - a[1]))
+        out = []
+        for lo, hi, code, dive in rows:
+            j, arrival = code % n, code // n
+            for u in self.units_of.get(j, ()):
+                unit, tseg = self.units[u], part.segments[j]
+                g0, g1 = _pulled_in(tseg, unit.piece.t0, unit.piece.t1, self.margins.corner_clearance, host)
+                if g0 is None:
+                    continue
+                cone_lo = 0.0 if g0 == host.b else _angle(e, (float(g0[0] - b[0]), float(g0[1] - b[1]))) + self.safe_margin
+                cone_hi = math.pi if g1 == host.a else _angle(e, (float(g1[0] - a[0]), float(g1[1] - a[1]))) - self.safe_margin
+                l2, h2 = max(lo, cone_lo), min(hi, cone_hi)
+                if h2 > l2:
+                    holds = (1 if unit.piece.t0 == tseg.t0 else 0) | (2 if unit.piece.t1 == tseg.t1 else 0)
+                    out.append((l2, h2, self.unit_code(u, arrival & holds), dive))
+        return out
+
+    def _add_unit_landings(self) -> None:
+        """Add to every segment's admissible intervals its landings on units (:meth:`_landings`), keeping each
+        segment's rows sorted by their low ends; ``_tgt`` of such a row is the unit's place (:meth:`place`)."""
+        if not self.units:
+            return
+        n = self.n_segments
+        hosts = set(self.units_of)
+        extra: list[tuple[int, float, float, int, int, int]] = []  # (source, lo, hi, place, code, dive)
+        segs = self.partition.segments
+        into = np.flatnonzero(np.isin(np.asarray(self._tgt, dtype=np.int64), sorted(hosts)))  # rows into cut segments
+        sources = np.searchsorted(np.asarray(self._off), into, side="right") - 1
+        by_source: dict[int, list[int]] = {}
+        for r, s in zip(into.tolist(), sources.tolist()):
+            by_source.setdefault(s, []).append(r)
+        for s, found in by_source.items():
+            rows = [(self._lo[r], self._hi[r], self._tgt_code[r], self._dive[r]) for r in found]
+            for lo, hi, code, dive in self._landings(segs[s].a, segs[s].b, segs[s], rows):
+                extra.append((s, lo, hi, self.place(code), code, dive))
+        if not extra:
+            return
+        src = np.repeat(np.arange(n), np.diff(np.asarray(self._off)))
+        src = np.concatenate([src, np.array([r[0] for r in extra], dtype=np.int64)])
+        los = np.concatenate([np.asarray(self._lo, dtype=float), np.array([r[1] for r in extra])])
+        his = np.concatenate([np.asarray(self._hi, dtype=float), np.array([r[2] for r in extra])])
+        places = np.concatenate([np.asarray(self._tgt, dtype=np.int64), np.array([r[3] for r in extra], dtype=np.int64)])
+        codes = np.concatenate([np.asarray(self._tgt_code, dtype=np.int64), np.array([r[4] for r in extra], dtype=np.int64)])
+        dives = np.concatenate([np.asarray(self._dive, dtype=np.int64), np.array([r[5] for r in extra], dtype=np.int64)])
+        order = np.lexsort((los, src))
+        self._off = np.searchsorted(src[order], np.arange(n + 1)).tolist()
+        self._lo, self._hi = los[order].tolist(), his[order].tolist()
+        self._tgt, self._tgt_code, self._dive = places[order].tolist(), codes[order].tolist(), dives[order].tolist()
+        self.n_admissible += len(extra)
 
     def is_piece(self, code: int) -> bool:
-        """Is this belief element a start piece (module docstring) rather than a segment?"""
+        """Is this belief element a landing unit (a piece of a segment, module docstring) rather than a segment?"""
         return code >= PIECE_CODES * self.n_segments
 
     def piece(self, code: int) -> StartPiece:
-        """The start piece of a belief element (:meth:`is_piece`)."""
-        return self.start_pieces[code - PIECE_CODES * self.n_segments]
+        """The landing unit of a belief element (:meth:`is_piece`)."""
+        return self.units[(code - PIECE_CODES * self.n_segments) // UNIT_TAGS]
 
     # ------------------------------------------------------------------ belief elements
     def segment(self, code: int) -> int:
         """The segment of a belief element. Elements are segment ids, plus ``n_segments`` × k where the bits of k
         say the robot may have arrived by an arc into the segment's start (1) or end (2) corner: positions near
         that corner, from which a second arc into the same corner is not admissible (the corner ping-pong of
-        :mod:`solverplan.plan.margins`). A start piece's segment is the segment it is part of."""
+        :mod:`solverplan.plan.margins`); or units (:meth:`unit_code`, tagged alike). A unit's segment is the
+        segment it is part of."""
         if self.is_piece(code):
             return self.piece(code).host
         return code % self.n_segments
 
     def segments(self, belief: Belief) -> tuple[int, ...]:
-        """The segments of a belief (sorted, distinct; a start piece counts as its segment)."""
+        """The segments of a belief (sorted, distinct; a unit counts as its segment)."""
         return tuple(sorted({self.segment(c) for c in belief}))
 
     def place(self, code: int) -> int:
-        """A belief element without its corner tags: a segment id, or ``n_segments + k`` for start piece k (the index
+        """A belief element without its corner tags: a segment id, or ``n_segments + k`` for unit k (the index
         of :attr:`user_pieces` and :attr:`runs`)."""
         if self.is_piece(code):
-            return code - (PIECE_CODES - 1) * self.n_segments
+            return self.n_segments + (code - PIECE_CODES * self.n_segments) // UNIT_TAGS
         return code % self.n_segments
 
     def moves(self, moves: tuple[tuple[int, int], ...]) -> tuple[tuple[int, int], ...]:
@@ -290,16 +450,16 @@ class Problem:
     @property
     def user_pieces(self):
         """For every place of the search (:meth:`place`: segments, then start pieces), the user segments it overlaps
-        with the exact overlap of each (a piece of the user's edge): :meth:`Walls.user_pieces`, or each segment itself
+        with the exact overlap of each (a piece of the user's edge): :meth:`PartitionedWalls.user_pieces`, or each segment itself
         when no walls were given."""
         cached = getattr(self, "_user_pieces", None)
         if cached is None:
             if self.walls is not None:
                 cached = self.walls.user_pieces(self.partition) + tuple(self.walls.pieces_of(p.piece)
-                                                                         for p in self.start_pieces)
+                                                                         for p in self.units)
             else:
                 cached = (tuple(((k, BoundaryPiece(s.edge, s.t0, s.t1)),) for k, s in enumerate(self.partition.segments))
-                          + tuple(((p.host, p.piece),) for p in self.start_pieces))
+                          + tuple(((p.host, p.piece),) for p in self.units))
             self._user_pieces = cached
         return cached
 
@@ -346,7 +506,7 @@ class Problem:
         lo_left = hi_left = math.inf
         for i, j in option.moves:
             found = None
-            for l, h in self._exact_safe(i, j % self.n_segments):
+            for l, h in self._exact_safe(i, self.segment(j)):
                 if l <= interval.lo and interval.hi <= h:
                     found = (interval.lo - l, h - interval.hi)
             if found is None:
@@ -357,7 +517,8 @@ class Problem:
     def _exact_safe(self, source: int, target: int) -> list[tuple[float, float]]:
         """The exact safe set (float ends, radians) of a belief element ``source`` towards segment ``target``."""
         if self.is_piece(source):
-            return self._piece_safe.get((source, target), [])
+            self._unit_lists(self.place(source) - self.n_segments)
+            return self._piece_safe.get((self.unit_code(self.place(source) - self.n_segments), target), [])
         g = self.graph
         k = g.arc_index(source % self.n_segments, target)
         if k is None:
@@ -378,7 +539,17 @@ class Problem:
         """The admissible intervals of belief element ``source`` (sorted, disjoint): lows, highs, target
         elements. An element that arrived near a corner has no interval of an arc into that corner."""
         if self.is_piece(source):
-            return self._piece_lists[source - PIECE_CODES * self.n_segments]
+            rel = source - PIECE_CODES * self.n_segments
+            u, k = rel // UNIT_TAGS, rel % UNIT_TAGS
+            los, his, tgts, dives = self._unit_lists(u)
+            if k == 0:
+                return los, his, tgts
+            cached = self._unit_restricted.get(source)
+            if cached is None:
+                rows = [r for r in range(len(los)) if not dives[r] & k]
+                cached = ([los[r] for r in rows], [his[r] for r in rows], [tgts[r] for r in rows])
+                self._unit_restricted[source] = cached
+            return cached
         s, k = source % self.n_segments, source // self.n_segments
         a, b = self._off[s], self._off[s + 1]
         if k == 0:
@@ -403,6 +574,8 @@ class Problem:
         host = self.partition.segments[self.segment(source)]
         e = (float(seg.b[0] - seg.a[0]), float(seg.b[1] - seg.a[1]))
         for lo, hi, j in zip(los, his, tgts):
+            if self.is_piece(j):
+                continue  # a landing on a unit: the goal cone of its segment's row below holds it if it is in the goal
             if j % self.n_segments in self.goal_whole:
                 items.append((lo, hi, j))
                 continue
@@ -443,22 +616,28 @@ class Problem:
         return cached
 
     def _merged(self, targets) -> Belief:
-        """The next belief of a choice of target elements: one element per segment, the corner tags of its
+        """The next belief of a choice of target elements: one element per segment or unit, the corner tags of its
         copies joined (a robot that may be near either corner takes no arc into either)."""
         n = self.n_segments
         if all(c < n for c in targets):
             return tuple(sorted(set(targets)))
+        base = PIECE_CODES * n
         tags: dict[int, int] = {}
         for c in targets:
-            tags[c % n] = tags.get(c % n, 0) | (c // n)
-        return tuple(sorted(seg + n * tag for seg, tag in tags.items()))
+            if c >= base:
+                key, tag = c - (c - base) % UNIT_TAGS, (c - base) % UNIT_TAGS
+            else:
+                key, tag = c % n, c // n
+            tags[key] = tags.get(key, 0) | tag
+        return tuple(sorted(key + (tag if key >= base else n * tag) for key, tag in tags.items()))
 
     @staticmethod
     def _combine(belief: Belief, lists: list[tuple[list[float], list[float], list[int]]],
                  join: Callable[[Sequence[int]], Belief] = lambda t: tuple(sorted(set(t)))) -> list[Option]:
-        """Intersect the sources' sorted disjoint interval lists, folding source by source (a merge: the
-        intersection of two sorted lists of disjoint intervals is again sorted and disjoint); ``join`` makes
-        the next belief of the targets chosen."""
+        """Intersect the sources' interval lists (sorted by their low ends), folding source by source; ``join``
+        makes the next belief of the targets chosen. Lists of disjoint intervals are merged (the intersection of
+        two sorted lists of disjoint intervals is again one); a list with overlapping intervals (landings on
+        units inside a landing on their segment) is joined pair by pair with every cell it overlaps."""
         if len(belief) == 1:
             (s,) = belief
             los, his, tgts = lists[0]
@@ -467,27 +646,13 @@ class Problem:
             return []
         los, his, tgts = lists[0]
         cells: list[tuple[float, float, tuple[int, ...]]] = list(zip(los, his, [(j,) for j in tgts]))
+        disjoint = _disjoint(los, his)
         for los, his, tgts in lists[1:]:
-            merged = []
-            i = j = 0
-            n_cells, n_list = len(cells), len(los)
-            while i < n_cells and j < n_list:
-                c_lo, c_hi, c_t = cells[i]
-                l_j, h_j = los[j], his[j]
-                if h_j <= c_lo:
-                    j += 1
-                    continue
-                if c_hi <= l_j:
-                    i += 1
-                    continue
-                lo = c_lo if c_lo > l_j else l_j
-                hi = c_hi if c_hi < h_j else h_j
-                if hi > lo:
-                    merged.append((lo, hi, c_t + (tgts[j],)))
-                if c_hi < h_j:
-                    i += 1
-                else:
-                    j += 1
+            if disjoint and _disjoint(los, his):
+                merged = _merge_disjoint(cells, los, his, tgts)
+            else:
+                merged = _join_overlapping(cells, los, his, tgts)
+                disjoint = False
             if not merged:
                 return []
             cells = merged
@@ -513,20 +678,44 @@ class Problem:
         return cached
 
     def _backward(self) -> tuple[list[float], list[float]]:
+        """d and h (:attr:`singleton_bounds`) of every place (:meth:`place`: segments, then units). A unit's own arcs
+        are relaxed (it may reach every segment its host sees, and their units, with any width, and it is one stage
+        from the goal if its host sees a goal segment): its exact intervals are built only when a search reaches it
+        (:meth:`_piece_bounds` looks one stage ahead with them), and the relaxation keeps both bounds admissible."""
         import heapq
 
-        n = self.graph.n_segments
+        n, n_units = self.n_segments, len(self.units)
+        places = n + n_units
         src_of = np.repeat(np.arange(n), np.diff(self._off))
         tgt = np.asarray(self._tgt, dtype=np.int64)
         width = np.asarray(self._hi) - np.asarray(self._lo)
+        widest = math.pi - 2 * self.heading_margin
+        goal_targets = sorted(self.goal_whole | set(self.goal_partial))
+        relaxed_first: list[int] = []
+        if n_units:
+            us: list[int] = []
+            ut: list[int] = []
+            goal_set = set(goal_targets)
+            for u, unit in enumerate(self.units):
+                seen = self.graph.successors(unit.host).tolist()
+                for j in seen:
+                    us.append(n + u)
+                    ut.append(j)
+                    for v in self.units_of.get(j, ()):
+                        us.append(n + u)
+                        ut.append(n + v)
+                if goal_set.intersection(seen):
+                    relaxed_first.append(n + u)
+            src_of = np.concatenate([src_of, np.asarray(us, dtype=np.int64)])
+            tgt = np.concatenate([tgt, np.asarray(ut, dtype=np.int64)])
+            width = np.concatenate([width, np.full(len(us), widest)])
         order = np.argsort(tgt, kind="stable")
         pred_src = src_of[order].tolist()
         pred_w = width[order].tolist()
-        pred_off = np.searchsorted(tgt[order], np.arange(n + 1)).tolist()
-        goal_targets = sorted(self.goal_whole | set(self.goal_partial))
-        first = np.unique(src_of[np.isin(tgt, goal_targets)]).tolist() if goal_targets else []
-        dist = [math.inf] * n
-        best = [0.0] * n
+        pred_off = np.searchsorted(tgt[order], np.arange(places + 1)).tolist()
+        first = np.unique(src_of[:len(self._tgt)][np.isin(tgt[:len(self._tgt)], goal_targets)]).tolist() if goal_targets else []
+        dist = [math.inf] * places
+        best = [0.0] * places
         heap = []
         level = []
         for s in first:
@@ -536,6 +725,11 @@ class Problem:
                 level.append(s)
                 best[s] = max(h - l for l, h in zip(los, his))
                 heap.append((-best[s], s))
+        for s in relaxed_first:
+            dist[s] = 1
+            level.append(s)
+            best[s] = widest
+            heap.append((-widest, s))
         d = 1
         while level:
             nxt = []
@@ -548,7 +742,7 @@ class Problem:
             level = nxt
             d += 1
         heapq.heapify(heap)
-        done = [False] * n
+        done = [False] * places
         while heap:
             neg, j = heapq.heappop(heap)
             if done[j] or -neg < best[j]:
@@ -574,21 +768,26 @@ class Problem:
         return d, h
 
     def _piece_bounds(self, code: int) -> tuple[float, float]:
-        """:meth:`belief_bounds` of a start piece alone, one stage ahead of the segments' bounds: its own goal
-        intervals, or its options followed by the best from their targets."""
+        """:meth:`belief_bounds` of a unit alone, one stage ahead of the places' bounds: its own goal intervals, or
+        its options followed by the best from their targets (and no better than its relaxed bound)."""
+        cached = self._unit_bounds.get(code)
+        if cached is not None:
+            return cached
         dist, best = self.singleton_bounds
-        n = self.n_segments
         glo, ghi, _ = self.goal_intervals(code)
         d = 1.0 if glo else math.inf
         h = max((hi - lo for lo, hi in zip(glo, ghi)), default=0.0)
         for lo, hi, j in zip(*self.intervals(code)):
-            d = min(d, 1 + dist[j % n])
-            h = max(h, min(hi - lo, best[j % n]))
-        return d, h
+            p = self.place(j)
+            d = min(d, 1 + dist[p])
+            h = max(h, min(hi - lo, best[p]))
+        own = self.place(code)
+        cached = self._unit_bounds[code] = (max(d, dist[own]), min(h, best[own]))
+        return cached
 
     # ------------------------------------------------------------------ facts for reasons
     def goal_has_incoming(self) -> bool:
-        """Is there any source segment with a goal interval (so that some last stage exists)?"""
+        """Is there any source (a segment or a unit) with a goal interval (so that some last stage exists)?"""
         targets = set(self.goal_whole) | set(self.goal_partial)
         if not targets:
             return False
@@ -599,7 +798,9 @@ class Problem:
         if np.isin(tgt_arr, sorted(self.goal_whole)).any():
             return True
         candidates = np.unique(np.repeat(np.arange(g.n_segments), np.diff(self._off))[np.isin(tgt_arr, sorted(self.goal_partial))])
-        return any(self.goal_intervals(int(s))[0] for s in candidates)
+        if any(self.goal_intervals(int(s))[0] for s in candidates):
+            return True
+        return self.landing_units and any(self.goal_intervals(self.unit_code(u))[0] for u in range(len(self.units)))
 
 
 def _pulled_in(tseg, t0: Fraction, t1: Fraction, kappa: float, source):
@@ -626,3 +827,57 @@ def _point_on(seg, t: Fraction):
         return seg.a
     lam = (t - seg.t0) / (seg.t1 - seg.t0)
     return (seg.a[0] + lam * (seg.b[0] - seg.a[0]), seg.a[1] + lam * (seg.b[1] - seg.a[1]))
+
+
+def _disjoint(los: list[float], his: list[float]) -> bool:
+    """Are the intervals of a list sorted by low ends pairwise disjoint (touching at most)?"""
+    return all(h <= l for h, l in zip(his, los[1:]))
+
+
+def _merge_disjoint(cells, los, his, tgts):
+    """The intersections of sorted disjoint cells with a sorted list of disjoint intervals (a merge)."""
+    merged = []
+    i = j = 0
+    n_cells, n_list = len(cells), len(los)
+    while i < n_cells and j < n_list:
+        c_lo, c_hi, c_t = cells[i]
+        l_j, h_j = los[j], his[j]
+        if h_j <= c_lo:
+            j += 1
+            continue
+        if c_hi <= l_j:
+            i += 1
+            continue
+        lo = c_lo if c_lo > l_j else l_j
+        hi = c_hi if c_hi < h_j else h_j
+        if hi > lo:
+            merged.append((lo, hi, c_t + (tgts[j],)))
+        if c_hi < h_j:
+            i += 1
+        else:
+            j += 1
+    return merged
+
+
+def _join_overlapping(cells, los, his, tgts):
+    """The intersections of positive width of every cell with every interval of a list sorted by low ends, which
+    may overlap (cells too), sorted by low ends: for each cell, the intervals from the first whose prefix maximum of
+    high ends passes the cell's low end, up to the first starting past its high end."""
+    from bisect import bisect_right
+    from itertools import accumulate
+
+    top = list(accumulate(his, max))
+    merged = []
+    n_list = len(los)
+    for c_lo, c_hi, c_t in cells:
+        k = bisect_right(top, c_lo)
+        while k < n_list and los[k] < c_hi:
+            h_k = his[k]
+            if h_k > c_lo:
+                lo = c_lo if c_lo > los[k] else los[k]
+                hi = c_hi if c_hi < h_k else h_k
+                if hi > lo:
+                    merged.append((lo, hi, c_t + (tgts[k],)))
+            k += 1
+    merged.sort(key=lambda cell: cell[0])
+    return merged

@@ -8,12 +8,11 @@ cones (rational world directions) they were computed with; :func:`heading_cone` 
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
 from solverplan.bounce.cones import heading_cone
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.environment import BoundarySet, Environment
 from solverplan.interval import Interval
 from solverplan.result import Answer, EnvironmentRecord, Optimality, Reader, Stage, Stats, Status, piece_json
@@ -124,7 +123,7 @@ class PositionStrategy(OnPartition, Answer):
     @classmethod
     def from_json(cls, data: Any, *, env: Environment | None = None) -> PositionStrategy:
         """Read a funnel or localisation answer back in ``env`` (required: its positions are pieces of its edges)."""
-        from solverplan.bounce.partition import partition
+        from solverplan.bounce.partitions import partition
 
         r = Reader(data, cls.kind)
         env, record = r.in_environment(env, cls.kind)

@@ -17,13 +17,16 @@ removed (the same free space, exactly) — and report in the user's numbering:
   points are the merged ones plus the collinear vertices and the cut points of the rays through them), so a
   merged segment is a *run* of consecutive user segments, listed in boundary order.
 
->>> from solverplan.environment import Environment
->>> split = Environment.from_coords([[0, 0], [2, 0], [4, 0], [4, 4], [0, 4]])   # (2, 0) is collinear
->>> walls = Walls(split)
->>> walls.identity, walls.merged.n_edges, walls.edge_map[1]
-(False, 4, (0, Fraction(1, 2), Fraction(1, 1)))
->>> str(walls.to_merged(split.boundary_set("e1:0:0.5,e2")))
-'e0:0.5:0.75,e1'
+The edge maps are :class:`~solverplan.geometry.walls.StraightWalls`' (example there); :class:`PartitionedWalls` adds
+the segments of P′. On the bottom wall of a square written with a collinear vertex at (2, 0), a visit of user
+edge 1 cuts the merged edge 0 at its middle, and the middle half of that wall overlaps one user segment on each side:
+
+>>> from solverplan.environment import BoundaryPiece, Environment
+>>> walls = PartitionedWalls(Environment.from_coords([[0, 0], [2, 0], [4, 0], [4, 4], [0, 4]]))
+>>> walls.visit_cuts([1])
+{0: [Fraction(1, 2)]}
+>>> [(u, str(p)) for u, p in walls.pieces_of(BoundaryPiece(0, Fraction(1, 4), Fraction(3, 4)))]
+[(0, 'e0:0.5:1'), (1, 'e1:0:0.5')]
 """
 
 from __future__ import annotations
@@ -33,11 +36,11 @@ from fractions import Fraction
 from functools import cached_property
 from typing import Iterable, Mapping
 
-from solverplan.bounce.partition import Partition, PartitionSegment, partition as make_partition, renumbered
-from solverplan.environment import BoundaryPiece, BoundarySet, Environment
+from solverplan.bounce.partitions import Partition, PartitionSegment, partition as make_partition, renumbered
+from solverplan.environment import BoundaryPiece
 from solverplan.geometry.walls import StraightWalls, canonical_start, collinear_vertices
 
-__all__ = ["Walls", "canonical_start", "collinear_vertices", "cut_partition"]
+__all__ = ["PartitionedWalls", "canonical_start", "collinear_vertices", "cut_partition"]
 
 
 def cut_partition(part: Partition, cuts: Mapping[int, Iterable[Fraction]]) -> Partition:
@@ -77,7 +80,7 @@ def cut_partition(part: Partition, cuts: Mapping[int, Iterable[Fraction]]) -> Pa
     return Partition(env, tuple(segments), tuple(offsets), part.inserted)
 
 
-class Walls(StraightWalls):
+class PartitionedWalls(StraightWalls):
     """The straight walls of ``env`` (:class:`~solverplan.geometry.walls.StraightWalls`: its merged environment and
     the maps between the two numberings), with the maps between the segments of P′ of the two environments that
     the planners need.
@@ -112,7 +115,7 @@ class Walls(StraightWalls):
     def user_partition(self) -> Partition:
         """The partition P′ of the user's environment (the ids answers are reported in). When the straight walls are
         the user's rings started elsewhere (no vertex merged), it is the straight walls' P′ renumbered
-        (:func:`~solverplan.bounce.partition.renumbered`: the same points, without casting the rays again)."""
+        (:func:`~solverplan.bounce.partitions.renumbered`: the same points, without casting the rays again)."""
         if not self.identity and self.merged.n_vertices == self.env.n_vertices:
             return renumbered(make_partition(self.merged), self.env, self.vertex_map)
         return make_partition(self.env)

@@ -25,15 +25,15 @@ import csv
 import io
 import json
 import math
-from typing import Any, Literal
+from typing import Any
 
+from solverplan.choices import ExportFormat
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 
 __all__ = ["plan_in_world", "export_plan", "EXPORT_FORMATS"]
 
-ExportFormat = Literal["waypoints", "csv", "geojson"]
-EXPORT_FORMATS: tuple[str, ...] = ("waypoints", "csv", "geojson")
+EXPORT_FORMATS: tuple[str, ...] = ExportFormat.values()
 
 
 def _wall_piece(env: Environment, edge: int, t0: float, t1: float) -> dict:
@@ -109,7 +109,7 @@ def plan_in_world(plan: Any, env: Environment) -> list[dict]:
     >>> stage["lands_on"][0]["wall"]
     [[6.0, 3.0], [-2.0, 3.0]]
     """
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     if not getattr(plan, "found", False):
         raise InputError(f"only a found plan can be exported, this one is {plan.status.value!r}")
@@ -173,8 +173,7 @@ def export_plan(plan: Any, env: Environment, fmt: str = "waypoints") -> str:
     >>> print(export_plan(find_plan(room, "e0", "e2"), room, "csv").splitlines()[0])
     stage,segments,edge,wall_x0,wall_y0,wall_x1,wall_y1,from_m,to_m,contact_x0,contact_y0,contact_x1,contact_y1,heading_lo_rad,heading_hi_rad,heading_lo_deg,heading_hi_deg,width_rad,lands_on
     """
-    if fmt not in EXPORT_FORMATS:
-        raise InputError(f"unknown export format {fmt!r}: use {', '.join(EXPORT_FORMATS)}")
+    fmt = ExportFormat.parse(fmt, "export format").value
     stages = plan_in_world(plan, env)
     if fmt == "csv":
         buffer = io.StringIO()

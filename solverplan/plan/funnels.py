@@ -30,19 +30,20 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import Any, Sequence
 
 import numpy as np
 
-from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
-from solverplan.bounce.partition import partition
-from solverplan.environment import BoundarySet, Environment
+from solverplan.bounce.bvg import SafeBVG
+from solverplan.bounce.partitions import Partition
+from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
 from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, SearchOutcome, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.search import straight_walls_graph
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
 
@@ -152,7 +153,35 @@ def search_stats(outcome: SearchOutcome, seconds: float) -> Stats:
                  counts={"bounces_searched": outcome.layers, "replay_failures": outcome.replay_failures})
 
 
-def _pieces_of(env: Environment, value, what: str) -> BoundarySet:
+def search_half_width(tolerance: float | None) -> float:
+    """ε of a search over position sets: ``tolerance`` (default :data:`DEFAULT_FUNNEL_TOLERANCE`), checked."""
+    eps = DEFAULT_FUNNEL_TOLERANCE if tolerance is None else float(tolerance)
+    if not (0 < eps < math.pi / 2):
+        raise InputError(f"tolerance {tolerance!r} must be a heading half-width in (0, π/2) radians")
+    return eps
+
+
+def graded_search(env: Environment, part: Partition, start: Sequence[BoundaryPiece], is_goal: Any, is_goal_exact: Any, *,
+                  eps: float, max_bounces: int, n_headings: int, beam: int, max_rows: int | None, heading_margin: float,
+                  corner_clearance: float | None, deadline: Deadline, **options: Any
+                  ) -> tuple[SearchOutcome, Status, Optimality, Stats]:
+    """The search of funnels and localisation strategies and its grades: :func:`search_widening` over the passes of
+    :func:`widening_passes` under the margin policy, then the status and optimality (:func:`search_optimality`,
+    scope :func:`position_scope`) and the statistics (:func:`search_stats`). ``options`` go to the search."""
+    margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
+    t0 = time.perf_counter()
+    outcome, used_beam, used_headings = search_widening(
+        env, part, start, is_goal, is_goal_exact, passes=widening_passes(beam, n_headings), max_rows=max_rows,
+        tolerance=eps, max_bounces=max_bounces, margins=margins, deadline=deadline, **options)
+    stats = search_stats(outcome, time.perf_counter() - t0)
+    status, optimality = search_optimality(
+        outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
+        scope=position_scope(eps, max_bounces))
+    return outcome, status, optimality, stats
+
+
+def boundary_pieces(env: Environment, value: str | BoundarySet, what: str) -> BoundarySet:
+    """The ``what`` set of a search (a :class:`BoundarySet` or its text), or one line saying it is neither."""
     if isinstance(value, BoundarySet):
         return value
     if isinstance(value, str):
@@ -253,17 +282,15 @@ def funnel(
     >>> str(f.goal)
     'e1:0.4:0.6'
     """
-    start_set = _pieces_of(env, start, "start")
-    goal_set = _pieces_of(env, goal, "goal")
-    eps = DEFAULT_FUNNEL_TOLERANCE if tolerance is None else float(tolerance)
-    if not (0 < eps < math.pi / 2):
-        raise InputError(f"tolerance {tolerance!r} must be a heading half-width in (0, π/2) radians")
+    start_set = boundary_pieces(env, start, "start")
+    goal_set = boundary_pieces(env, goal, "goal")
+    eps = search_half_width(tolerance)
     if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or not 1 <= max_bounces <= MAX_BOUNCES:
         raise InputError(f"max_bounces must be an integer in [1, {MAX_BOUNCES:,}], got {quote(max_bounces)}")
     deadline = deadline_of(timeout)
     # Collinear vertices are no corners: search the straight walls (the same free space with them merged) and
     # answer in the user's edges (plan._walls, to_user_stages)
-    walls = Walls(env)
+    walls = PartitionedWalls(env)
     user_start, user_goal = start_set, goal_set
     g = straight_walls_graph(walls, graph)
     part = g.partition
@@ -286,16 +313,11 @@ def funnel(
     for p in goal_set.pieces:
         for s in np.linspace(0.1, 0.9, 5):
             points.append(env.point_at(p.edge, float(p.t0) + s * float(p.t1 - p.t0)))
-    margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
-    t0 = time.perf_counter()
-    outcome, used_beam, used_headings = search_widening(
-        env, part, start_set.pieces, inside, inside_exact, passes=widening_passes(beam, n_headings), max_rows=max_rows,
-        tolerance=eps, max_bounces=max_bounces, goal_points=np.array(points), margins=margins, deadline=deadline)
-    stats = search_stats(outcome, time.perf_counter() - t0)
+    outcome, status, optimality, stats = graded_search(
+        env, part, start_set.pieces, inside, inside_exact, eps=eps, max_bounces=max_bounces, n_headings=n_headings,
+        beam=beam, max_rows=max_rows, heading_margin=heading_margin, corner_clearance=corner_clearance,
+        deadline=deadline, goal_points=np.array(points))
     safe = safe_plan_exists(g, start_set, goal_set)
-    status, optimality = search_optimality(
-        outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
-        scope=position_scope(eps, max_bounces))
     user_part = walls.user_partition if not walls.identity else part
     return Funnel(status=status, optimality=optimality, environment=EnvironmentRecord.of(walls.env, user_part.n_segments),
                   start=user_start, goal=user_goal, tolerance=eps, partition=user_part,

@@ -38,23 +38,21 @@ ended it, in ``optimality.limits``).
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
 
 from solverplan.bounce.bvg import SafeBVG
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
-from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN
 from solverplan.plan._deadline import Deadline, deadline_of
-from solverplan.plan._positions import Flat, search_widening, to_user_stages
+from solverplan.plan._positions import Flat, to_user_stages
 from solverplan.plan._results import PositionStrategy
-from solverplan.plan._walls import Walls
-from solverplan.plan.funnels import (widening_passes, DEFAULT_FUNNEL_TOLERANCE, DEFAULT_MAX_ROWS, NARROW_PASSES, position_scope,
-                                    search_optimality, search_stats)
+from solverplan.plan._walls import PartitionedWalls
+from solverplan.plan.funnels import DEFAULT_MAX_ROWS, boundary_pieces, graded_search, search_half_width
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Status, answer_kind
 
 __all__ = ["Localization", "localize", "rotational_symmetry"]
@@ -208,22 +206,16 @@ def localize(
     """
     if isinstance(epsilon, bool) or not isinstance(epsilon, (int, float)) or not (math.isfinite(epsilon) and epsilon > 0):
         raise InputError(f"epsilon {epsilon!r} must be a positive length")
-    eps = DEFAULT_FUNNEL_TOLERANCE if tolerance is None else float(tolerance)
-    if not (0 < eps < math.pi / 2):
-        raise InputError(f"tolerance {tolerance!r} must be a heading half-width in (0, π/2) radians")
+    eps = search_half_width(tolerance)
     if start is None:
         start_set = BoundarySet(tuple(BoundaryPiece(e, Fraction(0), Fraction(1)) for e in range(env.n_edges)))
-    elif isinstance(start, str):
-        start_set = env.boundary_set(start)
-    elif isinstance(start, BoundarySet):
-        start_set = start
     else:
-        raise InputError(f"start set {start!r}: expected a boundary set such as 'e3:0.25:0.75,e4'")
+        start_set = boundary_pieces(env, start, "start")
     deadline = deadline_of(timeout)
     # Collinear vertices are no corners: search the straight walls (the same free space with them merged) and
     # answer in the user's edges (plan._walls, to_user_stages). A final interval may then straddle a collinear
     # vertex: it is one interval of one straight wall.
-    walls = Walls(env)
+    walls = PartitionedWalls(env)
     user_start = start_set
     # the search needs only the partition of the straight walls (the graph's, when one is given): no safe BVG
     part = graph.partition if graph is not None and graph.partition.env == walls.merged else partition(walls.merged)
@@ -268,16 +260,10 @@ def localize(
         lo, hi = min(p.t0 for p in pieces), max(p.t1 for p in pieces)
         return float(hi - lo) * float(lengths[pieces[0].edge]) < limit
 
-    margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
-    t0 = time.perf_counter()
-    passes = widening_passes(beam, n_headings)
-    outcome, used_beam, used_headings = search_widening(
-        env, part, start_set.pieces, done, done_exact, passes=passes, max_rows=max_rows, tolerance=eps,
-        max_bounces=max_bounces, rank="edges", margins=margins, deadline=deadline)
-    stats = search_stats(outcome, time.perf_counter() - t0)
-    status, optimality = search_optimality(
-        outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
-        scope=position_scope(eps, max_bounces))
+    outcome, status, optimality, stats = graded_search(
+        env, part, start_set.pieces, done, done_exact, eps=eps, max_bounces=max_bounces, n_headings=n_headings,
+        beam=beam, max_rows=max_rows, heading_margin=heading_margin, corner_clearance=corner_clearance,
+        deadline=deadline, rank="edges")
     goal = None
     if outcome.stages is not None:
         final = outcome.stages[-1].positions if outcome.stages else start_set.pieces

@@ -70,7 +70,7 @@ vertices: far above double rounding (10⁻¹⁶ D) and the float caster's tie to
 
 def environment_diameter(env: Environment) -> float:
     """The largest distance between two vertices of ``env`` (its length units): the diameter of its outer ring's
-    convex hull (shapely), by rotating calipers. A size that rotations, translations, ring start indices, vertex order and
+    convex hull (shapely), over every pair of its corners. A size that rotations, translations, ring start indices, vertex order and
     collinear vertices leave unchanged (to rounding), so the margins scaled by it are too.
 
     >>> from solverplan.environment import Environment
@@ -78,16 +78,22 @@ def environment_diameter(env: Environment) -> float:
     5.0
     """
     hull = shapely.MultiPoint([(float(x), float(y)) for x, y in env.rings[0]]).convex_hull
-    pts = list(hull.exterior.coords)[:-1]  # a proper outer ring spans an area: its hull is a polygon
-    h = len(pts)
-    best, j = 0.0, 1
-    for i in range(h):
-        p, q = pts[i], pts[(i + 1) % h]
-        # the vertex farthest from the line of edge pq, advanced monotonically around the hull
-        while abs(_turn(p, q, pts[(j + 1) % h])) > abs(_turn(p, q, pts[j])):
-            j = (j + 1) % h
-        best = max(best, math.dist(p, pts[j]), math.dist(q, pts[j]))
-    return best
+    ring = list(hull.exterior.coords)[:-1]  # a proper outer ring spans an area: its hull is a polygon
+    # the hull's corners only (shapely keeps vertices on the hull's edges: collinear vertices of the walls), then every
+    # pair of them, in blocks: rotating calipers tie on parallel hull edges (rectilinear rooms), and which of two
+    # equally far vertices they stop at turned with the room (and with a vertex written on the hull)
+    pts = []
+    for k, p in enumerate(ring):
+        before, after = ring[k - 1], ring[(k + 1) % len(ring)]
+        if abs(_turn(before, p, after)) > 1e-12 * math.dist(before, p) * math.dist(p, after):
+            pts.append(p)
+    xy = np.asarray(pts, dtype=float).reshape(-1, 2)
+    best = 0.0
+    for i in range(0, len(xy), 512):
+        block = xy[i:i + 512]
+        d = (block[:, None, 0] - xy[None, :, 0]) ** 2 + (block[:, None, 1] - xy[None, :, 1]) ** 2
+        best = max(best, float(d.max()))
+    return math.sqrt(best)
 
 
 def _turn(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:

@@ -64,14 +64,15 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, Literal, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
+from solverplan.choices import PatrolObjective
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.dynamics import ExactHeading, cycles_to_epsilon
 from solverplan.interval import Interval
-from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.partitions import Partition, partition
 from solverplan.bounce.transitions import affine_map
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet, SolverFailed
@@ -81,7 +82,7 @@ from solverplan.plan import _search
 from solverplan.plan._choices import ArcChoices, arc_choices, max_tolerance
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
-from solverplan.plan._walls import Walls, cut_partition
+from solverplan.plan._walls import PartitionedWalls, cut_partition
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
 from solverplan.plan._graphs import (
     KARP_MAX_NODES,
@@ -94,12 +95,11 @@ from solverplan.plan._results import OnPartition, heading_cone
 from solverplan.plan.search import straight_walls_graph
 from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_kind
 
-__all__ = ["Objective", "DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
+__all__ = ["DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
 
 logger = logging.getLogger(__name__)
 
-Objective = Literal["contraction", "tolerance", "rate"]
-OBJECTIVES = ("contraction", "tolerance", "rate")
+OBJECTIVES = PatrolObjective.values()
 
 DEFAULT_TOLERANCE = 0.01
 """Radians: the heading tolerance ε (half-width of every interval) used by objectives ``contraction`` and
@@ -379,9 +379,11 @@ class _Entry:
     known segment of the cycle (the cycle's stages depend on the segment)."""
 
     def __init__(self, graph: SafeBVG, start: BoundarySet, margins: Margins, deadline: Deadline = NEVER,
-                 walls: Walls | None = None) -> None:
+                 walls: PartitionedWalls | None = None) -> None:
         self.graph, self.start, self.margins, self.deadline, self.walls = graph, start, margins, deadline, walls
-        self.problem = Problem(graph, start, None, margins=margins, walls=walls)
+        # entries land on whole segments (an entry ends on one known segment of the cycle): landing units only for
+        # the start set's pieces
+        self.problem = Problem(graph, start, None, margins=margins, walls=walls, landing_units=False)
         self.start_belief = self.problem.start_belief
         self._singletons: dict[float, tuple[frozenset[int], tuple[str, ...]]] = {}
 
@@ -410,7 +412,7 @@ class _Entry:
                                  for s in sorted(targets)))
         if self.walls is not None:  # the problem takes its sets in the user's numbering
             goal = self.walls.to_user_set(goal)
-        problem = Problem(self.graph, self.start, goal, margins=self.margins, walls=self.walls)
+        problem = Problem(self.graph, self.start, goal, margins=self.margins, walls=self.walls, landing_units=False)
         n = problem.n_segments
 
         def accept(belief) -> bool:
@@ -432,7 +434,7 @@ Visits = tuple[np.ndarray, ...]
 that visit (the segments of the visited edge's part of its straight wall)."""
 
 
-def _visit_targets(part: Partition, walls: Walls, edges: tuple[int, ...]) -> Visits:
+def _visit_targets(part: Partition, walls: PartitionedWalls, edges: tuple[int, ...]) -> Visits:
     """The segments of the searched partition (of the straight walls, cut where the visited edges end: every
     segment lies inside or outside each visited edge) that lie on each visited user edge."""
     out = []
@@ -603,7 +605,7 @@ def patrol(
     visit: str | Sequence[int],
     *,
     start: str | BoundarySet | None = None,
-    objective: Objective = "contraction",
+    objective: PatrolObjective | str = "contraction",
     tolerance: float | None = None,
     max_between: int | None = None,
     epsilon: float | None = None,
@@ -671,8 +673,7 @@ def patrol(
     >>> sp.patrol(sp.load_environment("hexagon"), "e0,e3").max_between    # one bounce between visits is not enough
     2
     """
-    if objective not in OBJECTIVES:
-        raise InputError(f"unknown patrol objective {objective!r}: use {', '.join(OBJECTIVES)}")
+    objective = PatrolObjective.parse(objective, "patrol objective").value
     edges = parse_visit(env, visit)
     start_set = _start_set(env, start)
     if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < float(tolerance) < math.pi / 2):
@@ -686,7 +687,7 @@ def patrol(
     # Collinear vertices are no corners: search the straight walls (the same free space with them merged, each ring
     # from its canonical vertex: plan._walls), cut again only where a visited edge ends inside a wall (a visit of
     # user edge k means landing on k's part of its wall), and answer in the user's edges
-    walls = Walls(env)
+    walls = PartitionedWalls(env)
     if graph is not None and graph.partition.env not in (env, walls.merged):
         raise InputError("the safe BVG given was built for another environment")
     cuts = walls.visit_cuts(edges)
@@ -721,7 +722,7 @@ def _claim(method: Method, bound: float | None, scope: str, algorithm: str, limi
     return Optimality(method, not limits, bound, scope=scope, gap=gap, algorithm=algorithm, limits=limits)
 
 
-def _solve(walls: Walls, g: SafeBVG, edges, objective, tolerance, max_between, start_set, epsilon, solver,
+def _solve(walls: PartitionedWalls, g: SafeBVG, edges, objective, tolerance, max_between, start_set, epsilon, solver,
            margins: Margins, deadline: Deadline = NEVER) -> Patrol:
     """The patrol of ``edges`` (user edges) searched on ``g`` (the safe BVG of the straight walls of
     ``walls``); the answer in the user's numbering (:func:`_to_user`)."""
@@ -1013,7 +1014,7 @@ def _answer(env, part, g, choices: ArcChoices, rows: list[int], eps: float, H: i
         solvers=solvers, **base)
 
 
-def _to_user(walls: Walls, part: Partition, answer: Patrol) -> Patrol:
+def _to_user(walls: PartitionedWalls, part: Partition, answer: Patrol) -> Patrol:
     """A patrol found on ``part`` (P′ of the straight walls, maybe cut where visits end) in the user's numbering:
     each cycle stage leaves from the run of user segments its segment is made of and lands on a run; its exact
     map is stated between the user edges where the two runs begin (the edges' lines are the walls' lines, so the

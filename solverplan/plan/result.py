@@ -28,15 +28,16 @@ import json
 import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
+from solverplan.choices import Objective
 from solverplan._io import read_input_text, shown_path
 from solverplan.environment import BoundaryPiece, Environment, read_json
 from solverplan.errors import InputError, MalformedFile
 from solverplan.exact import to_fraction
 from solverplan.interval import Interval
 from solverplan.limits import quote
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stage, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stage, Stats, Status, answer_kind, finite_number, index_list
 
 __all__ = [
     "Objective",
@@ -52,8 +53,7 @@ __all__ = [
 ]
 
 
-Objective = Literal["fewest", "tolerance", "sum", "constant"]
-OBJECTIVES: tuple[str, ...] = ("fewest", "tolerance", "sum", "constant")
+OBJECTIVES: tuple[str, ...] = Objective.values()
 
 _OLD_METHODS = {"dag-exhausted": Method.SEARCH_EXHAUSTED, "search": Method.HEURISTIC}
 """Method spellings of older answers and what they mean now (reading is lenient; constructing is strict)."""
@@ -373,7 +373,7 @@ class ParetoFront(Answer):
         for k, item in enumerate(raw):
             if not isinstance(item, dict) or not isinstance(item.get("bounces"), int):
                 raise MalformedFile(f"pareto: points[{k}]: expected an object with bounces, min_width, plan")
-            points.append(ParetoPoint(item["bounces"], _number(item.get("min_width"), f"pareto: points[{k}].min_width"),
+            points.append(ParetoPoint(item["bounces"], finite_number(item.get("min_width"), f"pareto: points[{k}].min_width"),
                                       parse_plan(item.get("plan"), f"pareto: points[{k}].plan")))
         budget = data.get("max_bounces")
         return cls(tuple(points), read_optimality(data.get("optimality"), "pareto: optimality"),
@@ -401,15 +401,7 @@ class ParetoFront(Answer):
 
 # ---------------------------------------------------------------------- reading plans back
 def _int_list(value: object, where: str) -> tuple[int, ...]:
-    if not isinstance(value, list) or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in value):
-        raise MalformedFile(f"{where}: expected a list of segment ids (non-negative integers)")
-    return tuple(value)
-
-
-def _number(value: object, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(float(value)):
-        raise MalformedFile(f"{where}: expected a finite number, got {quote(value)}")
-    return float(value)
+    return tuple(index_list(value, where, "segment ids (non-negative integers)"))
 
 
 def parse_plan(data: object, source: str = "plan") -> Plan:
@@ -449,7 +441,7 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
         iv = raw.get("interval")
         if not isinstance(iv, list) or len(iv) != 2:
             raise MalformedFile(f"{where}.interval: expected [lo, hi]")
-        lo, hi = _number(iv[0], f"{where}.interval[0]"), _number(iv[1], f"{where}.interval[1]")
+        lo, hi = finite_number(iv[0], f"{where}.interval[0]"), finite_number(iv[1], f"{where}.interval[1]")
         if not (0 < lo <= hi < math.pi):
             raise MalformedFile(f"{where}.interval [{iv[0]}, {iv[1]}] is not inside (0, π)")
         if not frm or not to:
@@ -475,7 +467,7 @@ def parse_plan(data: object, source: str = "plan") -> Plan:
         if left is not None:
             if not isinstance(left, list) or len(left) != 2:
                 raise MalformedFile(f"{where}.margins: expected [lo, hi] (radians)")
-            margins = (_number(left[0], f"{where}.margins[0]"), _number(left[1], f"{where}.margins[1]"))
+            margins = (finite_number(left[0], f"{where}.margins[0]"), finite_number(left[1], f"{where}.margins[1]"))
         stages.append(Stage(frm, tuple(sorted(set(to))), Interval(lo, hi), moves=moves, sources=sources, margins=margins))
     for k in range(1, len(stages)):
         if set(stages[k].from_segments) != set(stages[k - 1].to_segments):

@@ -33,11 +33,14 @@ optimality is over such plans. Stages land on segments of P′ of the environmen
 vertex with an angle of exactly π is no corner, so the search runs on the environment with those vertices
 merged (:mod:`solverplan.plan._walls`; the same free space) and the answer names the user's edges and
 segments — a stage onto a run of collinear segments lists every segment of the run. Inserting collinear
-vertices never changes an answer, wherever they are. The query is answered as asked: a start set that covers
-part of a segment makes that part a source of its own (a *start piece*, with the exact safe sets of the piece:
-the plan works from every point of the start set, not from the whole segment; the stage lists the pieces in
-``sources``); the goal is reached on segments lying wholly in the goal set, or — in the last stage only — on the
-part of a segment the goal set covers, with the interval cut so that every landing point is inside it.
+vertices never changes an answer, wherever they are. The query is answered as asked: the ends of the start and
+goal sets cut the segments they fall inside into pieces, and every piece is a *landing unit* as well as the whole
+segment (:mod:`solverplan.plan._problem`): any stage may land on a piece — every landing point inside it — and a
+later stage leave from it with the piece's own exact safe sets (the stage lists the pieces in ``sources``), and a
+start set that covers part of a segment starts from that part (its own exact safe sets: the plan works from every
+point of the start set, not from the whole segment); the goal is reached on segments lying wholly in the goal set, or on the part of a segment
+the goal set covers, with the interval cut so that every landing point is inside it. So a plan that needs the
+part of a segment beyond a set's end is found, and one that lands across the end is too.
 
 Timeouts
 --------
@@ -75,6 +78,7 @@ import math
 import time
 from dataclasses import replace
 
+from solverplan.choices import Objective
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.environment import BoundarySet, Environment
@@ -83,9 +87,9 @@ from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.plan import _search
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
-from solverplan.plan.result import OBJECTIVES, ParetoFront, ParetoPoint, Plan
+from solverplan.plan.result import ParetoFront, ParetoPoint, Plan
 from solverplan.progress import Stopped
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
 
@@ -149,7 +153,7 @@ def planning_problem(
                                       corner_clearance=corner_clearance)
     start_set = _boundary(env, start, "start")
     goal_set = _boundary(env, goal, "goal")
-    walls = Walls(env)
+    walls = PartitionedWalls(env)
     if graph is not None and graph.partition.env not in (env, walls.merged):
         raise InputError("the safe BVG given was built for another environment")
     if graph is None or graph.partition.env != walls.merged:
@@ -157,7 +161,7 @@ def planning_problem(
     return Problem(graph, start_set, goal_set, margins=margins, walls=walls)
 
 
-def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
+def straight_walls_graph(walls: PartitionedWalls, graph: SafeBVG | None = None) -> SafeBVG:
     """The safe BVG the planners search: the one of P′ of the straight walls (collinear vertices merged, the same
     free space: :mod:`solverplan.plan._walls`), so that it does not depend on how the walls are written; ``graph``
     when it is that graph already."""
@@ -166,17 +170,19 @@ def straight_walls_graph(walls: Walls, graph: SafeBVG | None = None) -> SafeBVG:
     return safe_bounce_visibility_graph(walls.merged)
 
 
-def query_graph(walls: Walls, start: BoundarySet, max_depth: int | None = None) -> SafeBVG:
+def query_graph(walls: PartitionedWalls, start: BoundarySet, max_depth: int | None = None) -> SafeBVG:
     """The safe BVG one query from ``start`` needs (on the straight walls): the whole graph when it is cached or
     small (under :data:`~solverplan.bounce.bvg.LAZY_MIN_ARCS` estimated arcs), else only the safe arcs a search
     from the start segments can reach within ``max_depth`` stages (:func:`~solverplan.bounce.bvg.reachable_safe_graph`:
     the same rows, so the same answers, for a fraction of the work and memory on large maps).
 
     A start set covering part of a segment needs every segment its host sees (a start piece sees no more than the
-    whole segment, but sees parts of it the ends do not), which only the whole graph lists: such queries use it."""
+    whole segment, but sees parts of it the ends do not), which only the whole graph lists: such queries use it.
+    Landing units of the goal set's ends on a graph built on demand leave only along the safe arcs of their segment
+    (the answer's scope says so)."""
     from solverplan.bounce import _cache
     from solverplan.bounce.bvg import LAZY_MIN_ARCS, check_graph_memory, estimate_graph, reachable_safe_graph
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     found = _cache.lookup_environment(walls.merged)
     if found is not None:
@@ -226,12 +232,15 @@ def _scope(problem: Problem, max_bounces: int | None) -> str:
     """The class of plans every optimality claim of :func:`find_plan` and :func:`pareto_front` is about."""
     budget = f" with at most {max_bounces} bounces" if max_bounces is not None else ""
     m = problem.margins
-    return (f"plans{budget} whose first stage works from every point of the start set as given, whose later stages "
-            f"leave from whole segments of P′ of the straight walls (collinear vertices merged) and whose stages each "
-            f"land on one such segment (a run of collinear segments is one landing unit; the last stage inside the "
-            f"goal set), with intervals in the admissible intervals of the exact safe sets (heading margin "
-            f"{m.heading_margin:g} rad, interval ends {m.end_margin:.3g} rad inside, corner clearance "
-            f"{m.corner_clearance:.3g} at real corners, no two consecutive arcs into one corner)")
+    lazy = (" (this large map's safe BVG was built for the query, so a piece leaves only towards segments its whole "
+            "segment has a safe heading to)" if problem.graph.stats.get("lazy") and problem.units else "")
+    return (f"plans{budget} whose first stage works from every point of the start set as given and whose stages each "
+            f"land on one landing unit and leave from it: a segment of P′ of the straight walls (collinear vertices "
+            f"merged), a run of collinear user segments being one, or one of the pieces such a segment is cut into by "
+            f"the ends of the start and goal sets{lazy} — the last stage inside the goal set —, with intervals in the "
+            f"admissible intervals of the exact safe sets (heading margin {m.heading_margin:g} rad, interval ends "
+            f"{m.end_margin:.3g} rad inside, corner clearance {m.corner_clearance:.3g} at real corners and at the set "
+            f"ends a stage lands between, no two consecutive arcs into one corner)")
 
 
 def _claim(method: Method, proved: bool, bound: float | None, algorithm: str, problem: Problem,
@@ -347,8 +356,7 @@ def find_plan(
     >>> plan.status.value, plan.optimality.proved, plan.reason
     ('infeasible', True, 'exhausted all plans with ≤ 1 bounces (1 beliefs reached): none reaches the goal')
     """
-    if objective not in OBJECTIVES:
-        raise InputError(f"unknown objective {objective!r}: use {', '.join(OBJECTIVES)}")
+    objective = Objective.parse(objective, "objective").value
     allowed = METHODS[objective]
     if method not in allowed:
         raise InputError(f"unknown method {method!r} for objective {objective!r}: use {', '.join(allowed)}")
@@ -371,15 +379,10 @@ def find_plan(
                              "objectives with their default methods")
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    try:
-        with deadline.watching():
-            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
-                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
-                                       max_depth=k_max)
-    except Stopped as exc:
-        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
-                                          corner_clearance=corner_clearance)
-        return _stopped_in_setup(env, start, goal, objective, k_max, deadline, exc, time.perf_counter() - t0, margins)
+    problem = _query_problem(env, start, goal, objective, k_max, deadline, t0, graph=graph,
+                             heading_margin=heading_margin, safe_margin=safe_margin, corner_clearance=corner_clearance)
+    if isinstance(problem, Plan):
+        return problem
     common = _common(problem, k_max)
     t1 = time.perf_counter()
     if deadline.expired():
@@ -397,6 +400,21 @@ def find_plan(
                              admissible_intervals=problem.n_admissible, **_graph_counts(problem))
     logger.info("%s plan: %s in %.3f s", objective, plan.status.value, t2 - t1)
     return plan.with_(stats=stats)
+
+
+def _query_problem(env: Environment, start: str | BoundarySet, goal: str | BoundarySet, objective: str,
+                   k_max: int | None, deadline: Deadline, t0: float, *, graph: SafeBVG | None, heading_margin: float,
+                   safe_margin: float, corner_clearance: float | None) -> Problem | Plan:
+    """The query's planning problem, built under ``deadline`` (started at ``t0``); or, when the timeout comes while
+    it is built, the ``not-found`` plan of :func:`_stopped_in_setup`."""
+    try:
+        with deadline.watching():
+            return planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
+                                    safe_margin=safe_margin, corner_clearance=corner_clearance, max_depth=k_max)
+    except Stopped as exc:
+        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
+                                          corner_clearance=corner_clearance)
+        return _stopped_in_setup(env, start, goal, objective, k_max, deadline, exc, time.perf_counter() - t0, margins)
 
 
 def _stopped_in_setup(env: Environment, start: str | BoundarySet, goal: str | BoundarySet, objective: str,
@@ -757,15 +775,10 @@ def pareto_front(
     k_max = _check_budget(max_bounces)
     deadline = deadline_of(timeout)
     t0 = time.perf_counter()
-    try:
-        with deadline.watching():
-            problem = planning_problem(env, start, goal, graph=graph, heading_margin=heading_margin,
-                                       safe_margin=safe_margin, corner_clearance=corner_clearance,
-                                       max_depth=k_max)
-    except Stopped as exc:
-        margins = Margins.for_environment(env, heading_margin=heading_margin, safe_margin=safe_margin,
-                                          corner_clearance=corner_clearance)
-        plan = _stopped_in_setup(env, start, goal, "tolerance", k_max, deadline, exc, time.perf_counter() - t0, margins)
+    problem = _query_problem(env, start, goal, "tolerance", k_max, deadline, t0, graph=graph,
+                             heading_margin=heading_margin, safe_margin=safe_margin, corner_clearance=corner_clearance)
+    if isinstance(problem, Plan):  # the timeout came while the query was built
+        plan = problem
         return ParetoFront((), plan.optimality, plan.start, plan.goal, k_max, reason=plan.reason,
                            environment=plan.environment, stats=plan.stats)
     common = _common(problem, k_max)

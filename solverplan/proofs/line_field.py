@@ -30,10 +30,10 @@ import sympy as sp
 from solverplan.proofs._common import is_zero, text
 from solverplan.proofs._core import ProofResult, Step
 
-__all__ = ["prove", "line_field", "zone_cost_corrected", "zone_cost_printed"]
+__all__ = ["prove", "line_field_velocity", "zone_cost_corrected", "zone_cost_printed"]
 
 
-def line_field(q: sp.Matrix, q0: sp.Matrix, d: sp.Matrix, p: sp.Expr) -> sp.Matrix:
+def line_field_velocity(q: sp.Matrix, q0: sp.Matrix, d: sp.Matrix, p: sp.Expr) -> sp.Matrix:
     """Eq. 2 written as printed: ẋ = dX + p(x₀ − x − [(x₀ − x)dX + (y₀ − y)dY]dX), ẏ likewise."""
     a = q0 - q
     proj = a[0] * d[0] + a[1] * d[1]
@@ -61,7 +61,7 @@ def prove() -> ProofResult:
     beta = sp.Symbol("beta", real=True)
     q, q0 = sp.Matrix([x, y]), sp.Matrix([x0, y0])
     d = sp.Matrix([sp.cos(beta), sp.sin(beta)])
-    v = line_field(q, q0, d, p)
+    v = line_field_velocity(q, q0, d, p)
     steps: list[Step] = []
 
     along = sp.simplify(d.dot(v))
@@ -87,7 +87,7 @@ def prove() -> ProofResult:
 
     ax, ay, bx, by, nx, ny = sp.symbols("a_x a_y b_x b_y n_x n_y", real=True)
     on_side = sp.Matrix([ax, ay]) + lam * (sp.Matrix([bx, by]) - sp.Matrix([ax, ay]))
-    n_dot_v = sp.Matrix([nx, ny]).dot(line_field(on_side, q0, d, p))
+    n_dot_v = sp.Matrix([nx, ny]).dot(line_field_velocity(on_side, q0, d, p))
     steps.append(Step("along a side a + λ(b − a), n·v is affine in λ: positive on the closed side iff positive at "
                       "both end points (the exact flow-through test)",
                       is_zero(sp.diff(n_dot_v, lam, 2)), f"∂²(n·v)/∂λ² = {text(sp.diff(n_dot_v, lam, 2))}"))
@@ -95,7 +95,7 @@ def prove() -> ProofResult:
     wx, wy = sp.symbols("w_x w_y", real=True)  # any non-zero w (not only the first quadrant)
     w = sp.Matrix([wx, wy])
     n = sp.Matrix([nx, ny])
-    vw = line_field(q, q0, _unit(w), p)
+    vw = line_field_velocity(q, q0, _unit(w), p)
     length2 = w.dot(w)
     form = n.dot(w) * sp.sqrt(length2) + p * (length2 * n.dot(q0 - q) - n.dot(w) * w.dot(q0 - q))
     steps.append(Step("with d = w/|w|: n·v·|w|² = (n·w)|w| + p(|w|² n·(q₀ − q) − (n·w)(w·(q₀ − q))), a form A√L + B "

@@ -1,7 +1,7 @@
 """Virtual doors: the rooms as walls a robot bounces on, doors that let it through or turn it back, and the
 door-control policy of the paper's §V–VI.
 
-:class:`RoomWorld` is the decomposed polygon as the simulator sees it (:class:`solverplan.simulate.PolicyWalls`):
+:class:`RoomWorld` is the decomposed polygon as the simulator sees it (:class:`solverplan.rollout.PolicyWalls`):
 the walls are the sides of the rooms — every side of every room, numbered room after room, so a door is two
 walls, one in each of its rooms — and a ray is cast in the room it starts in (the batch ray caster on the
 room's own polygon). When it reaches a door that is **open** for its rollout it goes on, straight, into the

@@ -34,7 +34,7 @@ from solverplan.rectilinear.decomposition import Decomposition
 __all__ = [
     "SMART_THRESHOLD",
     "escapability",
-    "Reachability",
+    "RoomReachability",
     "reachability",
     "reachability_along",
     "reachability_graph",
@@ -55,7 +55,7 @@ def escapability(dec: Decomposition, room: int, to: int) -> Fraction:
 
 
 @dataclass(frozen=True, slots=True)
-class Reachability:
+class RoomReachability:
     """Ψ along a room sequence: ``rooms`` (start first), the Φ of each door crossed (``factors``, one fewer
     than rooms) and their product ``psi`` (exact)."""
 
@@ -75,15 +75,15 @@ class Reachability:
                 "reachability": float(self.psi), "reachability_exact": format_number(self.psi)}
 
 
-def reachability(dec: Decomposition, start: int, goal: int) -> Reachability:
+def reachability(dec: Decomposition, start: int, goal: int) -> RoomReachability:
     """Ψ(start, goal): the product of the escapability factors along the room sequence from ``start`` to ``goal``."""
     return reachability_along(dec, dec.path(start, goal))
 
 
-def reachability_along(dec: Decomposition, rooms: Sequence[int]) -> Reachability:
+def reachability_along(dec: Decomposition, rooms: Sequence[int]) -> RoomReachability:
     """Ψ along any room sequence (each room a neighbour of the one before; a tour may come back through a room)."""
     rooms = tuple(rooms)
-    return Reachability(rooms, tuple(escapability(dec, i, j) for i, j in zip(rooms, rooms[1:])))
+    return RoomReachability(rooms, tuple(escapability(dec, i, j) for i, j in zip(rooms, rooms[1:])))
 
 
 def reachability_graph(dec: Decomposition):
@@ -108,7 +108,7 @@ class RuleRecommendation:
     """Which bounce rule to use from ``start`` to ``goal``: ``"smart"`` when Ψ < ``threshold``, else ``"random"``."""
 
     rule: str
-    reachability: Reachability
+    reachability: RoomReachability
     threshold: Fraction
 
     @property

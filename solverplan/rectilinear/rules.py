@@ -50,6 +50,7 @@ from typing import ClassVar, Sequence
 
 import numpy as np
 
+from solverplan.choices import RoomRule, ThetaMode
 from solverplan.errors import InputError
 from solverplan.rectilinear.decomposition import Decomposition
 
@@ -59,12 +60,12 @@ __all__ = ["RULES", "RULE_VARIANTS", "THETA_MODES", "GUARANTEES", "Billiard", "R
 RULES: tuple[str, ...] = ("smart", "random", "billiard")
 """The paper's three rules."""
 
-THETA_MODES: tuple[str, ...] = ("safe", "paper", "per-room")
+THETA_MODES: tuple[str, ...] = ThetaMode.values()
 """How the smart rule's θ is chosen (module docstring): ``safe`` tan θ = ℓ/(2D), the least over the rooms left on
 the way; ``paper`` Eq. 1's tan θ = ℓ/h, the least over the same rooms; ``per-room`` the safe θ of the room the
 robot is in (the central system tells it)."""
 
-RULE_VARIANTS: tuple[str, ...] = ("smart", "smart-paper", "smart-per-room", "random", "billiard")
+RULE_VARIANTS: tuple[str, ...] = RoomRule.values()
 """The rules compared by a recommendation: ``smart`` is the smart rule with the safe θ, ``smart-paper`` and
 ``smart-per-room`` the other θ modes."""
 
@@ -116,9 +117,7 @@ class Random:
 
 
 def _check_theta(theta: str) -> str:
-    if theta not in THETA_MODES:
-        raise InputError(f"unknown θ mode {theta!r}: use {', '.join(THETA_MODES)}")
-    return theta
+    return ThetaMode.parse(theta, "θ mode").value
 
 
 def door_depth(dec: Decomposition, room: int, door: int) -> Fraction:
@@ -166,7 +165,7 @@ class Smart:
     step-th hit (module docstring). With ``per_room`` (one θ per room, :func:`room_tangents`) the central
     system tells the robot the θ of the room it is in — the paper's variant with updated information; the
     bit is still the robot's only memory. ``tangent`` and ``room_tangents`` are the exact tan θ when known
-    (the exact replay of :func:`solverplan.studies.rooms.periodic_orbit` moves along them)."""
+    (the exact replay of :func:`solverplan.rectilinear.simulation.periodic_orbit` moves along them)."""
 
     theta: float
     per_room: tuple[float, ...] = ()

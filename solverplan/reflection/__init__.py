@@ -22,16 +22,17 @@ The symbolic proofs are in ``solverplan.proofs.line_field``; the command is ``so
 ((2, 0, 7, 5), 1.0)
 """
 
-from solverplan.reflection.cells import Cell, Decomposition, Side, decompose_free_space
+from solverplan.reflection.cells import Cell, CellDecomposition, Side, decompose_free_space
 from solverplan.reflection.compose import CellPolicy, FieldPlan, compose_fields
 from solverplan.reflection.fields import (ArcField, FlowCheck, GoalField, LineField, dense_flows_through,
                                           flows_through, line_flows_through)
 from solverplan.reflection.navigation import FieldNavigation, navigate_fields
-from solverplan.reflection.simulate import RobotModel, Scenario, ScenarioRun, default_scenarios, simulate_scenarios
+from solverplan.reflection.simulate import (FieldRobotDynamics, Scenario, ScenarioRun, default_scenarios,
+                                           simulate_scenarios)
 from solverplan.reflection.zones import ReflectionZone, is_reflection_candidate, rank_zones, select_zone, zone_cost
 
-__all__ = ["ArcField", "Cell", "CellPolicy", "Decomposition", "FieldNavigation", "FieldPlan", "FlowCheck", "GoalField",
-           "LineField", "ReflectionZone", "RobotModel", "Scenario", "ScenarioRun", "Side", "compose_fields",
+__all__ = ["ArcField", "Cell", "CellDecomposition", "CellPolicy", "FieldNavigation", "FieldPlan", "FieldRobotDynamics",
+           "FlowCheck", "GoalField", "LineField", "ReflectionZone", "Scenario", "ScenarioRun", "Side", "compose_fields",
            "decompose_free_space", "default_scenarios", "dense_flows_through", "flows_through",
            "is_reflection_candidate", "line_flows_through", "navigate_fields", "rank_zones", "select_zone",
            "simulate_scenarios", "zone_cost"]

@@ -27,12 +27,13 @@ from typing import Sequence
 
 import numpy as np
 
+from solverplan.choices import CellKind
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, cross, exact_point, format_point, signed_area2
 from solverplan.geometry.walls import StraightWalls
 
-__all__ = ["Side", "Cell", "Decomposition", "decompose_free_space", "with_corner_projections", "CELL_KINDS"]
+__all__ = ["Side", "Cell", "CellDecomposition", "decompose_free_space", "with_corner_projections", "CELL_KINDS"]
 
 
 def _turn(a: ExactPoint, b: ExactPoint, c: ExactPoint) -> Fraction:
@@ -114,7 +115,7 @@ class Cell:
 
 
 @dataclass(frozen=True)
-class Decomposition:
+class CellDecomposition:
     """Convex cells covering the free space, and their adjacency over shared facets.
 
     ``adjacency``: the pairs (i, j), i < j, of cells that share a facet, sorted.
@@ -203,7 +204,7 @@ def _between(p: Sequence[Fraction], a: ExactPoint, b: ExactPoint) -> bool:
     return min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= p[1] <= max(a[1], b[1])
 
 
-CELL_KINDS = ("convex", "corners")
+CELL_KINDS = CellKind.values()
 """Decompositions: ``convex`` (Hertel–Mehlhorn on the environment's own vertices) and ``corners`` (the same after
 adding the projections of every reflex vertex along its two walls, :func:`with_corner_projections`)."""
 
@@ -249,7 +250,7 @@ def with_corner_projections(env: Environment) -> Environment:
     return Environment.from_coords(rings[0], rings[1:], name=env.name)
 
 
-def decompose_free_space(env: Environment, cells: str = "convex") -> Decomposition:
+def decompose_free_space(env: Environment, cells: str = "convex") -> CellDecomposition:
     """Convex cells of ``env``'s free space (holes included), with their adjacency over shared facets.
 
     The cells are made by Hertel–Mehlhorn merging of a constrained Delaunay triangulation. Every cell vertex is an
@@ -270,7 +271,7 @@ def decompose_free_space(env: Environment, cells: str = "convex") -> Decompositi
 
     Returns
     -------
-    Decomposition
+    CellDecomposition
         The cells (exact, counter-clockwise vertices in the environment's units) and the pairs of cells that share
         a facet.
 
@@ -291,8 +292,7 @@ def decompose_free_space(env: Environment, cells: str = "convex") -> Decompositi
     """
     import shapely
 
-    if cells not in CELL_KINDS:
-        raise InputError(f"unknown decomposition {cells!r}: use {', '.join(CELL_KINDS)}")
+    cells = CellKind.parse(cells, "decomposition").value
     walls = StraightWalls(env)
     if not walls.identity:  # canonical walls first: the corner projections below add collinear vertices of their own
         return replace(decompose_free_space(walls.merged, cells), env=env)
@@ -356,7 +356,7 @@ def _merge(triangles: list[list[int]], exact: Sequence[ExactPoint]) -> list[list
     return [polygons[k] for k in sorted(polygons)]
 
 
-def _build(env: Environment, polygons: list[list[int]]) -> Decomposition:
+def _build(env: Environment, polygons: list[list[int]]) -> CellDecomposition:
     exact = env.exact_vertices
     side_owner: dict[tuple[int, int], int] = {}
     ordered = sorted(polygons, key=lambda poly: (min(exact[k] for k in poly), len(poly)))
@@ -376,4 +376,4 @@ def _build(env: Environment, polygons: list[list[int]]) -> Decomposition:
             if neighbour is not None:
                 pairs.add((min(cid, neighbour), max(cid, neighbour)))
         cells.append(Cell(cid, tuple(exact[k] for k in poly), tuple(sides)))
-    return Decomposition(env, tuple(cells), tuple(sorted(pairs)))
+    return CellDecomposition(env, tuple(cells), tuple(sorted(pairs)))

@@ -36,7 +36,7 @@ from typing import Sequence
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_number, to_fraction
-from solverplan.reflection.cells import Cell, Decomposition, decompose_free_space
+from solverplan.reflection.cells import Cell, CellDecomposition, decompose_free_space
 from solverplan.reflection.fields import (Field, FlowCheck, GoalField, LineField, arc_turn, fit_line_field,
                                           flows_through)
 from solverplan.reflection.zones import ReflectionZone, RejectedZone, select_zone_recorded
@@ -69,7 +69,7 @@ class FieldPlan:
     """The composed policy: cells, sequence, one :class:`CellPolicy` per cell that reaches the goal (``policies``,
     by cell id) and the reflection zones (``zones``, by cell id)."""
 
-    decomposition: Decomposition
+    decomposition: CellDecomposition
     start: ExactPoint
     goal: ExactPoint
     sequence: tuple[int, ...]
@@ -183,7 +183,7 @@ def _nominal(cell: Cell, origin: ExactPoint, inlet: int | None, outlet: int, gai
 
 def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
                    gain_line: object = Fraction(3), gain_arc: object = Fraction(1), arcs: bool = False,
-                   reflection: bool = True, decomposition: Decomposition | None = None,
+                   reflection: bool = True, decomposition: CellDecomposition | None = None,
                    cells: str = "convex") -> FieldPlan:
     """The composed field policy from ``start`` to ``goal`` (points of the open free space, exact or decimal).
 

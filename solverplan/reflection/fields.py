@@ -231,12 +231,11 @@ def dense_flows_through(field: Field, cell: Cell, exits: set[int] | frozenset[in
 
     Examples
     --------
-    >>> from fractions import Fraction as F
-    >>> from solverplan.environment import load_environment
-    >>> from solverplan.reflection.cells import decompose_free_space
-    >>> cell = decompose_free_space(load_environment("square")).cells[0]
-    >>> f = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, F(3, 10))
-    >>> dense_flows_through(f, cell, {2}).verified
+    >>> import solverplan as sp
+    >>> from fractions import Fraction
+    >>> cell = sp.decompose_free_space(sp.load_environment("square")).cells[0]    # sides 0 … 3 from the bottom
+    >>> bottom_to_top = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, Fraction(3, 10))
+    >>> dense_flows_through(bottom_to_top, cell, {2}).verified
     True
     """
     verts = cell.float_vertices

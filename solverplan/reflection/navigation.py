@@ -17,6 +17,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Sequence
 
+from solverplan.choices import Reflections, ScenarioName, StartMode
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
@@ -30,7 +31,7 @@ import numpy as np
 
 from solverplan.reflection.compose import FieldPlan, compose_fields
 from solverplan.reflection.payoff import ROLLOUT_TRIALS, ZoneTest, prune_zones
-from solverplan.reflection.simulate import (SCENARIOS, RobotModel, ScenarioRun, default_scenarios,
+from solverplan.reflection.simulate import (SCENARIOS, FieldRobotDynamics, ScenarioRun, default_scenarios,
                                             simulate_scenarios)
 
 __all__ = ["FieldNavigation", "navigate_fields", "random_starts", "ROLLOUT_SEED"]
@@ -48,7 +49,7 @@ class FieldNavigation(Answer):
     plan
         The composed field policy (:func:`~solverplan.reflection.compose.compose_fields`).
     model
-        The :class:`~solverplan.reflection.simulate.RobotModel` the rollouts used.
+        The :class:`~solverplan.reflection.simulate.FieldRobotDynamics` the rollouts used.
     runs
         Scenario name → its trials (success share, times in seconds, collisions, kept trajectories).
     seed
@@ -69,7 +70,7 @@ class FieldNavigation(Answer):
     """
 
     plan: FieldPlan
-    model: RobotModel
+    model: FieldRobotDynamics
     runs: dict[str, ScenarioRun]
     seed: int
     status: Status
@@ -138,7 +139,7 @@ class FieldNavigation(Answer):
         plan = plan.without_zones([c for c in plan.zones if c not in kept], dropped)
         model_data = r.sub("model").data
         try:
-            model = RobotModel(**model_data) if isinstance(model_data, dict) else RobotModel()
+            model = FieldRobotDynamics(**model_data) if isinstance(model_data, dict) else FieldRobotDynamics()
         except TypeError:
             raise MalformedFile("fields.model: unknown robot parameters") from None
         scenarios = r.sub("scenarios")
@@ -203,7 +204,7 @@ reported)."""
 
 
 def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
-                    scenarios: Sequence[str] = SCENARIOS, model: str | RobotModel = "inertial", trials: int = 25,
+                    scenarios: Sequence[str] = SCENARIOS, model: str | FieldRobotDynamics = "inertial", trials: int = 25,
                     seed: int = 0, trajectories: int = 0, arcs: bool = False, fast: float = 1.5,
                     slow: float = 0.8, gain_line: object = 3, gain_arc: object = 1, reflections: str = "payoff",
                     starts: str = "fixed", cells: str = "convex") -> FieldNavigation:
@@ -218,7 +219,7 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     scenarios
         Names among ``constrained``, ``unconstrained``, ``reflection`` (in the order wanted).
     model
-        ``"integrator"``, ``"inertial"`` or a :class:`~solverplan.reflection.simulate.RobotModel`.
+        ``"integrator"``, ``"inertial"`` or a :class:`~solverplan.reflection.simulate.FieldRobotDynamics`.
     trials, seed
         Rollouts per scenario and the random seed.
     trajectories
@@ -256,21 +257,18 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     ('found', [0, 1], {'constrained': 1.0, 'unconstrained': 1.0, 'reflection': 1.0})
     """
     began = time.perf_counter()
-    unknown = [s for s in scenarios if s not in SCENARIOS]
-    if unknown or not scenarios:
-        raise InputError(f"unknown scenario {unknown[0] if unknown else '(none)'!r}: use "
-                         f"{', '.join(SCENARIOS)}")
-    robot = model if isinstance(model, RobotModel) else RobotModel(kind=model)
+    if not scenarios:
+        raise InputError(f"no scenario: use one or more of {', '.join(SCENARIOS)}")
+    scenarios = [ScenarioName.parse(s, "scenario").value for s in scenarios]
+    robot = model if isinstance(model, FieldRobotDynamics) else FieldRobotDynamics(kind=model)
     if not 0 <= trajectories <= trials:
         raise InputError(f"trajectories must be between 0 and the number of trials ({trials}), got {trajectories}")
     for name, value in (("fast", fast), ("slow", slow)):
         if not value > robot.dead_band:  # below it the robot never moves: every trial would run to the time limit
             raise InputError(f"the {name} speed must exceed the robot's dead band {robot.dead_band:g} "
                              f"(length/s), got {value:g}")
-    if reflections not in ("payoff", "all", "none"):
-        raise InputError(f"reflections must be payoff, all or none, got {reflections!r}")
-    if starts not in ("fixed", "random"):
-        raise InputError(f"starts must be fixed or random, got {starts!r}")
+    reflections = Reflections.parse(reflections, "reflections").value
+    starts = StartMode.parse(starts, "starts").value
     plan = compose_fields(env, start, goal, arcs=arcs, gain_line=gain_line, gain_arc=gain_arc,
                           reflection=reflections != "none", cells=cells)
     points = random_starts(plan, trials, seed) if starts == "random" else None

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from solverplan.reflection.compose import FieldPlan
-from solverplan.reflection.simulate import RobotModel, Scenario, simulate_scenarios
+from solverplan.reflection.simulate import FieldRobotDynamics, Scenario, simulate_scenarios
 from solverplan.reflection.zones import RejectedZone
 
 __all__ = ["MIN_GAIN", "CONFIRM_GAIN", "ROLLOUT_TRIALS", "ZoneTest", "overshoot_depth", "stopping_distance", "prune_zones"]
@@ -46,7 +46,7 @@ ROLLOUT_TRIALS = 24
 """Runs per rollout comparison."""
 
 
-def stopping_distance(model: RobotModel, speed: float) -> float:
+def stopping_distance(model: FieldRobotDynamics, speed: float) -> float:
     """v²/(2a): how far the robot goes while killing a speed ``speed`` (length/s) at ``accel`` (length); 0 for an
     integrator (it turns at once)."""
     return 0.0 if model.kind == "integrator" else speed * speed / (2.0 * model.accel)
@@ -74,7 +74,7 @@ class ZoneTest:
         return (self.without - self.with_zone) / self.without if self.without > 0 else 0.0
 
 
-def _mean_time(plan: FieldPlan, model: RobotModel, speed: float, trials: int, seed: int,
+def _mean_time(plan: FieldPlan, model: FieldRobotDynamics, speed: float, trials: int, seed: int,
                starts: np.ndarray | None) -> float:
     """Mean time (s) of the reflection controller with the plan's zones, on the rollouts' own noise stream (the
     same noise for every plan compared: common random numbers). A failed run counts as twice the slowest
@@ -89,7 +89,7 @@ def _change(gain: float) -> str:
     return f"saves {100 * gain:.1f} %" if gain >= 0 else f"costs {-100 * gain:.1f} %"
 
 
-def prune_zones(plan: FieldPlan, model: RobotModel, speed: float, *, trials: int = ROLLOUT_TRIALS, seed: int = 0,
+def prune_zones(plan: FieldPlan, model: FieldRobotDynamics, speed: float, *, trials: int = ROLLOUT_TRIALS, seed: int = 0,
                 starts: np.ndarray | None = None) -> tuple[FieldPlan, dict[int, ZoneTest]]:
     """Keep only the reflection zones that pay (module docstring); the dropped ones join ``plan.rejected``.
 
@@ -113,7 +113,7 @@ def prune_zones(plan: FieldPlan, model: RobotModel, speed: float, *, trials: int
     --------
     >>> import solverplan as sp
     >>> plan = sp.compose_fields(sp.load_environment("serpentine"), (3, "2.25"), (3, "0.25"))
-    >>> kept, tests = prune_zones(plan, RobotModel(kind="integrator"), 1.5)
+    >>> kept, tests = prune_zones(plan, FieldRobotDynamics(kind="integrator"), 1.5)
     >>> kept.reflection_cells, {r.stage for r in kept.rejected if r.side is not None and r.cell in plan.zones}
     ((), {'overshoot'})
     """

@@ -37,21 +37,22 @@ from typing import Sequence
 
 import numpy as np
 
+from solverplan.choices import RobotKind, ScenarioName
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import RayCaster
 from solverplan.reflection.compose import FieldPlan
 
-__all__ = ["RobotModel", "Scenario", "SCENARIOS", "ScenarioRun", "simulate_scenarios", "default_scenarios"]
+__all__ = ["FieldRobotDynamics", "Scenario", "SCENARIOS", "ScenarioRun", "simulate_scenarios", "default_scenarios"]
 
-MODELS = ("integrator", "inertial")
-SCENARIOS = ("constrained", "unconstrained", "reflection")
+MODELS = RobotKind.values()
+SCENARIOS = ScenarioName.values()
 
 
 MAX_AUTO_TIME = 600.0
 """Longest default time limit (s): trials × limit × control rate bounds the work of runs that never arrive."""
 
 
-def _time_limit(model: RobotModel, plan: FieldPlan, speed: float) -> float:
+def _time_limit(model: FieldRobotDynamics, plan: FieldPlan, speed: float) -> float:
     """The model's ``max_time``, or by default ten times the route at ``speed``, within [60 s, MAX_AUTO_TIME]."""
     if model.max_time is not None:
         return model.max_time
@@ -63,8 +64,10 @@ def _time_limit(model: RobotModel, plan: FieldPlan, speed: float) -> float:
 
 
 @dataclass(frozen=True, slots=True)
-class RobotModel:
-    """The robot and its controller; lengths in the environment's units, times in seconds.
+class FieldRobotDynamics:
+    """The fields robot's dynamics and controller, as :func:`simulate_scenarios` drives them.
+
+    Lengths are in the environment's units, times in seconds.
 
     Attributes
     ----------
@@ -90,9 +93,9 @@ class RobotModel:
     Examples
     --------
     >>> import solverplan as sp
-    >>> sp.RobotModel(kind="integrator", heading_noise=0.3).to_json()["heading_noise"]
+    >>> sp.FieldRobotDynamics(kind="integrator", heading_noise=0.3).to_json()["heading_noise"]
     0.3
-    >>> sp.RobotModel(control_rate=30)
+    >>> sp.FieldRobotDynamics(control_rate=30)
     Traceback (most recent call last):
     ...
     solverplan.errors.InputError: physics_rate must be a positive multiple of control_rate
@@ -113,8 +116,7 @@ class RobotModel:
     max_time: float | None = None
 
     def __post_init__(self) -> None:
-        if self.kind not in MODELS:
-            raise InputError(f"unknown robot model {self.kind!r}: use integrator or inertial")
+        object.__setattr__(self, "kind", RobotKind.parse(self.kind, "robot model").value)
         substeps = self.physics_rate / self.control_rate
         if self.control_rate <= 0 or substeps < 1 or abs(substeps - round(substeps)) > 1e-9:
             raise InputError("physics_rate must be a positive multiple of control_rate")
@@ -242,7 +244,7 @@ class _Fields:
         return out / np.maximum(norm, 1e-12)[:, None]
 
 
-def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model: RobotModel | None = None,
+def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model: FieldRobotDynamics | None = None,
                        trials: int = 25, seed: int = 0, keep: int = 0,
                        starts: np.ndarray | None = None, every_step: bool = False) -> dict[str, ScenarioRun]:
     """Run ``trials`` rollouts of each scenario from the plan's start to its goal.
@@ -254,7 +256,7 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     scenarios
         The scenarios to run (:func:`default_scenarios`).
     model
-        The robot (:class:`RobotModel`; inertial by default).
+        The robot (:class:`FieldRobotDynamics`; inertial by default).
     trials
         Rollouts per scenario.
     seed
@@ -276,12 +278,12 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     --------
     >>> import solverplan as sp
     >>> plan = sp.compose_fields(sp.load_environment("l_shape"), (5, 2), (2, 5))
-    >>> robot = sp.RobotModel(physics_rate=100)          # 5 integration steps per command: coarse, quick
+    >>> robot = sp.FieldRobotDynamics(physics_rate=100)          # 5 integration steps per command: coarse, quick
     >>> runs = simulate_scenarios(plan, list(default_scenarios().values()), model=robot, trials=4, seed=1)
     >>> [(name, r.success, round(float(r.times.mean()))) for name, r in runs.items()]   # seconds to the goal
     [('constrained', 1.0, 8), ('unconstrained', 1.0, 5), ('reflection', 1.0, 5)]
     """
-    model = model or RobotModel()
+    model = model or FieldRobotDynamics()
     if trials < 1:
         raise InputError(f"trials must be at least 1, got {trials}")
     scen = list(scenarios)

@@ -208,11 +208,10 @@ def select_zone(cell: Cell, inlet: int, outlet: int, gains: tuple[Fraction, ...]
 
     Examples
     --------
-    >>> from fractions import Fraction as F
-    >>> from solverplan.environment import load_environment
-    >>> from solverplan.reflection.cells import decompose_free_space
-    >>> square = decompose_free_space(load_environment("square")).cells[0]
-    >>> print(select_zone(square, 0, 1, (F(3, 10),)))  # a square corner: no wall turns the robot to the exit
+    >>> import solverplan as sp
+    >>> from fractions import Fraction
+    >>> square = sp.decompose_free_space(sp.load_environment("square")).cells[0]
+    >>> print(select_zone(square, 0, 1, (Fraction(3, 10),)))  # a square corner: no wall turns the robot to the exit
     None
     """
     return select_zone_recorded(cell, inlet, outlet, gains)[0]

@@ -24,6 +24,7 @@ from solverplan.render.figure import GRAPH_COLOR, SAFE_ARC_COLOR, _ink_alpha
 
 if TYPE_CHECKING:  # pragma: no cover
     from solverplan.bounce.bvg import SafeBVG
+    from solverplan.environment import Environment
 
 __all__ = ["draw_graph", "draw_safe_arcs"]
 
@@ -49,11 +50,7 @@ def draw_graph(
     mid = 0.5 * (np.asarray(p.seg_start) + np.asarray(p.seg_end))
     once = graph.source < graph.target
     segments = np.stack([mid[graph.source[once]], mid[graph.target[once]]], axis=1).reshape(-1, 2, 2)
-    if alpha is None:
-        alpha = _ink_alpha(ax, p.env, segments, linewidth, 0.6)
-    lines = LineCollection(list(segments), colors=color, linewidths=linewidth, alpha=alpha, zorder=1.2, gid="bvg-arcs")
-    ax.add_collection(lines)
-    return [lines]
+    return _shade(ax, p.env, segments, color, linewidth, alpha, ink=0.6, zorder=1.2, gid="bvg-arcs")
 
 
 def draw_safe_arcs(
@@ -84,8 +81,16 @@ def draw_safe_arcs(
         ok = (hits.edge >= 0) & np.isfinite(hits.x) & np.isfinite(hits.y)
         start = p.env.points_at(edges[ok], mid_t[ok])
         segments = np.stack([start, hits.points[ok]], axis=1).reshape(-1, 2, 2)
+    return _shade(ax, p.env, segments, color, linewidth, alpha, ink=0.35, zorder=1.4, gid="safe-arcs")
+
+
+def _shade(ax: Axes, env: Environment, segments: np.ndarray, color: str, linewidth: float, alpha: float | None, *,
+           ink: float, zorder: float, gid: str) -> list:
+    """``segments`` (k × 2 × 2) as one line collection ``gid``; ``alpha`` by default falls with the total ink
+    (:func:`~solverplan.render.figure._ink_alpha`, ink covering ``ink`` of the free space), so a dense graph reads as
+    a shade."""
     if alpha is None:
-        alpha = _ink_alpha(ax, p.env, segments, linewidth, 0.35)
-    lines = LineCollection(list(segments), colors=color, linewidths=linewidth, alpha=alpha, zorder=1.4, gid="safe-arcs")
+        alpha = _ink_alpha(ax, env, segments, linewidth, ink)
+    lines = LineCollection(list(segments), colors=color, linewidths=linewidth, alpha=alpha, zorder=zorder, gid=gid)
     ax.add_collection(lines)
     return [lines]

@@ -1,7 +1,7 @@
 """The partition P′ of the boundary (paper Algorithm 1, Figs. 3–4): coloured segments, inserted points, ids.
 
 >>> from solverplan.environment import Environment
->>> from solverplan.bounce.partition import partition
+>>> from solverplan.bounce.partitions import partition
 >>> from solverplan.render import render_environment
 >>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]], [[[1, 1], [2, 1], [2, 2], [1, 2]]])
 >>> fig = render_environment(env)
@@ -16,7 +16,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.render.figure import INSERTED_COLOR, PARTITION_COLORS
 from solverplan.render.labels import (
     LabelPlacer,

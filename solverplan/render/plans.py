@@ -5,7 +5,7 @@ heading interval: the convex hull of the segment and the first wall hits of its 
 (segment ends × interval ends), cast by the geometry kernel (:func:`solverplan.geometry.cast_from_boundary`).
 
 >>> from solverplan.environment import Environment
->>> from solverplan.bounce.partition import partition
+>>> from solverplan.bounce.partitions import partition
 >>> from solverplan.plan import find_plan
 >>> from solverplan.render import render_environment
 >>> env = Environment.from_coords([[0, 0], [4, 0], [4, 3], [0, 3]], name="box")
@@ -23,7 +23,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.render._swept import swept_regions
 from solverplan.render.figure import PLAN_GOAL_COLOR, PLAN_STAGE_COLORS, PLAN_START_COLOR, _piece_lines
 from solverplan.render.labels import _left_normals

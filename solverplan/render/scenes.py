@@ -133,7 +133,7 @@ def scene(
     figure = render_environment(env, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex,
                                 title=title if title is not None or limit is None else limit.title())
     ax = figure.axes[0]
-    from solverplan.bounce.partition import Partition, partition as partition_boundary
+    from solverplan.bounce.partitions import Partition, partition as partition_boundary
 
     boundary: Partition | None = None
     if partition or graph or safe_arcs or plan is not None:

@@ -1,9 +1,7 @@
 """Studies: random environments, reachability/connectivity sweeps, batch execution (the paper's §7.3–7.4, §8.1–8.2).
 
-- :mod:`~solverplan.generators` (re-exported here) — seeded generators that always return valid, exact
-  environments: random star polygons (the paper's §7.3 family, irregularity scaled properly), star
-  polygons with holes, rooms joined by corridors, rectilinear floor plans, the paper's worst case for
-  Algorithm 1 (§4.0.1).
+- The random environments of a study come from :mod:`solverplan.generators` (their one home: seeded
+  generators that always return valid, exact environments).
 - :mod:`~solverplan.studies.study` — a :class:`Study` is a grid of generator parameters × N seeds per
   cell; one tidy row per environment, with the seed that regenerates it; tables and heatmap data.
 - :mod:`~solverplan.studies.metrics` — the :class:`Metric` interface and the paper's metrics on the
@@ -15,9 +13,10 @@
 - :mod:`~solverplan.studies.rewrite` — the same walls written differently (collinear vertices, split edges,
   exact rotations, another ring start, the opposite vertex order) with the query mapped exactly, and answer
   summaries to compare: issue #22's invariance tests and ``benchmarks/invariance_study.py``.
-- :mod:`~solverplan.studies.rooms` — robots bouncing through the rooms and doors of a rectilinear polygon
-  (Çağırıcı, Bahoo and LaValle): the smart, random and billiard rules side by side (their Table I), with door
-  control and exact detection of periodic orbits.
+
+The rooms model's simulation (the smart, random and billiard rules side by side, their Table I) sits with its
+model in :mod:`solverplan.rectilinear.simulation`, on the rollout engine below the models
+(:mod:`solverplan.rollout`); it is re-exported here for the studies that compare rules.
 
 Programs that run a study on a process pool must guard their entry point
 (``if __name__ == "__main__":``): the workers start with the ``forkserver`` method.
@@ -25,30 +24,12 @@ Programs that run a study on a process pool must guard their entry point
 
 from solverplan.studies.catalog import DEFAULT_GRIDS, STUDIES, build_study
 from solverplan.studies.execute import StudyInterrupted, StudyResult, run_study
-from solverplan.generators import (
-    GENERATORS,
-    generate,
-    rectilinear_floor_plan,
-    rectilinear_polygon,
-    rooms_and_corridors,
-    star_polygon,
-    star_polygon_with_holes,
-    worst_case_polygon,
-)
 from solverplan.studies.metrics import ConnectivityMetric, Metric, ReachabilityMetric
-from solverplan.studies.rooms import RoomRuns, RuleComparison, compare_rules, periodic_orbit, simulate_rooms
+from solverplan.rectilinear.simulation import RoomRuns, RuleComparison, compare_rules, periodic_orbit, simulate_rooms
 from solverplan.studies.rule_systems import RuleReachability
 from solverplan.studies.study import Heatmap, Study, StudyTable, parse_grid, parse_values, row_seed, run_task
 
 __all__ = [
-    "star_polygon",
-    "star_polygon_with_holes",
-    "rooms_and_corridors",
-    "rectilinear_floor_plan",
-    "rectilinear_polygon",
-    "worst_case_polygon",
-    "GENERATORS",
-    "generate",
     "Study",
     "StudyTable",
     "Heatmap",

@@ -18,8 +18,8 @@ from __future__ import annotations
 
 from typing import Sequence
 
+from solverplan.choices import StudyGenerator
 from solverplan.errors import InputError
-from solverplan.generators import GENERATORS
 from solverplan.studies.metrics import ConnectivityMetric, Metric, ReachabilityMetric
 from solverplan.studies.rule_systems import DEFAULT_FAMILIES, RuleReachability
 from solverplan.studies.study import PAPER_GRID, Study, parse_grid
@@ -35,6 +35,7 @@ DEFAULT_GRIDS: dict[str, tuple[tuple[str, tuple], ...]] = {
     "rectilinear": (("n_rooms", (2, 4, 6)), ("pillars", (0, 1, 2))),
 }
 """Each generator's grid when the user gives none: the paper's for ``star``, small ones for the others."""
+assert set(DEFAULT_GRIDS) == set(StudyGenerator.values()), "a study generator without a default grid"
 
 
 def build_study(
@@ -56,8 +57,7 @@ def build_study(
     """
     if name not in STUDIES:
         raise InputError(f"unknown study {name!r}: use {', '.join(STUDIES)}")
-    if generator not in GENERATORS:
-        raise InputError(f"unknown generator {generator!r}: use {', '.join(GENERATORS)}")
+    generator = StudyGenerator.parse(generator, "generator").value  # those with a default grid
     metric: Metric
     if name == "reachability":
         metric = ReachabilityMetric()

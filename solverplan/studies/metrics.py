@@ -149,7 +149,7 @@ class SafeGraphSummary:
 def safe_graph_summary(env: Environment) -> SafeGraphSummary:
     """Partition ``env`` (Algorithm 1), build its safe BVG, and measure the segments' lengths."""
     from solverplan.bounce.bvg import safe_bounce_visibility_graph
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     p = partition(env)
     graph = safe_bounce_visibility_graph(p)

@@ -30,7 +30,7 @@ incoming direction their next segment is not determined by the current one. Colu
 **2. The sampled dynamics D_F (Monte Carlo, seeded).** ``trials`` robots start uniformly on ∂P (by arc
 length) with uniform headings in (0, π) and bounce ``bounces`` times; robot k obeys member k mod |F|
 of the family for its whole run (a robot runs one rule; ``any`` draws a uniform heading at every
-bounce) — :func:`solverplan.simulate.simulate_policy`. Only legs executed by the rule count (from the
+bounce) — :func:`solverplan.rollout.simulate_policy`. Only legs executed by the rule count (from the
 first bounce on). Columns:
 
 - ``visited`` — perimeter share of the segments hit by at least one robot: the reachability of the
@@ -57,7 +57,7 @@ import numpy as np
 
 from solverplan.bounce.rules import HEADING_MARGIN, BounceRule, Fixed, MonotoneFixed, Relative, Specular, parse_rule
 from solverplan.errors import InputError
-from solverplan.simulate import Contacts, Outcome, simulate_policy
+from solverplan.rollout import Contacts, Outcome, simulate_policy
 from solverplan.studies.metrics import component_counts, safe_graph_summary, unreachable_fraction
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -35,8 +35,9 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
-from typing import Any, Literal, Protocol, Sequence
+from typing import Any, Protocol, Sequence
 
+from solverplan.choices import Comparisons
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
@@ -46,7 +47,6 @@ from solverplan.wallfollow.world import Action, Observation, Touch, WallWorld
 
 __all__ = ["Robot", "LearnedOrdering", "strategy1", "learn_cut_ordering"]
 
-Comparisons = Literal["pairwise", "sort"]
 
 
 class Robot(Protocol):
@@ -271,7 +271,7 @@ class _Learner:
 MAX_ACTIONS = 20_000_000
 
 
-def strategy1(robot: Robot, *, comparisons: Comparisons = "pairwise", transcript: bool = False,
+def strategy1(robot: Robot, *, comparisons: Comparisons | str = "pairwise", transcript: bool = False,
               max_actions: int = MAX_ACTIONS) -> LearnedOrdering:
     """Learn the cut ordering by Strategy 1, from the robot's observations only.
 
@@ -292,8 +292,7 @@ def strategy1(robot: Robot, *, comparisons: Comparisons = "pairwise", transcript
     LearnedOrdering
         The ordering in the robot's numbering (v0 where it dropped the pebble), with its costs.
     """
-    if comparisons not in ("pairwise", "sort"):
-        raise InputError(f"comparisons must be 'pairwise' or 'sort', got {comparisons!r}")
+    comparisons = Comparisons.parse(comparisons, "comparisons").value
     learner = _Learner(robot, transcript, max_actions)
     types = learner.count()
     n = learner.n
@@ -327,7 +326,7 @@ def strategy1(robot: Robot, *, comparisons: Comparisons = "pairwise", transcript
 
 
 def learn_cut_ordering(env: Environment, start: Sequence[object] | None = None, heading: Sequence[object] = (1, 0),
-                       *, comparisons: Comparisons = "pairwise", transcript: bool = False,
+                       *, comparisons: Comparisons | str = "pairwise", transcript: bool = False,
                        max_actions: int = MAX_ACTIONS) -> LearnedOrdering:
     """Run Strategy 1 in the geometric simulator and check the result against the exact cut ordering.
 

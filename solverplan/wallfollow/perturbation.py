@@ -2,13 +2,17 @@
 
 The wall-following model (Yershova et al.) assumes general position: no three collinear vertices, no two cut end
 points at one point. Rectilinear floor plans and most hand-drawn polygons break it (a row of reflex corners on one
-line: a JUMP runs into the next corner). :func:`perturb` moves vertex i — in the normalised environment's order — by
+line: a JUMP runs into the next corner). :func:`perturb` first merges the vertices of angle exactly π (the robot
+cannot sense them: :func:`~solverplan.wallfollow.cut.corner_polygon`), then moves the corner of rank r — in the
+lexicographic (x, y) order of the corners, so the perturbation does not depend on where the ring starts or on
+split edges — by
 
-    δ_i = ε · s · (i + 1, (i + 1)²)          (s: the polygon's size over n², length units)
+    δ = ε · s · (r + 1, (r + 1)²)          (s: the polygon's size over n², length units)
 
 for a rational ε small enough to be *infinitesimal* for the polygon: every orientation of three vertices is then
-a polynomial D₀ + ε D₁ + ε² D₂ in ε whose ε² term is the orientation of three points of a parabola — never 0 —, so
-no three vertices stay collinear, and every predicate that was not degenerate keeps its sign. ε starts at 2⁻²⁴
+a polynomial D₀ + ε D₁ + ε² D₂ in ε whose ε² term is the orientation of three points of a parabola (distinct
+ranks) — never 0 —, so no three vertices stay collinear, and every predicate that was not degenerate keeps its
+sign. ε starts at 2⁻²⁴
 and shrinks by 2⁻¹⁰ until (a) the perturbed polygon is simple, (b) it is in general position
 (:func:`~solverplan.wallfollow.cut.check_general_position`, exact) and (c) its cut ordering is the same at ε and
 at ε·2⁻¹⁰ (the combinatorial model no longer depends on ε: it is the limit ε → 0⁺). The answer records ε and the
@@ -18,8 +22,7 @@ displacement; everything downstream (cuts, orderings, Strategy 1, pursuit) runs 
 once and for all (a fixed order of the vertices, as in simulation of simplicity): a JUMP that would graze a vertex
 (three collinear vertices) passes it on one fixed side — it lands on the wall just beyond or just before the
 vertex, as the perturbation decides —; two cut end points that would coincide are ordered one way along the wall;
-a vertex in the middle of a straight wall becomes a corner whose touch reading (convex or reflex) the perturbation
-decides. For a real robot whose walls are not exact this is one of the polygons it may be in; plans and orderings
+a vertex in the middle of a straight wall is no corner (merged first, as without ``--perturb``). For a real robot whose walls are not exact this is one of the polygons it may be in; plans and orderings
 are exact for that polygon, and a plan verified there is a plan for every polygon close enough with the same
 combinatorics. Without ``--perturb`` a degenerate polygon is refused with the offending vertices named.
 
@@ -52,8 +55,9 @@ _TRIES = 6
 
 @dataclass(frozen=True)
 class Perturbation:
-    """The perturbed environment ``env``, ε, each vertex's displacement (length units, exact) and whether the input
-    was already in general position (``general``: then ``env`` is the input and ε is 0)."""
+    """The perturbed environment ``env`` (its corners: vertices of angle π merged), ε, each corner's displacement
+    (length units, exact) and whether the input was already in general position (``general``: then ``env`` is the
+    input and ε is 0)."""
 
     env: Environment
     epsilon: Fraction
@@ -63,7 +67,8 @@ class Perturbation:
     def to_json(self) -> dict:
         return {"applied": not self.general, "epsilon": format_number(self.epsilon),
                 "displacement_max": max((float(max(abs(d[0]), abs(d[1]))) for d in self.displacement), default=0.0),
-                "rule": "vertex i moves by epsilon * s * (i + 1, (i + 1)^2), s = size / n^2 (simulation of simplicity)"}
+                "rule": "the corner of rank r in (x, y) order moves by epsilon * s * (r + 1, (r + 1)^2), s = size / n^2 "
+                        "(simulation of simplicity)"}
 
 
 def _general(env: Environment) -> bool:
@@ -84,7 +89,8 @@ def _moved(env: Environment, epsilon: Fraction) -> tuple[Environment, tuple[Exac
     xs, ys = [p[0] for p in pts], [p[1] for p in pts]
     size = max(max(xs) - min(xs), max(ys) - min(ys))
     s = size / (n * n)
-    shift = tuple((epsilon * s * (i + 1), epsilon * s * (i + 1) ** 2) for i in range(n))
+    rank = {i: r for r, i in enumerate(sorted(range(n), key=lambda i: pts[i]))}
+    shift = tuple((epsilon * s * (rank[i] + 1), epsilon * s * (rank[i] + 1) ** 2) for i in range(n))
     ring = [(p[0] + d[0], p[1] + d[1]) for p, d in zip(pts, shift)]
     try:
         moved = Environment.from_coords(ring, name=env.name)
@@ -101,7 +107,7 @@ def perturb(env: Environment) -> Perturbation:
     Parameters
     ----------
     env
-        A simple polygon without holes (any degeneracy).
+        A simple polygon without holes (any degeneracy; vertices of angle π are merged first).
 
     Returns
     -------
@@ -115,10 +121,11 @@ def perturb(env: Environment) -> Perturbation:
     InputError
         If no ε down to 2⁻⁸⁴ gives a stable general polygon (never seen).
     """
-    from solverplan.wallfollow.cut import cut_ordering
+    from solverplan.wallfollow.cut import corner_polygon, cut_ordering
 
     if _general(env):
         return Perturbation(env, Fraction(0), tuple((Fraction(0), Fraction(0)) for _ in range(env.n_vertices)), True)
+    env = corner_polygon(env)
     epsilon = _FIRST
     for _ in range(_TRIES):
         here, finer = _moved(env, epsilon), _moved(env, epsilon * _SHRINK)

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from solverplan.choices import Sensor
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.limits import quote
@@ -56,7 +57,7 @@ from solverplan.wallfollow.world import Action
 __all__ = ["GapSensor", "PursuitPlan", "pursuit_plan", "SENSORS", "DEFAULT_MAX_STATES"]
 
 #: The sensors ``pursuit_plan`` knows.
-SENSORS = ("gap", "bitangent", "pebble", "contact")
+SENSORS = Sensor.values()
 
 #: The strategy of each implemented sensor.
 STRATEGY = {"gap": "Strategy 2", "bitangent": "Strategy 3", "pebble": "Strategy 5", "contact": "Strategy 6"}
@@ -388,8 +389,7 @@ def pursuit_plan(env: Environment, *, sensor: str = "gap", start: str = "v0", ma
     >>> pursuit_plan(square).actions                    # convex: the evader is seen at once
     ()
     """
-    if sensor not in SENSORS:
-        raise InputError(f"unknown sensor {sensor!r}: use one of {', '.join(SENSORS)}")
+    sensor = Sensor.parse(sensor, "sensor").value
     if isinstance(max_states, bool) or not isinstance(max_states, int) or max_states < 1:
         raise InputError(f"max_states must be a positive integer, got {max_states!r}")
     t0 = time.perf_counter()

@@ -7,10 +7,10 @@ of RFOLLOW / LFOLLOW / JUMP actions) in the geometric simulator :class:`~solverp
 and follows the labels **continuously** along every motion, independently of any strategy's reasoning:
 
 - every motion is a straight segment (a follow runs along one edge, a JUMP along a cut); the shadow can change
-  its topology only where the pursuer crosses a line through two vertices (inflections, bitangents and the
-  extensions of edges are all such lines), so the checker cuts the segment at **every** crossing with a line
-  through two vertices (exact) and looks at the shadow just after the start and just before the end of each
-  piece (a millionth of its length in) and at the segment's ends;
+  its topology only where the pursuer crosses a line through two reflex vertices or the line of an edge at a
+  reflex vertex (every window starts at a reflex vertex: inflections, bitangents and the extensions of edges),
+  so the checker cuts the segment at **every** crossing with such a line (exact) and looks at the shadow just after
+  the start and just before the end of each piece (a millionth of its length in) and at the segment's ends;
 - the shadow is computed exactly: the project's exact visibility polygon
   (:func:`~solverplan.geometry.visibility.visibility_polygon`) has one *window* per shadow component (in a
   simple polygon each window cuts off one pocket, and the pockets are the components), so each component is the
@@ -20,7 +20,8 @@ and follows the labels **continuously** along every motion, independently of any
   component inherits the OR of the labels of the components it overlaps by at least half the smaller one's area
   (so close to the crossing a component that continues another covers nearly all of it, while one that vanished
   or appeared meets the others only in a sliver); one overlapping none gets 0: appear → 0, split → both
-  inherit, merge → OR. The areas are measured by shapely on the exact pockets.
+  inherit, merge → OR. The areas are exact (:func:`overlap_area`): a component as thin as a symbolic perturbation
+  (:mod:`~solverplan.wallfollow.perturbation`) is a component, with no tolerance that could drop it.
 
 The plan is *verified* when at some instant every label is 0 (no component may hold the evader: it has been
 seen). Labels are also followed symbolically (each label as the set of start components it comes from), which
@@ -42,11 +43,10 @@ from fractions import Fraction
 from itertools import combinations
 from typing import Sequence
 
-from shapely.geometry import Polygon
-
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
-from solverplan.exact import ExactPoint, format_point, signed_area2
+from solverplan.exact import (ExactPoint, cross, dot, format_point, on_segment, point_in_ring, segment_intersection,
+                              signed_area2)
 from solverplan.limits import quote
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
 from solverplan.wallfollow.world import Action, WallWorld, parse_action
@@ -56,9 +56,6 @@ __all__ = ["PursuitStep", "PursuitCheck", "shadow_components", "motion_samples",
 
 #: The actions a pursuit plan is made of (the pursuer keeps its pebble: GRAB, DROP and INIT play no part).
 PURSUIT_ACTIONS = (Action.RFOLLOW, Action.LFOLLOW, Action.JUMP)
-
-#: An overlap of two shadow components counts when its area exceeds this fraction of the polygon's area.
-OVERLAP_FRACTION = 1e-9
 
 #: How labels travel over a stretch of motion: each component at the end → the components at the start it
 #: comes from (its label is the OR of theirs; an empty set means label 0).
@@ -85,37 +82,6 @@ def _boundary_chain(env: Environment, a: ExactPoint, b: ExactPoint) -> list[Exac
     return chain
 
 
-def shadow_components(env: Environment, p: Sequence[object],
-                      vis: VisibilityPolygon | None = None) -> dict[int, tuple[ExactPoint, ...]]:
-    """The shadow components of a pursuer at p: window reflex vertex → the component's exact ring (CCW).
-
-    Raises
-    ------
-    SolverFailed
-        If the exact areas do not add up (the pockets would not partition the shadow).
-
-    >>> from solverplan.environment import Environment
-    >>> room = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])
-    >>> shadow_components(room, (9, 1))     # on the right wall: a triangle behind reflex vertex 3 = (4, 5)
-    {3: ((Fraction(4, 1), Fraction(5, 1)), (Fraction(3, 1), Fraction(9, 1)), (Fraction(3, 17), Fraction(137, 17)))}
-    """
-    vis = vis if vis is not None else visibility_polygon(env, p)
-    out: dict[int, tuple[ExactPoint, ...]] = {}
-    for piece in vis.pieces:
-        if piece.kind != "constructed":
-            continue
-        assert piece.reflex_vertex is not None
-        ring = tuple(_boundary_chain(env, piece.a, piece.b))
-        if piece.reflex_vertex in out:  # pragma: no cover - one ray per vertex from p
-            raise SolverFailed(f"two windows at reflex vertex {piece.reflex_vertex} from {format_point(vis.viewpoint)}")
-        out[piece.reflex_vertex] = ring
-    total = vis.area + sum((signed_area2(r) for r in out.values()), Fraction(0)) / 2
-    if total != env.area:
-        raise SolverFailed(f"shadow of {format_point(vis.viewpoint)}: visible area + pockets = {float(total)} "
-                           f"≠ the polygon's area {float(env.area)}")
-    return out
-
-
 def _line_crossing(p0: ExactPoint, p1: ExactPoint, a: ExactPoint, b: ExactPoint) -> Fraction | None:
     """The parameter s ∈ [0, 1] where the segment p0 + s (p1 − p0) meets the line ab (None: parallel/outside)."""
     dx, dy = p1[0] - p0[0], p1[1] - p0[1]
@@ -134,18 +100,28 @@ NEAR = Fraction(1, 10**6)
 
 def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint,
                    per_piece: int = 0) -> list[tuple[ExactPoint, bool]]:
-    """Where the checker looks along the segment p0 → p1: ``(point, across)`` with ``across`` true when a line
-    through two vertices lies between the point and the one before it (exact points).
+    """Where the checker looks along the segment p0 → p1: ``(point, across)`` with ``across`` true when an event
+    line lies between the point and the one before it (exact points).
 
-    The segment is cut at every crossing with a line through two vertices; in each piece the checker looks just
+    The event lines are the lines through two reflex vertices and the lines of the edges at reflex vertices: a
+    window starts at a reflex vertex r, it appears or vanishes where the line of sight through r turns along an
+    edge at r, and r is hidden or seen again only where the sight line touches another vertex between — which
+    must be reflex (a sight line cannot pass a convex corner inside the free space). Where the sight line past r
+    meets a convex vertex the component changes shape, not identity. The segment is cut at every crossing with an
+    event line; in each piece the checker looks just
     after its start and just before its end (a fraction :data:`NEAR` of its length in) and at ``per_piece``
     evenly spaced points between; the segment's ends come first and last.
     """
     if per_piece < 0:
         raise InputError(f"per_piece must be at least 0, got {per_piece}")
     pts = env.exact_vertices
+    reflex = set(env.reflex_vertices)
+    n = len(pts)
     params = {Fraction(0), Fraction(1)}
-    for a, b in combinations(pts, 2):
+    for i, j in combinations(range(n), 2):
+        if not (i in reflex and j in reflex) and not ((i in reflex or j in reflex) and (j - i) % n in (1, n - 1)):
+            continue  # neither two reflex vertices nor an edge at a reflex vertex
+        a, b = pts[i], pts[j]
         s = _line_crossing(p0, p1, a, b)
         if s is not None:
             params.add(s)
@@ -160,30 +136,171 @@ def motion_samples(env: Environment, p0: ExactPoint, p1: ExactPoint,
     return out
 
 
-def _shapely(ring: Sequence[ExactPoint]) -> Polygon:
-    poly = Polygon([(float(x), float(y)) for x, y in ring])
-    return poly if poly.is_valid else poly.buffer(0)
+Ring = tuple[ExactPoint, ...]
 
 
-def _overlap_transfer(before: dict[int, Polygon], after: dict[int, Polygon], tol: float) -> Transfer:
-    """Across a crossing: a component continues those it overlaps by at least half the smaller one's area (a
-    component that continues another covers nearly all of it, this close to the crossing; one that vanished or
-    appeared meets the others in a vanishing sliver)."""
-    out: Transfer = {}
-    for g, poly in after.items():
-        out[g] = frozenset(h for h, old in before.items()
-                           if old.bounds[0] <= poly.bounds[2] and poly.bounds[0] <= old.bounds[2]
-                           and old.bounds[1] <= poly.bounds[3] and poly.bounds[1] <= old.bounds[3]
-                           and (area := old.intersection(poly).area) > tol
-                           and area >= 0.5 * min(old.area, poly.area))
+@dataclass(frozen=True, slots=True)
+class _Pocket:
+    """A shadow component: its ring (from the window's end a along the boundary counter-clockwise to its other end
+    b; the closing edge b → a is the window), the polygon edge its first edge lies on, the boundary coordinates
+    (edge + t) of a and b, its exact area and its box in floats."""
+
+    ring: Ring
+    first_edge: int
+    arc: tuple[Fraction, Fraction]
+    area: Fraction
+    box: tuple[float, float, float, float]
+
+
+def _pockets(env: Environment, p: Sequence[object], vis: VisibilityPolygon | None = None) -> dict[int, _Pocket]:
+    vis = vis if vis is not None else visibility_polygon(env, p)
+    out: dict[int, _Pocket] = {}
+    for piece in vis.pieces:
+        if piece.kind != "constructed":
+            continue
+        assert piece.reflex_vertex is not None
+        (ea, ta), (eb, tb) = env.locate(piece.a), env.locate(piece.b)
+        ring = tuple(_boundary_chain(env, piece.a, piece.b))
+        if piece.reflex_vertex in out:  # pragma: no cover - one ray per vertex from p
+            raise SolverFailed(f"two windows at reflex vertex {piece.reflex_vertex} from {format_point(vis.viewpoint)}")
+        xs, ys = [float(x) for x, _ in ring], [float(y) for _, y in ring]
+        out[piece.reflex_vertex] = _Pocket(ring, ea, (ea + ta, eb + tb), signed_area2(ring) / 2,
+                                           (min(xs), min(ys), max(xs), max(ys)))
+    total = vis.area + sum((c.area for c in out.values()), Fraction(0))
+    if total != env.area:
+        raise SolverFailed(f"shadow of {format_point(vis.viewpoint)}: visible area + pockets = {float(total)} "
+                           f"≠ the polygon's area {float(env.area)}")
     return out
 
 
-def _step(before: dict[int, Polygon], after: dict[int, Polygon], across: bool, tol: float, where: ExactPoint) -> Transfer:
+def shadow_components(env: Environment, p: Sequence[object],
+                      vis: VisibilityPolygon | None = None) -> dict[int, tuple[ExactPoint, ...]]:
+    """The shadow components of a pursuer at p: window reflex vertex → the component's exact ring (CCW).
+
+    Raises
+    ------
+    SolverFailed
+        If the exact areas do not add up (the pockets would not partition the shadow).
+
+    >>> from solverplan.environment import Environment
+    >>> room = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])
+    >>> shadow_components(room, (9, 1))     # on the right wall: a triangle behind reflex vertex 3 = (4, 5)
+    {3: ((Fraction(4, 1), Fraction(5, 1)), (Fraction(3, 1), Fraction(9, 1)), (Fraction(3, 17), Fraction(137, 17)))}
+    """
+    return {g: c.ring for g, c in _pockets(env, p, vis).items()}
+
+
+def _float_box(p: ExactPoint, q: ExactPoint) -> tuple[float, float, float, float]:
+    """The segment's box in floats, widened by far more than the rounding of its ends (a filter: boxes apart in
+    floats are apart exactly)."""
+    x0, x1 = sorted((float(p[0]), float(q[0])))
+    y0, y1 = sorted((float(p[1]), float(q[1])))
+    pad = 1e-9 * (1.0 + max(abs(x0), abs(x1), abs(y0), abs(y1)))
+    return x0 - pad, y0 - pad, x1 + pad, y1 + pad
+
+
+def _split(p: ExactPoint, q: ExactPoint, by: Sequence[tuple[ExactPoint, ExactPoint]]) -> list[tuple[ExactPoint, ExactPoint]]:
+    """The segment p → q cut at every point where it meets one of the segments ``by`` (exact)."""
+    d = (q[0] - p[0], q[1] - p[1])
+    length2 = dot(d, d)
+    params = {Fraction(0), Fraction(1)}
+    x0, y0, x1, y1 = _float_box(p, q)
+    for r, s in by:
+        u0, v0, u1, v1 = _float_box(r, s)
+        if u0 > x1 or x0 > u1 or v0 > y1 or y0 > v1:
+            continue
+        hit = segment_intersection(p, q, r, s)
+        if hit is not None:
+            params.update(dot((x[0] - p[0], x[1] - p[1]), d) / length2 for x in hit.points)
+    cut = [(p[0] + t * d[0], p[1] + t * d[1]) for t in sorted(params)]
+    return list(zip(cut, cut[1:]))
+
+
+def _edges(ring: Ring) -> list[tuple[ExactPoint, ExactPoint]]:
+    return [(ring[i], ring[(i + 1) % len(ring)]) for i in range(len(ring))]
+
+
+def _mid(p: ExactPoint, q: ExactPoint) -> ExactPoint:
+    return (p[0] + q[0]) / 2, (p[1] + q[1]) / 2
+
+
+def _along_boundary(p: ExactPoint, q: ExactPoint, ring: Ring) -> bool:
+    """Does the piece p → q (on the boundary of ``ring``) run the same way as that boundary (CCW)?"""
+    mid, d = _mid(p, q), (q[0] - p[0], q[1] - p[1])
+    for r, s in _edges(ring):
+        e = (s[0] - r[0], s[1] - r[1])
+        if cross(d, e) == 0 and on_segment(mid, r, s):
+            return dot(d, e) > 0
+    return False
+
+
+def overlap_area(env: Environment, a: _Pocket, b: _Pocket) -> Fraction:
+    """The exact area of the intersection of two shadow components of ``env`` (Green's theorem over the boundary of
+    the intersection).
+
+    Both are parts of the polygon cut off by a window, so the boundary of a ∩ b is made of the pieces of a's
+    boundary arc inside b's arc (shared, both run counter-clockwise: counted once), the pieces of a's window inside
+    b or on b's boundary the same way, and the pieces of b's window inside a; the polygon's own edges never cross,
+    so only the two windows are intersected with edges — linear, not quadratic, in the rings' sizes.
+
+    >>> from solverplan.environment import Environment
+    >>> room = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])
+    >>> low, high = _pockets(room, (9, 1))[3], _pockets(room, (9, 2))[3]   # the pocket from higher up is larger
+    >>> overlap_area(room, low, high) == overlap_area(room, high, low) == low.area < high.area
+    True
+    """
+    n = env.n_vertices
+    pts = env.exact_vertices
+    s0, s1 = b.arc
+    span = (s1 - s0) % n
+    total = Fraction(0)
+    window_b = (b.ring[-1], b.ring[0])
+    for j in range(len(a.ring) - 1):  # a's boundary arc: on b's boundary where it is inside b's arc
+        e = (a.first_edge + j) % n
+        v, w = pts[e], pts[(e + 1) % n]
+        d = (w[0] - v[0], w[1] - v[1])
+        for p, q in _split(a.ring[j], a.ring[j + 1], [window_b]):
+            mid = _mid(p, q)
+            at = e + dot((mid[0] - v[0], mid[1] - v[1]), d) / dot(d, d)
+            if 0 < (at - s0) % n < span:
+                total += cross(p, q)
+    for p, q in _split(a.ring[-1], a.ring[0], _edges(b.ring)):  # a's window
+        where = point_in_ring(_mid(p, q), b.ring)
+        if where > 0 or (where == 0 and _along_boundary(p, q, b.ring)):
+            total += cross(p, q)
+    for p, q in _split(b.ring[-1], b.ring[0], _edges(a.ring)):  # b's window, strictly inside a
+        if point_in_ring(_mid(p, q), a.ring) > 0:
+            total += cross(p, q)
+    return total / 2
+
+
+def _overlap_transfer(env: Environment, before: dict[int, _Pocket], after: dict[int, _Pocket]) -> Transfer:
+    """Across a crossing: a component continues those it overlaps by at least half the smaller one's area (a
+    component that continues another covers nearly all of it, this close to the crossing; one that vanished or
+    appeared meets the others in a vanishing sliver). Exact: slivers as thin as a symbolic perturbation count."""
+    out: Transfer = {}
+    for g, new in after.items():
+        x0, y0, x1, y1 = new.box
+        keep = []
+        for h, old in before.items():
+            u0, v0, u1, v1 = old.box
+            pad = 1e-9 * (1.0 + max(abs(x0), abs(x1), abs(y0), abs(y1), abs(u0), abs(u1), abs(v0), abs(v1)))
+            if u0 > x1 + pad or x0 > u1 + pad or v0 > y1 + pad or y0 > v1 + pad:
+                continue
+            area = overlap_area(env, old, new)
+            if area > 0 and 2 * area >= min(old.area, new.area):
+                keep.append(h)
+        out[g] = frozenset(keep)
+    return out
+
+
+def _step(env: Environment, before: dict[int, _Pocket], after: dict[int, _Pocket], across: bool,
+          where: ExactPoint) -> Transfer:
     if across:
-        return _overlap_transfer(before, after, tol)
+        return _overlap_transfer(env, before, after)
     if set(before) != set(after):  # pragma: no cover - between crossings the windows stay at their vertices
-        raise SolverFailed(f"shadow near {format_point(where)}: windows at {sorted(before)} became {sorted(after)} "
+        raise SolverFailed(f"shadow near {format_point(where)}: windows at {sorted(before)} became "
+                           f"{sorted(after)} "
                            f"without a crossing")
     return {g: frozenset({g}) for g in after}
 
@@ -196,13 +313,11 @@ def propagate(labels: dict[int, frozenset[int]], transfer: Transfer) -> dict[int
 def motion_transfer(env: Environment, p0: ExactPoint, p1: ExactPoint, per_piece: int = 0) -> Transfer:
     """The ground truth over one straight motion p0 → p1: every shadow component at p1 → the components at p0
     whose labels it ORs (composed over :func:`motion_samples`, by overlap)."""
-    tol = OVERLAP_FRACTION * float(env.area)
-    comps = shadow_components(env, p0)
-    total: Transfer = {g: frozenset({g}) for g in comps}
-    polys = {g: _shapely(r) for g, r in comps.items()}
+    polys = _pockets(env, p0)
+    total: Transfer = {g: frozenset({g}) for g in polys}
     for q, across in motion_samples(env, p0, p1, per_piece)[1:]:
-        new_polys = {g: _shapely(r) for g, r in shadow_components(env, q).items()}
-        total = propagate(total, _step(polys, new_polys, across, tol, q))
+        new_polys = _pockets(env, q)
+        total = propagate(total, _step(env, polys, new_polys, across, q))
         polys = new_polys
     return total
 
@@ -333,11 +448,10 @@ def check_pursuit(env: Environment, actions: Sequence[Action | str], start: str 
     for a in plan:
         if a not in PURSUIT_ACTIONS:
             raise InputError(f"{a.value} is not a pursuit action: use RFOLLOW, LFOLLOW or JUMP")
-    tol = OVERLAP_FRACTION * float(env.area)
     here = world.point
-    comps = shadow_components(env, here)
+    polys = _pockets(env, here)
+    comps = {g: c.ring for g, c in polys.items()}
     sources = {g: frozenset({g}) for g in comps}
-    polys = {g: _shapely(r) for g, r in comps.items()}
     steps = [PursuitStep(None, world.label, here, comps, frozenset(comps), sources, 0)]
     cleared = 0 if not comps else None
     total = 1
@@ -347,9 +461,9 @@ def check_pursuit(env: Environment, actions: Sequence[Action | str], start: str 
         after = world.point
         samples = motion_samples(env, before, after)[1:]
         for q, across in samples:
-            comps = shadow_components(env, q)
-            new_polys = {g: _shapely(r) for g, r in comps.items()}
-            sources = propagate(sources, _step(polys, new_polys, across, tol, q))
+            new_polys = _pockets(env, q)
+            comps = {g: c.ring for g, c in new_polys.items()}
+            sources = propagate(sources, _step(env, polys, new_polys, across, q))
             polys = new_polys
             if cleared is None and not any(sources.values()):
                 cleared = index

@@ -22,7 +22,7 @@ import solverplan.bounce._sweep as sweep_module
 from solverplan import cli
 from solverplan.bounce.bvg import SafeBVG, bounce_visibility_graph, safe_bounce_visibility_graph
 from solverplan.interval import Interval
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.limits import reset_memory_limit, set_memory_limit
 from solverplan.bounce.safe import safe_set
 from solverplan.environment import Environment, load_environment
@@ -443,6 +443,10 @@ def test_json_bytes_are_the_bytes_of_to_json(no_cache):
         want = orjson.dumps(view.to_json())
         assert bytes(view.json_bytes(arcs_per_chunk=7)) == want
         assert bytes(view.json_bytes(end=b"\n")) == want + b"\n"
+        for safe in (True, False):  # the columnar encoder against the dicts, one arc per chunk too
+            want = orjson.dumps(view.to_json(safe=safe))
+            assert bytes(view.json_bytes(safe=safe, arcs_per_chunk=1)) == want
+            assert bytes(view.json_bytes(safe=safe, arcs_per_chunk=1000)) == want
     empty = g.select(source=0, heading=3.1)
     assert bytes(empty.json_bytes()) == orjson.dumps(empty.to_json())
 
@@ -528,7 +532,7 @@ def test_point_vectors_are_accurate_far_from_zero():
     difference itself, and the plain path is the float difference where that is already accurate."""
     from fractions import Fraction as F
 
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     off = 10**12
     env = Environment.from_coords([[off, off], [off + 10, off], [off + F(10, 3), off + F(1, 7)]])

@@ -17,7 +17,7 @@ import pytest
 from solverplan.bounce import _cache
 from solverplan.bounce import bvg as bvg_api
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
-from solverplan.bounce.partition import Partition, PartitionSegment, partition
+from solverplan.bounce.partitions import Partition, PartitionSegment, partition
 from solverplan.environment import Environment, load_environment
 from solverplan.generators import star_polygon
 from tests.cache_entries import interval_rows, old_digest, read_entry, with_sets, write_entry
@@ -96,10 +96,70 @@ def test_loading_does_not_rebuild_the_partition(cache, monkeypatch):
     p = partition(load_environment("two_rooms"))
     built = safe_bounce_visibility_graph(p)
     bvg_api.clear_graph_cache()
-    monkeypatch.setattr("solverplan.bounce.partition.partition", lambda e: pytest.fail("partition rebuilt"))
+    monkeypatch.setattr("solverplan.bounce.partitions.partition", lambda e: pytest.fail("partition rebuilt"))
     monkeypatch.setattr("solverplan.bounce.bvg.graph.make_partition", lambda e: pytest.fail("partition rebuilt"))
     read = safe_bounce_visibility_graph(p)
     assert read.stats.get("cached") is True and read.partition is p and same_graph(read, built)
+
+
+def test_a_new_process_finds_the_graph_of_an_environment_without_partitioning_it(cache, monkeypatch):
+    """P′'s graph is keyed by the environment's exact rings and keeps P′'s inserted points: a process that finds it
+    runs Algorithm 1 neither for the graph nor for later partition() calls on the environment (issue #24)."""
+    import solverplan.bounce.partitions as partition_module
+
+    env = star_polygon(30, 0.2, 0.3, seed=4)
+    built = safe_bounce_visibility_graph(env)
+    bvg_api.clear_graph_cache()
+    with partition_module._recent_lock:
+        partition_module._recent.clear()  # a new process: no partition made yet
+    monkeypatch.setattr(partition_module, "_partition", lambda e: pytest.fail("Algorithm 1 run again"))
+    renamed = Environment.from_coords(env.outer, name="the same walls")
+    read = safe_bounce_visibility_graph(renamed)
+    assert read.stats.get("cached") is True and same_graph(read, built) and read.partition.env is renamed
+    assert read.partition.segments == built.partition.segments and read.partition.inserted == built.partition.inserted
+    assert partition(renamed).segments is read.partition.segments  # remembered for the rest of the process
+
+
+def _resealed_inserted(edit):
+    def tamper(entry: Path, cache: Path) -> None:
+        header, arrays = read_entry(entry)
+        edit(header)
+        write_entry(entry, header, arrays)
+    return tamper
+
+
+def _moved_point(header):
+    row = header["inserted"][0]
+    row[1], row[2] = row[1] * 3 + 1, row[2] * 3 + 1  # another parameter on the same edge, still inside (0, 1)
+
+
+PLAIN_TAMPERING = {
+    "an inserted point moved (digest resealed)": (_resealed_inserted(_moved_point), "do not make the partition"),
+    "an inserted point dropped (digest resealed)": (_resealed_inserted(lambda h: h["inserted"].pop()), "do not make"),
+    "inserted points out of range": (_resealed_inserted(lambda h: h["inserted"][0].__setitem__(0, 10**6)), "out of range"),
+    "inserted points unreadable": (_resealed_inserted(lambda h: h.update(inserted="x")), "no inserted points"),
+    "another environment's entry (digest resealed)": (_resealed_inserted(lambda h: h.update(environment="0" * 64)),
+                                                      "another environment"),
+}
+
+
+@pytest.mark.parametrize("how", list(PLAIN_TAMPERING))
+def test_a_tampered_entry_of_an_environment_is_a_logged_miss(cache, caplog, monkeypatch, how):
+    import solverplan.bounce.partitions as partition_module
+
+    env = star_polygon(20, 0.2, 0.3, seed=11)
+    built = safe_bounce_visibility_graph(env)
+    (entry,) = cache.glob("*.spg")
+    tamper, why = PLAIN_TAMPERING[how]
+    tamper(entry, cache)
+    bvg_api.clear_graph_cache()
+    with caplog.at_level(logging.DEBUG, logger="solverplan"):
+        assert _cache.lookup_environment(env) is None
+    ignored = [r for r in caplog.records if "ignoring" in r.getMessage()]
+    assert len(ignored) == 1 and why in ignored[0].getMessage(), [r.getMessage() for r in caplog.records]
+    g = read_back(env)
+    assert not g.stats.get("cached") and same_graph(g, built)
+    assert read_back(env).stats.get("cached") is True  # rewritten whole, trusted again
 
 
 # ---------------------------------------------------------------------- every failed check is a logged miss
@@ -169,7 +229,7 @@ TAMPERING = {
     "truncated": (lambda e, c: e.write_bytes(e.read_bytes()[:-100]), "size does not match its counts"),
     "a sparse giant (a zip bomb's cousin)": (lambda e, c: os.truncate(e, 1_900_000_000), "size does not match its counts"),
     "empty": (lambda e, c: e.write_bytes(b""), "no magic"),
-    "an older format": (_forged(lambda h, a: h.update(format=2)), "format 2, not 3"),
+    "an older format": (_forged(lambda h, a: h.update(format=2)), f"format 2, not {_cache.FORMAT_VERSION}"),
     "another partition's entry (digest resealed)": (_forged(lambda h, a: h.update(partition="0" * 64)), "another partition"),
     "another polygon's entry copied": (_other_polygon, "another partition"),
     "counts that do not match the arrays": (_forged(lambda h, a: h.update(n_arcs=h["n_arcs"] - 1)), "size does not match"),
@@ -225,7 +285,7 @@ def test_entries_are_written_with_the_umask_and_never_through_a_symlink(cache, t
     victim = tmp_path_factory.mktemp("victim") / "precious.txt"
     victim.write_text("keep me")
     p = partition(load_environment("two_rooms"))
-    name = _cache._entry_name(bvg_api.partition_digest(p)) + ".spg"
+    name = _cache._entry_name(_cache.environment_digest(p.env), "environment") + ".spg"  # P′ itself
     (cache / name).symlink_to(victim)
     old = os.umask(0o027)
     try:

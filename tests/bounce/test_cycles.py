@@ -258,7 +258,7 @@ def test_cycle_answer_has_the_contract_shape():
 
 
 def _segment(env, seg_id):
-    from solverplan.bounce.partition import partition
+    from solverplan.bounce.partitions import partition
 
     return partition(env).segments[seg_id]
 

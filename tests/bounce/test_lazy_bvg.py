@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from solverplan.bounce import _cache
 from solverplan.bounce.bvg import _build, reachable_safe_graph, safe_bounce_visibility_graph
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InvalidBoundarySet
 from tests.bounce.test_bvg import examples

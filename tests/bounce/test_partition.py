@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from solverplan import cli
-from solverplan.bounce.partition import Partition, partition
+from solverplan.bounce.partitions import Partition, partition
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError
 from solverplan.exact import orient, point_in_ring, to_fraction
@@ -29,7 +29,7 @@ from tests.strategies import convex_polygons, polygons_with_holes, simple_polygo
 
 MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 # the module (the package re-exports the function of the same name)
-partition_module = importlib.import_module("solverplan.bounce.partition")
+partition_module = importlib.import_module("solverplan.bounce.partitions")
 
 L_SHAPE = Environment.from_coords([[0, 0], [10, 0], [10, 4], [4, 4], [4, 10], [0, 10]])
 

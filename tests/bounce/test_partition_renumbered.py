@@ -5,9 +5,9 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from solverplan.bounce.partition import partition, renumbered
+from solverplan.bounce.partitions import partition, renumbered
 from solverplan.environment import Environment
-from solverplan.plan._walls import Walls
+from solverplan.plan._walls import PartitionedWalls as Walls
 
 from tests.strategies import polygons_with_holes
 

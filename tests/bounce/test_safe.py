@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 import solverplan.proofs.safe_set_structure as structure
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.interval import Interval
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.bounce.safe import (
     SafeSet,
     heading_is_safe,

@@ -12,7 +12,7 @@ from pathlib import Path
 import mpmath
 import pytest
 
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.certify import (check, check_exploration, check_fields, check_models, check_rooms, check_wallfollow, exact2d,
                                invariant, rational_atan)
 from solverplan.certify.check import check_certificate

@@ -14,8 +14,9 @@ from hypothesis import given, settings, strategies as st
 
 from solverplan.certify import NothingToCertify, certificate, check_certificate
 from solverplan.certify.invariant import Closure, Geometry, TableError
-from solverplan.certify.negative import NoBound, bound_claim, segment_table, _edges
-from solverplan.certify.schema import Certificate, parse_certificate, dumps_certificate
+from solverplan.certify.invariant import next_belief
+from solverplan.certify.negative import NoBound, bound_claim, refined_table, segment_table, _edges
+from solverplan.certify.schema import Certificate, CertificateFormatError, parse_certificate, dumps_certificate
 from solverplan.environment import load_environment
 from solverplan.plan import find_plan, pareto_front
 from solverplan.generators import star_polygon
@@ -84,14 +85,15 @@ def test_infeasible_plan_within_a_budget_certifies():
 
 @pytest.mark.parametrize("model", ["worst_case_t4", "l_shape"])
 def test_issue_22_infeasible_answers_that_hold_only_within_the_planners_margins_get_no_certificate(model):
-    """On these models the planner says infeasible (≤ 4 bounces), but over the exact, margin-free class on P′
-    refined at the query's set ends a 4-stage plan exists: there is nothing a certificate could prove."""
+    """Over the exact, margin-free class on P′ refined at the query's set ends a 4-stage plan exists; where the planner
+    still says infeasible (worst_case_t4: the margin-free plan is 0.00053 rad wide, below the planner's margins) there
+    is nothing a certificate could prove. (l_shape: the planner finds its plan now, by landing units.)"""
     env = load_environment(MODELS / f"{model}.json")
     start, goal = (env.boundary_set(s) for s in SETS)
     with pytest.raises(NoBound, match="a margin-free plan of 4 stages exists"):
         bound_claim(env, start, goal, budget=4, heading_margin=Fraction(1, 1000))
     front = pareto_front(env, *SETS, max_bounces=4)
-    if not front.points:  # the planner's own answer (its partition is not refined at the set ends yet)
+    if not front.points:  # the planner's own answer, within its margins
         with pytest.raises(NothingToCertify, match=r"infeasible within 4 bounces only within the planner's corner "
                                                    r"clearance, safe margin, corner rule or landing units"):
             certificate(front, env=env)
@@ -289,19 +291,16 @@ def _cast(edges, o, d):
     return best
 
 
-@pytest.mark.parametrize("model", ["l_shape", "comb", "one_hole"])
-def test_successors_agree_with_float_ray_casting(model):
-    """Every successor the exact engine reports is confirmed by float rays from sampled positions and headings
-    (away from the run's ends): each lands on the claimed segment."""
-    env = load_environment(MODELS / f"{model}.json")
-    start, goal = env.boundary_set("e1"), env.boundary_set("e3")
-    table = segment_table(env, start, goal)
+def _sampled_landings(env, table, groups=(), *, samples: int, margin: float, seed: int):
+    """For every single-segment successor of the exact engine: (its runs, the table segments float rays from
+    ``samples`` sampled positions and headings land on, None at a segment end). Positions stay ``margin`` (a fraction)
+    inside the source, headings 2 % inside the successor's interval."""
     edges, nxt = _edges(env)
-    geo = Geometry(edges, nxt, table)
+    geo = Geometry(edges, nxt, table, groups)
     closure = Closure(geo, Fraction(1, 1000), Fraction(0))
     fedges = [((float(a[0]), float(a[1])), (float(b[0]), float(b[1]))) for a, b in edges]
-    rng = random.Random(7)
-    checked = 0
+    rng = random.Random(seed)
+    out = []
     for s in range(len(table)):
         a, b = geo.ends[s]
         A, B = (float(a[0]), float(a[1])), (float(b[0]), float(b[1]))
@@ -309,14 +308,28 @@ def test_successors_agree_with_float_ray_casting(model):
         L = math.hypot(*E)
         for (targets, (lo, hi)) in closure.successors((s,)):
             l, h = math.atan2(lo[1], lo[0]), math.atan2(hi[1], hi[0])
-            for _ in range(8):
-                lam, th = rng.uniform(0.02, 0.98), rng.uniform(l + 0.02 * (h - l), h - 0.02 * (h - l))
+            met = []
+            for _ in range(samples):
+                lam, th = rng.uniform(margin, 1 - margin), rng.uniform(l + 0.02 * (h - l), h - 0.02 * (h - l))
                 o = (A[0] + lam * E[0], A[1] + lam * E[1])
                 d = ((E[0] * math.cos(th) - E[1] * math.sin(th)) / L, (E[0] * math.sin(th) + E[1] * math.cos(th)) / L)
                 _, e, u = _cast(fedges, o, d)
-                assert e is not None and geo.segment_of(e, Fraction(u).limit_denominator(10**9)) in (targets[0], None)
-                checked += 1
-    assert checked > 100
+                assert e is not None
+                met.append(geo.segment_of(e, Fraction(u).limit_denominator(10**9)))
+            out.append((targets, met))
+    return out
+
+
+@pytest.mark.parametrize("model", ["l_shape", "comb", "one_hole"])
+def test_successors_agree_with_float_ray_casting(model):
+    """Every successor the exact engine reports is confirmed by float rays from sampled positions and headings
+    (away from the run's ends): each lands on the claimed segment."""
+    env = load_environment(MODELS / f"{model}.json")
+    table = segment_table(env, env.boundary_set("e1"), env.boundary_set("e3"))
+    found = _sampled_landings(env, table, samples=8, margin=0.02, seed=7)
+    for (run,), met in found:
+        assert set(met) <= {*run, None}
+    assert sum(len(met) for _, met in found) > 100
 
 
 @st.composite
@@ -361,3 +374,75 @@ def test_lowering_a_tolerance_threshold_breaks_the_invariant():
     data["bound"]["threshold"] = str(cert.claims.min_width + Fraction(3, 10000))
     report = check(data)
     assert not report.valid and report.failures[0].claim.startswith("bound.beliefs[")
+
+
+# ---------------------------------------------------------------------- landing units: the table's groups
+@pytest.fixture(scope="module")
+def l_shape_fewest():
+    """l_shape with the issue's sets: the fewest-bounce plan (4) needs a landing on part of a segment (the part of e3
+    above the goal set's end); its bound block ranges over the landing units (groups)."""
+    env = load_environment(MODELS / "l_shape.json")
+    plan = find_plan(env, *SETS, objective="fewest", max_bounces=4)
+    assert plan.bounces == 4 and any(stage.sources for stage in plan.stages[1:])
+    return certificate(plan, env=env)
+
+
+def test_bounds_range_over_the_landing_units(l_shape_fewest):
+    cert = l_shape_fewest
+    assert cert.bound is not None and cert.bound.groups == ((1, 2, 3), (4, 5, 6))
+    report = check_certificate(cert)
+    assert report.valid, [str(f) for f in report.failures]
+    assert "or anywhere on one of its 2 groups (segments of P′ cut at the query's set ends into table segments)" in report.proved[1]
+    assert report.proved[-1] == "hence every such plan has at least 4 bounces: this plan's 4 is the fewest"
+    assert parse_certificate(dumps_certificate(cert)) == cert  # the groups survive the JSON round trip
+
+
+def test_a_group_across_a_partition_point_breaks_the_invariant(l_shape_fewest):
+    """Joining two table segments at a point of P′ (not a set end) into a group lets more stages land: the invariant
+    is not closed."""
+    data = data_of(l_shape_fewest)
+    data["bound"]["groups"].append([7, 8])
+    assert_rejected(data, "bound.beliefs[0]", "3→7+8")
+
+
+def test_dropping_the_groups_is_a_weaker_statement_and_stays_true(l_shape_fewest):
+    data = data_of(l_shape_fewest)
+    del data["bound"]["groups"]
+    report = check(data)
+    assert report.valid and "groups" not in report.proved[1] and "at least 4 bounces" in report.proved[-1]
+
+
+def test_groups_must_be_runs_of_consecutive_collinear_segments(l_shape_fewest):
+    env = load_environment(MODELS / "l_shape.json")
+    edges, nxt = _edges(env)
+    table = [list(seg) for seg in l_shape_fewest.bound.table]
+    Geometry(edges, nxt, table, [(1, 2, 3), (4, 5, 6)])
+    for groups, message in (([(1,)], "a group joins at least two segments"),
+                            ([(1, 2), (2, 3)], "segment 2 is already in group 0"),
+                            ([(1, 3)], "segment 3 does not follow segment 1 along the boundary"),
+                            ([(3, 4)], "segments 3 and 4 turn where they meet: a group is straight"),
+                            ([(13, 14)], "segment 14 is not in the table")):
+        with pytest.raises(TableError, match=message):
+            Geometry(edges, nxt, table, groups)
+    data = data_of(l_shape_fewest)
+    data["bound"]["groups"] = [[1, 3]]
+    assert_rejected(data, "bound.groups[0]", "does not follow segment 1")
+    data["bound"]["groups"] = [[1, "two"]]
+    with pytest.raises(CertificateFormatError, match=r"^bound\.groups\[0\]"):
+        Certificate.from_json(data)
+
+
+def test_landings_on_runs_agree_with_float_ray_casting():
+    """With the issue's sets on l_shape (cut segments on e3 and e4): every successor's landing unit (a table segment,
+    or a whole group) holds the float landing points of sampled positions and headings, and a landing on a whole
+    group meets several of its segments."""
+    env = load_environment(MODELS / "l_shape.json")
+    table, groups = refined_table(env, *(env.boundary_set(s) for s in SETS))
+    runs = 0
+    for targets, met in _sampled_landings(env, table, groups, samples=40, margin=0.001, seed=3):
+        (run,) = targets
+        assert next_belief(targets) == frozenset(run) and set(met) <= {*run, None}
+        if len(run) > 1:
+            runs += 1
+            assert run in ((1, 2, 3), (4, 5, 6)) and len(set(met) - {None}) > 1
+    assert runs > 0

@@ -11,7 +11,7 @@ from hypothesis import assume, example, given
 from hypothesis import strategies as st
 
 from solverplan.interval import Interval
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.certify.check import check_certificate
 from solverplan.certify.rational_atan import compare_angle, heading_vector
 from solverplan.certify.schema import load_certificate

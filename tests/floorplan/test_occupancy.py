@@ -56,6 +56,10 @@ def test_a_rasterised_polygon_imports_back_within_a_resolution_bound(tmp_path, r
     assert traced.environment.to_shapely().covers(environment.to_shapely())
     assert len(environment.holes) == 2
     assert done.to_json()["holes"] == 2 and done.to_json()["outer_vertices"] == len(environment.outer)
+    from solverplan.answers import read_answer
+
+    summary = json.loads(json.dumps(done.to_json()))
+    assert read_answer(summary).to_json() == summary  # an import summary reads back
     if specks:
         assert done.dropped["speckle"] > 0 or done.dropped["components"] > 0
         listed = [f for f in done.features if f.kind == "speckle"]

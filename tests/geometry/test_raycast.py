@@ -14,7 +14,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import shapely
-from hypothesis import assume, example, given
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from solverplan.environment import Environment
@@ -320,6 +320,34 @@ def test_grid_index_finds_exactly_what_brute_force_finds():
     assert grid.grid_shape[0] * grid.grid_shape[1] > 100
     a = grid.cast(origins, directions)
     b = RayCaster(STAR, index="brute-force").cast(origins, directions)
+    for name in ("edge", "t", "s", "vertex", "uncertain"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+
+
+@settings(max_examples=25, deadline=None)
+@given(env=polygons_with_holes(), data=st.data())
+def test_dense_arrays_and_threads_find_what_the_grid_and_the_brute_force_find(env, data):
+    """"auto" casts polygons of few edges as dense (rays × edges) arrays, and batches of 4,096 rays or more in
+    threads: the same answers, array for array, as the grid and the brute force, from the boundary (ends of edges
+    and vertices aimed at included) and from inside."""
+    from solverplan.geometry import raycast
+
+    assume(env.n_edges <= raycast._DENSE_EDGES)
+    rng = np.random.default_rng(data.draw(st.integers(0, 2**32 - 1)))
+    m = 5000
+    edges, t = rng.integers(0, env.n_edges, m), rng.random(m)
+    t[: m // 5] = rng.choice([0.0, 0.5, 1.0], m // 5)
+    headings = np.clip(rng.random(m) * math.pi, 1e-9, math.pi - 1e-9)
+    auto = RayCaster(env)
+    assert auto.dense
+    want = RayCaster(env, index="grid").cast_from_boundary(edges, t, headings)
+    for got in (auto.cast_from_boundary(edges, t, headings), RayCaster(env, index="brute-force").cast_from_boundary(edges, t, headings)):
+        for name in ("edge", "t", "x", "y", "s", "vertex", "uncertain"):
+            np.testing.assert_array_equal(getattr(got, name), getattr(want, name), err_msg=name)
+    inside = ~want.uncertain
+    origins = (auto.env.points_at(edges, t) + 0.5 * want.s[:, None] * raycast.heading_directions(env, edges, headings))[inside]
+    directions = raycast.heading_directions(env, edges, headings)[inside] * 3.0
+    a, b = auto.cast(origins, directions), RayCaster(env, index="grid").cast(origins, directions)
     for name in ("edge", "t", "s", "vertex", "uncertain"):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
 

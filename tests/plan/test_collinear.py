@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solverplan import models
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.certify.build import certificate
 from solverplan.certify.check import check_certificate
 from solverplan.certify.schema import Certificate
@@ -19,7 +19,7 @@ from solverplan.plan.funnels import funnel
 from solverplan.plan.localization import localize
 from solverplan.plan.patrols import patrol
 from solverplan.plan.search import find_plan, pareto_front
-from solverplan.plan._walls import Walls, collinear_vertices
+from solverplan.plan._walls import PartitionedWalls, collinear_vertices
 from solverplan.result import Method, Status
 from solverplan.simulate import StagePolicy, simulate_plan, simulate_policy
 
@@ -71,12 +71,12 @@ def sound(env: Environment, plan) -> None:
 def test_walls_of_a_split_square_are_the_square():
     square = models.load("square")
     split, new_of = midpoints(square)
-    walls = Walls(split)
+    walls = PartitionedWalls(split)
     assert not walls.identity and collinear_vertices(split) == (1, 3, 5, 7)
     assert walls.merged.rings == square.rings
     assert walls.edge_map[3] == (1, Fraction(1, 2), Fraction(1))
     assert str(walls.to_merged(split.boundary_set("e0,e1:0:0.5"))) == "e0:0:0.75"
-    assert Walls(square).identity and Walls(square).merged is square
+    assert PartitionedWalls(square).identity and PartitionedWalls(square).merged is square
     runs = walls.runs(partition(square))
     assert runs == ((0, 1), (2, 3), (4, 5), (6, 7))
 

@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 
 from solverplan import cli
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.bounce.transitions import transition_set
 from solverplan.certify.check import check_certificate
 from solverplan.certify.build import certificate

@@ -162,6 +162,15 @@ LOCALIZE_ROLLED = Query.of([[21, 0], [0, 20], [-20, 0], [0, -20]], [], "e0:0.1:1
 FUNNEL_REVERSED = Query.of([[28, 9], [3, 23], [-29, 0], [12, -25]], [], "e0:5/9:1,e1:0:2/9", "e0:5/9:1,e1:0:2/9",
                            [(0, "2/7")])
 L_ROOM = Query.model("l_shape", "e5:0.5:1", "e0:0:0.3", [(2, "1/2")])
+# landing units (#22's last gap): plans that land on the part of a segment between the query's set ends and leave
+# from it later — l_shape with the issue's sets (4 bounces, width 0.0292: a stage leaves from the part of e3 above the
+# goal set's end) and a corridor (hallway: 4 bounces, width 0.0253; whole-segment landings only: infeasible)
+L_SHAPE_UNITS = Query.model("l_shape", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05", [(5, "1/2")])
+CORRIDOR = Query.model("hallway", "e8:0.28:1", "e9:0.51:1", [(0, "1/2")])
+# at_set_ends: every objective by ~10⁻⁶ rad (tolerance 0.1709921612 → 0.1709945676): the vertex at e4:0.4 lies on the
+# outer ring's convex hull, and the rotating calipers of the margins' diameter stopped at it (42.450 → 42.202)
+HULL_VERTEX = Query.of([[10, 0], [17, 22], [-2, 10], [-24, 12], [-14, -7], [-3, -13], [6, -8]], [], "e0:0.1:1",
+                       "e4:0.4:1", [(0, "1/10")])
 
 
 # ---------------------------------------------------------------------- rewritings
@@ -235,6 +244,9 @@ NO_SHRINK = (Phase.explicit, Phase.reuse, Phase.generate)
 @example(query=L_SPLIT)
 @example(query=QUAD)
 @example(query=STAR_ENDS)
+@example(query=L_SHAPE_UNITS)
+@example(query=CORRIDOR)
+@example(query=HULL_VERTEX)
 def test_plan_invariant_under_collinear_vertices_at_set_ends(query):
     assert_plans_invariant(query, at_set_ends)
 
@@ -244,6 +256,8 @@ def test_plan_invariant_under_collinear_vertices_at_set_ends(query):
 @example(query=WORST_CASE_T4)
 @example(query=L_ROOM)
 @example(query=PENTAGON2)
+@example(query=L_SHAPE_UNITS)
+@example(query=CORRIDOR)
 def test_plan_invariant_under_collinear_vertices_anywhere(query):
     assert_plans_invariant(query, collinear_vertices_anywhere)
 
@@ -254,6 +268,8 @@ def test_plan_invariant_under_collinear_vertices_anywhere(query):
 @example(query=L_ROOM)
 @example(query=L_SPLIT)
 @example(query=PENTAGON)
+@example(query=L_SHAPE_UNITS)
+@example(query=CORRIDOR)
 def test_plan_invariant_under_edges_split_at_midpoints(query):
     assert_plans_invariant(query, midpoints)
 
@@ -273,6 +289,8 @@ def test_plan_invariant_under_rational_rotation(query):
 @example(query=WORST_CASE_T4)
 @example(query=DIAMOND)
 @example(query=T4_ROTATED)
+@example(query=L_SHAPE_UNITS)
+@example(query=CORRIDOR)
 def test_plan_invariant_under_rotation_translation_and_scaling(query):
     assert_plans_invariant(query, rotation_translation_scale)
 
@@ -317,6 +335,17 @@ def test_issue_22_worst_case_t4_query_is_answered_alike_on_both_writings():
     assert not front.points and not again.points
     assert front.optimality.proved and again.optimality.proved
     assert pareto_front(q.env, q.start, q.goal, max_bounces=6).points  # a longer plan exists: 5 bounces and more
+
+
+def test_issue_22_l_shape_query_needs_a_landing_unit_and_is_answered_alike_on_both_writings():
+    """The query of #22 on ``l_shape``: a 4-bounce plan (width 0.0292) whose second stage leaves from the part of e3
+    above the goal set's end (a landing unit); the same Pareto front with vertices where the sets end."""
+    q = L_SHAPE_UNITS
+    front = pareto_front(q.env, q.start, q.goal, max_bounces=4)
+    ends = rw.at_set_ends(q.env, q.start, q.goal)
+    again = pareto_front(ends.env, ends.sets[0], ends.sets[1], max_bounces=4)
+    assert [(p.bounces, round(p.min_width, 6)) for p in front.points] == [(4, 0.029195)]
+    assert not answer_differences(front, again) and front.optimality.proved
 
 
 # ---------------------------------------------------------------------- patrols

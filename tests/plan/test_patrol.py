@@ -17,7 +17,7 @@ from solverplan import cli
 from solverplan.bounce.bvg import safe_bounce_visibility_graph
 from solverplan.bounce.cycles import limit_cycle
 from solverplan.bounce.dynamics import contraction_coefficient, interior_angles, lemma3_max_heading
-from solverplan.bounce.partition import partition
+from solverplan.bounce.partitions import partition
 from solverplan.certify.check import check_certificate
 from solverplan.certify.build import certificate
 from solverplan.certify.schema import Certificate

@@ -323,24 +323,83 @@ def interval_lists(draw):
     return lists
 
 
-@given(interval_lists())
-def test_options_are_exactly_the_cells_where_every_source_has_an_interval(lists):
-    """Problem._combine (a merge) against the product of one interval per source (brute force)."""
+def _every_choice(belief, lists) -> list:
+    """(lo, hi, moves) of every choice of one interval per source with a common interval of positive width, sorted."""
     import itertools
 
-    from solverplan.plan._problem import Problem
-
-    belief = tuple(range(10, 10 + len(lists)))
-    got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
-    expected = []
+    out = []
     for combo in itertools.product(*[range(len(l[0])) for l in lists]):
         lo = max(lists[q][0][k] for q, k in enumerate(combo))
         hi = min(lists[q][1][k] for q, k in enumerate(combo))
         if hi > lo:
-            expected.append((lo, hi, tuple((belief[q], lists[q][2][k]) for q, k in enumerate(combo))))
-    assert got == sorted(expected)
+            out.append((lo, hi, tuple((belief[q], lists[q][2][k]) for q, k in enumerate(combo))))
+    return sorted(out)
+
+
+@given(interval_lists())
+def test_options_are_exactly_the_cells_where_every_source_has_an_interval(lists):
+    """Problem._combine (a merge) against the product of one interval per source (brute force)."""
+    from solverplan.plan._problem import Problem
+
+    belief = tuple(range(10, 10 + len(lists)))
+    got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
+    assert got == _every_choice(belief, lists)
     for o in Problem._combine(belief, lists):
         assert o.next == tuple(sorted({j for _, j in o.moves}))
+
+
+@st.composite
+def overlapping_interval_lists(draw):
+    """2–4 sources, each a list of intervals sorted by low ends that may overlap (landings on units inside the
+    landing on their segment), with targets."""
+    lists = []
+    for _ in range(draw(st.integers(2, 4))):
+        pairs = draw(st.lists(st.tuples(st.integers(0, 59), st.integers(1, 20)), max_size=8))
+        rows = sorted((a / 20, min(a + w, 60) / 20, draw(st.integers(0, 5))) for a, w in pairs)
+        lists.append(([r[0] for r in rows], [r[1] for r in rows], [r[2] for r in rows]))
+    return lists
+
+
+@given(overlapping_interval_lists())
+def test_options_over_overlapping_lists_are_every_choice_with_a_common_interval(lists):
+    """Problem._combine with overlapping lists (the pair-by-pair join) against the product of one interval per
+    source (brute force): every choice of intervals whose intersection has positive width, once."""
+    from solverplan.plan._problem import Problem
+
+    belief = tuple(range(10, 10 + len(lists)))
+    got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
+    assert got == _every_choice(belief, lists)
+
+
+QUERY_CUTS = [("l_shape", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05"), ("two_rooms", "e0:0.2:0.8", "e4:0.5:1"),
+              ("hallway", "e8:0.28:1", "e9:0.51:1"), ("three_arms", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05"),
+              ("narrow_door", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05")]
+
+
+@pytest.mark.parametrize("name, start, goal", QUERY_CUTS)
+def test_landing_units_only_add_plans(name, start, goal):
+    """Landing on the pieces between the query's set ends keeps every whole-segment landing open: the fewest stages
+    never grow and the widest min width never shrinks against the search with whole-segment landings only (the
+    class before #22's last gap), here within 4 bounces, and the objectives agree on the abstraction."""
+    from solverplan.plan import _search
+    from solverplan.plan._problem import Problem
+
+    env = load_environment(name)
+    units = planning_problem(env, start, goal)
+    whole = Problem(units.graph, units.user_start_set, units.user_goal_set, margins=units.margins, walls=units.walls,
+                    landing_units=False)
+    assert units.units and len(whole.units) <= len(units.units)
+    new, old = _search.layered_front(units, 4), _search.layered_front(whole, 4)
+    if old.points:
+        assert new.points and new.points[0][0] <= old.points[0][0]
+        assert max(w for _, w, _ in new.points) >= max(w for _, w, _ in old.points) - EPS
+    plans = {o: find_plan(env, start, goal, objective=o, max_bounces=4) for o in ("fewest", "tolerance", "sum")}
+    if new.points:
+        assert plans["fewest"].bounces == new.points[0][0]
+        assert plans["tolerance"].min_width == pytest.approx(max(w for _, w, _ in new.points), abs=1e-12)
+        assert plans["sum"].found
+    else:
+        assert not any(p.found for p in plans.values())
 
 
 @settings(max_examples=40)
@@ -386,24 +445,52 @@ def test_answers_do_not_change_under_an_exact_rotation(name):
         assert b.min_width == pytest.approx(a.min_width, abs=1e-9)
 
 
+def test_environment_diameter_ignores_collinear_vertices_on_the_hull():
+    """A vertex on an edge of the outer ring's hull (here where a set ends, #22's rewriting) once stopped the calipers
+    early: 42.202 instead of 42.450, and every margin moved with it."""
+    from solverplan.environment import Environment
+    from solverplan.plan.margins import environment_diameter
+
+    ring = [[10, 0], [17, 22], [-2, 10], [-24, 12], [-14, -7], [-3, -13], [6, -8]]
+    with_vertex = ring[:4] + [[-24 + Fraction(4, 10) * 10, 12 - Fraction(4, 10) * 19]] + ring[4:]
+    assert environment_diameter(Environment.from_coords(with_vertex)) == pytest.approx(
+        environment_diameter(Environment.from_coords(ring)), rel=1e-14) == pytest.approx(math.hypot(31, 29), rel=1e-14)
+
+
+def test_environment_diameter_turns_with_a_rectilinear_room():
+    """Rotating calipers tied on the parallel hull edges of a rectilinear room and stopped at another vertex once it
+    was turned (17.692 × 551/7 ≠ 1229.556): the invariance study's one remaining change under a motion (min width
+    0.4624116894 → 0.462439313)."""
+    from solverplan.generators import rectilinear_polygon
+    from solverplan.plan.margins import environment_diameter
+    from solverplan.studies import rewrite as rw
+
+    env = rectilinear_polygon(n_cells=4, max_size=6, seed=473979)
+    moved = rw.rotate(env, Fraction(8, 17), Fraction(15, 17)).then(rw.translate, Fraction(-5, 7), -9).then(
+        rw.scale, Fraction(551, 7))
+    assert environment_diameter(moved.env) == pytest.approx(environment_diameter(env) * 551 / 7, rel=1e-13)
+
+
 @settings(max_examples=60)
 @given(st.one_of(convex_polygons(max_coord=20), simple_polygons(3, 9, 30), polygons_with_holes(5, 1, 40)))
 def test_environment_diameter_is_the_largest_distance_between_two_vertices(env):
-    """The rotating calipers of the margins against every pair of vertices (the brute-force reference)."""
+    """The margins' diameter (every pair of hull corners) against every pair of vertices (the brute-force reference)."""
     from solverplan.plan.margins import environment_diameter
     from tests.plan.brute import diameter
 
     assert environment_diameter(env) == pytest.approx(diameter(env), rel=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason="#22: later stages leave from whole segments of P′ of the straight walls, so a "
-                   "landing that only part of a segment reaches (here the part of e3 above the goal set's end) is "
-                   "not told apart; cutting P′ where the sets end finds this plan but forbids landings across the "
-                   "cut (demo tolerance 0.1043 → 0.0919): landing units must be runs joined by those cuts")
 def test_a_plan_that_needs_the_set_ends_as_cut_points_is_found():
     """l_shape, --from e3:0.15:1,e4:0:0.25 --to e3:0.4:1,e4:0:0.05: a 4-bounce plan of min width 0.0292 exists
     (found on the same free space written with vertices where the sets end; 20,000 of 20,000 rollouts with
     endpoint headings reach the goal)."""
     env = load_environment("l_shape")
     plan = find_plan(env, "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05", objective="tolerance", max_bounces=4)
-    assert plan.found and plan.bounces == 4 and plan.min_width >= 0.029
+    assert plan.found and plan.bounces == 4 and plan.min_width >= 0.029 and plan.optimality.proved
+    # a later stage leaves from the part of e3 above the goal set's end: the certificate claims exact images
+    assert any(stage.sources for stage in plan.stages[1:])
+    from solverplan.certify import certificate, check_certificate
+
+    cert = certificate(plan, env=env)
+    assert cert.bound is not None and check_certificate(cert).valid

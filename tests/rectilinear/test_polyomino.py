@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from solverplan.errors import InputError
-from solverplan.studies import generate, rectilinear_polygon
+from solverplan.generators import generate, rectilinear_polygon
 
 
 @pytest.mark.parametrize("seed", range(40))

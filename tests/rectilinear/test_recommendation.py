@@ -11,7 +11,7 @@ from solverplan.errors import InputError
 from solverplan.rectilinear import decompose_rooms
 from solverplan.rectilinear.rules import GUARANTEED, Smart, door_depth, room_tangents, smart_tangent
 from solverplan.generators import rectilinear_polygon
-from solverplan.studies.rooms import NEAR_FASTEST, RULE_VARIANTS, compare_rules, recommend_from_runs
+from solverplan.rectilinear.simulation import NEAR_FASTEST, RULE_VARIANTS, compare_rules, recommend_from_runs
 
 
 @settings(max_examples=25)

@@ -18,7 +18,7 @@ from solverplan.rectilinear.doors import RoomWorld
 from solverplan.rectilinear.rules import Billiard, Smart
 from solverplan.simulate import Outcome, simulate_policy
 from solverplan.generators import rectilinear_polygon
-from solverplan.studies.rooms import RoomPolicy, compare_rules, periodic_orbit, simulate_rooms
+from solverplan.rectilinear.simulation import RoomPolicy, compare_rules, periodic_orbit, simulate_rooms
 
 
 @pytest.fixture(scope="module")
@@ -137,7 +137,7 @@ def test_bad_simulation_requests_are_input_errors(chambers):
         simulate_rooms(chambers, 0, 2, trials=0)
     with pytest.raises(InputError, match=r"^the room sequence must go from room 0 to room 2$"):
         simulate_rooms(chambers, 0, 2, walk=(0, 4, 1))
-    with pytest.raises(InputError, match=r"^doors must be 'control' or 'open', got 'shut'$"):
+    with pytest.raises(InputError, match=r"^unknown door policy 'shut': use control, open$"):
         simulate_rooms(chambers, 0, 2, doors="shut")  # type: ignore[arg-type]
 
 

@@ -163,7 +163,7 @@ def test_arc_field_flows_through_a_corner_square_only_by_sample():
 # ---------------------------------------------------------------------- the symbolic proof can fail
 @pytest.mark.slow  # sympy takes about 2 minutes to give up on the false identities
 def test_line_field_proof_fails_for_a_wrong_sign(monkeypatch):
-    real = line_proof.line_field
+    real = line_proof.line_field_velocity
 
     def wrong(q, q0, d, p):  # cross-track term pushing away from the line
         return real(q, q0, d, -p)

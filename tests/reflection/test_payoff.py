@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from solverplan.reflection.compose import compose_fields
 from solverplan.reflection.navigation import navigate_fields
 from solverplan.reflection.payoff import overshoot_depth, prune_zones, stopping_distance
-from solverplan.reflection.simulate import RobotModel, default_scenarios, simulate_scenarios
+from solverplan.reflection.simulate import FieldRobotDynamics, default_scenarios, simulate_scenarios
 from tests.reflection.corridors import corridor
 
 
@@ -42,9 +42,9 @@ def test_corner_cells_make_reflection_candidates_on_cut_corners():
 def test_an_integrator_never_overshoots_so_it_plans_no_reflection():
     env, s, g = corridor("cut", 3, 0.4, seed=0)
     plan = compose_fields(env, s, g, cells="corners")
-    kept, tests = prune_zones(plan, RobotModel(kind="integrator"), 1.5)
+    kept, tests = prune_zones(plan, FieldRobotDynamics(kind="integrator"), 1.5)
     assert kept.zones == {} and tests == {}
-    assert stopping_distance(RobotModel(kind="integrator"), 1.5) == 0.0
+    assert stopping_distance(FieldRobotDynamics(kind="integrator"), 1.5) == 0.0
     assert all(r.stage == "overshoot" for r in kept.rejected if r.cell in plan.zones and r.side is not None)
     assert all(overshoot_depth(plan, c) > 0 for c in plan.zones)
 

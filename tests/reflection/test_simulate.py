@@ -13,7 +13,7 @@ from solverplan.environment import load_environment
 from solverplan.errors import InputError
 from solverplan.reflection.cells import decompose_free_space
 from solverplan.reflection.compose import compose_fields
-from solverplan.reflection.simulate import RobotModel, Scenario, default_scenarios, simulate_scenarios
+from solverplan.reflection.simulate import FieldRobotDynamics, Scenario, default_scenarios, simulate_scenarios
 from tests.strategies import polygons_with_holes
 
 SERPENTINE = load_environment("serpentine")
@@ -37,7 +37,7 @@ def test_global_convergence_of_the_composition_from_sampled_starts():
     """Sequential composition: from anywhere in the free space the single integrator reaches the goal (no noise),
     and with the goal in the goal cell no trajectory touches a wall (every field flows through)."""
     starts = _sample_free(SERPENTINE, 60, seed=3)
-    quiet = RobotModel(kind="integrator", heading_noise=0.0, speed_noise=0.0, goal_radius=0.02)
+    quiet = FieldRobotDynamics(kind="integrator", heading_noise=0.0, speed_noise=0.0, goal_radius=0.02)
     runs = simulate_scenarios(PLAN, [Scenario("nominal", 1.0, False)], model=quiet, trials=60, starts=starts)
     run = runs["nominal"]
     assert run.success == 1.0
@@ -48,7 +48,7 @@ def test_global_convergence_in_a_polygon_with_a_hole():
     plan = compose_fields(ONE_HOLE, (1, 1), (9, 5))
     assert plan.flow_through
     starts = _sample_free(ONE_HOLE, 40, seed=5)
-    quiet = RobotModel(kind="integrator", heading_noise=0.0, speed_noise=0.0, goal_radius=0.05)
+    quiet = FieldRobotDynamics(kind="integrator", heading_noise=0.0, speed_noise=0.0, goal_radius=0.05)
     run = simulate_scenarios(plan, [Scenario("nominal", 2.0, False)], model=quiet, trials=40, starts=starts)["nominal"]
     assert run.success == 1.0 and run.collisions.max() == 0
 
@@ -59,7 +59,7 @@ def test_global_convergence_in_a_polygon_with_a_hole():
 def test_trajectories_never_leave_the_free_space(kind, seed, speed, restitution, noise):
     """Collisions are resolved against the real walls: the position after every physics step is strictly inside the
     free space, at any speed, restitution and noise."""
-    model = RobotModel(kind=kind, restitution=restitution, heading_noise=noise, max_time=8.0)
+    model = FieldRobotDynamics(kind=kind, restitution=restitution, heading_noise=noise, max_time=8.0)
     runs = simulate_scenarios(PLAN, [Scenario("fast", speed, False), Scenario("reflect", speed, True)], model=model,
                               trials=4, seed=seed, keep=4, every_step=True)
     poly = SERPENTINE.to_shapely()
@@ -88,14 +88,14 @@ def test_scenarios_are_reproducible_and_independent_of_each_other():
 def test_integrator_gains_nothing_from_reflections():
     """Without inertia a bounce cannot turn faster than the field: the reflection scenario is slower (the benefit
     in the paper comes from momentum)."""
-    model = RobotModel(kind="integrator")
+    model = FieldRobotDynamics(kind="integrator")
     runs = simulate_scenarios(PLAN, [default_scenarios()["unconstrained"], default_scenarios()["reflection"]],
                               model=model, trials=6, seed=2)
     assert runs["reflection"].time_mean > runs["unconstrained"].time_mean
 
 
 def test_dead_band_stops_a_robot_commanded_too_slowly():
-    model = RobotModel(dead_band=0.5, max_time=3.0, heading_noise=0.0, speed_noise=0.0)
+    model = FieldRobotDynamics(dead_band=0.5, max_time=3.0, heading_noise=0.0, speed_noise=0.0)
     run = simulate_scenarios(PLAN, [Scenario("crawl", 0.4, False)], model=model, trials=2, keep=1)["crawl"]
     assert run.success == 0.0 and np.allclose(run.trajectories[0], [3.0, 2.25])
 
@@ -108,7 +108,7 @@ def test_dead_band_stops_a_robot_commanded_too_slowly():
 ])
 def test_bad_robot_models_are_input_errors(kwargs, message):
     with pytest.raises(InputError, match=message):
-        RobotModel(**kwargs)
+        FieldRobotDynamics(**kwargs)
 
 
 def test_bad_starts_are_input_errors():
@@ -135,7 +135,7 @@ def test_sequential_composition_converges_from_sampled_starts_when_every_cell_fl
         return
     scale = max(env.bounds[2] - env.bounds[0], env.bounds[3] - env.bounds[1])
     starts = _sample_free(env, 12, seed)
-    quiet = RobotModel(kind="integrator", heading_noise=0.0, speed_noise=0.0, goal_radius=1e-3 * scale,
+    quiet = FieldRobotDynamics(kind="integrator", heading_noise=0.0, speed_noise=0.0, goal_radius=1e-3 * scale,
                        max_time=100.0, physics_rate=2000.0)
     run = simulate_scenarios(plan, [Scenario("nominal", scale / 10, False)], model=quiet, trials=12, starts=starts)
     assert run["nominal"].success == 1.0
@@ -144,7 +144,7 @@ def test_sequential_composition_converges_from_sampled_starts_when_every_cell_fl
 def test_hybrid_controller_hits_each_reflection_zone_then_follows_the_nominal_field():
     """In the reflection scenario the robot reaches the chosen wall of every reflection cell (the switching
     surface), and the run still converges; without reflection (integrator, no noise) no wall is touched."""
-    quiet = RobotModel(kind="integrator", heading_noise=0.0, speed_noise=0.0)
+    quiet = FieldRobotDynamics(kind="integrator", heading_noise=0.0, speed_noise=0.0)
     runs = simulate_scenarios(PLAN, [Scenario("reflect", 1.0, True), Scenario("nominal", 1.0, False)], model=quiet,
                               trials=1, keep=1, every_step=True)
     path = runs["reflect"].trajectories[0]

@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 
 from solverplan import cli
 from solverplan.environment import load_environment, parse_environment
-from solverplan.studies import rooms_and_corridors, star_polygon
+from solverplan.generators import rooms_and_corridors, star_polygon
 
 runner = CliRunner()
 

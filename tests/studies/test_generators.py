@@ -12,7 +12,7 @@ import pytest
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidEnvironment
 from solverplan.exact import orient, orient_filter, point_in_ring, segment_intersection
-from solverplan.studies import star_polygon, star_polygon_with_holes, worst_case_polygon
+from solverplan.generators import star_polygon, star_polygon_with_holes, worst_case_polygon
 
 ORIGIN = (Fraction(0), Fraction(0))
 
@@ -295,7 +295,7 @@ def test_worst_case_rejects_t_below_one():
 
 
 # ---------------------------------------------------------------------- rooms joined by corridors
-from solverplan.studies import generate, rectilinear_floor_plan, rooms_and_corridors  # noqa: E402
+from solverplan.generators import generate, rectilinear_floor_plan, rooms_and_corridors  # noqa: E402
 
 
 @pytest.mark.parametrize("n_rooms, loops", [(1, 0), (2, 0), (5, 0), (4, 1), (8, 2), (16, 4)])

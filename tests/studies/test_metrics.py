@@ -12,7 +12,8 @@ from solverplan.bounce.rules import Fixed, MonotoneFixed
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.simulate import simulate_rule
-from solverplan.studies import ConnectivityMetric, ReachabilityMetric, RuleReachability, star_polygon
+from solverplan.studies import ConnectivityMetric, ReachabilityMetric, RuleReachability
+from solverplan.generators import star_polygon
 from solverplan.generators import rectilinear_floor_plan, rooms_and_corridors
 from solverplan.studies.metrics import component_counts, safe_graph_summary, unreachable_fraction
 from solverplan.studies.rule_systems import FamilyPolicy, guaranteed_arcs, parse_family

@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 
 from solverplan.errors import InputError, SolverFailed
+from solverplan.generators import generate
 from solverplan.studies import (
     ConnectivityMetric,
     ReachabilityMetric,
     Study,
     StudyInterrupted,
     build_study,
-    generate,
     parse_grid,
     parse_values,
     row_seed,
@@ -317,6 +317,10 @@ def test_summary_json_and_text():
         f"{result.seconds:.1f} s"
     assert text.splitlines()[1].split() == ["irregularity", "spikiness", "area"]
     assert json.loads(json.dumps(data)) == data
+    from solverplan.answers import AnswerSummary, read_answer
+
+    back = read_answer(json.loads(json.dumps(data)))  # a study summary reads back as what it is
+    assert isinstance(back, AnswerSummary) and back.kind == "study" and back.to_json() == json.loads(json.dumps(data))
 
 
 @pytest.mark.slow

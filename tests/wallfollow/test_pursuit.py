@@ -88,7 +88,7 @@ def test_prop8_failure_is_reported_when_the_reachable_i_space_has_no_all_zero_st
     assert plan.optimality.proved and "Prop. 8" in plan.reason and plan.states > 50
 
 
-def test_motion_samples_lie_between_every_vertex_pair_line_crossing():
+def test_motion_samples_lie_between_every_reflex_line_crossing():
     p0, p1 = ROOM.exact_vertices[1], ROOM.exact_vertices[2]
     samples = motion_samples(ROOM, p0, p1)
     assert samples[0] == (p0, False) and samples[-1] == (p1, True) and len(samples) >= 4

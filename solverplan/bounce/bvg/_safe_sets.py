@@ -16,7 +16,7 @@ from solverplan.bounce import _sweep
 from solverplan.bounce._sweep import ExactPoints, Sweeps, max_norm
 from solverplan.bounce.bvg import tolerances
 from solverplan.bounce.bvg.tolerances import EndComparator, angle_error
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.environment import Environment
 from solverplan.progress import step
 

@@ -64,7 +64,7 @@ from solverplan.bounce.bvg._safe_sets import (Pieces, equal_ends, nonempty, refi
 from solverplan.bounce.bvg.graph import SafeBVG, as_partition
 from solverplan.bounce.bvg.size import BASE_BYTES, PLANNED_BYTES_PER_ARC, check_graph_memory, refuse_reachable
 from solverplan.bounce.bvg.tolerances import EndComparator
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.environment import Environment
 from solverplan.errors import InvalidBoundarySet
 from solverplan.limits import memory_limit
@@ -123,7 +123,7 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     Parameters
     ----------
     partition
-        The partition P′ (:func:`~solverplan.bounce.partition.partition`), or an environment (it is partitioned
+        The partition P′ (:func:`~solverplan.bounce.partitions.partition`), or an environment (it is partitioned
         first).
 
     Returns
@@ -148,7 +148,9 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     partition's exact content (:func:`~solverplan.bounce._cache.partition_digest`: the rings and every
     segment's exact ``(edge, t0, t1)``, so a partition refined at extra cut points has its own graph),
     and on disk when a cache directory is set
-    (:func:`~solverplan.bounce._cache.set_graph_cache`; the command line keeps one, see docs/contract.md).
+    (:func:`~solverplan.bounce._cache.set_graph_cache`; the command line keeps one, see docs/contract.md). The graph
+    of P′ itself is found on disk by the environment's exact rings, with P′, so a call with an environment that
+    finds it makes no partition either.
     A reused graph is the same answer (equal arrays), with ``stats["cached"]`` set when it was read
     from disk; its arrays are read-only, shared by every caller.
 
@@ -180,9 +182,9 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     if found is not None:
         return found
     check_graph_memory(p)
-    t0 = time.perf_counter()
+    t0 = time.process_time()  # CPU time: what is worth keeping does not depend on the machine's load
     graph = _build(p)
-    return _cache.store(p, digest, graph, time.perf_counter() - t0, plain=plain)
+    return _cache.store(p, digest, graph, time.process_time() - t0, plain=plain)
 
 
 def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.SweepContext | None = None) -> SafeBVG:
@@ -222,46 +224,48 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         ib = ib[wanted[e_minus[ib]]]
     B_key = e_minus[ib] * N + sw.seg[ib]
     del e_minus
+    sw.seg = None  # type: ignore[assignment]  # consumed (the build frees each array once it is done with it)
 
     if wanted is None:
         # ---- arcs: every pair met by some sweep, both directions
-        keys = np.concatenate([A_key, B_key])
-        keys = np.concatenate([keys, (keys % N) * N + keys // N])
+        both = np.concatenate([A_key, B_key])
+        swapped = both % N
+        swapped *= N
+        swapped += both // N
+        keys = np.concatenate([both, swapped])
+        del both, swapped
         keys.sort()
         if len(keys):
             keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
     else:  # ---- arcs that may be safe: met by the sweeps at both ends of the source
         keys = np.intersect1d(A_key, B_key)
-    source, target = keys // N, keys % N
     n_arcs = len(keys)
 
     # ---- candidate safe sets: A_a(j) ∩ A_b(j) (closures), a sort-merge join on (i, j)
-    oa = np.argsort(A_key, kind="stable")
-    ob = np.argsort(B_key, kind="stable")
-    ia, ib, A_key, B_key = ia[oa], ib[ob], A_key[oa], B_key[ob]
-    del oa, ob
+    order = np.argsort(A_key, kind="stable")
+    A_key = A_key[order]
+    ia = ia[order]
+    order = np.argsort(B_key, kind="stable")
+    B_key = B_key[order]
+    ib = ib[order]
+    del order
     b_start = np.searchsorted(B_key, A_key, side="left")
     cnt = np.searchsorted(B_key, A_key, side="right") - b_start
-    pa = np.repeat(ia, cnt)
-    pb = ib[np.repeat(b_start, cnt) + ragged_arange(cnt)]
+    del B_key
     pkey = np.repeat(A_key, cnt)
-    del ia, ib, A_key, B_key, b_start, cnt
-    frm = sw.origin[sw.sweep]
-    edge_p = seg_edge[pkey // N]
-    c_lo = ends.cmp(edge_p, frm[pa], sw.lo_to[pa], sw.lo[pa], sw.lo_err[pa], frm[pb], sw.lo_to[pb], sw.lo[pb], sw.lo_err[pb])
-    lo_pick = np.where(c_lo >= 0, pa, pb)
-    del c_lo
-    c_hi = ends.cmp(edge_p, frm[pa], sw.hi_to[pa], sw.hi[pa], sw.hi_err[pa], frm[pb], sw.hi_to[pb], sw.hi[pb], sw.hi_err[pb])
-    hi_pick = np.where(c_hi <= 0, pa, pb)
-    del c_hi, pa, pb, edge_p
-    pieces = Pieces(
-        np.searchsorted(keys, pkey),
-        frm[lo_pick], sw.lo_to[lo_pick], sw.lo[lo_pick], sw.lo_err[lo_pick],
-        frm[hi_pick], sw.hi_to[hi_pick], sw.hi[hi_pick], sw.hi_err[hi_pick],
-    )
-    del pkey, lo_pick, hi_pick, frm
-    # the entries are consumed: keep only what the hole step reads
-    sw.sweep = sw.seg = sw.lo_to = sw.hi_to = sw.lo = sw.hi = sw.lo_err = sw.hi_err = None  # type: ignore[assignment]
+    del A_key
+    pa = np.repeat(ia, cnt)
+    del ia
+    pb = ib[np.repeat(b_start, cnt) + ragged_arange(cnt)]
+    del ib, b_start, cnt
+    lo_pick, hi_pick = _intersect_ends(ends, seg_edge, N, pkey, sw, pa, pb)
+    del pa, pb
+    arc = np.searchsorted(keys, pkey)
+    del pkey
+    pieces = _take_entries(sw, arc, lo_pick, hi_pick)  # the entries are consumed: the hole step reads the rest of sw
+    del arc, lo_pick, hi_pick
+    source, target = keys // N, keys % N
+    del keys
     step("safe BVG: safe sets", 1, 4)
     edge_of = seg_edge[source]
     pieces = nonempty(pieces, ends, edge_of)
@@ -355,6 +359,39 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         _set_ends=set_ends,
         stats=stats,
     )
+
+
+def _intersect_ends(ends: EndComparator, seg_edge: np.ndarray, N: int, pkey: np.ndarray, sw: _sweep.Sweeps,
+                    pa: np.ndarray, pb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each joined pair of entries (``pa`` from the sweep at a, ``pb`` at b, same arc ``pkey``), the entry whose lo
+    end is the larger and the one whose hi end is the smaller: the ends of A_a(j) ∩ A_b(j). In blocks, so that the
+    comparison's gathered operands (eight arrays per row) never exist for all pairs at once."""
+    lo_pick = np.empty_like(pa)
+    hi_pick = np.empty_like(pa)
+    block = 1 << 18
+    for s0 in range(0, len(pa), block):
+        a, b = pa[s0 : s0 + block], pb[s0 : s0 + block]
+        edge = seg_edge[pkey[s0 : s0 + block] // N]
+        fa, fb = sw.origin[sw.sweep[a]], sw.origin[sw.sweep[b]]
+        c = ends.cmp(edge, fa, sw.lo_to[a], sw.lo[a], sw.lo_err[a], fb, sw.lo_to[b], sw.lo[b], sw.lo_err[b])
+        lo_pick[s0 : s0 + block] = np.where(c >= 0, a, b)
+        c = ends.cmp(edge, fa, sw.hi_to[a], sw.hi[a], sw.hi_err[a], fb, sw.hi_to[b], sw.hi[b], sw.hi_err[b])
+        hi_pick[s0 : s0 + block] = np.where(c <= 0, a, b)
+    return lo_pick, hi_pick
+
+
+def _take_entries(sw: _sweep.Sweeps, arc: np.ndarray, lo_pick: np.ndarray, hi_pick: np.ndarray) -> Pieces:
+    """The candidate intervals: for each joined pair, its arc row, the lo end of entry ``lo_pick`` and the hi end of
+    entry ``hi_pick``. Each of the sweeps' entry arrays is dropped from ``sw`` as soon as it has been read, so the
+    entries and the pieces never exist whole at once."""
+    def take(name: str, rows: np.ndarray) -> np.ndarray:
+        out = getattr(sw, name)[rows]
+        setattr(sw, name, None)
+        return out
+
+    lo_from, hi_from = sw.origin[sw.sweep[lo_pick]], sw.origin[take("sweep", hi_pick)]
+    return Pieces(arc, lo_from, take("lo_to", lo_pick), take("lo", lo_pick), take("lo_err", lo_pick),
+                  hi_from, take("hi_to", hi_pick), take("hi", hi_pick), take("hi_err", hi_pick))
 
 
 def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray | list[int], *,

@@ -16,7 +16,7 @@ import numpy as np
 from solverplan._arrays import ragged_arange
 from solverplan.bounce._sweep import MARK_PI, MARK_ZERO
 from solverplan.bounce.bvg import serialise
-from solverplan.bounce.partition import Partition, partition as make_partition
+from solverplan.bounce.partitions import Partition, partition as make_partition
 from solverplan.bounce.safe import Direction, SafeInterval, SafeSet
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
@@ -252,14 +252,14 @@ class SafeBVG:
         ``from``, ``to``, ``transition``."""
         return serialise.to_json(self, safe=safe)
 
-    def json_bytes(self, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 16) -> bytearray:
+    def json_bytes(self, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 13) -> bytearray:
         """:meth:`to_json` as compact JSON (UTF-8) followed by ``end``, encoded a chunk of arcs at a
         time into one growing buffer: the same bytes as ``orjson.dumps(self.to_json()) + end``,
         without a dict per arc at once nor a second copy of the text (2.4 million arcs: ≈ 0.3 GB
         of text instead of ≈ 2 GB of dicts)."""
         return serialise.json_bytes(self, safe=safe, end=end, arcs_per_chunk=arcs_per_chunk)
 
-    def json_chunks(self, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 16) -> Iterator[bytes]:
+    def json_chunks(self, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 13) -> Iterator[bytes]:
         """:meth:`json_bytes` a chunk of arcs at a time, for writing as it is made (``solverplan graph -o``): only one
         chunk's dicts and text exist at once, never the whole text."""
         return serialise.json_chunks(self, safe=safe, end=end, arcs_per_chunk=arcs_per_chunk)

@@ -21,7 +21,7 @@ if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only the conversions load 
     from solverplan.bounce.bvg.graph import SafeBVG
 
 __all__ = ["TRANSITION_NAMES", "to_networkx", "float_sets", "to_json", "json_bytes", "json_chunks", "json_header",
-           "arc_dicts", "to_text", "to_graphml", "to_dot"]
+           "arc_dicts", "arcs_text", "to_text", "to_graphml", "to_dot"]
 
 TRANSITION_NAMES = {1: "right", -1: "left", 0: "parallel"}
 """Def. 8's side of an arc by its ``transition`` code."""
@@ -62,7 +62,7 @@ def to_json(graph: SafeBVG, *, safe: bool | None = None) -> dict:
     return out
 
 
-def json_bytes(graph: SafeBVG, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 16) -> bytearray:
+def json_bytes(graph: SafeBVG, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 13) -> bytearray:
     """The body of :meth:`SafeBVG.json_bytes <solverplan.bounce.bvg.graph.SafeBVG.json_bytes>`."""
     out = bytearray()
     for chunk in json_chunks(graph, safe=safe, end=end, arcs_per_chunk=arcs_per_chunk):
@@ -70,7 +70,7 @@ def json_bytes(graph: SafeBVG, *, safe: bool | None = None, end: bytes = b"", ar
     return out
 
 
-def json_chunks(graph: SafeBVG, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 16) -> Iterator[bytes]:
+def json_chunks(graph: SafeBVG, *, safe: bool | None = None, end: bytes = b"", arcs_per_chunk: int = 1 << 13) -> Iterator[bytes]:
     """The body of :meth:`SafeBVG.json_chunks <solverplan.bounce.bvg.graph.SafeBVG.json_chunks>`."""
     import orjson
 
@@ -78,9 +78,115 @@ def json_chunks(graph: SafeBVG, *, safe: bool | None = None, end: bytes = b"", a
     head = orjson.dumps(json_header(graph, safe))
     yield head[:-1] + (b',"arcs":[' if len(head) > 2 else b'"arcs":[')
     for a in range(0, graph.n_arcs, arcs_per_chunk):
-        text = orjson.dumps(arc_dicts(graph, a, min(graph.n_arcs, a + arcs_per_chunk), safe))[1:-1]
+        text = arcs_text(graph, a, min(graph.n_arcs, a + arcs_per_chunk), safe)
         yield b"," + text if a else text
     yield b"]}" + end
+
+
+# The constant pieces of an arc's JSON, in the order of the segments arcs_text assembles.
+_OPEN = (b'{"from":', b',{"from":')
+_TO = b',"to":'
+_SAFE = b',"safe":'
+_NULL = b"null"
+_SET = b',"safe_set":['
+_CLOSE = b"]}"
+
+
+def arcs_text(graph: SafeBVG, a: int, b: int, safe: bool) -> bytes:
+    """The compact JSON of arcs a..b−1, comma-separated without the list's brackets: the same bytes as
+    ``orjson.dumps(arc_dicts(graph, a, b, safe))[1:-1]``, made without a Python object per arc.
+
+    Each column is encoded once by orjson from its numpy array (numbers never contain a comma, so the commas of its
+    text mark where each value starts), and the arcs' text is gathered from those texts and a few constants by one
+    index array: every arc is the same sequence of segments (a constant, a value, a constant, …), a safe set is one
+    contiguous run of ``[lo,hi]`` pairs of the encoded list of all the chunk's intervals.
+    """
+    import orjson
+
+    n = b - a
+    if n <= 0:
+        return b""
+    pool = _Pool()
+    codes = graph.transition[a:b].astype(np.int64) + 1  # −1, 0, 1 → 0, 1, 2
+    src = pool.numbers(graph.source[a:b])
+    dst = pool.numbers(graph.target[a:b])
+    first = np.zeros(n, dtype=np.int64)
+    first[1:] = 1
+    columns: list[tuple[np.ndarray, np.ndarray]] = [pool.constants(_OPEN, first), src, pool.constant(_TO, n), dst]
+    if not safe:
+        ends = tuple(f',"transition":"{TRANSITION_NAMES[c]}"}}'.encode() for c in (-1, 0, 1))
+        columns.append(pool.constants(ends, codes))
+    else:
+        count = graph.n_intervals[a:b]
+        has = count > 0
+        widest = pool.constants((_NULL,), np.zeros(n, dtype=np.int64))
+        w_start, w_stop = pool.pairs(orjson, graph.lo[a:b][has], graph.hi[a:b][has])
+        widest[0][has], widest[1][has] = w_start, w_stop - w_start
+        mids = tuple(f',"transition":"{TRANSITION_NAMES[c]}","phi":'.encode() for c in (-1, 0, 1))
+        off = graph.set_offsets[a : b + 1]
+        r0 = int(off[0])
+        p_start, p_stop = pool.pairs(orjson, graph.set_lo[r0 : int(off[-1])], graph.set_hi[r0 : int(off[-1])])
+        run_start = np.zeros(n, dtype=np.int64)
+        run_len = np.zeros(n, dtype=np.int64)
+        first_pair, last_pair = off[:-1][has] - r0, off[1:][has] - r0 - 1
+        run_start[has] = p_start[first_pair]
+        run_len[has] = p_stop[last_pair] - p_start[first_pair]
+        columns += [pool.constant(_SAFE, n), widest, pool.constants(mids, codes), pool.numbers(graph.phi[a:b]),
+                    pool.constant(_SET, n), (run_start, run_len), pool.constant(_CLOSE, n)]
+    starts = np.stack([c[0] for c in columns], axis=1).ravel()
+    lengths = np.stack([c[1] for c in columns], axis=1).ravel()
+    placed = np.cumsum(lengths) - lengths  # where each segment starts in the output
+    index = np.repeat(starts - placed, lengths) + np.arange(int(placed[-1] + lengths[-1]), dtype=np.int64)
+    return pool.array()[index].tobytes()
+
+
+class _Pool:
+    """The texts :func:`arcs_text` gathers from, one byte array, and the segments (start in the pool, length) of
+    each value or constant."""
+
+    def __init__(self) -> None:
+        self.parts: list[np.ndarray] = []
+        self.size = 0
+
+    def add(self, data: bytes) -> tuple[int, np.ndarray]:
+        text = np.frombuffer(data, dtype=np.uint8)
+        self.parts.append(text)
+        self.size += len(text)
+        return self.size - len(text), text
+
+    def array(self) -> np.ndarray:
+        return np.concatenate(self.parts)
+
+    def constant(self, data: bytes, n: int) -> tuple[np.ndarray, np.ndarray]:
+        at, _ = self.add(data)
+        return np.full(n, at, dtype=np.int64), np.full(n, len(data), dtype=np.int64)
+
+    def constants(self, options: tuple[bytes, ...], which: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per row, the constant ``options[which[row]]``."""
+        at = np.array([self.add(o)[0] for o in options], dtype=np.int64)
+        size = np.array([len(o) for o in options], dtype=np.int64)
+        return at[which], size[which]
+
+    def numbers(self, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Every value of a 1-d numeric array, as orjson writes it."""
+        import orjson
+
+        at, text = self.add(orjson.dumps(np.ascontiguousarray(values), option=orjson.OPT_SERIALIZE_NUMPY))
+        if not len(values):
+            return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+        commas = np.flatnonzero(text == ord(","))
+        starts = np.concatenate([[1], commas + 1])
+        stops = np.concatenate([commas, [len(text) - 1]])
+        return at + starts, stops - starts
+
+    def pairs(self, orjson, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The text ``[lo,hi]`` of every pair: where its ``[`` is, and one past its ``]``."""
+        if not len(lo):
+            return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+        at, text = self.add(orjson.dumps(np.column_stack([lo, hi]), option=orjson.OPT_SERIALIZE_NUMPY))
+        opens = np.flatnonzero(text[1:] == ord("[")) + 1
+        closes = np.flatnonzero(text[:-1] == ord("]"))
+        return at + opens, at + closes + 1
 
 
 def json_header(graph: SafeBVG, safe: bool) -> dict:

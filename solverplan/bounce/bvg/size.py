@@ -11,7 +11,7 @@ import math
 
 from solverplan.bounce import _sweep
 from solverplan.bounce.bvg.graph import as_partition
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.limits import memory_limit

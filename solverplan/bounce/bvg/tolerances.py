@@ -14,7 +14,7 @@ import numpy as np
 
 from solverplan.bounce import _sweep
 from solverplan.bounce._sweep import ExactPoints, max_norm
-from solverplan.bounce.partition import Partition
+from solverplan.bounce.partitions import Partition
 
 __all__ = ["SAT_REL", "EndComparator", "angle_error"]
 
@@ -32,7 +32,7 @@ class EndComparator:
     --------
     >>> import numpy as np
     >>> from solverplan.bounce._sweep import SweepContext
-    >>> from solverplan.bounce.partition import partition
+    >>> from solverplan.bounce.partitions import partition
     >>> from solverplan.environment import Environment
     >>> ends = EndComparator(SweepContext(partition(Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]]))).exact)
     >>> zero, at = np.array([0]), lambda *v: np.array(v)

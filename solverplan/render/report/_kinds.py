@@ -129,15 +129,15 @@ def load_answer(path: str | os.PathLike[str], *, option: str | None = None) -> A
     --------
     >>> import json, pathlib, tempfile
     >>> import solverplan as sp
-    >>> plan = sp.find_plan(sp.load_environment("l_shape"), "e5", "e0:0:0.3")
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
-    >>> _ = path.write_text(json.dumps(plan.to_json()))
+    >>> funnel = sp.funnel(sp.load_environment("square"), "e0", "e1:0.4:0.6")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "funnel.json"
+    >>> _ = path.write_text(json.dumps(funnel.to_json()))
     >>> sp.load_answer(path).kind
-    'plan'
-    >>> sp.load_answer(path, option="patrol")  # doctest: +ELLIPSIS
+    'funnel'
+    >>> sp.load_answer(path, option="plan")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    solverplan.errors.MalformedFile: .../plan.json: is a plan (solverplan plan -o), not what --patrol takes: give it with --plan
+    solverplan.errors.MalformedFile: .../funnel.json: is a funnel (solverplan funnel -o), not what --plan takes: give it with --funnel
     """
     file = Path(path)
     text = read_text_within_limits(file)

@@ -31,9 +31,10 @@ from solverplan.render.figure import (
 from solverplan.result import EnvironmentRecord
 
 if TYPE_CHECKING:  # pragma: no cover
-    from solverplan.bounce.partition import Partition
+    from solverplan.bounce.partitions import Partition
 from solverplan.render.report._kinds import AnswerFile, HOLE_COLOR, _EXACT_CELL
-from solverplan.render.report.format import Exact, cell_html, _e, _finite, _heading_interval, _interval, _ints, _num, _plain, _rad, _short_exact
+from solverplan.render.report.format import Exact, cell_html, _e, _heading_interval, _interval, _num, _plain, _rad, _short_exact
+from solverplan.result import finite_number, index_list
 from solverplan.render.report.page import _environment_rows, _grid, _optimality_rows, _stats_block, _table
 from solverplan.render.report.svg import _Canvas, _el, _line, _stage_colour
 
@@ -183,7 +184,7 @@ class _View:
     @cached_property
     def partition(self) -> Partition:
         """P′ of the environment (Algorithm 1): the segments stage ids refer to, built once per report."""
-        from solverplan.bounce.partition import partition
+        from solverplan.bounce.partitions import partition
 
         return partition(self.env)
 
@@ -218,7 +219,7 @@ class _View:
         n = self.partition.n_segments
         for k, st in enumerate(stages):
             for key in ("from_segments", "to_segments"):
-                for seg in _ints(st.get(key), f"{self.answer.path}: {where}[{k}].{key}"):
+                for seg in index_list(st.get(key), f"{self.answer.path}: {where}[{k}].{key}"):
                     if seg >= n:
                         raise InputError(f"{self.answer.path}: {where}[{k}] names segment {seg}, but the partition of "
                                          f"{self.env.name!r} has segments 0..{n - 1}: the answer is for another environment")
@@ -310,7 +311,7 @@ class _PlanReport(_View):
             if not isinstance(points, list) or not all(isinstance(p, dict) and isinstance(p.get("plan"), dict) for p in points):
                 raise MalformedFile(f"{answer.path}: points: expected a list of {{bounces, min_width, tolerance, plan}}")
             self.front = points
-            best = max(points, key=lambda p: _finite(p.get("tolerance"), f"{answer.path}: points[].tolerance"), default=None)
+            best = max(points, key=lambda p: finite_number(p.get("tolerance"), f"{answer.path}: points[].tolerance"), default=None)
             plan_data = best["plan"] if best is not None else {"status": "infeasible", "stages": [],
                                                                "objective": "tolerance", "reason": data.get("reason")}
         else:
@@ -500,9 +501,9 @@ def _fixed_points(view: _View, raw: object) -> list[dict]:
         if not isinstance(p, dict) or not isinstance(p.get("point"), list) or len(p["point"]) != 2:
             raise MalformedFile(f"{view.answer.path}: {where}: expected {{edge, t, point: [x, y]}}")
         view.edge_id(p.get("edge"), where)
-        _finite(p.get("t"), f"{view.answer.path}: {where}.t")
-        _finite(p["point"][0], f"{view.answer.path}: {where}.point[0]")
-        _finite(p["point"][1], f"{view.answer.path}: {where}.point[1]")
+        finite_number(p.get("t"), f"{view.answer.path}: {where}.t")
+        finite_number(p["point"][0], f"{view.answer.path}: {where}.point[0]")
+        finite_number(p["point"][1], f"{view.answer.path}: {where}.point[1]")
         points.append(p)
     return points
 
@@ -614,8 +615,8 @@ class _FunnelReport(_View):
                 if not isinstance(p, dict):
                     raise MalformedFile(f"{answer.path}: {where}.positions[{m}]: expected {{edge, t0, t1}}")
                 self.edge_id(p.get("edge"), f"{where}.positions[{m}]")
-                t0 = _finite(p.get("t0"), f"{answer.path}: {where}.positions[{m}].t0")
-                t1 = _finite(p.get("t1"), f"{answer.path}: {where}.positions[{m}].t1")
+                t0 = finite_number(p.get("t0"), f"{answer.path}: {where}.positions[{m}].t0")
+                t1 = finite_number(p.get("t1"), f"{answer.path}: {where}.positions[{m}].t1")
                 if not 0 <= t0 <= t1 <= 1:
                     raise MalformedFile(f"{answer.path}: {where}.positions[{m}]: [t0, t1] = [{t0}, {t1}] is not inside [0, 1]")
             self.positions.append(pieces)

@@ -11,7 +11,7 @@ from typing import Sequence
 
 
 from solverplan.errors import MalformedFile
-from solverplan.limits import quote
+from solverplan.result import finite_number
 
 
 # ====================================================================== small helpers
@@ -55,22 +55,10 @@ def _short_exact(text: object, limit: int = 40) -> str:
     return s if len(s) <= limit else s[: limit - 1] + "…"
 
 
-def _ints(value: object, where: str) -> list[int]:
-    if not isinstance(value, list) or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in value):
-        raise MalformedFile(f"{where}: expected a list of non-negative integers")
-    return list(value)
-
-
-def _finite(value: object, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(float(value)):
-        raise MalformedFile(f"{where}: expected a finite number, got {quote(value)}")
-    return float(value)
-
-
 def _heading_interval(value: object, where: str) -> tuple[float, float]:
     if not isinstance(value, list) or len(value) != 2:
         raise MalformedFile(f"{where}: expected [lo, hi]")
-    lo, hi = _finite(value[0], f"{where}[0]"), _finite(value[1], f"{where}[1]")
+    lo, hi = finite_number(value[0], f"{where}[0]"), finite_number(value[1], f"{where}[1]")
     if not 0 < lo <= hi < math.pi:
         raise MalformedFile(f"{where}: [{value[0]}, {value[1]}] is not inside (0, π)")
     return lo, hi

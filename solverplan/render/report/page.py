@@ -40,13 +40,11 @@ class HtmlReport:
 
     Examples
     --------
-    >>> import json, pathlib, tempfile
+    An answer in memory, as if read from ``plan.json``:
+
     >>> import solverplan as sp
     >>> env = sp.load_environment("l_shape")
-    >>> plan = sp.find_plan(env, "e5", "e0:0:0.3")
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plan.json"
-    >>> _ = path.write_text(json.dumps(plan.to_json()))
-    >>> page = sp.html_report(sp.load_answer(path), env)
+    >>> page = sp.html_report(AnswerFile("plan.json", "plan", sp.find_plan(env, "e5", "e0:0:0.3").to_json()), env)
     >>> page.kind, page.title, page.certificate
     ('plan', 'l_shape: fewest plan e5 → e0:0:0.3: 1 bounce, tolerance ±0.1452 rad', None)
     >>> page.html.startswith("<!DOCTYPE html>")
@@ -105,15 +103,14 @@ def write_report(report: HtmlReport, path: str | os.PathLike[str]) -> SavedRepor
 
     Examples
     --------
-    >>> import json, pathlib, tempfile
+    >>> import pathlib, tempfile
     >>> import solverplan as sp
     >>> env = sp.load_environment("l_shape")
     >>> plan = sp.find_plan(env, "e5", "e0:0:0.3")
-    >>> folder = pathlib.Path(tempfile.mkdtemp())
-    >>> _ = (folder / "plan.json").write_text(json.dumps(plan.to_json()))
-    >>> page = sp.html_report(sp.load_answer(folder / "plan.json"), env, certificate=sp.certificate(plan, env=env))
-    >>> saved = sp.write_report(page, folder / "report.html")
-    >>> saved.to_json()["certificate"]["valid"], (folder / "report.html").read_text(encoding="utf-8") == page.html
+    >>> page = sp.html_report(AnswerFile("plan.json", "plan", plan.to_json()), env, certificate=sp.certificate(plan, env=env))
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "report.html"
+    >>> saved = sp.write_report(page, path)
+    >>> saved.to_json()["certificate"]["valid"], path.read_text(encoding="utf-8") == page.html
     (True, True)
     """
     try:

@@ -761,3 +761,42 @@ class _Kernel:
         if hit.vertex is not None:
             return None
         return hit.edge, hit.t, hit.point
+
+
+# ---------------------------------------------------------------------------------------------
+# P′ known without running Algorithm 1 (the graph cache keeps its inserted points)
+# ---------------------------------------------------------------------------------------------
+def assemble(env: Environment, inserted: Sequence[InsertedPoint]) -> Partition:
+    """The boundary of ``env`` cut at the points ``inserted`` (sorted here by edge and parameter): P′ when they are
+    the points Algorithm 1 inserts — read back from the graph cache, say — without running the algorithm.
+
+    >>> from solverplan.environment import Environment
+    >>> ell = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]])
+    >>> assemble(ell, partition(ell).inserted) == partition(ell)
+    True
+    """
+    return _assemble(env, tuple(sorted(inserted, key=lambda q: (q.edge, q.t))))
+
+
+def remember(p: Partition) -> None:
+    """Let :func:`partition` of ``p.env`` (or of an equal environment) return ``p`` in this process: ``p`` must be
+    that partition (the graph cache calls it with P′ rebuilt from its inserted points and checked)."""
+    with _recent_lock:
+        _recent[p.env] = p
+        _recent.move_to_end(p.env)
+        while len(_recent) > _RECENT:
+            _recent.popitem(last=False)
+
+
+def is_remembered(p: Partition) -> bool:
+    """Is ``p`` the partition :func:`partition` returns for ``p.env`` in this process — P′ itself, not a refinement
+    of it nor a partition made by hand? No geometry: the process remembers the last partitions it made.
+
+    >>> from solverplan.environment import Environment
+    >>> p = partition(Environment.from_coords([[0, 0], [1, 0], [1, 1], [0, 1]]))
+    >>> is_remembered(p), is_remembered(Partition(p.env, p.segments[:2], (0, 2), ()))
+    (True, False)
+    """
+    with _recent_lock:
+        known = _recent.get(p.env)
+    return known is not None and known.segments is p.segments and known.inserted is p.inserted

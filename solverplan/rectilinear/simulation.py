@@ -5,7 +5,7 @@ A robot starts at a uniform random point of the start room, moving in a uniform 
 :mod:`solverplan.rectilinear.rules` until it is in the target room or has made ``max_bounces`` bounces.
 Doors follow the paper's door control (:class:`~solverplan.rectilinear.doors.DoorControl`) for the room
 sequence from start to target, for every rule alike (``doors="control"``), or are all open
-(``doors="open"``). Runs go through the simulator (:func:`solverplan.simulate.simulate_policy`) with the
+(``doors="open"``). Runs go through the simulator (:func:`solverplan.rollout.simulate_policy`) with the
 rooms as its walls; a run that reaches the target room counts its bounces (a pass through an open door is not
 a bounce; a bounce off a closed door is).
 
@@ -28,10 +28,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, Literal, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
+from solverplan.choices import DoorPolicy
 from solverplan.limits import refuse_beyond_memory
 from solverplan.errors import InputError
 from solverplan.exact import format_number
@@ -41,7 +42,7 @@ from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
 from solverplan.rectilinear.metrics import RuleRecommendation, recommend_rule
 from solverplan.rectilinear.rules import GUARANTEED, GUARANTEES, RULE_VARIANTS, RULES, Rule, Smart, make_rule
-from solverplan.simulate import Contacts, Outcome, simulate_policy
+from solverplan.rollout import Contacts, Outcome, simulate_policy
 
 __all__ = ["RoomPolicy", "RoomRuns", "RuleComparison", "RouteRecommendation", "simulate_rooms", "compare_rules",
            "recommend_from_runs", "periodic_orbit", "DEFAULT_MAX_BOUNCES", "RULE_VARIANTS", "NEAR_FASTEST"]
@@ -49,12 +50,12 @@ __all__ = ["RoomPolicy", "RoomRuns", "RuleComparison", "RouteRecommendation", "s
 DEFAULT_MAX_BOUNCES = 5000
 """Bounce budget of a run when none is given (the smart rule sweeps a room in steps of half a door)."""
 
-Doors = Literal["control", "open"]
+Doors = DoorPolicy | str
 
 
 class RoomPolicy:
-    """A rule executed in the rooms of a decomposition, with door control (:class:`solverplan.simulate.Policy`
-    with its own :class:`~solverplan.simulate.PolicyWalls`).
+    """A rule executed in the rooms of a decomposition, with door control (:class:`solverplan.rollout.Policy`
+    with its own :class:`~solverplan.rollout.PolicyWalls`).
 
     The robot of rollout i is at position ``positions[i]`` of the room sequence; it reaches the goal when it is
     at the last one. Without control (``control=None``) every door is open and the goal is being in ``goal``.
@@ -62,12 +63,10 @@ class RoomPolicy:
 
     def __init__(self, dec: Decomposition, rule: Rule, walk: Sequence[int], initial: np.ndarray, *,
                  doors: Doors = "control") -> None:
-        if doors not in ("control", "open"):
-            raise InputError(f"doors must be 'control' or 'open', got {doors!r}")
         self.dec = dec
         self.rule = rule
         self.control = DoorControl(dec, walk)
-        self.doors = doors
+        self.doors = DoorPolicy.parse(doors, "door policy").value
         self.initial = np.asarray(initial, dtype=float)
         self.positions = np.zeros(len(self.initial), dtype=np.int64)
         self.walls = RoomWorld(dec, is_open=None if doors == "open" else self._is_open)
