@@ -72,6 +72,7 @@ from typing import Callable, NamedTuple, Sequence
 
 import numpy as np
 
+from solverplan.errors import InputError
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.environment import BoundaryPiece, BoundarySet
 from solverplan.plan._walls import PartitionedWalls
@@ -653,6 +654,11 @@ class Problem:
             else:
                 merged = _join_overlapping(cells, los, his, tgts)
                 disjoint = False
+                if len(merged) > MAX_JOINED_OPTIONS:  # each source doubles the choices (piece or whole segment)
+                    raise InputError(
+                        f"a belief of {len(belief)} segments of P′ has more than {MAX_JOINED_OPTIONS:,} ways to leave "
+                        "it at one heading (each source may land on a piece between the set ends or on its whole "
+                        "segment): give a start set that spans fewer segments, or ends at vertices")
             if not merged:
                 return []
             cells = merged
@@ -857,6 +863,12 @@ def _merge_disjoint(cells, los, his, tgts):
         else:
             j += 1
     return merged
+
+
+MAX_JOINED_OPTIONS = 200_000
+"""Most options :meth:`Problem._combine` builds for one belief when landing units overlap their segments: the
+choices multiply source by source (2^k for k sources at one heading), so a wide start set on a large map would
+otherwise fill the memory; past it the query is refused in one line."""
 
 
 def _join_overlapping(cells, los, his, tgts):
