@@ -124,8 +124,9 @@ def _pursuit_panel(ax: Axes, env: Environment, check, upto: int) -> None:
                            edgecolor=SHADOW_COLORS[label], linewidth=0.6, zorder=2, gid=f"shadow-v{g}-{label}"))
         from shapely.geometry import Polygon as Shape
 
-        spot = Shape(xy).buffer(0).representative_point()
-        ax.text(spot.x, spot.y, str(label), fontsize=8, color="#222222", ha="center", va="center", zorder=7,
+        shape = Shape(xy).buffer(0)  # a sliver (a perturbation's width, ~1e-7 in area) may clean to nothing
+        x, y = (shape.representative_point().coords[0] if not shape.is_empty else xy.mean(axis=0))
+        ax.text(x, y, str(label), fontsize=8, color="#222222", ha="center", va="center", zorder=7,
                 gid=f"shadow-label-v{g}")
     draw_boundary(ax, env)
     path = [check.steps[0].point] + [s.point for s in check.steps[1:upto + 1]]

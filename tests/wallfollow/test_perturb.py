@@ -187,3 +187,12 @@ def test_issue26_perturbed_pursuit_plans_on_random_rectilinear_polygons_pass_the
 @given(_grid_star())
 def test_issue26_perturbed_pursuit_plans_on_polygons_with_collinear_triples_pass_the_exact_replay(env):
     _certified(env)
+
+
+def test_the_perturbed_pursuit_picture_draws_a_sliver_shadow(tmp_path):
+    """On the perturbed two_rooms a shadow component is a sliver a perturbation wide (~1e-7 in area): cleaning it
+    gives an empty polygon, and its label must still be placed (it was an internal error from GEOS)."""
+    picture = tmp_path / "pursuit.png"
+    result = _cli("wallfollow", "two_rooms", "--perturb", "--pursuit", "--picture", str(picture))
+    assert result.exit_code == 0, result.output
+    assert picture.stat().st_size > 10_000
