@@ -236,6 +236,17 @@ def _dxf_document(data: bytes, name: str) -> Any:
     return ezdxf.read(io.StringIO(text))
 
 
+def _dxf_units(doc: Any, path: str | Path, units: str | None) -> tuple[str, Decimal | None]:
+    """The drawing's unit and its factor to metres: ``units`` (--units) when given, else the header's $INSUNITS,
+    which must name a length."""
+    if units is not None:
+        return units, UNIT_NAMES[units]
+    code = doc.header.get("$INSUNITS", 0)
+    if code not in DXF_UNITS:
+        raise MalformedFile(f"{path}: $INSUNITS {code} is not a length unit solverplan reads: say --units")
+    return DXF_UNITS[code]
+
+
 def _dxf_rings(doc: Any, path: str, layer: str | None, units: str | None,
                tolerance: float) -> tuple[list[ExactRing], dict[str, Any]]:
     """The rings of an ezdxf document (see :func:`read_dxf_rings`)."""
@@ -243,13 +254,7 @@ def _dxf_rings(doc: Any, path: str, layer: str | None, units: str | None,
     from ezdxf.entities import Line, LWPolyline, Polyline
 
     budget = _Budget(path)
-    if units is None:
-        code = doc.header.get("$INSUNITS", 0)
-        if code not in DXF_UNITS:
-            raise MalformedFile(f"{path}: $INSUNITS {code} is not a length unit solverplan reads: say --units")
-        unit_name, factor = DXF_UNITS[code]
-    else:
-        unit_name, factor = units, UNIT_NAMES[units]
+    unit_name, factor = _dxf_units(doc, path, units)
 
     def scaled(x: float, y: float) -> tuple[Decimal, Decimal]:
         px, py = _decimal(x), _decimal(y)
@@ -389,13 +394,7 @@ def _read_dxf_linework(path: str | Path, *, layer: str | None, units: str | None
         raise InputError(f"--units {quote(units)}: use one of {', '.join(UNIT_NAMES)}")
     doc = _dxf_document(data, name)  # its errors: read_dxf_linework's _dxf_failures
     del data
-    if units is None:
-        code = doc.header.get("$INSUNITS", 0)
-        if code not in DXF_UNITS:
-            raise MalformedFile(f"{path}: $INSUNITS {code} is not a length unit solverplan reads: say --units")
-        unit_name, factor = DXF_UNITS[code]
-    else:
-        unit_name, factor = units, UNIT_NAMES[units]
+    unit_name, factor = _dxf_units(doc, path, units)
     drawing_tolerance = tolerance / float(factor) if factor else tolerance
     wanted = None if layer is None else {name.strip().lower() for name in layer.split(",") if name.strip()}
     counts: dict[str, Any] = {"lines": 0, "polylines": 0, "circles": 0, "curves": 0, "hatches": 0, "solids": 0,
