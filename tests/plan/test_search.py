@@ -361,14 +361,96 @@ def overlapping_interval_lists(draw):
 
 
 @given(overlapping_interval_lists())
-def test_options_over_overlapping_lists_are_every_choice_with_a_common_interval(lists):
-    """Problem._combine with overlapping lists (the pair-by-pair join) against the product of one interval per
-    source (brute force): every choice of intervals whose intersection has positive width, once."""
+def test_options_over_overlapping_lists_are_every_undominated_choice(lists):
+    """Problem._combine with overlapping lists against the product of one interval per source (brute force): every
+    option is a choice of intervals with a common interval of positive width; every such choice has an option with
+    the same next belief whose interval holds its own (rule (a): nothing is lost); and no option's interval holds
+    another's with the same next belief (the dominated ones are gone)."""
     from solverplan.plan._problem import Problem
 
     belief = tuple(range(10, 10 + len(lists)))
-    got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
-    assert got == _every_choice(belief, lists)
+    options = Problem._combine(belief, lists)
+    every = _every_choice(belief, lists)
+    assert {(o.lo, o.hi, o.moves) for o in options} <= set(every)
+    for lo, hi, moves in every:
+        nxt = tuple(sorted({j for _, j in moves}))
+        assert any(o.next == nxt and o.lo <= lo and hi <= o.hi for o in options)
+    for o in options:
+        assert o.next == tuple(sorted({j for _, j in o.moves}))
+        assert not any(p is not o and p.next == o.next and p.lo <= o.lo and o.hi <= p.hi for p in options)
+
+
+def _cut_sources(k: int, shift: float):
+    """k sources that each land at headings [0.2, 2.8] on segment 5 and, at a narrower interval shifted by
+    ``shift`` per source, inside a piece of it (element 100); finer(100, 5)."""
+    lists = []
+    for i in range(k):
+        lo, hi = 0.6 + shift * i, 2.0 + shift * i
+        lists.append(([0.2, lo], [2.8, hi], [5, 100]))
+    return lists
+
+
+@pytest.mark.parametrize("shift", [0.0, 0.001])
+def test_options_of_many_cut_sources_do_not_multiply(shift):
+    """Issue #24: 200 sources whose landings may end on a piece or on its whole segment gave 2^200 choices at one
+    heading (refused past 200,000). Now the dominated ones are dropped as they arise: the options are the whole
+    segment over the common interval, the piece over the intersection of the pieces' intervals, and mixtures only
+    where one source's piece interval is not held by the others' — checked against brute force for 8 sources."""
+    import time
+
+    from solverplan.plan._problem import Problem
+
+    finer = lambda a, b: a == 100 and b == 5  # noqa: E731
+    t0 = time.process_time()
+    options = Problem._combine(tuple(range(200)), _cut_sources(200, shift), finer=finer)
+    assert time.process_time() - t0 < 2.0
+    nexts = {o.next for o in options}
+    assert (5,) in nexts and ((100,) in nexts) == (shift * 199 < 1.4)
+    widest = {nxt: max(o.hi - o.lo for o in options if o.next == nxt) for nxt in nexts}
+    assert widest[(5,)] == pytest.approx(2.6)
+    assert len(options) <= 2 * 200 + 2
+    belief = tuple(range(8))
+    lists = _cut_sources(8, shift)
+    options = Problem._combine(belief, lists, finer=finer)
+    for lo, hi, moves in _every_choice(belief, lists):
+        nxt = tuple(sorted({j for _, j in moves}))
+        # every choice is matched by an option with an interval as wide and a next belief no larger (a piece for
+        # its segment: the belief the robot is in is smaller)
+        assert any(o.lo <= lo and hi <= o.hi and set(o.next) <= set(nxt) | {100}
+                   and (5 not in o.next or 5 in nxt) for o in options), (lo, hi, nxt)
+    if shift == 0.0:  # every piece interval is the same: at its headings every source lands on the piece
+        assert sorted((o.lo, o.hi, o.next) for o in options) == [(0.2, 2.8, (5,)), (0.6, 2.0, (100,))]
+
+
+def test_a_query_whose_landing_options_multiplied_is_answered():
+    """Issue #24: on this polygon with holes (an invariance-study draw) a belief of 22 sources had more than 200,000
+    choices of landing on a piece or on its whole segment at one heading, and every objective was refused; with
+    the dominated choices dropped each answers at once, proved."""
+    from solverplan.generators import star_polygon_with_holes
+
+    env = star_polygon_with_holes(6, 2, seed=752531, radius=10.0, decimals=3)
+    start, goal = "e4:0.8:1,e5:0:0.85", "e2:0.5:1,e3:0:0.9"
+    plans = {o: find_plan(env, start, goal, objective=o, max_bounces=4) for o in ("fewest", "tolerance", "sum")}
+    assert all(p.found and p.optimality.proved for p in plans.values())
+    assert plans["fewest"].bounces == plans["tolerance"].bounces == 2
+    assert plans["tolerance"].min_width == pytest.approx(0.0553346943, abs=1e-9)
+    assert plans["sum"].bounces == 4 and plans["sum"].sum_width == pytest.approx(0.33845488, abs=1e-7)
+
+
+def test_an_arc_listed_twice_is_one_interval():
+    """Issue #24: the graph built on demand listed some arcs two or three times; each copy was an interval of its own,
+    a source's list overlapped itself and the options of a belief doubled with every such source. The problem
+    reads a row listed twice once: its options are those of the graph listing it once."""
+    from solverplan.bounce.bvg.build import _concat_rows
+    from solverplan.plan._problem import Problem
+
+    env = load_environment("two_rooms")
+    once = planning_problem(env, "e0", "e4")
+    twice = Problem(_concat_rows(once.partition, [once.graph, once.graph]), once.user_start_set, once.user_goal_set,
+                    margins=once.margins, walls=once.walls)
+    assert twice.graph.n_arcs == 2 * once.graph.n_arcs and twice.n_admissible == once.n_admissible
+    for belief in (once.start_belief, *{o.next for o in once.options(once.start_belief)}):
+        assert twice.options(belief) == once.options(belief)
 
 
 QUERY_CUTS = [("l_shape", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05"), ("two_rooms", "e0:0.2:0.8", "e4:0.5:1"),
