@@ -71,7 +71,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import Callable, NamedTuple, Sequence
+from typing import Callable, Iterable, NamedTuple, Sequence
 
 import numpy as np
 
@@ -87,6 +87,8 @@ from solverplan.plan.margins import (DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN
 __all__ = ["Option", "Problem", "StartPiece", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "merged_pieces"]
 
 Belief = tuple[int, ...]
+Cell = tuple[float, float, tuple[int, ...], Belief]
+"""A choice of :meth:`Problem._combine` so far: its interval, the target of each source folded, their ``join``."""
 
 
 PIECE_CODES = 4
@@ -919,7 +921,8 @@ def _point_on(seg, t: Fraction):
     return (seg.a[0] + lam * (seg.b[0] - seg.a[0]), seg.a[1] + lam * (seg.b[1] - seg.a[1]))
 
 
-def _closed(cells, lists, join, finer):
+def _closed(cells: list[Cell], lists: Sequence[tuple[list[float], list[float], list[int]]],
+            join: Callable[[Sequence[int]], Belief], finer: Callable[[int, int], bool]) -> list[Cell]:
     """Rule (b) of :meth:`Problem._combine` once more, on the choices a fold ends with: where a choice's interval
     narrowed after a source was folded in, the source's landing on a whole segment may now lie inside one of its
     landings on a piece of that segment, at the same interval: the choice takes the piece (a smaller next belief),
@@ -945,7 +948,7 @@ def _closed(cells, lists, join, finer):
     if not rules:
         return cells
     changed = False
-    groups: dict = {}
+    groups: dict[Belief, list[Cell]] = {}
     for lo, hi, t, key in cells:
         new = None
         for q, found, starts, single in rules:
@@ -963,7 +966,8 @@ def _closed(cells, lists, join, finer):
     return _undominated(groups) if changed else cells
 
 
-def _holding(rows, host_rows) -> list[tuple[float, float, int, int]]:
+def _holding(rows: list[tuple[float, float, int, int]], host_rows: Iterable[tuple[float, float, int, int]],
+             ) -> list[tuple[float, float, int, int]]:
     """The rows (lo, hi, target element, dive) of a piece, sorted by low ends, widened so that every row of its
     segment (``host_rows``) lies inside one with the same target: the hull of the piece's rows of that target it
     meets, or the segment's row itself where it meets none. Sound: a heading admissible from the whole segment is
@@ -1030,7 +1034,8 @@ pruning of :meth:`Problem._combine` keeps far fewer on real queries (a belief of
 benchmarks/README.md)."""
 
 
-def _join_pruned(cells, los, his, tgts, join, finer):
+def _join_pruned(cells: list[Cell], los: list[float], his: list[float], tgts: list[int],
+                 join: Callable[[Sequence[int]], Belief], finer: Callable[[int, int], bool] | None) -> list[Cell]:
     """One fold step of :meth:`Problem._combine` over a list that may overlap (cells too): every cell
     (lo, hi, targets, key = ``join(targets)``) intersected with every interval of the list it meets with positive
     width, less the dominated choices of rules (a) and (b) there; sorted by low ends. For each cell the list is
@@ -1041,7 +1046,7 @@ def _join_pruned(cells, los, his, tgts, join, finer):
 
     top = list(accumulate(his, max))
     n_list = len(los)
-    groups: dict = {}
+    groups: dict[Belief, list[Cell]] = {}
     for c_lo, c_hi, c_t, c_key in cells:
         k = bisect_right(top, c_lo)
         hits = []
@@ -1061,7 +1066,7 @@ def _join_pruned(cells, los, his, tgts, join, finer):
     return _undominated(groups)
 
 
-def _undominated(groups: dict) -> list:
+def _undominated(groups: dict[Belief, list[Cell]]) -> list[Cell]:
     """Rule (a) of :meth:`Problem._combine`: of the cells grouped by next belief, those whose interval no other cell
     of the group holds (one of equal ones), all sorted by their ends."""
     merged = []

@@ -422,6 +422,20 @@ def test_options_of_many_cut_sources_do_not_multiply(shift):
         assert sorted((o.lo, o.hi, o.next) for o in options) == [(0.2, 2.8, (5,)), (0.6, 2.0, (100,))]
 
 
+def test_choices_that_still_blow_up_are_refused_in_one_line(monkeypatch):
+    """The guard that is left: when the undominated choices of a belief still exceed the entries it may hold (here
+    lowered to 1,000: 16 sources with two overlapping intervals of distinct targets each, no piece finer than any,
+    have 2^16), the query is refused with one line, not a memory error."""
+    from solverplan.plan import _problem
+    from solverplan.plan._problem import Problem
+
+    monkeypatch.setattr(_problem, "MAX_JOINED_ENTRIES", 1_000)
+    lists = [([0.0, 1.0], [2.0, 3.0], [2 * q, 2 * q + 1]) for q in range(16)]
+    with pytest.raises(InputError, match=r"^a belief of 16 segments of P′ has [0-9,]+ undominated ways to leave it") as err:
+        Problem._combine(tuple(range(16)), lists, finer=lambda a, b: False)
+    assert "\n" not in str(err.value)
+
+
 def test_a_query_whose_landing_options_multiplied_is_answered():
     """Issue #24: on this polygon with holes (an invariance-study draw) a belief of 22 sources had more than 200,000
     choices of landing on a piece or on its whole segment at one heading, and every objective was refused; with
@@ -576,3 +590,58 @@ def test_a_plan_that_needs_the_set_ends_as_cut_points_is_found():
 
     cert = certificate(plan, env=env)
     assert cert.bound is not None and check_certificate(cert).valid
+
+
+# ---------------------------------------------------------------------- piece monotonicity (proofs/piece_monotonicity)
+@st.composite
+def piece_queries(draw):
+    """A small environment, a start edge with a piece of it (ends at twentieths, inside the edge) and a goal edge."""
+    env = draw(st.one_of(convex_polygons(max_coord=20), simple_polygons(3, 7, 30), polygons_with_holes(5, 1, 40)))
+    start, goal = draw(st.lists(st.integers(0, env.n_edges - 1), min_size=2, max_size=2, unique=True))
+    a = draw(st.integers(0, 18))
+    b = draw(st.integers(a + 1, 20))
+    if (a, b) == (0, 20):
+        a = 1
+    return env, start, (Fraction(a, 20), Fraction(b, 20)), goal
+
+
+@settings(max_examples=30)
+@given(piece_queries())
+def test_piece_monotonicity_a_piece_has_every_admissible_interval_of_its_segment(query):
+    """proofs/piece_monotonicity, in floats: the admissible intervals a piece gets from its own exact safe sets and
+    cones (before :func:`~solverplan.plan._problem._holding`) hold every admissible interval of its segment with the
+    same target, to 10⁻¹² rad (what the float ends of exact values can differ by); ``_holding`` only closes that."""
+    from solverplan.plan._problem import _point_on
+
+    env, start, (a, b), goal = query
+    problem = planning_problem(env, f"e{start}:{float(a)}:{float(b)}", f"e{goal}")
+    for u, unit in enumerate(problem.units):
+        los, his, tgts, dives = problem._piece_intervals(problem.unit_code(u), unit)
+        rows = list(zip(los, his, tgts, dives))
+        rows += problem._landings(unit.a, unit.b, problem.partition.segments[unit.host], rows)
+        host = problem.intervals(unit.host)
+        for lo, hi, code in zip(*host):
+            assert any(c == code and l2 <= lo + 1e-12 and hi - 1e-12 <= h2 for l2, h2, c, _ in rows), (u, lo, hi, code)
+        # and the rows the search reads hold them exactly
+        held = problem.intervals(problem.unit_code(u))
+        for lo, hi, code in zip(*host):
+            assert any(c == code and l2 <= lo and hi <= h2 for l2, h2, c in zip(*held))
+        assert _point_on(problem.partition.segments[unit.host], unit.piece.t0) == unit.a
+
+
+@settings(max_examples=30)
+@given(piece_queries())
+def test_piece_monotonicity_a_plan_from_the_whole_edge_works_from_a_piece(query):
+    """proofs/piece_monotonicity, end to end: a start set inside another is never worse — the fewest bounces from a
+    piece of an edge are at most those from the whole edge, its widest min width at least as wide (within 3
+    bounces), as the dominance of :meth:`~solverplan.plan._problem.Problem._combine` requires of the search."""
+    env, start, (a, b), goal = query
+    piece, whole = f"e{start}:{float(a)}:{float(b)}", f"e{start}"
+    big = find_plan(env, whole, f"e{goal}", objective="tolerance", max_bounces=3)
+    if not big.found:
+        event("no plan from the whole edge")
+        return
+    small = find_plan(env, piece, f"e{goal}", objective="tolerance", max_bounces=3)
+    assert small.found and small.min_width >= big.min_width - 1e-12
+    assert find_plan(env, piece, f"e{goal}", objective="fewest", max_bounces=3).bounces <= find_plan(
+        env, whole, f"e{goal}", objective="fewest", max_bounces=3).bounces
