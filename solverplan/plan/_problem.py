@@ -638,9 +638,13 @@ class Problem:
 
     def _merged(self, targets) -> Belief:
         """The next belief of a choice of target elements: one element per segment or unit, the corner tags of its
-        copies joined (a robot that may be near either corner takes no arc into either); a unit whose segment is in
-        the belief too, with every tag of the unit's, is left out (the robot may be anywhere on the segment anyway,
-        and the unit's intervals hold the segment's, :func:`_holding`: the belief allows the same plans)."""
+        copies joined (a robot that may be near either corner takes no arc into either). A unit whose segment is in
+        the belief too is left out, its tags joined into the segment's: the two allow the same options. (At a
+        heading where the segment's interval lands on target σ, the unit's lands on σ too — every point of the
+        segment does — or on a piece of σ, by an arc into the same corner, so its tags forbid that interval exactly
+        when they would forbid it to the segment; the unit's intervals hold the segment's, :func:`_holding`; and the
+        unit's landing is inside the segment's, with no tag the segment's lacks, so it is left out of the next
+        belief in turn.)"""
         n = self.n_segments
         if all(c < n for c in targets):
             return tuple(sorted(set(targets)))
@@ -652,16 +656,10 @@ class Problem:
             else:
                 key, tag = c % n, c // n
             tags[key] = tags.get(key, 0) | tag
-        out = []
-        for key, tag in tags.items():
-            if key >= base:
-                host = self.units[(key - base) // UNIT_TAGS].host
-                if host in tags and not tag & ~tags[host]:
-                    continue
-                out.append(key + tag)
-            else:
-                out.append(key + n * tag)
-        return tuple(sorted(out))
+        units = [key for key in tags if key >= base and self.units[(key - base) // UNIT_TAGS].host in tags]
+        for key in units:
+            tags[self.units[(key - base) // UNIT_TAGS].host] |= tags.pop(key)
+        return tuple(sorted(key + (tag if key >= base else n * tag) for key, tag in tags.items()))
 
     def _finer(self, unit: int, code: int) -> bool:
         """Is belief element ``unit`` a landing on a piece of the segment that element ``code`` lands on whole, with
@@ -701,7 +699,8 @@ class Problem:
         segment, :meth:`_piece_intervals`; and :func:`_holding` makes it so in floats too, where the ends differ by
         ulps; fewer tags forbid fewer rows; the same for goal intervals), so the next
         belief of B′ takes a sub-multiset of B's targets: again ⪯. Joining copies of one place (``join``: their
-        tags united) changes nothing either (the copies can all take the finest of their common rows). By
+        tags united) changes nothing either (the copies can all take the finest of their common rows), nor does
+        folding a unit into its segment when both are in a belief (:meth:`_merged`). By
         induction on the stages, every plan from B — k stages, intervals I₁ … I_k — is a plan from B′ with the
         same k stages and intervals (a plan from a belief works from any subset of it, *monotonicity*), so the
         fewest stages, the widest min width, the largest sum, the widest constant interval and the Pareto front
