@@ -1,4 +1,5 @@
-"""Small numpy helpers shared by the vectorised kernels, and the thread pool their blocks run in."""
+"""Small numpy helpers shared by the vectorised kernels, the thread pool their blocks run in, and the forked
+processes that large builds split their independent batches over."""
 
 from __future__ import annotations
 
@@ -6,12 +7,14 @@ import collections
 import contextvars
 import functools
 import os
+import signal
+import threading
 from concurrent.futures import ThreadPoolExecutor
-from typing import Callable, Sequence, TypeVar
+from typing import Callable, Iterator, Sequence, TypeVar
 
 import numpy as np
 
-__all__ = ["ragged_arange", "thread_map", "workers"]
+__all__ = ["ragged_arange", "thread_map", "workers", "cores", "process_map"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -34,14 +37,25 @@ def ragged_arange(counts: np.ndarray) -> np.ndarray:
 _MAX_WORKERS = 4
 
 
+def cores() -> int:
+    """The cores this process may use (its CPU affinity where the system has one), 1 inside a worker of
+    :func:`process_map` (whose siblings use the others).
+
+    >>> cores() >= 1
+    True
+    """
+    if _in_worker:
+        return 1
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not Linux
+        return max(1, os.cpu_count() or 1)
+
+
 @functools.cache
 def workers() -> int:
     """Threads for numpy work split in blocks: the cores this process may use, at most 4."""
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        cores = os.cpu_count() or 1
-    return max(1, min(_MAX_WORKERS, cores))
+    return max(1, min(_MAX_WORKERS, cores()))
 
 
 @functools.cache
@@ -77,3 +91,83 @@ def thread_map(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
         for future in pending:  # an exception: the calls not started are not made
             future.cancel()
     return out
+
+
+# ---------------------------------------------------------------------------------------------
+# forked worker processes
+# ---------------------------------------------------------------------------------------------
+_in_worker = False
+_tasks: dict[int, tuple[Callable, list]] = {}  # the calls of the running process_map()s, inherited by their forked workers
+_tasks_lock = threading.Lock()
+
+
+def _after_fork_in_child() -> None:
+    # a thread pool's threads do not survive a fork: a child that submitted to the inherited pool would wait forever
+    _pool.cache_clear()
+    workers.cache_clear()
+
+
+os.register_at_fork(after_in_child=_after_fork_in_child)
+
+
+def _start_worker() -> None:
+    global _in_worker
+    _in_worker = True
+    workers.cache_clear()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent answers Ctrl-C and ends its workers
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # ending a worker must not run the parent's handler
+
+
+def _run_task(key: int, index: int) -> object:
+    fn, items = _tasks[key]
+    return fn(items[index])
+
+
+def can_fork() -> bool:
+    """Whether :func:`process_map` can use worker processes here (the ``fork`` start method exists: Linux, macOS).
+
+    >>> isinstance(can_fork(), bool)
+    True
+    """
+    import multiprocessing
+
+    return "fork" in multiprocessing.get_all_start_methods()
+
+
+def process_map(fn: Callable[[T], R], items: Sequence[T], jobs: int) -> Iterator[R]:
+    """Yield ``fn(x)`` for each x of ``items`` in order, computed in ``jobs`` forked worker processes.
+
+    The workers are forked when the call starts, so ``fn`` and ``items`` reach them as they are in this process
+    (closures, large arrays: nothing is pickled on the way there); only each result is pickled on its way back.
+    At most twice as many items as workers are in flight, so results waiting to be read stay few. Inside a
+    worker :func:`cores` is 1 (a nested call runs in the worker itself), Ctrl-C is left to the parent, and the
+    parent's SIGTERM handler is not run. An exception in ``fn`` is raised here, for its item, as the loop would
+    raise it (pickled: give exceptions the arguments their constructor takes); leaving the loop early (a
+    ``break``, an exception of the caller) ends the workers. With ``jobs`` < 2, one item, inside a worker or
+    where processes cannot be forked, this is the plain loop.
+
+    >>> list(process_map(lambda x: x * x, range(5), jobs=2))
+    [0, 1, 4, 9, 16]
+    """
+    items = list(items)
+    jobs = min(jobs, len(items))
+    if jobs < 2 or _in_worker or not can_fork():
+        yield from (fn(x) for x in items)
+        return
+    import multiprocessing
+
+    with _tasks_lock:
+        key = max(_tasks, default=0) + 1
+        _tasks[key] = (fn, items)
+    try:
+        with multiprocessing.get_context("fork").Pool(jobs, initializer=_start_worker) as pool:
+            pending: collections.deque = collections.deque()
+            for index in range(len(items)):
+                pending.append(pool.apply_async(_run_task, (key, index)))
+                if len(pending) >= 2 * jobs:
+                    yield pending.popleft().get()
+            while pending:
+                yield pending.popleft().get()
+    finally:  # the pool is terminated (its workers killed) when the block is left, early or not
+        with _tasks_lock:
+            del _tasks[key]
