@@ -6,6 +6,7 @@ from __future__ import annotations
 import collections
 import contextvars
 import functools
+import mmap
 import os
 import signal
 import threading
@@ -97,7 +98,7 @@ def thread_map(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
 # forked worker processes
 # ---------------------------------------------------------------------------------------------
 _in_worker = False
-_tasks: dict[int, tuple[Callable, list]] = {}  # the calls of the running process_map()s, inherited by their forked workers
+_tasks: dict[int, tuple[Callable, list, mmap.mmap | None, int]] = {}  # the calls of the running process_map()s, inherited by their forked workers
 _tasks_lock = threading.Lock()
 
 
@@ -119,8 +120,20 @@ def _start_worker() -> None:
 
 
 def _run_task(key: int, index: int) -> object:
-    fn, items = _tasks[key]
-    return fn(items[index])
+    fn, items, slots, slot_bytes = _tasks[key]
+    out = fn(items[index])
+    if slots is not None and isinstance(out, bytes) and len(out) <= slot_bytes:
+        at = (index % (len(slots) // slot_bytes)) * slot_bytes  # the parent has copied this slot's previous bytes
+        slots[at : at + len(out)] = out
+        return _InSlot(at, len(out))
+    return out
+
+
+class _InSlot:
+    """A worker's bytes result, left in the shared slots at ``at``."""
+
+    def __init__(self, at: int, size: int) -> None:
+        self.at, self.size = at, size
 
 
 def can_fork() -> bool:
@@ -134,7 +147,7 @@ def can_fork() -> bool:
     return "fork" in multiprocessing.get_all_start_methods()
 
 
-def process_map(fn: Callable[[T], R], items: Sequence[T], jobs: int) -> Iterator[R]:
+def process_map(fn: Callable[[T], R], items: Sequence[T], jobs: int, *, slot_bytes: int = 0) -> Iterator[R]:
     """Yield ``fn(x)`` for each x of ``items`` in order, computed in ``jobs`` forked worker processes.
 
     The workers are forked when the call starts, so ``fn`` and ``items`` reach them as they are in this process
@@ -146,6 +159,9 @@ def process_map(fn: Callable[[T], R], items: Sequence[T], jobs: int) -> Iterator
     ``break``, an exception of the caller) ends the workers. With ``jobs`` < 2, one item, inside a worker or
     where processes cannot be forked, this is the plain loop.
 
+    ``slot_bytes``: results that are ``bytes`` of at most this size come back through memory shared with the
+    workers (one slot per item in flight) instead of a pipe: one copy instead of four — for large texts.
+
     >>> list(process_map(lambda x: x * x, range(5), jobs=2))
     [0, 1, 4, 9, 16]
     """
@@ -156,18 +172,29 @@ def process_map(fn: Callable[[T], R], items: Sequence[T], jobs: int) -> Iterator
         return
     import multiprocessing
 
+    window = 2 * jobs
+    slots = mmap.mmap(-1, window * slot_bytes) if slot_bytes > 0 else None  # anonymous, shared with the forks
+
+    def result(pending: collections.deque) -> R:
+        got = pending.popleft().get()
+        if isinstance(got, _InSlot):
+            return slots[got.at : got.at + got.size]  # type: ignore[index, return-value]  # a copy: the slot is free
+        return got
+
     with _tasks_lock:
         key = max(_tasks, default=0) + 1
-        _tasks[key] = (fn, items)
+        _tasks[key] = (fn, items, slots, slot_bytes)
     try:
         with multiprocessing.get_context("fork").Pool(jobs, initializer=_start_worker) as pool:
             pending: collections.deque = collections.deque()
-            for index in range(len(items)):
+            for index in range(len(items)):  # item i uses the slot of item i − window, whose bytes were copied
                 pending.append(pool.apply_async(_run_task, (key, index)))
-                if len(pending) >= 2 * jobs:
-                    yield pending.popleft().get()
+                if len(pending) >= window:
+                    yield result(pending)
             while pending:
-                yield pending.popleft().get()
+                yield result(pending)
     finally:  # the pool is terminated (its workers killed) when the block is left, early or not
         with _tasks_lock:
             del _tasks[key]
+        if slots is not None:
+            slots.close()

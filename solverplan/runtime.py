@@ -228,14 +228,14 @@ def _silent(task: str, done: float, total: float | None) -> None:
     """A worker's progress report: none (the parent reports; a progress bar's lock must not be taken in a fork)."""
 
 
-def parallel_map(fn: Callable[[T], R], items: Sequence[T]) -> Iterator[R]:
+def parallel_map(fn: Callable[[T], R], items: Sequence[T], *, slot_bytes: int = 0) -> Iterator[R]:
     """Yield ``fn(x)`` for each x of ``items`` in order, computed by :func:`jobs` forked worker processes
     (:func:`solverplan._arrays.process_map`; in this process when :func:`jobs` is 1).
 
     In a worker the progress reports of :mod:`solverplan.progress` go nowhere (the caller reports per item as
     results come), while the stop time still applies: a worker's :class:`~solverplan.progress.Stopped` is raised
     here as it was raised there. Answers must not depend on the split: callers cut their work into items whose
-    results do not depend on each other.
+    results do not depend on each other. ``slot_bytes``: as for :func:`~solverplan._arrays.process_map`.
 
     >>> list(parallel_map(len, ["a", "bb", "ccc"]))
     [1, 2, 3]
@@ -249,7 +249,7 @@ def parallel_map(fn: Callable[[T], R], items: Sequence[T]) -> Iterator[R]:
                 return _Stop(stop.task, stop.done, stop.total)
 
     n = jobs()
-    for got in process_map(quiet, items, n) if n > 1 else map(fn, items):
+    for got in process_map(quiet, items, n, slot_bytes=slot_bytes) if n > 1 else map(fn, items):
         if isinstance(got, _Stop):
             raise Stopped(got.task, got.done, got.total)
         yield got
