@@ -364,13 +364,11 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         swapped += both // N
         keys = np.concatenate([both, swapped])
         del both, swapped
-        keys.sort()
-        if len(keys):
-            keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
+        keys = _sorted_unique(keys)
     elif met:  # ---- the arcs from the sources that their sweeps meet
-        keys = np.union1d(A_key, B_key)
+        keys = _sorted_unique(np.concatenate([A_key, B_key]))
     else:  # ---- arcs that may be safe: met by the sweeps at both ends of the source
-        keys = np.intersect1d(A_key, B_key)
+        keys = _sorted_unique(np.concatenate([_sorted_unique(A_key.copy()), _sorted_unique(B_key.copy())]), twice=True)
     n_arcs = len(keys)
 
     # ---- candidate safe sets: A_a(j) ∩ A_b(j) (closures), a sort-merge join on (i, j)
@@ -491,6 +489,16 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         _set_ends=set_ends,
         stats=stats,
     )
+
+
+def _sorted_unique(keys: np.ndarray, twice: bool = False) -> np.ndarray:
+    """The distinct values of ``keys`` in increasing order (``keys`` is sorted in place), or with ``twice`` those that
+    occur twice or more: ``np.unique`` by a sort — numpy ≥ 2.3's hash table is several times slower on these keys,
+    spread over N² values (≈ 0.1 µs per key more: a fifth of a batch's build)."""
+    keys.sort()
+    if twice:
+        return keys[:-1][keys[1:] == keys[:-1]]
+    return keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
 
 
 def _intersect_ends(ends: EndComparator, seg_edge: np.ndarray, N: int, pkey: np.ndarray, sw: _sweep.Sweeps,
