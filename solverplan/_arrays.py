@@ -10,7 +10,8 @@ import mmap
 import os
 import signal
 import threading
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from typing import Callable, Iterator, Sequence, TypeVar
 
 import numpy as np
@@ -152,7 +153,8 @@ def process_map(fn: Callable[[T], R], items: Sequence[T], jobs: int, *, slot_byt
 
     The workers are forked when the call starts, so ``fn`` and ``items`` reach them as they are in this process
     (closures, large arrays: nothing is pickled on the way there); only each result is pickled on its way back.
-    At most twice as many items as workers are in flight, so results waiting to be read stay few. Inside a
+    At most twice as many items as workers are in flight, so results waiting to be read stay few. A worker killed
+    (by the out-of-memory killer, say) raises :class:`MemoryError` here rather than leaving the loop waiting. Inside a
     worker :func:`cores` is 1 (a nested call runs in the worker itself), Ctrl-C is left to the parent, and the
     parent's SIGTERM handler is not run. An exception in ``fn`` is raised here, for its item, as the loop would
     raise it (pickled: give exceptions the arguments their constructor takes); leaving the loop early (a
@@ -176,7 +178,7 @@ def process_map(fn: Callable[[T], R], items: Sequence[T], jobs: int, *, slot_byt
     slots = mmap.mmap(-1, window * slot_bytes) if slot_bytes > 0 else None  # anonymous, shared with the forks
 
     def result(pending: collections.deque) -> R:
-        got = pending.popleft().get()
+        got = pending.popleft().result()
         if isinstance(got, _InSlot):
             return slots[got.at : got.at + got.size]  # type: ignore[index, return-value]  # a copy: the slot is free
         return got
@@ -184,16 +186,24 @@ def process_map(fn: Callable[[T], R], items: Sequence[T], jobs: int, *, slot_byt
     with _tasks_lock:
         key = max(_tasks, default=0) + 1
         _tasks[key] = (fn, items, slots, slot_bytes)
+    pool = ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork"), initializer=_start_worker)
+    pending: collections.deque = collections.deque()
     try:
-        with multiprocessing.get_context("fork").Pool(jobs, initializer=_start_worker) as pool:
-            pending: collections.deque = collections.deque()
-            for index in range(len(items)):  # item i uses the slot of item i − window, whose bytes were copied
-                pending.append(pool.apply_async(_run_task, (key, index)))
-                if len(pending) >= window:
-                    yield result(pending)
-            while pending:
+        for index in range(len(items)):  # item i uses the slot of item i − window, whose bytes were copied
+            pending.append(pool.submit(_run_task, key, index))
+            if len(pending) >= window:
                 yield result(pending)
-    finally:  # the pool is terminated (its workers killed) when the block is left, early or not
+        while pending:
+            yield result(pending)
+    except BrokenProcessPool:  # a worker was killed (the kernel's out-of-memory killer, most likely)
+        raise MemoryError("a worker process was killed (out of memory?); try --jobs 1 or --max-memory") from None
+    finally:  # the workers end with the loop, early or not (a Stopped, Ctrl-C, an error): killed if still busy
+        busy = list(getattr(pool, "_processes", {}).values()) if pending else []  # (no public way before 3.14)
+        pool.shutdown(wait=not busy, cancel_futures=True)
+        for worker in busy:
+            worker.terminate()
+        for worker in busy:
+            worker.join()
         with _tasks_lock:
             del _tasks[key]
         if slots is not None:

@@ -103,6 +103,20 @@ def test_process_map_keeps_the_order_and_raises_a_workers_exception():
         list(_arrays.process_map(fails, range(6), 2))
 
 
+@pytest.mark.skipif(not _arrays.can_fork(), reason="no worker processes here")
+def test_a_killed_worker_is_an_error_not_a_wait():
+    import os
+    import signal
+
+    def killed(x: int) -> int:
+        if x == 2:
+            os.kill(os.getpid(), signal.SIGKILL)  # as the out-of-memory killer would
+        return x
+
+    with pytest.raises(MemoryError, match="worker process was killed"):
+        list(_arrays.process_map(killed, range(6), 2))
+
+
 def test_a_worker_that_passes_the_stop_time_stops_the_job_with_its_task():
     def slow(x: int) -> int:
         from solverplan.progress import step
