@@ -16,7 +16,7 @@ from typing import Callable, Iterator, Sequence, TypeVar
 
 import numpy as np
 
-__all__ = ["ragged_arange", "thread_map", "workers", "cores", "process_map"]
+__all__ = ["ragged_arange", "thread_map", "workers", "cores", "process_map", "keep_freed_memory"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -112,9 +112,28 @@ def _after_fork_in_child() -> None:
 os.register_at_fork(after_in_child=_after_fork_in_child)
 
 
+def keep_freed_memory() -> None:
+    """Let this process's C allocator keep the memory numpy frees, for its next arrays, rather than handing it back
+    to the system and faulting it in again page by page (glibc: blocks up to 32 MB come from the heap, which is not
+    trimmed). For short-lived processes that make many arrays of a few MB: the safe BVG's build faults in 0.2 M
+    pages less, 0.5 s of system time out of 6 s. Nothing where the allocator has no such settings.
+
+    >>> keep_freed_memory()
+    """
+    import ctypes
+
+    try:
+        mallopt = ctypes.CDLL(None).mallopt
+    except (OSError, AttributeError):  # not glibc
+        return
+    mallopt(-3, 32 << 20)  # M_MMAP_THRESHOLD: the largest allowed; fixes it (no more dynamic threshold)
+    mallopt(-1, 512 << 20)  # M_TRIM_THRESHOLD
+
+
 def _start_worker() -> None:
     global _in_worker
     _in_worker = True
+    keep_freed_memory()
     workers.cache_clear()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent answers Ctrl-C and ends its workers
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # ending a worker must not run the parent's handler

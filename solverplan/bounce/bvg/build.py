@@ -223,7 +223,7 @@ def _build_split(p: Partition, jobs: int, batches: int = 1) -> SafeBVG:
     process, so the arrays are equal, bit for bit (a test compares them)."""
     t0 = time.perf_counter()
     N = len(p.segments)
-    batches = max(batches, 4 * jobs)
+    batches = max(batches, 8 * jobs)
     bounds = np.unique(np.linspace(0, N, min(batches, N) + 1).astype(np.int64)).tolist()
     runs = list(zip(bounds[:-1], bounds[1:]))
     ctx = _sweep.SweepContext(p)  # made once, before the workers fork
@@ -259,13 +259,18 @@ def _join_batches(p: Partition, parts: list[list], seconds: float, jobs: int) ->
     for q in parts:
         q[-2] = None
     reverse.sort(kind="stable")  # sorted runs, one per batch: merged
-    at = np.minimum(np.searchsorted(own, reverse), max(len(own) - 1, 0))
-    missing = np.unique(reverse[own[at] != reverse]) if len(own) else np.unique(reverse)
-    del reverse, at
+    if np.array_equal(reverse, own):  # as many keys, so every reverse was built (usual: none missing)
+        missing = reverse[:0]
+    else:
+        at = np.minimum(np.searchsorted(own, reverse), max(len(own) - 1, 0))
+        missing = np.unique(reverse[own[at] != reverse]) if len(own) else np.unique(reverse)
+        del at
+    del reverse
     # where the rows go: the arcs built and the missing ones, merged in key order
-    shift = np.searchsorted(missing, own)  # missing rows before each built one
-    miss_at = np.arange(len(missing), dtype=np.int64) + np.searchsorted(own, missing)
     n_arcs = len(own) + len(missing)
+    miss_at = np.arange(len(missing), dtype=np.int64) + np.searchsorted(own, missing)
+    built = np.ones(n_arcs, dtype=bool)
+    built[miss_at] = False
     del own
     m_source, m_target = missing // N, missing % N
     del missing
@@ -275,18 +280,18 @@ def _join_batches(p: Partition, parts: list[list], seconds: float, jobs: int) ->
             "transition": m_transition, "phi": m_phi}
     rows: dict[str, np.ndarray] = {}
     for t, name in enumerate(_ROW_COLUMNS):
-        out = np.empty(n_arcs, dtype=np.int64 if name in ("source", "target", "n_intervals") else parts[0][t].dtype)
-        r0 = 0
-        for q in parts:  # each batch's rows where they go: one run when no missing row falls among them
-            r1 = r0 + len(q[t])
-            if r1 > r0 and shift[r0] == shift[r1 - 1]:
-                out[r0 + shift[r0] : r1 + shift[r0]] = q[t]
-            else:
-                out[np.arange(r0, r1) + shift[r0:r1]] = q[t]
+        column = np.concatenate([q[t] for q in parts])
+        for q in parts:
             q[t] = None
-            r0 = r1
-        out[miss_at] = fill[name]
-        rows[name] = out
+        if name in ("source", "target", "n_intervals"):
+            column = column.astype(np.int64, copy=False)
+        if len(miss_at):
+            out = np.empty(n_arcs, dtype=column.dtype)
+            out[built] = column
+            out[miss_at] = fill[name]
+            column = out
+        rows[name] = column
+        del column
     sets = []
     for t in range(n_rows, n_rows + len(_SET_COLUMNS) + 4):  # the intervals: only built arcs have them, in order
         sets.append(np.concatenate([q[t] for q in parts]) if parts else np.zeros(0, dtype=np.float64))
