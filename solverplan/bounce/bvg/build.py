@@ -56,7 +56,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from solverplan._arrays import ragged_arange
+from solverplan._arrays import ragged_arange, sorted_intersection, sorted_unique
 from solverplan.bounce import _cache, _sweep
 from solverplan.bounce._sweep import MARK_PI, MARK_ZERO, build_sweeps
 from solverplan.bounce.bvg._safe_sets import (Pieces, equal_ends, nonempty, refine_ends, single_headings_safe, singletons,
@@ -238,7 +238,7 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         if len(keys):
             keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
     else:  # ---- arcs that may be safe: met by the sweeps at both ends of the source
-        keys = np.intersect1d(A_key, B_key)
+        keys = sorted_intersection(A_key, B_key)
     n_arcs = len(keys)
 
     # ---- candidate safe sets: A_a(j) ∩ A_b(j) (closures), a sort-merge join on (i, j)
@@ -443,7 +443,7 @@ def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray |
             # next batch: about 2²⁰ sweep entries (≈ 200 MB of temporaries at the build's peak)
             per_source = max(1.0, g.stats["entries"] / len(chunk))
             batch = int(min(8192, max(8, (1 << 20) / per_source)))
-        targets = np.unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
+        targets = sorted_unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
         frontier = targets[~seen[targets]]
         depth += 1
     graph = _concat_rows(p, parts)
