@@ -295,6 +295,9 @@ MAPS = [
     MapSpec("big_60x50", 60, 50, layout="rows", seed=8, specks=0.0002),
     MapSpec("turned33_40x30", 40, 30, turn=33, layout="mixed", seed=9, posts="round", origin=(-5.5, -7.25, 0.0)),
     MapSpec("yaw_30x30", 30, 30, layout="gaps", seed=10, origin=(2.0, -3.0, 0.3)),
+    MapSpec("fine_60x50_0025", 60, 50, resolution=0.025, layout="rows", seed=11, wall=0.2, specks=0.0002),
+    MapSpec("thick_25x20_turned5", 25, 20, turn=5, wall=0.6, layout="touching", posts="round", post_size=0.5,
+            seed=12, blobs=8, leaks=4, origin=(-100.25, -40.5, 0.0)),
 ]
 
 
@@ -380,7 +383,7 @@ def main() -> None:
     folder.mkdir(parents=True, exist_ok=True)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores", flush=True)
     print("| map | size (m) | res (m) | traced vertices | imported | holes | inside | P′ segments | plan | "
-          "wall / CPU s | peak MB | --timeout 10: wall s | problems |")
+          "wall / CPU s | peak MB | --timeout 10: wall / CPU s | problems |")
     print("|---|---|---:|---:|---:|---:|---|---:|---|---:|---:|---:|---|", flush=True)
     chosen = {name for name in options.maps.split(",")}
     for spec in MAPS:
@@ -425,7 +428,7 @@ def main() -> None:
             problems.append("> 60 s")
         if m > 2048:
             problems.append("> 2 GB")
-        tw, _, _, trc, tout, terr = measured(plan + ["--timeout", str(options.timeout)], 120)
+        tw, tc, _, trc, tout, terr = measured(plan + ["--timeout", str(options.timeout)], 120)
         if tw > options.timeout + 2:
             problems.append(f"--timeout {options.timeout:g} took {tw:.1f} s")
         if trc not in (0, 1) or "Traceback" in terr:
@@ -435,7 +438,7 @@ def main() -> None:
                                              options.limit * 4, tty=True)
             if not re.search(r"[━█▏▎▍▌▋▊▉]|\d+%", tty_out):
                 problems.append("no progress bar on a terminal")
-        print(row + f" {stats.get('graph_segments', '–')} | {status} | {w:.1f} / {c:.1f} | {m:.0f} | {tw:.1f} | "
+        print(row + f" {stats.get('graph_segments', '–')} | {status} | {w:.1f} / {c:.1f} | {m:.0f} | {tw:.1f} / {tc:.1f} | "
               f"{'; '.join(problems) or 'none'} |", flush=True)
     print(f"\nload average {os.getloadavg()[0]:.1f} at the end; files in {folder}")
 
