@@ -29,17 +29,15 @@ import json
 import math
 import os
 import re
-import shutil
-import subprocess
 import sys
 import tempfile
-import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-CLI = [sys.executable, "-m", "solverplan.cli"]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_maps import CLI, child  # noqa: E402  (the process measurement only; the maps are drawn here)
 
 FREE, OCCUPIED, UNKNOWN = 0, 1, 2
 
@@ -301,32 +299,13 @@ MAPS = [
 ]
 
 
-def run(args: list[str], timeout: float, tty: bool = False) -> tuple[float, float, float, int, str, str]:
-    """(wall s, CPU s, peak MB, exit code, stdout, stderr) of one command as a whole process."""
+def measured(args: list[str], timeout: float, tty: bool = False) -> tuple[float, float, float, int, str, str]:
+    """(wall s, CPU s, peak MB, exit code, stdout, stderr) of one command as a whole process, alone in a helper
+    process (``bench_maps.child``); ``tty``: under a pseudo-terminal (``script``), as a user at a terminal runs it."""
     if tty:
         args = ["script", "-qefc", " ".join(map(str, args)), "/dev/null"]
-    t0 = time.perf_counter()
-    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        out, err = proc.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        out, err = proc.communicate()
-        err += "\n[killed by tester_maps after %.0f s]" % timeout
-    wall = time.perf_counter() - t0
-    import resource
-
-    usage = resource.getrusage(resource.RUSAGE_CHILDREN)  # run alone in a helper process (measured): this command's
-    return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024, proc.returncode, out, err
-
-
-def measured(args: list[str], timeout: float, tty: bool = False) -> tuple[float, float, float, int, str, str]:
-    """:func:`run` in a fresh helper process: CPU and peak memory of this command alone."""
-    code = ("import json, sys; sys.path.insert(0, %r); from tester_maps import run; "
-            "print(json.dumps(run(%r, %r, %r)))" % (str(Path(__file__).resolve().parent), args, timeout, tty))
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
-    w, c, m, rc, so, se = json.loads(out)
-    return w, c, m, rc, so, se
+    w, c, m, done = child(args, timeout)
+    return w, c, m, done.returncode, done.stdout, done.stderr
 
 
 def far_walls(env_file: Path) -> tuple[str, str]:
