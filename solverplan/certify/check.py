@@ -135,7 +135,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Any, Iterable, Sequence
 
@@ -164,10 +164,11 @@ from solverplan.certify.rational_atan import (
     heading_vector,
 )
 from solverplan.certify.invariant import next_belief, Closure, Geometry, TableError
+from solverplan.verdict import Failure, Verdict
 from solverplan.certify.schema import (MODEL_KINDS, BoundClaim, Certificate, CycleClaim, EnvironmentRecord, ModelCertificate, Move,
                                        Piece, Point, SegmentRecord, Stage, _terminating_decimal, number_text)
 
-__all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]
+__all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]  # Failure: solverplan.verdict
 
 WIDTH_SLACK = Fraction(1, 10**9)
 """How far below the exact value a claimed width (or inside the cone a claimed interval end) may be."""
@@ -232,26 +233,49 @@ def _heading(v: Point) -> str:
 
 # ======================================================================= the report
 @dataclass(frozen=True, slots=True)
-class Failure:
-    """One claim that does not hold: ``claim`` is its path in the certificate (``stages[2].moves[0].d_hi``,
-    ``claims.min_width``), ``message`` says what was found."""
+class CheckReport(Verdict):
+    """The verdict of :func:`check_certificate`, for a certificate of any kind.
 
-    claim: str
-    message: str
+    The :class:`~solverplan.verdict.Verdict` every check gives, with what the certificate speaks about: ``version``,
+    ``environment``, ``start``, ``goal`` and ``claims`` (see :func:`certified`), always, so that a verdict never
+    hides which query it answers.
 
-    def __str__(self) -> str:
-        return f"{self.claim}: {self.message}"
+    Parameters
+    ----------
+    valid
+        True iff there are no ``failures``.
+    failures
+        Every claim that does not hold (:class:`~solverplan.verdict.Failure`: its path in the certificate and what
+        was found).
+    checked
+        What was re-derived exactly, as ``(name, count)`` pairs: stages, moves, corner rays, edge-against-region
+        tests, chaining links, angle decisions (a model certificate: its own, e.g. doors, rooms, views).
+    not_checked
+        Claims taken on trust, in words (the optimality bound of a search without a ``bound`` block, for instance).
+    kind
+        The certificate's kind (``plan``, ``funnel``, ``cycle``, ``infeasible``, ``rooms``, ``pursuit``, ...).
+    version
+        The certificate format's version.
+    environment
+        Its environment: name, SHA-256 of the exact rings, vertex, edge and hole counts.
+    start, goal
+        A bounce certificate's start and goal sets (``{"set", "length", "length_exact"}``); ``None`` for the models'.
+    claims
+        Every claim, as the report states them.
+    proved
+        What a valid certificate proves, in words.
+    scope
+        What the statements speak about, in words.
 
-
-@dataclass(frozen=True)
-class CheckReport:
-    """The verdict of :func:`check_certificate`.
-
-    ``valid`` is true iff there are no ``failures``; ``checked`` counts what was re-derived exactly
-    (stages, moves, corner rays, edge-against-region tests, chaining links, angle decisions);
-    ``not_checked`` lists claims taken on trust (the optimality bound of a search, for instance).
-    ``version``, ``environment``, ``start``, ``goal`` and ``claims`` state what the certificate speaks
-    about (see :func:`certified`): always, so that a verdict never hides which query it answers.
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("square")
+    >>> report = sp.check_certificate(sp.certificate(sp.find_plan(env, "e0:0.1:0.9", "e2"), env=env))
+    >>> isinstance(report, sp.Verdict), report.valid, report.kind, report.start["set"], report.failures
+    (True, True, 'plan', 'e0:0.1:0.9', ())
+    >>> print(report.to_text().splitlines()[0])
+    certificate (plan): VALID
     """
 
     valid: bool
@@ -266,58 +290,33 @@ class CheckReport:
     claims: dict[str, Any] = field(default_factory=dict)
     proved: tuple[str, ...] = ()
     scope: str = ""
-    """What the statements speak about, in words (model certificates; empty for bounce certificates, whose scope
-    is their environment, start and goal)."""
+    """What the statements speak about, in words."""
 
-    def to_json(self) -> dict:
-        return {
-            "valid": self.valid,
-            "kind": self.kind,
-            "version": self.version,
-            "environment": dict(self.environment),
-            "start": self.start,
-            "goal": self.goal,
-            "claims": dict(self.claims),
-            "failures": [{"claim": f.claim, "message": f.message} for f in self.failures],
-            "checked": dict(self.checked),
-            "not_checked": list(self.not_checked),
-            "proved": list(self.proved),
-            **({"scope": self.scope} if self.scope else {}),
-        }
+    @property
+    def title(self) -> str:
+        return f"certificate ({self.kind})"
 
-    def to_text(self, *, width: int = 100) -> str:
-        counts = ", ".join(f"{value} {name.replace('_', ' ')}" for name, value in self.checked)
-        lines = [f"certificate ({self.kind}): {'VALID' if self.valid else 'INVALID'}"]
+    def subject_json(self) -> dict[str, Any]:
+        return {"version": self.version, "environment": dict(self.environment), "start": self.start,
+                "goal": self.goal, "claims": dict(self.claims)}
+
+    def subject_lines(self) -> list[str]:
+        lines = []
         env = self.environment
         if env:
             name = repr(env["name"]) if env["name"] else "(unnamed)"
             lines.append(f"environment: {name}, sha256 {env['sha256']}, {env['vertices']} vertices, "
                          f"{env['edges']} edges, {env['holes']} hole{'' if env['holes'] == 1 else 's'}")
-        if self.kind in MODEL_KINDS:  # a model certificate: its claims and scope in words
-            lines.append("claims: " + (", ".join(f"{k.replace('_', ' ')} {_short_claim(v)}" for k, v in self.claims.items())
-                                       or "none"))
-            lines.append(f"scope: {self.scope}")
-            lines.append(f"checked exactly: {counts}")
-            if self.valid:
-                lines.extend(f"proved: {statement}" for statement in self.proved)
-            lines.extend(f"FAIL {failure}" for failure in self.failures)
-            lines.extend(f"not checked: {item}" for item in self.not_checked)
-            return "\n".join(lines) + "\n"
-        lines.append(f"start: {_set_line(self.start)}")
-        lines.append(f"goal: {_set_line(self.goal) if self.goal is not None else 'none (a cycle: the cycle is the goal)'}")
-        if self.scope:
-            lines.append(f"scope: {self.scope}")
-        for line in _claim_lines(self.claims):
-            lines.append(line)
-        lines.append(f"checked exactly: {counts}")
-        if self.valid:
-            for statement in self.proved:
-                lines.append(f"proved: {statement}")
-        for failure in self.failures:
-            lines.append(f"FAIL {failure}")
-        for item in self.not_checked:
-            lines.append(f"not checked: {item}")
-        return "\n".join(lines) + "\n"
+        if self.kind not in MODEL_KINDS:  # a bounce certificate speaks about a start and a goal set
+            lines.append(f"start: {_set_line(self.start)}")
+            lines.append(f"goal: {_set_line(self.goal) if self.goal is not None else 'none (a cycle: the cycle is the goal)'}")
+        return lines
+
+    def claim_lines(self) -> list[str]:
+        if self.kind in MODEL_KINDS:  # a model certificate: its claims in words
+            return ["claims: " + (", ".join(f"{k.replace('_', ' ')} {_short_claim(v)}" for k, v in self.claims.items())
+                                  or "none")]
+        return _claim_lines(self.claims)
 
 
 _BOUNCE_SCOPE = ("a point robot in this environment that moves straight between bounces and, at each bounce, executes "
@@ -452,8 +451,7 @@ def check_certificate(
         if expected_start is None and expected_goal is None:
             return report
         wrong = Failure("start" if expected_start is not None else "goal", f"a {cert.kind} certificate has no start or goal set")
-        return CheckReport(False, (wrong, *report.failures), report.checked, report.not_checked, report.kind,
-                           report.version, report.environment, None, None, report.claims, (), report.scope)
+        return replace(report, valid=False, failures=(wrong, *report.failures), proved=())
     checker = _Checker(cert)
     checker.run(expected_rings)
     if expected_start is not None:

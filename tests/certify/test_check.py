@@ -58,7 +58,18 @@ def _imports(module) -> set[str]:
 @pytest.mark.parametrize("module", CHECKER_MODULES, ids=lambda m: m.__name__)
 def test_checker_imports_nothing_but_stdlib_and_schema(module):
     checker = {m.__name__ for m in CHECKER_MODULES}
-    assert _imports(module) <= {"__future__", "fractions", "dataclasses", "hashlib", "json", "typing", "solverplan.certify.schema"} | checker
+    assert _imports(module) <= {"__future__", "fractions", "dataclasses", "hashlib", "json", "typing", "solverplan.certify.schema",
+                                "solverplan.verdict"} | checker
+
+
+def test_the_verdict_shared_with_the_models_is_standard_library_only():
+    """The checker's verdict type lives below every model (:mod:`solverplan.verdict`): it must stay as independent as
+    the checker itself, with no float anywhere."""
+    from solverplan import verdict
+
+    assert _imports(verdict) <= {"__future__", "dataclasses", "typing"}
+    tree = ast.parse(Path(verdict.__file__).read_text())
+    assert not [n for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, float)]
 
 
 @pytest.mark.parametrize("module", CHECKER_MODULES, ids=lambda m: m.__name__)
