@@ -498,7 +498,7 @@ class _Checker:
             start=summary["start"],
             goal=summary["goal"],
             claims=summary["claims"],
-            proved=tuple(self._main_statement() + self.proved) if not self.failures else tuple(self.proved),
+            proved=tuple(self._main_statement() + self.proved) if not self.failures else (),
             scope=_BOUNCE_SCOPE,
         )
 
