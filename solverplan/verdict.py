@@ -33,6 +33,7 @@ pursuit replay from v0, 1 action: INVALID
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -153,6 +154,14 @@ class Verdict:
         not_checked: tuple
         proved: tuple
         scope: str
+
+    @property
+    def verified(self) -> bool:
+        """Deprecated: ``valid`` (the name :class:`~solverplan.wallfollow.pursuit_check.PursuitCheck` and
+        :class:`~solverplan.reflection.fields.FlowCheck` gave it before every check answered with a verdict)."""
+        warnings.warn(f"{type(self).__name__}.verified is deprecated: use .valid (the verdict every check gives)",
+                      DeprecationWarning, stacklevel=2)
+        return self.valid
 
     @property
     def title(self) -> str:

@@ -36,7 +36,6 @@ trajectories from a grid of the cell and points on its sides, integrated with RK
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, Sequence
@@ -201,15 +200,16 @@ class FlowCheck(Verdict):
 
     Examples
     --------
+    A kite whose side 1 is the exit: the fitted line field is checked exactly, and the same field with side 2 as
+    the exit fails on side 1.
+
     >>> import solverplan as sp
-    >>> from fractions import Fraction
-    >>> cell = sp.decompose_free_space(sp.load_environment("square")).cells[0]    # sides 0 … 3 from the bottom
-    >>> up = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, Fraction(3, 10))
-    >>> check = sp.flows_through(up, cell, {2})
+    >>> kite = sp.decompose_free_space(sp.Environment.from_coords([(0, 0), (4, 0), (5, 3), (0, 1)])).cells[0]
+    >>> field, check = fit_line_field(kite, {1})
     >>> check.valid, check.method, check.checked, check.proved[0]
-    (True, 'exact', (('side_ends', 6),), 'every trajectory of the line field from every point of the closed cell leaves it through side 2 in finite time')
-    >>> print(sp.flows_through(up, cell, {1}).failures[0])
-    sides[2]: n·v ≤ 0 at an end of side 2: the field does not point into the cell there, and side 2 is no exit
+    (True, 'exact', (('side_ends', 6),), 'every trajectory of the line field from every point of the closed cell leaves it through side 1 in finite time')
+    >>> print(sp.flows_through(field, kite, {2}).failures[0])
+    sides[1]: n·v ≤ 0 at an end of side 1: the field does not point into the cell there, and side 1 is no exit
     """
 
     valid: bool
@@ -221,13 +221,6 @@ class FlowCheck(Verdict):
     field_kind: str = "line"
 
     kind = "flow-through"
-
-    @property
-    def verified(self) -> bool:
-        """Deprecated: the verdict's ``valid`` (every check of solverplan answers with one :class:`Verdict`)."""
-        warnings.warn("FlowCheck.verified is deprecated: use .valid (the verdict every check gives)",
-                      DeprecationWarning, stacklevel=2)
-        return self.valid
 
     @property
     def failures(self) -> tuple[Failure, ...]:

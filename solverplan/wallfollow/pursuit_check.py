@@ -38,7 +38,6 @@ False
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from fractions import Fraction
 from itertools import combinations
@@ -417,13 +416,6 @@ class PursuitCheck(Verdict):
     def valid(self) -> bool:
         """True when the plan guarantees detection: at some instant no shadow component can hold the evader."""
         return self.cleared_after is not None
-
-    @property
-    def verified(self) -> bool:
-        """Deprecated: the verdict's ``valid`` (every check of solverplan answers with one :class:`Verdict`)."""
-        warnings.warn("PursuitCheck.verified is deprecated: use .valid (the verdict every check gives)",
-                      DeprecationWarning, stacklevel=2)
-        return self.valid
 
     @property
     def failures(self) -> tuple[Failure, ...]:

@@ -67,7 +67,7 @@ def test_the_verdict_shared_with_the_models_is_standard_library_only():
     the checker itself, with no float anywhere."""
     from solverplan import verdict
 
-    assert _imports(verdict) <= {"__future__", "dataclasses", "typing"}
+    assert _imports(verdict) <= {"__future__", "dataclasses", "typing", "warnings"}
     tree = ast.parse(Path(verdict.__file__).read_text())
     assert not [n for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, float)]
 
