@@ -39,6 +39,19 @@ def _plan(valid: bool) -> Verdict:
     return sp.check_certificate(cert) if valid else sp.check_certificate(cert, expected_goal=[(0, Fraction(0), Fraction(1, 5))])
 
 
+def _bounce(kind: str, valid: bool) -> Verdict:
+    """A funnel, localisation, patrol (cycle) or infeasibility certificate; checked against another environment when
+    invalid."""
+    env = sp.load_environment({"infeasible": "comb", "localize": "l_shape"}.get(kind, "square"))
+    answer = {"funnel": lambda: sp.funnel(env, "e0", "e2"), "cycle": lambda: sp.patrol(env, [0, 2]),
+              "localize": lambda: sp.localize(env, epsilon=1.0),
+              "infeasible": lambda: sp.find_plan(env, "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05", max_bounces=2)}[kind]()
+    cert = sp.certificate(answer, env=env)
+    assert cert.kind == kind
+    other = sp.load_environment("square" if kind == "localize" else "l_shape")
+    return sp.check_certificate(cert) if valid else sp.check_certificate(cert, expected_rings=other.rings)
+
+
 def _model(kind: str, valid: bool) -> Verdict:
     from solverplan.explore import explore_depth_first
     from solverplan.wallfollow import cut_ordering, pursuit_plan
@@ -111,6 +124,8 @@ def _goal_flow(valid: bool) -> Verdict:
 
 CHECKS = {
     "plan-certificate": _plan,
+    **{f"{kind}-certificate": (lambda kind: lambda valid: _bounce(kind, valid))(kind)
+       for kind in ("funnel", "localize", "cycle", "infeasible")},
     **{f"{kind}-certificate": (lambda kind: lambda valid: _model(kind, valid))(kind)
        for kind in ("rooms", "exploration", "cut-ordering", "pursuit", "fields")},
     "rooms-answer": _rooms_answer,
