@@ -15,7 +15,8 @@ What is checked
    of edges, exactly); every hole lies inside the outer ring and outside the other holes.
 2. **Segments and sets.** Each named segment lies on its edge (``a``, ``b`` are the points of ``t0``,
    ``t1``); start, goal and position pieces are intervals of existing edges.
-3. **Moves** (each stage, each move) — with source points P, Q (parameters p < q on edge e, vector E),
+3. **Moves** (each stage, each move; a stage has one move per source: a move repeating another's edge and
+   source interval is malformed) — with source points P, Q (parameters p < q on edge e, vector E),
    cone d_lo → d_hi, target edge e′ (line L) and target range (segment or edge) τ ∈ [lo, hi]. A source
    without a named segment may run on along the straight wall through e (consecutive collinear edges: the
    vertices between them are no corners), p < 0 or q > 1 on e's line, as a target without a named segment
@@ -203,6 +204,22 @@ PROVING_METHODS = ("search-exhausted", "lp-duality", "milp", "bisection", "exact
 
 METHODS = (*PROVING_METHODS, "heuristic", "none")
 """Every optimality method a certificate may name: ``heuristic`` and ``none`` prove nothing."""
+
+PLAN_OBJECTIVES = ("fewest", "tolerance", "sum", "constant")
+"""What a plan optimises (``solverplan.choices.Objective``; a test keeps them equal)."""
+
+PATROL_OBJECTIVES = ("contraction", "tolerance", "rate")
+"""What a patrol optimises (``solverplan.choices.PatrolObjective``; a test keeps them equal)."""
+
+OBJECTIVES: dict[str, tuple[str, ...]] = {
+    "plan": PLAN_OBJECTIVES,
+    "infeasible": PLAN_OBJECTIVES,  # the objective the query asked for
+    "funnel": ("funnel-fewest", "localize-fewest"),  # version 1 wrote a localisation as a funnel
+    "localize": ("localize-fewest",),
+    "cycle": (*(f"patrol-{o}" for o in PATROL_OBJECTIVES), "contraction"),
+}
+"""The ``claims.objective`` each kind of certificate may name: any other string is an unknown objective (a
+failure); a known one is confirmed only by a re-derived bound, else listed as not checked."""
 
 
 def _quote(text: object) -> str:
@@ -539,6 +556,7 @@ class _Checker:
         results: list[list[_MoveResult | None]] = []
         for k, stage in enumerate(cert.stages):
             self.counts["stages"] += 1
+            self.check_one_move_per_source(k, stage)
             results.append([self.check_move(f"stages[{k}].moves[{m}]", move) for m, move in enumerate(stage.moves)])
         widths = [self.check_stage_headings(k, stage, results[k]) for k, stage in enumerate(cert.stages)]
         self.check_chaining(results)
@@ -725,6 +743,16 @@ class _Checker:
                 self.fail(f"{where}[{i}]", f"[t0, t1] = [{_num(piece.t0)}, {_num(piece.t1)}] is not an interval 0 ≤ t0 < t1 ≤ 1")
 
     # ------------------------------------------------------------------ one move
+    def check_one_move_per_source(self, k: int, stage: Stage) -> None:
+        """A stage says once what happens to the robots on each source: a move repeated (same edge and source
+        interval) is malformed, even though the statement it repeats may hold."""
+        first: dict[tuple[int, tuple[Fraction, Fraction]], int] = {}
+        for m, move in enumerate(stage.moves):
+            j = first.setdefault((move.edge, move.source), m)
+            if j != m:
+                self.fail(f"stages[{k}].moves[{m}]", f"repeats the source e{move.edge}:[{_num(move.source[0])}, "
+                                                     f"{_num(move.source[1])}] of moves[{j}]: a stage has one move per source")
+
     def check_move(self, path: str, move: Move) -> _MoveResult | None:
         self.counts["moves"] += 1
         n = len(self.edges)
@@ -1304,10 +1332,15 @@ class _Checker:
         objective = claims.objective
         if objective is None:
             return
-        if objective == "sum" and claims.sum_width is None and self.cert.kind == "plan":
+        kind = self.cert.kind
+        if objective not in OBJECTIVES.get(kind, ()):
+            others = sorted({k for k, known in OBJECTIVES.items() if objective in known} - {"infeasible"})
+            self.fail("claims.objective", f"{_quote(objective)} is an objective of {', '.join(others)} certificates, not of "
+                                          f"a {kind} certificate" if others else
+                      f"unknown objective {_quote(objective)}: a {kind} certificate names one of "
+                      f"{', '.join(OBJECTIVES.get(kind, ()))}")
+        elif objective == "sum" and claims.sum_width is None and kind == "plan":
             self.fail("claims.objective", "the objective is the sum of widths, but claims.sum_width is missing")
-        elif objective in ("tolerance", "constant", "fewest", "sum") and self.cert.kind not in ("plan", "infeasible"):
-            self.fail("claims.objective", f"{_quote(objective)} is an objective of plans, not of a {self.cert.kind} certificate")
         elif not rederived:
             self.not_checked.append(f"claims.objective: {_quote(objective)} names what the planner optimised; only a "
                                     "re-derived optimality bound could confirm it")
