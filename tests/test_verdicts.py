@@ -198,3 +198,26 @@ def test_verified_is_a_deprecated_name_of_valid():
             warnings.simplefilter("always")
             assert check.verified is check.valid
         assert caught and issubclass(caught[0].category, DeprecationWarning) and ".valid" in str(caught[0].message)
+
+
+@pytest.mark.parametrize("args,fragment", [
+    ((1, "cell", {1}), "checks a LineField, ArcField or GoalField, not int"),
+    (("line", "cell", {1}), "not str"),
+    (("field", None, {1}), "checks a convex Cell"),
+    (("field", "cell", 2), "exits must be a set of side indices, not int"),
+    (("field", "cell", {4}), "exit side 4 is not a side of cell 0 (sides 0 … 3)"),
+    (("field", "cell", {True}), "exit side True is not a side"),
+    (("field", "cell", {10**5000}), "exit side (an integer of about 5,000 digits)"),
+])
+def test_flows_through_says_in_one_line_what_it_cannot_check(args, fragment):
+    from solverplan.reflection.fields import LineField
+
+    cell = _square_cell()
+    up = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, Fraction(3, 10))
+    field, where, exits = args
+    field = up if field == "field" else field
+    where = cell if where == "cell" else where
+    with pytest.raises(sp.InputError) as raised:
+        sp.flows_through(field, where, exits)
+    message = str(raised.value)
+    assert fragment in message and "\n" not in message and len(message) < 200

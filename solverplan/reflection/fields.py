@@ -42,7 +42,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, format_number
+from solverplan.limits import quote
 from solverplan.reflection.cells import Cell
 from solverplan.verdict import Failure, Verdict
 
@@ -426,12 +428,31 @@ def flows_through(field: Field, cell: Cell, exits: set[int] | frozenset[int]) ->
     [(True, 'exact'), (False, 'exact')]
     >>> sp.flows_through(GoalField(cell.sides[0].midpoint), cell, set()).proved[0][:34]
     'the goal is in the closed convex c'
+    >>> sp.flows_through(up, cell, {4})
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: exit side 4 is not a side of cell 0 (sides 0 … 3)
     """
+    _check_flow_question(field, cell, exits)
     if isinstance(field, LineField):
         return line_flows_through(field, cell, exits)
     if isinstance(field, GoalField):
         return FlowCheck(cell.contains(field.goal), "exact", decided=1, field_kind="goal")
     return dense_flows_through(field, cell, exits)
+
+
+def _check_flow_question(field: object, cell: object, exits: object) -> None:
+    """One line for a question :func:`flows_through` cannot answer: not a field, not a cell, exits not side indices."""
+    if not isinstance(field, (LineField, ArcField, GoalField)):
+        raise InputError(f"flows_through checks a LineField, ArcField or GoalField, not {type(field).__name__}")
+    if not isinstance(cell, Cell):
+        raise InputError(f"flows_through checks a convex Cell (decompose_free_space), not {type(cell).__name__}")
+    if not isinstance(exits, (set, frozenset, list, tuple)):
+        raise InputError(f"exits must be a set of side indices, not {type(exits).__name__}")
+    m = len(cell.sides)
+    for side in exits:
+        if isinstance(side, bool) or not isinstance(side, int) or not 0 <= side < m:
+            raise InputError(f"exit side {quote(side)} is not a side of cell {cell.id} (sides 0 … {m - 1})")
 
 
 def arc_turn(cell: Cell, inlet: int, outlet: int, gain: Fraction) -> ArcField | None:
