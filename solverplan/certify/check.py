@@ -169,7 +169,7 @@ from solverplan.verdict import Failure, Verdict
 from solverplan.certify.schema import (MODEL_KINDS, BoundClaim, Certificate, CycleClaim, EnvironmentRecord, ModelCertificate, Move,
                                        Piece, Point, SegmentRecord, Stage, _terminating_decimal, number_text)
 
-__all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]  # Failure: solverplan.verdict
+__all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]  # Failure: re-exported
 
 WIDTH_SLACK = Fraction(1, 10**9)
 """How far below the exact value a claimed width (or inside the cone a claimed interval end) may be."""
@@ -216,7 +216,7 @@ OBJECTIVES: dict[str, tuple[str, ...]] = {
     "infeasible": PLAN_OBJECTIVES,  # the objective the query asked for
     "funnel": ("funnel-fewest", "localize-fewest"),  # version 1 wrote a localisation as a funnel
     "localize": ("localize-fewest",),
-    "cycle": (*(f"patrol-{o}" for o in PATROL_OBJECTIVES), "contraction"),
+    "cycle": (*(f"patrol-{o}" for o in PATROL_OBJECTIVES), "contraction"),  # contraction: a cycle's own, bound checked
 }
 """The ``claims.objective`` each kind of certificate may name: any other string is an unknown objective (a
 failure); a known one is confirmed only by a re-derived bound, else listed as not checked."""
