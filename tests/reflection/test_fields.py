@@ -134,18 +134,18 @@ def test_exact_flow_through_verdict_is_confirmed_by_the_dense_sample(w, h, gain,
         return
     f = LineField(origin, target, gain)
     exact = line_flows_through(f, cell, {outlet})
-    if exact.verified:
-        assert dense_flows_through(f, cell, {outlet}, grid=10, per_side=10).verified
+    if exact.valid:
+        assert dense_flows_through(f, cell, {outlet}, grid=10, per_side=10).valid
 
 
 def test_flow_through_of_the_paper_field_in_a_straight_cell_and_its_failure_sideways():
     cell = decompose_free_space(load_environment("square")).cells[0]
     f = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, Fraction(3, 10))
-    assert line_flows_through(f, cell, {2}).verified
+    assert line_flows_through(f, cell, {2}).valid
     turn = LineField(cell.sides[0].midpoint, cell.sides[1].midpoint, Fraction(3, 10))
     check = line_flows_through(turn, cell, {1})
-    assert not check.verified and check.failing_side == 0  # p·L = 3: the far end of the inlet is pulled back out
-    assert not dense_flows_through(turn, cell, {1}, per_side=200).verified  # fails on the last 3 % of the inlet only
+    assert not check.valid and check.failing_side == 0  # p·L = 3: the far end of the inlet is pulled back out
+    assert not dense_flows_through(turn, cell, {1}, per_side=200).valid  # fails on the last 3 % of the inlet only
 
 
 def test_arc_field_flows_through_a_corner_square_only_by_sample():
@@ -154,7 +154,7 @@ def test_arc_field_flows_through_a_corner_square_only_by_sample():
     cell = decompose_free_space(_box(1, 1)).cells[0]
     arc = arc_turn(cell, 0, 1, Fraction(4))
     assert arc is not None and arc.clockwise is True and arc.radius == pytest.approx(0.5)
-    assert dense_flows_through(arc, cell, {1}).verified
+    assert dense_flows_through(arc, cell, {1}).valid
     with pytest.raises(TypeError, match="use dense_flows_through"):
         line_flows_through(arc, cell, {1})  # type: ignore[arg-type]
     assert arc_turn(cell, 0, 2, Fraction(1)) is None  # opposite sides do not meet
@@ -197,8 +197,8 @@ def test_fitted_line_field_flows_through_exactly_and_by_sample(points, outlet_pi
     if fitted is None:
         return
     field, check = fitted
-    assert check.verified and check.method == "exact"
-    assert dense_flows_through(field, cell, {outlet}, grid=8, per_side=8).verified
+    assert check.valid and check.method == "exact"
+    assert dense_flows_through(field, cell, {outlet}, grid=8, per_side=8).valid
 
 
 def test_fitted_line_field_rescues_a_cell_the_paper_fields_cannot_cross():
