@@ -1,0 +1,53 @@
+"""Regressions of the end-to-end runs on hidden-like inputs (benchmarks/end_to_end.py, issue #23): each test is the
+smallest input of one bug those runs found, run through the command line as a tester does (answer, certificate,
+verify, tamper, report)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from solverplan import cli
+
+runner = CliRunner()
+
+
+def run(*args: object):
+    return runner.invoke(cli.app, [str(a) for a in args])
+
+
+def write(folder: Path, name: str, outer: list, holes: list | None = None) -> Path:
+    path = folder / f"{name}.json"
+    path.write_text(json.dumps({"name": name, "outer": outer, "holes": holes or []}))
+    return path
+
+
+def test_fields_cell_side_along_collinear_edges(tmp_path):
+    """A convex cell whose side runs along a straight wall written as two edges (a vertex of angle π) is on the wall:
+    the exact check refused every fields answer of such an environment (exit 1, "not on a wall")."""
+    env = write(tmp_path, "split_l", [[0, 0], [2, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]])
+    cert = tmp_path / "C.json"
+    done = run("fields", env, "--from", "3,1", "--to", "1,3", "--trials", "1", "--scenario", "constrained",
+               "-o", tmp_path / "A.json", "--certificate", cert)
+    assert done.exit_code == 0, done.stderr
+    assert run("verify", cert).exit_code == 0
+    data = json.loads(cert.read_text())
+    cell = data["claims"]["cells"][0]
+    side = next(i for i, nb in enumerate(cell["neighbours"]) if nb is None)
+    cell["polygon"][side][1] = "1/1000"  # the wall side moved off the wall: no longer on a wall
+    (tmp_path / "T.json").write_text(json.dumps(data))
+    assert run("verify", tmp_path / "T.json").exit_code == 1
+
+
+def test_not_found_strategy_says_why_no_certificate(tmp_path):
+    """A patrol, funnel or localisation with nothing to certify writes no certificate and says so on stderr, as plans
+    and the other models do (it was silent: a script could not tell a missing file from a forgotten option)."""
+    cert = tmp_path / "C.json"
+    done = run("localize", "square", "--epsilon", "0.01", "--max-bounces", "2", "-o", tmp_path / "A.json",
+               "--certificate", cert)
+    assert done.exit_code == 0, done.stderr
+    assert json.loads((tmp_path / "A.json").read_text())["status"] != "found"
+    assert not cert.exists()
+    assert f"warning: no certificate written to {cert}" in done.stderr
