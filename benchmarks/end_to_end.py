@@ -104,7 +104,8 @@ def shape(family: str, rng: random.Random, big: bool = False) -> Shape:
                                                  seed=seed, hole_vertices=rng.randrange(3, 7),
                                                  hole_kind=rng.choice(["convex", "star"]))
     elif family == "rooms":
-        env = generators.rooms_and_corridors(rng.randrange(2, 5), seed=seed, loops=rng.choice([0, 0, 1]))
+        n_rooms = rng.randrange(2, 7)
+        env = generators.rooms_and_corridors(n_rooms, seed=seed, loops=rng.choice([0, 0, 1]) if n_rooms >= 4 else 0)
     elif family == "rectilinear":
         env = generators.rectilinear_floor_plan(rng.randrange(2, 6), seed=seed, pillars=rng.choice([0, 0, 1]))
     elif family == "polyomino":
@@ -116,10 +117,42 @@ def shape(family: str, rng: random.Random, big: bool = False) -> Shape:
                        (Fraction(w), Fraction(h)), (Fraction(a + 1), Fraction(h)), (Fraction(a + 1), Fraction(h, 2)),
                        (Fraction(a), Fraction(h, 2)), (Fraction(a), Fraction(h)), (Fraction(0), Fraction(h))]
         return Shape(f"hand notch {w}x{h}", [outer], True)
+    elif family == "imported":
+        return _imported(rng, seed)
     else:
         raise ValueError(family)
     rect = family in ("rectilinear", "polyomino")
     return Shape(f"{family} {seed}", _rings(env), rect)
+
+
+def _imported(rng: random.Random, seed: int) -> Shape:
+    """A ROS occupancy map drawn at random (a room with boxes, a few lidar specks, ragged walls), through
+    ``solverplan import`` as a user would bring one."""
+    import tempfile
+
+    w, h = rng.randrange(40, 120), rng.randrange(40, 120)
+    free = [[0 < x < w - 1 and 0 < y < h - 1 for x in range(w)] for y in range(h)]
+    for _ in range(rng.randrange(0, 6)):  # boxes
+        bw, bh = rng.randrange(2, 12), rng.randrange(2, 12)
+        x0, y0 = rng.randrange(3, max(4, w - bw - 3)), rng.randrange(3, max(4, h - bh - 3))
+        for y in range(y0, min(h - 3, y0 + bh)):
+            for x in range(x0, min(w - 3, x0 + bw)):
+                free[y][x] = False
+    for _ in range(rng.randrange(0, 10)):  # specks and ragged wall cells
+        free[rng.randrange(1, h - 1)][rng.randrange(1, w - 1)] = False
+    resolution = rng.choice(["0.05", "0.1", "0.025"])
+    with tempfile.TemporaryDirectory() as folder:
+        pgm = Path(folder) / "map.pgm"
+        pgm.write_bytes(f"P5 {w} {h} 255\n".encode() + bytes(254 if c else 0 for row in free for c in row))
+        (Path(folder) / "map.yaml").write_text(f"image: map.pgm\nresolution: {resolution}\n"
+                                               f"origin: [{rng.randrange(-50, 50)}, {rng.randrange(-50, 50)}, 0]\n")
+        out = Path(folder) / "env.json"
+        done = subprocess.run([SOLVERPLAN, "import", str(Path(folder) / "map.yaml"), "-o", str(out)],
+                              capture_output=True, text=True, timeout=COMMAND_TIMEOUT, check=False)
+        if done.returncode != 0:
+            raise RuntimeError(f"import exit {done.returncode}: {done.stderr.strip()[-300:]}")
+        env = load_environment(out)
+    return Shape(f"imported map {seed}", _rings(env), _axis_parallel(env))
 
 
 def transform(s: Shape, rng: random.Random) -> tuple[list[Ring], list[str]]:
@@ -276,7 +309,31 @@ def cases_for(model: str, env_file: Path, note: str, env: Environment, rng: rand
         out.append(case(args, (0, 2)))
     else:
         raise ValueError(model)
+    if rng.random() < 0.3:
+        out.append(bad_case(model, env, rng, case))
     return out
+
+
+def bad_case(model: str, env: Environment, rng: random.Random, case: Callable[..., Case]) -> Case:
+    """A query that is bad input (exit 2, one ``error:`` line): a point outside, an edge that does not exist,
+    an option at an impossible extreme."""
+    minx, miny, maxx, maxy = env.to_shapely().bounds
+    outside = f"{_decimal(Fraction(maxx) + 1)},{_decimal(Fraction(maxy) + 1)}"
+    n = env.n_edges
+    bad = {
+        "plan": [["plan", "--from", f"e{n}", "--to", "e0"], ["plan", "--from", "e0:0.5:0.2", "--to", "e1"],
+                 ["plan", "--from", "e0", "--to", "e1", "--max-bounces", "0"]],
+        "patrol": [["patrol", "--visit", f"e0,e{n + 3}"], ["patrol", "--visit", "e0,e1", "--tolerance", "-1"]],
+        "funnel": [["funnel", "--from", "e0", "--to", "e1", "--tolerance", "4"], ["funnel", "--from", "e-1", "--to", "e1"]],
+        "localize": [["localize", "--epsilon", "0"], ["localize", "--epsilon", "-1"], ["localize", "--epsilon", "nan"]],
+        "rooms": [["rooms", "--simulate", "--from", "0", "--to", "999"]],
+        "explore": [["explore", "--start", outside], ["explore", "--start", "0,0", "--range", "0"],
+                    ["explore", "--start", "1,1", "--range", "-2"], ["explore", "--start", "a,b"]],
+        "wallfollow": [["wallfollow", "--pursuit", "--from", outside], ["wallfollow", "--learn", "--start", outside]],
+        "fields": [["fields", "--from", outside, "--to", outside], ["fields", "--from", "1", "--to", "2,2"],
+                   ["fields", "--from", outside, "--to", outside, "--trials", "0"]],
+    }[model]
+    return case(rng.choice(bad), (2,))
 
 
 def _axis_parallel(env: Environment) -> bool:
@@ -284,14 +341,14 @@ def _axis_parallel(env: Environment) -> bool:
 
 
 FAMILIES = {  # which environments each model is given
-    "plan": ["star", "holes", "rooms", "hand", "polyomino"],
-    "patrol": ["star", "holes", "hand", "polyomino"],
-    "funnel": ["star", "holes", "rooms", "hand"],
-    "localize": ["star", "holes", "hand", "polyomino"],
-    "rooms": ["rectilinear", "polyomino", "hand", "polyomino"],
-    "explore": ["star", "holes", "rooms", "rectilinear", "polyomino", "hand"],
-    "wallfollow": ["star", "polyomino", "hand", "star"],
-    "fields": ["star", "holes", "rooms", "rectilinear", "polyomino", "hand"],
+    "plan": ["star", "holes", "rooms", "hand", "polyomino", "imported"],
+    "patrol": ["star", "holes", "hand", "polyomino", "imported"],
+    "funnel": ["star", "holes", "rooms", "hand", "imported"],
+    "localize": ["star", "holes", "hand", "polyomino", "imported"],
+    "rooms": ["rectilinear", "polyomino", "hand", "polyomino", "imported"],
+    "explore": ["star", "holes", "rooms", "rectilinear", "polyomino", "hand", "imported"],
+    "wallfollow": ["star", "polyomino", "hand", "star", "imported"],
+    "fields": ["star", "holes", "rooms", "rectilinear", "polyomino", "hand", "imported"],
 }
 
 
@@ -337,6 +394,10 @@ def _as_fraction(value: Any) -> Fraction | None:
 NOT_CLAIMS = {"producer", "name", "schema", "scope", "note", "table_source", "label", "algorithm", "reason"}
 
 
+# lists that are unions of pieces (a boundary set, a position set): a piece listed twice is the same set
+UNIONS = {"start", "goal", "positions", "final"}
+
+
 def tampers(cert: dict, rng: random.Random, count: int) -> list[tuple[str, dict]]:
     """``count`` single changes of ``cert`` (what was changed, the changed certificate)."""
     paths = [p for p in _leaf_paths(cert) if p and not (set(map(str, p)) & NOT_CLAIMS) and p[0] not in ("schema",)]
@@ -358,7 +419,7 @@ def tampers(cert: dict, rng: random.Random, count: int) -> list[tuple[str, dict]
             if not value:
                 continue
             i = rng.randrange(len(value))
-            if rng.random() < 0.5:
+            if rng.random() < 0.5 or path[-1] in UNIONS:
                 del _get(t, path)[i]
                 out.append((f"{where}: dropped [{i}]", t))
             else:
@@ -366,10 +427,17 @@ def tampers(cert: dict, rng: random.Random, count: int) -> list[tuple[str, dict]
                 out.append((f"{where}: duplicated [{i}]", t))
             continue
         if isinstance(value, bool):
+            if path[-1] == "proved" and value:
+                continue  # "proved: false" is a weaker claim, still true: no tamper
             _set(t, path, not value)
             out.append((f"{where}: {value} -> {not value}", t))
             continue
         if value is None or path[-1] in ("kind",) and len(path) == 1:
+            continue
+        if rng.random() < 0.15:  # a value of the wrong type: malformed (exit 2), never a traceback
+            bad = rng.choice(["abc", None, [], {}, -1, "1/0", "nan", True])
+            _set(t, path, bad)
+            out.append((f"{where}: {value!r} -> {bad!r} (malformed)", t))
             continue
         f = _as_fraction(value)
         if f is not None:
@@ -399,6 +467,7 @@ class Result:
     outcome: str = "ok"  # ok | refused | no-certificate | FAIL
     problems: list[str] = field(default_factory=list)
     accepted_tampers: list[str] = field(default_factory=list)
+    unchecked_tampers: list[str] = field(default_factory=list)
     tampers: int = 0
     status: str | None = None
     seconds: float = 0.0
@@ -470,6 +539,15 @@ def run_case(case: Case, work: Path, rng: random.Random, n_tampers: int, browser
             res.problems.append(f"verify --env ENV exit {pcode}: {perr.strip()[-400:]}")
         else:
             cdata = json.loads(cert.read_text())
+            # files that are no certificate: the answer itself, a truncated certificate (exit 2, one line)
+            cut = work / "cut.json"
+            cut.write_text(cert.read_text()[: rng.randrange(1, max(2, cert.stat().st_size))])
+            for wrong in (answer, cut):
+                code, _o, werr, _ = _run([SOLVERPLAN, "verify", str(wrong)])
+                why = _clear_line(werr)
+                if code != 2 or why:
+                    res.outcome = "FAIL"
+                    res.problems.append(f"verify {wrong.name} (no certificate): exit {code}, {why or werr.strip()[:200]}")
             changed = tampers(cdata, rng, n_tampers)
             for what, t in changed:
                 tfile = work / "T.json"
@@ -480,7 +558,17 @@ def run_case(case: Case, work: Path, rng: random.Random, n_tampers: int, browser
                 code, tout, terr, _ = _run([SOLVERPLAN, "verify", str(tfile), *pin])
                 res.tampers += 1
                 if code == 0:
-                    res.accepted_tampers.append(what)
+                    # a claim the verdict itself lists as not re-derived (e.g. which objective was optimised) is
+                    # honest, not accepted: the tester reads `not_checked`
+                    try:
+                        listed = json.loads(tout).get("not_checked", [])
+                    except ValueError:
+                        listed = []
+                    key = ".".join(p for p in what.split(":")[0].split("/") if not p.isdigit())
+                    if any(line.startswith(key) for line in listed):
+                        res.unchecked_tampers.append(what)
+                    else:
+                        res.accepted_tampers.append(what)
                 elif code not in (1, 2) or "Traceback" in terr or "internal error" in terr:
                     res.outcome = "FAIL"
                     res.problems.append(f"tamper {what}: verify exit {code}: {terr.strip()[-300:]}")

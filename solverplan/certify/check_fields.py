@@ -38,7 +38,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 from solverplan.certify.check_models import Malformed, ModelChecker, Reader as R, apart, area2, box, pt, text
-from solverplan.certify.exact2d import clip_segment, dot, orient, sub, uncovered
+from solverplan.certify.exact2d import clip_segment, orient
 from solverplan.certify.schema import Point
 
 __all__ = ["check", "line_inward_sign"]
@@ -54,19 +54,6 @@ def _sign_a_sqrt_l_plus_b(a: Fraction, b: Fraction, l: Fraction) -> int:
         return sa
     lhs, rhs = a * a * l, b * b
     return sa if lhs > rhs else sb if lhs < rhs else 0
-
-
-def _on_wall(a: Point, b: Point, edges: list[tuple[Point, Point]]) -> bool:
-    """Does the segment ab lie on the boundary: covered by the edges on its line? A straight wall may be written as
-    several collinear edges (vertices of angle π), and a cell's side may run along all of them."""
-    d = sub(b, a)
-    dd = dot(d, d)
-    spans = []
-    for u, w in edges:
-        if orient(a, b, u) == 0 and orient(a, b, w) == 0:
-            s, t = dot(sub(u, a), d) / dd, dot(sub(w, a), d) / dd
-            spans.append((min(s, t), max(s, t)))
-    return uncovered(Fraction(0), Fraction(1), spans) is None
 
 
 def line_inward_sign(origin: Point, target: Point, gain: Fraction, normal: Point, q: Point) -> int:
@@ -149,7 +136,7 @@ def check(c: ModelChecker) -> None:
             c.count("sides")
             a, b = ring[i], ring[(i + 1) % len(ring)]
             if nb is None:
-                if not _on_wall(a, b, env.edges):
+                if not env.on_wall(a, b):
                     c.fail(f"{where}.neighbours[{i}]", f"the side {pt(a)}–{pt(b)} is not on a wall, yet names no neighbour")
                 continue
             if not 0 <= nb < m or nb == k:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner
 
 from solverplan import cli
@@ -51,3 +52,20 @@ def test_not_found_strategy_says_why_no_certificate(tmp_path):
     assert json.loads((tmp_path / "A.json").read_text())["status"] != "found"
     assert not cert.exists()
     assert f"warning: no certificate written to {cert}" in done.stderr
+
+
+@pytest.mark.parametrize("extra", [[], ["--range", "2"]], ids=["views", "range-views"])
+def test_explore_view_side_along_collinear_edges(tmp_path, extra):
+    """A view's side along a straight wall written as two edges is on the boundary: the exact check refused every
+    exploration whose first view saw such a wall (exit 1, "neither on the boundary nor along a line of sight")."""
+    env = write(tmp_path, "split_square", [[0, 0], [2, 0], [4, 0], [4, 4], [0, 4]])
+    cert = tmp_path / "C.json"
+    done = run("explore", env, "--start", "1,1", *extra, "-o", tmp_path / "A.json", "--certificate", cert)
+    assert done.exit_code == 0, done.stderr
+    assert run("verify", cert).exit_code == 0
+    data = json.loads(cert.read_text())
+    polygon = data["claims"]["views"][0]["polygon"]
+    k = next(i for i, p in enumerate(polygon) if p == [0, 0])
+    polygon[k] = [0, "1/100"]  # the corner lifted off the split wall: that side is no longer on the boundary
+    (tmp_path / "T.json").write_text(json.dumps(data))
+    assert run("verify", tmp_path / "T.json").exit_code == 1
