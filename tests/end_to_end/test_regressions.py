@@ -69,3 +69,25 @@ def test_explore_view_side_along_collinear_edges(tmp_path, extra):
     polygon[k] = [0, "1/100"]  # the corner lifted off the split wall: that side is no longer on the boundary
     (tmp_path / "T.json").write_text(json.dumps(data))
     assert run("verify", tmp_path / "T.json").exit_code == 1
+
+
+def test_patrol_leaving_from_a_run_of_segments_names_their_ends(tmp_path):
+    """A patrol stage that leaves from a run of segments of P′ (the search runs on the merged walls) is certified with
+    the run's end segments named: the exact check refused it ("its end p = 22/39 of edge 9 is not accounted for"),
+    so `patrol` exited 1. The input is an imported occupancy map (a room with three boxes) with split walls."""
+    env = write(tmp_path, "imported_map", [[12.9, 45.05], [12.9, 47.15], [12.9, 49.25], [10.975, 49.25], [9.05, 49.25],
+                                           [9.05, 48.375], [9.05, 47.5], [9.3, 47.5], [9.3, 47], [9.05, 47],
+                                           [9.05, 45.05], [10.0125, 45.05]],
+                [[[10.45, 46], [10.15, 46], [10.15, 46.075], [10.15, 46.3], [10.45, 46.3]],
+                 [[9.75, 46], [9.6875, 46], [9.5, 46], [9.5, 46.1], [9.75, 46.1]],
+                 [[12, 45.4], [11.5, 45.4], [11.5, 45.9], [12, 45.9]]])
+    cert = tmp_path / "C.json"
+    done = run("patrol", env, "--visit", "e10,e23", "--objective", "rate", "-o", tmp_path / "A.json",
+               "--certificate", cert)
+    assert done.exit_code == 0, done.stderr
+    assert run("verify", cert, "--env", env).exit_code == 0
+    data = json.loads(cert.read_text())
+    run_stage = next(s for s in data["stages"] if "source_segment" not in s["moves"][0])
+    run_stage["moves"][0]["source"][0] = "1/3"  # an end no segment, set or image accounts for
+    (tmp_path / "T.json").write_text(json.dumps(data))
+    assert run("verify", tmp_path / "T.json").exit_code == 1
