@@ -394,12 +394,14 @@ def _as_fraction(value: Any) -> Fraction | None:
 NOT_CLAIMS = {"producer", "name", "schema", "scope", "note", "table_source", "label", "algorithm", "reason"}
 
 
-# changes after which the statement is another true one, as reviewed by hand: a line field's origin, target or gain
-# moved a little (another field that also flows through: the check decides it exactly), a stage's cone direction
-# nudged by one part in a million or less (still inside the exact safe set), a move listed twice, a perturbed
-# polygon's ring moved (--perturb certificates speak of their own polygon)
+# changes after which the certificate is another true statement (reviewed by hand; verify decides them exactly):
+# a line field's origin, target or gain moved a little (another field that also flows through), a move listed twice,
+# a funnel relabelled a plan (its stages, positions included, are still checked), a cone direction nudged by at most
+# one part in a million (still inside the exact safe set), a bound over fewer plans (a larger threshold or margin),
+# a smaller start set or a larger goal set (the contract: a true statement about a smaller query)
 STILL_TRUE = re.compile(r"^kind funnel -> plan$|^claims/policies/\d+/field/(origin|target|gain|centre|radius)|^stages/\d+/moves: duplicated")
 WEAKER = re.compile(r"^bound/(threshold|heading_margin): (-?[\d/]+) -> (-?[\d/]+)$")
+SET_END = re.compile(r"^(start|goal)/\d+/(t0|t1): (-?[\d/]+) -> (-?[\d/]+)$")
 CONE = re.compile(r"^stages/\d+/moves/\d+/d_(lo|hi)/\d: (\S+) -> (\S+)$")
 
 
@@ -411,6 +413,13 @@ def still_true(what: str) -> bool:
     if weaker:
         old, new = Fraction(weaker.group(2)), Fraction(weaker.group(3))
         return new > old
+    piece = SET_END.match(what)  # a smaller start set or a larger goal set: a true statement about a smaller query
+    if piece:
+        old, new = Fraction(piece.group(3)), Fraction(piece.group(4))
+        smaller = new > old if piece.group(2) == "t0" else new < old
+        return smaller == (piece.group(1) == "start")
+    if re.match(r"^start: dropped", what):
+        return True
     cone = CONE.match(what)
     if cone:
         old, new = Fraction(cone.group(2)), Fraction(cone.group(3))
