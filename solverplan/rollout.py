@@ -47,7 +47,7 @@ from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.geometry.raycast import RayHits, cast_from_boundary, heading_directions
 from solverplan.limits import MAX_BOUNCES, MAX_TRIALS, quote, refuse_beyond_memory
 from solverplan.progress import tick
-from solverplan.result import answer_kind
+from solverplan.result import answer_dataclass
 
 __all__ = [
     "Outcome",
@@ -256,8 +256,7 @@ def _generator(seed: int | np.random.Generator | None):
 
 
 # ---------------------------------------------------------------------- results
-@answer_kind("simulation")
-@dataclass(frozen=True, eq=False)
+@answer_dataclass("simulation", eq=False)
 class Rollouts:
     """The result of a simulation: trajectories, per-rollout outcomes, and how to replay it.
 
