@@ -282,9 +282,7 @@ class LimitCycle(Answer):
         if self.theorem1_d is not None:
             out["theorem1"] = {"edge": self.edges[0] if self.edges else 0, "d": self.theorem1_d}
         if self.epsilon is not None:
-            out["epsilon"] = self.epsilon
-            out["cycles_to_epsilon"] = self.cycles_to_epsilon
-            out["epsilon_width"] = self.epsilon_width
+            out.update(epsilon=self.epsilon, cycles_to_epsilon=self.cycles_to_epsilon, epsilon_width=self.epsilon_width)
         return out
 
     @classmethod

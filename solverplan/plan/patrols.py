@@ -270,9 +270,7 @@ class Patrol(OnPartition, Answer):
             "solvers": self.solvers,
         }
         if self.epsilon is not None:
-            out["epsilon"] = self.epsilon
-            out["cycles_to_epsilon"] = self.cycles_to_epsilon
-            out["cycles_to_epsilon_nominal"] = self.cycles_to_epsilon_nominal
+            out.update(epsilon=self.epsilon, cycles_to_epsilon=self.cycles_to_epsilon, cycles_to_epsilon_nominal=self.cycles_to_epsilon_nominal)
         return out
 
     @classmethod

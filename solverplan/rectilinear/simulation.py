@@ -392,10 +392,8 @@ def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[
 
     Parameters
     ----------
-    dec
-        A room decomposition (:func:`solverplan.rectilinear.decompose_rooms`).
-    start, goal
-        Room ids.
+    dec, start, goal
+        The room decomposition and the two room ids, as for :func:`simulate_rooms`.
     rules
         The rules to compare (default the paper's three: ``smart``, ``random``, ``billiard``;
         :data:`~solverplan.rectilinear.rules.RULE_VARIANTS` adds the smart rule's other θ modes).
