@@ -16,6 +16,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "solverplan"
 # rank of each top-level part of the package; a module may import lower ranks or its own part
 LAYERS = {
     "errors": 0,
+    "_docstrings": 0,  # docstring fragments shared by public functions (no imports)
     "_io": 0.25,  # files in (bounded) and out (atomic): raises errors (0)
     "_arrays": 0,
     "progress": 0,

@@ -14,13 +14,13 @@ an arc field was verified by a dense sample — and claims no optimality of the 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Sequence
 
 from solverplan.choices import Reflections, ScenarioName, StartMode
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 from solverplan.errors import MalformedFile
 from solverplan.exact import format_number, to_fraction
 from solverplan.reflection.zones import RejectedZone
@@ -37,8 +37,7 @@ from solverplan.reflection.simulate import (SCENARIOS, FieldRobotDynamics, Scena
 __all__ = ["FieldNavigation", "navigate_fields", "random_starts", "ROLLOUT_SEED"]
 
 
-@answer_kind("fields")
-@dataclass(frozen=True)
+@answer_dataclass("fields")
 class FieldNavigation(Answer):
     """The composed fields (``plan``), the robot ``model`` and one :class:`ScenarioRun` per scenario (``runs``).
 

@@ -17,9 +17,9 @@ from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.plan import find_plan, pareto_front, planning_problem
 from tests.plan.brute import EPS, admissible, enumerate_plans, start_elements
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
+from tests.shapes import SQUARE
 
 K = 3
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 
 MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 
@@ -41,6 +41,12 @@ def queries(draw):
 
 def _spec(pieces) -> str:
     return ",".join(f"e{e}:{a.numerator}/{a.denominator}:{b.numerator}/{b.denominator}" for e, a, b in pieces)
+
+
+def _prepared(query):
+    """A drawn query as the planners take it: the environment, its safe BVG, the start set and the goal set."""
+    env, pieces, goal_edge = query
+    return env, safe_bounce_visibility_graph(env), _spec(pieces), f"e{goal_edge}"
 
 
 @settings(max_examples=60)
@@ -93,9 +99,7 @@ def test_planners_are_optimal_against_brute_force_enumeration(query):
 @given(queries())
 def test_unbudgeted_tolerance_is_the_limit_of_the_pareto_front(query):
     """The max-min Dijkstra's W* equals the last point of the complete front; the plan has its fewest bounces."""
-    env, pieces, goal_edge = query
-    graph = safe_bounce_visibility_graph(env)
-    S, G = _spec(pieces), f"e{goal_edge}"
+    env, graph, S, G = _prepared(query)
     plan = find_plan(env, S, G, objective="tolerance", graph=graph)
     front = pareto_front(env, S, G, graph=graph)
     if not front.points:
@@ -111,9 +115,7 @@ def test_unbudgeted_tolerance_is_the_limit_of_the_pareto_front(query):
 @given(queries())
 def test_lp_and_milp_agree_with_the_label_searches(query):
     """sum: LP over path flows (clarabel, duality gap) = DP; tolerance: MILP (HiGHS) = Pareto labels."""
-    env, pieces, goal_edge = query
-    graph = safe_bounce_visibility_graph(env)
-    S, G = _spec(pieces), f"e{goal_edge}"
+    env, graph, S, G = _prepared(query)
     dp = find_plan(env, S, G, objective="sum", max_bounces=K, graph=graph)
     lp = find_plan(env, S, G, objective="sum", max_bounces=K, method="lp", graph=graph)
     assert dp.found == lp.found
@@ -504,9 +506,8 @@ def test_start_pieces_are_never_worse_than_their_whole_segments(query):
     """A plan that works from whole segments works from every part of them: answering the start set as given
     (start pieces, with their own safe sets) never needs more bounces nor gives a narrower optimum than the same
     query with the start set grown to the whole segments it touches — and it can do better."""
-    env, pieces, goal_edge = query
-    graph = safe_bounce_visibility_graph(env)
-    S, G = _spec(pieces), f"e{goal_edge}"
+    env, graph, S, G = _prepared(query)
+    pieces = query[1]
     touched = sorted({s.id for s in graph.partition.segments for e, a, b in pieces
                       if s.edge == e and s.t0 < b and a < s.t1})
     segs = graph.partition.segments

@@ -173,14 +173,21 @@ def test_prop10_strategy3_finds_a_plan_exactly_when_strategy2_does(env, start_at
     """Prop. 10 (= Prop. 8 for the bitangent sensor): Strategy 3's compounds of primitives carry the same pursuit
     status as Strategy 2's gaps, so both searches succeed on the same polygons and starts, with plans of the same
     length; every Strategy 3 plan is verified by the ground truth."""
+    assert_found_exactly_when_strategy2_finds(env, start_at, "bitangent")
+
+
+def assert_found_exactly_when_strategy2_finds(env: Environment, start_at: int, sensor: str):
+    """The pursuit plan with ``sensor`` from the cut end point ``start_at`` (modulo their number) has Strategy 2's
+    status and length, and the ground truth verifies it when there is one; returns it."""
     order = cut_ordering(env)
     start = order.labels[start_at % len(order.labels)]
     gap = pursuit_plan(env, start=start, max_states=5000, check=False)
-    bitangent = pursuit_plan(env, start=start, sensor="bitangent", max_states=5000)
-    assert bitangent.status is gap.status
-    assert len(bitangent.actions) == len(gap.actions)
-    if bitangent.status is Status.FOUND:
-        assert bitangent.verified, (start, bitangent.actions)
+    plan = pursuit_plan(env, start=start, sensor=sensor, max_states=5000)
+    assert plan.status is gap.status
+    assert len(plan.actions) == len(gap.actions)
+    if plan.status is Status.FOUND:
+        assert plan.verified, (start, plan.actions)
+    return plan
 
 
 @settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
