@@ -1211,8 +1211,8 @@ class _Checker:
         budget_text = "any number of stages" if budget is None else f"at most {budget} stage{'s' if budget != 1 else ''}"
         width_text = "positive width" if w == 0 else f"width > {_num(w)} rad"
         units = ("" if not geo.groups else
-                 f" or anywhere on one of its {len(geo.groups)} groups (segments of P′ cut at the query's set ends into "
-                 f"table segments)")
+                 f" or inside one of its {len(geo.groups)} groups (segments of P′ cut at the query's set ends into table "
+                 f"segments; the next belief holds the run of the group's consecutive segments that the landings meet)")
         self.proved.append(
             f"no plan with {budget_text} takes the start set to the goal set, among plans whose every stage is one "
             f"heading interval of {width_text} inside [δ, π − δ] (δ = {_num(delta)} rad) and lands, from every "

@@ -13,12 +13,17 @@ The semantics
 -------------
 A stage from belief B executes one closed heading interval J (radians, counter-clockwise from the wall the
 robot is on) of width > w inside [δ, π − δ], such that from **every** segment s ∈ B, every point of open s
-with every heading of J first meets the boundary inside one closed *landing unit* U_s: a table segment, or the
-whole of a *group* (the table's groups: segments of P′ cut at the query's set ends into pieces, the table's
-segments; a plan lands on one piece or anywhere on the whole segment, as the planner's landing units); the next
-belief is every segment of every U_s (one piece when the landings fit in one, else the whole group). A stage is a
-*goal stage* when every segment of the next belief is a goal segment. Without groups a landing unit is one table
-segment.
+with every heading of J first meets the boundary inside one *group* (the table's groups: segments of P′ cut at
+the query's set ends into pieces, the table's segments; a segment in no group is a group of its own); its
+*landing unit* U_s is the shortest run of consecutive segments of that group that holds every landing of open s
+over J, and the next belief is every segment of every U_s. A stage is a *goal stage* when every segment of the
+next belief is a goal segment.
+
+The planner lands on one piece or anywhere on the whole segment (its landing units): its unit holds every
+landing, so it holds U_s, and its next belief holds this one. A plan from a belief works from every smaller
+belief (:mod:`solverplan.proofs.piece_monotonicity`), so every plan of the planner is matched, stage by stage,
+by a plan of this class whose beliefs are no larger: the class holds the planner's plans, and a goal reached
+inside the goal set across a cut of the start set (a run of goal segments) is a goal stage.
 
 One source, one direction
 -------------------------
@@ -34,9 +39,9 @@ lands inside the closed segment t = (c, e), T = e − c (or the closed span (c, 
 The condition is exact at every direction (no grazing exceptions): a ray from x ∈ open s runs through R°
 until it meets the line of t, and every point of R° lies on such a ray. (Necessity: the corner conditions are
 the limits of the landing points of positions next to a and b, which land on closed t; a boundary point in R°
-lies on the path of some position's ray before it reaches t.) In a group, the landings fit in t alone unless a
-joint of t with a neighbour lies strictly between the two corner rays (the open image holds the joint): then the
-unit is the whole group.
+lies on the path of some position's ray before it reaches t.) The landings of open s at d meet exactly the
+segments of the group between the joints that lie strictly between the two corner rays (the open image holds
+those joints): the cell's unit, a run of the group's segments around t.
 
 Cells
 -----
@@ -48,6 +53,20 @@ sum of the two neighbouring event directions, in heading-vector form): its landi
 exact ray cast from the middle of s, then the condition is tested. Consecutive cells with the same target
 are merged into one closed *run* (which over-approximates the safe set at the event directions between
 them: a larger successor relation only makes the invariant harder to satisfy, never unsound).
+
+Successors
+----------
+The sources' runs are intersected into *common cells* (each: one unit per source). A stage interval J of the
+class meets, with its interior, a stretch of contiguous common cells in which each source's units lie in one
+group; J lies in the stretch's closed span, and each source's unit over J holds every unit of the stretch, so
+holds their *hull* (the shortest run of the group holding them). The successors listed are therefore, for every
+start cell i of a stretch, the shortest admissible stretch [i, j] (its width inside [δ, π − δ] exceeds w; the
+shortest from i, as the hulls only grow with the stretch), with the hulls as units, widened on both sides to every
+contiguous cell whose units lie in those hulls (same next belief, a wider interval: the planner side reports the
+widths of the plans it finds). Every stage J of the class, starting in cell i, is matched by the successor from i:
+its next belief is no larger, and a next belief inside the goal or holding a listed belief stays so when it
+grows — the invariant's check over these successors covers the whole class. No combination of overlapping runs
+is enumerated: their number stays one per common cell.
 
 Arithmetic: integers only. The vertices sit on one integer grid (the lcm of their own denominators); segment
 ends are homogeneous integer triples (X, Y, W); every test of the vertices against a line (the ray cast's sides
@@ -76,7 +95,8 @@ IPoint = tuple[int, int]
 HPoint = tuple[int, int, int]
 """A rational point (X/W, Y/W) as the integers (X, Y, W), W > 0."""
 Run = tuple[IPoint, IPoint, tuple[int, ...]]
-"""A merged run of one source: (heading vector of its low end, of its high end, the segments of its landing unit)."""
+"""A merged run of one source: (heading vector of its low end, of its high end, the segments of its landing unit:
+consecutive segments of one group)."""
 
 _ZERO = Fraction(0)
 _ONE = Fraction(1)
@@ -281,6 +301,10 @@ class Geometry:
             if lo > 0 and hi < 0:
                 return p.segment
             if hi == 0:
+                if p.last and joints:  # the joint with the next segment of its group belongs to that segment
+                    found = self.group_of.get(p.segment)
+                    if found is not None and found[1] + 1 < len(self.groups[found[0]]):
+                        return self.groups[found[0]][found[1] + 1]
                 return None if p.last else p.segment
         return None
 
@@ -425,8 +449,8 @@ class Closure:
         return [al * x + be * y + ga for x, y in self.g.vertices]
 
     def _target(self, s: int, a: HPoint, b: HPoint, d: IPoint, f1: list[int]) -> tuple[int, ...] | None:
-        """The landing unit every point of open s lands in at direction d — one segment, or the whole of its group when
-        the landings cross a joint of the group — or None (exact)."""
+        """The landing unit of open s at direction d — the run of consecutive segments of one group that the landings
+        meet (one segment when they cross no joint) — or None when they do not all land inside one group (exact)."""
         g = self.g
         m = (a[0] * b[2] + b[0] * a[2], a[1] * b[2] + b[1] * a[2], 2 * a[2] * b[2])
         phi = self._values(_functional(d, m, g.grid))  # side of the ray's line
@@ -463,12 +487,14 @@ class Closure:
         self.counts["region_tests"] += 1
         if not self._region_empty(a, b, d, c, T, f1):
             return None
-        # t alone, unless a joint of t with a neighbour in the group lies strictly between the two corner rays (the open
-        # image holds the joint): then the whole group, as the planner lands on one piece or on the whole segment
-        for joint in (g.hends[t][0] if pos > 0 else None, g.hends[t][1] if pos < len(group) - 1 else None):
-            if joint is not None and _side(d, a, joint) * _side(d, b, joint) < 0:
-                return group
-        return (t,)
+        # t, and its neighbours in the group as long as the joint between lies strictly between the two corner rays
+        # (the open image holds the joint): the minimal run of the group's segments the image meets
+        lo = hi = pos
+        while lo > 0 and _side(d, a, g.hends[group[lo]][0]) * _side(d, b, g.hends[group[lo]][0]) < 0:
+            lo -= 1
+        while hi < len(group) - 1 and _side(d, a, g.hends[group[hi]][1]) * _side(d, b, g.hends[group[hi]][1]) < 0:
+            hi += 1
+        return group[lo:hi + 1]
 
     def _region_empty(self, a: HPoint, b: HPoint, d: IPoint, c: HPoint, T: IPoint, f1: list[int]) -> bool:
         """Does no edge meet the open region R° (module docstring)?"""
@@ -496,9 +522,11 @@ class Closure:
 
     # ------------------------------------------------------------------ beliefs
     def successors(self, belief: Sequence[int]) -> list[tuple[tuple[tuple[int, ...], ...], tuple[IPoint, IPoint]]]:
-        """Every successor of ``belief``: (the landing unit of each of its sources in order, the common run [lo, hi]),
-        one per common cell whose admissible part is wider than w. The next belief is every segment of those units
-        (:func:`next_belief`)."""
+        """Every successor of ``belief`` up to smaller next beliefs: (the landing unit of each of its sources in order,
+        the heading interval [lo, hi]). See *Successors* in the module docstring: one per start cell of the common
+        cells, the shortest admissible stretch of cells from it (each source's unit: the minimal run of its group
+        covering its units there), widened to every neighbouring cell whose units lie in those runs. The next belief is
+        every segment of the units (:func:`next_belief`)."""
         lists = [self.runs(s) for s in belief]
         if any(not runs for runs in lists):
             return []
@@ -520,12 +548,47 @@ class Closure:
             cells = merged
             if not cells:
                 return []
-        out = []
-        for lo, hi, targets in cells:
-            if self.admissible(lo, hi):
-                out.append((targets, (lo, hi)))
+        # each cell's unit of each source as (its group, first and last position in it)
+        places = [tuple(self._place(t) for t in targets) for _, _, targets in cells]
+        out: list[tuple[tuple[tuple[int, ...], ...], tuple[IPoint, IPoint]]] = []
+        start = 0
+        for k in range(1, len(cells) + 1):
+            if k < len(cells) and heading_cmp(cells[k - 1][1], cells[k][0]) == 0 and all(
+                    p[0] == q[0] for p, q in zip(places[k - 1], places[k])):
+                continue  # the stretch of contiguous cells, each source's units in one group, goes on
+            self._stretch(cells, places, start, k, out)
+            start = k
         self.counts["successors"] += len(out)
         return out
+
+    def _place(self, unit: tuple[int, ...]) -> tuple[tuple[int, ...], int, int]:
+        group, pos = self.g.members(unit[0])
+        return group, pos, pos + len(unit) - 1
+
+    def _stretch(self, cells: list, places: list, start: int, end: int, out: list) -> None:
+        """The successors of the contiguous cells ``cells[start:end]`` (module docstring, *Successors*)."""
+        seen: set[tuple[int, int]] = set()
+        j = start
+        for i in range(start, end):
+            j = max(j, i)
+            while j < end and not self.admissible(cells[i][0], cells[j][1]):
+                j += 1  # the shortest admissible stretch from i ends at j (never before the one from i − 1)
+            if j == end:
+                return
+            hull = [[pl[1], pl[2]] for pl in places[i]]
+            for k in range(i + 1, j + 1):
+                for h, pl in zip(hull, places[k]):
+                    h[0], h[1] = min(h[0], pl[1]), max(h[1], pl[2])
+            lo, hi = i, j
+            while lo > start and all(h[0] <= pl[1] and pl[2] <= h[1] for h, pl in zip(hull, places[lo - 1])):
+                lo -= 1
+            while hi < end - 1 and all(h[0] <= pl[1] and pl[2] <= h[1] for h, pl in zip(hull, places[hi + 1])):
+                hi += 1
+            if (lo, hi) in seen:
+                continue
+            seen.add((lo, hi))
+            targets = tuple(pl[0][h[0]:h[1] + 1] for h, pl in zip(hull, places[i]))
+            out.append((targets, (cells[lo][0], cells[hi][1])))
 
 
 def next_belief(targets: Sequence[Sequence[int]]) -> frozenset[int]:

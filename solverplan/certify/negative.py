@@ -16,12 +16,14 @@ version 3) whose invariant says that **no plan exists** in a stated class —
 The class is over the **segment table** P′ of the environment's straight walls (collinear vertices merged, as
 the planner searches), refined at the ends of the query's start and goal sets (so that both are unions of whole
 segments), with the **groups** of the pieces each segment of P′ was cut into: a stage may land on one piece or
-anywhere on one group — the planner's landing units and its whole segments (:mod:`solverplan.plan._problem`) — and
-the heading margin δ of the query; *margin-free* otherwise: no safe
-margin, no corner clearance, no ban on consecutive arcs into one corner. Those margins only remove options, and a
-belief of the planner is a union of table segments the invariant's beliefs split into pieces (each piece of a
-unit lands where the unit does), so the class contains every plan the planner considers, and the statement
-proved is stronger than the planner's.
+anywhere on one group — the planner's landing units and its whole segments (:mod:`solverplan.plan._problem`) —, the
+next belief holding only the run of the group's consecutive pieces that the landings meet (no larger than the
+planner's unit: a landing inside the goal across a cut of the start set is a goal stage), and the heading margin
+δ of the query; *margin-free* otherwise: no safe margin, no corner clearance, no ban on consecutive arcs into one
+corner. Those margins only remove options, and a belief of the planner is a union of table segments the
+invariant's beliefs split into pieces (each piece of a unit lands where the unit does; a plan from a belief works
+from every smaller one, :mod:`solverplan.proofs.piece_monotonicity`), so the class contains every plan the planner
+considers, and the statement proved is stronger than the planner's.
 
 The invariant is computed with the checker's own exact successor relation (:class:`~.invariant.Closure`):
 breadth-first over beliefs from the start belief, up to depth K. There are therefore no float-versus-exact

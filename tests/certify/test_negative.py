@@ -148,7 +148,9 @@ def test_tolerance_plan_bound_states_its_gap():
     assert any("re-derived only to within" in item for item in report.not_checked)
     data = data_of(cert)
     data["bound"]["threshold"] = str(cert.claims.min_width - Fraction(1, 10**6))
-    assert_rejected(data, "bound.threshold", "below this plan's certified min_width")
+    report = check(data)  # the plan itself is in the class now: the invariant is not closed (so w is never reached)
+    assert not report.valid and report.failures[0].claim.startswith("bound.beliefs[")
+    assert "the invariant is not closed" in report.failures[0].message
 
 
 # ---------------------------------------------------------------------- mutations are rejected
@@ -392,7 +394,8 @@ def test_bounds_range_over_the_landing_units(l_shape_fewest):
     assert cert.bound is not None and cert.bound.groups == ((1, 2, 3), (4, 5, 6))
     report = check_certificate(cert)
     assert report.valid, [str(f) for f in report.failures]
-    assert "or anywhere on one of its 2 groups (segments of P′ cut at the query's set ends into table segments)" in report.proved[1]
+    assert ("or inside one of its 2 groups (segments of P′ cut at the query's set ends into table segments; the next "
+            "belief holds the run of the group's consecutive segments that the landings meet)" in report.proved[1])
     assert report.proved[-1] == "hence every such plan has at least 4 bounces: this plan's 4 is the fewest"
     assert parse_certificate(dumps_certificate(cert)) == cert  # the groups survive the JSON round trip
 
@@ -433,16 +436,17 @@ def test_groups_must_be_runs_of_consecutive_collinear_segments(l_shape_fewest):
 
 
 def test_landings_on_runs_agree_with_float_ray_casting():
-    """With the issue's sets on l_shape (cut segments on e3 and e4): every successor's landing unit (a table segment,
-    or a whole group) holds the float landing points of sampled positions and headings, and a landing on a whole
-    group meets several of its segments."""
+    """With the issue's sets on l_shape (cut segments on e3 and e4): every successor's landing unit (a run of
+    consecutive segments of one group) holds the float landing points of sampled positions and headings, and some
+    landings on a run of several segments meet several of them."""
     env = load_environment(MODELS / "l_shape.json")
     table, groups = refined_table(env, *(env.boundary_set(s) for s in SETS))
-    runs = 0
+    runs = several = 0
     for targets, met in _sampled_landings(env, table, groups, samples=40, margin=0.001, seed=3):
         (run,) = targets
         assert next_belief(targets) == frozenset(run) and set(met) <= {*run, None}
         if len(run) > 1:
             runs += 1
-            assert run in ((1, 2, 3), (4, 5, 6)) and len(set(met) - {None}) > 1
-    assert runs > 0
+            assert any(run == group[i:i + len(run)] for group in ((1, 2, 3), (4, 5, 6)) for i in range(len(group)))
+            several += len(set(met) - {None}) > 1  # a run may hull cells that meet one of its segments each
+    assert runs > 0 and several > 0
