@@ -450,3 +450,79 @@ def test_landings_on_runs_agree_with_float_ray_casting():
             assert any(run == group[i:i + len(run)] for group in ((1, 2, 3), (4, 5, 6)) for i in range(len(group)))
             several += len(set(met) - {None}) > 1  # a run may hull cells that meet one of its segments each
     assert runs > 0 and several > 0
+
+
+# ---------------------------------------------------------------------- the class holds the planner's plans (#22, dom)
+def _plan_and_lowered_bound(env, start: str, goal: str, budget: int):
+    """The planner's most tolerant plan, and bound_claim just below its min width W* (a claim there is false)."""
+    plan = find_plan(env, start, goal, objective="tolerance", max_bounces=budget)
+    assert plan.found
+    threshold = Fraction(plan.min_width) - Fraction(1, 10**6)
+    return plan, lambda: bound_claim(env, env.boundary_set(start), env.boundary_set(goal), budget=budget,
+                                     threshold=threshold, heading_margin=Fraction(1, 1000))
+
+
+def test_a_landing_inside_the_goal_across_a_start_cut_is_a_goal_stage():
+    """square e0:0.55:1 → e3:0.9:1,e0:0:0.75: the last stage lands inside the goal piece e0:[0, 0.75] across the start
+    set's end at 0.55 (two table segments of the group of e0, which also holds the non-goal [0.75, 1]); the landing
+    unit is the run of the two, a goal stage, so no bound is claimed below the plan's width."""
+    env = load_environment(MODELS / "square.json")
+    plan, claim = _plan_and_lowered_bound(env, "e0:0.55:1", "e3:0.9:1,e0:0:0.75", 5)
+    with pytest.raises(NoBound, match="a margin-free plan of"):
+        claim()
+    cert = certificate(plan, env=env)
+    assert cert.bound is not None and cert.bound.threshold >= cert.claims.min_width
+    assert check_certificate(cert).valid
+
+
+def test_a_ray_through_a_joint_lands_on_the_later_segment_of_the_group():
+    """one_hole e7:0.3:0.7 → e2:0.35:1,e3:0:0.7: the middle ray of a cell of e7's piece meets e3 exactly at the joint
+    t = 0.7 of its group; the joint belongs to the later segment (it was dropped, and with it the cell the planner's
+    first stage needs)."""
+    env = load_environment(MODELS / "one_hole.json")
+    start, goal = "e7:0.3:0.7", "e2:0.35:1,e3:0:0.7"
+    table, groups = refined_table(env, env.boundary_set(start), env.boundary_set(goal))
+    edges, nxt = _edges(env)
+    geo = Geometry(edges, nxt, table, groups)
+    before, after = geo.segment_of(3, Fraction(69, 100)), geo.segment_of(3, Fraction(71, 100))
+    assert before != after and (before, after) in groups
+    assert geo._segment_at(3, 7, 10, joints=True) == after and geo.segment_of(3, Fraction(7, 10)) is None
+    _, claim = _plan_and_lowered_bound(env, start, goal, 5)
+    with pytest.raises(NoBound):
+        claim()
+
+
+@st.composite
+def cut_queries(draw):
+    """Star polygons (6–9 vertices) with start and goal sets that end inside edges — one piece, or a piece over a
+    vertex into the next edge — so that the table's groups matter; budgets 2–4."""
+    n = draw(st.integers(6, 9))
+    env = star_polygon(n, 0.3, 0.3, radius=10.0, seed=draw(st.integers(0, 10**6)), decimals=2)
+
+    def a_set() -> str:
+        e = draw(st.integers(0, n - 1))
+        a, b = sorted(draw(st.lists(st.integers(1, 19), min_size=2, max_size=2, unique=True)))
+        if draw(st.booleans()):
+            return f"e{e}:{a / 20}:1,e{(e + 1) % n}:0:{b / 20}"
+        return f"e{e}:{a / 20}:{b / 20}"
+    return env, a_set(), a_set(), draw(st.integers(2, 4))
+
+
+@settings(max_examples=25, deadline=None)
+@given(cut_queries())
+def test_piece_monotonicity_the_closure_holds_every_plan_of_the_planner(query):
+    """proofs/piece_monotonicity, for the bounds: the class of a bound block holds every plan of the planner (each
+    stage's landing unit, the run of table segments the landings meet, lies inside the planner's unit, and a smaller
+    belief has every plan of a larger one) — so the exact closure never proves "no plan wider than w" for a w below
+    the min width of a plan the planner found."""
+    env, start, goal, budget = query
+    try:
+        plan = find_plan(env, start, goal, objective="tolerance", max_bounces=budget, timeout=30)
+    except ValueError:
+        return  # the start set lies in the goal set, or similar: no query
+    if not plan.found:
+        return
+    threshold = Fraction(plan.min_width) - Fraction(1, 10**6)
+    with pytest.raises(NoBound):
+        bound_claim(env, env.boundary_set(start), env.boundary_set(goal), budget=budget, threshold=threshold,
+                    heading_margin=Fraction(1, 1000))
