@@ -16,7 +16,8 @@ from typing import Callable, Iterator, Sequence, TypeVar
 
 import numpy as np
 
-__all__ = ["ragged_arange", "thread_map", "workers", "cores", "process_map", "keep_freed_memory"]
+__all__ = ["ragged_arange", "sorted_unique", "sorted_intersection", "thread_map", "workers", "cores", "process_map",
+           "keep_freed_memory"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -34,6 +35,32 @@ def ragged_arange(counts: np.ndarray) -> np.ndarray:
         return np.zeros(0, dtype=np.int64)
     ends = np.cumsum(counts)
     return np.arange(total, dtype=np.int64) - np.repeat(ends - counts, counts)
+
+
+def sorted_unique(values: np.ndarray) -> np.ndarray:
+    """``np.unique(values)`` of an integer array, by sorting: numpy 2.4's ``unique`` hashes, 15–20× slower on the
+    millions of distinct keys of a graph build (1.2 s against 0.07 s for 10⁶).
+
+    >>> sorted_unique(np.array([5, 1, 5, 3, 1])).tolist()
+    [1, 3, 5]
+    """
+    out = np.sort(np.asarray(values).ravel())
+    if len(out) < 2:
+        return out
+    return out[np.concatenate(([True], out[1:] != out[:-1]))]
+
+
+def sorted_intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.intersect1d(a, b)`` of integer arrays (sorted, unique), by sorting (see :func:`sorted_unique`).
+
+    >>> sorted_intersection(np.array([4, 1, 4, 9]), np.array([9, 2, 4])).tolist()
+    [4, 9]
+    """
+    x, y = sorted_unique(a), sorted_unique(b)
+    if not len(x) or not len(y):
+        return x[:0]
+    at = np.minimum(np.searchsorted(y, x), len(y) - 1)
+    return x[y[at] == x]
 
 
 _MAX_WORKERS = 4

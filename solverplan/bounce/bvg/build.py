@@ -56,7 +56,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from solverplan._arrays import can_fork, ragged_arange
+from solverplan._arrays import can_fork, ragged_arange, sorted_intersection, sorted_unique
 from solverplan.bounce import _cache, _sweep
 from solverplan.bounce._sweep import MARK_PI, MARK_ZERO, build_sweeps
 from solverplan.bounce.bvg._safe_sets import (Pieces, equal_ends, nonempty, refine_ends, single_headings_safe, singletons,
@@ -369,11 +369,11 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         swapped += both // N
         keys = np.concatenate([both, swapped])
         del both, swapped
-        keys = _sorted_unique(keys)
+        keys = sorted_unique(keys)
     elif met:  # ---- the arcs from the sources that their sweeps meet
-        keys = _sorted_unique(np.concatenate([A_key, B_key]))
+        keys = sorted_unique(np.concatenate([A_key, B_key]))
     else:  # ---- arcs that may be safe: met by the sweeps at both ends of the source
-        keys = _sorted_unique(np.concatenate([_sorted_unique(A_key.copy()), _sorted_unique(B_key.copy())]), twice=True)
+        keys = sorted_intersection(A_key, B_key)
     n_arcs = len(keys)
 
     # ---- candidate safe sets: A_a(j) ∩ A_b(j) (closures), a sort-merge join on (i, j)
@@ -496,16 +496,6 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
     )
 
 
-def _sorted_unique(keys: np.ndarray, twice: bool = False) -> np.ndarray:
-    """The distinct values of ``keys`` in increasing order (``keys`` is sorted in place), or with ``twice`` those that
-    occur twice or more: ``np.unique`` by a sort — numpy ≥ 2.3's hash table is several times slower on these keys,
-    spread over N² values (≈ 0.1 µs per key more: a fifth of a batch's build)."""
-    keys.sort()
-    if twice:
-        return keys[:-1][keys[1:] == keys[:-1]]
-    return keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
-
-
 def _intersect_ends(ends: EndComparator, seg_edge: np.ndarray, N: int, pkey: np.ndarray, sw: _sweep.Sweeps,
                     pa: np.ndarray, pb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For each joined pair of entries (``pa`` from the sweep at a, ``pb`` at b, same arc ``pkey``), the entry whose lo
@@ -588,7 +578,7 @@ def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray |
             # next batch: about 2²⁰ sweep entries (≈ 200 MB of temporaries at the build's peak)
             per_source = max(1.0, g.stats["entries"] / len(chunk))
             batch = int(min(8192, max(8, (1 << 20) / per_source)))
-        targets = np.unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
+        targets = sorted_unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
         frontier = targets[~seen[targets]]
         depth += 1
     graph = _concat_rows(p, parts)
