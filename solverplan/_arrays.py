@@ -37,14 +37,19 @@ def ragged_arange(counts: np.ndarray) -> np.ndarray:
     return np.arange(total, dtype=np.int64) - np.repeat(ends - counts, counts)
 
 
-def sorted_unique(values: np.ndarray) -> np.ndarray:
+def sorted_unique(values: np.ndarray, *, overwrite: bool = False) -> np.ndarray:
     """``np.unique(values)`` of an integer array, by sorting: numpy 2.4's ``unique`` hashes, 15–20× slower on the
-    millions of distinct keys of a graph build (1.2 s against 0.07 s for 10⁶).
+    millions of distinct keys of a graph build (1.2 s against 0.07 s for 10⁶). With ``overwrite``, a 1-d array is
+    sorted in place (no copy of a large array of keys at the build's peak).
 
     >>> sorted_unique(np.array([5, 1, 5, 3, 1])).tolist()
     [1, 3, 5]
     """
-    out = np.sort(np.asarray(values).ravel())
+    if overwrite and isinstance(values, np.ndarray) and values.ndim == 1:
+        values.sort()
+        out = values
+    else:
+        out = np.sort(np.asarray(values).ravel())
     if len(out) < 2:
         return out
     return out[np.concatenate(([True], out[1:] != out[:-1]))]
