@@ -369,9 +369,9 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         swapped += both // N
         keys = np.concatenate([both, swapped])
         del both, swapped
-        keys = sorted_unique(keys)
+        keys = sorted_unique(keys, overwrite=True)
     elif met:  # ---- the arcs from the sources that their sweeps meet
-        keys = sorted_unique(np.concatenate([A_key, B_key]))
+        keys = sorted_unique(np.concatenate([A_key, B_key]), overwrite=True)
     else:  # ---- arcs that may be safe: met by the sweeps at both ends of the source
         keys = sorted_intersection(A_key, B_key)
     n_arcs = len(keys)
