@@ -157,7 +157,8 @@ def check(c: ModelChecker) -> None:
                 continue  # a side along a line of sight
             side_box = box([a, b])
             if not any(not apart(side_box, eb) and orient(u, w, a) == 0 and orient(u, w, b) == 0
-                       and on_closed_segment(a, u, w) and on_closed_segment(b, u, w) for (u, w), eb in zip(edges, edge_boxes)):
+                       and on_closed_segment(a, u, w) and on_closed_segment(b, u, w) for (u, w), eb in zip(edges, edge_boxes)) \
+                    and not env.on_wall(a, b):  # on one edge, or along a run of collinear ones
                 c.fail(f"{where}.polygon[{i}]", f"the side {pt(a)}–{pt(b)} is neither on the boundary nor along a line "
                        f"of sight: the polygon is not the view from {pt(z)}")
                 break

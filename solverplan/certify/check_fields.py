@@ -17,7 +17,7 @@ Re-derived exactly:
 1. **Cells tile the free space.** Each cell is a convex counter-clockwise polygon of positive area lying in the free
    space (no boundary point in its interior, an interior point strictly inside); no two cells share an interior
    point (a side of one separates them); their areas add up to the free space's. Each side is either on a wall (on
-   one boundary edge) or exactly a side of the neighbour it names, reversed, naming it back.
+   boundary edges: one, or a run of collinear ones) or exactly a side of the neighbour it names, reversed, naming it back.
 2. **Sequence.** The start lies in the first cell, the goal in the last, consecutive cells are neighbours.
 3. **Policies.** Every cell has one; the goal's cell (the last of the sequence) has the goal field of the claimed
    goal, which lies in it: the straight line to the goal stays in the convex cell. Every other cell's ``next`` is
@@ -38,7 +38,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 from solverplan.certify.check_models import Malformed, ModelChecker, Reader as R, apart, area2, box, pt, text
-from solverplan.certify.exact2d import clip_segment, on_closed_segment, orient
+from solverplan.certify.exact2d import clip_segment, orient
 from solverplan.certify.schema import Point
 
 __all__ = ["check", "line_inward_sign"]
@@ -136,7 +136,7 @@ def check(c: ModelChecker) -> None:
             c.count("sides")
             a, b = ring[i], ring[(i + 1) % len(ring)]
             if nb is None:
-                if not any(on_closed_segment(a, u, w) and on_closed_segment(b, u, w) for u, w in env.edges):
+                if not env.on_wall(a, b):
                     c.fail(f"{where}.neighbours[{i}]", f"the side {pt(a)}–{pt(b)} is not on a wall, yet names no neighbour")
                 continue
             if not 0 <= nb < m or nb == k:

@@ -23,7 +23,7 @@ from fractions import Fraction
 from typing import Any, Callable
 
 from solverplan.certify.check import CheckReport, Failure, _Checker, _environment_summary
-from solverplan.certify.exact2d import cross, dot, inside_ring as _inside, on_closed_segment, orient, sub
+from solverplan.certify.exact2d import cross, dot, inside_ring as _inside, on_closed_segment, orient, sub, uncovered
 from solverplan.certify.schema import ModelCertificate, Point, number_text, parse_number
 
 __all__ = ["check_model_certificate", "Malformed", "Reader", "ModelChecker", "Env", "inside_open", "box", "apart", "param_on"]
@@ -129,6 +129,18 @@ class Env:
         x, y = p
         return any(min(a[0], b[0]) <= x <= max(a[0], b[0]) and min(a[1], b[1]) <= y <= max(a[1], b[1])
                    and on_closed_segment(p, a, b) for a, b in self.edges)
+
+    def on_wall(self, a: Point, b: Point) -> bool:
+        """Does the segment ab lie on the boundary: covered by the edges on its line? A straight wall may be written
+        as several collinear edges (vertices of angle π), and a side of a cell or a view may run along all of them."""
+        d = sub(b, a)
+        dd = dot(d, d)
+        spans = []
+        for u, w in self.edges:
+            if orient(a, b, u) == 0 and orient(a, b, w) == 0:
+                s, t = dot(sub(u, a), d) / dd, dot(sub(w, a), d) / dd
+                spans.append((min(s, t), max(s, t)))
+        return uncovered(Fraction(0), Fraction(1), spans) is None
 
     def locate(self, p: Point) -> int:
         """1 strictly inside the free space, 0 on the boundary, −1 outside (exact)."""

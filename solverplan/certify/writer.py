@@ -297,6 +297,18 @@ def _edge_vector(env: Environment, edge: int) -> tuple[Point, Point]:
     return e.a, (e.b[0] - e.a[0], e.b[1] - e.a[1])
 
 
+def _segments_ending_at(env: Environment, part: Partition, edge: int, ts: Sequence[Fraction]) -> set[int]:
+    """The segments of P′ on the straight wall through ``edge`` that begin or end at the points of parameters ``ts``
+    of its line: named in the certificate, they account for the ends of a source that is a run of segments."""
+    a, e = _edge_vector(env, edge)
+    points = {(a[0] + t * e[0], a[1] + t * e[1]) for t in ts}
+
+    def on_line(x: Point) -> bool:
+        return (x[0] - a[0]) * e[1] - (x[1] - a[1]) * e[0] == 0
+
+    return {s.id for s in part.segments if (s.a in points or s.b in points) and on_line(s.a) and on_line(s.b)}
+
+
 def _resolve(env: Environment, part: Partition, interval: Interval, spec: MoveSpec, margin: float, used: set[int]) -> _Resolved:
     # source
     if isinstance(spec.source, int) and not isinstance(spec.source, bool):
@@ -315,6 +327,8 @@ def _resolve(env: Environment, part: Partition, interval: Interval, spec: MoveSp
         source_segment = next((s.id for s in part.segments if s.edge == edge and s.t0 <= p and q <= s.t1), None)
     if source_segment is not None:
         used.add(source_segment)
+    else:  # a run of segments (a patrol leaving from collinear segments): name the segments its ends are ends of
+        used.update(_segments_ending_at(env, part, edge, (p, q)))
     # target
     if spec.target is not None:
         seg = _segment(part, spec.target, "move target")

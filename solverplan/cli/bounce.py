@@ -181,7 +181,7 @@ def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, cer
     with loaded(env, env_format, picture, verbose=verbose) as environment:
         checked = checked_answer(lambda: solve(environment), env=environment, start=start, goal=goal)
         found = checked.answer.found  # a strategy not found has nothing to certify or draw
-        emit_checked(checked, fmt, out, certificate=certificate if found else None, picture=picture if found else None)
+        emit_checked(checked, fmt, out, certificate=certificate, picture=picture if found else None)
 
 
 FromSetOpt = Annotated[str, typer.Option("--from", metavar="SET", help="Start set, e.g. e0 or e3:0.25:0.75,e4 (may span edges and segments: the plan works from every point).")]
