@@ -595,7 +595,7 @@ def _concat_rows(p: Partition, parts: list[SafeBVG]) -> SafeBVG:
     source = cat("source").astype(np.int64)
     target = cat("target").astype(np.int64)
     counts = cat("n_intervals").astype(np.int64)
-    order = np.lexsort((target, source))
+    order = np.argsort(source * len(p.segments) + target, kind="stable")  # = lexsort((target, source)), twice as fast
     offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     take = np.repeat(offsets[:-1][order], counts[order]) + ragged_arange(counts[order])
     counts = counts[order]
