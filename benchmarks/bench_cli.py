@@ -34,6 +34,7 @@ import json
 import os
 import platform
 import statistics
+import resource
 import subprocess
 import sys
 import tempfile
@@ -72,6 +73,20 @@ def run(args: list[str], env: dict[str, str]) -> float:
     if done.returncode != 0:
         raise SystemExit(f"{' '.join(args)} exited {done.returncode}: {done.stderr.decode(errors='replace').strip()}")
     return seconds
+
+
+def run_measured(args: list[str], env: dict[str, str] | None = None) -> tuple[float, float, int, str]:
+    """(wall s, CPU s of the child, peak RSS in MiB of the largest child so far, stdout) of one run of ``args``;
+    stops the script if it fails."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    started = time.perf_counter()
+    done = subprocess.run(args, capture_output=True, text=True, env=env, check=False)
+    wall = time.perf_counter() - started
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode != 0:
+        raise SystemExit(f"{' '.join(args)} exited {done.returncode}: {done.stderr.strip()}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu, after.ru_maxrss // 1024, done.stdout
 
 
 def wait_for_load(limit: float | None, max_wait: float) -> None:

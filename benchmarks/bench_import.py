@@ -19,16 +19,16 @@ import argparse
 import json
 import os
 import platform
-import resource
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 from PIL import Image
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_cli import run_measured  # noqa: E402
 
 RESOLUTION = 0.05
 FREE, OCCUPIED, UNKNOWN = 254, 0, 205
@@ -62,19 +62,6 @@ def building_map(cells: int, seed: int = 0) -> np.ndarray:
     return image
 
 
-def _run(command: list[str]) -> tuple[float, float, int, str]:
-    """(wall s, CPU s, peak RSS in MiB, stdout) of one subprocess (the peak is the largest child so far)."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    started = time.perf_counter()
-    done = subprocess.run(command, capture_output=True, text=True, check=False)
-    wall = time.perf_counter() - started
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if done.returncode != 0:
-        raise SystemExit(f"{' '.join(command)} failed: {done.stderr.strip()}")
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return wall, cpu, after.ru_maxrss // 1024, done.stdout
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--cells", type=int, default=2000, help="map side in cells (default 2000)")
@@ -93,8 +80,8 @@ def main() -> None:
         print("|---|---:|---:|---:|---:|---:|---:|")
         for options in ([], ["--simplify", "0.15", "--rectilinear", "10"]):
             run = [*command, "import", str(base / "big.yaml"), "-o", str(base / "big.json"), *options]
-            _run(run)  # warm the bytecode cache
-            results = [_run(run) for _ in range(args.repeat)]
+            run_measured(run)  # warm the bytecode cache
+            results = [run_measured(run) for _ in range(args.repeat)]
             summary = json.loads(results[-1][3])
             print(f"| {' '.join(options) or '(defaults)'} | {statistics.median(r[0] for r in results):.2f} | "
                   f"{statistics.median(r[1] for r in results):.2f} | {max(r[2] for r in results)} | "

@@ -25,7 +25,6 @@ import json
 import os
 import platform
 import random
-import resource
 import statistics
 import subprocess
 import sys
@@ -34,7 +33,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_cli import child_environment, cpu_model, solverplan_command, wait_for_load  # noqa: E402
+from bench_cli import child_environment, cpu_model, run_measured, solverplan_command, wait_for_load  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 MODELS = sorted(p.stem for p in (ROOT / "solverplan" / "models").glob("*.json"))
@@ -42,15 +41,8 @@ MODELS = sorted(p.stem for p in (ROOT / "solverplan" / "models").glob("*.json"))
 
 def timed(args: list[str], env: dict[str, str]) -> tuple[float, float, dict]:
     """(wall seconds, CPU seconds of the child, parsed JSON answer) of one run of ``args``."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.perf_counter()
-    done = subprocess.run(args, capture_output=True, env=env, check=False)
-    wall = time.perf_counter() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if done.returncode != 0:
-        raise SystemExit(f"{' '.join(args)} exited {done.returncode}: {done.stderr.decode(errors='replace').strip()}")
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return wall, cpu, json.loads(done.stdout)
+    wall, cpu, _, out = run_measured(args, env)
+    return wall, cpu, json.loads(out)
 
 
 def best_of(args: list[str], env: dict[str, str], repeat: int) -> tuple[float, float, dict]:

@@ -22,10 +22,10 @@ import time
 import numpy as np
 
 from solverplan.environment import Environment
-from solverplan.errors import InvalidEnvironment
 from solverplan.generators import spiked_comb
 from solverplan.wallfollow import cuts
 from solverplan.wallfollow.learning import learn_cut_ordering
+from tests.wallfollow._polygons import in_general_position
 
 
 def random_polygon(n: int, seed: int, radius: int = 1_000_000) -> Environment:
@@ -36,12 +36,9 @@ def random_polygon(n: int, seed: int, radius: int = 1_000_000) -> Environment:
             r = rng.randint(radius // 4, radius)
             a = 2 * math.pi * (k + rng.uniform(-0.4, 0.4)) / n
             ring.append((round(r * math.cos(a)), round(r * math.sin(a))))
-        try:
-            env = Environment.from_coords(ring)
-            cuts(env)
+        env = in_general_position(ring)
+        if env is not None:
             return env
-        except InvalidEnvironment:
-            continue
 
 
 def slope(ns: list[int], values: list[float]) -> float:

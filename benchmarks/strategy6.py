@@ -49,7 +49,7 @@ def main() -> None:
         if contact.status.value == "found":
             solved += 1
             row[1] += 1
-            verified += bool(contact.check is not None and contact.check.verified)
+            verified += bool(contact.check is not None and contact.check.valid)
     print(f"{tried} polygons with {args.vertices} vertices: {solvable} have a plan (gap sensor); Strategy 6 finds "
           f"{solved} ({verified} confirmed by the geometric checker)")
     for length in sorted(by_length):

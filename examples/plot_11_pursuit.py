@@ -21,7 +21,7 @@ print(plan.to_text())
 # The same plan found with the weaker bitangent sensor (Strategy 3 is complete too), and the independent replay.
 weaker = sp.pursuit_plan(env, sensor="bitangent")
 replay = sp.check_pursuit(env, plan.actions)
-print("bitangent sensor:", " ".join(weaker.actions), "| verified by the geometric replay:", replay.verified)
+print("bitangent sensor:", " ".join(weaker.actions), "| verified by the geometric replay:", replay.valid)
 
 # %%
 # Weaker still: a pebble-visibility sensor. Strategy 4 first learns the bitangents by dropping the pebble and

@@ -84,6 +84,8 @@ _EXPORTS: dict[str, str] = {
     "simulate_scenarios": "solverplan.reflection.simulate",
     "FieldRobotDynamics": "solverplan.reflection.simulate",
     "navigate_fields": "solverplan.reflection.navigation",
+    "flows_through": "solverplan.reflection.fields",
+    "FlowCheck": "solverplan.reflection.fields",
     "FieldNavigation": "solverplan.reflection.navigation",
     # floor plans in: ROS occupancy maps, DXF and SVG drawings
     "import_floorplan": "solverplan.floorplan.importer",
@@ -117,6 +119,10 @@ _EXPORTS: dict[str, str] = {
     "certificate": "solverplan.certify.build",
     "write_certificate": "solverplan.certify.build",
     "check_certificate": "solverplan.certify.check",
+    "CheckReport": "solverplan.certify.check",
+    # the one verdict every check gives (certificates, pursuit replays, flow-through tests)
+    "Verdict": "solverplan.verdict",
+    "Failure": "solverplan.verdict",
     "load_certificate": "solverplan.certify.schema",
     # HTML reports of answers (solverplan report)
     "load_answer": "solverplan.render.report",
@@ -148,7 +154,7 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.bounce.cycles import LimitCycle, limit_cycle
     from solverplan.bounce.partitions import partition
     from solverplan.certify.build import certificate, write_certificate
-    from solverplan.certify.check import check_certificate
+    from solverplan.certify.check import CheckReport, check_certificate
     from solverplan.certify.schema import load_certificate
     from solverplan.environment import BoundaryPiece, BoundarySet, Environment, load_environment
     from solverplan.errors import (InputError, InvalidBoundarySet, InvalidEnvironment, MalformedFile, SolverFailed,
@@ -179,7 +185,9 @@ if TYPE_CHECKING:  # what type checkers and readers see; at run time the names l
     from solverplan.wallfollow.world import WallWorld
     from solverplan.reflection.cells import decompose_free_space
     from solverplan.reflection.compose import compose_fields
+    from solverplan.reflection.fields import FlowCheck, flows_through
     from solverplan.reflection.navigation import FieldNavigation, navigate_fields
+    from solverplan.verdict import Failure, Verdict
     from solverplan.reflection.simulate import FieldRobotDynamics, simulate_scenarios
     from solverplan.rectilinear.simulation import compare_rules, simulate_rooms
 

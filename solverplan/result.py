@@ -36,7 +36,7 @@ import math
 from dataclasses import dataclass, field, replace
 from enum import StrEnum
 from fractions import Fraction
-from typing import Any, Callable, ClassVar, Mapping, Protocol, TypeVar, runtime_checkable
+from typing import Any, Callable, ClassVar, Mapping, Protocol, TypeVar, dataclass_transform, runtime_checkable
 
 from solverplan.environment import BoundaryPiece, Environment
 from solverplan.errors import InputError, MalformedFile
@@ -58,7 +58,9 @@ __all__ = [
     "Stage",
     "Result",
     "Answer",
+    "Construction",
     "answer_kind",
+    "answer_dataclass",
     "answer_class",
     "answer_kinds",
     "ANSWER_KEY_ORDER",
@@ -625,6 +627,7 @@ ANSWER_KEY_ORDER: tuple[str, ...] = ("kind", "status", "...", "optimality", "sta
 _KINDS: dict[str, type] = {}
 
 _A = TypeVar("_A", bound=type)
+_T = TypeVar("_T")
 
 
 def answer_kind(kind: str) -> Callable[[_A], _A]:
@@ -647,6 +650,28 @@ def answer_kind(kind: str) -> Callable[[_A], _A]:
         _KINDS[kind] = cls
         return cls
     return register
+
+
+@dataclass_transform(frozen_default=True)
+def answer_dataclass(kind: str, *, eq: bool = True, kw_only: bool = False) -> Callable[[type[_T]], type[_T]]:
+    """Class decorator: make an answer class a frozen dataclass and register it under ``kind``.
+
+    What every answer class is, said once: ``@answer_dataclass("plan")`` is ``@answer_kind("plan")`` over
+    ``@dataclass(frozen=True)`` (``eq`` and ``kw_only`` as in :func:`dataclasses.dataclass`). Type checkers see
+    the dataclass through :func:`typing.dataclass_transform`.
+
+    >>> @answer_dataclass("example-kind")
+    ... class Example(Answer):
+    ...     steps: int
+    >>> Example(3), Example.kind, answer_class("example-kind") is Example
+    (Example(steps=3), 'example-kind', True)
+    >>> _ = _KINDS.pop("example-kind")
+    """
+    register = answer_kind(kind)
+
+    def make(cls: type[_T]) -> type[_T]:
+        return register(dataclass(frozen=True, eq=eq, kw_only=kw_only)(cls))
+    return make
 
 
 def answer_class(kind: str) -> type:
@@ -702,6 +727,25 @@ class Answer:
     def from_json(cls, data: Mapping[str, Any], *, env: Environment | None = None) -> Answer:  # pragma: no cover
         """Read :meth:`to_json`'s output back (``env``: the environment, for kinds that refer to it)."""
         raise NotImplementedError(f"{cls.__name__} cannot be read back")
+
+
+class Construction(Answer):
+    """The base of an answer that is built, not searched for (a decomposition, a cut ordering, what a robot
+    learned): there is always one, so its ``status`` is always found.
+
+    Examples
+    --------
+    >>> from solverplan.wallfollow.cut import cut_ordering
+    >>> from solverplan.models import load
+    >>> answer = cut_ordering(load("l_shape"))
+    >>> isinstance(answer, Construction), answer.status
+    (True, <Status.FOUND: 'found'>)
+    """
+
+    @property
+    def status(self) -> Status:
+        """Found: a construction always has its answer."""
+        return Status.FOUND
 
 
 # ---------------------------------------------------------------------- reading answers back

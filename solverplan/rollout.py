@@ -43,11 +43,12 @@ import numpy as np
 
 from solverplan.choices import Ties
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment, check_edges
+from solverplan._docstrings import fill_doc
 from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.geometry.raycast import RayHits, cast_from_boundary, heading_directions
 from solverplan.limits import MAX_BOUNCES, MAX_TRIALS, quote, refuse_beyond_memory
 from solverplan.progress import tick
-from solverplan.result import answer_kind
+from solverplan.result import answer_dataclass
 
 __all__ = [
     "Outcome",
@@ -256,8 +257,7 @@ def _generator(seed: int | np.random.Generator | None):
 
 
 # ---------------------------------------------------------------------- results
-@answer_kind("simulation")
-@dataclass(frozen=True, eq=False)
+@answer_dataclass("simulation", eq=False)
 class Rollouts:
     """The result of a simulation: trajectories, per-rollout outcomes, and how to replay it.
 
@@ -392,6 +392,30 @@ class Rollouts:
 
 
 # ---------------------------------------------------------------------- the simulator
+ROLLOUT_DOCS = {
+    "runs": """
+starts
+    Where the rollouts start (:data:`~solverplan.rollout.Starts`: a boundary set sampled uniformly by arc length,
+    explicit ``(edges, t)`` arrays with t ∈ [0, 1], or ``None`` for the whole boundary).
+bounces
+    How many bounces each rollout makes at most (≥ 0).
+trials
+    Number of rollouts (needed when starts are sampled; defaults to the number of explicit starts).""",
+    "seed": """
+seed
+    An integer, a :class:`numpy.random.Generator`, or None for a fresh seed; recorded in the result.""",
+    "rays": """
+ties
+    ``"flag"``: stop and flag every ray the float caster cannot call (outcome ``vertex`` when its hit is within
+    the tolerance of a vertex, else ``tie``); ``"exact"``: re-resolve those rays exactly and flag only exact
+    vertex hits.
+record
+    ``"all"`` keeps every contact; ``"ends"`` only the start and the last contact (for long runs).""",
+}
+"""The parameters every simulator describes alike (:func:`~solverplan._docstrings.fill_doc` fragments)."""
+
+
+@fill_doc(**ROLLOUT_DOCS)
 def simulate_policy(
     env: Environment,
     policy: Policy,
@@ -411,20 +435,9 @@ def simulate_policy(
         The environment.
     policy
         A :class:`Policy` (e.g. :class:`RulePolicy`, :class:`StagePolicy`).
-    starts
-        See :data:`Starts` (default: the whole boundary, uniformly by arc length).
-    bounces
-        The bounce budget (≥ 0).
-    trials
-        Number of rollouts (needed when starts are sampled; defaults to the number of explicit starts).
-    seed
-        An integer, a :class:`numpy.random.Generator`, or None for a fresh seed; recorded in the result.
-    ties
-        ``"flag"``: stop and flag every ray the float caster cannot call (outcome ``vertex`` when its hit
-        is within the tolerance of a vertex, else ``tie``). ``"exact"``: re-resolve those rays exactly
-        and flag only exact vertex hits.
-    record
-        ``"all"`` keeps every contact; ``"ends"`` only the start and the last contact (long runs).
+    %(runs)s
+    %(seed)s
+    %(rays)s
 
     One batch cast per bounce; the work is O(trials × bounces) casts.
     """

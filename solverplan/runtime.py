@@ -1,10 +1,10 @@
-"""Run-time settings of the library: the safe-BVG disk cache and the memory limit, as one object.
+"""Run-time settings of the library: the safe-BVG disk cache, the memory limit and the processes, as one object.
 
 The settings are read where they apply (the graph cache when a graph is built or looked up, the memory limit
 when a job's size is checked) from :func:`settings`. Change them for a block of code with :func:`config`
 — the change is undone when the block ends, and other threads and tasks keep theirs — or for the whole
 process with :func:`configure`. The command line does the former for each command, from its global options
-(``--graph-cache``, ``--graph-cache-min-arcs``, ``--graph-cache-size``, ``--max-memory``).
+(``--graph-cache``, ``--graph-cache-min-arcs``, ``--graph-cache-size``, ``--max-memory``, ``--jobs``).
 
 Examples
 --------
@@ -24,9 +24,11 @@ import os
 from contextvars import ContextVar
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterator, Literal
+from typing import Any, Callable, Iterator, Literal, Sequence, TypeVar
 
+from solverplan._arrays import cores, process_map
 from solverplan.errors import InputError
+from solverplan.progress import Stopped, watching
 
 __all__ = ["Settings", "settings", "config", "configure", "default_cache_directory", "DEFAULT_MIN_ARCS",
            "DEFAULT_MAX_BYTES"]
@@ -67,6 +69,10 @@ class Settings:
         Jobs estimated to need more bytes than this are refused up front; ``"available"`` (the default): the
         memory available when the job is checked (half of it is the limit, see
         :func:`solverplan.limits.memory_limit`); ``None``: no limit.
+    jobs
+        Processes a large job may use at once (the safe BVG of a large partition is built in batches of sources
+        by forked workers); ``None`` (the default): the cores this process may use; 1: this process only. Small
+        jobs always run in this process, and answers never depend on the setting.
 
     Examples
     --------
@@ -84,6 +90,7 @@ class Settings:
     graph_cache_min_seconds: float | None = None
     graph_cache_max_bytes: int = DEFAULT_MAX_BYTES
     max_memory: int | None | Literal["available"] = "available"
+    jobs: int | None = None
 
     def __post_init__(self) -> None:
         if self.graph_cache is not None and not isinstance(self.graph_cache, Path):
@@ -98,6 +105,8 @@ class Settings:
         limit = self.max_memory
         if limit not in (None, "available") and (not _whole(limit) or limit <= 0):  # type: ignore[operator]
             raise InputError(f"max_memory must be a positive number of bytes, 'available' or None, got {limit!r}")
+        if self.jobs is not None and (not _whole(self.jobs) or self.jobs < 1):
+            raise InputError(f"jobs must be None or a whole number >= 1, got {self.jobs!r}")
 
 
 def _whole(x: Any) -> bool:
@@ -134,7 +143,7 @@ def config(**changes: Any) -> Iterator[Settings]:
     ----------
     **changes
         Fields of :class:`Settings` and their values (``graph_cache``, ``graph_cache_min_arcs``,
-        ``graph_cache_min_seconds``, ``graph_cache_max_bytes``, ``max_memory``).
+        ``graph_cache_min_seconds``, ``graph_cache_max_bytes``, ``max_memory``, ``jobs``).
 
     Yields
     ------
@@ -188,3 +197,59 @@ def configure(**changes: Any) -> Settings:
     global _process
     _process = dataclasses.replace(_process, **changes)
     return _process
+
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+
+def jobs() -> int:
+    """The processes a large job may use here: the setting ``jobs``, else the cores this process may use (1 inside
+    a worker of :func:`parallel_map`).
+
+    >>> import solverplan as sp
+    >>> with sp.config(jobs=1):
+    ...     jobs()
+    1
+    """
+    return settings().jobs or cores()
+
+
+@dataclass(frozen=True)
+class _Stop:
+    """A worker's :class:`~solverplan.progress.Stopped`, carried back to the parent with its fields."""
+
+    task: str
+    done: float
+    total: float | None
+
+
+def _silent(task: str, done: float, total: float | None) -> None:
+    """A worker's progress report: none (the parent reports; a progress bar's lock must not be taken in a fork)."""
+
+
+def parallel_map(fn: Callable[[T], R], items: Sequence[T], *, slot_bytes: int = 0) -> Iterator[R]:
+    """Yield ``fn(x)`` for each x of ``items`` in order, computed by :func:`jobs` forked worker processes
+    (:func:`solverplan._arrays.process_map`; in this process when :func:`jobs` is 1).
+
+    In a worker the progress reports of :mod:`solverplan.progress` go nowhere (the caller reports per item as
+    results come), while the stop time still applies: a worker's :class:`~solverplan.progress.Stopped` is raised
+    here as it was raised there. Answers must not depend on the split: callers cut their work into items whose
+    results do not depend on each other. ``slot_bytes``: as for :func:`~solverplan._arrays.process_map`.
+
+    >>> list(parallel_map(len, ["a", "bb", "ccc"]))
+    [1, 2, 3]
+    """
+
+    def quiet(x: T) -> R | _Stop:
+        with watching(report=_silent):
+            try:
+                return fn(x)
+            except Stopped as stop:  # a Stopped pickles without its fields
+                return _Stop(stop.task, stop.done, stop.total)
+
+    n = jobs()
+    for got in process_map(quiet, items, n, slot_bytes=slot_bytes) if n > 1 else map(fn, items):
+        if isinstance(got, _Stop):
+            raise Stopped(got.task, got.done, got.total)
+        yield got

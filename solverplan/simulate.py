@@ -33,7 +33,8 @@ from solverplan.interval import Interval, heading_interval
 from solverplan.bounce.rules import HEADING_MARGIN, BounceRule, sample_headings
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError, InvalidBoundarySet
-from solverplan.rollout import (Contacts, Outcome, Policy, PolicyWalls, Rollouts, Starts, in_boundary_set,
+from solverplan._docstrings import fill_doc
+from solverplan.rollout import (ROLLOUT_DOCS, Contacts, Outcome, Policy, PolicyWalls, Rollouts, Starts, in_boundary_set,
                                 sample_boundary, simulate_policy)
 
 __all__ = [
@@ -241,6 +242,7 @@ class StagePolicy:
 
 
 
+@fill_doc(**ROLLOUT_DOCS)
 def simulate_rule(
     env: Environment,
     rule: BounceRule,
@@ -263,26 +265,15 @@ def simulate_rule(
         The environment.
     rule
         Any :class:`~solverplan.bounce.rules.BounceRule` (specular, constant heading, a heading interval, ...).
-    starts
-        Where the rollouts start (:data:`Starts`: a boundary set sampled uniformly by arc length, explicit
-        ``(edges, t)`` arrays with t ∈ [0, 1], or ``None`` for the whole boundary).
-    bounces
-        How many bounces each rollout makes at most (≥ 0).
-    trials
-        Number of rollouts (needed when starts are sampled; defaults to the number of explicit starts).
-    seed
-        An integer, a :class:`numpy.random.Generator`, or None for a fresh seed; recorded in the result.
+    %(runs)s
+    %(seed)s
     initial
         The first heading (radians, CCW from the start's wall): an :class:`~solverplan.interval.Interval`, an
         array (one per trial, or one for all), or ``None`` for all of (0, π).
     sampling, initial_sampling
         How headings are drawn from the rule's sets and from ``initial`` (``uniform``, ``endpoints``
         (adversarial), ``lo``, ``hi``, ``mid``).
-    ties
-        ``"flag"`` (default): stop and flag every ray the float caster cannot call; ``"exact"``: re-resolve
-        those rays exactly and flag only exact vertex hits.
-    record
-        ``"all"`` keeps every contact; ``"ends"`` only the start and the last contact.
+    %(rays)s
 
     Returns
     -------
@@ -338,6 +329,7 @@ def plan_policy(env: Environment, plan: Any, *, sampling: Sampling | str = "unif
     return policy, start
 
 
+@fill_doc(seed=ROLLOUT_DOCS["seed"], rays=ROLLOUT_DOCS["rays"])
 def simulate_plan(
     env: Environment,
     plan: Any,
@@ -363,16 +355,11 @@ def simulate_plan(
         A found :class:`~solverplan.plan.Plan`, or any strategy with plan-like stages.
     trials
         Number of rollouts.
-    seed
-        An integer, a :class:`numpy.random.Generator`, or None for a fresh seed; recorded in the result.
+    %(seed)s
     sampling
         ``uniform``, or ``endpoints``: each heading at an end of its interval, the adversarial choice (also
         ``lo``, ``hi``, ``mid``).
-    ties
-        ``"exact"`` (default): re-resolve the rays the float caster cannot call, so only exact vertex hits are
-        flagged; ``"flag"``: flag every such ray.
-    record
-        ``"ends"`` (default) keeps the start and the last contact; ``"all"`` every contact.
+    %(rays)s
     partition
         The partition P′ of ``env``, when already built (the plan's segment ids refer to it).
 

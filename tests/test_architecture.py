@@ -16,9 +16,11 @@ PACKAGE = Path(__file__).resolve().parent.parent / "solverplan"
 # rank of each top-level part of the package; a module may import lower ranks or its own part
 LAYERS = {
     "errors": 0,
+    "_docstrings": 0,  # docstring fragments shared by public functions (no imports)
     "_io": 0.25,  # files in (bounded) and out (atomic): raises errors (0)
     "_arrays": 0,
-    "progress": 0,  # what long loops report, and where a timeout stops them (no imports)
+    "progress": 0,
+    "verdict": 0,  # the one verdict shape of every check (standard library only): the checker and the models share it  # what long loops report, and where a timeout stops them (no imports)
     "runtime": 0.25,  # the run-time settings (graph cache, memory limit) read where they apply
     "limits": 0.5,
     "choices": 0.5,  # the named options of the library's functions (enumerations; raise errors: after it)  # the documented input limits every reader checks (raise errors: after it)

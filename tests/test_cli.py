@@ -16,12 +16,10 @@ from decimal import Decimal
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
-from solverplan import cli
 from solverplan.errors import SolverFailed
+from tests.cli_runs import run, write, assert_one_line_error
 
-runner = CliRunner()
 
 ROOM_WITH_PILLAR = {
     "name": "room with pillar",
@@ -30,32 +28,15 @@ ROOM_WITH_PILLAR = {
 }
 
 
-def write(folder: Path, name: str, content: str | dict) -> Path:
-    path = folder / name
-    path.write_text(content if isinstance(content, str) else json.dumps(content), encoding="utf-8")
-    return path
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
-
-
-def assert_one_line_error(result, code: int, fragment: str) -> str:
-    """Exit ``code``, nothing on stdout, exactly one stderr line ``error: ...`` containing ``fragment``."""
-    assert result.exit_code == code, (result.exit_code, result.stdout, result.stderr)
-    assert result.stdout == ""
-    lines = result.stderr.splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("error: ")
-    assert fragment in lines[0]
-    assert "Traceback" not in result.stderr
-    return lines[0]
+@pytest.fixture
+def pillar(tmp_path) -> Path:
+    """ROOM_WITH_PILLAR written to ``pillar.json`` in the test's folder."""
+    return write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
 
 
 # ---------------------------------------------------------------------- info: answers
-def test_info_polygon_with_hole_prints_contract_fields(tmp_path):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
-    result = run("info", env)
+def test_info_polygon_with_hole_prints_contract_fields(pillar):
+    result = run("info", pillar)
     assert result.exit_code == 0, result.stderr
     assert result.stderr == ""
     data = json.loads(result.stdout)
@@ -110,9 +91,8 @@ def test_info_reads_wkt_and_env_format_overrides_the_extension(tmp_path):
     assert json.loads(forced.stdout)["area_exact"] == "6"
 
 
-def test_info_format_text_prints_tables(tmp_path):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
-    result = run("info", env, "--format", "text")
+def test_info_format_text_prints_tables(pillar):
+    result = run("info", pillar, "--format", "text")
     assert result.exit_code == 0, result.stderr
     text = result.stdout
     assert text.startswith("environment 'room with pillar'")
@@ -126,23 +106,21 @@ def test_info_format_text_prints_tables(tmp_path):
 
 
 # ---------------------------------------------------------------------- info: -o
-def test_info_output_file_is_written_instead_of_stdout(tmp_path):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
+def test_info_output_file_is_written_instead_of_stdout(tmp_path, pillar):
     out_dir = tmp_path / "out"
     out_dir.mkdir()
     out = out_dir / "info.json"
     out.write_text("old answer")
-    result = run("info", env, "-o", out)
+    result = run("info", pillar, "-o", out)
     assert result.exit_code == 0, result.stderr
     assert result.stdout == ""
-    assert json.loads(out.read_text()) == json.loads(run("info", env).stdout)
+    assert json.loads(out.read_text()) == json.loads(run("info", pillar).stdout)
     assert sorted(os.listdir(out_dir)) == ["info.json"]  # no temporary file left behind
 
 
-def test_info_text_to_output_file(tmp_path):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
+def test_info_text_to_output_file(tmp_path, pillar):
     out = tmp_path / "info.txt"
-    result = run("info", env, "--format", "text", "-o", out)
+    result = run("info", pillar, "--format", "text", "-o", out)
     assert result.exit_code == 0, result.stderr
     assert result.stdout == ""
     assert out.read_text().startswith("environment 'room with pillar'")
@@ -159,9 +137,8 @@ def test_info_error_writes_nothing_and_keeps_the_old_file(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bowtie.json", "old.json"]
 
 
-def test_info_unwritable_output_is_bad_input(tmp_path):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
-    assert_one_line_error(run("info", env, "-o", tmp_path / "missing" / "info.json"), 2, "cannot write")
+def test_info_unwritable_output_is_bad_input(tmp_path, pillar):
+    assert_one_line_error(run("info", pillar, "-o", tmp_path / "missing" / "info.json"), 2, "cannot write")
 
 
 # ---------------------------------------------------------------------- bad input: exit 2, one line
@@ -206,41 +183,37 @@ def test_unknown_extension(tmp_path):
         (["frobnicate"], "frobnicate"),
     ],
 )
-def test_usage_errors_exit_2_with_one_line(tmp_path, args, fragment):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
-    result = run(*(str(a).format(env=env) for a in args))
+def test_usage_errors_exit_2_with_one_line(args, fragment, pillar):
+    result = run(*(str(a).format(env=pillar) for a in args))
     line = assert_one_line_error(result, 2, fragment)
     assert "--help" in line  # where to look next
 
 
 # ---------------------------------------------------------------------- failures: exit 1
-def test_library_failure_exits_1_with_one_line(tmp_path, monkeypatch):
+def test_library_failure_exits_1_with_one_line(monkeypatch, pillar):
     def fail(env):
         raise SolverFailed("the tolerance LP returned 'inaccurate'")
 
     monkeypatch.setattr("solverplan.describe.describe_environment", fail)  # imported by info when it runs
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
-    line = assert_one_line_error(run("info", env), 1, "inaccurate")
+    line = assert_one_line_error(run("info", pillar), 1, "inaccurate")
     assert line == "error: the tolerance LP returned 'inaccurate'"
 
 
-def test_unexpected_exception_exits_1_traceback_only_with_verbose(tmp_path, monkeypatch):
+def test_unexpected_exception_exits_1_traceback_only_with_verbose(monkeypatch, pillar):
     def crash(env):
         raise ZeroDivisionError("boom")
 
     monkeypatch.setattr("solverplan.describe.describe_environment", crash)
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
-    line = assert_one_line_error(run("info", env), 1, "internal error: ZeroDivisionError: boom")
+    line = assert_one_line_error(run("info", pillar), 1, "internal error: ZeroDivisionError: boom")
     assert "-v" in line
-    verbose = run("info", env, "-v")
+    verbose = run("info", pillar, "-v")
     assert verbose.exit_code == 1
     assert "Traceback (most recent call last)" in verbose.stderr
     assert verbose.stderr.splitlines()[-1] == "error: internal error: ZeroDivisionError: boom"
 
 
-def test_verbose_logs_to_stderr_and_keeps_stdout_json(tmp_path):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
-    result = run("info", env, "-v")
+def test_verbose_logs_to_stderr_and_keeps_stdout_json(pillar):
+    result = run("info", pillar, "-v")
     assert result.exit_code == 0
     assert "loaded 'room with pillar': 10 vertices, 1 holes" in result.stderr
     assert json.loads(result.stdout)["n_edges"] == 10
@@ -253,10 +226,9 @@ def png_size(data: bytes) -> tuple[int, int]:
     return struct.unpack(">II", data[16:24])
 
 
-def test_render_png(tmp_path):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
+def test_render_png(tmp_path, pillar):
     out = tmp_path / "pillar.png"
-    result = run("render", env, "--edge-ids", "--vertex-ids", "-o", out)
+    result = run("render", pillar, "--edge-ids", "--vertex-ids", "-o", out)
     assert result.exit_code == 0, result.stderr
     assert result.stderr == ""
     data = out.read_bytes()
@@ -265,10 +237,9 @@ def test_render_png(tmp_path):
     assert width > 400 and height > 200
 
 
-def test_render_svg_carries_edge_ids(tmp_path):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
+def test_render_svg_carries_edge_ids(tmp_path, pillar):
     out = tmp_path / "pillar.svg"
-    result = run("render", env, "--edge-ids", "-o", out, "--format", "text")
+    result = run("render", pillar, "--edge-ids", "-o", out, "--format", "text")
     assert result.exit_code == 0, result.stderr
     assert result.stdout.startswith(f"wrote {out} (SVG, ")
     svg = out.read_text()
@@ -277,10 +248,9 @@ def test_render_svg_carries_edge_ids(tmp_path):
     assert 'id="vertex-id-0"' not in svg  # vertex ids only on request
 
 
-def test_render_unknown_picture_format_writes_nothing(tmp_path):
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
+def test_render_unknown_picture_format_writes_nothing(tmp_path, pillar):
     out = tmp_path / "pillar.pdf"
-    assert_one_line_error(run("render", env, "-o", out), 2, "unknown picture format '.pdf'")
+    assert_one_line_error(run("render", pillar, "-o", out), 2, "unknown picture format '.pdf'")
     assert not out.exists()
 
 
@@ -300,10 +270,9 @@ def installed_command() -> str:
     return found
 
 
-def test_installed_command_runs_info_and_reports_bad_input(tmp_path):
+def test_installed_command_runs_info_and_reports_bad_input(tmp_path, pillar):
     command = installed_command()
-    env = write(tmp_path, "pillar.json", ROOM_WITH_PILLAR)
-    ok = subprocess.run([command, "info", str(env)], capture_output=True, text=True, check=False)
+    ok = subprocess.run([command, "info", str(pillar)], capture_output=True, text=True, check=False)
     assert ok.returncode == 0, ok.stderr
     assert json.loads(ok.stdout)["reflex"] == [4, 6, 7, 8, 9]
     bowtie = write(tmp_path, "bowtie.json", {"outer": [[0, 0], [2, 2], [2, 0], [0, 2]]})
@@ -311,6 +280,6 @@ def test_installed_command_runs_info_and_reports_bad_input(tmp_path):
     assert bad.returncode == 2
     assert bad.stdout == ""
     assert bad.stderr.splitlines() == [f"error: {bowtie}: outer ring self-intersects: edge 0 crosses edge 2 at (1, 1)"]
-    usage = subprocess.run([command, "info", str(env), "--format", "yaml"], capture_output=True, text=True, check=False)
+    usage = subprocess.run([command, "info", str(pillar), "--format", "yaml"], capture_output=True, text=True, check=False)
     assert usage.returncode == 2
     assert len(usage.stderr.splitlines()) == 1

@@ -7,19 +7,13 @@ import math
 from pathlib import Path
 
 import numpy as np
-from typer.testing import CliRunner
 
-from solverplan import cli
 from solverplan.bounce.rules import Fixed
 from solverplan.environment import load_environment
 from solverplan.simulate import simulate_rule
+from tests.cli_runs import run
 
-runner = CliRunner()
 MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
 
 
 def test_cycle_agrees_with_a_10000_bounce_simulation():

@@ -13,14 +13,11 @@ from typer.testing import CliRunner
 
 from solverplan import cli
 from solverplan.cli import _output  # noqa: F401  (cli._output: the layout switches)
+from tests.cli_runs import run
 
 runner = CliRunner()
 
 MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
 
 
 class _Fixed:

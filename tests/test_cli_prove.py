@@ -9,18 +9,12 @@ from __future__ import annotations
 import json
 
 import pytest
-from typer.testing import CliRunner
 
 import solverplan.proofs as proofs
 import solverplan.proofs._core
 from solverplan.proofs import ProofResult, Step
-from solverplan import cli
+from tests.cli_runs import run
 
-runner = CliRunner()
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
 
 
 def _failing() -> ProofResult:

@@ -8,12 +8,10 @@ import time
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
-from solverplan import cli
+from tests.cli_runs import run
 
 MODELS = Path(__file__).resolve().parent.parent / "solverplan" / "models"
-runner = CliRunner()
 
 COMMANDS = {
     "plan": ["plan", MODELS / "warehouse.json", "--from", "e0", "--to", "e2"],
@@ -22,10 +20,6 @@ COMMANDS = {
     "funnel": ["funnel", MODELS / "warehouse.json", "--from", "e0", "--to", "e2:0.4:0.6"],
     "localize": ["localize", MODELS / "warehouse.json", "--epsilon", "0.1"],
 }
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
 
 
 @pytest.mark.parametrize("command", sorted(COMMANDS))

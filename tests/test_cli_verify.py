@@ -9,36 +9,12 @@ import sys
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
-from solverplan import cli
 from solverplan.certify.schema import EXAMPLE
 from tests.certify import cases
 from tests.certify.cases import MODELS, tampered
+from tests.cli_runs import run, write, assert_one_line_error
 
-runner = CliRunner()
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
-
-
-def write(folder: Path, name: str, content: str | dict) -> Path:
-    path = folder / name
-    path.write_text(content if isinstance(content, str) else json.dumps(content), encoding="utf-8")
-    return path
-
-
-def assert_one_line_error(result, code: int, fragment: str, *, stdout_empty: bool = True) -> str:
-    assert result.exit_code == code, (result.exit_code, result.stdout, result.stderr)
-    if stdout_empty:
-        assert result.stdout == ""
-    lines = result.stderr.splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("error: ")
-    assert fragment in lines[0], lines[0]
-    assert "Traceback" not in result.stderr
-    return lines[0]
 
 
 # ---------------------------------------------------------------------- valid

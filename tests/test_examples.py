@@ -85,7 +85,7 @@ def _floorplan_import(ns):
 
 
 def _pursuit(ns):
-    assert ns["plan"].status.value == "found" and ns["replay"].verified
+    assert ns["plan"].status.value == "found" and ns["replay"].valid
     assert len(ns["weaker"].actions) == len(ns["plan"].actions) == 5  # Prop. 10: the same length as Strategy 2
 
 

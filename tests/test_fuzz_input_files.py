@@ -17,8 +17,6 @@ from __future__ import annotations
 
 import json
 import os
-import struct
-import zlib
 from pathlib import Path
 
 import pytest
@@ -26,6 +24,8 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
+from benchmarks.input_reproducers import _LWPOLY as _SQUARE_LINES  # the 4 × 4 square as DXF lines
+from benchmarks.input_reproducers import _dxf, _png  # the reproducers' hand-built drawings and pictures
 from solverplan.cli import app
 from tests.test_fuzz_cli import EXAMPLES, FUZZ, FUZZING, _numbers
 
@@ -110,14 +110,6 @@ def test_fuzzed_svg_drawings_import_or_refuse_in_one_line(tmp_path_factory, text
 
 
 # ---------------------------------------------------------------------- DXF
-def _dxf(entities: str, blocks: str = "") -> str:
-    head = "0\nSECTION\n2\nHEADER\n9\n$ACADVER\n1\nAC1009\n0\nENDSEC\n"
-    block_section = f"0\nSECTION\n2\nBLOCKS\n{blocks}0\nENDSEC\n" if blocks else ""
-    return head + block_section + f"0\nSECTION\n2\nENTITIES\n{entities}0\nENDSEC\n0\nEOF\n"
-
-
-_SQUARE_LINES = "".join(f"0\nLINE\n8\n0\n10\n{a}\n20\n{b}\n11\n{c}\n21\n{d}\n"
-                        for a, b, c, d in ((0, 0, 4, 0), (4, 0, 4, 4), (4, 4, 0, 4), (0, 4, 0, 0)))
 
 
 @st.composite
@@ -153,17 +145,6 @@ def test_fuzzed_dxf_drawings_import_or_refuse_in_one_line(tmp_path_factory, text
 
 
 # ---------------------------------------------------------------------- ROS maps: YAML and images
-def _png(width: int, height: int) -> bytes:
-    row = b"\x00" + b"\xff" * ((width + 7) // 8)
-    raw = zlib.compress(row * height, 9)
-
-    def chunk(kind: bytes, body: bytes) -> bytes:
-        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF)
-
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 1, 0, 0, 0, 0))
-            + chunk(b"IDAT", raw) + chunk(b"IEND", b""))
-
-
 _LAUGHS = "a: &a [x,x,x,x,x,x,x,x,x]\n" + "".join(
     f"{chr(98 + i)}: &{chr(98 + i)} [{','.join(['*' + chr(97 + i)] * 9)}]\n" for i in range(9))
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+from math import pi as PI
 from fractions import Fraction
 
 import numpy as np
@@ -33,7 +34,6 @@ from solverplan.simulate import (
 )
 from tests.strategies import polygons_with_holes, simple_polygons
 
-PI = math.pi
 SQUARE = Environment.from_coords([[0, 0], [10, 0], [10, 10], [0, 10]], name="square")
 
 RULES = st.one_of(

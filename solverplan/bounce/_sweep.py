@@ -871,16 +871,16 @@ def _entries(ctx: SweepContext, origin, frame, K, dir_ang, dir_to, dir_err, dir_
 def _run_cuts(ctx: SweepContext, origin, frame, dir_to, r_m, r_lo, r_hi, c0, ccount):
     """For runs (sweep, start and end direction index, first interior P′ vertex of the edge and
     their count): the number of interior vertices before the run's start direction, and strictly
-    inside the run (exact near ties)."""
-    n_runs = len(r_m)
-    rr = np.repeat(np.arange(n_runs), ccount)
-    y = np.repeat(c0, ccount) + ragged_arange(ccount)
-    mm = r_m[rr]
-    o = origin[mm]
+    inside the run (exact near ties).
+
+    Seen from the sweep's origin (in front of the edge), the directions to the edge's points turn one way along
+    it: the vertices before the start direction are a prefix of the edge's, those at or after the end direction a
+    suffix. Both boundaries are found by a vectorised bisection (each decision float with an error bound, exact
+    when unsure: the exact decisions are monotone), so a run costs the logarithm of its edge's vertices, not their
+    number (a long outer wall of a warehouse holds hundreds, and thousands of runs end on it)."""
+    o = origin[r_m]
     X = ctx.P[o]
-    Y = ctx.P[y]
-    rel = Y - X
-    fr = frame[mm]
+    fr = frame[r_m]
     f = ctx.edge_unit[fr]
 
     def dvec(to: np.ndarray) -> np.ndarray:
@@ -888,27 +888,45 @@ def _run_cuts(ctx: SweepContext, origin, frame, dir_to, r_m, r_lo, r_hi, c0, cco
         out = np.where((to >= 0)[:, None], ctx.P[np.maximum(to, 0)] - X, f)
         return np.where((to == MARK_PI)[:, None], -f, out)
 
-    ds, de = dvec(dir_to[r_lo[rr]]), dvec(dir_to[r_hi[rr]])
-    # before: cross(y − x, Ds) >= 0; after: cross(De, y − x) >= 0
-    cb = rel[:, 0] * ds[:, 1] - rel[:, 1] * ds[:, 0]
-    ca = de[:, 0] * rel[:, 1] - de[:, 1] * rel[:, 0]
-    mag = max_norm(X) + max_norm(Y)
-    n_rel = max_norm(rel)
-    tol_b = CROSS_REL * (n_rel * max_norm(ds) + 0.1 * mag * (max_norm(ds) + n_rel)) + 1e-300
-    tol_a = CROSS_REL * (n_rel * max_norm(de) + 0.1 * mag * (max_norm(de) + n_rel)) + 1e-300
-    before = cb > tol_b
-    after = ca > tol_a
-    unsure_b = np.abs(cb) <= tol_b
-    unsure_a = np.abs(ca) <= tol_a
-    for i in np.flatnonzero(unsure_b).tolist():
-        before[i] = _dir_cross_sign(ctx, int(o[i]), int(y[i]), int(dir_to[r_lo[rr[i]]]), int(fr[i])) >= 0
-    for i in np.flatnonzero(unsure_a & ~before).tolist():
-        after[i] = -_dir_cross_sign(ctx, int(o[i]), int(y[i]), int(dir_to[r_hi[rr[i]]]), int(fr[i])) >= 0
-    after &= ~before
-    inside = ~before & ~after
-    nb = np.bincount(rr, weights=before, minlength=n_runs).astype(np.int64)
-    ni = np.bincount(rr, weights=inside, minlength=n_runs).astype(np.int64)
-    return nb, ni
+    s_to, e_to = dir_to[r_lo], dir_to[r_hi]
+    ds, de = dvec(s_to), dvec(e_to)
+    n_ds, n_de, n_x = max_norm(ds), max_norm(de), max_norm(X)
+
+    def crosses(rows: np.ndarray, y: np.ndarray, d: np.ndarray, n_d: np.ndarray, start: bool) -> np.ndarray:
+        """before (start: cross(y − x, Ds) ≥ 0) or not after (cross(De, y − x) < 0), exact where unsure."""
+        Y = ctx.P[y]
+        rel = Y - X[rows]
+        dd = d[rows]
+        c = rel[:, 0] * dd[:, 1] - rel[:, 1] * dd[:, 0]
+        if not start:
+            c = -c
+        mag = n_x[rows] + max_norm(Y)
+        n_rel = max_norm(rel)
+        tol = CROSS_REL * (n_rel * n_d[rows] + 0.1 * mag * (n_d[rows] + n_rel)) + 1e-300
+        out = c > tol
+        to = s_to if start else e_to
+        for i in np.flatnonzero(np.abs(c) <= tol).tolist():
+            r = int(rows[i])
+            sign = _dir_cross_sign(ctx, int(o[r]), int(y[i]), int(to[r]), int(fr[r]))
+            out[i] = (sign if start else -sign) >= 0
+        return out if start else ~out
+
+    def first_false(lo: np.ndarray, hi: np.ndarray, d: np.ndarray, n_d: np.ndarray, start: bool) -> np.ndarray:
+        """Per run, the first index in [lo, hi) whose vertex fails the test (which holds on a prefix)."""
+        lo, hi = lo.copy(), hi.copy()
+        act = np.flatnonzero(lo < hi)
+        while len(act):
+            mid = (lo[act] + hi[act]) // 2
+            ok = crosses(act, c0[act] + mid, d, n_d, start)
+            lo[act[ok]] = mid[ok] + 1
+            hi[act[~ok]] = mid[~ok]
+            act = act[lo[act] < hi[act]]
+        return lo
+
+    count = np.asarray(ccount, dtype=np.int64)
+    nb = first_false(np.zeros(len(r_m), dtype=np.int64), count, ds, n_ds, True)
+    na = first_false(nb, count, de, n_de, False)
+    return nb, na - nb
 
 
 def _dir_cross_sign(ctx: SweepContext, o: int, y: int, to: int, frame: int) -> int:

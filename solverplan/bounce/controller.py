@@ -26,7 +26,7 @@ from solverplan.bounce.partitions import partition
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.interval import DEFAULT_HEADING_MARGIN
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 
 __all__ = ["ConstantController", "constant_controller", "DEFAULT_CONTROLLER_TANGENTS"]
 
@@ -42,8 +42,7 @@ runs close to the walls, where Prop. 4's proof looks for contraction), then thei
 _ALGORITHM = "exact enclosure of f_θ^k(∂P) on a 2⁻⁹⁶ grid inside verified basins"
 
 
-@answer_kind("controller")
-@dataclass(frozen=True)
+@answer_dataclass("controller")
 class ConstantController(Answer):
     """A constant heading under which every start converges to a verified limit cycle (Prop. 4), or the
     record of the attempts; follows the result protocol of :mod:`solverplan.result`.

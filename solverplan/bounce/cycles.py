@@ -73,7 +73,7 @@ from solverplan.errors import InputError, InvalidBoundarySet, MalformedFile, Sol
 from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.exact import ExactPoint, format_number, to_fraction
 from solverplan.interval import Interval
-from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_kind
+from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_dataclass
 
 __all__ = ["CyclePoint", "LimitCycle", "limit_cycle", "limit_cycles"]
 
@@ -111,8 +111,7 @@ class CyclePoint:
         return out
 
 
-@answer_kind("cycle")
-@dataclass(frozen=True)
+@answer_dataclass("cycle")
 class LimitCycle(Answer):
     """A limit cycle of the constant rule, or the reason there is none.
 
@@ -283,9 +282,7 @@ class LimitCycle(Answer):
         if self.theorem1_d is not None:
             out["theorem1"] = {"edge": self.edges[0] if self.edges else 0, "d": self.theorem1_d}
         if self.epsilon is not None:
-            out["epsilon"] = self.epsilon
-            out["cycles_to_epsilon"] = self.cycles_to_epsilon
-            out["epsilon_width"] = self.epsilon_width
+            out.update(epsilon=self.epsilon, cycles_to_epsilon=self.cycles_to_epsilon, epsilon_width=self.epsilon_width)
         return out
 
     @classmethod

@@ -69,6 +69,7 @@ from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.exact import FLOAT_FILTER_REL, ExactPoint, format_number, format_point, json_number
 from solverplan.geometry.raycast import cast_ray
 from solverplan.progress import step
+from solverplan.runtime import jobs, parallel_map
 
 __all__ = ["PartitionSegment", "InsertedPoint", "Partition", "partition"]
 
@@ -488,9 +489,9 @@ def _partition(env: Environment) -> Partition:
     found: dict[tuple[int, Fraction], list[tuple[int, int | None]]] = {}
     points: dict[tuple[int, Fraction], ExactPoint] = {}
     reflex = env.reflex_vertices
-    for done, r in enumerate(reflex):
+    for done, (r, shots) in enumerate(_all_shots(kernel, reflex)):
         step("partition of the boundary", done, len(reflex))  # the progress bar, and where a timeout stops it
-        for v, edge, t, point in kernel.shots(r):
+        for v, edge, t, point in shots:
             key = (edge, t)
             source = (r, None if v in (kernel.prv[r], kernel.nxt[r]) else v)
             found.setdefault(key, []).append(source)
@@ -509,6 +510,33 @@ def _partition(env: Environment) -> Partition:
         edge, t = key
         inserted.append(InsertedPoint(points[key], edge, t, sources[0][0], sources[0][1], sources))
     return _assemble(env, tuple(inserted))
+
+
+SPLIT_MIN_PAIRS = 250_000
+"""Partitions with fewer (reflex vertex, vertex) pairs than this are made in this process (≈ 0.5 CPU s); larger ones
+cast the lines of runs of reflex vertices in the worker processes of :func:`solverplan.runtime.parallel_map`."""
+
+
+def _all_shots(kernel: _Kernel, reflex: Sequence[int]) -> Iterator[tuple[int, list]]:
+    """(r, the shots of r) for every reflex vertex r in order; in worker processes, runs of reflex vertices at a
+    time, when the polygon is large and the setting ``jobs`` allows (the same shots: each r's are its own)."""
+    n_jobs = jobs()
+    if n_jobs < 2 or len(reflex) * kernel.n < SPLIT_MIN_PAIRS:
+        for r in reflex:
+            yield r, list(kernel.shots(r))
+        return
+    size = -(-len(reflex) // (8 * n_jobs))  # eight runs per process: a slow run delays little
+    runs = [reflex[k : k + size] for k in range(0, len(reflex), size)]
+
+    def run(rs: Sequence[int]) -> tuple[list[list], int]:
+        kernel.exact_pairs = 0
+        return [list(kernel.shots(r)) for r in rs], kernel.exact_pairs
+
+    exact_pairs = 0
+    for rs, (shots, pairs) in zip(runs, parallel_map(run, runs)):
+        exact_pairs += pairs
+        yield from zip(rs, shots)
+    kernel.exact_pairs = exact_pairs
 
 
 def _assemble(env: Environment, inserted: tuple[InsertedPoint, ...]) -> Partition:

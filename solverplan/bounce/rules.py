@@ -244,21 +244,13 @@ class BounceRule(Protocol):
         """The deterministic heading b of each contact."""
         ...
 
-    def bounds(
-        self, env: Environment, edges: Sequence[int] | np.ndarray, incoming: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def bounds(self, env: Environment, edges: Sequence[int] | np.ndarray,
+               incoming: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The non-deterministic set of each contact: arrays lo ≤ hi inside (0, π)."""
         ...
 
-    def headings(
-        self,
-        env: Environment,
-        edges: Sequence[int] | np.ndarray,
-        incoming: np.ndarray,
-        rng: np.random.Generator | None = None,
-        *,
-        sampling: Sampling | str = "uniform",
-    ) -> np.ndarray:
+    def headings(self, env: Environment, edges: Sequence[int] | np.ndarray, incoming: np.ndarray,
+                 rng: np.random.Generator | None = None, *, sampling: Sampling | str = "uniform") -> np.ndarray:
         """A heading executed at each contact, drawn from :meth:`bounds` by ``sampling``."""
         ...
 
@@ -284,23 +276,15 @@ class _Rule:
         b = self._nominal(_alpha(edges_arr, v, tangent, normal), tangent, normal, v)
         return np.clip(b, HEADING_MARGIN, math.pi - HEADING_MARGIN)
 
-    def bounds(
-        self, env: Environment, edges: Sequence[int] | np.ndarray, incoming: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def bounds(self, env: Environment, edges: Sequence[int] | np.ndarray,
+               incoming: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         b = self.nominal(env, edges, incoming)
         if self.epsilon == 0:
             return b, b.copy()
         return (np.maximum(b - self.epsilon, HEADING_MARGIN), np.minimum(b + self.epsilon, math.pi - HEADING_MARGIN))
 
-    def headings(
-        self,
-        env: Environment,
-        edges: Sequence[int] | np.ndarray,
-        incoming: np.ndarray,
-        rng: np.random.Generator | None = None,
-        *,
-        sampling: Sampling | str = "uniform",
-    ) -> np.ndarray:
+    def headings(self, env: Environment, edges: Sequence[int] | np.ndarray, incoming: np.ndarray,
+                 rng: np.random.Generator | None = None, *, sampling: Sampling | str = "uniform") -> np.ndarray:
         lo, hi = self.bounds(env, edges, incoming)
         return sample_headings(lo, hi, rng, sampling)
 

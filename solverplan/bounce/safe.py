@@ -287,14 +287,17 @@ class SafeInterval:
 
     @property
     def lo(self) -> float:
+        """The interval's lower end (radians)."""
         return self.interval.lo
 
     @property
     def hi(self) -> float:
+        """The interval's upper end (radians)."""
         return self.interval.hi
 
     @property
     def width(self) -> float:
+        """The interval's width (radians; 0 for a single heading)."""
         return self.interval.width
 
 

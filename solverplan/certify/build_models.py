@@ -164,7 +164,7 @@ def fields_certificate(answer: Any, env: Environment | None = None) -> ModelCert
                      "clockwise": bool(f.clockwise)}
         entry = {"cell": c, "next": policy.next_cell, "outlet_side": policy.outlet_side, "field": field}
         if f.kind == "line":
-            entry["flows_through"] = bool(policy.check.verified)  # the planner's exact test (the checker redoes it)
+            entry["flows_through"] = bool(policy.check.valid)  # the planner's exact test (the checker redoes it)
         policies.append(entry)
     claims = {"area": _x(env.area), "cells": cells, "start": _p(plan.start), "goal": _p(plan.goal),
               "sequence": list(plan.sequence), "policies": policies}

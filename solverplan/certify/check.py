@@ -15,7 +15,8 @@ What is checked
    of edges, exactly); every hole lies inside the outer ring and outside the other holes.
 2. **Segments and sets.** Each named segment lies on its edge (``a``, ``b`` are the points of ``t0``,
    ``t1``); start, goal and position pieces are intervals of existing edges.
-3. **Moves** (each stage, each move) — with source points P, Q (parameters p < q on edge e, vector E),
+3. **Moves** (each stage, each move; a stage has one move per source: a move repeating another's edge and
+   source interval is malformed) — with source points P, Q (parameters p < q on edge e, vector E),
    cone d_lo → d_hi, target edge e′ (line L) and target range (segment or edge) τ ∈ [lo, hi]. A source
    without a named segment may run on along the straight wall through e (consecutive collinear edges: the
    vertices between them are no corners), p < 0 or q > 1 on e's line, as a target without a named segment
@@ -135,7 +136,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Any, Iterable, Sequence
 
@@ -164,10 +165,11 @@ from solverplan.certify.rational_atan import (
     heading_vector,
 )
 from solverplan.certify.invariant import next_belief, Closure, Geometry, TableError
+from solverplan.verdict import Failure, Verdict
 from solverplan.certify.schema import (MODEL_KINDS, BoundClaim, Certificate, CycleClaim, EnvironmentRecord, ModelCertificate, Move,
                                        Piece, Point, SegmentRecord, Stage, _terminating_decimal, number_text)
 
-__all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]
+__all__ = ["Failure", "CheckReport", "check_certificate", "certified", "WIDTH_SLACK"]  # Failure: re-exported
 
 WIDTH_SLACK = Fraction(1, 10**9)
 """How far below the exact value a claimed width (or inside the cone a claimed interval end) may be."""
@@ -203,6 +205,22 @@ PROVING_METHODS = ("search-exhausted", "lp-duality", "milp", "bisection", "exact
 METHODS = (*PROVING_METHODS, "heuristic", "none")
 """Every optimality method a certificate may name: ``heuristic`` and ``none`` prove nothing."""
 
+PLAN_OBJECTIVES = ("fewest", "tolerance", "sum", "constant")
+"""What a plan optimises (``solverplan.choices.Objective``; a test keeps them equal)."""
+
+PATROL_OBJECTIVES = ("contraction", "tolerance", "rate")
+"""What a patrol optimises (``solverplan.choices.PatrolObjective``; a test keeps them equal)."""
+
+OBJECTIVES: dict[str, tuple[str, ...]] = {
+    "plan": PLAN_OBJECTIVES,
+    "infeasible": PLAN_OBJECTIVES,  # the objective the query asked for
+    "funnel": ("funnel-fewest", "localize-fewest"),  # version 1 wrote a localisation as a funnel
+    "localize": ("localize-fewest",),
+    "cycle": (*(f"patrol-{o}" for o in PATROL_OBJECTIVES), "contraction"),  # contraction: a cycle's own, bound checked
+}
+"""The ``claims.objective`` each kind of certificate may name: any other string is an unknown objective (a
+failure); a known one is confirmed only by a re-derived bound, else listed as not checked."""
+
 
 def _quote(text: object) -> str:
     """``repr(text)`` cut to :data:`MAX_QUOTED` characters with ``…``."""
@@ -232,26 +250,49 @@ def _heading(v: Point) -> str:
 
 # ======================================================================= the report
 @dataclass(frozen=True, slots=True)
-class Failure:
-    """One claim that does not hold: ``claim`` is its path in the certificate (``stages[2].moves[0].d_hi``,
-    ``claims.min_width``), ``message`` says what was found."""
+class CheckReport(Verdict):
+    """The verdict of :func:`check_certificate`, for a certificate of any kind.
 
-    claim: str
-    message: str
+    The :class:`~solverplan.verdict.Verdict` every check gives, with what the certificate speaks about: ``version``,
+    ``environment``, ``start``, ``goal`` and ``claims`` (see :func:`certified`), always, so that a verdict never
+    hides which query it answers.
 
-    def __str__(self) -> str:
-        return f"{self.claim}: {self.message}"
+    Parameters
+    ----------
+    valid
+        True iff there are no ``failures``.
+    failures
+        Every claim that does not hold (:class:`~solverplan.verdict.Failure`: its path in the certificate and what
+        was found).
+    checked
+        What was re-derived exactly, as ``(name, count)`` pairs: stages, moves, corner rays, edge-against-region
+        tests, chaining links, angle decisions (a model certificate: its own, e.g. doors, rooms, views).
+    not_checked
+        Claims taken on trust, in words (the optimality bound of a search without a ``bound`` block, for instance).
+    kind
+        The certificate's kind (``plan``, ``funnel``, ``cycle``, ``infeasible``, ``rooms``, ``pursuit``, ...).
+    version
+        The certificate format's version.
+    environment
+        Its environment: name, SHA-256 of the exact rings, vertex, edge and hole counts.
+    start, goal
+        A bounce certificate's start and goal sets (``{"set", "length", "length_exact"}``); ``None`` for the models'.
+    claims
+        Every claim, as the report states them.
+    proved
+        What a valid certificate proves, in words.
+    scope
+        What the statements speak about, in words.
 
-
-@dataclass(frozen=True)
-class CheckReport:
-    """The verdict of :func:`check_certificate`.
-
-    ``valid`` is true iff there are no ``failures``; ``checked`` counts what was re-derived exactly
-    (stages, moves, corner rays, edge-against-region tests, chaining links, angle decisions);
-    ``not_checked`` lists claims taken on trust (the optimality bound of a search, for instance).
-    ``version``, ``environment``, ``start``, ``goal`` and ``claims`` state what the certificate speaks
-    about (see :func:`certified`): always, so that a verdict never hides which query it answers.
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> env = sp.load_environment("square")
+    >>> report = sp.check_certificate(sp.certificate(sp.find_plan(env, "e0:0.1:0.9", "e2"), env=env))
+    >>> isinstance(report, sp.Verdict), report.valid, report.kind, report.start["set"], report.failures
+    (True, True, 'plan', 'e0:0.1:0.9', ())
+    >>> print(report.to_text().splitlines()[0])
+    certificate (plan): VALID
     """
 
     valid: bool
@@ -266,58 +307,33 @@ class CheckReport:
     claims: dict[str, Any] = field(default_factory=dict)
     proved: tuple[str, ...] = ()
     scope: str = ""
-    """What the statements speak about, in words (model certificates; empty for bounce certificates, whose scope
-    is their environment, start and goal)."""
+    """What the statements speak about, in words."""
 
-    def to_json(self) -> dict:
-        return {
-            "valid": self.valid,
-            "kind": self.kind,
-            "version": self.version,
-            "environment": dict(self.environment),
-            "start": self.start,
-            "goal": self.goal,
-            "claims": dict(self.claims),
-            "failures": [{"claim": f.claim, "message": f.message} for f in self.failures],
-            "checked": dict(self.checked),
-            "not_checked": list(self.not_checked),
-            "proved": list(self.proved),
-            **({"scope": self.scope} if self.scope else {}),
-        }
+    @property
+    def title(self) -> str:
+        return f"certificate ({self.kind})"
 
-    def to_text(self, *, width: int = 100) -> str:
-        counts = ", ".join(f"{value} {name.replace('_', ' ')}" for name, value in self.checked)
-        lines = [f"certificate ({self.kind}): {'VALID' if self.valid else 'INVALID'}"]
+    def subject_json(self) -> dict[str, Any]:
+        return {"version": self.version, "environment": dict(self.environment), "start": self.start,
+                "goal": self.goal, "claims": dict(self.claims)}
+
+    def subject_lines(self) -> list[str]:
+        lines = []
         env = self.environment
         if env:
             name = repr(env["name"]) if env["name"] else "(unnamed)"
             lines.append(f"environment: {name}, sha256 {env['sha256']}, {env['vertices']} vertices, "
                          f"{env['edges']} edges, {env['holes']} hole{'' if env['holes'] == 1 else 's'}")
-        if self.kind in MODEL_KINDS:  # a model certificate: its claims and scope in words
-            lines.append("claims: " + (", ".join(f"{k.replace('_', ' ')} {_short_claim(v)}" for k, v in self.claims.items())
-                                       or "none"))
-            lines.append(f"scope: {self.scope}")
-            lines.append(f"checked exactly: {counts}")
-            if self.valid:
-                lines.extend(f"proved: {statement}" for statement in self.proved)
-            lines.extend(f"FAIL {failure}" for failure in self.failures)
-            lines.extend(f"not checked: {item}" for item in self.not_checked)
-            return "\n".join(lines) + "\n"
-        lines.append(f"start: {_set_line(self.start)}")
-        lines.append(f"goal: {_set_line(self.goal) if self.goal is not None else 'none (a cycle: the cycle is the goal)'}")
-        if self.scope:
-            lines.append(f"scope: {self.scope}")
-        for line in _claim_lines(self.claims):
-            lines.append(line)
-        lines.append(f"checked exactly: {counts}")
-        if self.valid:
-            for statement in self.proved:
-                lines.append(f"proved: {statement}")
-        for failure in self.failures:
-            lines.append(f"FAIL {failure}")
-        for item in self.not_checked:
-            lines.append(f"not checked: {item}")
-        return "\n".join(lines) + "\n"
+        if self.kind not in MODEL_KINDS:  # a bounce certificate speaks about a start and a goal set
+            lines.append(f"start: {_set_line(self.start)}")
+            lines.append(f"goal: {_set_line(self.goal) if self.goal is not None else 'none (a cycle: the cycle is the goal)'}")
+        return lines
+
+    def claim_lines(self) -> list[str]:
+        if self.kind in MODEL_KINDS:  # a model certificate: its claims in words
+            return ["claims: " + (", ".join(f"{k.replace('_', ' ')} {_short_claim(v)}" for k, v in self.claims.items())
+                                  or "none")]
+        return _claim_lines(self.claims)
 
 
 _BOUNCE_SCOPE = ("a point robot in this environment that moves straight between bounces and, at each bounce, executes "
@@ -452,8 +468,7 @@ def check_certificate(
         if expected_start is None and expected_goal is None:
             return report
         wrong = Failure("start" if expected_start is not None else "goal", f"a {cert.kind} certificate has no start or goal set")
-        return CheckReport(False, (wrong, *report.failures), report.checked, report.not_checked, report.kind,
-                           report.version, report.environment, None, None, report.claims, (), report.scope)
+        return replace(report, valid=False, failures=(wrong, *report.failures), proved=())
     checker = _Checker(cert)
     checker.run(expected_rings)
     if expected_start is not None:
@@ -500,7 +515,7 @@ class _Checker:
             start=summary["start"],
             goal=summary["goal"],
             claims=summary["claims"],
-            proved=tuple(self._main_statement() + self.proved) if not self.failures else tuple(self.proved),
+            proved=tuple(self._main_statement() + self.proved) if not self.failures else (),
             scope=_BOUNCE_SCOPE,
         )
 
@@ -541,6 +556,7 @@ class _Checker:
         results: list[list[_MoveResult | None]] = []
         for k, stage in enumerate(cert.stages):
             self.counts["stages"] += 1
+            self.check_one_move_per_source(k, stage)
             results.append([self.check_move(f"stages[{k}].moves[{m}]", move) for m, move in enumerate(stage.moves)])
         widths = [self.check_stage_headings(k, stage, results[k]) for k, stage in enumerate(cert.stages)]
         self.check_chaining(results)
@@ -727,6 +743,16 @@ class _Checker:
                 self.fail(f"{where}[{i}]", f"[t0, t1] = [{_num(piece.t0)}, {_num(piece.t1)}] is not an interval 0 ≤ t0 < t1 ≤ 1")
 
     # ------------------------------------------------------------------ one move
+    def check_one_move_per_source(self, k: int, stage: Stage) -> None:
+        """A stage says once what happens to the robots on each source: a move repeated (same edge and source
+        interval) is malformed, even though the statement it repeats may hold."""
+        first: dict[tuple[int, tuple[Fraction, Fraction]], int] = {}
+        for m, move in enumerate(stage.moves):
+            j = first.setdefault((move.edge, move.source), m)
+            if j != m:
+                self.fail(f"stages[{k}].moves[{m}]", f"repeats the source e{move.edge}:[{_num(move.source[0])}, "
+                                                     f"{_num(move.source[1])}] of moves[{j}]: a stage has one move per source")
+
     def check_move(self, path: str, move: Move) -> _MoveResult | None:
         self.counts["moves"] += 1
         n = len(self.edges)
@@ -1306,10 +1332,15 @@ class _Checker:
         objective = claims.objective
         if objective is None:
             return
-        if objective == "sum" and claims.sum_width is None and self.cert.kind == "plan":
+        kind = self.cert.kind
+        if objective not in OBJECTIVES.get(kind, ()):
+            others = sorted({k for k, known in OBJECTIVES.items() if objective in known} - {"infeasible"})
+            self.fail("claims.objective", f"{_quote(objective)} is an objective of {', '.join(others)} certificates, not of "
+                                          f"a {kind} certificate" if others else
+                      f"unknown objective {_quote(objective)}: a {kind} certificate names one of "
+                      f"{', '.join(OBJECTIVES.get(kind, ()))}")
+        elif objective == "sum" and claims.sum_width is None and kind == "plan":
             self.fail("claims.objective", "the objective is the sum of widths, but claims.sum_width is missing")
-        elif objective in ("tolerance", "constant", "fewest", "sum") and self.cert.kind not in ("plan", "infeasible"):
-            self.fail("claims.objective", f"{_quote(objective)} is an objective of plans, not of a {self.cert.kind} certificate")
         elif not rederived:
             self.not_checked.append(f"claims.objective: {_quote(objective)} names what the planner optimised; only a "
                                     "re-derived optimality bound could confirm it")

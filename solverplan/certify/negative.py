@@ -58,9 +58,12 @@ exact runs the closure needs costs work proportional to the table (about 0.4 ms 
 here: 2 s per source on a raw warehouse map of 5,140 segments, where one proof ran for over 6 minutes), so on
 larger tables the answer goes without a bound block (its optimality claim stays the search's, not certified)."""
 
-MAX_PROOF_WORK = 100_000
-"""Most work (source segments whose exact runs were computed × segments of the table) a closure may take before the
-builder gives up: about 40 s of CPU at the measured rate; tables up to 316 segments never reach it."""
+MAX_PROOF_WORK = 30_000
+"""Most work (source segments whose exact runs were computed × segments of the table) the closures of one bound may
+take, all rounds of :func:`tolerance_bound` together, before the builder gives up. Checked before each belief's
+successors (whose new sources are counted first: one belief of a warehouse map holds hundreds), so it is never
+overrun: about 11 s of CPU at the rate measured on a tester's map (1.1·10⁻⁴ s per unit), and the checker redoes about
+a third of it; tables up to 316 segments never reach it in one round."""
 
 
 class NoBound(Exception):
@@ -164,9 +167,10 @@ def tolerance_bound(env: Environment, start: BoundarySet, goal: BoundarySet, *, 
     each round excludes the plan found) — the answer's gap is then the price of the planner's margins, stated by
     the checker. Raises :class:`NoBound` after ``max_rounds`` rounds."""
     w = max(tolerance_threshold(env, width, margins), floor)
+    spent = [0]  # the rounds share MAX_PROOF_WORK
     for _ in range(max_rounds):
         try:
-            return bound_claim(env, start, goal, budget=budget, threshold=w, heading_margin=heading_margin)
+            return bound_claim(env, start, goal, budget=budget, threshold=w, heading_margin=heading_margin, spent=spent)
         except NoBound as exc:
             if exc.width is None or not math.isfinite(exc.width):
                 raise
@@ -187,13 +191,13 @@ def tolerance_threshold(env: Environment, width: float, margins: dict | None) ->
 
 
 def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budget: int | None,
-                threshold: Fraction = Fraction(0), heading_margin: Fraction) -> BoundClaim:
+                threshold: Fraction = Fraction(0), heading_margin: Fraction, spent: list[int] | None = None) -> BoundClaim:
     """The invariant proving that no plan of the class (module docstring) with ≤ ``budget`` stages (None: any
     number) whose intervals are wider than ``threshold`` takes ``start`` to ``goal``.
 
     Raises :class:`NoBound` when the exact closure reaches the goal (naming the stage count), lists more than
     :data:`MAX_BELIEFS` beliefs, or would take more work than :data:`MAX_PROOF_SEGMENTS` and :data:`MAX_PROOF_WORK`
-    allow."""
+    allow (``spent``: the work of earlier rounds, in units of the table's segments; this round's is added)."""
     table, groups = refined_table(env, start, goal)
     if len(table) > MAX_PROOF_SEGMENTS:
         raise NoBound(f"the exact closure over a table of {len(table):,} segments is not tried (at most "
@@ -212,28 +216,34 @@ def bound_claim(env: Environment, start: BoundarySet, goal: BoundarySet, *, budg
     frontier = [start_belief]
     depth = 0
     delta = float(heading_margin)
-    while frontier and (budget is None or depth < budget):
-        nxt_frontier = []
-        for belief in frontier:
-            if len(closure._runs) * len(table) > MAX_PROOF_WORK:
-                raise NoBound(f"the exact closure would take more than {MAX_PROOF_WORK:,} units of work (sources × "
-                              f"table segments; {len(table):,} segments)")
-            for targets, (lo, hi) in closure.successors(belief):
-                nb = tuple(sorted(next_belief(targets)))
-                width = min(narrowest[belief], _stage_width(lo, hi, delta))
-                if set(nb) <= goal_set:
-                    stages = depth + 1
-                    wider = "" if threshold == 0 else f" with every interval wider than {float(threshold):.12g} rad"
-                    raise NoBound(f"a margin-free plan of {stages} stage{'s' if stages > 1 else ''} exists (the exact "
-                                  f"closure over the table reaches the goal{wider})", width)
-                if nb not in depth_of:
-                    depth_of[nb] = depth + 1
-                    narrowest[nb] = width
-                    nxt_frontier.append(nb)
-                    if len(depth_of) > MAX_BELIEFS:
-                        raise NoBound(f"the invariant would list more than {MAX_BELIEFS:,} beliefs")
-        frontier = nxt_frontier
-        depth += 1
+    done = spent[0] if spent is not None else 0
+    try:
+        while frontier and (budget is None or depth < budget):
+            nxt_frontier = []
+            for belief in frontier:
+                fresh = sum(1 for s in set(belief) if s not in closure._runs)  # sources whose runs this belief computes
+                if (len(closure._runs) + fresh) * len(table) + done > MAX_PROOF_WORK:
+                    raise NoBound(f"the exact closure would take more than {MAX_PROOF_WORK:,} units of work (sources × "
+                                  f"table segments; {len(table):,} segments)")
+                for targets, (lo, hi) in closure.successors(belief):
+                    nb = tuple(sorted(next_belief(targets)))
+                    width = min(narrowest[belief], _stage_width(lo, hi, delta))
+                    if set(nb) <= goal_set:
+                        stages = depth + 1
+                        wider = "" if threshold == 0 else f" with every interval wider than {float(threshold):.12g} rad"
+                        raise NoBound(f"a margin-free plan of {stages} stage{'s' if stages > 1 else ''} exists (the exact "
+                                      f"closure over the table reaches the goal{wider})", width)
+                    if nb not in depth_of:
+                        depth_of[nb] = depth + 1
+                        narrowest[nb] = width
+                        nxt_frontier.append(nb)
+                        if len(depth_of) > MAX_BELIEFS:
+                            raise NoBound(f"the invariant would list more than {MAX_BELIEFS:,} beliefs")
+            frontier = nxt_frontier
+            depth += 1
+    finally:
+        if spent is not None:
+            spent[0] += len(closure._runs) * len(table)
     beliefs = tuple(BeliefRecord(b, d) for b, d in depth_of.items())
     return BoundClaim(tuple(tuple(p) for p in table), heading_margin, threshold, budget, beliefs, TABLE_SOURCE,
                       tuple(groups))

@@ -1,4 +1,4 @@
-"""The ``solverplan`` app and its global options (JSON layout, graph cache, memory limit)."""
+"""The ``solverplan`` app and its global options (JSON layout, graph cache, memory limit, processes)."""
 
 from __future__ import annotations
 
@@ -69,6 +69,7 @@ GraphCacheOpt = Annotated[str | None, typer.Option("--graph-cache", metavar="DIR
 GraphCacheMinArcsOpt = Annotated[int | None, typer.Option("--graph-cache-min-arcs", metavar="N", min=0, envvar="SOLVERPLAN_GRAPH_CACHE_MIN_ARCS", show_default=False, help="Write only graphs of at least N arcs to the graph cache (default 100000; 0: every graph).")]
 GraphCacheSizeOpt = Annotated[str | None, typer.Option("--graph-cache-size", metavar="SIZE", envvar="SOLVERPLAN_GRAPH_CACHE_SIZE", show_default=False, help="Cap the graph cache at SIZE bytes (e.g. 500M; default 2G): least recently used graphs go first.")]
 MaxMemoryOpt = Annotated[str | None, typer.Option("--max-memory", metavar="SIZE", envvar="SOLVERPLAN_MAX_MEMORY", show_default=False, help="Refuse up front a job (a safe BVG, rollouts, a patrol search) estimated to need more than SIZE bytes (e.g. 2G, 500M; default: half the memory available).")]
+JobsOpt = Annotated[int | None, typer.Option("--jobs", metavar="N", min=1, max=1024, envvar="SOLVERPLAN_JOBS", show_default=False, help="Processes a large job may use at once (default: the cores available; 1: this process only). Answers do not depend on it.")]
 QuietOpt = Annotated[bool, typer.Option("--quiet", help="No progress bar on stderr (jobs over 2 s show one when stderr is a terminal).")]
 
 
@@ -82,6 +83,7 @@ def _root(
     graph_cache_min_arcs: GraphCacheMinArcsOpt = None,
     graph_cache_size: GraphCacheSizeOpt = None,
     max_memory: MaxMemoryOpt = None,
+    jobs: JobsOpt = None,
     quiet: QuietOpt = False,
 ) -> None:
     """Planning with proofs for minimal bouncing robots in polygonal environments."""
@@ -97,6 +99,8 @@ def _root(
     }
     if max_memory is not None:
         changes["max_memory"] = parse_size(max_memory)
+    if jobs is not None:
+        changes["jobs"] = jobs
     # the layout, the settings and the --timeout clock belong to this one command line (tests run many in one process)
     from solverplan.cli._options import start_command_clock
 

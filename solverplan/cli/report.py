@@ -62,4 +62,5 @@ def report_command(
         emit(saved, fmt, None)
     verdict = saved.report.certificate
     if verdict is not None and not verdict["valid"]:
-        raise fail(f"certificate invalid: {verdict['failures'][0]} (the report {out} shows every failure)", 1)
+        first = verdict["failures"][0]
+        raise fail(f"certificate invalid: {first['claim']}: {first['message']} (the report {out} shows every failure)", 1)

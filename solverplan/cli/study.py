@@ -73,26 +73,25 @@ def _study(name: str, generator: GeneratorName, grid: list[str] | None, per_cell
         emit(result, fmt, out)
 
 
-@study_app.command("reachability")
-def study_reachability(
-    generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
-    out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
-    quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
-    verbose: VerboseOpt = 0,
-) -> None:
-    """Share of the boundary no safe action reaches (safe-BVG nodes without incoming arcs; paper Fig. 15)."""
-    _study("reachability", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose)
+def _shared_options_study(name: str, summary: str) -> None:
+    """Register ``study NAME``: a study that takes the options every study shares, and no others."""
+    def command(
+        generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
+        out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
+        quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
+        verbose: VerboseOpt = 0,
+    ) -> None:
+        _study(name, generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose)
+
+    command.__doc__, command.__name__ = summary, f"study_{name}"
+    study_app.command(name)(command)
 
 
-@study_app.command("connectivity")
-def study_connectivity(
-    generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
-    out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
-    quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
-    verbose: VerboseOpt = 0,
-) -> None:
-    """Strongly and weakly connected components of the safe BVG (paper Fig. 16)."""
-    _study("connectivity", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose)
+for _name, _summary in (
+    ("reachability", "Share of the boundary no safe action reaches (safe-BVG nodes without incoming arcs; paper Fig. 15)."),
+    ("connectivity", "Strongly and weakly connected components of the safe BVG (paper Fig. 16)."),
+):
+    _shared_options_study(_name, _summary)
 
 
 @study_app.command("rules")

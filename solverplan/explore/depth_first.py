@@ -30,7 +30,7 @@ from solverplan.explore.bounds import Cost, exploration_cost, views_bound
 from solverplan.explore.window import Window, point_on_part, unexplored_parts, windows
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
 from solverplan.geometry.walls import StraightWalls
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 from typing import Any
 
 __all__ = ["CHOICES", "Exploration", "explore_depth_first"]
@@ -41,14 +41,13 @@ CHOICES: tuple[str, ...] = ViewChoice.values()
 current viewpoint. On the chosen part the viewpoint is the simplest rational point of its middle third."""
 
 
+@dataclass(frozen=True, kw_only=True)
 class ViewpointRun(Answer):
-    """What every exploration answer derives from its viewpoints and path: the counts, the path's length, the
-    cost T and the answer fields they share (Algorithm A's :class:`Exploration` and Algorithm B's
-    :class:`~solverplan.explore.range_limited.RangeExploration`)."""
+    """The fields every exploration answer has, and what it derives from its viewpoints and path: the counts, the
+    path's length, the cost T and the answer fields they share (Algorithm A's :class:`Exploration` and
+    Algorithm B's :class:`~solverplan.explore.range_limited.RangeExploration`, which add their views)."""
 
-    __slots__ = ()
     status: Status
-    algorithm: str
     viewpoints: tuple[ExactPoint, ...]
     parents: tuple[int, ...]
     path: tuple[ExactPoint, ...]
@@ -57,6 +56,9 @@ class ViewpointRun(Answer):
     covered_fraction: float
     choice: str
     optimality: Optimality
+    stats: Stats = field(default_factory=Stats)
+    environment: EnvironmentRecord | None = None
+    algorithm: str
 
     @property
     def n_views(self) -> int:
@@ -118,8 +120,7 @@ class ViewpointRun(Answer):
                 "environment": record, "algorithm": r.string("algorithm"), "choice": r.string("choice")}
 
 
-@answer_kind("exploration")
-@dataclass(frozen=True)
+@answer_dataclass("exploration", kw_only=True)
 class Exploration(ViewpointRun):
     """An exploration: viewpoints in visiting order, the views, the path and what they cost.
 
@@ -161,19 +162,8 @@ class Exploration(ViewpointRun):
     ((Fraction(2, 1), Fraction(5, 1)), [Fraction(44, 1), Fraction(55, 1)])
     """
 
-    status: Status
-    viewpoints: tuple[ExactPoint, ...]
     views: tuple[VisibilityPolygon, ...]
-    parents: tuple[int, ...]
-    path: tuple[ExactPoint, ...]
-    reflex: int
-    bound: int
-    covered_fraction: float
-    choice: str
     seed: int | None
-    optimality: Optimality
-    stats: Stats = field(default_factory=Stats)
-    environment: EnvironmentRecord | None = None
     algorithm: str = "A"
 
     def _fields(self) -> dict:
@@ -320,9 +310,12 @@ def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Vi
     limits = (f"max_views={limit}",) if hit_limit else ()
     optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
                             algorithm="Algorithm A (depth-first over unexplored constructed edges)", limits=limits)
-    return Exploration(status, tuple(viewpoints), tuple(views), tuple(parents), tuple(path), len(env.reflex_vertices),
-                       bound, covered_fraction(env, views), choice, seed if choice == "random" else None, optimality,
-                       Stats(seconds_search=seconds, counts={"window_checks": checks}), EnvironmentRecord.of(env))
+    return Exploration(status=status, viewpoints=tuple(viewpoints), views=tuple(views), parents=tuple(parents),
+                       path=tuple(path), reflex=len(env.reflex_vertices), bound=bound,
+                       covered_fraction=covered_fraction(env, views), choice=choice,
+                       seed=seed if choice == "random" else None, optimality=optimality,
+                       stats=Stats(seconds_search=seconds, counts={"window_checks": checks}),
+                       environment=EnvironmentRecord.of(env))
 
 
 def _walk_back(here: ExactPoint, viewpoints: Sequence[ExactPoint], parents: Sequence[int], target: int) -> list[ExactPoint]:

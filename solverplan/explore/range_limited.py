@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from typing import Sequence
 
@@ -54,7 +54,7 @@ from solverplan.explore.depth_first import ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
 from solverplan.geometry.walls import StraightWalls
-from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 from typing import Any
 
 __all__ = ["RangeExploration", "UncoveredPiece", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]
@@ -86,8 +86,7 @@ class UncoveredPiece:
                 "witness_exact": None if self.witness is None else [format_number(c) for c in self.witness]}
 
 
-@answer_kind("range-exploration")
-@dataclass(frozen=True)
+@answer_dataclass("range-exploration", kw_only=True)
 class RangeExploration(ViewpointRun):
     """An exploration with range-limited views (Algorithm B, or Algorithm A when Theorem 3 applies).
 
@@ -135,24 +134,14 @@ class RangeExploration(ViewpointRun):
     'A'
     """
 
-    status: Status
-    viewpoints: tuple[ExactPoint, ...]
     views: tuple[RangeView, ...]
-    parents: tuple[int, ...]
-    path: tuple[ExactPoint, ...]
     phases: tuple[str, ...]
     rings: tuple[int, ...]
-    reflex: int
     holes: int
-    bound: int
     lower_bound: int
     ratio_bound: float
-    covered_fraction: float
     range: Fraction
     epsilon: Fraction
-    optimality: Optimality
-    stats: Stats = field(default_factory=Stats)
-    environment: EnvironmentRecord | None = None
     algorithm: str = "B"
     choice: str = "first"
     uncovered: tuple[UncoveredPiece, ...] = ()
@@ -666,11 +655,13 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
         optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
                                 algorithm="Algorithm A (Theorem 3: R reaches across P, RVP = VP)",
                                 limits=run.optimality.limits)
-        return RangeExploration(run.status, run.viewpoints, views, run.parents, run.path,
-                                ("start",) + ("frontier",) * (run.n_views - 1), (-1,) * run.n_views, run.reflex,
-                                len(env.holes), bound, lower, ratio_bound, run.covered_fraction, R, eps, optimality,
-                                Stats(seconds_search=time.perf_counter() - t0, counts=dict(run.stats.counts)),
-                                EnvironmentRecord.of(env), algorithm="A", choice=run.choice)
+        return RangeExploration(status=run.status, viewpoints=run.viewpoints, views=views, parents=run.parents,
+                                path=run.path, phases=("start",) + ("frontier",) * (run.n_views - 1),
+                                rings=(-1,) * run.n_views, reflex=run.reflex, holes=len(env.holes), bound=bound,
+                                lower_bound=lower, ratio_bound=ratio_bound, covered_fraction=run.covered_fraction,
+                                range=R, epsilon=eps, optimality=optimality,
+                                stats=Stats(seconds_search=time.perf_counter() - t0, counts=dict(run.stats.counts)),
+                                environment=EnvironmentRecord.of(env), algorithm="A", choice=run.choice)
     choice = ViewChoice.parse(choice, "z-choice rule").value
     if seed is not None and choice != "random":
         raise InputError(f"--seed only applies to the random z-choice rule, not to {choice!r}")
@@ -711,8 +702,10 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
         limits = (f"no admissible viewpoint: {len(left)} uncovered piece(s), {len(unseen)} vertex(es) in no view",)
         optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
                                 algorithm="Algorithm B (range-limited views, boundary by boundary)", limits=limits)
-    return RangeExploration(Status.FOUND if found else Status.NOT_FOUND, tuple(ex.viewpoints), tuple(ex.views),
-                            tuple(ex.parents), tuple(ex.path), tuple(ex.phases), tuple(ex.rings),
-                            len(env.reflex_vertices), len(env.holes), bound, lower, ratio_bound, covered, R, eps,
-                            optimality, Stats(seconds_search=seconds, counts={"blocked_targets": len(ex.blocked)}),
-                            EnvironmentRecord.of(env), uncovered=left, unseen_vertices=unseen)
+    return RangeExploration(status=Status.FOUND if found else Status.NOT_FOUND, viewpoints=tuple(ex.viewpoints),
+                            views=tuple(ex.views), parents=tuple(ex.parents), path=tuple(ex.path),
+                            phases=tuple(ex.phases), rings=tuple(ex.rings), reflex=len(env.reflex_vertices),
+                            holes=len(env.holes), bound=bound, lower_bound=lower, ratio_bound=ratio_bound,
+                            covered_fraction=covered, range=R, epsilon=eps, optimality=optimality,
+                            stats=Stats(seconds_search=seconds, counts={"blocked_targets": len(ex.blocked)}),
+                            environment=EnvironmentRecord.of(env), uncovered=left, unseen_vertices=unseen)

@@ -414,7 +414,7 @@ def import_floorplan(
                     "rectilinear_deg": chosen["rectilinear_deg"], "rectilinear_axes_deg": chosen["axes_deg"],
                     "measured": {"wall_noise_m": chosen["wall_noise_m"],
                                  "axis_parallel_share": chosen["axis_parallel_share"]}}
-        warnings += _map_default_warnings(dropped, chosen, min_obstacle, simplify, rectilinear)
+        warnings += [*grid.notes, *_map_default_warnings(dropped, chosen, min_obstacle, simplify, rectilinear)]
     elif kind == "dxf":
         environment, dropped, unit, quantum, more = _dxf_environment(
             path, layer=layer, units=units, tolerance=chord_tolerance, snap=snap, max_jamb=max_jamb, point=point,

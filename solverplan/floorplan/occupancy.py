@@ -5,7 +5,8 @@ A map is a YAML mapping (``image``, ``resolution``, ``origin``, ``negate``, ``oc
 mean of their channels) has occupancy p = (255 − v) / 255, or v / 255 with ``negate: 1``; it is **free**
 when p < ``free_thresh``, occupied when p > ``occupied_thresh`` and unknown in between — and unknown is
 never free. ``mode: raw`` reads v itself as the occupancy in percent (0 free, 100 occupied, above 100
-unknown), free when v < 100 · ``free_thresh``. A (partly) transparent pixel is unknown.
+unknown), free when v < 100 · ``free_thresh``. A (partly) transparent pixel is unknown, and so is a pixel of
+map_saver's unknown grey (:data:`SAVER_UNKNOWN`) even when ``free_thresh`` is above its occupancy (with a warning).
 
 World coordinates are metres: the lower-left corner of the lower-left pixel is at ``origin`` (x, y), the
 image is turned by the origin's yaw about that corner (radians, counter-clockwise), x grows to the right
@@ -14,7 +15,8 @@ and y **up** (image rows grow down).
 The free space is traced with SciPy's connected components (4-connected free cells, so two cells meeting at
 a corner are not a passage) and morphological opening against spurs, then scikit-image's marching squares
 (``skimage.measure.find_contours``) at the level halfway between free and not free, which puts every
-axis-parallel wall on the cell edges.
+axis-parallel wall on the cell edges; its diagonal steps (walls at an angle, traced as staircases) are put back on
+the cell edges too, so the traced outline is the boundary of the free cells exactly.
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ from solverplan.limits import BYTES_PER_PIXEL, MAX_PIXELS, quote, refuse_beyond_
 
 __all__ = ["OccupancyMap", "read_occupancy_map", "trace_free_space", "DEFAULT_FREE_THRESH",
            "DEFAULT_OCCUPIED_THRESH", "DEFAULT_MIN_OBSTACLE", "AUTO_RECTILINEAR", "AXIS_PARALLEL_SHARE", "cell_to_world",
-           "read_keepout_mask", "cells_to_polygons", "auto_simplification"]
+           "read_keepout_mask", "cells_to_polygons", "auto_simplification", "SAVER_UNKNOWN"]
 
 DEFAULT_MIN_OBSTACLE = 0.06
 """The smallest obstacle a map import keeps by default (metres, the larger side of its bounding box): on the usual
@@ -63,6 +65,12 @@ DEFAULT_FREE_THRESH = 0.196
 """``free_thresh`` when the YAML gives none (the value of ROS's map_saver)."""
 
 _MODES = ("trinary", "scale", "raw")
+
+SAVER_UNKNOWN = 205
+"""The grey level ROS's and Nav2's ``map_saver`` write for an unknown cell (occupancy (255 − 205) / 255 ≈ 0.196).
+Nav2's saver writes ``free_thresh: 0.25`` by default, above that occupancy, so the YAML taken literally makes every
+unknown cell free (Nav2's own map server then plans through unexplored space); in trinary and scale modes a pixel of
+exactly this grey (50 with ``negate: 1``) is read as unknown whatever ``free_thresh`` says, and the import warns."""
 
 MIN_RESOLUTION = Decimal("1e-9")
 """Finest map cell read (metres): a nanometre; finer cells make coordinates past the environment's resolution."""
@@ -94,6 +102,9 @@ class OccupancyMap:
         The YAML file.
     image
         The image file.
+    notes
+        What reading the map decided that a user should know, one line each (e.g. :data:`SAVER_UNKNOWN` grey read
+        as unknown against the YAML's ``free_thresh``); the import repeats them as warnings.
     """
 
     free: np.ndarray
@@ -103,6 +114,7 @@ class OccupancyMap:
     yaw: float
     source: Path
     image: Path
+    notes: tuple[str, ...] = ()
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -333,6 +345,7 @@ def read_occupancy_map(source: str | Path) -> OccupancyMap:
     if not image.is_absolute():
         image = source.parent / image
     values, opaque = _read_image(image, source)
+    notes: list[str] = []
     if mode == "raw":
         free = (values < 100.0 * free_thresh) & opaque
         occupied = (values > 100.0 * occupied_thresh) & (values <= 100.0) & opaque
@@ -340,9 +353,15 @@ def read_occupancy_map(source: str | Path) -> OccupancyMap:
         probability = values / 255.0 if negate else (255.0 - values) / 255.0
         free = (probability < free_thresh) & opaque
         occupied = (probability > occupied_thresh) & opaque
+        saver_grey = free & (values == (255 - SAVER_UNKNOWN if negate else SAVER_UNKNOWN))
+        if saver_grey.any():
+            free &= ~saver_grey
+            notes.append(f"{int(saver_grey.sum()):,} cells of grey {int(values[saver_grey][0])} (map_saver's unknown) "
+                         f"read as unknown, although free_thresh {free_thresh:g} would make them free (Nav2's saver "
+                         f"writes 0.25): unknown is never free; write free_thresh 0.196 to silence this")
     yaw = float(exact_origin_numbers[2]) if len(exact_origin_numbers) == 3 else 0.0
     exact_origin = (Fraction(exact_origin_numbers[0]), Fraction(exact_origin_numbers[1]))
-    return OccupancyMap(free, occupied, resolution, exact_origin, yaw, source, image)
+    return OccupancyMap(free, occupied, resolution, exact_origin, yaw, source, image, tuple(notes))
 
 
 def _open_square(mask: np.ndarray, side: int) -> np.ndarray:
@@ -574,22 +593,29 @@ def trace_free_space(
     c, s = math.cos(grid.yaw), math.sin(grid.yaw)
     traced = [contour[:-1] if np.allclose(contour[0], contour[-1]) else contour for contour in contours
               if len(contour) >= 4]
-    rings = []
-    for ring in _restore_corners(traced):
+    restored = _restore_corners(traced)
+    inside = simplify is None
+
+    def to_world(cell_rings: list[np.ndarray]) -> list[np.ndarray]:
         # padded (row, column) at cell centres → map frame (metres, y up): centre of cell (r, k) is (k + ½, rows − r − ½)
-        u = (ring[:, 1] - 0.5) * res
-        v = (rows + 0.5 - ring[:, 0]) * res
-        rings.append(np.column_stack((c * u - s * v, s * u + c * v)))
+        out = []
+        for ring in cell_rings:
+            u = (ring[:, 1] - 0.5) * res
+            v = (rows + 0.5 - ring[:, 0]) * res
+            out.append(np.column_stack((c * u - s * v, s * u + c * v)))
+        return out
+
+    rings = to_world(restored)
     if not rings:
         raise InputError("the free space traced to nothing (the component is too small)")
     areas = [abs(0.5 * float(np.dot(r[:, 0], np.roll(r[:, 1], -1)) - np.dot(np.roll(r[:, 0], -1), r[:, 1])))
              for r in rings]
     outer_index = int(np.argmax(areas))
+    quantum = grid_quantum(grid.resolution)
+    auto = auto_simplification(rings, res)  # measured on the traced rings, slanted walls as diagonal steps
+    rings = to_world(_on_cell_edges(restored))  # the free cells' exact boundary
     outer = rings[outer_index]
     holes = [r for k, r in enumerate(rings) if k != outer_index]
-    quantum = grid_quantum(grid.resolution)
-    auto = auto_simplification([outer, *holes], res)
-    inside = simplify is None
     simplify = auto["simplify_m"] if simplify is None else float(simplify)
     chosen_rectilinear_auto = rectilinear is None
     if rectilinear is None:
@@ -603,6 +629,37 @@ def trace_free_space(
     return finish_outline(outer, holes, quantum=quantum, axes=axes, offset=grid.origin, simplify=simplify,
                           min_hole_area=min_hole_area, rectilinear=rectilinear, name=grid.source.stem,
                           dropped=dropped, features=features, inside=inside, keep_point=keep)
+
+
+def _on_cell_edges(rings: list[np.ndarray]) -> list[np.ndarray]:
+    """Traced rings (cell units) with every diagonal step left by :func:`_restore_corners` (a wall at an angle, traced
+    as a staircase) replaced by the two half steps along the cells' edges, through the cell corner: the boundary of
+    the free cells exactly. A diagonal step cuts one cell's corner, and on the free space's reflex corners that cell is
+    occupied: the traced ring then holds a sliver of it (up to √2/4 of a cell deep), which a conservative import must
+    not give back. At a saddle (a corner cut twice) the chamfers stay: there they cut free cells.
+    """
+    from collections import Counter
+
+    found = []
+    for ring in rings:
+        step = np.roll(ring, -1, axis=0) - ring
+        diagonal = np.flatnonzero(~np.isclose(step[:, 0], 0.0) & ~np.isclose(step[:, 1], 0.0))
+        nxt = np.roll(ring, -1, axis=0)[diagonal]
+        here = ring[diagonal]
+        on_row = np.isclose(here[:, 0], np.round(here[:, 0]))  # the step starts on a cell edge across the columns
+        corners = np.where(on_row[:, None], np.column_stack((nxt[:, 0], here[:, 1])),
+                           np.column_stack((here[:, 0], nxt[:, 1])))
+        found.append((diagonal, corners))
+    claims = Counter(tuple(c) for _, corners in found for c in corners.tolist())
+    out = []
+    for ring, (diagonal, corners) in zip(rings, found):
+        keep = np.array([claims[tuple(c)] == 1 for c in corners.tolist()], bool)
+        if not keep.any():
+            out.append(ring)
+            continue
+        # insert each kept corner after its step's first point
+        out.append(np.insert(ring, diagonal[keep] + 1, corners[keep], axis=0))
+    return out
 
 
 def auto_simplification(rings: list[np.ndarray], cell: float) -> dict[str, Any]:

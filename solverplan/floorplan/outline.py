@@ -551,7 +551,9 @@ def finish_outline(
         simplified shape. Passages the shrinking closes and obstacles it joins to a wall or to one another are
         listed in ``features`` (``passage_closed``, ``merged_obstacle``, ``disconnected``), and counted in
         ``dropped["passages_closed"]``; an obstacle that meets a wall snapped inwards joins the wall (listed as
-        ``merged_obstacle``, counted in ``dropped["obstacles_joined"]``).
+        ``merged_obstacle``, counted in ``dropped["obstacles_joined"]``), and rings the shrinking leaves touching at
+        a point are joined there (:func:`separate_touches`; listed as ``touch``, counted in
+        ``dropped["touches_joined"]``).
     axes
         The walls' directions (degrees, counter-clockwise from the x axis, below 90) that ``rectilinear`` snaps to, when
         they are not the axes: a map drawn at an angle is snapped in its own frame (turned back, the snapped rings
@@ -641,7 +643,18 @@ def finish_outline(
                                       [r for r in polygon.interiors if shapely.Polygon(r).area * unit_area >= min_hole_area])
     if inside:  # on the grid (snap-rounding keeps it valid; the shrinking left a step of margin for it), free space
         # on the left of every edge
-        polygon = shapely.orient_polygons(largest_part(shapely.set_precision(polygon, 1.0))[0])
+        polygon = largest_part(shapely.set_precision(polygon, 1.0))[0]
+        # GEOS lets a hole touch another ring at a point, an environment does not: join them there (the free space
+        # only shrinks), each listed
+        polygon, touches = separate_touches(polygon, 1.0)
+        if touches:
+            polygon = largest_part(polygon)[0]
+            counts["touches_joined"] = counts.get("touches_joined", 0) + len(touches)
+            if features is not None:
+                from solverplan.floorplan.drawing import DroppedFeature
+
+                features.extend(DroppedFeature("touch", (p.x * unit + fx, p.y * unit + fy), 2 * unit) for p in touches)
+        polygon = shapely.orient_polygons(polygon)
     rings = [np.asarray(polygon.exterior.coords[:-1], float)] + [np.asarray(r.coords[:-1], float) for r in polygon.interiors]
     if rectilinear > 0:
         snapped: list[np.ndarray] = []

@@ -24,7 +24,10 @@ segment beyond a set's end is found (it lands on the piece and leaves from it), 
 end still lands on the whole segment. (Runs of several pieces are not landing units: at one heading a landing would
 then have as many choices as runs that hold it, and a belief of k sources their product; the certificates' class is
 the same, :mod:`solverplan.certify.negative`.) A segment's rows then overlap (a landing on a unit lies inside the
-landing on its segment): :meth:`Problem.options` joins such lists pair by pair. A unit that holds a corner of its
+landing on its segment): :meth:`Problem.options` keeps of the choices they give only those no other choice dominates
+(a landing on the piece at the same interval beats one on the whole segment: the robot is known to be in a smaller
+set, from which every plan from the larger one works — the proof is in :meth:`Problem._combine`), so that a belief of
+many sources does not have 2^k options at one heading. A unit that holds a corner of its
 segment keeps the corner tag of an arc into it (the ping-pong rule of :mod:`solverplan.plan.margins`); the
 clearance κ applies at the set ends a unit lands between, as at a goal piece.
 
@@ -39,7 +42,7 @@ lists source by source (the intersection of two sorted lists of disjoint interva
 cell's interval (the intersection of one interval per source) is the widest interval for that
 choice of targets; any sub-interval has the same targets. |B′| ≤ |B|: beliefs never grow. (Landings on units
 overlap the landings on their segments: there a heading has several targets per source, one of them the segment,
-and each choice is an option of its own.)
+and each undominated choice is an option of its own.)
 
 Admissible intervals
 --------------------
@@ -68,7 +71,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import Callable, NamedTuple, Sequence
+from typing import Callable, Iterable, NamedTuple, Sequence
 
 import numpy as np
 
@@ -84,6 +87,8 @@ from solverplan.plan.margins import (DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN
 __all__ = ["Option", "Problem", "StartPiece", "DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "merged_pieces"]
 
 Belief = tuple[int, ...]
+Cell = tuple[float, float, tuple[int, ...], Belief]
+"""A choice of :meth:`Problem._combine` so far: its interval, the target of each source folded, their ``join``."""
 
 
 PIECE_CODES = 4
@@ -201,8 +206,16 @@ class Problem:
         n = self.n_segments = self.graph.n_segments
         adm = admissible_intervals(self.graph, self.margins)
         src, tgt, lo, hi = adm.source, adm.target, adm.lo, adm.hi
-        order = np.lexsort((lo, src))
+        order = np.lexsort((hi, tgt, lo, src))
         src, tgt, lo, hi = src[order], tgt[order], lo[order], hi[order]
+        # a row listed twice (an arc the graph holds twice) is one interval: kept twice it would make a source's
+        # list overlap itself, and the options of a belief double with every such source (_combine)
+        if len(lo) > 1:
+            again = np.concatenate([[False], (src[1:] == src[:-1]) & (tgt[1:] == tgt[:-1]) & (lo[1:] == lo[:-1])
+                                    & (hi[1:] == hi[:-1])])
+            if again.any():
+                keep = np.flatnonzero(~again)
+                src, tgt, lo, hi = src[keep], tgt[keep], lo[keep], hi[keep]
         off = np.searchsorted(src, np.arange(n + 1))
         dive, arrival = corner_arcs(self.partition, src, tgt)
         self._off = off.tolist()
@@ -300,12 +313,13 @@ class Problem:
         if cached is None:
             piece = self.units[unit]
             los, his, tgts, dives = self._piece_intervals(self.unit_code(unit), piece)
+            rows = list(zip(los, his, tgts, dives))
             if self.landing_units:
-                rows = list(zip(los, his, tgts, dives))
                 rows += self._landings(piece.a, piece.b, self.partition.segments[piece.host], rows)
-                rows.sort(key=lambda r: r[0])
-                los, his, tgts, dives = ([r[0] for r in rows], [r[1] for r in rows], [r[2] for r in rows],
-                                         [r[3] for r in rows])
+            a, b = self._off[piece.host], self._off[piece.host + 1]
+            rows = _holding(rows, zip(self._lo[a:b], self._hi[a:b], self._tgt_code[a:b], self._dive[a:b]))
+            los, his, tgts, dives = ([r[0] for r in rows], [r[1] for r in rows], [r[2] for r in rows],
+                                     [r[3] for r in rows])
             cached = self._unit_rows[unit] = (los, his, tgts, dives)
         return cached
 
@@ -593,6 +607,12 @@ class Problem:
                 l2, h2 = max(lo, cone_lo), min(hi, cone_hi)
                 if h2 > l2:
                     items.append((l2, h2, j))
+        if self.is_piece(source):  # a piece's goal intervals hold its segment's (monotonicity, :meth:`_combine`)
+            tags = (source - PIECE_CODES * self.n_segments) % UNIT_TAGS
+            items = [(lo, hi, j) for lo, hi, j, _ in
+                     _holding([(lo, hi, j, 0) for lo, hi, j in items],
+                              ((lo, hi, j, 0) for lo, hi, j in zip(*self.goal_intervals(self.segment(source)
+                                                                                         + self.n_segments * tags))))]
         items.sort()
         out = ([x[0] for x in items], [x[1] for x in items], [x[2] for x in items])
         self._goal_lists[source] = out
@@ -603,7 +623,7 @@ class Problem:
         """Every way to leave ``belief`` (one per choice of targets), widest interval each."""
         cached = self._options.get(belief)
         if cached is None:
-            cached = self._combine(belief, [self.intervals(s) for s in belief], self._merged)
+            cached = self._combine(belief, [self.intervals(s) for s in belief], self._merged, self._finer)
             self._options[belief] = cached
             self.options_built += len(cached)
         return cached
@@ -612,13 +632,19 @@ class Problem:
         """The options of ``belief`` that land in the goal set from every source (last stages)."""
         cached = self._goal_options.get(belief)
         if cached is None:
-            cached = self._combine(belief, [self.goal_intervals(s) for s in belief], self._merged)
+            cached = self._combine(belief, [self.goal_intervals(s) for s in belief], self._merged, self._finer)
             self._goal_options[belief] = cached
         return cached
 
     def _merged(self, targets) -> Belief:
         """The next belief of a choice of target elements: one element per segment or unit, the corner tags of its
-        copies joined (a robot that may be near either corner takes no arc into either)."""
+        copies joined (a robot that may be near either corner takes no arc into either). A unit whose segment is in
+        the belief too is left out, its tags joined into the segment's: the two allow the same options. (At a
+        heading where the segment's interval lands on target σ, the unit's lands on σ too — every point of the
+        segment does — or on a piece of σ, by an arc into the same corner, so its tags forbid that interval exactly
+        when they would forbid it to the segment; the unit's intervals hold the segment's, :func:`_holding`; and the
+        unit's landing is inside the segment's, with no tag the segment's lacks, so it is left out of the next
+        belief in turn.)"""
         n = self.n_segments
         if all(c < n for c in targets):
             return tuple(sorted(set(targets)))
@@ -630,38 +656,97 @@ class Problem:
             else:
                 key, tag = c % n, c // n
             tags[key] = tags.get(key, 0) | tag
+        units = [key for key in tags if key >= base and self.units[(key - base) // UNIT_TAGS].host in tags]
+        for key in units:
+            tags[self.units[(key - base) // UNIT_TAGS].host] |= tags.pop(key)
         return tuple(sorted(key + (tag if key >= base else n * tag) for key, tag in tags.items()))
+
+    def _finer(self, unit: int, code: int) -> bool:
+        """Is belief element ``unit`` a landing on a piece of the segment that element ``code`` lands on whole, with
+        no corner tag ``code`` lacks? Then a robot that lands there is somewhere a robot landing on ``code`` may be,
+        with no more history: the belief with ``unit`` is the smaller one (:meth:`_combine`)."""
+        n = self.n_segments
+        if not self.is_piece(unit) or self.is_piece(code):
+            return False
+        rel = unit - PIECE_CODES * n
+        return self.units[rel // UNIT_TAGS].host == code % n and not (rel % UNIT_TAGS) & ~(code // n)
 
     @staticmethod
     def _combine(belief: Belief, lists: list[tuple[list[float], list[float], list[int]]],
-                 join: Callable[[Sequence[int]], Belief] = lambda t: tuple(sorted(set(t)))) -> list[Option]:
+                 join: Callable[[Sequence[int]], Belief] = lambda t: tuple(sorted(set(t))),
+                 finer: Callable[[int, int], bool] | None = None) -> list[Option]:
         """Intersect the sources' interval lists (sorted by their low ends), folding source by source; ``join``
         makes the next belief of the targets chosen. Lists of disjoint intervals are merged (the intersection of
-        two sorted lists of disjoint intervals is again one); a list with overlapping intervals (landings on
-        units inside a landing on their segment) is joined pair by pair with every cell it overlaps."""
+        two sorted lists of disjoint intervals is again one). A list with overlapping intervals (landings on units
+        inside a landing on their segment) is joined with every cell it overlaps, keeping only the choices no other
+        choice *dominates* — one whose interval holds this one's and whose next belief is the same or smaller:
+
+        (a) two partial choices with the same ``join`` of their targets so far and nested intervals: the inner
+            one is dropped (every way to complete it completes the outer one to the same next belief, wider);
+        (b) in one cell, a source's landing on a whole segment whose part of the cell a landing on one of that
+            segment's pieces covers too (``finer(piece, segment)``, :meth:`_finer`): the segment's is dropped.
+
+        So a belief of k sources whose landings may end on a piece or on its segment has, at one heading, the
+        options of the distinct nested intervals of (a), not the 2^k choices of the pair-by-pair product.
+
+        *Nothing is lost.* (a) compares equal beliefs. For (b), write x′ ⪯ x for belief elements when x′ is x with
+        fewer corner tags, or a piece of x's segment with no tag x lacks; and B′ ⪯ B for beliefs (multisets of
+        elements) when every element of B′ has one of B above it. Every option of B — an interval I and one row
+        (interval ⊇ I, target τ) per element — is matched from B′ by I itself: the element x′ ⪯ x takes a row of
+        its own with the same target τ holding I (x′'s rows hold x's: a piece's admissible intervals are cut from
+        safe sets of a part of the segment, which every heading safe from the whole segment is safe from, under
+        the same margins — the clearance κ is exempt at the segment's own corners for the piece as for the
+        segment, :meth:`_piece_intervals`; and :func:`_holding` makes it so in floats too, where the ends differ by
+        ulps; fewer tags forbid fewer rows; the same for goal intervals), so the next
+        belief of B′ takes a sub-multiset of B's targets: again ⪯. Joining copies of one place (``join``: their
+        tags united) changes nothing either (the copies can all take the finest of their common rows), nor does
+        folding a unit into its segment when both are in a belief (:meth:`_merged`). By
+        induction on the stages, every plan from B — k stages, intervals I₁ … I_k — is a plan from B′ with the
+        same k stages and intervals (a plan from a belief works from any subset of it, *monotonicity*), so the
+        fewest stages, the widest min width, the largest sum, the widest constant interval and the Pareto front
+        from B′ are no worse than from B. A choice dropped by (b) has a kept choice with the same interval and a
+        next belief ⪯ it (the segment replaced by the piece, tag ⊆): every plan through it is matched, stage by
+        stage, by one through the kept choice. Both rules are kept by every later fold step (the same row
+        completes both choices), so what is dropped early stays dominated.
+
+        Raises :class:`InputError` when the choices kept still exceed :data:`MAX_JOINED_ENTRIES` (targets
+        held), instead of filling the memory."""
         if len(belief) == 1:
             (s,) = belief
             los, his, tgts = lists[0]
-            return [Option(lo, hi, (j,), ((s, j),)) for lo, hi, j in zip(los, his, tgts)]
+            if finer is None or _disjoint(los, his):
+                return [Option(lo, hi, (j,), ((s, j),)) for lo, hi, j in zip(los, his, tgts)]
+            return [Option(lo, hi, key, ((s, t[0]),)) for lo, hi, t, key in
+                    _closed(_join_pruned([(-math.inf, math.inf, (), ())], los, his, tgts, join, finer), lists, join,
+                            finer)]
         if any(not item[0] for item in lists):
             return []
         los, his, tgts = lists[0]
-        cells: list[tuple[float, float, tuple[int, ...]]] = list(zip(los, his, [(j,) for j in tgts]))
-        disjoint = _disjoint(los, his)
+        cells: list = list(zip(los, his, [(j,) for j in tgts]))
+        keyed = False
+        if not _disjoint(los, his):
+            cells = _join_pruned([(-math.inf, math.inf, (), ())], los, his, tgts, join, finer)
+            keyed = True
         for los, his, tgts in lists[1:]:
-            if disjoint and _disjoint(los, his):
+            if not keyed and _disjoint(los, his):
                 merged = _merge_disjoint(cells, los, his, tgts)
             else:
-                merged = _join_overlapping(cells, los, his, tgts)
-                disjoint = False
-                if len(merged) > MAX_JOINED_OPTIONS:  # each source doubles the choices (piece or whole segment)
+                if not keyed:
+                    cells = [(lo, hi, t, join(t)) for lo, hi, t in cells]
+                    keyed = True
+                merged = _join_pruned(cells, los, his, tgts, join, finer)
+                if merged and len(merged) * len(merged[0][2]) > MAX_JOINED_ENTRIES:
                     raise InputError(
-                        f"a belief of {len(belief)} segments of P′ has more than {MAX_JOINED_OPTIONS:,} ways to leave "
-                        "it at one heading (each source may land on a piece between the set ends or on its whole "
-                        "segment): give a start set that spans fewer segments, or ends at vertices")
+                        f"a belief of {len(belief)} segments of P′ has {len(merged):,} undominated ways to leave it "
+                        "(landings on pieces between the set ends or on their whole segments): too many to hold; "
+                        "give a start set that spans fewer segments, or ends at vertices")
             if not merged:
                 return []
             cells = merged
+        if keyed:
+            if finer is not None:
+                cells = _closed(cells, lists, join, finer)
+            return [Option(lo, hi, key, tuple(zip(belief, t))) for lo, hi, t, key in cells]
         if len(belief) == 2:
             s0, s1 = belief
             return [Option(lo, hi, join(t), ((s0, t[0]), (s1, t[1]))) for lo, hi, t in cells]
@@ -835,6 +920,82 @@ def _point_on(seg, t: Fraction):
     return (seg.a[0] + lam * (seg.b[0] - seg.a[0]), seg.a[1] + lam * (seg.b[1] - seg.a[1]))
 
 
+def _closed(cells: list[Cell], lists: Sequence[tuple[list[float], list[float], list[int]]],
+            join: Callable[[Sequence[int]], Belief], finer: Callable[[int, int], bool]) -> list[Cell]:
+    """Rule (b) of :meth:`Problem._combine` once more, on the choices a fold ends with: where a choice's interval
+    narrowed after a source was folded in, the source's landing on a whole segment may now lie inside one of its
+    landings on a piece of that segment, at the same interval: the choice takes the piece (a smaller next belief),
+    then rule (a) again. The pieces of a list are the intervals that lie inside another of the same list and are
+    ``finer`` than it (the segment's intervals are disjoint, so there are few)."""
+    from bisect import bisect_right
+
+    rules = []  # per source with pieces: sorted (lo, hi, piece element, segment element) of its pieces
+    for q, (los, his, tgts) in enumerate(lists):
+        if _disjoint(los, his):
+            continue
+        found = []
+        for i in range(len(los)):
+            k = i + 1
+            while k < len(los) and los[k] < his[i]:
+                for inner, outer in ((k, i), (i, k)):
+                    if los[outer] <= los[inner] and his[inner] <= his[outer] and finer(tgts[inner], tgts[outer]):
+                        found.append((los[inner], his[inner], tgts[inner], tgts[outer]))
+                k += 1
+        if found:
+            found.sort()
+            rules.append((q, found, [r[0] for r in found], _disjoint([r[0] for r in found], [r[1] for r in found])))
+    if not rules:
+        return cells
+    changed = False
+    groups: dict[Belief, list[Cell]] = {}
+    for lo, hi, t, key in cells:
+        new = None
+        for q, found, starts, single in rules:
+            at = bisect_right(starts, lo)
+            for r_lo, r_hi, inner, outer in (found[at - 1:at] if single else found[:at]):
+                if r_hi >= hi and t[q] == outer:
+                    new = new or list(t)
+                    new[q] = inner
+                    break
+        if new is not None:
+            changed = True
+            t = tuple(new)
+            key = join(t)
+        groups.setdefault(key, []).append((lo, hi, t, key))
+    return _undominated(groups) if changed else cells
+
+
+def _holding(rows: list[tuple[float, float, int, int]], host_rows: Iterable[tuple[float, float, int, int]],
+             ) -> list[tuple[float, float, int, int]]:
+    """The rows (lo, hi, target element, dive) of a piece, sorted by low ends, widened so that every row of its
+    segment (``host_rows``) lies inside one with the same target: the hull of the piece's rows of that target it
+    meets, or the segment's row itself where it meets none. Sound: a heading admissible from the whole segment is
+    admissible from every part of it (the same margins; the piece's landings are some of the segment's). The
+    piece's own rows hold the segment's already in exact arithmetic; their float ends differ by a few ulps
+    (≤ 10⁻¹⁴ rad), which this removes, so that a piece is never worse than its segment in floats either
+    (:meth:`Problem._combine` relies on it)."""
+    out = list(rows)
+    by_target: dict[int, list[int]] = {}
+    for i, row in enumerate(out):
+        by_target.setdefault(row[2], []).append(i)
+    dead: set[int] = set()
+    for lo, hi, code, dive in host_rows:
+        meets = [i for i in by_target.get(code, ()) if i not in dead and out[i][0] <= hi and lo <= out[i][1]]
+        if not meets:
+            by_target.setdefault(code, []).append(len(out))
+            out.append((lo, hi, code, dive))
+            continue
+        keep = meets[0]
+        if out[keep][0] <= lo and hi <= out[keep][1] and len(meets) == 1:
+            continue
+        out[keep] = (min(lo, *(out[i][0] for i in meets)), max(hi, *(out[i][1] for i in meets)), code, out[keep][3])
+        dead.update(meets[1:])
+    if dead:
+        out = [row for i, row in enumerate(out) if i not in dead]
+    out.sort(key=lambda r: r[0])
+    return out
+
+
 def _disjoint(los: list[float], his: list[float]) -> bool:
     """Are the intervals of a list sorted by low ends pairwise disjoint (touching at most)?"""
     return all(h <= l for h, l in zip(his, los[1:]))
@@ -865,31 +1026,59 @@ def _merge_disjoint(cells, los, his, tgts):
     return merged
 
 
-MAX_JOINED_OPTIONS = 200_000
-"""Most options :meth:`Problem._combine` builds for one belief when landing units overlap their segments: the
-choices multiply source by source (2^k for k sources at one heading), so a wide start set on a large map would
-otherwise fill the memory; past it the query is refused in one line."""
+MAX_JOINED_ENTRIES = 20_000_000
+"""Most targets the undominated choices of one fold step of :meth:`Problem._combine` may hold (choices × sources so
+far, about 160 MB of references): a guard that refuses the query in one line rather than fill the memory. The
+pruning of :meth:`Problem._combine` keeps far fewer on real queries (a belief of 204 sources landing on pieces: see
+benchmarks/README.md)."""
 
 
-def _join_overlapping(cells, los, his, tgts):
-    """The intersections of positive width of every cell with every interval of a list sorted by low ends, which
-    may overlap (cells too), sorted by low ends: for each cell, the intervals from the first whose prefix maximum of
-    high ends passes the cell's low end, up to the first starting past its high end."""
+def _join_pruned(cells: list[Cell], los: list[float], his: list[float], tgts: list[int],
+                 join: Callable[[Sequence[int]], Belief], finer: Callable[[int, int], bool] | None) -> list[Cell]:
+    """One fold step of :meth:`Problem._combine` over a list that may overlap (cells too): every cell
+    (lo, hi, targets, key = ``join(targets)``) intersected with every interval of the list it meets with positive
+    width, less the dominated choices of rules (a) and (b) there; sorted by low ends. For each cell the list is
+    scanned from the first interval whose prefix maximum of high ends passes the cell's low end up to the first
+    starting past its high end."""
     from bisect import bisect_right
     from itertools import accumulate
 
     top = list(accumulate(his, max))
-    merged = []
     n_list = len(los)
-    for c_lo, c_hi, c_t in cells:
+    groups: dict[Belief, list[Cell]] = {}
+    for c_lo, c_hi, c_t, c_key in cells:
         k = bisect_right(top, c_lo)
+        hits = []
         while k < n_list and los[k] < c_hi:
             h_k = his[k]
             if h_k > c_lo:
                 lo = c_lo if c_lo > los[k] else los[k]
                 hi = c_hi if c_hi < h_k else h_k
                 if hi > lo:
-                    merged.append((lo, hi, c_t + (tgts[k],)))
+                    hits.append((lo, hi, tgts[k]))
             k += 1
-    merged.sort(key=lambda cell: cell[0])
+        if finer is not None and len(hits) > 1:  # rule (b)
+            hits = [h for h in hits if not any(g[0] <= h[0] and h[1] <= g[1] and finer(g[2], h[2]) for g in hits)]
+        for lo, hi, code in hits:
+            key = join(c_key + (code,))
+            groups.setdefault(key, []).append((lo, hi, c_t + (code,), key))
+    return _undominated(groups)
+
+
+def _undominated(groups: dict[Belief, list[Cell]]) -> list[Cell]:
+    """Rule (a) of :meth:`Problem._combine`: of the cells grouped by next belief, those whose interval no other cell
+    of the group holds (one of equal ones), all sorted by their ends."""
+    merged = []
+    for items in groups.values():
+        if len(items) > 1:
+            items.sort(key=lambda cell: (cell[0], -cell[1]))
+            reach = -math.inf
+            kept = []
+            for cell in items:
+                if cell[1] > reach:
+                    kept.append(cell)
+                    reach = cell[1]
+            items = kept
+        merged.extend(items)
+    merged.sort(key=lambda cell: (cell[0], cell[1]))
     return merged

@@ -334,7 +334,7 @@ def _options_wider(problem: Problem, belief: Belief, threshold: float) -> list[O
         los, his, tgts = problem.intervals(s)
         keep = [k for k in range(len(los)) if his[k] - los[k] > threshold]
         lists.append(([los[k] for k in keep], [his[k] for k in keep], [tgts[k] for k in keep]))
-    return [o for o in problem._combine(belief, lists, problem._merged) if o.hi - o.lo > threshold]
+    return [o for o in problem._combine(belief, lists, problem._merged, problem._finer) if o.hi - o.lo > threshold]
 
 
 # ---------------------------------------------------------------------- the Pareto front bounces ↔ min width

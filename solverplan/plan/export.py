@@ -119,14 +119,14 @@ def plan_in_world(plan: Any, env: Environment) -> list[dict]:
     for k, stage in enumerate(plan.stages):
         lo, hi = stage.interval.lo, stage.interval.hi
         if stage.sources:
-            pieces: list[tuple[Any, int, float, float]] = [(None, p.edge, float(p.t0), float(p.t1)) for p in stage.sources]
+            # a piece of a segment (a start set or a landing unit ending inside it) names the segment it lies on
             seen: set = set()
-            unique = []
-            for item in pieces:
-                if item[1:] not in seen:
-                    seen.add(item[1:])
-                    unique.append(item)
-            sources = unique
+            sources = []
+            for p in stage.sources:
+                if (p.edge, p.t0, p.t1) not in seen:
+                    seen.add((p.edge, p.t0, p.t1))
+                    on = [s for s in part.edge_segments[p.edge] if part.segments[s].t0 < p.t1 and p.t0 < part.segments[s].t1]
+                    sources.append((on[0] if len(on) == 1 else None, p.edge, float(p.t0), float(p.t1)))
         else:
             sources = [(s, part.segments[s].edge, float(part.segments[s].t0), float(part.segments[s].t1))
                        for s in stage.from_segments]

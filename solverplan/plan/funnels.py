@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
 from typing import Any, Sequence
 
 import numpy as np
@@ -45,7 +44,7 @@ from solverplan.plan._positions import Flat, SearchOutcome, search_widening, to_
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.search import straight_walls_graph
-from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 
 __all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "DEFAULT_MAX_ROWS", "NARROW_PASSES", "safe_plan_exists"]
 
@@ -67,8 +66,7 @@ def widening_passes(beam: int, n_headings: int) -> list[tuple[int, int]]:
     return [(b, h) for b, h in NARROW_PASSES if b < beam and h <= n_headings] + [(beam, n_headings)]
 
 
-@answer_kind("funnel")
-@dataclass(frozen=True, kw_only=True)
+@answer_dataclass("funnel", kw_only=True)
 class Funnel(PositionStrategy):
     """A funnel (a plan whose stages carry exact ``positions``, ``docs/contract.md``), or why there is none.
 

@@ -38,7 +38,6 @@ ended it, in ``optimality.limits``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
@@ -53,13 +52,12 @@ from solverplan.plan._positions import Flat, to_user_stages
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.funnels import DEFAULT_MAX_ROWS, boundary_pieces, graded_search, search_half_width
-from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Status, answer_kind
+from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Status, answer_dataclass
 
 __all__ = ["Localization", "localize", "rotational_symmetry"]
 
 
-@answer_kind("localize")
-@dataclass(frozen=True, kw_only=True)
+@answer_dataclass("localize", kw_only=True)
 class Localization(PositionStrategy):
     """A localisation strategy: after its stages every start of ``start`` lies in ``goal``, one interval of one
     edge (or of one straight wall: pieces of consecutive collinear edges) shorter than ``epsilon`` (arc length) — or why there is none (``infeasible`` by symmetry, proved; or

@@ -93,7 +93,7 @@ from solverplan.plan._graphs import (
 )
 from solverplan.plan._results import OnPartition, heading_cone
 from solverplan.plan.search import straight_walls_graph
-from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_kind
+from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_dataclass
 
 __all__ = ["DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
 
@@ -131,8 +131,7 @@ class PatrolPoint:
                 "point": [float(self.point[0]), float(self.point[1])]}
 
 
-@answer_kind("patrol")
-@dataclass(frozen=True, kw_only=True)
+@answer_dataclass("patrol", kw_only=True)
 class Patrol(OnPartition, Answer):
     """A patrol strategy (``docs/contract.md``: cycle answer) or the reason there is none.
 
@@ -271,9 +270,7 @@ class Patrol(OnPartition, Answer):
             "solvers": self.solvers,
         }
         if self.epsilon is not None:
-            out["epsilon"] = self.epsilon
-            out["cycles_to_epsilon"] = self.cycles_to_epsilon
-            out["cycles_to_epsilon_nominal"] = self.cycles_to_epsilon_nominal
+            out.update(epsilon=self.epsilon, cycles_to_epsilon=self.cycles_to_epsilon, cycles_to_epsilon_nominal=self.cycles_to_epsilon_nominal)
         return out
 
     @classmethod

@@ -37,7 +37,7 @@ from solverplan.errors import InputError, MalformedFile
 from solverplan.exact import to_fraction
 from solverplan.interval import Interval
 from solverplan.limits import quote
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stage, Stats, Status, answer_kind, finite_number, index_list
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stage, Stats, Status, answer_dataclass, finite_number, index_list
 
 __all__ = [
     "Objective",
@@ -88,8 +88,7 @@ def read_environment(data: object, where: str = "environment") -> EnvironmentRec
         raise MalformedFile(str(exc)) from None
 
 
-@answer_kind("plan")
-@dataclass(frozen=True)
+@answer_dataclass("plan")
 class Plan(Answer):
     """A plan (``docs/contract.md``): heading intervals, one per bounce, from every start to the goal set.
 
@@ -287,8 +286,7 @@ class ParetoPoint:
                 "plan": self.plan.to_json()}
 
 
-@answer_kind("pareto")
-@dataclass(frozen=True)
+@answer_dataclass("pareto")
 class ParetoFront(Answer):
     """The Pareto front bounces ↔ tolerance: the most tolerant plan for each number of bounces that helps.
 

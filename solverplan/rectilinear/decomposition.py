@@ -89,7 +89,7 @@ from solverplan.exact import (ExactPoint, exact_point, format_number, format_poi
                               segment_intersection)
 from solverplan.geometry.raycast import cast_ray
 from solverplan.geometry.walls import StraightWalls
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import Construction, EnvironmentRecord, Method, Optimality, Reader, Stats, answer_dataclass
 from typing import Any
 
 __all__ = [
@@ -247,9 +247,8 @@ class Room:
         }
 
 
-@answer_kind("rooms")
-@dataclass(frozen=True, eq=False)
-class Decomposition(Answer):
+@answer_dataclass("rooms", eq=False)
+class Decomposition(Construction):
     """The rooms and doors of a rectilinear polygon (Algorithm 1), with the room tree (Remark 5).
 
     Attributes
@@ -270,9 +269,6 @@ class Decomposition(Answer):
     stats: Stats = field(default_factory=Stats)
 
     # -- the result protocol
-    @property
-    def status(self) -> Status:
-        return Status.FOUND
 
     @property
     def optimality(self) -> Optimality:

@@ -36,7 +36,7 @@ from solverplan.choices import DoorPolicy
 from solverplan.limits import refuse_beyond_memory
 from solverplan.errors import InputError
 from solverplan.exact import format_number
-from solverplan.result import answer_kind
+from solverplan.result import answer_dataclass
 from solverplan.geometry.raycast import cast_rays_exact
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.rectilinear.doors import DoorControl, RoomWorld
@@ -97,8 +97,7 @@ class RoomPolicy:
         return f"{self.rule.name} rule, doors {self.doors}"
 
 
-@answer_kind("rooms-simulation")
-@dataclass(frozen=True)
+@answer_dataclass("rooms-simulation")
 class RoomRuns:
     """Runs of one rule from a start room to a target room (module docstring).
 
@@ -263,8 +262,7 @@ def _table(runs: Sequence[RoomRuns], walk: tuple[int, ...], trials: int, max_bou
     return "\n".join(lines) + "\n"
 
 
-@answer_kind("rooms-rules")
-@dataclass(frozen=True)
+@answer_dataclass("rooms-rules")
 class RuleComparison:
     """The rules side by side (the paper's Table I): ``runs[name]`` for each rule, the same starts for all."""
 
@@ -394,10 +392,8 @@ def compare_rules(dec: Decomposition, start: int, goal: int, *, rules: Sequence[
 
     Parameters
     ----------
-    dec
-        A room decomposition (:func:`solverplan.rectilinear.decompose_rooms`).
-    start, goal
-        Room ids.
+    dec, start, goal
+        The room decomposition and the two room ids, as for :func:`simulate_rooms`.
     rules
         The rules to compare (default the paper's three: ``smart``, ``random``, ``billiard``;
         :data:`~solverplan.rectilinear.rules.RULE_VARIANTS` adds the smart rule's other θ modes).

@@ -129,7 +129,7 @@ class FieldPlan:
     @property
     def flow_through(self) -> bool:
         """Every cell's nominal field is verified to flow through (the composition converges)."""
-        return all(p.check.verified for p in self.policies.values())
+        return all(p.check.valid for p in self.policies.values())
 
     @property
     def proved(self) -> bool:
@@ -171,7 +171,7 @@ def _nominal(cell: Cell, origin: ExactPoint, inlet: int | None, outlet: int, gai
         for step in GAIN_STEPS:
             field = make(step)
             check = flows_through(field, cell, exits)
-            if check.verified:
+            if check.valid:
                 return field, check
             first = first or (field, check)
     fitted = fit_line_field(cell, exits)  # any line (direction, offset, gain) that works: an LP per direction

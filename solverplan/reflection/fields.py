@@ -38,12 +38,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
+from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, format_number
+from solverplan.limits import quote
 from solverplan.reflection.cells import Cell
+from solverplan.verdict import Failure, Verdict
 
 __all__ = ["LineField", "ArcField", "GoalField", "Field", "FlowCheck", "line_flows_through", "dense_flows_through", "fit_line_field",
            "flows_through"]
@@ -155,22 +158,122 @@ Field = LineField | ArcField | GoalField
 
 
 @dataclass(frozen=True, slots=True)
-class FlowCheck:
-    """The verdict of a flow-through check: ``verified``, how (``exact`` or ``dense-sample``), and the first side
-    the field fails on (``None`` when verified, or for a sampled trajectory that never left)."""
+class FlowCheck(Verdict):
+    """The verdict of a flow-through check: does every trajectory of a cell's field leave it through an exit?
 
-    verified: bool
+    A :class:`~solverplan.verdict.Verdict`, as every check of solverplan gives.
+
+    Parameters
+    ----------
+    valid
+        True when the field was found to flow through.
+    method
+        ``exact`` (line and goal fields: decided in exact arithmetic) or ``dense-sample`` (RK4 trajectories from a
+        grid of the cell and points on its sides: a sample, not a proof).
+    failing_side
+        The first side the field fails on (not an exit): ``None`` when valid, for a goal outside the cell, or for a
+        sampled trajectory that never left.
+    samples
+        Trajectories sampled (``dense-sample``).
+    exits
+        The exit sides, ascending.
+    decided
+        Exact sign decisions made (``exact``: n·v at side ends; a goal field: 1, the goal in the cell).
+    field_kind
+        The kind of field checked: ``line``, ``arc`` or ``goal``.
+
+    Attributes
+    ----------
+    kind
+        ``flow-through``.
+    failures
+        The failing side (``sides[i]``), the goal outside the cell (``goal``) or a sampled trajectory that never
+        left (``exits``), as :class:`~solverplan.verdict.Failure` records.
+    checked
+        The exact decisions: ``side_ends`` or ``goal_in_cell``; nothing for a sample.
+    not_checked
+        For a sample: that it is one, with its size.
+    proved
+        When valid and exact: every trajectory from the closed cell leaves through an exit (or reaches the goal).
+    scope
+        The trajectories the verdict speaks about, in words.
+    verified
+        Deprecated name of ``valid``.
+
+    Examples
+    --------
+    A kite whose side 1 is the exit: the fitted line field is checked exactly, and the same field with side 2 as
+    the exit fails on side 1.
+
+    >>> import solverplan as sp
+    >>> kite = sp.decompose_free_space(sp.Environment.from_coords([(0, 0), (4, 0), (5, 3), (0, 1)])).cells[0]
+    >>> field, check = fit_line_field(kite, {1})
+    >>> check.valid, check.method, check.checked, check.proved[0]
+    (True, 'exact', (('side_ends', 6),), 'every trajectory of the line field from every point of the closed cell leaves it through side 1 in finite time')
+    >>> print(sp.flows_through(field, kite, {2}).failures[0])
+    sides[1]: n·v ≤ 0 at an end of side 1: the field does not point into the cell there, and side 1 is no exit
+    """
+
+    valid: bool
     method: str
     failing_side: int | None = None
     samples: int = 0
+    exits: tuple[int, ...] = ()
+    decided: int = 0
+    field_kind: str = "line"
 
-    def to_json(self) -> dict:
-        out: dict = {"verified": self.verified, "method": self.method}
-        if self.failing_side is not None:
-            out["failing_side"] = self.failing_side
-        if self.samples:
-            out["samples"] = self.samples
-        return out
+    kind = "flow-through"
+
+    @property
+    def failures(self) -> tuple[Failure, ...]:
+        if self.valid:
+            return ()
+        side = self.failing_side
+        if self.field_kind == "goal":
+            return (Failure("goal", "the goal is not in the closed cell"),)
+        if side is None:
+            return (Failure("exits", "a sampled trajectory is still in the cell after 10 diameters of travel"),)
+        if self.method == "exact":
+            return (Failure(f"sides[{side}]", f"n·v ≤ 0 at an end of side {side}: the field does not point into the "
+                                              f"cell there, and side {side} is no exit"),)
+        return (Failure(f"sides[{side}]", f"a sampled trajectory leaves the cell through side {side}, which is no exit"),)
+
+    @property
+    def checked(self) -> tuple[tuple[str, int], ...]:
+        if self.method != "exact":
+            return ()
+        return (("goal_in_cell" if self.field_kind == "goal" else "side_ends", self.decided),)
+
+    @property
+    def not_checked(self) -> tuple[str, ...]:
+        if self.method == "exact":
+            return ()
+        return (f"flow-through of the {self.field_kind} field: judged on {self.samples} trajectories integrated by "
+                f"RK4 from a grid of the cell and points on its sides (a sample, not a proof)",)
+
+    @property
+    def proved(self) -> tuple[str, ...]:
+        if not self.valid or self.method != "exact":
+            return ()
+        if self.field_kind == "goal":
+            return ("the goal is in the closed convex cell: the straight line to it from every point of the cell stays "
+                    "in the cell",)
+        sides = ", ".join(map(str, self.exits))
+        return (f"every trajectory of the {self.field_kind} field from every point of the closed cell leaves it "
+                f"through side{'s' if len(self.exits) != 1 else ''} {sides} in finite time",)
+
+    @property
+    def scope(self) -> str:
+        return (f"the trajectories of the cell's {self.field_kind} field from every point of the closed convex cell; "
+                f"exits: {'sides ' + ', '.join(map(str, self.exits)) if self.exits else 'none (the goal)'}")
+
+    @property
+    def title(self) -> str:
+        return f"flow-through of a {self.field_kind} field ({self.method})"
+
+    def subject_json(self) -> dict[str, Any]:
+        return {"method": self.method, "failing_side": self.failing_side, "samples": self.samples,
+                "exits": list(self.exits), "field": self.field_kind}
 
 
 def _sign_a_sqrt_l_plus_b(a: Fraction, b: Fraction, l: Fraction) -> int:
@@ -210,17 +313,21 @@ def line_flows_through(field: LineField, cell: Cell, exits: set[int] | frozenset
     >>> [s.midpoint for s in cell.sides][:1]
     [(Fraction(5, 1), Fraction(0, 1))]
     >>> f = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, F(3, 10))
-    >>> line_flows_through(f, cell, {2}).verified, line_flows_through(f, cell, {1}).verified
+    >>> line_flows_through(f, cell, {2}).valid, line_flows_through(f, cell, {1}).valid
     (True, False)
     """
     if not isinstance(field, LineField):
         raise TypeError(f"line_flows_through checks line fields; use dense_flows_through for {field.kind} fields")
+    decided = 0
+    ends = tuple(sorted(exits))
     for i, side in enumerate(cell.sides):
         if i in exits:
             continue
-        if any(line_inward_sign(field, side.normal, q) <= 0 for q in (side.a, side.b)):
-            return FlowCheck(False, "exact", i)
-    return FlowCheck(True, "exact")
+        for q in (side.a, side.b):
+            decided += 1
+            if line_inward_sign(field, side.normal, q) <= 0:
+                return FlowCheck(False, "exact", i, exits=ends, decided=decided)
+    return FlowCheck(True, "exact", exits=ends, decided=decided)
 
 
 def dense_flows_through(field: Field, cell: Cell, exits: set[int] | frozenset[int], *, grid: int = 24,
@@ -235,8 +342,9 @@ def dense_flows_through(field: Field, cell: Cell, exits: set[int] | frozenset[in
     >>> from fractions import Fraction
     >>> cell = sp.decompose_free_space(sp.load_environment("square")).cells[0]    # sides 0 … 3 from the bottom
     >>> bottom_to_top = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, Fraction(3, 10))
-    >>> dense_flows_through(bottom_to_top, cell, {2}).verified
-    True
+    >>> check = dense_flows_through(bottom_to_top, cell, {2})
+    >>> check.valid, check.checked, check.proved, check.not_checked[0][:45]
+    (True, (), (), 'flow-through of the line field: judged on 672')
     """
     verts = cell.float_vertices
     normals = np.array([s.unit_normal() for s in cell.sides])
@@ -279,22 +387,72 @@ def dense_flows_through(field: Field, cell: Cell, exits: set[int] | frozenset[in
             crossed[idx[out]] = np.argmin(lam, axis=1)
             alive[idx[out]] = False
         q[idx] = new
+    ends, kind = tuple(sorted(exits)), field.kind
     if alive.any():
-        return FlowCheck(False, "dense-sample", None, n)
+        return FlowCheck(False, "dense-sample", None, n, ends, field_kind=kind)
     bad = np.flatnonzero(~np.isin(crossed, sorted(exits)))
     if len(bad):
-        return FlowCheck(False, "dense-sample", int(crossed[bad[0]]), n)
-    return FlowCheck(True, "dense-sample", None, n)
+        return FlowCheck(False, "dense-sample", int(crossed[bad[0]]), n, ends, field_kind=kind)
+    return FlowCheck(True, "dense-sample", None, n, ends, field_kind=kind)
 
 
 def flows_through(field: Field, cell: Cell, exits: set[int] | frozenset[int]) -> FlowCheck:
-    """:func:`line_flows_through` for line fields (exact), :func:`dense_flows_through` otherwise; a goal field
-    flows to its goal when the goal is in the closed cell (exact: the segment to it stays in the convex cell)."""
+    """Does every trajectory of ``field`` from the closed ``cell`` leave it through an exit side?
+
+    Line fields are decided exactly (:func:`line_flows_through`); a goal field flows to its goal when the goal is in
+    the closed cell (exact: the segment to it stays in the convex cell); other fields (arcs) are judged on a dense
+    sample (:func:`dense_flows_through`), which the verdict lists under ``not_checked``.
+
+    Parameters
+    ----------
+    field
+        A :class:`LineField`, :class:`ArcField` or :class:`GoalField`.
+    cell
+        A convex cell (:func:`~solverplan.reflection.cells.decompose_free_space`).
+    exits
+        The sides (indices, counter-clockwise from the cell's first vertex) trajectories may leave through.
+
+    Returns
+    -------
+    FlowCheck
+        The verdict (:class:`~solverplan.verdict.Verdict`): ``valid``, ``failures`` naming the side that fails,
+        what was decided exactly and what was only sampled.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> from fractions import Fraction
+    >>> cell = sp.decompose_free_space(sp.load_environment("square")).cells[0]
+    >>> up = LineField(cell.sides[0].midpoint, cell.sides[2].midpoint, Fraction(3, 10))
+    >>> [(check.valid, check.method) for check in (sp.flows_through(up, cell, {2}), sp.flows_through(up, cell, {3}))]
+    [(True, 'exact'), (False, 'exact')]
+    >>> sp.flows_through(GoalField(cell.sides[0].midpoint), cell, set()).proved[0][:34]
+    'the goal is in the closed convex c'
+    >>> sp.flows_through(up, cell, {4})
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: exit side 4 is not a side of cell 0 (sides 0 … 3)
+    """
+    _check_flow_question(field, cell, exits)
     if isinstance(field, LineField):
         return line_flows_through(field, cell, exits)
     if isinstance(field, GoalField):
-        return FlowCheck(cell.contains(field.goal), "exact")
+        return FlowCheck(cell.contains(field.goal), "exact", decided=1, field_kind="goal")
     return dense_flows_through(field, cell, exits)
+
+
+def _check_flow_question(field: object, cell: object, exits: object) -> None:
+    """One line for a question :func:`flows_through` cannot answer: not a field, not a cell, exits not side indices."""
+    if not isinstance(field, (LineField, ArcField, GoalField)):
+        raise InputError(f"flows_through checks a LineField, ArcField or GoalField, not {type(field).__name__}")
+    if not isinstance(cell, Cell):
+        raise InputError(f"flows_through checks a convex Cell (decompose_free_space), not {type(cell).__name__}")
+    if not isinstance(exits, (set, frozenset, list, tuple)):
+        raise InputError(f"exits must be a set of side indices, not {type(exits).__name__}")
+    m = len(cell.sides)
+    for side in exits:
+        if isinstance(side, bool) or not isinstance(side, int) or not 0 <= side < m:
+            raise InputError(f"exit side {quote(side)} is not a side of cell {cell.id} (sides 0 … {m - 1})")
 
 
 def arc_turn(cell: Cell, inlet: int, outlet: int, gain: Fraction) -> ArcField | None:
@@ -337,7 +495,7 @@ def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: 
     >>> from solverplan.reflection.cells import decompose_free_space
     >>> kite = decompose_free_space(Environment.from_coords([(0, 0), (4, 0), (5, 3), (0, 1)])).cells[0]
     >>> field, check = fit_line_field(kite, {1})
-    >>> check.verified, check.method
+    >>> check.valid, check.method
     (True, 'exact')
     """
     from scipy.optimize import linprog
@@ -391,4 +549,4 @@ def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: 
     target = (origin[0] + rational(d[0] * scale), origin[1] + rational(d[1] * scale))
     field = LineField(origin, target, Fraction(p).limit_denominator(10**4)).recentred(cell)
     check = line_flows_through(field, cell, exits)
-    return (field, check) if check.verified else None
+    return (field, check) if check.valid else None

@@ -14,13 +14,13 @@ an arc field was verified by a dense sample — and claims no optimality of the 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Sequence
 
 from solverplan.choices import Reflections, ScenarioName, StartMode
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 from solverplan.errors import MalformedFile
 from solverplan.exact import format_number, to_fraction
 from solverplan.reflection.zones import RejectedZone
@@ -37,8 +37,7 @@ from solverplan.reflection.simulate import (SCENARIOS, FieldRobotDynamics, Scena
 __all__ = ["FieldNavigation", "navigate_fields", "random_starts", "ROLLOUT_SEED"]
 
 
-@answer_kind("fields")
-@dataclass(frozen=True)
+@answer_dataclass("fields")
 class FieldNavigation(Answer):
     """The composed fields (``plan``), the robot ``model`` and one :class:`ScenarioRun` per scenario (``runs``).
 
@@ -163,8 +162,12 @@ class FieldNavigation(Answer):
         lines = [f"{plan.env.name or 'environment'}: {len(plan.cells)} convex cells, sequence "
                  f"{' → '.join(map(str, plan.sequence))}",
                  f"reflection cells: {', '.join(map(str, plan.reflection_cells)) or 'none'}; flow-through "
-                 f"{'verified' if plan.flow_through else 'NOT verified'} ({self.status.value}); model {self.model.kind}",
-                 f"{'scenario':<14} {'trials':>6} {'success':>8} {'time mean':>10} {'time var':>10} {'collisions':>11}"]
+                 f"{'verified' if plan.flow_through else 'NOT verified'} ({self.status.value}); model {self.model.kind}"]
+        for c in sorted(plan.policies):  # the cells' verdicts that are not exact proofs, in the verdicts' words
+            check = plan.policies[c].check
+            lines.extend(f"cell {c}: FAIL {failure}" for failure in check.failures)
+            lines.extend(f"cell {c}: not checked: {item}" for item in check.not_checked)
+        lines += [f"{'scenario':<14} {'trials':>6} {'success':>8} {'time mean':>10} {'time var':>10} {'collisions':>11}"]
         for name, run in self.runs.items():
             mean = "-" if run.time_mean is None else f"{run.time_mean:.3f}"
             var = "-" if run.time_var is None else f"{run.time_var:.4f}"
@@ -294,7 +297,7 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
                                 algorithm="flow-through tests (exact for line fields, dense sample otherwise)")
     stats = Stats(seconds_setup=composed - began, seconds_search=finished - composed,
                   counts={"cells": len(plan.cells), "trials": trials * len(scenarios),
-                          "unverified_cells": sorted(c for c, p in plan.policies.items() if not p.check.verified)})
+                          "unverified_cells": sorted(c for c, p in plan.policies.items() if not p.check.valid)})
     return FieldNavigation(plan, robot, runs, seed, Status.FOUND if plan.flow_through else Status.NOT_FOUND,
                            optimality, stats, EnvironmentRecord.of(env), reflections, starts, tests, cells,
                            (to_fraction(gain_line, where="gain_line"), to_fraction(gain_arc, where="gain_arc")))

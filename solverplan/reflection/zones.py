@@ -193,7 +193,7 @@ def select_zone_recorded(cell: Cell, inlet: int, outlet: int,
         for gain in gains:
             field = LineField(cell.sides[inlet].midpoint, cell.sides[side].midpoint, gain)
             check = line_flows_through(field, cell, exits)
-            if check.verified:
+            if check.valid:
                 return ReflectionZone(cell.id, inlet, outlet, side, alpha(cell, inlet, outlet),
                                       zone_cost(cell, inlet, outlet, side), field, check), tuple(rejected)
         rejected.append(RejectedZone(cell.id, side, "flow", "no gain makes the reflection field flow to a wall or "

@@ -29,14 +29,8 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["draw_graph", "draw_safe_arcs"]
 
 
-def draw_graph(
-    ax: Axes,
-    graph: SafeBVG,
-    *,
-    color: str = GRAPH_COLOR,
-    linewidth: float = 0.5,
-    alpha: float | None = None,
-) -> list:
+def draw_graph(ax: Axes, graph: SafeBVG, *, color: str = GRAPH_COLOR, linewidth: float = 0.5,
+               alpha: float | None = None) -> list:
     """Draw the bounce visibility graph lightly: one thin line between the midpoints of every two
     segments of P′ that see each other (arcs come in both directions; each pair is drawn once).
 
@@ -53,14 +47,8 @@ def draw_graph(
     return _shade(ax, p.env, segments, color, linewidth, alpha, ink=0.6, zorder=1.2, gid="bvg-arcs")
 
 
-def draw_safe_arcs(
-    ax: Axes,
-    graph: SafeBVG,
-    *,
-    color: str = SAFE_ARC_COLOR,
-    linewidth: float = 0.6,
-    alpha: float | None = None,
-) -> list:
+def draw_safe_arcs(ax: Axes, graph: SafeBVG, *, color: str = SAFE_ARC_COLOR, linewidth: float = 0.6,
+                   alpha: float | None = None) -> list:
     """Draw every safe arc i → j as the ray it stands for: from the midpoint of segment i at the middle
     heading of the arc's widest safe interval, to where it lands on segment j (which it does: the
     heading is safe). Open ends at 0 or π are clipped to 0.02 rad inside, so the ray leaves the wall.

@@ -178,7 +178,7 @@ def render_pursuit(env: Environment, plan, *, panels: int | None = None, columns
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     FigureCanvasAgg(fig)
-    verdict = "verified" if check.verified else "NOT verified"
+    verdict = "verified" if check.valid else "NOT verified"
     shown = "every step" if len(picks) == last + 1 else f"{len(picks)} of {last + 1} steps"
     fig.suptitle(title or f"{env.name or 'polygon'}: pursuit plan of {len(check.actions)} actions from {check.start} "
                           f"({verdict} by the ground-truth checker; {shown})", fontsize=10)

@@ -27,14 +27,14 @@ import signal
 import threading
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
 from solverplan._io import atomic_write_text, cannot_write
 from solverplan.errors import InputError, SolverFailed, SolverplanError
 from solverplan.limits import quote
-from solverplan.result import answer_kind
+from solverplan.result import answer_dataclass
 from solverplan.studies.store import RowStore
 from solverplan.studies.study import Study, StudyTable, Task, run_task
 
@@ -66,8 +66,7 @@ def output_paths(study: Study, out_dir: str | os.PathLike[str]) -> dict[str, Pat
 
 
 # ---------------------------------------------------------------------- results
-@answer_kind("study")
-@dataclass(frozen=True)
+@answer_dataclass("study")
 class StudyResult:
     """A finished study: its table, the files written, and how the rows were obtained."""
 

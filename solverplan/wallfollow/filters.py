@@ -35,7 +35,7 @@ from typing import Any, Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 from solverplan.wallfollow.world import Action, Observation, parse_action
 
 __all__ = ["CountingFilter", "WalkCount", "count_random_walk", "count_walk", "printed_winding", "printed_vertex_count", "step_value"]
@@ -152,8 +152,7 @@ def printed_vertex_count(actions: Sequence[Action | str], pebbles: Sequence[bool
     return None
 
 
-@answer_kind("vertex-count")
-@dataclass(frozen=True)
+@answer_dataclass("vertex-count")
 class WalkCount(Answer):
     """The filter's answer after a seeded random walk in the geometric simulator, with the ground truth.
 

@@ -34,13 +34,13 @@ few counters, O(n) words.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any, Protocol, Sequence
 
 from solverplan.choices import Comparisons
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import Construction, EnvironmentRecord, Method, Optimality, Reader, Stats, answer_dataclass
 from solverplan.wallfollow.cut import cut_ordering
 from solverplan.wallfollow.ordering import CutOrdering
 from solverplan.wallfollow.world import Action, Observation, Touch, WallWorld
@@ -55,9 +55,8 @@ class Robot(Protocol):
     def act(self, action: Action | str) -> Observation: ...
 
 
-@answer_kind("learned-ordering")
-@dataclass(frozen=True)
-class LearnedOrdering(Answer):
+@answer_dataclass("learned-ordering")
+class LearnedOrdering(Construction):
     """What Strategy 1 learned, and what it cost.
 
     Attributes
@@ -89,9 +88,6 @@ class LearnedOrdering(Answer):
     environment: EnvironmentRecord | None = None
     stats: Stats = field(default_factory=Stats)
 
-    @property
-    def status(self) -> Status:
-        return Status.FOUND
 
     @property
     def optimality(self) -> Optimality:

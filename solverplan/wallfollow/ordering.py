@@ -26,11 +26,11 @@ distinct cross (in the interior of the polygon) exactly when their end points al
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any, Iterable, Sequence
 
 from solverplan.errors import InputError
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import Construction, EnvironmentRecord, Method, Optimality, Reader, Stats, answer_dataclass
 
 __all__ = ["CutOrdering", "parse_label"]
 
@@ -46,9 +46,8 @@ def parse_label(label: str) -> tuple[str, int]:
     return match.group(1), int(match.group(2))
 
 
-@answer_kind("cut-ordering")
-@dataclass(frozen=True)
-class CutOrdering(Answer):
+@answer_dataclass("cut-ordering")
+class CutOrdering(Construction):
     """A cut ordering, as names in counter-clockwise order starting at ``v0`` (module docstring).
 
     Build one with :meth:`from_labels` (validated) or :func:`solverplan.wallfollow.cut_ordering` (from a
@@ -184,9 +183,6 @@ class CutOrdering(Answer):
         return self.n == other.n and self.canonical().labels == other.canonical().labels
 
     # ------------------------------------------------------------------ result protocol
-    @property
-    def status(self) -> Status:
-        return Status.FOUND
 
     def _fields(self) -> dict:
         return {"cut_ordering": list(self.labels), "n": self.n, "reflex": list(self.reflex)}

@@ -227,7 +227,9 @@ class PursuitPlan(Answer):
     states
         Derived I-states explored.
     check
-        The ground-truth replay of the plan (:func:`~solverplan.wallfollow.pursuit_check.check_pursuit`).
+        The ground-truth replay of the plan (:func:`~solverplan.wallfollow.pursuit_check.check_pursuit`): a
+        :class:`~solverplan.verdict.Verdict` (``valid``, ``failures``, ``checked``, ``not_checked``, ...) with the
+        replay's steps; ``verified`` is its ``valid`` (``None`` without a plan).
     reason
         Why there is no plan, in words (``infeasible`` / ``not-found``).
     learning
@@ -243,6 +245,8 @@ class PursuitPlan(Answer):
     >>> chase = sp.pursuit_plan(room)
     >>> chase.status.value, chase.actions, chase.positions, chase.verified
     ('found', ('LFOLLOW',), ('v0', 'v6'), True)
+    >>> chase.check.valid, chase.check.proved[0][:44], chase.to_json()["verdict"]["valid"]
+    (True, 'during action 1 no shadow component can hold', True)
     """
 
     status: Status
@@ -262,7 +266,7 @@ class PursuitPlan(Answer):
     @property
     def verified(self) -> bool | None:
         """The ground-truth checker's verdict on the plan (``None`` without a plan)."""
-        return None if self.check is None else self.check.verified
+        return None if self.check is None else self.check.valid
 
     @property
     def optimality(self) -> Optimality:
@@ -285,6 +289,7 @@ class PursuitPlan(Answer):
             out["cleared_after"] = self.check.cleared_after
             out["check_samples"] = self.check.samples
             out["shadow_labels"] = [sorted(f"v{g}" for g in step.labels) for step in self.check.steps]
+            out["verdict"] = self.check.verdict_json()
         if self.reason:
             out["reason"] = self.reason
         if self.learning is not None:
@@ -334,7 +339,8 @@ class PursuitPlan(Answer):
             lines.append(f"Strategy 4 learned {len(self.learning.bitangents)} bitangents first: "
                          f"{self.learning.actions} actions, {self.learning.visibility_queries} pebble-visibility "
                          f"readings")
-        return "\n".join(lines) + "\n"
+        text = "\n".join(lines) + "\n"
+        return text if self.check is None else text + self.check.to_text(width=width)
 
 
 def _vertex_after(order: CutOrdering, index: int, step: int) -> int:

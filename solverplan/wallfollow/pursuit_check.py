@@ -23,16 +23,16 @@ and follows the labels **continuously** along every motion, independently of any
   inherit, merge → OR. The areas are exact (:func:`overlap_area`): a component as thin as a symbolic perturbation
   (:mod:`~solverplan.wallfollow.perturbation`) is a component, with no tolerance that could drop it.
 
-The plan is *verified* when at some instant every label is 0 (no component may hold the evader: it has been
-seen). Labels are also followed symbolically (each label as the set of start components it comes from), which
+The plan is verified — the replay's :class:`~solverplan.verdict.Verdict` is ``valid`` — when at some instant every
+label is 0 (no component may hold the evader: it has been seen). Labels are also followed symbolically (each label as the set of start components it comes from), which
 is how the tests compare a strategy's bookkeeping with the ground truth action by action.
 
 >>> from solverplan.environment import Environment
 >>> room = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])   # reflex vertex 3
 >>> check = check_pursuit(room, ["RFOLLOW", "RFOLLOW"], start="v1")   # v1 → v2 → v3
->>> check.verified, check.cleared_after, [sorted(step.labels) for step in check.steps]
+>>> check.valid, check.cleared_after, [sorted(step.labels) for step in check.steps]
 (True, 2, [[3], [3], []])
->>> check_pursuit(room, ["RFOLLOW"], start="v1").verified   # at v2 the top left is still hidden
+>>> check_pursuit(room, ["RFOLLOW"], start="v1").valid   # at v2 the top left is still hidden
 False
 """
 
@@ -41,13 +41,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 from itertools import combinations
-from typing import Sequence
+from typing import Any, Sequence
 
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import (ExactPoint, cross, dot, format_point, on_segment, point_in_ring, segment_intersection,
                               signed_area2)
 from solverplan.limits import quote
+from solverplan.verdict import Failure, Verdict
 from solverplan.geometry.visibility import VisibilityPolygon, visibility_polygon
 from solverplan.wallfollow.world import Action, WallWorld, parse_action
 
@@ -354,8 +355,8 @@ class PursuitStep:
 
 
 @dataclass(frozen=True, slots=True)
-class PursuitCheck:
-    """The ground-truth replay of a pursuit plan.
+class PursuitCheck(Verdict):
+    """The ground-truth replay of a pursuit plan, and its verdict (:class:`~solverplan.verdict.Verdict`).
 
     Attributes
     ----------
@@ -370,16 +371,37 @@ class PursuitCheck:
         wherever it was), or ``None``.
     samples
         Positions at which the shadow was computed, in all.
-    verified
+    kind
+        ``pursuit-replay``.
+    valid
         True when the plan guarantees detection (``cleared_after`` is not ``None``).
+    failures
+        Without detection, one :class:`~solverplan.verdict.Failure` of ``cleared_after`` naming the components that
+        may still hold the evader.
+    checked
+        What was computed exactly: the actions replayed and the shadows (exact visibility polygons whose area and
+        their components' add up to the polygon's).
+    not_checked
+        How labels cross an event: by the exact overlap of the components next to it (the rule of this replay,
+        not the event rules the certificate's checker decides).
+    proved
+        When valid, the instant at which no component can hold the evader, in words.
+    scope
+        The evader, the polygon and the plan the verdict speaks about, in words.
+    verified
+        Deprecated name of ``valid``.
 
     Examples
     --------
     >>> import solverplan as sp
     >>> room = sp.Environment.from_coords([[0, 0], [10, 1], [9, 4], [3, 5], [9, 6], [10, 9], [0, 10]])
     >>> replay = sp.check_pursuit(room, ["LFOLLOW"])
-    >>> replay.verified, replay.cleared_after, [step.label for step in replay.steps]
+    >>> replay.valid, replay.cleared_after, [step.label for step in replay.steps]
     (True, 1, ['v0', 'v6'])
+    >>> replay.proved[0]
+    'during action 1 no shadow component can hold the evader: an evader anywhere in the polygon has been seen'
+    >>> print(sp.check_pursuit(room, ["RFOLLOW"]).failures[0])
+    cleared_after: the replay never clears the shadow: after the last action the evader may still be behind v3
     """
 
     start: str
@@ -388,10 +410,60 @@ class PursuitCheck:
     cleared_after: int | None
     samples: int
 
+    kind = "pursuit-replay"
+
     @property
-    def verified(self) -> bool:
+    def valid(self) -> bool:
         """True when the plan guarantees detection: at some instant no shadow component can hold the evader."""
         return self.cleared_after is not None
+
+    @property
+    def failures(self) -> tuple[Failure, ...]:
+        if self.valid:
+            return ()
+        hidden = ", ".join(f"v{g}" for g in sorted(self.steps[-1].labels))
+        return (Failure("cleared_after", "the replay never clears the shadow: after the last action the evader may "
+                                         f"still be behind {hidden}"),)
+
+    @property
+    def checked(self) -> tuple[tuple[str, int], ...]:
+        return ("actions", len(self.actions)), ("shadows", self.samples)
+
+    @property
+    def not_checked(self) -> tuple[str, ...]:
+        return ("labels across an event: carried by the exact overlap of the components a millionth of a piece "
+                "from it (this replay's rule; the pursuit certificate's checker decides them by the event rules)",)
+
+    @property
+    def proved(self) -> tuple[str, ...]:
+        if self.cleared_after is None:
+            return ()
+        when = "at the start" if self.cleared_after == 0 else f"during action {self.cleared_after}"
+        return (f"{when} no shadow component can hold the evader: an evader anywhere in the polygon has been seen",)
+
+    @property
+    def scope(self) -> str:
+        return ("an evader moving arbitrarily fast in this simple polygon, seen once in the pursuer's line of sight; "
+                f"the pursuer starting at {self.start} and moving by the wall-following rules")
+
+    @property
+    def title(self) -> str:
+        return f"pursuit replay from {self.start}, {len(self.actions)} action{'' if len(self.actions) == 1 else 's'}"
+
+    def subject_json(self) -> dict[str, Any]:
+        return {"start": self.start, "actions": [a.value for a in self.actions], "cleared_after": self.cleared_after,
+                "samples": self.samples,
+                "steps": [{"action": None if step.action is None else step.action.value, "label": step.label,
+                           "shadow": sorted(step.components), "contaminated": sorted(step.labels)}
+                          for step in self.steps]}
+
+    def subject_lines(self) -> list[str]:
+        return ["actions: " + (" ".join(a.value for a in self.actions) or "none")]
+
+    def claim_lines(self) -> list[str]:
+        cleared = self.cleared_after
+        return ["cleared: " + ("never" if cleared is None else "at the start" if cleared == 0
+                               else f"during action {cleared}")]
 
 
 def _start_world(env: Environment, start: str) -> WallWorld:
@@ -430,13 +502,14 @@ def check_pursuit(env: Environment, actions: Sequence[Action | str], start: str 
     Returns
     -------
     PursuitCheck
-        The status after every action; ``verified`` when at some instant no shadow can hold the evader.
+        The status after every action, and the verdict: ``valid`` when at some instant no shadow can hold the
+        evader.
 
     Examples
     --------
     >>> import solverplan as sp
     >>> room = sp.Environment.from_coords([[0, 0], [10, 1], [9, 4], [3, 5], [9, 6], [10, 9], [0, 10]])
-    >>> sp.check_pursuit(room, ["LFOLLOW"]).verified, sp.check_pursuit(room, ["RFOLLOW"]).verified
+    >>> sp.check_pursuit(room, ["LFOLLOW"]).valid, sp.check_pursuit(room, ["RFOLLOW"]).valid
     (True, False)
     >>> sp.check_pursuit(room, ["DROP"])
     Traceback (most recent call last):

@@ -23,10 +23,10 @@ from solverplan.errors import InputError
 from solverplan.result import Method, Status
 from solverplan.simulate import simulate_rule
 from tests.strategies import convex_polygons, polygons_with_holes
+from tests.shapes import SQUARE
 
 PI = math.pi
 MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 FEW = max(8, settings.default.max_examples // 5)
 
 

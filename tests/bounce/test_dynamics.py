@@ -4,6 +4,7 @@ fixed point and Cor. 3/4 — each checked against the simulator (the ground trut
 from __future__ import annotations
 
 import math
+from math import pi as PI
 from fractions import Fraction
 
 import numpy as np
@@ -33,9 +34,8 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.simulate import simulate_rule
 from tests.strategies import convex_polygons, polygons_with_holes
+from tests.shapes import SQUARE
 
-PI = math.pi
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 RECTANGLE = Environment.from_coords([[0, 0], [2, 0], [2, 1], [0, 1]], name="rectangle")
 # Lemma 3's per-step contraction bound binds (at v1, where the short e0 meets the long e1), not the edge order:
 CONTRACTION_BINDS = Environment.from_coords([[0, 0], [2, 0], [8, 3], [8, 6], [0, 6]], name="contraction-binds")

@@ -4,6 +4,7 @@ valid, non-deterministic sets and sampling, and one-line errors."""
 from __future__ import annotations
 
 import math
+from math import pi as PI
 
 import numpy as np
 import pytest
@@ -28,9 +29,8 @@ from solverplan.bounce.rules import (
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
 from tests.strategies import polygons_with_holes
+from tests.shapes import SQUARE
 
-PI = math.pi
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 # edges of SQUARE: e0 floor (→ +x), e1 right wall (→ +y), e2 ceiling (→ −x), e3 left wall (→ −y)
 
 

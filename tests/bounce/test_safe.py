@@ -230,13 +230,7 @@ def test_safe_set_with_a_hole_is_two_intervals():
 
 
 def test_safe_set_with_a_hole_agrees_with_the_bvg():
-    p = partition(HOLE_ROOM)
-    g = safe_bounce_visibility_graph(p)
-    segs = p.segments
-    for i in range(len(segs)):
-        for j in range(len(segs)):
-            if i != j:
-                assert same_sets(g.safe_set(i, j), safe_set(HOLE_ROOM, (segs[i].a, segs[i].b), (segs[j].a, segs[j].b)))
+    assert_safe_bvg_is_the_exact_reference(HOLE_ROOM)
 
 
 def test_segments_of_p_prime_can_have_several_safe_intervals():
@@ -265,9 +259,8 @@ def test_safe_set_without_holes_is_one_interval(env):
     assert g.n_arcs == 0 or int(np.max(g.n_intervals)) <= 1
 
 
-@given(env=polygons_with_holes(max_vertices=7, max_holes=2))
-@settings(max_examples=examples(8))
-def test_safe_bvg_equals_the_exact_reference_on_every_pair(env):
+def assert_safe_bvg_is_the_exact_reference(env):
+    """The safe BVG's safe set of every ordered pair of segments of P′ is the exact reference's (``safe_set``)."""
     p = partition(env)
     g = safe_bounce_visibility_graph(p)
     segs = p.segments
@@ -275,6 +268,12 @@ def test_safe_bvg_equals_the_exact_reference_on_every_pair(env):
         for j in range(len(segs)):
             if i != j:
                 assert same_sets(g.safe_set(i, j), safe_set(env, (segs[i].a, segs[i].b), (segs[j].a, segs[j].b))), (i, j)
+
+
+@given(env=polygons_with_holes(max_vertices=7, max_holes=2))
+@settings(max_examples=examples(8))
+def test_safe_bvg_equals_the_exact_reference_on_every_pair(env):
+    assert_safe_bvg_is_the_exact_reference(env)
 
 
 @pytest.mark.parametrize("name", ["degenerate", "comb", "two_holes"])
@@ -282,13 +281,7 @@ def test_safe_bvg_equals_the_exact_reference_on_models(name):
     """The degenerate model (collinear vertices, parallel edges, hole vertices on lines through outer
     edges: exact ties) and two others, every pair against the exact reference."""
     env = load_environment(MODELS / f"{name}.json")
-    p = partition(env)
-    g = safe_bounce_visibility_graph(p)
-    segs = p.segments
-    for i in range(len(segs)):
-        for j in range(len(segs)):
-            if i != j:
-                assert same_sets(g.safe_set(i, j), safe_set(env, (segs[i].a, segs[i].b), (segs[j].a, segs[j].b))), (i, j)
+    assert_safe_bvg_is_the_exact_reference(env)
 
 
 # ---------------------------------------------------------------------------------------------

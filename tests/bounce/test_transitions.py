@@ -5,6 +5,7 @@ just inside every reported end point are reached, checked with exact point-to-po
 from __future__ import annotations
 
 import math
+from math import pi as PI
 from fractions import Fraction
 
 import numpy as np
@@ -26,9 +27,8 @@ from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.geometry.raycast import cast_from_boundary, cast_ray
 from solverplan.geometry.visibility import sees
 from tests.strategies import polygons_with_holes, simple_polygons
+from tests.shapes import SQUARE
 
-PI = math.pi
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 ROOM_WITH_PILLAR = Environment.from_coords([[0, 0], [10, 0], [10, 10], [0, 10]], [[[4, 4], [6, 4], [6, 6], [4, 6]]])
 L_ROOM = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]])
 FEWER = max(10, settings.default.max_examples // 4)  # the costlier exact properties (scaled by the profile)

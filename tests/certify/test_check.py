@@ -4,6 +4,7 @@ tampering fails naming its claim, and the rational atan enclosures are right."""
 from __future__ import annotations
 
 import ast
+import copy
 import math
 import random
 from fractions import Fraction
@@ -58,7 +59,18 @@ def _imports(module) -> set[str]:
 @pytest.mark.parametrize("module", CHECKER_MODULES, ids=lambda m: m.__name__)
 def test_checker_imports_nothing_but_stdlib_and_schema(module):
     checker = {m.__name__ for m in CHECKER_MODULES}
-    assert _imports(module) <= {"__future__", "fractions", "dataclasses", "hashlib", "json", "typing", "solverplan.certify.schema"} | checker
+    assert _imports(module) <= {"__future__", "fractions", "dataclasses", "hashlib", "json", "typing", "solverplan.certify.schema",
+                                "solverplan.verdict"} | checker
+
+
+def test_the_verdict_shared_with_the_models_is_standard_library_only():
+    """The checker's verdict type lives below every model (:mod:`solverplan.verdict`): it must stay as independent as
+    the checker itself, with no float anywhere."""
+    from solverplan import verdict
+
+    assert _imports(verdict) <= {"__future__", "dataclasses", "typing", "warnings"}
+    tree = ast.parse(Path(verdict.__file__).read_text())
+    assert not [n for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, float)]
 
 
 @pytest.mark.parametrize("module", CHECKER_MODULES, ids=lambda m: m.__name__)
@@ -630,7 +642,7 @@ def test_the_checkers_optimality_methods_are_the_planners():
     assert set(check.PROVING_METHODS) == {m.value for m in Method} - {"heuristic", "none"}
 
 
-@pytest.mark.parametrize("objective", ["fewest", "tolerance", "anything at all", "x" * 500])
+@pytest.mark.parametrize("objective", ["fewest", "tolerance", "constant"])
 def test_an_objective_is_listed_as_not_checked_unless_a_bound_block_confirms_it(objective):
     data = cases.square_adjacent()
     data["claims"]["objective"] = objective
@@ -638,6 +650,39 @@ def test_an_objective_is_listed_as_not_checked_unless_a_bound_block_confirms_it(
     assert report.valid
     listed = [line for line in report.not_checked if line.startswith("claims.objective")]
     assert len(listed) == 1 and len(listed[0]) <= 200
+
+
+@pytest.mark.parametrize("objective,fragment", [
+    ("anything at all", "unknown objective 'anything at all': a plan certificate names one of fewest, tolerance, sum, constant"),
+    ("fewestx", "unknown objective 'fewestx'"),
+    ("x" * 500, "unknown objective 'xxxxxxxx"),
+    ("funnel-fewest", "'funnel-fewest' is an objective of funnel certificates, not of a plan certificate"),
+    ("patrol-rate", "is an objective of cycle certificates, not of a plan certificate"),
+])
+def test_an_unknown_objective_or_another_kinds_is_a_failure(objective, fragment):
+    """pipe's finding 3: a tampered objective (``funnel-fewest`` → ``funnel-fewestx``, a funnel relabelled a plan) was
+    only listed as not checked; an objective no certificate of the kind can have is a failure."""
+    data = cases.square_adjacent()
+    data["claims"]["objective"] = objective
+    report = assert_fails(data, "claims.objective", fragment)
+    assert all(len(str(f)) <= check.MAX_FAILURE_LINE for f in report.failures)
+
+
+def test_the_checkers_objectives_are_the_planners():
+    from solverplan.choices import Objective, PatrolObjective
+
+    assert check.PLAN_OBJECTIVES == tuple(o.value for o in Objective)
+    assert check.PATROL_OBJECTIVES == tuple(o.value for o in PatrolObjective)
+
+
+def test_a_move_repeated_in_a_stage_is_malformed():
+    """pipe's finding 2: a stage listing one move twice said nothing false, but says it twice: one failure naming the
+    repeat (the certificate is otherwise as checked)."""
+    data = cases.square_adjacent()
+    moves = data["stages"][0]["moves"]
+    moves.append(copy.deepcopy(moves[0]))
+    report = assert_fails(data, f"stages[0].moves[{len(moves) - 1}]", "of moves[0]: a stage has one move per source")
+    assert [f.claim for f in report.failures] == [f"stages[0].moves[{len(moves) - 1}]"]
 
 
 def test_a_sum_objective_needs_its_sum_width():

@@ -31,21 +31,29 @@ def test_explore_random_rule_with_a_seed_matches_the_library():
     assert json.loads(result.stdout)["viewpoints"] == [[float(x), float(y)] for x, y in run.viewpoints]
 
 
-def test_explore_text_lists_the_viewpoints():
-    result = runner.invoke(app, ["explore", "comb", "--start", "1,1", "--choice", "far", "--format", "text"])
-    assert result.exit_code == 0 and "p1 = (1, 1)" in result.stdout and "bound 9" in result.stdout
+@pytest.mark.parametrize(("args", "fragments"), [
+    (["comb", "--start", "1,1", "--choice", "far"], ["p1 = (1, 1)", "bound 9"]),  # the viewpoints, the bound
+    (["l_shape", "--start", "2,7", "--range", "3"], ["Algorithm B, range R = 3", "Lemma 4 bound"]),
+])
+def test_explore_text(args, fragments):
+    result = runner.invoke(app, ["explore", *args, "--format", "text"])
+    assert result.exit_code == 0 and all(fragment in result.stdout for fragment in fragments), result.output
 
 
 @pytest.mark.parametrize(("args", "message"), [
     (["--start", "50,1"], "start (50, 1) is not in the free space of comb"),
     (["--start", "1"], "--start '1': expected X,Y"),
     (["--start", "1,1", "--seed", "2"], "--seed only applies to the random z-choice rule"),
+    (["--start", "1,1", "--range", "0"], "range R must be a finite number > 0"),
+    (["--start", "1,1", "--range", "abc"], "'abc' is not a number"),
+    (["--start", "1,1", "--range", "nan"], "not finite"),
+    (["--start", "1,1", "--range", "2", "--seed", "1"], "--seed only applies to the random z-choice rule"),
 ])
 def test_explore_bad_input_is_one_line_exit_2(args, message):
     result = runner.invoke(app, ["explore", "comb", *args])
     assert result.exit_code == 2
     lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and message in lines[0]
+    assert len(lines) == 1 and message in lines[0], lines
 
 
 def test_explore_with_a_range_is_algorithm_b_within_lemma_4(tmp_path):
@@ -68,24 +76,6 @@ def test_explore_with_a_range_across_the_polygon_is_algorithm_a():
     answer = json.loads(result.stdout)
     run = sp.explore_depth_first(sp.load_environment("comb"), (1, 1), choice="far")
     assert answer["algorithm"] == "A" and answer["views"] == run.n_views and answer["arcs"] == [[]] * run.n_views
-
-
-def test_explore_range_text():
-    result = runner.invoke(app, ["explore", "l_shape", "--start", "2,7", "--range", "3", "--format", "text"])
-    assert result.exit_code == 0 and "Algorithm B, range R = 3" in result.stdout and "Lemma 4 bound" in result.stdout
-
-
-@pytest.mark.parametrize(("args", "message"), [
-    (["--range", "0"], "range R must be a finite number > 0"),
-    (["--range", "abc"], "'abc' is not a number"),
-    (["--range", "nan"], "not finite"),
-    (["--range", "2", "--seed", "1"], "--seed only applies to the random z-choice rule"),
-])
-def test_explore_bad_range_is_one_line_exit_2(args, message):
-    result = runner.invoke(app, ["explore", "comb", "--start", "1,1", *args])
-    assert result.exit_code == 2
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and message in lines[0], lines
 
 
 def test_issue26_generate_spiral_and_ring_write_the_papers_families(tmp_path):

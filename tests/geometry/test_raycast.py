@@ -132,16 +132,16 @@ def test_cast_ray_matches_brute_force_from_boundary_points(env, data):
     assert hit.s > 0 and (hit.edge != edge or hit.vertex is not None)
 
 
+def ray_origins(env):
+    """Exact ray origins in ``env``: an interior point, a point of the boundary, or a vertex."""
+    return st.one_of(interior_points(env), boundary_points(env).map(lambda hit: hit[1]),
+                     st.integers(0, env.n_edges - 1).map(lambda k: env.exact_vertices[k]))
+
+
 @given(env=polygons_with_holes(), data=st.data())
 def test_cast_ray_reports_a_vertex_it_is_aimed_at_as_a_vertex_hit(env, data):
     """Integer vertices, rational origins: exact ties. A ray through a vertex is never an edge hit."""
-    kind = data.draw(st.sampled_from(["interior", "boundary", "vertex"]))
-    if kind == "interior":
-        origin = data.draw(interior_points(env))
-    elif kind == "boundary":
-        origin = data.draw(boundary_points(env))[1]
-    else:
-        origin = env.exact_vertices[data.draw(st.integers(0, env.n_edges - 1))]
+    origin = data.draw(ray_origins(env))
     target = data.draw(st.integers(0, env.n_edges - 1))
     v = env.exact_vertices[target]
     direction = (v[0] - origin[0], v[1] - origin[1])
@@ -159,12 +159,18 @@ def test_cast_ray_reports_a_vertex_it_is_aimed_at_as_a_vertex_hit(env, data):
         assert hit.vertex == target
 
 
-@given(env=polygons_with_holes(), data=st.data())
-def test_cast_ray_through_vertices_matches_the_walk_of_the_reference(env, data):
+def aimed_at_a_vertex(data, env):
+    """An interior point of ``env``, a vertex, and the direction from the point to the vertex (exact, drawn)."""
     origin = data.draw(interior_points(env))
     v = env.exact_vertices[data.draw(st.integers(0, env.n_edges - 1))]
     direction = (v[0] - origin[0], v[1] - origin[1])
     assume(direction != (0, 0))
+    return origin, v, direction
+
+
+@given(env=polygons_with_holes(), data=st.data())
+def test_cast_ray_through_vertices_matches_the_walk_of_the_reference(env, data):
+    origin, v, direction = aimed_at_a_vertex(data, env)
     hit = cast_ray(env, origin, direction, through_vertices=True)
     assert as_tuple(hit) == reference_first_hit(env, origin, direction, through_vertices=True)
 
@@ -184,10 +190,7 @@ def test_cast_ray_from_a_vertex_into_its_free_wedge_matches_brute_force(env, dat
 @given(env=convex_polygons(), data=st.data())
 def test_cast_ray_in_a_convex_polygon_never_grazes(env, data):
     """Every vertex of a strictly convex polygon is convex: through_vertices changes nothing."""
-    origin = data.draw(interior_points(env))
-    v = env.exact_vertices[data.draw(st.integers(0, env.n_edges - 1))]
-    direction = (v[0] - origin[0], v[1] - origin[1])
-    assume(direction != (0, 0))
+    origin, v, direction = aimed_at_a_vertex(data, env)
     plain = cast_ray(env, origin, direction)
     assert plain.point == v and plain.vertex is not None
     assert cast_ray(env, origin, direction, through_vertices=True) == plain
@@ -385,13 +388,7 @@ def test_cast_exact_gives_what_cast_ray_gives_ray_by_ray(env, data):
     """The batch exact caster (grid candidates) against the scalar one (its own prefilter)."""
     origins, directions = [], []
     for _ in range(data.draw(st.integers(1, 8))):
-        kind = data.draw(st.sampled_from(["interior", "boundary", "vertex"]))
-        if kind == "interior":
-            origin = data.draw(interior_points(env))
-        elif kind == "boundary":
-            origin = data.draw(boundary_points(env))[1]
-        else:
-            origin = env.exact_vertices[data.draw(st.integers(0, env.n_edges - 1))]
+        origin = data.draw(ray_origins(env))
         if data.draw(st.booleans()):
             v = env.exact_vertices[data.draw(st.integers(0, env.n_edges - 1))]
             direction = (v[0] - origin[0], v[1] - origin[1])

@@ -32,9 +32,9 @@ from solverplan.geometry.visibility import (
     _weak_visibility_witness,
 )
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
+from tests.shapes import SQUARE
 
 F = Fraction
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 ELL = Environment.from_coords([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], name="L")
 # Three holes whose tips (-2, 0) [below], (2, 0) [above], (4, 0) [below] leave exactly one line,
 # y = 0, through the open walls x = ±6: it grazes all three tips, no line near it is free.

@@ -6,30 +6,16 @@ import json
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
-from solverplan import cli
 from solverplan.certify.check import check_certificate
 from solverplan.certify.schema import load_certificate
+from tests.cli_runs import run, assert_one_line_error
 
 MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 TWO_ROOMS = MODELS / "two_rooms.json"
-runner = CliRunner()
 
 # the contract's plan fields, in the one key order of every answer: kind, status, the plan's fields, ... optimality
 CONTRACT_KEYS = ["kind", "status", "objective", "bounces", "min_width", "tolerance", "stages"]
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
-
-
-def assert_one_line_error(result, code: int, fragment: str) -> str:
-    assert result.exit_code == code, (result.exit_code, result.stdout, result.stderr)
-    assert result.stdout == ""
-    lines = result.stderr.splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: ") and fragment in lines[0], result.stderr
-    return lines[0]
 
 
 def test_plan_prints_the_contract_plan_and_writes_a_verified_certificate(tmp_path):

@@ -17,10 +17,10 @@ from solverplan.plan.funnels import funnel
 from solverplan.plan.localization import localize
 from solverplan.plan.patrols import patrol
 from solverplan.result import EnvironmentRecord, Method, Optimality, Result, Stage, Stats, Status
+from tests.shapes import SQUARE
 
 patrol_module = importlib.import_module("solverplan.plan.patrols")
 MODELS = Path(__file__).resolve().parent.parent.parent / "solverplan" / "models"
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 TRIANGLE = Environment.from_coords([[0, 0], [10, 0], [3, 7]], name="triangle")
 
 BUILDERS = {

@@ -11,8 +11,8 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError, MalformedFile
 from solverplan.plan import Plan, find_plan, load_plan, parse_plan
 from solverplan.result import EnvironmentRecord, Method, Optimality, Status
+from tests.shapes import SQUARE
 
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 ELL = Environment.from_coords([[0, 0], [8, 0], [8, 4], [4, 4], [4, 8], [0, 8]], name="ell")
 
 

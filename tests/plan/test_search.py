@@ -17,9 +17,9 @@ from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.plan import find_plan, pareto_front, planning_problem
 from tests.plan.brute import EPS, admissible, enumerate_plans, start_elements
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
+from tests.shapes import SQUARE
 
 K = 3
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 
 MODELS = Path(__file__).resolve().parents[2] / "solverplan" / "models"
 
@@ -41,6 +41,12 @@ def queries(draw):
 
 def _spec(pieces) -> str:
     return ",".join(f"e{e}:{a.numerator}/{a.denominator}:{b.numerator}/{b.denominator}" for e, a, b in pieces)
+
+
+def _prepared(query):
+    """A drawn query as the planners take it: the environment, its safe BVG, the start set and the goal set."""
+    env, pieces, goal_edge = query
+    return env, safe_bounce_visibility_graph(env), _spec(pieces), f"e{goal_edge}"
 
 
 @settings(max_examples=60)
@@ -93,9 +99,7 @@ def test_planners_are_optimal_against_brute_force_enumeration(query):
 @given(queries())
 def test_unbudgeted_tolerance_is_the_limit_of_the_pareto_front(query):
     """The max-min Dijkstra's W* equals the last point of the complete front; the plan has its fewest bounces."""
-    env, pieces, goal_edge = query
-    graph = safe_bounce_visibility_graph(env)
-    S, G = _spec(pieces), f"e{goal_edge}"
+    env, graph, S, G = _prepared(query)
     plan = find_plan(env, S, G, objective="tolerance", graph=graph)
     front = pareto_front(env, S, G, graph=graph)
     if not front.points:
@@ -111,9 +115,7 @@ def test_unbudgeted_tolerance_is_the_limit_of_the_pareto_front(query):
 @given(queries())
 def test_lp_and_milp_agree_with_the_label_searches(query):
     """sum: LP over path flows (clarabel, duality gap) = DP; tolerance: MILP (HiGHS) = Pareto labels."""
-    env, pieces, goal_edge = query
-    graph = safe_bounce_visibility_graph(env)
-    S, G = _spec(pieces), f"e{goal_edge}"
+    env, graph, S, G = _prepared(query)
     dp = find_plan(env, S, G, objective="sum", max_bounces=K, graph=graph)
     lp = find_plan(env, S, G, objective="sum", max_bounces=K, method="lp", graph=graph)
     assert dp.found == lp.found
@@ -361,14 +363,110 @@ def overlapping_interval_lists(draw):
 
 
 @given(overlapping_interval_lists())
-def test_options_over_overlapping_lists_are_every_choice_with_a_common_interval(lists):
-    """Problem._combine with overlapping lists (the pair-by-pair join) against the product of one interval per
-    source (brute force): every choice of intervals whose intersection has positive width, once."""
+def test_options_over_overlapping_lists_are_every_undominated_choice(lists):
+    """Problem._combine with overlapping lists against the product of one interval per source (brute force): every
+    option is a choice of intervals with a common interval of positive width; every such choice has an option with
+    the same next belief whose interval holds its own (rule (a): nothing is lost); and no option's interval holds
+    another's with the same next belief (the dominated ones are gone)."""
     from solverplan.plan._problem import Problem
 
     belief = tuple(range(10, 10 + len(lists)))
-    got = sorted((o.lo, o.hi, o.moves) for o in Problem._combine(belief, lists))
-    assert got == _every_choice(belief, lists)
+    options = Problem._combine(belief, lists)
+    every = _every_choice(belief, lists)
+    assert {(o.lo, o.hi, o.moves) for o in options} <= set(every)
+    for lo, hi, moves in every:
+        nxt = tuple(sorted({j for _, j in moves}))
+        assert any(o.next == nxt and o.lo <= lo and hi <= o.hi for o in options)
+    for o in options:
+        assert o.next == tuple(sorted({j for _, j in o.moves}))
+        assert not any(p is not o and p.next == o.next and p.lo <= o.lo and o.hi <= p.hi for p in options)
+
+
+def _cut_sources(k: int, shift: float):
+    """k sources that each land at headings [0.2, 2.8] on segment 5 and, at a narrower interval shifted by
+    ``shift`` per source, inside a piece of it (element 100); finer(100, 5)."""
+    lists = []
+    for i in range(k):
+        lo, hi = 0.6 + shift * i, 2.0 + shift * i
+        lists.append(([0.2, lo], [2.8, hi], [5, 100]))
+    return lists
+
+
+@pytest.mark.parametrize("shift", [0.0, 0.001])
+def test_options_of_many_cut_sources_do_not_multiply(shift):
+    """Issue #24: 200 sources whose landings may end on a piece or on its whole segment gave 2^200 choices at one
+    heading (refused past 200,000). Now the dominated ones are dropped as they arise: the options are the whole
+    segment over the common interval, the piece over the intersection of the pieces' intervals, and mixtures only
+    where one source's piece interval is not held by the others' — checked against brute force for 8 sources."""
+    import time
+
+    from solverplan.plan._problem import Problem
+
+    finer = lambda a, b: a == 100 and b == 5  # noqa: E731
+    t0 = time.process_time()
+    options = Problem._combine(tuple(range(200)), _cut_sources(200, shift), finer=finer)
+    assert time.process_time() - t0 < 2.0
+    nexts = {o.next for o in options}
+    assert (5,) in nexts and ((100,) in nexts) == (shift * 199 < 1.4)
+    widest = {nxt: max(o.hi - o.lo for o in options if o.next == nxt) for nxt in nexts}
+    assert widest[(5,)] == pytest.approx(2.6)
+    assert len(options) <= 2 * 200 + 2
+    belief = tuple(range(8))
+    lists = _cut_sources(8, shift)
+    options = Problem._combine(belief, lists, finer=finer)
+    for lo, hi, moves in _every_choice(belief, lists):
+        nxt = tuple(sorted({j for _, j in moves}))
+        # every choice is matched by an option with an interval as wide and a next belief no larger (a piece for
+        # its segment: the belief the robot is in is smaller)
+        assert any(o.lo <= lo and hi <= o.hi and set(o.next) <= set(nxt) | {100}
+                   and (5 not in o.next or 5 in nxt) for o in options), (lo, hi, nxt)
+    if shift == 0.0:  # every piece interval is the same: at its headings every source lands on the piece
+        assert sorted((o.lo, o.hi, o.next) for o in options) == [(0.2, 2.8, (5,)), (0.6, 2.0, (100,))]
+
+
+def test_choices_that_still_blow_up_are_refused_in_one_line(monkeypatch):
+    """The guard that is left: when the undominated choices of a belief still exceed the entries it may hold (here
+    lowered to 1,000: 16 sources with two overlapping intervals of distinct targets each, no piece finer than any,
+    have 2^16), the query is refused with one line, not a memory error."""
+    from solverplan.plan import _problem
+    from solverplan.plan._problem import Problem
+
+    monkeypatch.setattr(_problem, "MAX_JOINED_ENTRIES", 1_000)
+    lists = [([0.0, 1.0], [2.0, 3.0], [2 * q, 2 * q + 1]) for q in range(16)]
+    with pytest.raises(InputError, match=r"^a belief of 16 segments of P′ has [0-9,]+ undominated ways to leave it") as err:
+        Problem._combine(tuple(range(16)), lists, finer=lambda a, b: False)
+    assert "\n" not in str(err.value)
+
+
+def test_a_query_whose_landing_options_multiplied_is_answered():
+    """Issue #24: on this polygon with holes (an invariance-study draw) a belief of 22 sources had more than 200,000
+    choices of landing on a piece or on its whole segment at one heading, and every objective was refused; with
+    the dominated choices dropped each answers at once, proved."""
+    from solverplan.generators import star_polygon_with_holes
+
+    env = star_polygon_with_holes(6, 2, seed=752531, radius=10.0, decimals=3)
+    start, goal = "e4:0.8:1,e5:0:0.85", "e2:0.5:1,e3:0:0.9"
+    plans = {o: find_plan(env, start, goal, objective=o, max_bounces=4) for o in ("fewest", "tolerance", "sum")}
+    assert all(p.found and p.optimality.proved for p in plans.values())
+    assert plans["fewest"].bounces == plans["tolerance"].bounces == 2
+    assert plans["tolerance"].min_width == pytest.approx(0.0553346943, abs=1e-9)
+    assert plans["sum"].bounces == 4 and plans["sum"].sum_width == pytest.approx(0.33845488, abs=1e-7)
+
+
+def test_an_arc_listed_twice_is_one_interval():
+    """Issue #24: the graph built on demand listed some arcs two or three times; each copy was an interval of its own,
+    a source's list overlapped itself and the options of a belief doubled with every such source. The problem
+    reads a row listed twice once: its options are those of the graph listing it once."""
+    from solverplan.bounce.bvg.build import _concat_rows
+    from solverplan.plan._problem import Problem
+
+    env = load_environment("two_rooms")
+    once = planning_problem(env, "e0", "e4")
+    twice = Problem(_concat_rows(once.partition, [once.graph, once.graph]), once.user_start_set, once.user_goal_set,
+                    margins=once.margins, walls=once.walls)
+    assert twice.graph.n_arcs == 2 * once.graph.n_arcs and twice.n_admissible == once.n_admissible
+    for belief in (once.start_belief, *{o.next for o in once.options(once.start_belief)}):
+        assert twice.options(belief) == once.options(belief)
 
 
 QUERY_CUTS = [("l_shape", "e3:0.15:1,e4:0:0.25", "e3:0.4:1,e4:0:0.05"), ("two_rooms", "e0:0.2:0.8", "e4:0.5:1"),
@@ -408,9 +506,8 @@ def test_start_pieces_are_never_worse_than_their_whole_segments(query):
     """A plan that works from whole segments works from every part of them: answering the start set as given
     (start pieces, with their own safe sets) never needs more bounces nor gives a narrower optimum than the same
     query with the start set grown to the whole segments it touches — and it can do better."""
-    env, pieces, goal_edge = query
-    graph = safe_bounce_visibility_graph(env)
-    S, G = _spec(pieces), f"e{goal_edge}"
+    env, graph, S, G = _prepared(query)
+    pieces = query[1]
     touched = sorted({s.id for s in graph.partition.segments for e, a, b in pieces
                       if s.edge == e and s.t0 < b and a < s.t1})
     segs = graph.partition.segments
@@ -494,3 +591,58 @@ def test_a_plan_that_needs_the_set_ends_as_cut_points_is_found():
 
     cert = certificate(plan, env=env)
     assert cert.bound is not None and check_certificate(cert).valid
+
+
+# ---------------------------------------------------------------------- piece monotonicity (proofs/piece_monotonicity)
+@st.composite
+def piece_queries(draw):
+    """A small environment, a start edge with a piece of it (ends at twentieths, inside the edge) and a goal edge."""
+    env = draw(st.one_of(convex_polygons(max_coord=20), simple_polygons(3, 7, 30), polygons_with_holes(5, 1, 40)))
+    start, goal = draw(st.lists(st.integers(0, env.n_edges - 1), min_size=2, max_size=2, unique=True))
+    a = draw(st.integers(0, 18))
+    b = draw(st.integers(a + 1, 20))
+    if (a, b) == (0, 20):
+        a = 1
+    return env, start, (Fraction(a, 20), Fraction(b, 20)), goal
+
+
+@settings(max_examples=30)
+@given(piece_queries())
+def test_piece_monotonicity_a_piece_has_every_admissible_interval_of_its_segment(query):
+    """proofs/piece_monotonicity, in floats: the admissible intervals a piece gets from its own exact safe sets and
+    cones (before :func:`~solverplan.plan._problem._holding`) hold every admissible interval of its segment with the
+    same target, to 10⁻¹² rad (what the float ends of exact values can differ by); ``_holding`` only closes that."""
+    from solverplan.plan._problem import _point_on
+
+    env, start, (a, b), goal = query
+    problem = planning_problem(env, f"e{start}:{float(a)}:{float(b)}", f"e{goal}")
+    for u, unit in enumerate(problem.units):
+        los, his, tgts, dives = problem._piece_intervals(problem.unit_code(u), unit)
+        rows = list(zip(los, his, tgts, dives))
+        rows += problem._landings(unit.a, unit.b, problem.partition.segments[unit.host], rows)
+        host = problem.intervals(unit.host)
+        for lo, hi, code in zip(*host):
+            assert any(c == code and l2 <= lo + 1e-12 and hi - 1e-12 <= h2 for l2, h2, c, _ in rows), (u, lo, hi, code)
+        # and the rows the search reads hold them exactly
+        held = problem.intervals(problem.unit_code(u))
+        for lo, hi, code in zip(*host):
+            assert any(c == code and l2 <= lo and hi <= h2 for l2, h2, c in zip(*held))
+        assert _point_on(problem.partition.segments[unit.host], unit.piece.t0) == unit.a
+
+
+@settings(max_examples=30)
+@given(piece_queries())
+def test_piece_monotonicity_a_plan_from_the_whole_edge_works_from_a_piece(query):
+    """proofs/piece_monotonicity, end to end: a start set inside another is never worse — the fewest bounces from a
+    piece of an edge are at most those from the whole edge, its widest min width at least as wide (within 3
+    bounces), as the dominance of :meth:`~solverplan.plan._problem.Problem._combine` requires of the search."""
+    env, start, (a, b), goal = query
+    piece, whole = f"e{start}:{float(a)}:{float(b)}", f"e{start}"
+    big = find_plan(env, whole, f"e{goal}", objective="tolerance", max_bounces=3)
+    if not big.found:
+        event("no plan from the whole edge")
+        return
+    small = find_plan(env, piece, f"e{goal}", objective="tolerance", max_bounces=3)
+    assert small.found and small.min_width >= big.min_width - 1e-12
+    assert find_plan(env, piece, f"e{goal}", objective="fewest", max_bounces=3).bounces <= find_plan(
+        env, whole, f"e{goal}", objective="fewest", max_bounces=3).bounces

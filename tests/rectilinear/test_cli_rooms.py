@@ -4,15 +4,9 @@ from __future__ import annotations
 
 import json
 
-from typer.testing import CliRunner
 
-from solverplan import cli
+from tests.cli_runs import run
 
-runner = CliRunner()
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
 
 
 def one_line_error(result, fragment: str) -> None:

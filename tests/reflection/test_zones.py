@@ -97,7 +97,7 @@ def test_zone_is_a_wall_minimising_the_corrected_eq4(points):
             zone = select_zone(cell, inlet, outlet, (Fraction(1), Fraction(4)))
             if zone is not None:
                 assert cell.sides[zone.side].is_wall and zone.side not in (inlet, outlet)
-                assert is_reflection_candidate(cell, inlet, outlet) and zone.check.verified
+                assert is_reflection_candidate(cell, inlet, outlet) and zone.check.valid
 
 
 def test_serpentine_reflection_cells_are_the_four_cut_corners():

@@ -10,26 +10,13 @@ import sys
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
-from solverplan import cli
 from solverplan.environment import load_environment, parse_environment
 from solverplan.generators import rooms_and_corridors, star_polygon
+from tests.cli_runs import run, assert_one_line_error
 
-runner = CliRunner()
 
 SMALL = ["--grid", "n=10", "--grid", "irregularity=0.1,0.4", "--grid", "spikiness=0.2,0.5"]
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
-
-
-def one_line_error(result, code: int, fragment: str) -> None:
-    assert result.exit_code == code, (result.exit_code, result.stdout, result.stderr)
-    assert result.stdout == ""
-    lines = result.stderr.splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: ") and fragment in lines[0], result.stderr
 
 
 # ---------------------------------------------------------------------- generate
@@ -68,7 +55,7 @@ def test_generate_rectilinear_and_holes():
      (["blob"], "No such command 'blob'")],
 )
 def test_generate_bad_parameters_exit_2_with_one_line(args, fragment):
-    one_line_error(run("generate", *args), 2, fragment)
+    assert_one_line_error(run("generate", *args), 2, fragment)
 
 
 # ---------------------------------------------------------------------- study
@@ -119,19 +106,19 @@ def test_study_rules_has_one_row_per_family(tmp_path):
      (["--workers", 0], "Invalid value for '--workers'")],
 )
 def test_study_bad_parameters_exit_2_with_one_line(tmp_path, args, fragment):
-    one_line_error(run("study", "reachability", *args, "--out-dir", tmp_path), 2, fragment)
+    assert_one_line_error(run("study", "reachability", *args, "--out-dir", tmp_path), 2, fragment)
     assert list(tmp_path.iterdir()) == []  # nothing written
 
 
 def test_study_bad_rule_family_and_command_exit_2(tmp_path):
-    one_line_error(run("study", "rules", "--rules", "fixed,bogus", "--out-dir", tmp_path), 2, "unknown rule family 'bogus'")
-    one_line_error(run("study", "bounces"), 2, "No such command 'bounces'")
+    assert_one_line_error(run("study", "rules", "--rules", "fixed,bogus", "--out-dir", tmp_path), 2, "unknown rule family 'bogus'")
+    assert_one_line_error(run("study", "bounces"), 2, "No such command 'bounces'")
 
 
 def test_study_output_folder_of_another_study_exits_2(tmp_path):
     assert run("study", "reachability", *SMALL, "--per-cell", 1, "--workers", 1, "--out-dir", tmp_path, "--no-figure").exit_code == 0
     result = run("study", "reachability", *SMALL, "--per-cell", 1, "--workers", 1, "--out-dir", tmp_path, "--seed", 4)
-    one_line_error(result, 2, "holds rows of another study (seed: 0 there, 4 here); use --fresh")
+    assert_one_line_error(result, 2, "holds rows of another study (seed: 0 there, 4 here); use --fresh")
     assert run("study", "reachability", *SMALL, "--per-cell", 1, "--workers", 1, "--out-dir", tmp_path, "--seed", 4,
                "--fresh", "--no-figure").exit_code == 0
 

@@ -16,9 +16,9 @@ from solverplan.errors import InputError, InvalidBoundarySet
 from solverplan.exact import ExactPoint
 from solverplan.studies import rewrite as rw
 from tests.strategies import polygons_with_holes, simple_polygons
+from tests.shapes import SQUARE
 
 F = Fraction
-SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]], name="square")
 HOLED = Environment.from_coords([[0, 0], [20, 0], [20, 20], [0, 20]], [[[8, 8], [8, 12], [12, 12], [12, 8]]])
 ROT = (F(20, 29), F(21, 29))
 

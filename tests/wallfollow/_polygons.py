@@ -13,6 +13,17 @@ from solverplan.generators import spiked_comb
 from solverplan.wallfollow import cuts
 
 
+def in_general_position(ring) -> Environment | None:
+    """``ring`` as an environment when the wall-following model takes it (a simple polygon, no three vertices
+    collinear, no two cut end points at one point); None when it does not."""
+    try:
+        env = Environment.from_coords(ring)
+        cuts(env)
+    except InvalidEnvironment:
+        return None
+    return env
+
+
 @st.composite
 def general_position_polygons(draw, min_vertices: int = 3, max_vertices: int = 14, scale: int = 1000,
                               spiky: bool = False) -> Environment:
@@ -28,12 +39,8 @@ def general_position_polygons(draw, min_vertices: int = 3, max_vertices: int = 1
         radii = [r if k % 2 == 0 else r * 2 // 5 for k, r in enumerate(radii)]
     ring = [(round(r * math.cos(2 * math.pi * (k + j) / n)), round(r * math.sin(2 * math.pi * (k + j) / n)))
             for k, (r, j) in enumerate(zip(radii, jitter))]
-    try:
-        env = Environment.from_coords(ring)
-        cuts(env)
-    except InvalidEnvironment:
-        assume(False)
-        raise  # unreachable
+    env = in_general_position(ring)
+    assume(env is not None)
     return env
 
 
@@ -66,10 +73,7 @@ def bent_arms(seed: int) -> Environment:
             continue
         ring = [(round(x * 10) + rng.randint(-2, 2), round(y * 10) + rng.randint(-2, 2))
                 for x, y in list(shape.exterior.coords)[:-1]]
-        try:
-            env = Environment.from_coords(ring)
-            cuts(env)
+        env = in_general_position(ring)
+        if env is not None:
             return env
-        except InvalidEnvironment:
-            continue
     raise AssertionError("no bent arms in general position found")

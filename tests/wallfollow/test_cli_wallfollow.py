@@ -5,17 +5,11 @@ from __future__ import annotations
 import json
 
 import pytest
-from typer.testing import CliRunner
 
-from solverplan import cli
 from solverplan.environment import load_environment
 from solverplan.wallfollow import cut_ordering
+from tests.cli_runs import run
 
-runner = CliRunner()
-
-
-def run(*args: object):
-    return runner.invoke(cli.app, [str(a) for a in args])
 
 
 def answer(*args: object) -> dict:

@@ -17,6 +17,7 @@ from solverplan.wallfollow.pursuit import pursuit_plan
 
 from tests.wallfollow._polygons import bent_arms, general_position_polygons
 from tests.wallfollow.test_bitangents import SPIKES
+from tests.wallfollow.test_pursuit import assert_found_exactly_when_strategy2_finds
 
 ROOM = Environment.from_coords([[0, 0], [9, 0], [9, 4], [4, 5], [3, 9], [0, 8]])  # one reflex vertex, 3
 
@@ -107,14 +108,8 @@ def test_strategy5_finds_a_plan_exactly_when_strategy2_does(env, start_at):
     """Strategy 5 is complete like Strategy 3 (the paper's claim after Prop. 12): on the bitangents Strategy 4
     learned, the search succeeds exactly when Strategy 2's does, with a plan of the same length, and the
     ground-truth checker verifies every plan."""
-    order = cut_ordering(env)
-    start = order.labels[start_at % len(order.labels)]
-    gap = pursuit_plan(env, start=start, max_states=5000, check=False)
-    pebble = pursuit_plan(env, start=start, sensor="pebble", max_states=5000)
-    assert pebble.status is gap.status
-    assert len(pebble.actions) == len(gap.actions)
+    pebble = assert_found_exactly_when_strategy2_finds(env, start_at, "pebble")
     if pebble.status is Status.FOUND:
-        assert pebble.verified, (start, pebble.actions)
         assert pebble.optimality.proved and pebble.optimality.algorithm == "Strategy 5 (BFS)"
 
 

@@ -12,6 +12,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from solverplan._arrays import sorted_unique
 from solverplan.bounce import _sweep
 from solverplan.bounce._sweep import ExactPoints, Sweeps, max_norm
 from solverplan.bounce.bvg import tolerances
@@ -252,7 +253,12 @@ def _hole_side_table(p: Partition) -> np.ndarray:
 
 def subtract_holes(p: Partition, sw: Sweeps, pieces: Pieces, ends: EndComparator, source, target, edge_of) -> Pieces:
     """Remove, for every hole H strictly left of the lines of e_i and e_j, the open heading interval
-    (max ang(v − a), min ang(v − b)) during which all of H lies inside the swept region."""
+    (max ang(v − a), min ang(v − b)) during which all of H lies inside the swept region.
+
+    That interval depends on the source segment and the hole only (the sweeps at the source's two ends), not on the
+    target: it is found, with its error bounds and whether it is a real interval, once per (source, hole) — on a
+    warehouse map most holes are wider than a segment of P′ sees them, so few pairs are real — and each hole then
+    touches only the pieces of the sources it can be inside the swept region of."""
     # build_sweeps sets the hole arrays whenever the environment has holes (the only case we are called)
     assert sw.hole_alpha is not None and sw.hole_alpha_v is not None
     assert sw.hole_beta is not None and sw.hole_beta_v is not None
@@ -267,43 +273,57 @@ def subtract_holes(p: Partition, sw: Sweeps, pieces: Pieces, ends: EndComparator
     ok = sw.minus_seg >= 0
     minus_of[sw.minus_seg[ok]] = np.flatnonzero(ok)
     H = side.shape[1]
+    # ---- per (source, hole): the blocked interval's ends, their error bounds, and whether it is a real interval
+    srcs = sorted_unique(source[pieces.arc])
+    uu, hh = np.nonzero(side[seg_edge[srcs]])  # the hole strictly left of the source's line
+    ma, mb = plus_of[srcs[uu]], minus_of[srcs[uu]]
+    a_id, b_id = sw.origin[ma], sw.origin[mb]
+    bl, bl_to = sw.hole_alpha[ma, hh], sw.hole_alpha_v[ma, hh]
+    bh, bh_to = sw.hole_beta[mb, hh], sw.hole_beta_v[mb, hh]
+    # blocked error bounds: recompute with the angle filter's scale (cheap, conservative)
+    berr, herr = angle_error(p, a_id, bl_to), angle_error(p, b_id, bh_to)
+    real = ends.cmp(seg_edge[srcs[uu]], a_id, bl_to, bl, berr, b_id, bh_to, bh, herr) < 0  # bl < bh
+    order = np.flatnonzero(real)
+    order = order[np.argsort(hh[order], kind="stable")]  # by hole
+    pair_src, pair_hole = srcs[uu[order]], hh[order]
+    a_id, b_id, bl, bl_to, bh, bh_to, berr, herr = (x[order] for x in (a_id, b_id, bl, bl_to, bh, bh_to, berr, herr))
+    bounds = np.searchsorted(pair_hole, np.arange(H + 1))
+    pair_of = np.full(N, -1, dtype=np.int64)
     for h in range(H):
         step("safe BVG: holes", h, H)
+        first, last = int(bounds[h]), int(bounds[h + 1])
+        if first == last:
+            continue
+        pair_of[pair_src[first:last]] = np.arange(first, last)
         arc = pieces.arc
-        i, j = source[arc], target[arc]
-        applies = side[seg_edge[i], h] & side[seg_edge[j], h]
-        rows = np.flatnonzero(applies)
+        k = pair_of[source[arc]]
+        rows = np.flatnonzero(k >= 0)
+        pair_of[pair_src[first:last]] = -1
+        rows = rows[side[seg_edge[target[arc[rows]]], h]]  # and strictly left of the target's line
         if not len(rows):
             continue
-        ma, mb = plus_of[i[rows]], minus_of[i[rows]]
-        a_id, b_id = sw.origin[ma], sw.origin[mb]
-        bl, bl_to = sw.hole_alpha[ma, h], sw.hole_alpha_v[ma, h]
-        bh, bh_to = sw.hole_beta[mb, h], sw.hole_beta_v[mb, h]
+        k = k[rows]
         eg = edge_of[arc[rows]]
-        # blocked error bounds: recompute with the angle filter's scale (cheap, conservative)
-        berr = angle_error(p, a_id, bl_to)
-        herr = angle_error(p, b_id, bh_to)
         sub = pieces.take(rows)
-        c_open = ends.cmp(eg, a_id, bl_to, bl, berr, b_id, bh_to, bh, herr)  # bl < bh: a real interval
-        c1 = ends.cmp(eg, a_id, bl_to, bl, berr, sub.hi_from, sub.hi_to, sub.hi, sub.hi_err)  # bl < hi
-        c2 = ends.cmp(eg, b_id, bh_to, bh, herr, sub.lo_from, sub.lo_to, sub.lo, sub.lo_err)  # bh > lo
-        hit = (c_open < 0) & (c1 < 0) & (c2 > 0)
+        c1 = ends.cmp(eg, a_id[k], bl_to[k], bl[k], berr[k], sub.hi_from, sub.hi_to, sub.hi, sub.hi_err)  # bl < hi
+        c2 = ends.cmp(eg, b_id[k], bh_to[k], bh[k], herr[k], sub.lo_from, sub.lo_to, sub.lo, sub.lo_err)  # bh > lo
+        hit = (c1 < 0) & (c2 > 0)
         if not hit.any():
             continue
         hit_rows = rows[hit]
         untouched = np.ones(len(arc), dtype=bool)
         untouched[hit_rows] = False
-        hs = pieces.take(hit_rows)
-        hb = np.flatnonzero(hit)
+        hs = sub.take(np.flatnonzero(hit))
+        kh, eh = k[hit], eg[hit]
         # left piece [lo, bl] if lo <= bl; right piece [bh, hi] if bh <= hi
-        cl = ends.cmp(eg[hb], hs.lo_from, hs.lo_to, hs.lo, hs.lo_err, a_id[hb], bl_to[hb], bl[hb], berr[hb])
-        cr = ends.cmp(eg[hb], b_id[hb], bh_to[hb], bh[hb], herr[hb], hs.hi_from, hs.hi_to, hs.hi, hs.hi_err)
-        left = hs.take(np.flatnonzero(cl <= 0))
+        cl = ends.cmp(eh, hs.lo_from, hs.lo_to, hs.lo, hs.lo_err, a_id[kh], bl_to[kh], bl[kh], berr[kh])
+        cr = ends.cmp(eh, b_id[kh], bh_to[kh], bh[kh], herr[kh], hs.hi_from, hs.hi_to, hs.hi, hs.hi_err)
         lk = np.flatnonzero(cl <= 0)
-        left.hi_from, left.hi_to, left.hi, left.hi_err = a_id[hb][lk], bl_to[hb][lk], bl[hb][lk], berr[hb][lk]
-        right = hs.take(np.flatnonzero(cr <= 0))
+        left = hs.take(lk)
+        left.hi_from, left.hi_to, left.hi, left.hi_err = a_id[kh][lk], bl_to[kh][lk], bl[kh][lk], berr[kh][lk]
         rk = np.flatnonzero(cr <= 0)
-        right.lo_from, right.lo_to, right.lo, right.lo_err = b_id[hb][rk], bh_to[hb][rk], bh[hb][rk], herr[hb][rk]
+        right = hs.take(rk)
+        right.lo_from, right.lo_to, right.lo, right.lo_err = b_id[kh][rk], bh_to[kh][rk], bh[kh][rk], herr[kh][rk]
         pieces = Pieces.concat([pieces.take(np.flatnonzero(untouched)), left, right])
     return pieces
 

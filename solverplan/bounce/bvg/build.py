@@ -56,19 +56,21 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from solverplan._arrays import ragged_arange
+from solverplan._arrays import can_fork, ragged_arange, sorted_intersection, sorted_unique
 from solverplan.bounce import _cache, _sweep
 from solverplan.bounce._sweep import MARK_PI, MARK_ZERO, build_sweeps
 from solverplan.bounce.bvg._safe_sets import (Pieces, equal_ends, nonempty, refine_ends, single_headings_safe, singletons,
                                              sorted_by_arc_lo, subtract_holes, transitions_and_phi)
 from solverplan.bounce.bvg.graph import SafeBVG, as_partition
-from solverplan.bounce.bvg.size import BASE_BYTES, PLANNED_BYTES_PER_ARC, check_graph_memory, refuse_reachable
+from solverplan.bounce.bvg.size import (BASE_BYTES, PLANNED_BYTES_PER_ARC, check_graph_memory, estimate_graph,
+                                        refuse_reachable)
 from solverplan.bounce.bvg.tolerances import EndComparator
 from solverplan.bounce.partitions import Partition
 from solverplan.environment import Environment
 from solverplan.errors import InvalidBoundarySet
 from solverplan.limits import memory_limit
 from solverplan.progress import step
+from solverplan.runtime import config, jobs as _settings_jobs, parallel_map
 
 if TYPE_CHECKING:  # networkx costs ~0.1 s to import: only bounce_visibility_graph loads it
     import networkx as nx
@@ -181,19 +183,152 @@ def safe_bounce_visibility_graph(partition: Partition | Environment) -> SafeBVG:
     found = _cache.lookup(p, digest, plain=plain)
     if found is not None:
         return found
-    check_graph_memory(p)
+    jobs, arcs = _jobs(p)
     t0 = time.process_time()  # CPU time: what is worth keeping does not depend on the machine's load
-    graph = _build(p)
+    graph = _build(p) if jobs < 2 else _build_split(p, jobs, -(-arcs // SPLIT_ARCS_PER_BATCH))
     return _cache.store(p, digest, graph, time.process_time() - t0, plain=plain)
 
 
-def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.SweepContext | None = None) -> SafeBVG:
+SPLIT_MIN_SEGMENTS = 1_000
+"""Partitions with fewer segments are built in this process: their graphs take well under a second."""
+SPLIT_MIN_ARCS = 200_000
+"""Graphs estimated to have fewer arcs (:func:`~solverplan.bounce.bvg.size.estimate_graph`) are built in this process:
+≈ 0.3 CPU s, less than forking and gathering would save."""
+SPLIT_ARCS_PER_BATCH = 1 << 18
+"""Arcs per batch of sources of a split build (about 50 MB at a batch's peak, ``benchmarks/README.md``)."""
+
+
+def _jobs(p: Partition) -> tuple[int, int]:
+    """Check the graph's memory up front (:func:`check_graph_memory`) and say how many processes build it: 1 for small
+    graphs, else the setting ``jobs`` (:func:`solverplan.config`; by default the cores this process may use); and
+    the estimated arcs when they were estimated (else 0)."""
+    jobs = _settings_jobs()
+    if jobs < 2 or len(p.segments) < SPLIT_MIN_SEGMENTS or not can_fork():
+        check_graph_memory(p)
+        return 1, 0
+    estimate = estimate_graph(p)
+    check_graph_memory(p, estimate)
+    return (jobs if estimate[0] >= SPLIT_MIN_ARCS else 1), estimate[0]
+
+
+def _build_split(p: Partition, jobs: int, batches: int = 1) -> SafeBVG:
+    """:func:`_build` in ``jobs`` worker processes (:func:`~solverplan._arrays.process_map`): equal arrays.
+
+    The sources are cut into runs of consecutive segments (``batches`` of them, and at least four per process); a
+    worker builds every arc
+    leaving its run that the sweeps at the run's ends meet (``_build(…, met=True)``: the rows of the whole graph,
+    since an arc's safe set needs only the sweeps at its source's ends). The arcs that only the sweeps at their
+    target meet have no safe heading: they are the reverses of built arcs that no batch built, added here with
+    their transition and φ. Every row is computed by the same code on the same entries in the same order as in one
+    process, so the arrays are equal, bit for bit (a test compares them)."""
+    t0 = time.perf_counter()
+    N = len(p.segments)
+    batches = max(batches, 8 * jobs)
+    bounds = np.unique(np.linspace(0, N, min(batches, N) + 1).astype(np.int64)).tolist()
+    runs = list(zip(bounds[:-1], bounds[1:]))
+    ctx = _sweep.SweepContext(p)  # made once, before the workers fork
+
+    def batch(run: tuple[int, int]) -> tuple:
+        g = _build(p, np.arange(*run, dtype=np.int64), ctx, met=True)
+        reverse = g.target * N  # the keys of the reverses of its arcs, sorted here (in parallel)
+        reverse += g.source
+        reverse.sort()
+        return tuple(getattr(g, name) for name in _ROW_COLUMNS + _SET_COLUMNS) + g._set_ends + (reverse, g.stats)
+
+    parts: list[list] = []
+    with config(jobs=jobs):
+        for done, got in enumerate(parallel_map(batch, runs)):
+            parts.append(list(got))
+            step("safe BVG: sweeps", done + 1, len(runs))
+    return _join_batches(p, parts, time.perf_counter() - t0, jobs)
+
+
+_ROW_COLUMNS = ("source", "target", "lo", "hi", "n_intervals", "transition", "phi")
+_SET_COLUMNS = ("set_lo", "set_hi")
+
+
+def _join_batches(p: Partition, parts: list[list], seconds: float, jobs: int) -> SafeBVG:
+    """One graph of the batches of :func:`_build_split` (consecutive runs of sources, in order) and the reverses of
+    their arcs that no batch built. Column by column, each batch's column dropped once copied: the peak is the graph
+    and one column more."""
+    N = len(p.segments)
+    n_rows = len(_ROW_COLUMNS)
+    # the arcs built, sorted by (source, target) since the batches are consecutive runs of sources
+    own = np.concatenate([q[0] * N + q[1] for q in parts]) if parts else np.zeros(0, dtype=np.int64)
+    reverse = np.concatenate([q[-2] for q in parts]) if parts else np.zeros(0, dtype=np.int64)
+    for q in parts:
+        q[-2] = None
+    reverse.sort(kind="stable")  # sorted runs, one per batch: merged
+    if np.array_equal(reverse, own):  # as many keys, so every reverse was built (usual: none missing)
+        missing = reverse[:0]
+    else:
+        at = np.minimum(np.searchsorted(own, reverse), max(len(own) - 1, 0))
+        missing = np.unique(reverse[own[at] != reverse]) if len(own) else np.unique(reverse)
+        del at
+    del reverse
+    # where the rows go: the arcs built and the missing ones, merged in key order
+    n_arcs = len(own) + len(missing)
+    miss_at = np.arange(len(missing), dtype=np.int64) + np.searchsorted(own, missing)
+    built = np.ones(n_arcs, dtype=bool)
+    built[miss_at] = False
+    del own
+    m_source, m_target = missing // N, missing % N
+    del missing
+    seg_edge = np.asarray(p.seg_edge, dtype=np.int64)
+    m_transition, m_phi = transitions_and_phi(p.env, seg_edge[m_source], seg_edge[m_target])
+    fill = {"source": m_source, "target": m_target, "lo": np.nan, "hi": np.nan, "n_intervals": 0,
+            "transition": m_transition, "phi": m_phi}
+    rows: dict[str, np.ndarray] = {}
+    for t, name in enumerate(_ROW_COLUMNS):
+        column = np.concatenate([q[t] for q in parts])
+        for q in parts:
+            q[t] = None
+        if name in ("source", "target", "n_intervals"):
+            column = column.astype(np.int64, copy=False)
+        if len(miss_at):
+            out = np.empty(n_arcs, dtype=column.dtype)
+            out[built] = column
+            out[miss_at] = fill[name]
+            column = out
+        rows[name] = column
+        del column
+    sets = []
+    for t in range(n_rows, n_rows + len(_SET_COLUMNS) + 4):  # the intervals: only built arcs have them, in order
+        sets.append(np.concatenate([q[t] for q in parts]) if parts else np.zeros(0, dtype=np.float64))
+        for q in parts:
+            q[t] = None
+    counts = rows["n_intervals"]
+    stats: dict = {"jobs": jobs, "batches": len(parts), "seconds_total": seconds}
+    for q in parts:
+        for key in ("sweeps", "entries", "exact_checks", "exact_casts", "singletons_checked"):
+            stats[key] = stats.get(key, 0) + q[-1].get(key, 0)
+    return SafeBVG(
+        partition=p,
+        source=rows["source"],
+        target=rows["target"],
+        lo=rows["lo"],
+        hi=rows["hi"],
+        n_intervals=counts,
+        set_offsets=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
+        set_lo=sets[0],
+        set_hi=sets[1],
+        transition=rows["transition"],
+        phi=rows["phi"],
+        _set_ends=(sets[2], sets[3], sets[4], sets[5]),
+        stats=stats,
+    )
+
+
+def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.SweepContext | None = None, *,
+           met: bool = False) -> SafeBVG:
     """Build the safe BVG of ``p`` (no cache, no size check).
 
     With ``sources`` (segment ids), only the arcs leaving them that have a safe heading: their safe sets need only
     the sweeps at the two ends of each source (module docstring, step 3), so the work is that of those sweeps. The
     rows are those of the whole graph's arcs from ``sources`` with ``n_intervals > 0``, equal arrays
-    (:func:`reachable_safe_graph`; a property test compares them)."""
+    (:func:`reachable_safe_graph`; a property test compares them). With ``met`` too, every arc from ``sources`` that
+    those sweeps meet, safe or not: the whole graph's rows of those arcs (:func:`_build_split` adds the arcs that
+    only the sweeps at their targets meet)."""
     env = p.env
     N = len(p.segments)
     t0 = time.perf_counter()
@@ -234,11 +369,11 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         swapped += both // N
         keys = np.concatenate([both, swapped])
         del both, swapped
-        keys.sort()
-        if len(keys):
-            keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
+        keys = sorted_unique(keys)
+    elif met:  # ---- the arcs from the sources that their sweeps meet
+        keys = sorted_unique(np.concatenate([A_key, B_key]))
     else:  # ---- arcs that may be safe: met by the sweeps at both ends of the source
-        keys = np.intersect1d(A_key, B_key)
+        keys = sorted_intersection(A_key, B_key)
     n_arcs = len(keys)
 
     # ---- candidate safe sets: A_a(j) ∩ A_b(j) (closures), a sort-merge join on (i, j)
@@ -336,7 +471,7 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         "singletons_checked": n_single,
     }
     logger.debug("safe BVG of %r: %s", env.name, stats)
-    if wanted is not None:  # only the arcs with a safe heading
+    if wanted is not None and not met:  # only the arcs with a safe heading
         keep = np.flatnonzero(counts > 0)
         take = np.repeat(offsets[keep], counts[keep]) + ragged_arange(counts[keep])
         source, target, lo, hi, counts = source[keep], target[keep], lo[keep], hi[keep], counts[keep]
@@ -443,7 +578,7 @@ def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray |
             # next batch: about 2²⁰ sweep entries (≈ 200 MB of temporaries at the build's peak)
             per_source = max(1.0, g.stats["entries"] / len(chunk))
             batch = int(min(8192, max(8, (1 << 20) / per_source)))
-        targets = np.unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
+        targets = sorted_unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
         frontier = targets[~seen[targets]]
         depth += 1
     graph = _concat_rows(p, parts)

@@ -76,8 +76,7 @@ def _certificate_section(answer: AnswerFile, env: Environment, view: _View, cert
                              "another query")
         query[f"expected_{key}"] = pieces
     report = check_certificate(cert, expected_rings=env.rings, **query)
-    verdict = {"valid": report.valid, "kind": report.kind, "failures": [str(f) for f in report.failures],
-               "checked": dict(report.checked), "not_checked": list(report.not_checked)}
+    verdict = report.verdict_json()  # the verdict every check gives (solverplan.verdict)
     state = "valid" if report.valid else "invalid"
     rows = [("file", cert_path), ("kind", f"{report.kind} (version {report.version})"),
             ("environment", f"{said['environment']['name']} (sha256 {said['environment']['sha256']})")]
@@ -93,20 +92,25 @@ def _certificate_section(answer: AnswerFile, env: Environment, view: _View, cert
         c = claims["cycle"]
         rows.append(("claims.cycle", f"return map t ↦ {c['alpha']} t + {c['beta']}; fixed point {c['fixed_point']}; "
                                      f"contraction {c['contraction']}"))
+    rows.append(("scope", report.scope))
     rows.append(("checked exactly", ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in report.checked)))
     rows.extend(("proved", statement) for statement in report.proved)
-    failures = "".join(f'<li class="failure">{_e(f)}</li>' for f in report.failures)
-    trusted = "".join(f"<li>{_e(item)}</li>" for item in report.not_checked)
     body = (f'<section id="certificate" class="{state}"><h2>Certificate</h2>'
             f'<p><span class="badge" id="certificate-status">{state.upper()}</span> checked now, in exact rational '
             "arithmetic, by solverplan's independent checker (solverplan.certify.check), against this environment and "
             "this answer's query; nothing the certificate claims was taken on trust but what is listed below.</p>"
             + _table(rows, table_id="certificate-claims", exact=("claims.min_width", "claims.tolerance", "claims.sum_width",
                                                                   "claims.cycle", "environment"))
-            + (f"<p>Failures:</p><ul id=\"certificate-failures\">{failures}</ul>" if failures else "")
-            + (f"<p>Not re-derived:</p><ul>{trusted}</ul>" if trusted else "") + "</section>")
+            + _failures_and_trusted(report) + "</section>")
     return verdict, body
 
+
+def _failures_and_trusted(report: Any) -> str:
+    """The verdict's failures and what it did not re-derive, as the section's two lists (none when empty)."""
+    failures = "".join(f'<li class="failure">{_e(f)}</li>' for f in report.failures)
+    trusted = "".join(f"<li>{_e(item)}</li>" for item in report.not_checked)
+    return ((f"<p>Failures:</p><ul id=\"certificate-failures\">{failures}</ul>" if failures else "")
+            + (f"<p>Not re-derived:</p><ul>{trusted}</ul>" if trusted else ""))
 
 
 _MODEL_CERTIFICATE_KINDS: dict[str, str] = {
@@ -127,8 +131,7 @@ def _model_certificate_section(answer: AnswerFile, env: Environment | None, cert
     if have != wanted:
         raise InputError(f"{cert_path}: a {have} certificate does not certify {ANSWER_KINDS[answer.kind]}")
     report = check_certificate(cert, expected_rings=env.rings) if env is not None else check_certificate(cert)
-    verdict = {"valid": report.valid, "kind": report.kind, "failures": [str(f) for f in report.failures],
-               "checked": dict(report.checked), "not_checked": list(report.not_checked)}
+    verdict = report.verdict_json()  # the verdict every check gives (solverplan.verdict)
     state = "valid" if report.valid else "invalid"
     rows = [("file", cert_path), ("kind", f"{report.kind} (version {report.version})")]
     said = report.to_json() if hasattr(report, "to_json") else {}
@@ -136,15 +139,13 @@ def _model_certificate_section(answer: AnswerFile, env: Environment | None, cert
     if isinstance(claims, dict):
         rows += [(f"claims.{k}", json.dumps(v, ensure_ascii=False)[:300] if isinstance(v, (dict, list)) else str(v))
                  for k, v in claims.items()]
+    rows.append(("scope", report.scope))
     rows.append(("checked exactly", ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in report.checked)))
-    rows.extend(("proved", statement) for statement in getattr(report, "proved", ()))
-    failures = "".join(f'<li class="failure">{_e(f)}</li>' for f in report.failures)
-    trusted = "".join(f"<li>{_e(item)}</li>" for item in report.not_checked)
+    rows.extend(("proved", statement) for statement in report.proved)
     body = (f'<section id="certificate" class="{state}"><h2>Certificate</h2>'
             f'<p><span class="badge" id="certificate-status">{state.upper()}</span> checked now, in exact rational '
             "arithmetic, by solverplan's independent checker (solverplan.certify.check)"
             + (", against this environment" if env is not None else "") + ".</p>"
             + _table(rows, table_id="certificate-claims")
-            + (f"<p>Failures:</p><ul id=\"certificate-failures\">{failures}</ul>" if failures else "")
-            + (f"<p>Not re-derived:</p><ul>{trusted}</ul>" if trusted else "") + "</section>")
+            + _failures_and_trusted(report) + "</section>")
     return verdict, body

@@ -374,7 +374,7 @@ class _PursuitView(_CutOrderingView):
         return ("<h2>Pursuit steps</h2>" + _grid(["step", "action", "at", "shadows labelled 1 (may hold the evader)"], rows,
                                                 table_id="steps")
                 + "<p>A shadow component is named by the reflex vertex its window starts at; every label 0 after the last "
-                  "step means no evader can be hiding.</p>")
+                  "step means no evader can be hiding.</p>" + _replay_verdict(self.data.get("verdict")))
 
     def command_words(self) -> list[str]:
         return ["wallfollow", self.env_label, "--pursuit", "--sensor", str(self.data.get("sensor", "gap")),
@@ -410,7 +410,7 @@ class _FieldsView(_ModelView):
             out.append(self.polygon(ring, {"class": "hover cell", "fill": colour, "fill-opacity": "0.25", "stroke": "#636363",
                                            "stroke-width": "0.8"},
                                     f"cell {cid}: next {f.get('next')}, field {(f.get('field') or {}).get('kind')}, flow-through "
-                                    f"{'verified' if flow.get('verified') else 'not verified'} ({flow.get('method')})"
+                                    f"{'verified' if _flow_valid(flow) else 'not verified'} ({flow.get('method')})"
                                     + ("; a reflection cell" if cid in reflecting else "")))
             if ring and isinstance(f.get("next"), int):
                 nxt = dict(self.cells).get(f["next"])
@@ -455,7 +455,7 @@ class _FieldsView(_ModelView):
                 rows.append([name, _num(run.get("trials")), _num(run.get("success")), _num(run.get("time_mean")),
                              _num(run.get("time_var")), _num(run.get("collisions_mean"))])
         fields = [[str(f.get("cell")), str(f.get("next")), str((f.get("field") or {}).get("kind")),
-                   _num((f.get("flow") or {}).get("verified")), str((f.get("flow") or {}).get("method"))]
+                   _num(_flow_valid(f.get("flow"))), str((f.get("flow") or {}).get("method"))]
                   for f in self.data.get("fields") or [] if isinstance(f, dict)]
         return ("<h2>Scenarios</h2>" + _grid(["scenario", "trials", "success", "time mean (s)", "time var", "collisions"],
                                             rows, table_id="scenarios")
@@ -512,3 +512,22 @@ MODEL_VIEWS: dict[str, Any] = {
     "import": _TableView,
 }
 """The view of every answer kind that is not the bouncing robot's (those are in :mod:`.bounce`) or a study."""
+
+
+def _flow_valid(flow: Any) -> Any:
+    """A cell's flow-through verdict: ``valid`` (the verdict every check gives), ``verified`` in earlier answers."""
+    return flow.get("valid", flow.get("verified")) if isinstance(flow, dict) else None
+
+
+def _replay_verdict(verdict: Any) -> str:
+    """The ground-truth replay's verdict (the answer's ``verdict``) in its words: valid or not, what it proves, every
+    failure and what it did not check."""
+    if not isinstance(verdict, dict):
+        return ""
+    items = [f"<li>proved: {_e(p)}</li>" for p in verdict.get("proved") or [] if isinstance(p, str)]
+    items += [f'<li class="failure">FAIL {_e(f.get("claim"))}: {_e(f.get("message"))}</li>'
+              for f in verdict.get("failures") or [] if isinstance(f, dict)]
+    items += [f"<li>not checked: {_e(n)}</li>" for n in verdict.get("not_checked") or [] if isinstance(n, str)]
+    state = "VALID" if verdict.get("valid") is True else "INVALID"
+    return (f'<h2>Ground-truth replay</h2><p id="replay-verdict"><span class="badge">{state}</span> '
+            f"{_e(verdict.get('scope', ''))}</p><ul>{''.join(items)}</ul>")

@@ -35,8 +35,9 @@ class HtmlReport:
     title
         The page's title.
     certificate
-        The checker's verdict when a certificate was given (``{"valid", "kind", "failures", "checked",
-        "not_checked"}``); ``None`` without one.
+        The checker's verdict when a certificate was given (:meth:`~solverplan.verdict.Verdict.verdict_json`:
+        ``{"valid", "kind", "failures": [{"claim", "message"}], "checked", "not_checked", "proved", "scope"}``);
+        ``None`` without one.
 
     Examples
     --------
