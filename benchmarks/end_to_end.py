@@ -399,8 +399,8 @@ NOT_CLAIMS = {"producer", "name", "schema", "scope", "note", "table_source", "la
 # nudged by at most one part in a million (still inside the exact safe set), a bound over fewer plans (a larger
 # threshold or margin), a smaller start set or a larger goal set (the contract: a true statement about a smaller query)
 STILL_TRUE = re.compile(r"^claims/policies/\d+/field/(origin|target|gain|centre|radius)")
-WEAKER = re.compile(r"^bound/(threshold|heading_margin): (-?[\d/]+) -> (-?[\d/]+)$")
-SET_END = re.compile(r"^(start|goal)/\d+/(t0|t1): (-?[\d/]+) -> (-?[\d/]+)$")
+WEAKER = re.compile(r"^bound/(threshold|heading_margin): (-?[\d./]+) -> (-?[\d./]+)$")
+SET_END = re.compile(r"^(start|goal)/\d+/(t0|t1): (-?[\d./]+) -> (-?[\d./]+)$")
 CONE = re.compile(r"^stages/\d+/moves/\d+/d_(lo|hi)/\d: (\S+) -> (\S+)$")
 
 
