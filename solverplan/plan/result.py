@@ -26,7 +26,7 @@ from __future__ import annotations
 import io
 import json
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import KW_ONLY, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -88,8 +88,23 @@ def read_environment(data: object, where: str = "environment") -> EnvironmentRec
         raise MalformedFile(str(exc)) from None
 
 
+@dataclass(frozen=True)
+class _Query:
+    """What a planner was asked and what closes its answer, the fields :class:`Plan` and :class:`ParetoFront`
+    share: keyword-only, after each answer's own positional fields (``Plan(status, objective, stages,
+    optimality, start=..., ...)``, ``ParetoFront(points, optimality, start=..., ...)``)."""
+
+    _: KW_ONLY
+    start: str | None = None
+    goal: str | None = None
+    max_bounces: int | None = None
+    reason: str | None = None
+    environment: EnvironmentRecord | None = None
+    stats: Stats = field(default_factory=Stats, compare=False)
+
+
 @answer_dataclass("plan")
-class Plan(Answer):
+class Plan(_Query, Answer):
     """A plan (``docs/contract.md``): heading intervals, one per bounce, from every start to the goal set.
 
     The intervals take the robot from every point of the start set to the goal set whatever headings inside
@@ -143,13 +158,7 @@ class Plan(Answer):
     objective: str
     stages: tuple[Stage, ...]
     optimality: Optimality
-    reason: str | None = None
-    start: str | None = None
-    goal: str | None = None
-    max_bounces: int | None = None
-    environment: EnvironmentRecord | None = None
-    margins: dict = field(default_factory=dict)
-    stats: Stats = field(default_factory=Stats, compare=False)
+    margins: dict = field(default_factory=dict, kw_only=True)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "status", Status(self.status))
@@ -287,7 +296,7 @@ class ParetoPoint:
 
 
 @answer_dataclass("pareto")
-class ParetoFront(Answer):
+class ParetoFront(_Query, Answer):
     """The Pareto front bounces ↔ tolerance: the most tolerant plan for each number of bounces that helps.
 
     Points have strictly increasing bounces and strictly increasing min width. Every plan with b bounces has
@@ -323,12 +332,6 @@ class ParetoFront(Answer):
 
     points: tuple[ParetoPoint, ...]
     optimality: Optimality
-    start: str | None = None
-    goal: str | None = None
-    max_bounces: int | None = None
-    reason: str | None = None
-    environment: EnvironmentRecord | None = None
-    stats: Stats = field(default_factory=Stats, compare=False)
 
     @property
     def status(self) -> Status:
