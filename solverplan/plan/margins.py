@@ -210,8 +210,8 @@ def admissible_intervals(graph: SafeBVG, margins: Margins) -> AdmissibleInterval
         nxt = part.next_segment
         # the directions from differences of the exact points, accurate however far from 0 the environment
         # lies (differences of its rounded points are not)
-        lo, hi = cut_to_margins(lo, hi, margins, edge=part.point_vectors(src, nxt[src]),
-                                target=part.point_vectors(tgt, nxt[tgt]), cb=part.point_vectors(nxt[src], tgt),
+        own = part.point_vectors(np.arange(len(part.segments)), nxt)  # b − a of every segment, once (not per row)
+        lo, hi = cut_to_margins(lo, hi, margins, edge=own[src], target=own[tgt], cb=part.point_vectors(nxt[src], tgt),
                                 da=part.point_vectors(src, nxt[tgt]),
                                 shared_c=np.all(C == B, axis=1), shared_d=np.all(D == A, axis=1))
     else:

@@ -77,6 +77,17 @@ def test_reachable_safe_graph_holds_every_safe_arc_a_search_from_the_start_can_u
     assert lazy.stats["reachable_sources"] >= len(sources)
 
 
+def test_a_frontier_wider_than_a_batch_is_built_once_source_by_source():
+    """The batch size adapts as the layer is built (the first is 64 sources): every source of a wide frontier is
+    built exactly once — neither overlapping chunks (arcs listed twice) nor skipped ones (arcs missing)."""
+    p = partition(load_environment("warehouse"))
+    whole = _build(p)
+    sources = np.arange(len(p.segments), dtype=np.int64)
+    assert len(sources) > 3 * 64
+    lazy = reachable_safe_graph(p, sources, max_depth=1)
+    assert_same_rows(lazy, safe_rows(whole, sources))
+
+
 def test_the_planner_answers_alike_on_the_lazy_and_the_whole_graph(monkeypatch):
     """find_plan over the reachable part (forced by a zero threshold) gives the whole graph's answer."""
     import solverplan as sp

@@ -115,3 +115,13 @@ def test_the_plan_command_takes_a_heading_accuracy(tmp_path):
     assert answer["status"] == "infeasible" and "best heading accuracy that would work" in answer["reason"]
     bad = runner.invoke(app, ["plan", "l_shape", "--from", "e5", "--to", "e0", "--heading-accuracy", "-1"])
     assert bad.exit_code == 2 and bad.stderr.count("\n") == 1
+
+
+def test_a_contact_on_a_piece_of_a_segment_names_the_segment():
+    """A stage that leaves from part of a segment (a start set ending inside it, or a landing unit) lists the piece
+    as its contact, and names the segment the piece lies on (it named none)."""
+    plan = find_plan(ELL, "e0:0.1:0.3", "e3", objective="tolerance")
+    assert plan.found and plan.stages[0].sources
+    contact = plan_in_world(plan, ELL)[0]["contacts"][0]
+    assert contact["segment"] == 0 and contact["segments"] == [0]
+    assert contact["from_m"] == pytest.approx(1.0) and contact["to_m"] == pytest.approx(3.0)

@@ -565,9 +565,11 @@ def reachable_safe_graph(partition: Partition | Environment, start: np.ndarray |
     while len(frontier) and (max_depth is None or depth < max_depth):
         seen[frontier] = True
         found = []
-        for b0 in range(0, len(frontier), batch):
+        b0 = 0
+        while b0 < len(frontier):  # the batch size changes as it goes: step by the chunk built, never a fixed stride
             step("safe BVG: reachable part", int(seen.sum()) - len(frontier) + b0, N)
             chunk = frontier[b0:b0 + batch]
+            b0 += len(chunk)
             g = _build(p, chunk, ctx)
             parts.append(g)
             found.append(g.target)
