@@ -258,3 +258,22 @@ def test_kinds_that_name_edges_need_their_environment(built):
         read_answer(patrol.to_json())
     with pytest.raises(InputError, match="another environment"):
         read_answer(patrol.to_json(), env=sp.load_environment("l_shape"))
+
+
+def test_a_fields_answer_of_the_former_flow_shape_reads_back():
+    """Answers written before the one verdict shape carried ``"verified"`` in each cell's ``flow``: they read back."""
+    env, answer = _fields()
+    data = json.loads(json.dumps(answer.to_json()))
+
+    def old_shape(value):
+        if isinstance(value, list):
+            return [old_shape(v) for v in value]
+        if isinstance(value, dict):
+            return {k: ({"verified": v["valid"], "method": "exact"} if k == "flow" else old_shape(v))
+                    for k, v in value.items()}
+        return value
+
+    old = old_shape(data)
+    assert "verified" in json.dumps(old["fields"])
+    back = read_answer(old, env=env)
+    assert back.kind == "fields" and back.status == answer.status

@@ -175,7 +175,8 @@ def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, cer
                         picture: Path | None, fmt: OutputFormat, out: Path | None, verbose: int, *,
                         start: str | None = None, goal: str | None = None) -> None:
     """Load the environment, ``solve`` it (patrol, funnel, localize) and check the answer exactly, write the
-    --certificate and --picture of a found answer, emit the answer."""
+    --certificate (an answer not found writes none and says why on stderr) and the --picture of a found answer,
+    emit the answer."""
     from solverplan.certify.gate import checked_answer
 
     with loaded(env, env_format, picture, verbose=verbose) as environment:

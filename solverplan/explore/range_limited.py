@@ -609,7 +609,8 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
         clearance of P)/100, rounded to two significant digits.
     max_views
         Stop after this many views (default 2·(Lemma 4's bound) + 10, at most :data:`MAX_VIEWS`); hitting it
-        gives ``not-found``.
+        gives ``not-found``. With the default, a range so small that Area/(πR²) views exceed the cap answers
+        ``not-found`` after the first view.
     choice, seed
         Algorithm A's z-choice rule and its seed, used when Theorem 3 hands over to Algorithm A (Algorithm B
         itself has no choice to make).
@@ -675,9 +676,12 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
     ex = _Explorer(env, R, eps, limit)
     ex.add_view(p, -1, "start", -1)
     state: dict = {"ring": None, "position": None}
-    hit_limit = False
+    # Theorem 5's premise: every exploration takes at least Area/(πR²) views; past the default cap, do not run
+    # towards it (minutes of views for a range tiny against the room); a max_views asked for is run to
+    hopeless = max_views is None and lower > limit
+    hit_limit = hopeless
     stuck = False
-    while True:
+    while not hit_limit:
         nxt = ex.next_viewpoint(state)  # None when nothing is left to aim at: CP covers P, or no viewpoint fits
         if nxt is None:
             # Step 8's test, exact where it matters: a piece left over (however thin) or a vertex in no view
@@ -692,7 +696,8 @@ def explore_range_limited(env: Environment, start: Sequence[object], range_: obj
             ex.blocked.add(target)
     seconds = time.perf_counter() - t0
     found = not hit_limit and not stuck
-    limits = (f"max_views={limit}",) if hit_limit else (("no admissible viewpoint",) if stuck else ())
+    limits = ((f"max_views={limit}" + (f" (at least Area/(πR²) = {lower} views are needed)" if hopeless else ""),)
+              if hit_limit else (("no admissible viewpoint",) if stuck else ()))
     optimality = Optimality(Method.NONE, False, None, scope="chained viewpoint sets covering the free space",
                             algorithm="Algorithm B (range-limited views, boundary by boundary)", limits=limits)
     covered = range_covered_fraction(env, ex.views, shapes=ex.shapes)

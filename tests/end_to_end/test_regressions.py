@@ -91,3 +91,17 @@ def test_patrol_leaving_from_a_run_of_segments_names_their_ends(tmp_path):
     run_stage["moves"][0]["source"][0] = "1/3"  # an end no segment, set or image accounts for
     (tmp_path / "T.json").write_text(json.dumps(data))
     assert run("verify", tmp_path / "T.json").exit_code == 1
+
+
+def test_explore_with_a_range_tiny_against_the_room_gives_up_at_once(tmp_path):
+    """A range so small that even Area/(πR²) views exceed the view cap answers not-found after its first view: it
+    ran towards the cap of 1,000 views (no answer within 120 s on a shared machine)."""
+    env = write(tmp_path, "triangle", [[0, 0], [4, 0], [0, 3]])
+    cert = tmp_path / "C.json"
+    done = run("explore", env, "--start", "1,1", "--range", "1e-9", "-o", tmp_path / "A.json", "--certificate", cert)
+    assert done.exit_code == 0, done.stderr
+    answer = json.loads((tmp_path / "A.json").read_text())
+    assert answer["status"] == "not-found" and answer["views"] == 1
+    assert "views are needed" in answer["optimality"]["limits"][0]
+    assert not cert.exists() and "no certificate written" in done.stderr
+    assert run("report", tmp_path / "A.json", "--env", env, "-o", tmp_path / "R.html").exit_code == 0
