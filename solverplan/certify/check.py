@@ -138,7 +138,7 @@ import hashlib
 import json
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 from solverplan.certify.exact2d import (
     affine_coefficients,
@@ -425,6 +425,7 @@ def check_certificate(
     expected_rings: Sequence[Sequence[Point]] | None = None,
     expected_start: Query | None = None,
     expected_goal: Query | None = None,
+    stop: Callable[[], bool] | None = None,
 ) -> CheckReport:
     """Check every claim of ``cert`` in exact arithmetic; see the module docstring for what and how.
 
@@ -439,11 +440,20 @@ def check_certificate(
         If given, the query the certificate must answer: its start (goal) set must be this union of
         pieces, exactly. Without them, a certificate with a smaller start or a larger goal than asked
         for is a true statement about another query, and valid.
+    stop
+        Asked now and then (a caller's deadline, e.g. ``--timeout``): once it returns true the check stops with
+        :class:`CheckStopped` instead of a verdict; ``None``: no limit. Certificates of the other robot models are
+        checked without it.
 
     Returns
     -------
     CheckReport
         ``valid`` with no failures, or every failure found, each naming its claim.
+
+    Raises
+    ------
+    CheckStopped
+        ``stop()`` returned true before the check decided.
 
     Examples
     --------
@@ -469,7 +479,7 @@ def check_certificate(
             return report
         wrong = Failure("start" if expected_start is not None else "goal", f"a {cert.kind} certificate has no start or goal set")
         return replace(report, valid=False, failures=(wrong, *report.failures), proved=())
-    checker = _Checker(cert)
+    checker = _Checker(cert, stop)
     checker.run(expected_rings)
     if expected_start is not None:
         checker.check_query("start", cert.start, expected_start)
@@ -478,9 +488,14 @@ def check_certificate(
     return checker.report()
 
 
+class CheckStopped(Exception):
+    """The check was told to stop (``stop``, :func:`check_certificate`) before deciding: no verdict at all."""
+
+
 class _Checker:
-    def __init__(self, cert: Certificate) -> None:
+    def __init__(self, cert: Certificate, stop: Callable[[], bool] | None = None) -> None:
         self.cert = cert
+        self.stop = stop
         self.failures: list[Failure] = []
         self.not_checked: list[str] = []
         self.counts = {
@@ -496,6 +511,12 @@ class _Checker:
         self.proved: list[str] = []
         self.optimality_rederived = False
         self.bound_ok = False
+
+    def tick(self) -> None:
+        """Stop (:class:`CheckStopped`) once ``stop()`` says so: asked once per move, angle comparison and bound
+        belief, each far shorter than the time a caller's deadline leaves."""
+        if self.stop is not None and self.stop():
+            raise CheckStopped(f"the exact check was stopped at its time limit after {dict(self.counts)}")
 
     def fail(self, claim: str, message: str) -> None:
         claim = _shorten(claim, 60)
@@ -754,6 +775,7 @@ class _Checker:
                                                      f"{_num(move.source[1])}] of moves[{j}]: a stage has one move per source")
 
     def check_move(self, path: str, move: Move) -> _MoveResult | None:
+        self.tick()
         self.counts["moves"] += 1
         n = len(self.edges)
         if not 0 <= move.edge < n:
@@ -931,6 +953,7 @@ class _Checker:
 
     # ------------------------------------------------------------------ headings of a stage
     def _compare(self, v: Point, r: Fraction, claim: str) -> int | None:
+        self.tick()
         self.counts["angle_decisions"] += 1
         try:
             return compare_angle(v, r)
@@ -939,41 +962,49 @@ class _Checker:
             return None
 
     def check_stage_headings(self, k: int, stage: Stage, results: Sequence[_MoveResult | None]) -> list[Point] | None:
-        """Checks of 5. for one stage; returns the vectors whose angles are the stage's pairwise widths
-        (angle(d_hi of m) − angle(d_lo of j), for all m, j), or ``None`` if the cones are unusable."""
+        """Checks of 5. for one stage; returns the vectors whose angles are the stage's width (the angle from the
+        latest cone start d_lo to the earliest cone end d_hi over its moves: the least of all the pairwise widths
+        angle(d_hi of m) − angle(d_lo of j)), or ``None`` if the cones are unusable.
+
+        Headings of different moves are angles measured from their own source edges, in [0, π]: they compare
+        exactly through the sign of their difference vector, so the extremes take one pass (not every pair)."""
         if any(r is None for r in results):
             return None
         moves = [r for r in results if r is not None]
-        diffs: list[Point] = []
-        for m, rm in enumerate(moves):
-            for j, rj in enumerate(moves):
-                v = difference_vector(rj.w_lo, rm.w_hi)
-                if v[1] < 0:
-                    self.fail(
-                        f"stages[{k}]",
-                        f"the moves' cones share no heading: moves[{m}] ends (d_hi) at heading {_heading(rm.w_hi)} before "
-                        f"moves[{j}] starts (d_lo) at {_heading(rj.w_lo)} (each measured from its source edge)",
-                    )
-                    return None
-                diffs.append(v)
-        for m, rm in enumerate(moves):
-            for j, rj in enumerate(moves):
-                if j == m:
-                    continue
-                if self._compare(difference_vector(rj.w_lo, rm.w_lo), -WIDTH_SLACK, f"stages[{k}].moves[{m}].d_lo") == -1:
-                    self.fail(
-                        f"stages[{k}].moves[{m}].d_lo",
-                        f"the cone starts at heading {_heading(rm.w_lo)}, more than 1e-9 before the stage's common cone "
-                        f"(moves[{j}] starts at {_heading(rj.w_lo)}): a move's cone must be the stage's action interval",
-                    )
-                    break
-                if self._compare(difference_vector(rj.w_hi, rm.w_hi), WIDTH_SLACK, f"stages[{k}].moves[{m}].d_hi") == 1:
-                    self.fail(
-                        f"stages[{k}].moves[{m}].d_hi",
-                        f"the cone ends at heading {_heading(rm.w_hi)}, more than 1e-9 after the stage's common cone "
-                        f"(moves[{j}] ends at {_heading(rj.w_hi)}): a move's cone must be the stage's action interval",
-                    )
-                    break
+        if not moves:
+            return []
+        latest = earliest = 0  # the move whose cone starts last, the one whose cone ends first
+        for m, r in enumerate(moves):
+            self.tick()
+            if difference_vector(moves[latest].w_lo, r.w_lo)[1] > 0:
+                latest = m
+            if difference_vector(moves[earliest].w_hi, r.w_hi)[1] < 0:
+                earliest = m
+        rm, rj = moves[earliest], moves[latest]
+        width = difference_vector(rj.w_lo, rm.w_hi)
+        if width[1] < 0:
+            self.fail(
+                f"stages[{k}]",
+                f"the moves' cones share no heading: moves[{earliest}] ends (d_hi) at heading {_heading(rm.w_hi)} before "
+                f"moves[{latest}] starts (d_lo) at {_heading(rj.w_lo)} (each measured from its source edge)",
+            )
+            return None
+        for m, r in enumerate(moves):
+            if m != latest and self._compare(difference_vector(rj.w_lo, r.w_lo), -WIDTH_SLACK,
+                                             f"stages[{k}].moves[{m}].d_lo") == -1:
+                self.fail(
+                    f"stages[{k}].moves[{m}].d_lo",
+                    f"the cone starts at heading {_heading(r.w_lo)}, more than 1e-9 before the stage's common cone "
+                    f"(moves[{latest}] starts at {_heading(rj.w_lo)}): a move's cone must be the stage's action interval",
+                )
+            if m != earliest and self._compare(difference_vector(rm.w_hi, r.w_hi), WIDTH_SLACK,
+                                               f"stages[{k}].moves[{m}].d_hi") == 1:
+                self.fail(
+                    f"stages[{k}].moves[{m}].d_hi",
+                    f"the cone ends at heading {_heading(r.w_hi)}, more than 1e-9 after the stage's common cone "
+                    f"(moves[{earliest}] ends at {_heading(rm.w_hi)}): a move's cone must be the stage's action interval",
+                )
+        diffs = [width]
         if stage.interval is not None:
             lo, hi = stage.interval
             if lo > hi:
@@ -1145,6 +1176,7 @@ class _Checker:
         m = len(bound.table)
         seen: dict[tuple[int, ...], int] = {}
         for i, rec in enumerate(bound.beliefs):
+            self.tick()
             where = f"bound.beliefs[{i}]"
             segs = rec.segments
             if not segs:
@@ -1183,6 +1215,7 @@ class _Checker:
         listed = [(frozenset(bound.beliefs[j].segments), bound.beliefs[j].depth, j) for j in by_depth]
         checked = 0
         for i, rec in enumerate(bound.beliefs):
+            self.tick()
             if budget is not None and rec.depth >= budget:
                 continue
             checked += 1

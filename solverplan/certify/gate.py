@@ -39,7 +39,7 @@ from typing import Any, Callable, Generic, TypeVar
 from solverplan.bounce._cache import discard_graphs, fresh_graphs, read_from_disk
 from solverplan.certify import build
 from solverplan.certify.build import NothingToCertify
-from solverplan.certify.check import CheckReport, check_certificate
+from solverplan.certify.check import CheckReport, CheckStopped, check_certificate
 from solverplan.certify.schema import Certificate, ModelCertificate
 from solverplan.environment import Environment
 from solverplan.errors import InputError, SolverFailed
@@ -78,6 +78,9 @@ class Checked(Generic[T]):
         Why the answer could not be checked (an infeasible answer, for now), ``None`` when it was.
     ``seconds``
         Time spent making and checking certificates.
+    ``stopped``
+        The check reached the caller's ``stop_at`` before deciding: the answer leaves unchecked, its optimality
+        marked not proved with the reason among its limits, and no certificate is given.
     """
 
     answer: T
@@ -86,10 +89,11 @@ class Checked(Generic[T]):
     retried: bool = False
     unchecked: str | None = None
     seconds: float = 0.0
+    stopped: bool = False
 
 
 def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, start: str | None = None,
-                   goal: str | None = None) -> Checked[T]:
+                   goal: str | None = None, stop_at: float | None = None) -> Checked[T]:
     """``compute()``'s answer, once the independent exact checker has verified it (module docstring).
 
     Parameters
@@ -103,6 +107,10 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
     start, goal
         The query's start and goal sets (boundary-set text, e.g. ``"e0:0.2:0.8"``), when it has them: the
         certificate must answer exactly this query.
+    stop_at
+        A :func:`time.monotonic` time (the end of a ``--timeout``) past which the check stops: the answer then
+        leaves unchecked, not proved, with the reason among its optimality limits (:attr:`Checked.stopped`) — the
+        user's time limit wins over the check, and says so. ``None``: the check always completes.
 
     Raises
     ------
@@ -130,8 +138,11 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
         discard_graphs()
         with fresh_graphs():
             answer = compute()
-        return _accept(answer, _verify(answer, env, start, goal), retried=True)
-    verdict = _verify(answer, env, start, goal)
+        return _accept(answer, _verify(answer, env, start, goal, stop_at), retried=True)
+    verdict = _verify(answer, env, start, goal, stop_at)
+    if verdict.stopped:
+        logger.warning("the %s leaves unchecked: %s", _what(answer), verdict.unchecked)
+        return verdict.result(_not_proved(answer, verdict.unchecked or "not checked"))
     if verdict.failure is None and _says_none(answer) and read_from_disk():
         # an answer that there is no plan, made with graphs from the disk cache: a forged entry that drops arcs would
         # look just like it, and its certificate (when one can be made) speaks of its own class of plans, not exactly
@@ -140,7 +151,7 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
                     _what(answer))
         with fresh_graphs():
             answer = compute()
-        return _accept(answer, _verify(answer, env, start, goal), retried=True)
+        return _accept(answer, _verify(answer, env, start, goal, stop_at), retried=True)
     if verdict.failure is None:
         logger.debug("the %s passed its exact check (%d certificates, %.3f s)", _what(answer), verdict.checked,
                      verdict.seconds)
@@ -150,7 +161,7 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
     discard_graphs()
     with fresh_graphs():
         answer = compute()
-    return _accept(answer, _verify(answer, env, start, goal), retried=True)
+    return _accept(answer, _verify(answer, env, start, goal, stop_at), retried=True)
 
 
 def _says_none(answer: Any) -> bool:
@@ -161,7 +172,20 @@ def _says_none(answer: Any) -> bool:
     return empty and optimality is not None and bool(optimality.proved) and not getattr(optimality, "limits", ())
 
 
+def _not_proved(answer: T, why: str) -> T:
+    """``answer`` with its optimality (when it has one) marked not proved and ``why`` among its limits."""
+    from dataclasses import is_dataclass, replace
+
+    optimality = getattr(answer, "optimality", None)
+    if optimality is None or not is_dataclass(optimality) or not is_dataclass(answer):
+        return answer
+    limits = tuple(getattr(optimality, "limits", ()) or ()) + (why,)
+    return replace(answer, optimality=replace(optimality, proved=False, limits=limits))  # type: ignore[type-var]
+
+
 def _accept(answer: T, verdict: _Verdict, *, retried: bool) -> Checked[T]:
+    if verdict.stopped:
+        return verdict.result(_not_proved(answer, verdict.unchecked or "not checked"), retried=retried)
     if verdict.failure is not None:
         raise AnswerNotVerified(_what(answer), verdict.failure)
     logger.info("the %s computed with freshly built graphs passed its exact check", _what(answer))
@@ -187,9 +211,11 @@ class _Verdict:
     checked: int = 0
     unchecked: str | None = None
     seconds: float = 0.0
+    stopped: bool = False
 
     def result(self, answer: T, *, retried: bool = False) -> Checked[T]:
-        return Checked(answer, self.certificate, self.checked, retried, self.unchecked, self.seconds)
+        return Checked(answer, None if self.stopped else self.certificate, self.checked, retried, self.unchecked,
+                       self.seconds, self.stopped)
 
 
 def _what(answer: Any) -> str:
@@ -206,7 +232,12 @@ def _pieces(env: Environment | None, text: str | None) -> list | None:
     return [(p.edge, p.t0, p.t1) for p in env.boundary_set(text).pieces]
 
 
-def _verify(answer: Any, env: Environment | None, start: str | None, goal: str | None) -> _Verdict:
+STOPPED = "the exact check of the answer was stopped by the time limit (--timeout): the answer is not checked"
+"""The reason a stopped check gives, among the answer's optimality limits."""
+
+
+def _verify(answer: Any, env: Environment | None, start: str | None, goal: str | None,
+            stop_at: float | None = None) -> _Verdict:
     t0 = time.perf_counter()
     query: dict[str, Any] = {}
     if env is not None:
@@ -223,6 +254,8 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
     checked = 0
     for k, item in enumerate(plans):
         where = f"point {k} ({item.bounces} bounces) of the front: " if isinstance(answer, ParetoFront) else ""
+        if stop_at is not None and time.monotonic() > stop_at:
+            return _Verdict(None, None, checked, STOPPED, time.perf_counter() - t0, stopped=True)
         try:
             cert = build.certificate(item, env=env)
         except NothingToCertify as exc:
@@ -235,7 +268,10 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
         except Exception as exc:  # noqa: BLE001 - an answer that cannot even be certified is not given
             return _Verdict(f"{where}no certificate can be made of it ({type(exc).__name__}: {exc})",
                             seconds=time.perf_counter() - t0)
-        report = check_certificate(cert, **query)
+        try:
+            report = check_certificate(cert, **query, stop=None if stop_at is None else lambda: time.monotonic() > stop_at)
+        except CheckStopped:
+            return _Verdict(None, None, checked, STOPPED, time.perf_counter() - t0, stopped=True)
         checked += 1
         if not report.valid:
             return _Verdict(f"{where}{report.failures[0]}", seconds=time.perf_counter() - t0)

@@ -91,6 +91,16 @@ def command_timeout(timeout: float | None) -> Any:
     deadline = Deadline(max(1e-3, seconds - (time.monotonic() - _STARTED) - _ANSWER_RESERVE))
     deadline.seconds = seconds  # the answer's limits name the user's timeout
     return deadline
+def command_stop(timeout: float | None) -> float | None:
+    """The :func:`time.monotonic` time at which a command with ``--timeout`` must stop checking its answer (the
+    exact gate's ``stop_at``): the user's limit counted from the command's start, less a tenth of a second to
+    write the answer; ``None`` without a timeout."""
+    from solverplan.plan._deadline import check_timeout
+
+    seconds = check_timeout(timeout)
+    return None if seconds is None else _STARTED + seconds - 0.1
+
+
 CornerClearanceOpt = Annotated[
     float | None,
     typer.Option("--corner-clearance", metavar="K", help="Keep every landing point this far (a length) from segment ends, "
@@ -172,7 +182,9 @@ def emit_checked(checked: Any, fmt: OutputFormat, out: Path | None, *, env: Any 
     its --certificate (the certificate the gate checked), its --picture (``renderer(answer, *draw)``, by default the
     picture of its kind: see :func:`save_picture`), then the answer itself."""
     answer = checked.answer
-    if certificate is not None:
+    if certificate is not None and getattr(checked, "stopped", False):
+        sys.stderr.write(f"warning: no certificate written to {certificate}: {checked.unchecked}\n")
+    elif certificate is not None:
         write_certificate_file(answer, certificate, env, checked.certificate)
     save_picture(picture, renderer, answer, *draw)
     emit(answer, fmt, out)

@@ -18,6 +18,7 @@ from solverplan.cli._options import (
     PictureOpt,
     PositionToleranceOpt,
     TimeoutOpt,
+    command_stop,
     command_timeout,
     emit_checked,
 )
@@ -114,7 +115,7 @@ def patrol_command(
     _contraction_answer(env, env_format, lambda environment: patrol(
         environment, visit, start=start, objective=objective.value, tolerance=tolerance, max_between=max_between,
         epsilon=epsilon, heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=command_timeout(timeout)),
-        certificate, picture, fmt, out, verbose, start=start)
+        certificate, picture, fmt, out, verbose, start=start, stop_at=command_stop(timeout))
 
 
 @app.command(name="funnel")
@@ -139,7 +140,8 @@ def funnel_command(
 
     _contraction_answer(env, env_format, lambda environment: funnel(
         environment, start, goal, tolerance=tolerance, max_bounces=max_bounces, heading_margin=heading_margin,
-        corner_clearance=corner_clearance, timeout=command_timeout(timeout)), certificate, picture, fmt, out, verbose, start=start, goal=goal)
+        corner_clearance=corner_clearance, timeout=command_timeout(timeout)), certificate, picture, fmt, out, verbose, start=start, goal=goal,
+        stop_at=command_stop(timeout))
 
 
 @app.command(name="localize")
@@ -168,19 +170,19 @@ def localize_command(
     _contraction_answer(env, env_format, lambda environment: localize(
         environment, epsilon, start=start, tolerance=tolerance, max_bounces=max_bounces,
         heading_margin=heading_margin, corner_clearance=corner_clearance, timeout=command_timeout(timeout)), certificate, picture, fmt,
-        out, verbose, start=start)
+        out, verbose, start=start, stop_at=command_stop(timeout))
 
 
 def _contraction_answer(env: Path, env_format: EnvFormat | None, solve: Any, certificate: Path | None,
                         picture: Path | None, fmt: OutputFormat, out: Path | None, verbose: int, *,
-                        start: str | None = None, goal: str | None = None) -> None:
+                        start: str | None = None, goal: str | None = None, stop_at: float | None = None) -> None:
     """Load the environment, ``solve`` it (patrol, funnel, localize) and check the answer exactly, write the
     --certificate (an answer not found writes none and says why on stderr) and the --picture of a found answer,
     emit the answer."""
     from solverplan.certify.gate import checked_answer
 
     with loaded(env, env_format, picture, verbose=verbose) as environment:
-        checked = checked_answer(lambda: solve(environment), env=environment, start=start, goal=goal)
+        checked = checked_answer(lambda: solve(environment), env=environment, start=start, goal=goal, stop_at=stop_at)
         found = checked.answer.found  # a strategy not found has nothing to certify or draw
         emit_checked(checked, fmt, out, certificate=certificate, picture=picture if found else None)
 
@@ -233,7 +235,8 @@ def plan_command(
                              corner_clearance=corner_clearance, timeout=command_timeout(timeout),
                              min_width=heading_accuracy)
 
-        checked = checked_answer(solve, env=environment, start=start, goal=goal)  # exact check before it leaves
+        checked = checked_answer(solve, env=environment, start=start, goal=goal,  # exact check before it leaves
+                                 stop_at=command_stop(timeout))
         emit_checked(checked, fmt, out, env=environment, certificate=certificate)
 
 
