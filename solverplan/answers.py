@@ -1,7 +1,7 @@
 """Every kind of answer solverplan gives, and what each kind can do: the registry of answer kinds.
 
 An answer's JSON says what it is in its first key, ``kind`` (:data:`solverplan.result.ANSWER_KEY_ORDER`); this
-module maps each kind to its class (:func:`solverplan.result.answer_kind` registered it) and to its hooks:
+module maps each kind to its class (:func:`solverplan.result.answer_dataclass` registered it) and to its hooks:
 
 - ``read``: read the JSON back into the typed answer (``cls.from_json``); the kinds whose JSON is a summary of what
   they computed (simulations, studies, room simulations, imports: their arrays are not written) read back as an

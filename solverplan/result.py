@@ -59,7 +59,6 @@ __all__ = [
     "Result",
     "Answer",
     "Construction",
-    "answer_kind",
     "answer_dataclass",
     "answer_class",
     "answer_kinds",
@@ -626,39 +625,18 @@ ANSWER_KEY_ORDER: tuple[str, ...] = ("kind", "status", "...", "optimality", "sta
 
 _KINDS: dict[str, type] = {}
 
-_A = TypeVar("_A", bound=type)
 _T = TypeVar("_T")
-
-
-def answer_kind(kind: str) -> Callable[[_A], _A]:
-    """Class decorator: register an answer class under ``kind`` (its ``kind`` attribute is set to it).
-
-    One class per kind, one kind per class; the registry is what :func:`answer_class` reads (the kinds of the
-    modules imported so far: ``solverplan.answers`` imports every one).
-
-    >>> @answer_kind("example-kind")
-    ... class Example(Answer):
-    ...     pass
-    >>> Example.kind, answer_class("example-kind") is Example
-    ('example-kind', True)
-    >>> _ = _KINDS.pop("example-kind")
-    """
-    def register(cls: _A) -> _A:
-        if not kind or kind != kind.strip() or kind in _KINDS and _KINDS[kind] is not cls:
-            raise ValueError(f"answer kind {kind!r} is empty or already taken by {_KINDS[kind].__name__}")
-        cls.kind = kind  # type: ignore[attr-defined]
-        _KINDS[kind] = cls
-        return cls
-    return register
 
 
 @dataclass_transform(frozen_default=True)
 def answer_dataclass(kind: str, *, eq: bool = True, kw_only: bool = False) -> Callable[[type[_T]], type[_T]]:
     """Class decorator: make an answer class a frozen dataclass and register it under ``kind``.
 
-    What every answer class is, said once: ``@answer_dataclass("plan")`` is ``@answer_kind("plan")`` over
-    ``@dataclass(frozen=True)`` (``eq`` and ``kw_only`` as in :func:`dataclasses.dataclass`). Type checkers see
-    the dataclass through :func:`typing.dataclass_transform`.
+    What every answer class is, said once: a ``@dataclass(frozen=True)`` (``eq`` and ``kw_only`` as in
+    :func:`dataclasses.dataclass`) whose ``kind`` attribute is set to ``kind``, registered under it for
+    :func:`answer_class`. One class per kind, one kind per class; the registry holds the kinds of the modules
+    imported so far (``solverplan.answers`` imports every one). Type checkers see the dataclass through
+    :func:`typing.dataclass_transform`.
 
     >>> @answer_dataclass("example-kind")
     ... class Example(Answer):
@@ -667,10 +645,16 @@ def answer_dataclass(kind: str, *, eq: bool = True, kw_only: bool = False) -> Ca
     (Example(steps=3), 'example-kind', True)
     >>> _ = _KINDS.pop("example-kind")
     """
-    register = answer_kind(kind)
+    if not kind or kind != kind.strip():
+        raise ValueError(f"answer kind {kind!r} is empty or has surrounding blanks")
 
     def make(cls: type[_T]) -> type[_T]:
-        return register(dataclass(frozen=True, eq=eq, kw_only=kw_only)(cls))
+        made = dataclass(frozen=True, eq=eq, kw_only=kw_only)(cls)
+        if kind in _KINDS and _KINDS[kind] is not made:
+            raise ValueError(f"answer kind {kind!r} is already taken by {_KINDS[kind].__name__}")
+        made.kind = kind  # type: ignore[attr-defined]
+        _KINDS[kind] = made
+        return made
     return make
 
 
@@ -691,7 +675,7 @@ class Answer:
     """The base of every answer: its ``kind`` and the one :meth:`to_json` (in :data:`ANSWER_KEY_ORDER`).
 
     A subclass is a (frozen) dataclass with ``status``, ``optimality``, ``stats`` and ``environment`` (fields or
-    properties), registered with :func:`answer_kind`; it writes its own fields in :meth:`_fields` and reads its
+    properties), registered with :func:`answer_dataclass`; it writes its own fields in :meth:`_fields` and reads its
     JSON back in :meth:`from_json` (``from_json(a.to_json(), env=...)`` gives an answer with the same JSON).
     Robot models are not classes here: the kinds are kinds of *answers*.
 

@@ -7,15 +7,24 @@ import logging
 import sys
 import time
 from pathlib import Path
-from typing import Annotated, Any, Iterator
+from typing import TYPE_CHECKING, Annotated, Any, Iterator
 
 import typer
 
 from solverplan._io import cannot_write
+from solverplan.choices import RoomRule, ScenarioName, or_all
 from solverplan.cli._output import OutputFormat, emit
 from solverplan.errors import InputError
 
 logger = logging.getLogger(__name__)
+
+# The choices of the options that also take ``all`` (every member at once): enums made at run time, which a type
+# checker sees as the base ``Choice``.
+if TYPE_CHECKING:
+    from solverplan.choices import Choice as RoomRuleOrAll, Choice as ScenarioOrAll
+else:
+    RoomRuleOrAll = or_all(RoomRule)
+    ScenarioOrAll = or_all(ScenarioName)
 
 CertificateOpt = Annotated[
     Path | None,

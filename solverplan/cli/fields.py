@@ -3,20 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import Annotated, Any
 
 import typer
 
-from solverplan.choices import CellKind, Reflections, RobotKind, ScenarioName, StartMode, or_all
+from solverplan.choices import CellKind, Reflections, RobotKind, ScenarioName, StartMode
 from solverplan.limits import MAX_SEED, MAX_TRAJECTORIES
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, loaded
-from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, parse_xy
+from solverplan.cli._options import CertificateOpt, PictureOpt, ScenarioOrAll, emit_checked, parse_xy
 from solverplan.cli._output import OutputFormat, emit_string, json_text
-
-if TYPE_CHECKING:
-    from solverplan.choices import Choice as ScenarioOrAll
-else:
-    ScenarioOrAll = or_all(ScenarioName)
 
 
 @app.command(name="fields")

@@ -3,22 +3,17 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import Annotated, Any
 
 import typer
 
-from solverplan.choices import DoorPolicy, RoomRule, ThetaMode, or_all
+from solverplan.choices import DoorPolicy, ThetaMode
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRIALS
 from solverplan.errors import InputError
 from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
 from solverplan.cli._errors import exit_codes, invalid
-from solverplan.cli._options import CertificateOpt, PictureOpt, emit_checked, save_picture
+from solverplan.cli._options import CertificateOpt, PictureOpt, RoomRuleOrAll, emit_checked, save_picture
 from solverplan.cli._output import OutputFormat, emit
-
-if TYPE_CHECKING:
-    from solverplan.choices import Choice as RoomRuleOrAll
-else:
-    RoomRuleOrAll = or_all(RoomRule)
 
 
 @app.command(name="rooms")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import field
 from decimal import Decimal
 from fractions import Fraction
 from os import PathLike
@@ -22,7 +22,7 @@ from solverplan.floorplan.occupancy import DEFAULT_MIN_OBSTACLE, read_keepout_ma
 from solverplan.floorplan.outline import environment_from_polygon, finish_outline, grid_quantum
 from solverplan.floorplan.robot import erode_free_space, inflation_distance
 from solverplan.floorplan.vector import arrange_rings, read_dxf_linework, read_svg_rings
-from solverplan.result import (Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_kind,
+from solverplan.result import (Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_dataclass,
                                protocol_json)
 
 __all__ = ["FloorplanImport", "ImportResult", "import_floorplan", "PlanFormat"]
@@ -45,8 +45,7 @@ _ALWAYS_LISTED = {"door_swing", "speckle", "small_hole", "merged_obstacle", "pas
                   "cut_off"}
 
 
-@answer_kind("import")
-@dataclass(frozen=True)
+@answer_dataclass("import")
 class FloorplanImport(Answer):
     """A floor plan read into an environment (the ``import`` answer of docs/contract.md).
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 import io
 import json
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import KW_ONLY, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -88,8 +88,37 @@ def read_environment(data: object, where: str = "environment") -> EnvironmentRec
         raise MalformedFile(str(exc)) from None
 
 
+@dataclass(frozen=True)
+class _Query:
+    """What a planner was asked and what closes its answer, the fields :class:`Plan` and :class:`ParetoFront`
+    share: keyword-only, after each answer's own positional fields (``Plan(status, objective, stages,
+    optimality, start=..., ...)``, ``ParetoFront(points, optimality, start=..., ...)``)."""
+
+    _: KW_ONLY
+    start: str | None = None
+    goal: str | None = None
+    max_bounces: int | None = None
+    reason: str | None = None
+    environment: EnvironmentRecord | None = None
+    stats: Stats = field(default_factory=Stats, compare=False)
+
+
+def _text_title(answer: Plan | ParetoFront, what: str) -> str:
+    """The first line of a planner answer's text: what it is, in which environment, for which query."""
+    record = answer.environment
+    env = record.name if record is not None and record.name else "environment"
+    query = f" from {answer.start} to {answer.goal}" if answer.start else ""
+    budget = f", at most {answer.max_bounces} bounces" if answer.max_bounces is not None else ""
+    return f"{what} in {env!r}{query}{budget}\n"
+
+
+def _text_unanswered(answer: Plan | ParetoFront) -> str:
+    """The text of a planner answer without a plan: its status and why, and the optimality claim."""
+    return f"  {answer.status.value}: {answer.reason}\n  optimality: {answer.optimality.to_text()}\n"
+
+
 @answer_dataclass("plan")
-class Plan(Answer):
+class Plan(_Query, Answer):
     """A plan (``docs/contract.md``): heading intervals, one per bounce, from every start to the goal set.
 
     The intervals take the robot from every point of the start set to the goal set whatever headings inside
@@ -143,13 +172,7 @@ class Plan(Answer):
     objective: str
     stages: tuple[Stage, ...]
     optimality: Optimality
-    reason: str | None = None
-    start: str | None = None
-    goal: str | None = None
-    max_bounces: int | None = None
-    environment: EnvironmentRecord | None = None
-    margins: dict = field(default_factory=dict)
-    stats: Stats = field(default_factory=Stats, compare=False)
+    margins: dict = field(default_factory=dict, kw_only=True)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "status", Status(self.status))
@@ -244,14 +267,9 @@ class Plan(Answer):
     def to_text(self, *, width: int = 100) -> str:
         """A table like the paper's (§7.1.2): stage, from, to, interval, width."""
         buf = io.StringIO()
-        env = self.environment.name if self.environment is not None and self.environment.name else "environment"
-        query = f"from {self.start} to {self.goal}" if self.start else ""
-        budget = f", at most {self.max_bounces} bounces" if self.max_bounces is not None else ""
-        buf.write(f"{self.objective} plan in {env!r} {query}{budget}\n")
+        buf.write(_text_title(self, f"{self.objective} plan"))
         if not self.found:
-            buf.write(f"  {self.status.value}: {self.reason}\n")
-            buf.write(f"  optimality: {self.optimality.to_text()}\n")
-            return buf.getvalue()
+            return buf.getvalue() + _text_unanswered(self)
         buf.write(f"  bounces {self.bounces}   min width {self.min_width:.6f} rad   tolerance ±{self.tolerance:.6f} rad "
                   f"(±{math.degrees(self.tolerance or 0.0):.4f}°)   sum of widths {self.sum_width:.6f}\n")
         buf.write(f"  optimality: {self.optimality.to_text()}\n")
@@ -287,7 +305,7 @@ class ParetoPoint:
 
 
 @answer_dataclass("pareto")
-class ParetoFront(Answer):
+class ParetoFront(_Query, Answer):
     """The Pareto front bounces ↔ tolerance: the most tolerant plan for each number of bounces that helps.
 
     Points have strictly increasing bounces and strictly increasing min width. Every plan with b bounces has
@@ -323,12 +341,6 @@ class ParetoFront(Answer):
 
     points: tuple[ParetoPoint, ...]
     optimality: Optimality
-    start: str | None = None
-    goal: str | None = None
-    max_bounces: int | None = None
-    reason: str | None = None
-    environment: EnvironmentRecord | None = None
-    stats: Stats = field(default_factory=Stats, compare=False)
 
     @property
     def status(self) -> Status:
@@ -383,13 +395,9 @@ class ParetoFront(Answer):
 
     def to_text(self, *, width: int = 100) -> str:
         buf = io.StringIO()
-        env = self.environment.name if self.environment is not None and self.environment.name else "environment"
-        budget = f", at most {self.max_bounces} bounces" if self.max_bounces is not None else ""
-        buf.write(f"Pareto front bounces ↔ tolerance in {env!r} from {self.start} to {self.goal}{budget}\n")
+        buf.write(_text_title(self, "Pareto front bounces ↔ tolerance"))
         if not self.points:
-            buf.write(f"  infeasible: {self.reason}\n")
-            buf.write(f"  optimality: {self.optimality.to_text()}\n")
-            return buf.getvalue()
+            return buf.getvalue() + _text_unanswered(self)
         buf.write(f"  {'bounces':>7}  {'min width (rad)':>16}  {'tolerance (rad)':>16}  {'tolerance (°)':>13}\n")
         for p in self.points:
             buf.write(f"  {p.bounces:>7}  {p.min_width:>16.9f}  {p.tolerance:>16.9f}  {math.degrees(p.tolerance):>13.5f}\n")

@@ -779,16 +779,16 @@ def pareto_front(
                              heading_margin=heading_margin, safe_margin=safe_margin, corner_clearance=corner_clearance)
     if isinstance(problem, Plan):  # the timeout came while the query was built
         plan = problem
-        return ParetoFront((), plan.optimality, plan.start, plan.goal, k_max, reason=plan.reason,
-                           environment=plan.environment, stats=plan.stats)
+        return ParetoFront((), plan.optimality, start=plan.start, goal=plan.goal, max_bounces=k_max,
+                           reason=plan.reason, environment=plan.environment, stats=plan.stats)
     common = _common(problem, k_max)
     algorithm = "Pareto label setting (bounces, min width)" + (f" up to {k_max} bounces" if k_max else " to a fixed point")
     exhausted = Method.SEARCH_EXHAUSTED
     if problem.start_in_goal:
         opt = _claim(exhausted, True, math.pi, algorithm, problem, k_max, gap=0.0)
         plan = Plan(Status.FOUND, "tolerance", (), opt, **common)
-        return ParetoFront((ParetoPoint(0, math.pi, plan),), opt, common["start"], common["goal"], k_max,
-                           environment=common["environment"])
+        return ParetoFront((ParetoPoint(0, math.pi, plan),), opt, start=common["start"], goal=common["goal"],
+                           max_bounces=k_max, environment=common["environment"])
     reason = _precheck(problem, "tolerance", k_max)
     points: list[ParetoPoint] = []
     beliefs = 0
@@ -815,5 +815,5 @@ def pareto_front(
                          algorithm=f"{algorithm}, stopped by the timeout", limits=limits)
     else:
         opt = _claim(exhausted, True, best, algorithm, problem, k_max, gap=None if best is None else 0.0)
-    return ParetoFront(tuple(points), opt, common["start"], common["goal"], k_max, reason=reason,
-                       environment=common["environment"], stats=stats)
+    return ParetoFront(tuple(points), opt, start=common["start"], goal=common["goal"], max_bounces=k_max,
+                       reason=reason, environment=common["environment"], stats=stats)

@@ -36,8 +36,9 @@ from solverplan.render.fields import SCENARIO_COLORS, draw_cell_fields, draw_cel
 from solverplan.render.figure import FigureFormat, SavedFigure, figure_bytes, figure_format, new_figure, save_figure
 from solverplan.render.graph import draw_graph, draw_safe_arcs
 from solverplan.render.heatmaps import draw_heatmap, render_heatmaps
-from solverplan.render.report import (ANSWER_KINDS, REPORT_OPTIONS, AnswerFile, HtmlReport, SavedReport, answer_kind,
-                                      html_report, load_answer, make_report, report_environment, write_report)
+from solverplan.render.report import (ANSWER_KINDS, REPORT_OPTIONS, AnswerFile, HtmlReport, SavedReport,
+                                      detect_answer_kind, html_report, load_answer, make_report, report_environment,
+                                      write_report)
 from solverplan.render.labels import LabelPlacer, draw_edge_ids, draw_vertex_ids
 from solverplan.render.partition import draw_partition
 from solverplan.render.plans import draw_plan, plan_title
@@ -101,7 +102,7 @@ __all__ = [
     "AnswerFile",
     "HtmlReport",
     "SavedReport",
-    "answer_kind",
+    "detect_answer_kind",
     "html_report",
     "load_answer",
     "write_report",

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import time
 from collections import deque
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 from typing import Any
 
@@ -47,7 +47,7 @@ from solverplan.errors import InputError, SolverFailed
 from solverplan.limits import quote
 from solverplan.exact import ExactPoint, format_point, segment_intersection
 from solverplan.geometry.visibility import visibility_polygon
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_kind
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 from solverplan.wallfollow.bitangent import bitangents
 from solverplan.wallfollow.cut import corner_polygon, cut_ordering, cuts, merged_count
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
@@ -206,8 +206,7 @@ class GapSensor:
         return out
 
 
-@answer_kind("pursuit")
-@dataclass(frozen=True)
+@answer_dataclass("pursuit")
 class PursuitPlan(Answer):
     """A pursuit plan of the wall-following robot, or the proof that none exists.
 

@@ -116,15 +116,14 @@ def test_unbudgeted_tolerance_is_the_limit_of_the_pareto_front(query):
 def test_lp_and_milp_agree_with_the_label_searches(query):
     """sum: LP over path flows (clarabel, duality gap) = DP; tolerance: MILP (HiGHS) = Pareto labels."""
     env, graph, S, G = _prepared(query)
-    dp = find_plan(env, S, G, objective="sum", max_bounces=K, graph=graph)
-    lp = find_plan(env, S, G, objective="sum", max_bounces=K, method="lp", graph=graph)
+    dp, lp = (find_plan(env, S, G, objective="sum", max_bounces=K, method=m, graph=graph) for m in ("auto", "lp"))
     assert dp.found == lp.found
     if dp.found:
         assert lp.sum_width == pytest.approx(dp.sum_width, abs=1e-7)
         assert lp.optimality.method == "lp-duality" and lp.optimality.proved
         assert 0 <= lp.optimality.gap <= 1e-6 and lp.optimality.bound >= lp.sum_width
-    label = find_plan(env, S, G, objective="tolerance", max_bounces=K, graph=graph)
-    milp = find_plan(env, S, G, objective="tolerance", max_bounces=K, method="milp", graph=graph)
+    label, milp = (find_plan(env, S, G, objective="tolerance", max_bounces=K, method=m, graph=graph)
+                   for m in ("auto", "milp"))
     assert label.found == milp.found
     if label.found:
         # HiGHS decides big-M constraints to its feasibility tolerance (~1e-7): near-ties between paths whose

@@ -18,7 +18,7 @@ import pytest
 from solverplan.certify.schema import load_certificate
 from solverplan.environment import Environment, load_environment
 from solverplan.errors import InputError, MalformedFile
-from solverplan.render.report import AnswerFile, answer_kind, html_report, load_answer
+from solverplan.render.report import AnswerFile, detect_answer_kind, html_report, load_answer
 
 from .conftest import ANSWER_COMMANDS, CERTIFICATES, ENVIRONMENTS, report_args, run
 
@@ -349,8 +349,8 @@ def test_segment_ids_beyond_the_partition_are_bad_input(tmp_path):
 
 def test_answer_kinds_are_told_apart(answers):
     for kind in ANSWER_COMMANDS:
-        assert answer_kind(json.loads((answers / f"{kind}.json").read_text())) == kind
-    assert answer_kind(json.loads((answers / "cert.json").read_text())) is None
+        assert detect_answer_kind(json.loads((answers / f"{kind}.json").read_text())) == kind
+    assert detect_answer_kind(json.loads((answers / "cert.json").read_text())) is None
     with pytest.raises(MalformedFile, match="is a localisation strategy .* not what --plan takes: give it with --funnel"):
         load_answer(answers / "localize.json", option="plan")
 

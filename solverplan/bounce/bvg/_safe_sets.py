@@ -6,6 +6,7 @@ Private to :mod:`~solverplan.bounce.bvg.build` (its module docstring has the alg
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -71,6 +72,23 @@ def sorted_by_arc_lo(pieces: Pieces) -> bool:
 def _edge_vectors(env: Environment) -> list[tuple[Fraction, Fraction]]:
     verts, nv = env.exact_vertices, env.next_vertex
     return [(verts[int(nv[e])][0] - verts[e][0], verts[int(nv[e])][1] - verts[e][1]) for e in range(env.n_edges)]
+
+
+@functools.lru_cache(maxsize=8)
+def _integer_edge_vectors(env: Environment) -> np.ndarray | None:
+    """The exact edge vectors of ``env`` times one positive integer (the lcm of their denominators) as int64, when
+    every coordinate is below 2³¹ in magnitude — the cross product of two is then exact in int64, its sign that of
+    the exact cross product —, else None (a map's edges on a millimetre grid: always)."""
+    vectors = _edge_vectors(env)
+    scale = 1
+    for x, y in vectors:
+        scale = math.lcm(scale, x.denominator, y.denominator)
+        if scale >= 1 << 31:
+            return None
+    out = [(x.numerator * (scale // x.denominator), y.numerator * (scale // y.denominator)) for x, y in vectors]
+    if any(abs(c) >= 1 << 31 for pair in out for c in pair):
+        return None
+    return np.array(out, dtype=np.int64).reshape(-1, 2)
 
 
 def _cmp_ends(pieces: Pieces, ends: EndComparator, edge_of: np.ndarray, which1: str, which2: str) -> np.ndarray:
@@ -348,7 +366,11 @@ def _transitions_block(env: Environment, ei: np.ndarray, ej: np.ndarray) -> tupl
     tol = 0.1 * _sweep.CROSS_REL * (max_norm(u) * scale + max_norm(v) * scale)
     side = np.sign(cr).astype(np.int8)
     unsure = np.flatnonzero(np.abs(cr) <= tol)
-    if len(unsure):
+    exact = _integer_edge_vectors(env) if len(unsure) else None
+    if exact is not None:  # (nearly) parallel edges — half the pairs of a map's axis-parallel walls — at once
+        u_i, v_j = exact[ei[unsure]], exact[ej[unsure]]
+        side[unsure] = np.sign(u_i[:, 0] * v_j[:, 1] - u_i[:, 1] * v_j[:, 0])
+    elif len(unsure):
         vec = _edge_vectors(env)
         cache: dict[tuple[int, int], int] = {}
         for k in unsure.tolist():

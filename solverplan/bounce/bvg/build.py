@@ -369,9 +369,9 @@ def _build(p: Partition, sources: np.ndarray | None = None, context: _sweep.Swee
         swapped += both // N
         keys = np.concatenate([both, swapped])
         del both, swapped
-        keys = sorted_unique(keys)
+        keys = sorted_unique(keys, overwrite=True)
     elif met:  # ---- the arcs from the sources that their sweeps meet
-        keys = sorted_unique(np.concatenate([A_key, B_key]))
+        keys = sorted_unique(np.concatenate([A_key, B_key]), overwrite=True)
     else:  # ---- arcs that may be safe: met by the sweeps at both ends of the source
         keys = sorted_intersection(A_key, B_key)
     n_arcs = len(keys)
@@ -595,7 +595,7 @@ def _concat_rows(p: Partition, parts: list[SafeBVG]) -> SafeBVG:
     source = cat("source").astype(np.int64)
     target = cat("target").astype(np.int64)
     counts = cat("n_intervals").astype(np.int64)
-    order = np.lexsort((target, source))
+    order = np.argsort(source * len(p.segments) + target, kind="stable")  # = lexsort((target, source)), twice as fast
     offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     take = np.repeat(offsets[:-1][order], counts[order]) + ragged_arange(counts[order])
     counts = counts[order]

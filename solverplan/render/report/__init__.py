@@ -33,7 +33,7 @@ from typing import Any
 from solverplan.environment import Environment
 from solverplan.errors import InputError, MalformedFile
 from solverplan.render.report._kinds import (ANSWER_KINDS, NEEDS_ENVIRONMENT, REPORT_OPTIONS, AnswerFile, _CERTIFICATE_KINDS,
-                                             answer_kind, load_answer)
+                                             detect_answer_kind, load_answer)
 from solverplan.render.report.bounce import _CycleReport, _FunnelReport, _PatrolReport, _PlanReport
 from solverplan.render.report.certificate import _certificate_section, _model_certificate_section, _no_certificate
 from solverplan.render.report.models import MODEL_VIEWS
@@ -41,8 +41,8 @@ from solverplan.render.report.page import HtmlReport, SavedReport, _page, write_
 from solverplan.render.report.study import _Study
 from solverplan.result import EnvironmentRecord
 
-__all__ = ["ANSWER_KINDS", "REPORT_OPTIONS", "AnswerFile", "HtmlReport", "SavedReport", "answer_kind", "load_answer",
-           "html_report", "write_report", "report_environment", "make_report"]
+__all__ = ["ANSWER_KINDS", "REPORT_OPTIONS", "AnswerFile", "HtmlReport", "SavedReport", "detect_answer_kind",
+           "load_answer", "html_report", "write_report", "report_environment", "make_report"]
 
 _BOUNCE_VIEWS = {"plan": _PlanReport, "pareto": _PlanReport, "patrol": _PatrolReport, "funnel": _FunnelReport,
                  "localize": _FunnelReport, "cycle": _CycleReport, "controller": _CycleReport}

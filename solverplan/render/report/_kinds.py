@@ -70,12 +70,14 @@ class AnswerFile:
     data: dict
 
 
-def answer_kind(data: object) -> str | None:
+def detect_answer_kind(data: object) -> str | None:
     """The kind of answer ``data`` is (a key of :data:`ANSWER_KINDS`), told by the fields each answer always has;
     ``None`` for anything else (a certificate, an environment, a verify report, ...).
 
-    >>> answer_kind({"status": "found", "objective": "fewest", "stages": []}), answer_kind({"outer": []})
-    ('plan', None)
+    >>> detect_answer_kind({"status": "found", "objective": "fewest", "stages": []})
+    'plan'
+    >>> detect_answer_kind({"outer": []}) is None  # an environment
+    True
     """
     if not isinstance(data, dict):
         return None
@@ -147,7 +149,7 @@ def load_answer(path: str | os.PathLike[str], *, option: str | None = None) -> A
         raise MalformedFile(f"{file}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})") from None
     except MalformedFile as exc:
         raise MalformedFile(f"{file}: {exc}") from None
-    kind = answer_kind(data)
+    kind = detect_answer_kind(data)
     if kind is None:
         if isinstance(data, dict) and data.get("schema") == "solverplan-certificate":
             raise MalformedFile(f"{file}: is a certificate, not an answer: give it with --certificate")

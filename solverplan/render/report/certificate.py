@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from fractions import Fraction
-from typing import Any, Iterable
+from typing import Any, Iterable, Sequence
 
 
 from solverplan.environment import Environment
@@ -77,7 +77,6 @@ def _certificate_section(answer: AnswerFile, env: Environment, view: _View, cert
         query[f"expected_{key}"] = pieces
     report = check_certificate(cert, expected_rings=env.rings, **query)
     verdict = report.verdict_json()  # the verdict every check gives (solverplan.verdict)
-    state = "valid" if report.valid else "invalid"
     rows = [("file", cert_path), ("kind", f"{report.kind} (version {report.version})"),
             ("environment", f"{said['environment']['name']} (sha256 {said['environment']['sha256']})")]
     if said.get("start"):
@@ -92,17 +91,25 @@ def _certificate_section(answer: AnswerFile, env: Environment, view: _View, cert
         c = claims["cycle"]
         rows.append(("claims.cycle", f"return map t ↦ {c['alpha']} t + {c['beta']}; fixed point {c['fixed_point']}; "
                                      f"contraction {c['contraction']}"))
-    rows.append(("scope", report.scope))
-    rows.append(("checked exactly", ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in report.checked)))
-    rows.extend(("proved", statement) for statement in report.proved)
-    body = (f'<section id="certificate" class="{state}"><h2>Certificate</h2>'
-            f'<p><span class="badge" id="certificate-status">{state.upper()}</span> checked now, in exact rational '
-            "arithmetic, by solverplan's independent checker (solverplan.certify.check), against this environment and "
-            "this answer's query; nothing the certificate claims was taken on trust but what is listed below.</p>"
-            + _table(rows, table_id="certificate-claims", exact=("claims.min_width", "claims.tolerance", "claims.sum_width",
-                                                                  "claims.cycle", "environment"))
-            + _failures_and_trusted(report) + "</section>")
+    body = _section(report, rows, ", against this environment and this answer's query; nothing the certificate claims "
+                    "was taken on trust but what is listed below.",
+                    exact=("claims.min_width", "claims.tolerance", "claims.sum_width", "claims.cycle", "environment"))
     return verdict, body
+
+
+def _section(report: Any, rows: list[tuple[str, str]], against: str, *, exact: Sequence[str] = ()) -> str:
+    """The certificate section of either shape of certificate: the verdict's badge, what the checker checked it
+    against (``against`` ends the sentence), the table of ``rows`` with the verdict's scope, what it checked exactly
+    and what it proved, then its failures and what it did not re-derive."""
+    state = "valid" if report.valid else "invalid"
+    rows = [*rows, ("scope", report.scope),
+            ("checked exactly", ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in report.checked)),
+            *(("proved", statement) for statement in report.proved)]
+    return (f'<section id="certificate" class="{state}"><h2>Certificate</h2>'
+            f'<p><span class="badge" id="certificate-status">{state.upper()}</span> checked now, in exact rational '
+            "arithmetic, by solverplan's independent checker (solverplan.certify.check)" + against + "</p>"
+            + _table(rows, table_id="certificate-claims", exact=exact)
+            + _failures_and_trusted(report) + "</section>")
 
 
 def _failures_and_trusted(report: Any) -> str:
@@ -132,20 +139,11 @@ def _model_certificate_section(answer: AnswerFile, env: Environment | None, cert
         raise InputError(f"{cert_path}: a {have} certificate does not certify {ANSWER_KINDS[answer.kind]}")
     report = check_certificate(cert, expected_rings=env.rings) if env is not None else check_certificate(cert)
     verdict = report.verdict_json()  # the verdict every check gives (solverplan.verdict)
-    state = "valid" if report.valid else "invalid"
     rows = [("file", cert_path), ("kind", f"{report.kind} (version {report.version})")]
     said = report.to_json() if hasattr(report, "to_json") else {}
     claims = said.get("claims") if isinstance(said, dict) else None
     if isinstance(claims, dict):
         rows += [(f"claims.{k}", json.dumps(v, ensure_ascii=False)[:300] if isinstance(v, (dict, list)) else str(v))
                  for k, v in claims.items()]
-    rows.append(("scope", report.scope))
-    rows.append(("checked exactly", ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in report.checked)))
-    rows.extend(("proved", statement) for statement in report.proved)
-    body = (f'<section id="certificate" class="{state}"><h2>Certificate</h2>'
-            f'<p><span class="badge" id="certificate-status">{state.upper()}</span> checked now, in exact rational '
-            "arithmetic, by solverplan's independent checker (solverplan.certify.check)"
-            + (", against this environment" if env is not None else "") + ".</p>"
-            + _table(rows, table_id="certificate-claims")
-            + _failures_and_trusted(report) + "</section>")
+    body = _section(report, rows, (", against this environment" if env is not None else "") + ".")
     return verdict, body
