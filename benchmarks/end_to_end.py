@@ -397,8 +397,10 @@ NOT_CLAIMS = {"producer", "name", "schema", "scope", "note", "table_source", "la
 # changes after which the certificate is another true statement (reviewed by hand; verify decides them exactly):
 # a line field's origin, target or gain moved a little (another field that also flows through), a cone direction
 # nudged by at most one part in a million (still inside the exact safe set), a bound over fewer plans (a larger
-# threshold or margin), a smaller start set or a larger goal set (the contract: a true statement about a smaller query)
-STILL_TRUE = re.compile(r"^claims/policies/\d+/field/(origin|target|gain|centre|radius)")
+# threshold or margin), a smaller start set or a larger goal set (the contract: a true statement about a smaller query),
+# a polygon's vertex listed twice in a row (the same polygon), a moved wall of a --perturb certificate (it speaks of
+# its own perturbed polygon, which no file pins)
+STILL_TRUE = re.compile(r"^claims/policies/\d+/field/(origin|target|gain|centre|radius)|/polygon: duplicated")
 WEAKER = re.compile(r"^bound/(threshold|heading_margin): (-?[\d./]+) -> (-?[\d./]+)$")
 SET_END = re.compile(r"^(start|goal)/\d+/(t0|t1): (-?[\d./]+) -> (-?[\d./]+)$")
 CONE = re.compile(r"^stages/\d+/moves/\d+/d_(lo|hi)/\d: (\S+) -> (\S+)$")
@@ -607,7 +609,7 @@ def run_case(case: Case, work: Path, rng: random.Random, n_tampers: int, browser
                     key = ".".join(p for p in what.split(":")[0].split("/") if not p.isdigit())
                     if any(line.startswith(key) for line in listed):
                         res.unchecked_tampers.append(what)
-                    elif still_true(what):
+                    elif still_true(what) or (perturbed and what.startswith("environment/")):
                         res.still_true_tampers.append(what)
                     else:
                         res.accepted_tampers.append(what)
