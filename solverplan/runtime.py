@@ -26,7 +26,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterator, Literal, Sequence, TypeVar
 
-from solverplan._arrays import cores, process_map
 from solverplan.errors import InputError
 from solverplan.progress import Stopped, watching
 
@@ -212,6 +211,8 @@ def jobs() -> int:
     ...     jobs()
     1
     """
+    from solverplan._arrays import cores  # numpy: not at import (the command line's start-up)
+
     return settings().jobs or cores()
 
 
@@ -240,6 +241,8 @@ def parallel_map(fn: Callable[[T], R], items: Sequence[T], *, slot_bytes: int = 
     >>> list(parallel_map(len, ["a", "bb", "ccc"]))
     [1, 2, 3]
     """
+
+    from solverplan._arrays import process_map  # numpy: not at import (the command line's start-up)
 
     def quiet(x: T) -> R | _Stop:
         with watching(report=_silent):

@@ -73,3 +73,14 @@ def test_numbers_are_coerced_as_pydantic_coerces_them(kind):
     assert _startup._number(int, "5", 0, 4) is _startup._UNSURE  # out of range: typer's own words
     with pytest.raises(ValidationError):
         adapter.validate_python("x")
+
+
+def test_the_command_line_imports_no_numpy_before_a_command_needs_it():
+    """``solverplan --help`` stays a tenth of a second: the CLI package (and what its options import, such as the
+    runtime settings) must not import numpy (≈ 0.1 s) at start-up."""
+    import subprocess
+    import sys
+
+    code = "import sys, solverplan.cli; print(sorted(m for m in ('numpy', 'shapely', 'pydantic', 'rich') if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == "[]"
