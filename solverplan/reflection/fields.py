@@ -197,8 +197,6 @@ class FlowCheck(Verdict):
         When valid and exact: every trajectory from the closed cell leaves through an exit (or reaches the goal).
     scope
         The trajectories the verdict speaks about, in words.
-    verified
-        Deprecated name of ``valid``.
 
     Examples
     --------

@@ -388,8 +388,6 @@ class PursuitCheck(Verdict):
         When valid, the instant at which no component can hold the evader, in words.
     scope
         The evader, the polygon and the plan the verdict speaks about, in words.
-    verified
-        Deprecated name of ``valid``.
 
     Examples
     --------
