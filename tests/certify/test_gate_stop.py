@@ -45,3 +45,12 @@ def test_the_command_line_stops_the_check_at_its_timeout(tmp_path, monkeypatch):
     assert answer["status"] == "found" and answer["optimality"]["proved"] is False
     assert any("stopped by the time limit" in limit for limit in answer["optimality"]["limits"])
     assert not cert.exists()
+
+
+def test_an_answer_that_found_nothing_is_not_marked_stopped():
+    """A search cut by its timeout before any plan claims nothing: no 'check stopped' limit is added to it."""
+    env = sp.load_environment("two_rooms")
+    checked = checked_answer(lambda: sp.find_plan(env, "e0", "e4", objective="tolerance", timeout=1e-9), env=env,
+                             start="e0", goal="e4", stop_at=time.monotonic() - 1)
+    assert not checked.answer.found and not checked.stopped
+    assert STOPPED not in checked.answer.optimality.limits
