@@ -142,7 +142,7 @@ def checked_answer(compute: Callable[[], T], *, env: Environment | None = None, 
     verdict = _verify(answer, env, start, goal, stop_at)
     if verdict.stopped:
         logger.warning("the %s leaves unchecked: %s", _what(answer), verdict.unchecked)
-        return verdict.result(_not_proved(answer, verdict.unchecked or "not checked"))
+        return verdict.result(answer)
     if verdict.failure is None and _says_none(answer) and read_from_disk():
         # an answer that there is no plan, made with graphs from the disk cache: a forged entry that drops arcs would
         # look just like it, and its certificate (when one can be made) speaks of its own class of plans, not exactly
@@ -185,7 +185,7 @@ def _not_proved(answer: T, why: str) -> T:
 
 def _accept(answer: T, verdict: _Verdict, *, retried: bool) -> Checked[T]:
     if verdict.stopped:
-        return verdict.result(_not_proved(answer, verdict.unchecked or "not checked"), retried=retried)
+        return verdict.result(answer, retried=retried)
     if verdict.failure is not None:
         raise AnswerNotVerified(_what(answer), verdict.failure)
     logger.info("the %s computed with freshly built graphs passed its exact check", _what(answer))
@@ -204,6 +204,10 @@ def check_infeasibility(answer: Any, env: Environment | None) -> CheckReport | N
 
 
 # ---------------------------------------------------------------------- the verdict
+STOPPED = "the exact check of the answer was stopped by the time limit (--timeout): the answer is not checked"
+"""The reason a stopped check gives, among the answer's optimality limits."""
+
+
 @dataclass(frozen=True)
 class _Verdict:
     failure: str | None
@@ -213,9 +217,17 @@ class _Verdict:
     seconds: float = 0.0
     stopped: bool = False
 
+    @classmethod
+    def stopped_after(cls, checked: int, seconds: float) -> _Verdict:
+        """The verdict of a check stopped by the caller's ``stop_at`` after ``checked`` certificates: no failure, no
+        certificate, the answer unchecked (:data:`STOPPED`)."""
+        return cls(None, None, checked, STOPPED, seconds, stopped=True)
+
     def result(self, answer: T, *, retried: bool = False) -> Checked[T]:
-        return Checked(answer, None if self.stopped else self.certificate, self.checked, retried, self.unchecked,
-                       self.seconds, self.stopped)
+        """The :class:`Checked` of ``answer`` (marked not proved when its check was stopped: :func:`_not_proved`)."""
+        if self.stopped:
+            answer = _not_proved(answer, STOPPED)
+        return Checked(answer, self.certificate, self.checked, retried, self.unchecked, self.seconds, self.stopped)
 
 
 def _what(answer: Any) -> str:
@@ -230,10 +242,6 @@ def _pieces(env: Environment | None, text: str | None) -> list | None:
     if env is None or text is None:
         return None
     return [(p.edge, p.t0, p.t1) for p in env.boundary_set(text).pieces]
-
-
-STOPPED = "the exact check of the answer was stopped by the time limit (--timeout): the answer is not checked"
-"""The reason a stopped check gives, among the answer's optimality limits."""
 
 
 def _verify(answer: Any, env: Environment | None, start: str | None, goal: str | None,
@@ -256,7 +264,7 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
         where = f"point {k} ({item.bounces} bounces) of the front: " if isinstance(answer, ParetoFront) else ""
         if stop_at is not None and time.monotonic() > stop_at and getattr(item, "found", True):
             # (an answer that found nothing claims nothing: it goes on to its cheap no-plan path)
-            return _Verdict(None, None, checked, STOPPED, time.perf_counter() - t0, stopped=True)
+            return _Verdict.stopped_after(checked, time.perf_counter() - t0)
         try:
             cert = build.certificate(item, env=env)
         except NothingToCertify as exc:
@@ -272,7 +280,7 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
         try:
             report = check_certificate(cert, **query, stop=None if stop_at is None else lambda: time.monotonic() > stop_at)
         except CheckStopped:
-            return _Verdict(None, None, checked, STOPPED, time.perf_counter() - t0, stopped=True)
+            return _Verdict.stopped_after(checked, time.perf_counter() - t0)
         checked += 1
         if not report.valid:
             return _Verdict(f"{where}{report.failures[0]}", seconds=time.perf_counter() - t0)

@@ -77,6 +77,14 @@ def start_command_clock() -> None:
     _COMMANDS += 1
 _ANSWER_RESERVE = 0.3
 """Seconds of a --timeout kept for what follows the search: the exact check of the answer and writing it."""
+_WRITE_RESERVE = 0.1
+"""Seconds of a --timeout kept for writing the answer after its exact check (:func:`command_stop`)."""
+
+
+def _command_end(seconds: float) -> float:
+    """The :func:`time.monotonic` time at which a ``--timeout`` of ``seconds`` ends: counted from the command's start
+    (:func:`start_command_clock`), so that start-up and reading the input count."""
+    return _STARTED + seconds
 
 
 def command_timeout(timeout: float | None) -> Any:
@@ -88,17 +96,18 @@ def command_timeout(timeout: float | None) -> Any:
     seconds = check_timeout(timeout)
     if seconds is None:
         return None
-    deadline = Deadline(max(1e-3, seconds - (time.monotonic() - _STARTED) - _ANSWER_RESERVE))
+    deadline = Deadline(max(1e-3, _command_end(seconds) - time.monotonic() - _ANSWER_RESERVE))
     deadline.seconds = seconds  # the answer's limits name the user's timeout
     return deadline
+
+
 def command_stop(timeout: float | None) -> float | None:
     """The :func:`time.monotonic` time at which a command with ``--timeout`` must stop checking its answer (the
-    exact gate's ``stop_at``): the user's limit counted from the command's start, less a tenth of a second to
-    write the answer; ``None`` without a timeout."""
+    exact gate's ``stop_at``): the end of the user's limit less :data:`_WRITE_RESERVE`; ``None`` without one."""
     from solverplan.plan._deadline import check_timeout
 
     seconds = check_timeout(timeout)
-    return None if seconds is None else _STARTED + seconds - 0.1
+    return None if seconds is None else _command_end(seconds) - _WRITE_RESERVE
 
 
 CornerClearanceOpt = Annotated[
@@ -182,7 +191,7 @@ def emit_checked(checked: Any, fmt: OutputFormat, out: Path | None, *, env: Any 
     its --certificate (the certificate the gate checked), its --picture (``renderer(answer, *draw)``, by default the
     picture of its kind: see :func:`save_picture`), then the answer itself."""
     answer = checked.answer
-    if certificate is not None and getattr(checked, "stopped", False):
+    if certificate is not None and checked.stopped:
         sys.stderr.write(f"warning: no certificate written to {certificate}: {checked.unchecked}\n")
     elif certificate is not None:
         write_certificate_file(answer, certificate, env, checked.certificate)
