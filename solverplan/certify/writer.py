@@ -180,7 +180,8 @@ def build_certificate(
     env, part
         The environment and its partition P′ (:func:`solverplan.bounce.partitions.partition`).
     stages
-        The stages in order, each a heading interval and its moves.
+        The stages in order, each a heading interval and its moves; none for a plan or funnel whose start set
+        lies in its goal set (the checker then checks that inclusion, exactly).
     start, goal
         Boundary sets (``"e3:0.25:0.75,e4"``, a :class:`~solverplan.environment.BoundarySet`, boundary
         pieces, or a list of segment ids); a cycle has no goal.
@@ -215,8 +216,9 @@ def build_certificate(
         eps = to_fraction(repr(epsilon) if isinstance(epsilon, float) else epsilon, where="epsilon")
         if eps <= 0:
             raise InputError(f"epsilon {epsilon!r} must be a positive length")
-    if not stages:
-        raise InputError("a certificate needs at least one stage")
+    if not stages and (kind not in ("plan", "funnel") or goal is None):
+        raise InputError("a certificate needs at least one stage (only a plan or funnel whose start set lies in its "
+                         "goal set has none)")
     if (kind == "cycle") != (cycle is not None):
         raise InputError("give a CycleSpec exactly when kind='cycle'")
     mode = targets or ("segment" if kind == "plan" else "image")
@@ -255,7 +257,8 @@ def build_certificate(
                                       for part in _on_wall(env, r.target_edge, r.image))
         out_stages.append(Stage(tuple(records), interval, positions))
 
-    min_width = min(widths)
+    # no stages: no interval constrains the heading, so the narrowest is the whole range (0, π), as the planner says
+    min_width = min(widths) if widths else Fraction(math.pi)
     claims = Claims(
         bounces=len(out_stages),
         min_width=min_width,
