@@ -304,7 +304,10 @@ def _segments_ending_at(env: Environment, part: Partition, edge: int, ts: Sequen
     """The segments of P′ on the straight wall through ``edge`` that begin or end at the points of parameters ``ts``
     of its line: named in the certificate, they account for the ends of a source that is a run of segments."""
     a, e = _edge_vector(env, edge)
-    points = {(a[0] + t * e[0], a[1] + t * e[1]) for t in ts}
+    # an end at a vertex is an end of an edge, which needs no segment to account for it (naming one anyway would be
+    # a claim the certificate could drop and stay valid)
+    vertices = {v for ring in env.rings for v in ring}
+    points = {(a[0] + t * e[0], a[1] + t * e[1]) for t in ts} - vertices
 
     def on_line(x: Point) -> bool:
         return (x[0] - a[0]) * e[1] - (x[1] - a[1]) * e[0] == 0
