@@ -42,7 +42,7 @@ def import_command(
     with common.exit_codes():
         check_picture(common.picture)
         point = parse_pair(seed_point, "--seed-point")
-        answer = import_floorplan(plan, output=output, fmt=input_format.value if input_format else None,
+        answer = import_floorplan(plan, output=output, fmt=input_format,
                                   seed_point=point, simplify=simplify, min_hole_area=min_hole_area,
                                   min_obstacle=min_obstacle, spur_width=spur_width, rectilinear=rectilinear,
                                   layer=layer, units=units, scale=scale, tolerance=tolerance, snap=snap,
