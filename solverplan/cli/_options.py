@@ -268,8 +268,8 @@ def common_options(*names: str, **own: tuple[Any, Any]) -> Callable[[Callable[..
     typer reads a command's options from its signature: the decorated command's signature is the command's own
     parameters followed by these options, in the order of :data:`_COMMON`, so ``--help`` lists them last as
     before, and each is written once here instead of at the end of every command."""
-    unknown = set(names) - set(_COMMON)
-    assert not unknown, f"no common option {sorted(unknown)}"
+    if not set(names) <= set(_COMMON) or not set(own) <= set(names):
+        raise ValueError(f"common options are among {list(_COMMON)} and own types are for names given: {names}, {list(own)}")
     chosen = [name for name in _COMMON if name in names]
 
     def decorate(command: Callable[..., Any]) -> Callable[..., None]:
