@@ -270,25 +270,40 @@ def common_options(*names: str, **own: tuple[Any, Any]) -> Callable[[Callable[..
     before, and each is written once here instead of at the end of every command."""
     if not set(names) <= set(_COMMON) or not set(own) <= set(names):
         raise ValueError(f"common options are among {list(_COMMON)} and own types are for names given: {names}, {list(own)}")
-    chosen = [name for name in _COMMON if name in names]
+    chosen = {name: own.get(name, _COMMON[name]) for name in _COMMON if name in names}
+    return lambda command: _WithCommonOptions(command, chosen)
 
-    def decorate(command: Callable[..., Any]) -> Callable[..., None]:
-        namespace = inspect.unwrap(command).__globals__  # its annotations are strings (``from __future__``)
+
+class _WithCommonOptions:
+    """A command of :func:`common_options`: called with its own options and the common ones, it calls the command
+    with its own and one :class:`CommonOptions`.
+
+    What typer reads of it — its signature, with the command's annotations evaluated (they are strings, ``from
+    __future__``), and its annotations — is made when typer first asks: a process builds one command
+    (cli/_startup.py), and evaluating every command's option annotations would cost every start ≈ 20 ms."""
+
+    def __init__(self, command: Callable[..., Any], chosen: dict[str, tuple[Any, Any]]) -> None:
+        self.__wrapped__ = command
+        self.__module__, self.__name__ = command.__module__, command.__name__
+        self.__qualname__, self.__doc__ = command.__qualname__, command.__doc__
+        self._chosen = chosen
+
+    def __call__(self, **values: Any) -> None:
+        common = CommonOptions(**{name: values.pop(name) for name in self._chosen})
+        self.__wrapped__(**values, common=common)
+
+    @functools.cached_property
+    def __signature__(self) -> inspect.Signature:
+        command = self.__wrapped__
+        namespace = inspect.unwrap(command).__globals__
         parameters = [p.replace(annotation=eval(p.annotation, namespace)) if isinstance(p.annotation, str) else p
                       for p in inspect.signature(command).parameters.values() if p.name != "common"]
-        for name in chosen:
-            annotation, default = own.get(name, _COMMON[name])
+        for name, (annotation, default) in self._chosen.items():
             parameters.append(inspect.Parameter(name, inspect.Parameter.POSITIONAL_OR_KEYWORD, default=default,
                                                 annotation=annotation))
+        # the return annotation is left out: it may name a class imported for type checkers only (generate's)
+        return inspect.Signature(parameters, return_annotation=None)
 
-        @functools.wraps(command)
-        def run(**values: Any) -> None:
-            common = CommonOptions(**{name: values.pop(name) for name in chosen})
-            command(**values, common=common)
-
-        # what typer reads: the parameters, evaluated (a return annotation may name a class imported for type checkers only)
-        run.__signature__ = inspect.Signature(parameters, return_annotation=None)  # type: ignore[attr-defined]
-        run.__annotations__ = {p.name: p.annotation for p in parameters} | {"return": None}
-        return run
-
-    return decorate
+    @functools.cached_property
+    def __annotations__(self) -> dict[str, Any]:  # type: ignore[override]
+        return {p.name: p.annotation for p in self.__signature__.parameters.values()} | {"return": None}
