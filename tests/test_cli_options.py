@@ -49,10 +49,12 @@ def test_an_unknown_common_option_is_refused_where_it_is_written():
         common_options("fmt", out=(int, 0))
 
 
-def _commands(group, path=()):
+def _commands(group, path=(), *, groups=False):
     for name, command in sorted(group.commands.items()):
         if hasattr(command, "commands"):
-            yield from _commands(command, (*path, name))
+            if groups:
+                yield (*path, name), command
+            yield from _commands(command, (*path, name), groups=groups)
         else:
             yield (*path, name), command
 
@@ -64,3 +66,12 @@ def test_every_command_ends_with_its_common_options_in_one_order(path, command):
     common = [name for name in names if name in _COMMON and name not in ("out", "certificate")]  # own -o/--certificate: report, render, plan, export
     assert common == sorted(common, key=list(_COMMON).index), f"{' '.join(path)}: {names}"
     assert names[-1] == "verbose", f"{' '.join(path)}: -v is not last"
+
+
+@pytest.mark.parametrize("path,command", list(_commands(typer.main.get_command(app), groups=True)),
+                         ids=lambda v: " ".join(v) if isinstance(v, tuple) else "")
+def test_no_summary_in_a_command_list_is_cut_inside_parentheses(path, command):
+    """click ends a command's summary at its first word ending in a period: 'A funnel (paper Fig.' was all
+    ``solverplan --help`` showed of funnel. Summaries spell such references out ('Figure 14')."""
+    summary = command.get_short_help_str(limit=10_000)
+    assert summary.count("(") == summary.count(")"), f"{' '.join(path)}: {summary!r}"

@@ -51,7 +51,7 @@ def cycle_command(
     *,
     common: CommonOptions,
 ) -> None:
-    """The limit cycle of a constant heading (paper §6.1, Theorem 1, Prop. 4), verified in exact arithmetic:
+    """The limit cycle of a constant heading (paper §6.1, Theorem 1, Proposition 4), verified in exact arithmetic:
     contact points, exact contraction, fixed points, basins; status says if and why there is none."""
     from solverplan.bounce.controller import constant_controller
     from solverplan.bounce.cycles import limit_cycle
@@ -89,7 +89,7 @@ def patrol_command(
     *,
     common: CommonOptions,
 ) -> None:
-    """A stable patrol cycle visiting edges in order (paper Def. 15), optimal for the objective, from a start set."""
+    """A stable patrol cycle visiting edges in order (paper Definition 15), optimal for the objective, from a start set."""
     from solverplan.plan.patrols import patrol
 
     _contraction_answer(env, common, lambda environment: patrol(
@@ -108,7 +108,7 @@ def funnel_command(
     *,
     common: CommonOptions,
 ) -> None:
-    """A funnel (paper Fig. 14): track the exact set of possible positions and use contraction to shrink it into the goal."""
+    """A funnel (paper Figure 14): track the exact set of possible positions and use contraction to shrink it into the goal."""
     from solverplan.plan.funnels import funnel
 
     _contraction_answer(env, common, lambda environment: funnel(

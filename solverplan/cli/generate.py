@@ -146,7 +146,7 @@ def generate_polyomino(
 def generate_spiral(
     turns: Annotated[int, typer.Option("--turns", min=1, max=500, help="Left turns of the width-1 corridor (its reflex vertices).")] = 4,
 ) -> Environment:
-    """The exploration paper's spiral (Fig. 9): a width-1 corridor winding inward, r = turns; start at (0, 0)."""
+    """The exploration paper's spiral (Figure 9): a width-1 corridor winding inward, r = turns; start at (0, 0)."""
     from solverplan.explore.families import spiral
 
     return spiral(turns)[0]
@@ -157,7 +157,7 @@ def generate_spiral(
 def generate_ring(
     sides: Annotated[int, typer.Option("--sides", min=3, max=500, help="Vertices of the convex hole (all reflex).")] = 5,
 ) -> Environment:
-    """The exploration paper's one-hole polygon (Fig. 10): a ring corridor round a convex hole of --sides vertices."""
+    """The exploration paper's one-hole polygon (Figure 10): a ring corridor round a convex hole of --sides vertices."""
     from solverplan.explore.families import one_hole
 
     return one_hole(sides - 2)[0]

@@ -87,8 +87,8 @@ def _shared_options_study(name: str, summary: str) -> None:
 
 
 for _name, _summary in (
-    ("reachability", "Share of the boundary no safe action reaches (safe-BVG nodes without incoming arcs; paper Fig. 15)."),
-    ("connectivity", "Strongly and weakly connected components of the safe BVG (paper Fig. 16)."),
+    ("reachability", "Share of the boundary no safe action reaches (safe-BVG nodes without incoming arcs; paper Figure 15)."),
+    ("connectivity", "Strongly and weakly connected components of the safe BVG (paper Figure 16)."),
 ):
     _shared_options_study(_name, _summary)
 
