@@ -313,6 +313,12 @@ def funnel(
         Status ``found`` with exact stages, or ``not-found`` with the search's caps in ``optimality.limits``
         (the search is heuristic: not finding is not a proof).
 
+    Raises
+    ------
+    InputError
+        A bad start or goal set, a tolerance outside (0, π/2), a bound out of its range, a margin out of its
+        range, a timeout that is not a positive finite number.
+
     Examples
     --------
     From all of the square's bottom edge into the middle fifth of its right edge, with headings ±0.005 rad:
