@@ -341,7 +341,8 @@ def funnel(
     user_start, user_goal = start_set, goal_set
     g = straight_walls_graph(walls, graph)
     part = g.partition
-    env, start_set, goal_set = walls.merged, walls.to_merged(start_set), walls.to_merged(goal_set)
+    # the goal's touching pieces joined: whether a position set fits must not depend on how the goal is written
+    env, start_set, goal_set = walls.merged, walls.to_merged(start_set), walls.to_merged(goal_set).merged()
     goal_f = [(p.edge, float(p.t0), float(p.t1)) for p in goal_set.pieces]
 
     def inside(flat: Flat) -> np.ndarray:
