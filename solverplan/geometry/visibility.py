@@ -835,7 +835,10 @@ def visibility_polygon(env: Environment, p: Sequence[object]) -> VisibilityPolyg
     >>> vp.contains((2, 2)), vp.contains((3, 1))
     (True, False)
     """
-    p = exact_point(p, where="viewpoint")
+    if not (isinstance(p, tuple) and len(p) == 2 and all(type(c) is Fraction for c in p)):
+        # input text and floats are held to the documented resolution; an exact point the library computed (a
+        # viewpoint chained from window to window) may need a longer denominator than any input may have
+        p = exact_point(p, where="viewpoint")
     kind, idx = _locate(env, p)
     if kind == "out":
         raise InputError(f"viewpoint {format_point(p)} is not in the free space")
