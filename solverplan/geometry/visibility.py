@@ -835,9 +835,11 @@ def visibility_polygon(env: Environment, p: Sequence[object]) -> VisibilityPolyg
     >>> vp.contains((2, 2)), vp.contains((3, 1))
     (True, False)
     """
-    if not (isinstance(p, tuple) and len(p) == 2 and all(type(c) is Fraction for c in p)):
-        # input text and floats are held to the documented resolution; an exact point the library computed (a
-        # viewpoint chained from window to window) may need a longer denominator than any input may have
+    if isinstance(p, tuple) and len(p) == 2 and type(p[0]) is Fraction and type(p[1]) is Fraction:
+        # an exact point the library computed (a viewpoint chained from window to window) may need a longer
+        # denominator than input may have: only input text and floats are held to the documented resolution
+        p = (p[0], p[1])
+    else:
         p = exact_point(p, where="viewpoint")
     kind, idx = _locate(env, p)
     if kind == "out":
