@@ -489,6 +489,11 @@ def check_certificate(
     return checker.report()
 
 
+def _a(word: str) -> str:
+    """``word`` with its indefinite article (an infeasible, a plan)."""
+    return f"{'an' if word[:1] in 'aeiou' else 'a'} {word}"
+
+
 class CheckStopped(Exception):
     """The check was told to stop (``stop``, :func:`check_certificate`) before deciding: no verdict at all."""
 
@@ -576,6 +581,7 @@ class _Checker:
         if cert.bound is not None:
             self.check_bound(cert.bound)
         if cert.kind == "infeasible":
+            self.check_objective(self.bound_ok)  # the objective the query asked for: a known one, at least
             return
         if not cert.stages:
             self.check_no_stages()
@@ -1398,8 +1404,8 @@ class _Checker:
         if objective not in OBJECTIVES.get(kind, ()):
             others = sorted({k for k, known in OBJECTIVES.items() if objective in known} - {"infeasible"})
             self.fail("claims.objective", f"{_quote(objective)} is an objective of {', '.join(others)} certificates, not of "
-                                          f"a {kind} certificate" if others else
-                      f"unknown objective {_quote(objective)}: a {kind} certificate names one of "
+                                          f"{_a(kind)} certificate" if others else
+                      f"unknown objective {_quote(objective)}: {_a(kind)} certificate names one of "
                       f"{', '.join(OBJECTIVES.get(kind, ()))}")
         elif objective == "sum" and claims.sum_width is None and kind == "plan":
             self.fail("claims.objective", "the objective is the sum of widths, but claims.sum_width is missing")
