@@ -565,9 +565,9 @@ class _Explorer:
             return None
 
         frontier = shapely.union_all([g.boundary for g in pieces]).difference(self.walls.buffer(10 * self.tol))
-        coords = np.array([c for g in getattr(frontier, "geoms", [frontier]) if not g.is_empty for c in g.coords])
+        coords = shapely.get_coordinates(frontier)  # (every part's, in order: vectorised, not point by point)
         if not len(coords):
-            coords = np.array([c for g in pieces for c in g.exterior.coords])
+            coords = shapely.get_coordinates([g.exterior for g in pieces])
         if len(coords) > 2000:  # the chords of the arcs are dense: an even subsample is enough to aim at
             coords = coords[np.linspace(0, len(coords) - 1, 2000).astype(int)]
         seen_from = np.array([[float(x), float(y)] for x, y in self.viewpoints])
