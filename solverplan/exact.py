@@ -233,17 +233,10 @@ def format_number(value: Fraction | int | float) -> str:
 
 def _long_int_text(n: int) -> str:
     """``str(n)`` for integers of any length: products along long cycles exceed Python's 4,300-digit guard,
-    which protects parsers of untrusted text, not the printing of numbers we computed."""
-    if n.bit_length() < 14_000:
-        return str(n)
-    import sys
-
-    previous = sys.get_int_max_str_digits()
-    sys.set_int_max_str_digits(0)
-    try:
-        return str(n)
-    finally:
-        sys.set_int_max_str_digits(previous)
+    which protects parsers of untrusted text, not the printing of numbers we computed. Past it the digits come
+    from :class:`~decimal.Decimal`, exact for integers and outside the guard, so the guard (a setting of the whole
+    process, which other threads rely on) is never lifted."""
+    return str(n) if n.bit_length() < 14_000 else str(Decimal(n))
 
 
 def json_number(value: Fraction | int) -> int | float | str:
