@@ -43,6 +43,7 @@ __all__ = [
     "ring_without_repeats",
     "format_number",
     "json_number",
+    "json_point",
     "format_point",
     "orient",
     "orient_filter",
@@ -257,6 +258,15 @@ def json_number(value: Fraction | int) -> int | float | str:
         if Decimal(repr(number)).as_integer_ratio() == (num, den):
             return number
     return format_number(value)  # also integers past Python's digit guard: JSON encoders refuse to print them
+
+
+def json_point(p: Sequence[Fraction | int]) -> list[int | float | str]:
+    """An exact point as JSON: ``[x, y]`` with :func:`json_number` coordinates.
+
+    >>> json_point((Fraction(1, 3), Fraction(5, 2)))
+    ['1/3', 2.5]
+    """
+    return [json_number(p[0]), json_number(p[1])]
 
 
 def format_point(p: Sequence[Fraction | int | float]) -> str:
