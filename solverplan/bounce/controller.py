@@ -45,7 +45,7 @@ _ALGORITHM = "exact enclosure of f_θ^k(∂P) on a 2⁻⁹⁶ grid inside verifi
 @answer_dataclass("controller")
 class ConstantController(Answer):
     """A constant heading under which every start converges to a verified limit cycle (Prop. 4), or the
-    record of the attempts; follows the result protocol of :mod:`solverplan.result`.
+    record of the attempts.
 
     Attributes
     ----------

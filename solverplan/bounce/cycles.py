@@ -115,7 +115,7 @@ class CyclePoint:
 class LimitCycle(Answer):
     """A limit cycle of the constant rule, or the reason there is none.
 
-    Made by :func:`limit_cycle`; follows the result protocol of :mod:`solverplan.result`.
+    Made by :func:`limit_cycle`.
 
     Attributes
     ----------
