@@ -289,13 +289,13 @@ def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Vi
             break
         if choice == "first":
             w, part = options[0]
-            z = point_on_part(w, part)
+            z = point_on_part(w, part, viewpoints[w.view])
         elif choice == "random":
             w, part = options[rng.randrange(len(options))]
-            z = point_on_part(w, part)
+            z = point_on_part(w, part, viewpoints[w.view])
         else:
             here = viewpoints[top]
-            candidates = [point_on_part(w, part) for w, part in options]
+            candidates = [point_on_part(w, part, viewpoints[w.view]) for w, part in options]
             z = max(candidates, key=lambda q: (q[0] - here[0]) ** 2 + (q[1] - here[1]) ** 2)
         # the robot walks back along the stack to the viewpoint whose window it explores, then forward to z
         back = _walk_back(path[-1], viewpoints, parents, top)
