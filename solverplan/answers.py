@@ -50,7 +50,7 @@ from solverplan.plan.result import ParetoFront, Plan
 from solverplan.rectilinear.decomposition import Decomposition
 from solverplan.reflection.navigation import FieldNavigation
 from solverplan.render.report import make_report
-from solverplan.result import Status, answer_kinds
+from solverplan.result import Status, answer_kinds, with_article
 from solverplan.rollout import Rollouts
 from solverplan.studies.execute import StudyResult
 from solverplan.rectilinear.simulation import RoomRuns, RuleComparison
@@ -238,7 +238,7 @@ def read_answer(data: object, *, env: Environment | None = None) -> Any:
     if entry is None:
         raise MalformedFile(f"unknown answer kind {data['kind']!r}: known kinds are {', '.join(sorted(KINDS))}")
     if entry.needs_env and env is None:
-        raise InputError(f"a {entry.kind} answer is read back in its environment: give it")
+        raise InputError(f"{with_article(entry.kind)} answer is read back in its environment: give it")
     return entry.read(data, env=env)
 
 

@@ -59,7 +59,7 @@ from solverplan.exact import (
     ExactPoint,
     format_number,
     format_point,
-    json_number,
+    json_point,
     orient,
     FLOAT_FILTER_REL,
     orient_filter,
@@ -595,9 +595,9 @@ class Environment:
 
     def to_dict(self) -> dict:
         """JSON-ready dict as in docs/contract.md (numbers exact where they are terminating decimals)."""
-        data: dict = {"name": self.name, "outer": [_json_point(p) for p in self.outer]}
+        data: dict = {"name": self.name, "outer": [json_point(p) for p in self.outer]}
         if self.holes:
-            data["holes"] = [[_json_point(p) for p in hole] for hole in self.holes]
+            data["holes"] = [[json_point(p) for p in hole] for hole in self.holes]
         return data
 
     def __eq__(self, other: object) -> bool:
@@ -1057,10 +1057,6 @@ def read_json(text: str, *, exact: bool = True, source: str = "") -> object:
     return json.loads(text, parse_float=parse_float, parse_int=_parse_int, parse_constant=_reject_constant)
 
 
-def _json_point(p: ExactPoint) -> list:
-    return [json_number(p[0]), json_number(p[1])]
-
-
 def parse_environment(
     text: str, fmt: FileFormat, *, name: str = "", default_name: str = "", source: str = "input"
 ) -> Environment:
@@ -1162,7 +1158,7 @@ def format_environment(env: Environment, fmt: FileFormat = "json") -> str:
     if fmt == "json":
         # one vertex per line: readable, diffable, and still plain JSON
         def ring_text(ring: Sequence[ExactPoint], indent: str) -> str:
-            rows = ",\n".join(f"{indent}  {json.dumps(_json_point(p))}" for p in ring)
+            rows = ",\n".join(f"{indent}  {json.dumps(json_point(p))}" for p in ring)
             return f"[\n{rows}\n{indent}]"
 
         parts = [f'  "name": {json.dumps(env.name)}', f'  "outer": {ring_text(env.outer, "  ")}']
@@ -1171,7 +1167,7 @@ def format_environment(env: Environment, fmt: FileFormat = "json") -> str:
             parts.append(f'  "holes": [\n{holes}\n  ]')
         return "{\n" + ",\n".join(parts) + "\n}\n"
     if fmt == "geojson":
-        rings = [[_json_point(p) for p in (*ring, ring[0])] for ring in env.rings]
+        rings = [[json_point(p) for p in (*ring, ring[0])] for ring in env.rings]
         feature = {
             "type": "Feature",
             "properties": {"name": env.name},

@@ -671,6 +671,15 @@ def answer_kinds() -> dict[str, type]:
     return dict(_KINDS)
 
 
+def with_article(word: str) -> str:
+    """``word`` after its indefinite article, for messages.
+
+    >>> with_article("exploration"), with_article("plan")
+    ('an exploration', 'a plan')
+    """
+    return f"{'an' if word[:1] in 'aeiou' else 'a'} {word}"
+
+
 class Answer:
     """The base of every answer: its ``kind`` and the one :meth:`to_json` (in :data:`ANSWER_KEY_ORDER`).
 
@@ -694,6 +703,11 @@ class Answer:
     """
 
     kind: ClassVar[str] = ""
+
+    @property
+    def found(self) -> bool:
+        """True when the answer has a strategy to execute (its status is in the ``answered`` group: ``found``)."""
+        return Status(getattr(self, "status")).answered
 
     def _fields(self) -> dict:  # pragma: no cover - every kind writes its own
         """The kind's own fields, in the contract's order (between ``status`` and ``optimality``)."""
@@ -922,7 +936,7 @@ class Reader:
         """``env`` and the answer's environment record, checked against it: an answer that names the edges of its
         environment is read back in it (:class:`~solverplan.errors.InputError` when ``env`` is missing or another)."""
         if env is None:
-            raise InputError(f"a {kind} answer is read back in its environment: give env")
+            raise InputError(f"{with_article(kind)} answer is read back in its environment: give env")
         record = self.environment()
         if record is not None and not record.matches(env):
             raise InputError(f"the {kind} answer was made in another environment ({record.name!r}), not in {env.name!r}")

@@ -16,7 +16,7 @@ from solverplan.errors import MalformedFile
 from solverplan.certify.build import NothingToCertify
 from solverplan.certify.schema import dumps_certificate, parse_certificate
 from solverplan.render.report import AnswerFile, html_report
-from solverplan.result import ANSWER_KEY_ORDER, answer_kinds
+from solverplan.result import ANSWER_KEY_ORDER, Answer, Status, answer_kinds
 
 
 def _plan():
@@ -180,6 +180,8 @@ def test_answer_round_trip_report_and_certificate(kind, built, tmp_path):
     if closing:
         assert keys[-len(closing):] == closing
     entry = KINDS[kind]
+    if isinstance(answer, Answer):  # the protocol's one test of success, on every answer
+        assert answer.found is (Status(answer.status) is Status.FOUND)
     # read back: the same JSON
     back = read_answer(data, env=env)
     if isinstance(back, AnswerSummary):  # a summary kind: the JSON, checked, under the class that wrote it

@@ -198,11 +198,6 @@ class LimitCycle(Answer):
     environment: EnvironmentRecord | None = None
 
     @property
-    def found(self) -> bool:
-        """True for a verified, contracting cycle (status ``found``)."""
-        return self.status is Status.FOUND
-
-    @property
     def period(self) -> int:
         """The number of bounces per cycle."""
         return len(self.edges)

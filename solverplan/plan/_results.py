@@ -36,10 +36,6 @@ class OnPartition:
         """The environment (of ``partition``)."""
         return self.partition.env
 
-    @property
-    def found(self) -> bool:
-        return self.status.answered
-
 
 @dataclass(frozen=True, kw_only=True)
 class PositionStrategy(OnPartition, Answer):
@@ -125,8 +121,7 @@ class PositionStrategy(OnPartition, Answer):
         """Read a funnel or localisation answer back in ``env`` (required: its positions are pieces of its edges)."""
         from solverplan.bounce.partitions import partition
 
-        r = Reader(data, cls.kind)
-        env, record = r.in_environment(env, cls.kind)
+        r, env, record = cls._reader_in(data, env, cls.kind)
         goal = r.string("goal", None)
         return cls(status=r.status(), optimality=r.optimality(), environment=record or EnvironmentRecord.of(env),
                    start=env.boundary_set(r.string("start")), tolerance=r.number("tolerance"), partition=partition(env),

@@ -94,7 +94,7 @@ from solverplan.plan._graphs import (
 )
 from solverplan.plan._results import OnPartition, heading_cone
 from solverplan.plan.search import straight_walls_graph
-from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_dataclass
+from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Stage, Stats, Status, answer_dataclass
 
 __all__ = ["DEFAULT_TOLERANCE", "PatrolPoint", "Patrol", "patrol", "parse_visit"]
 
@@ -277,8 +277,7 @@ class Patrol(OnPartition, Answer):
     @classmethod
     def from_json(cls, data: Any, *, env: Environment | None = None) -> Patrol:
         """Read a patrol answer back in ``env`` (required: its stages name segments of P′ of ``env``)."""
-        r = Reader(data, "patrol")
-        env, record = r.in_environment(env, 'patrol')
+        r, env, record = cls._reader_in(data, env, "patrol")
         ret = r.sub("return_map") if r.has("return_map") else None
         start = r.string("start", None)
         exact = r.get("contraction_exact", None)

@@ -188,10 +188,6 @@ class Plan(_Query, Answer):
 
     # ------------------------------------------------------------------ numbers
     @property
-    def found(self) -> bool:
-        return self.status.answered
-
-    @property
     def bounces(self) -> int | None:
         return len(self.stages) if self.found else None
 

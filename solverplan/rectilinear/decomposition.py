@@ -85,11 +85,11 @@ from fractions import Fraction
 from functools import cached_property
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidEnvironment, MalformedFile, SolverFailed
-from solverplan.exact import (ExactPoint, exact_point, format_number, format_point, json_number, point_in_ring,
+from solverplan.exact import (ExactPoint, exact_point, format_number, format_point, json_point, point_in_ring,
                               segment_intersection)
 from solverplan.geometry.raycast import cast_ray
 from solverplan.geometry.walls import StraightWalls
-from solverplan.result import Construction, EnvironmentRecord, Method, Optimality, Reader, Stats, answer_dataclass
+from solverplan.result import Construction, EnvironmentRecord, Method, Optimality, Stats, answer_dataclass
 from typing import Any
 
 __all__ = [
@@ -192,8 +192,8 @@ class Door:
     def to_json(self) -> dict:
         return {
             "id": self.id,
-            "a": [json_number(self.a[0]), json_number(self.a[1])],
-            "b": [json_number(self.b[0]), json_number(self.b[1])],
+            "a": json_point(self.a),
+            "b": json_point(self.b),
             "rooms": list(self.rooms),
             "length": float(self.length),
             # the door's Φ is the harder way through it (the chamber side: Fig. 5's 1/30); both sides follow
@@ -240,7 +240,7 @@ class Room:
     def to_json(self) -> dict:
         return {
             "id": self.id,
-            "polygon": [[json_number(x), json_number(y)] for x, y in self.polygon],
+            "polygon": [json_point(p) for p in self.polygon],
             "area": float(self.area),
             "area_exact": format_number(self.area),
             "doors": list(self.doors),
@@ -370,7 +370,7 @@ class Decomposition(Construction):
             "rooms": [room.to_json() for room in self.rooms],
             "doors": [door.to_json() for door in self.doors],
             "tree": [list(edge) for edge in self.tree],
-            "dropped": [{"a": [json_number(a[0]), json_number(a[1])], "b": [json_number(b[0]), json_number(b[1])],
+            "dropped": [{"a": json_point(a), "b": json_point(b),
                          "reason": reason} for a, b, reason in self.dropped],
         }
 
@@ -381,8 +381,7 @@ class Decomposition(Construction):
         Room rings (door end points as vertices) and each door's edge and walls are recomputed exactly from the
         polygons, the doors and their exact Φ (the answer's claims are checked by the rooms checker of ``solverplan
         rooms --check``, not here)."""
-        r = Reader(data, "rooms")
-        env, _ = r.in_environment(env, 'rooms')
+        r, env, _ = cls._reader_in(data, env, "rooms")
         verts = env.exact_vertices
         doors_raw = r.items("doors")
         segments = [(d.exact_pair("a"), d.exact_pair("b")) for d in doors_raw]
