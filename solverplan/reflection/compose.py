@@ -41,10 +41,47 @@ from solverplan.reflection.fields import (Field, FlowCheck, GoalField, LineField
                                           flows_through)
 from solverplan.reflection.zones import ReflectionZone, RejectedZone, select_zone_recorded
 
-__all__ = ["CellPolicy", "FieldPlan", "compose_fields", "field_kinds", "GAIN_STEPS"]
+__all__ = ["CellPolicy", "FieldPlan", "compose_fields", "field_kinds", "GAIN_STEPS", "mean_width", "default_gains",
+           "resolve_gains", "REFERENCE_WIDTH"]
 
 #: Multiples of the given gain tried, in order, until a field verifies.
 GAIN_STEPS = (Fraction(1), Fraction(2), Fraction(1, 2), Fraction(4), Fraction(1, 4), Fraction(8), Fraction(1, 8))
+
+REFERENCE_WIDTH = Fraction("0.4422")
+"""The mean width (:func:`mean_width`) of the shipped ``serpentine``, the corridor the default gains (3 and 1, the
+default robot's goal radius 0.1) were tuned for: defaults scale with an environment's mean width against it."""
+
+
+def mean_width(env: Environment) -> Fraction:
+    """The environment's mean width 2A/P (area over half the perimeter of all its rings: the width of a long
+    corridor), rounded to 4 significant digits as an exact decimal, so that it scales exactly with decimal
+    coordinates and does not depend on how the walls are written. The length unit of the fields' defaults.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> mean_width(sp.load_environment("square")), mean_width(sp.load_environment("serpentine")) == REFERENCE_WIDTH
+    (Fraction(5, 1), True)
+    """
+    width = 2 * float(env.area) / env.perimeter
+    return Fraction(f"{width:.4g}")
+
+
+def default_gains(env: Environment) -> tuple[Fraction, Fraction]:
+    """The default gains (line, arc) of ``env``, 1/length: 3 and 1 in a corridor as wide as the shipped
+    ``serpentine``'s, inversely proportional to the mean width (:func:`mean_width`) elsewhere, so that p·w — what
+    decides whether a field flows through — does not depend on the scale of the coordinates.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> default_gains(sp.load_environment("serpentine"))
+    (Fraction(3, 1), Fraction(1, 1))
+    >>> default_gains(sp.load_environment("square"))          # mean width 5
+    (Fraction(6633, 25000), Fraction(2211, 25000))
+    """
+    w = mean_width(env)
+    return 3 * REFERENCE_WIDTH / w, REFERENCE_WIDTH / w
 
 
 @dataclass(frozen=True, slots=True)
@@ -181,8 +218,15 @@ def _nominal(cell: Cell, origin: ExactPoint, inlet: int | None, outlet: int, gai
     return first
 
 
+def resolve_gains(env: Environment, gain_line: object, gain_arc: object) -> tuple[Fraction, Fraction]:
+    """The gains (line, arc) as given (read exactly), or :func:`default_gains` for those given as ``None``."""
+    line, arc = default_gains(env)
+    return (line if gain_line is None else to_fraction(gain_line, where="gain_line"),
+            arc if gain_arc is None else to_fraction(gain_arc, where="gain_arc"))
+
+
 def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
-                   gain_line: object = Fraction(3), gain_arc: object = Fraction(1), arcs: bool = False,
+                   gain_line: object = None, gain_arc: object = None, arcs: bool = False,
                    reflection: bool = True, decomposition: CellDecomposition | None = None,
                    cells: str = "convex") -> FieldPlan:
     """The composed field policy from ``start`` to ``goal`` (points of the open free space, exact or decimal).
@@ -195,7 +239,9 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
         Points (x, y); read exactly (``"0.1"`` is 1/10).
     gain_line, gain_arc
         The gains p of line and arc fields (1/length of the environment's units). The paper's 0.3 and 0.03 are for
-        its (unstated) workspace units; 3 and 1 suit corridors about half a unit wide.
+        its (unstated) workspace units. ``None`` (default): :func:`default_gains`, 3 and 1 in corridors as wide as
+        the shipped ``serpentine``'s (mean width 0.4422), inversely proportional to the mean width elsewhere, so
+        the composition of a scaled environment is the scaled composition.
     arcs
         Try an arc field in cells whose inlet and outlet meet at a vertex (the paper's "linear/arc" configuration).
     reflection
@@ -226,8 +272,7 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
     ((0, 1), [0, 1], 'goal')
     """
     dec = decomposition or decompose_free_space(env, cells)
-    p_line = to_fraction(gain_line, where="gain_line")
-    p_arc = to_fraction(gain_arc, where="gain_arc")
+    p_line, p_arc = resolve_gains(env, gain_line, gain_arc)
     if p_line <= 0 or p_arc <= 0:
         raise InputError(f"gains must be positive, got line {p_line} and arc {p_arc}")
     s = exact_point(start, where="start")
