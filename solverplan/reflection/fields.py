@@ -546,8 +546,8 @@ def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: 
     if gentle.status == 0:
         r, p = float(gentle.x[0]), float(gentle.x[1])
     # in units of R from the exact vertex average a: q₀ = a + R·(centroid − a + (r/p) d^⊥)/R, target q₀ + R·d
-    n = len(cell.vertices)
-    average = (sum((v[0] for v in cell.vertices), Fraction(0)) / n, sum((v[1] for v in cell.vertices), Fraction(0)) / n)
+    k = len(cell.vertices)
+    average = (sum((v[0] for v in cell.vertices), Fraction(0)) / k, sum((v[1] for v in cell.vertices), Fraction(0)) / k)
     q0 = (centre - _f(average)) / float(unit) + (r / p) * np.array([-d[1], d[0]])
 
     def rational(x: float) -> Fraction:

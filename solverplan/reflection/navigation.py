@@ -295,8 +295,8 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
         raise InputError(f"no scenario: use one or more of {', '.join(SCENARIOS)}")
     scenarios = [ScenarioName.parse(s, "scenario").value for s in scenarios]
     robot = model if isinstance(model, FieldRobotDynamics) else FieldRobotDynamics(kind=model)
-    given = {name: value for name, value in (("goal_radius", goal_radius), ("dead_band", dead_band)) if value is not None}
-    robot = replace(robot, **given) if given else robot
+    robot = replace(robot, goal_radius=robot.goal_radius if goal_radius is None else goal_radius,
+                    dead_band=robot.dead_band if dead_band is None else dead_band)
     derived = robot.unset + tuple(name for name, g in (("gain_line", gain_line), ("gain_arc", gain_arc)) if g is None)
     robot = robot.resolved(env, min(fast, slow))
     if not 0 <= trajectories <= trials:

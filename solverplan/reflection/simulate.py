@@ -43,7 +43,7 @@ from solverplan.choices import RobotKind, ScenarioName
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import RayCaster
-from solverplan.reflection.compose import FieldPlan
+from solverplan.reflection.compose import REFERENCE_WIDTH, FieldPlan, mean_width
 
 __all__ = ["FieldRobotDynamics", "Scenario", "SCENARIOS", "ScenarioRun", "simulate_scenarios", "default_scenarios"]
 
@@ -170,14 +170,11 @@ class FieldRobotDynamics:
         >>> slow.goal_radius, slow.dead_band
         (0.1, 0.0005)
         """
-        from solverplan.reflection.compose import REFERENCE_WIDTH, mean_width
-
-        changes: dict[str, float] = {}
-        if self.goal_radius is None:
-            changes["goal_radius"] = 0.1 * float(min(Fraction(1), mean_width(env) / REFERENCE_WIDTH))
-        if self.dead_band is None:
-            changes["dead_band"] = min(0.05, speed / 16)
-        return replace(self, **changes) if changes else self
+        if not self.unset:
+            return self
+        radius = 0.1 * float(min(Fraction(1), mean_width(env) / REFERENCE_WIDTH))
+        return replace(self, goal_radius=radius if self.goal_radius is None else self.goal_radius,
+                       dead_band=min(0.05, speed / 16) if self.dead_band is None else self.dead_band)
 
 
 @dataclass(frozen=True, slots=True)
