@@ -30,7 +30,7 @@ from solverplan.reflection.fields import LineField, line_flows_through
 from solverplan.reflection.navigation import navigate_fields
 from solverplan.reflection.simulate import FieldRobotDynamics
 from solverplan.studies import rewrite as rw
-from tests.strategies import polygons_with_holes, simple_polygons
+from tests.test_model_invariance import field_queries  # a polygon (with holes or not), two cells' vertex averages
 
 F = Fraction
 SCALES = (F(1, 1000), F(10**4))
@@ -89,19 +89,6 @@ def shape(plan: FieldPlan) -> tuple:
     areas = [_area(c) for c in plan.cells]
     return (plan.flow_through, sorted(areas), [areas[c] for c in plan.sequence],
             [plan.policies[c].field.kind for c in plan.sequence], len(plan.zones))
-
-
-@st.composite
-def field_queries(draw) -> tuple[Environment, Point, Point]:
-    """A polygon (with holes half of the time) and two points: the vertex averages of two of its cells."""
-    env = draw(st.one_of(simple_polygons(min_vertices=4, max_vertices=14), polygons_with_holes(max_vertices=12)))
-    cells = decompose_free_space(env).cells
-    picks = draw(st.lists(st.integers(0, len(cells) - 1), min_size=2, max_size=2), label="cells")
-    points = []
-    for c in picks:
-        vs = cells[c].vertices
-        points.append((sum((p[0] for p in vs), F(0)) / len(vs), sum((p[1] for p in vs), F(0)) / len(vs)))
-    return env, points[0], points[1]
 
 
 @FEW
