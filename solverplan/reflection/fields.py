@@ -476,7 +476,7 @@ along-track speed): a field whose line is far from its cell commands huge speeds
 
 
 def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: int = 15,
-                   gain_range: tuple[float, float] = (0.05, 50.0)) -> tuple[LineField, FlowCheck] | None:
+                   gain_range: tuple[float, float] = (0.05, 1e4)) -> tuple[LineField, FlowCheck] | None:
     """A line field that flows through ``cell`` towards ``exits``, found by linear programming, or ``None``.
 
     The search is made in the cell's own units — lengths divided by R, the largest distance from the cell's
@@ -486,7 +486,9 @@ def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: 
     and r = p c, dimensionless: the condition "n_i·v > 0 at both ends of every other side" reads
     (n_i·d) + r (n_i·d^⊥) − p (n_i·(I − d dᵀ) q) > 0, linear in (r, p). For ``directions`` directions spread over
     ±79° about the outward normal of the first exit side, the LP maximising the smallest margin (scipy's HiGHS)
-    gives the most robust (r, p) with p·R in ``gain_range`` (dimensionless); the best direction's field is rounded
+    gives the most robust (r, p) with p·R in ``gain_range`` (dimensionless); when no direction has a margin, sweeps
+    of 4·``directions`` + 1 directions over ±88° and 16·``directions`` + 1 over ±89° follow (a narrow outlet
+    can leave a window of directions a few degrees wide). The best direction's field is rounded
     to rationals (in units of R, from the cell's exact vertex average) and checked exactly
     (:func:`line_flows_through`), so the answer never relies on the LP's floats.
 
@@ -516,26 +518,16 @@ def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: 
     ends = [(verts[i], verts[(i + 1) % len(verts)]) for i in others]
     outward = -cell.sides[min(exits)].unit_normal()
     base = math.atan2(outward[1], outward[0])
-    best: tuple[float, np.ndarray, float, float, np.ndarray, np.ndarray] | None = None
     lo, hi = gain_range
-    for j in range(directions):
-        angle = base + (j - directions // 2) * (0.44 * math.pi / max(directions // 2, 1))
-        d = np.array([math.cos(angle), math.sin(angle)])
-        d_perp = np.array([-d[1], d[0]])
-        rows, rhs = [], []
-        for n, (a, b) in zip(normals, ends):
-            for q in (a, b):
-                across = q - (q @ d) * d
-                # a + u r + w p ≥ t  ⇔  −u r − w p + t ≤ a
-                rows.append([-(n @ d_perp), n @ across, 1.0])
-                rhs.append(n @ d)
-        for r_bound in (_CROSS_SPEED, hi):  # a line through the cell first (bounded speed), then any (|c| ≲ R)
-            res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
-                          bounds=[(-r_bound, r_bound), (lo, hi), (None, 1.0)], method="highs")
-            if res.status == 0 and res.x[2] > 1e-6:
-                break
-        if res.status == 0 and res.x[2] > 1e-6 and (best is None or res.x[2] > best[0]):
-            best = (float(res.x[2]), d, float(res.x[0]), float(res.x[1]), np.array(rows), np.array(rhs))
+    best: tuple[float, np.ndarray, float, float, np.ndarray, np.ndarray] | None = None
+    for count, spread in ((directions, 0.44), (4 * directions + 1, 0.49), (16 * directions + 1, 0.495)):
+        for j in range(count):  # ±79° first; then ever finer sweeps to within 1° of the side's line
+            angle = base + (j - count // 2) * (spread * math.pi / max(count // 2, 1))
+            found = _direction_lp(angle, normals, ends, lo, hi)
+            if found is not None and (best is None or found[0] > best[0]):
+                best = found
+        if best is not None:
+            break
     if best is None:
         return None
     margin, d, r, p, rows_best, rhs_best = best
@@ -558,6 +550,28 @@ def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: 
     field = LineField(origin, target, Fraction(p).limit_denominator(10**4) / unit).recentred(cell)
     check = line_flows_through(field, cell, exits)
     return (field, check) if check.valid else None
+
+
+def _direction_lp(angle: float, normals: list[np.ndarray], ends: list[tuple[np.ndarray, np.ndarray]], lo: float,
+                  hi: float) -> tuple[float, np.ndarray, float, float, np.ndarray, np.ndarray] | None:
+    """The LP of :func:`fit_line_field` for one direction: (margin, d, r, p, rows, rhs) or ``None`` (no margin)."""
+    from scipy.optimize import linprog
+
+    d = np.array([math.cos(angle), math.sin(angle)])
+    d_perp = np.array([-d[1], d[0]])
+    rows, rhs = [], []
+    for n, (a, b) in zip(normals, ends):
+        for q in (a, b):
+            across = q - (q @ d) * d
+            # a + u r + w p ≥ t  ⇔  −u r − w p + t ≤ a
+            rows.append([-(n @ d_perp), n @ across, 1.0])
+            rhs.append(n @ d)
+    for r_bound in (_CROSS_SPEED, hi):  # a line through the cell first (bounded speed), then any (|c| ≲ R)
+        res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
+                      bounds=[(-r_bound, r_bound), (lo, hi), (None, 1.0)], method="highs")
+        if res.status == 0 and res.x[2] > 1e-6:
+            return float(res.x[2]), d, float(res.x[0]), float(res.x[1]), np.array(rows), np.array(rhs)
+    return None
 
 
 def cell_unit(cell: Cell) -> Fraction:

@@ -22,7 +22,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 from solverplan.errors import MalformedFile
-from solverplan.exact import format_number, to_fraction
+from solverplan.exact import format_number
 from solverplan.reflection.zones import RejectedZone
 from fractions import Fraction
 from typing import Any
@@ -302,7 +302,7 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     if not 0 <= trajectories <= trials:
         raise InputError(f"trajectories must be between 0 and the number of trials ({trials}), got {trajectories}")
     for name, value in (("fast", fast), ("slow", slow)):
-        if not value > (robot.dead_band or 0.0):  # below it the robot never moves: every trial would run to the time limit
+        if not value > (robot.dead_band or 0.0):  # below it the robot never moves: every trial runs to the limit
             raise InputError(f"the {name} speed must exceed the robot's dead band {robot.dead_band:g} "
                              f"(length/s), got {value:g}")
     reflections = Reflections.parse(reflections, "reflections").value

@@ -152,9 +152,9 @@ class FieldRobotDynamics:
         """The robot with its unset lengths made relative to the environment and the commanded speeds.
 
         ``goal_radius``: 0.1 length units, or 0.1 × w/w₀ when the environment's mean width w
-        (:func:`~solverplan.reflection.compose.mean_width`) is below w₀ = 0.4422, the shipped ``serpentine``'s:
-        the share of the corridor the goal holds there. A robot in a room a millimetre wide does not stop 0.1
-        from its goal, while in rooms metres wide the shipped answers keep their numbers. ``dead_band``: 1/16 of
+        (:func:`~solverplan.reflection.compose.mean_width`) is below w₀ = 0.4422, the shipped ``serpentine``'s
+        (the goal then holds the same share of the corridor as there): in a room a millimetre wide the goal is not
+        the whole room, while every shipped model, at least as wide, keeps 0.1. ``dead_band``: 1/16 of
         ``speed`` (the slowest commanded speed), at most 0.05 length/s: a robot commanded at micro speeds still
         moves, and the default speeds keep 0.05. Values given are kept.
 
