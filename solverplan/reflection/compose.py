@@ -36,7 +36,7 @@ from typing import Sequence
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_number, to_fraction
-from solverplan.reflection.cells import Cell, CellDecomposition, decompose_free_space
+from solverplan.reflection.cells import Cell, CellDecomposition, cut_at_sides, decompose_free_space
 from solverplan.reflection.fields import (Field, FlowCheck, GoalField, LineField, arc_turn, fit_line_field,
                                           flows_through)
 from solverplan.reflection.zones import ReflectionZone, RejectedZone, select_zone_recorded
@@ -214,6 +214,12 @@ def _nominal(cell: Cell, origin: ExactPoint, inlet: int | None, outlet: int, gai
     fitted = fit_line_field(cell, exits)  # any line (direction, offset, gain) that works: an LP per direction
     if fitted is not None:
         return fitted
+    average = _vertex_average(cell)  # in a triangle the median to the outlet, bent ever more gently, works
+    for k in range(3, 40, 3):
+        field = LineField(average, mid, gain_line / 2**k)
+        check = flows_through(field, cell, exits)
+        if check.valid:
+            return field, check
     assert first is not None
     return first
 
@@ -223,6 +229,39 @@ def resolve_gains(env: Environment, gain_line: object, gain_arc: object) -> tupl
     line, arc = default_gains(env)
     return (line if gain_line is None else to_fraction(gain_line, where="gain_line"),
             arc if gain_arc is None else to_fraction(gain_arc, where="gain_arc"))
+
+
+def _policies(dec: CellDecomposition, s: ExactPoint, g: ExactPoint, p_line: Fraction, p_arc: Fraction,
+              arcs: bool) -> tuple[tuple[int, ...], dict[int, CellPolicy]]:
+    """The cell sequence from ``s``'s cell to ``g``'s and every cell's policy (its verdict may be a failure)."""
+    start_cell = dec.locate(s, where="start")
+    goal_cell = dec.locate(g, where="goal")
+    sequence = dec.sequence(start_cell, goal_cell)
+    successors = dec.successors(goal_cell)
+    inlets = {c: dec.cells[c].facet_to(prev) for prev, c in zip(sequence, sequence[1:])}
+    policies: dict[int, CellPolicy] = {}
+    for cell in dec.cells:
+        nxt = successors[cell.id]
+        if cell.id == goal_cell:
+            goal_field = GoalField(g)
+            policies[cell.id] = CellPolicy(cell.id, goal_field, flows_through(goal_field, cell, frozenset()), None,
+                                           None, inlets.get(cell.id))
+            continue
+        if nxt is None:
+            continue  # cannot reach the goal (another component): no policy
+        outlet = cell.facet_to(nxt)
+        on_sequence = cell.id in sequence and sequence.index(cell.id) < len(sequence) - 1 and \
+            sequence[sequence.index(cell.id) + 1] == nxt
+        inlet = inlets.get(cell.id) if on_sequence else None
+        if cell.id == start_cell:
+            origin = s
+        elif inlet is not None:
+            origin = cell.sides[inlet].midpoint
+        else:
+            origin = _vertex_average(cell)
+        field, check = _nominal(cell, origin, inlet, outlet, p_line, p_arc, arcs)
+        policies[cell.id] = CellPolicy(cell.id, field, check, nxt, outlet, inlet)
+    return sequence, policies
 
 
 def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
@@ -277,33 +316,13 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
         raise InputError(f"gains must be positive, got line {p_line} and arc {p_arc}")
     s = exact_point(start, where="start")
     g = exact_point(goal, where="goal")
-    start_cell = dec.locate(s, where="start")
-    goal_cell = dec.locate(g, where="goal")
-    sequence = dec.sequence(start_cell, goal_cell)
-    successors = dec.successors(goal_cell)
-    inlets = {c: dec.cells[c].facet_to(prev) for prev, c in zip(sequence, sequence[1:])}
-    policies: dict[int, CellPolicy] = {}
-    for cell in dec.cells:
-        nxt = successors[cell.id]
-        if cell.id == goal_cell:
-            goal_field = GoalField(g)
-            policies[cell.id] = CellPolicy(cell.id, goal_field, flows_through(goal_field, cell, frozenset()), None,
-                                           None, inlets.get(cell.id))
-            continue
-        if nxt is None:
-            continue  # cannot reach the goal (another component): no policy
-        outlet = cell.facet_to(nxt)
-        on_sequence = cell.id in sequence and sequence.index(cell.id) < len(sequence) - 1 and \
-            sequence[sequence.index(cell.id) + 1] == nxt
-        inlet = inlets.get(cell.id) if on_sequence else None
-        if cell.id == start_cell:
-            origin = s
-        elif inlet is not None:
-            origin = cell.sides[inlet].midpoint
-        else:
-            origin = _vertex_average(cell)
-        field, check = _nominal(cell, origin, inlet, outlet, p_line, p_arc, arcs)
-        policies[cell.id] = CellPolicy(cell.id, field, check, nxt, outlet, inlet)
+    while True:  # cut cells no line field leaves through their outlets, down to triangles at worst
+        sequence, policies = _policies(dec, s, g, p_line, p_arc, arcs)
+        stuck = {c: p.outlet_side for c, p in policies.items()
+                 if not p.check.valid and p.outlet_side is not None and len(dec.cells[c].vertices) > 3}
+        if not stuck:
+            break
+        dec = cut_at_sides(dec, stuck)  # type: ignore[arg-type]
     zones: dict[int, ReflectionZone] = {}
     rejected: list[RejectedZone] = []
     if reflection:
