@@ -11,7 +11,10 @@
    point in the start cell, the vertex average off the sequence) to the outlet midpoint; the line field through the
    outlet midpoint along the outlet's outward normal. Each at the gain given, then 2×, ½×, 4×, ¼×, 8×, ⅛× of it;
    failing those, any line field found by a linear program over its offset and gain for 15 directions about the
-   outlet's normal (:func:`~solverplan.reflection.fields.fit_line_field`, checked exactly);
+   outlet's normal, then finer sweeps (:func:`~solverplan.reflection.fields.fit_line_field`, checked exactly);
+   then the line from the vertex average to the outlet midpoint at ever smaller gains. A cell still without a
+   field is cut into a triangle on its outlet and the rest (:func:`~solverplan.reflection.cells.cut_at_sides`)
+   and the composition starts again (at worst the cells become triangles, where the last candidate works);
 3. the goal cell's field, straight to the goal;
 4. the reflection zones of the candidate cells of the sequence (:mod:`~solverplan.reflection.zones`).
 
@@ -322,7 +325,7 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
                  if not p.check.valid and p.outlet_side is not None and len(dec.cells[c].vertices) > 3}
         if not stuck:
             break
-        dec = cut_at_sides(dec, stuck)  # type: ignore[arg-type]
+        dec = cut_at_sides(dec, stuck)
     zones: dict[int, ReflectionZone] = {}
     rejected: list[RejectedZone] = []
     if reflection:

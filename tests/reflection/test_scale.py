@@ -24,7 +24,8 @@ from hypothesis import strategies as st
 from solverplan.certify.build_models import fields_certificate
 from solverplan.certify.check_models import check_model_certificate
 from solverplan.environment import Environment
-from solverplan.reflection.cells import decompose_free_space
+from solverplan.exact import cross
+from solverplan.reflection.cells import cut_at_sides, decompose_free_space
 from solverplan.reflection.compose import FieldPlan, compose_fields, default_gains, mean_width
 from solverplan.reflection.fields import LineField, line_flows_through
 from solverplan.reflection.navigation import navigate_fields
@@ -51,6 +52,17 @@ F7 = Environment.from_coords(F7_RINGS[0], holes=F7_RINGS[1:])
 F7_QUERY = (F7, (F("-0.06384"), F("0.0153")), (F("-0.61931"), F("0.1742")))
 # the same room, start and goal in the cells with the fields the old absolute gains could not make at 10⁻³
 F7_ACROSS = (F7, (F("-0.8"), F("-0.5")), (F("0.9"), F("0.2")))
+
+# a star with a hole (random stars, seed 5, trial 62): cell 0's outlet has no line field flowing through it
+# (every direction and gain fails the exact test), so the composition cuts a triangle off it
+NO_LINE_FIELD = (Environment.from_coords(
+    [["70.814", 0], ["37.295", "15.448"], ["61.806", "61.806"], ["35.233", "85.061"], [0, "77.382"],
+     ["-21.583", "52.106"], ["-33.002", "33.002"], ["-30.233", "12.523"], ["-63.235", 0], ["-77.079", "-31.927"],
+     ["-26.463", "-26.463"], ["-33.603", "-81.124"], [0, "-94.023"], ["13.548", "-32.708"], ["52.782", "-52.782"],
+     ["44.827", "-18.568"]],
+    holes=[[["6.452", "4.524"], ["2.687", "12.342"], ["-5.773", "14.273"], ["-12.558", "8.862"], ["-12.558", "0.185"],
+            ["-5.773", "-5.226"], ["2.687", "-3.295"]]]),
+    (F(-12401, 1500), F(-242839, 6000)), (F(7739, 500), F(16157, 1500)))
 
 FEW = settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.filter_too_much,
                                                                       HealthCheck.too_slow])
@@ -95,6 +107,7 @@ def shape(plan: FieldPlan) -> tuple:
 @given(query=field_queries())
 @example(query=F7_QUERY)
 @example(query=F7_ACROSS)
+@example(query=NO_LINE_FIELD)
 def test_fields_answer_is_scale_invariant(query):
     """Scaled by 10⁻³ and 10⁴, and turned and moved: the same found/not-found, the same cells and sequence, the
     scaled fields (exactly, under scaling), and a certificate the exact checker accepts whenever it is found."""
@@ -208,3 +221,39 @@ def test_default_simulation_lengths_follow_the_room():
                              goal_radius=1e-5, dead_band=0.0, gain_line="1000")
     assert (given_.model.goal_radius, given_.model.dead_band, given_.gains[0]) == (1e-5, 0.0, 1000)
     assert given_.to_json()["scale"]["derived"] == ["gain_arc"]
+
+
+def test_a_cell_without_a_line_field_is_cut_and_the_answer_is_certified():
+    """No line field flows through cell 0's outlet (the LP over every direction, the gain ladders): the cell is cut
+    along a diagonal into a triangle on its outlet and the rest; the cells still tile the room exactly, every
+    field verifies, and the exact checker accepts the certificate — at every scale."""
+    env, start, goal = NO_LINE_FIELD
+    dec = decompose_free_space(env)
+    plan = compose_fields(env, start, goal)
+    assert len(plan.cells) == len(dec.cells) + 1 and plan.flow_through and plan.proved and _verified(plan)
+    assert sum(_area(c) for c in plan.cells) == env.area
+    for s in SCALES:
+        image = compose_fields(rw.scale(env, s).env, (start[0] * s, start[1] * s), (goal[0] * s, goal[1] * s))
+        assert structure(image, s) == structure(plan, F(1)) and _verified(image)
+
+
+def test_cutting_a_side_off_keeps_the_cells_a_convex_tiling():
+    """:func:`cut_at_sides`: one more cell per cut, each strictly convex, the cut side on a triangle, the exact
+    area kept, and every facet shared whole (a side names a neighbour exactly when the neighbour has it reversed)."""
+    env, _, _ = NO_LINE_FIELD
+    dec = decompose_free_space(env)
+    cuts = {c.id: len(c.sides) - 1 for c in dec.cells if len(c.vertices) > 3}
+    cut = cut_at_sides(dec, cuts)
+    assert len(cut.cells) == len(dec.cells) + len(cuts)
+    assert sum(_area(c) for c in cut.cells) == env.area
+    sides = {(s.a, s.b): c.id for c in cut.cells for s in c.sides}
+    for c in cut.cells:
+        v = c.vertices
+        assert all(cross((v[k][0] - v[k - 1][0], v[k][1] - v[k - 1][1]),
+                         (v[(k + 1) % len(v)][0] - v[k][0], v[(k + 1) % len(v)][1] - v[k][1])) > 0 for k in range(len(v)))
+        for s in c.sides:
+            assert s.neighbour == sides.get((s.b, s.a))
+    for cid, side in cuts.items():
+        old = dec.cells[cid].sides[side]
+        assert any(len(c.vertices) == 3 and (old.a, old.b) in {(s.a, s.b) for s in c.sides} for c in cut.cells)
+
