@@ -184,7 +184,12 @@ class FieldNavigation(Answer):
         lines = [f"{plan.env.name or 'environment'}: {len(plan.cells)} convex cells, sequence "
                  f"{' → '.join(map(str, plan.sequence))}",
                  f"reflection cells: {', '.join(map(str, plan.reflection_cells)) or 'none'}; flow-through "
-                 f"{'verified' if plan.flow_through else 'NOT verified'} ({self.status.value}); model {self.model.kind}"]
+                 f"{'verified' if plan.flow_through else 'NOT verified'} ({self.status.value}); model {self.model.kind}",
+                 f"gains {float(self.gains[0]):.4g} (line), {float(self.gains[1]):.4g} (arc); goal radius "
+                 f"{self.model.goal_radius or float('nan'):.4g}; dead band {self.model.dead_band or 0.0:.4g}"]
+        if self.derived:
+            lines.append(f"defaults (from the mean width {float(mean_width(plan.env)):g} and the speeds): "
+                         f"{', '.join(self.derived)}")
         for c in sorted(plan.policies):  # the cells' verdicts that are not exact proofs, in the verdicts' words
             check = plan.policies[c].check
             lines.extend(f"cell {c}: FAIL {failure}" for failure in check.failures)
