@@ -357,8 +357,10 @@ def _merge(triangles: list[list[int]], exact: Sequence[ExactPoint]) -> list[list
     return [polygons[k] for k in sorted(polygons)]
 
 
-def _build(env: Environment, polygons: list[list[int]]) -> CellDecomposition:
-    exact = env.exact_vertices
+def _build(env: Environment, polygons: list[list[int]],
+           vertices: Sequence[ExactPoint] | None = None) -> CellDecomposition:
+    """The cells of ``polygons`` (indices into ``vertices``, by default the environment's), numbered and linked."""
+    exact = env.exact_vertices if vertices is None else vertices
     side_owner: dict[tuple[int, int], int] = {}
     ordered = sorted(polygons, key=lambda poly: (min(exact[k] for k in poly), len(poly)))
     for cid, poly in enumerate(ordered):
@@ -398,7 +400,7 @@ def cut_at_sides(dec: CellDecomposition, cuts: dict[int, int]) -> CellDecomposit
     >>> [[(int(x), int(y)) for x, y in c.vertices] for c in cut_at_sides(square, {0: 0}).cells]  # a tie: the first
     [[(0, 0), (10, 0), (0, 10)], [(10, 0), (10, 10), (0, 10)]]
     """
-    exact = dec.env.exact_vertices
+    exact = sorted({v for cell in dec.cells for v in cell.vertices})  # corner projections may not be env vertices
     index = {p: k for k, p in enumerate(exact)}
     polygons = []
     for cell in dec.cells:
@@ -412,7 +414,7 @@ def cut_at_sides(dec: CellDecomposition, cuts: dict[int, int]) -> CellDecomposit
         tri = max(options, key=lambda t: _fatness([exact[poly[k]] for k in t]))  # max keeps the first of ties
         rest = [poly[k] for k in range(m) if k != tri[1]]
         polygons += [[poly[k] for k in tri], rest]
-    return _build(dec.env, polygons)
+    return _build(dec.env, polygons, exact)
 
 
 def _fatness(tri: list[ExactPoint]) -> Fraction:
