@@ -257,3 +257,22 @@ def test_cutting_a_side_off_keeps_the_cells_a_convex_tiling():
         old = dec.cells[cid].sides[side]
         assert any(len(c.vertices) == 3 and (old.a, old.b) in {(s.a, s.b) for s in c.sides} for c in cut.cells)
 
+
+
+coords = st.integers(-50, 50)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.tuples(coords, coords), st.tuples(coords, coords), st.tuples(coords, coords), st.integers(0, 2))
+def test_triangle_median_field_flows_through_when_gentle(a, b, c, side):
+    """What makes cutting down to triangles end: in a triangle, the line field along the median from the vertex
+    opposite the outlet (vertex average → outlet midpoint) flows through the outlet once its gain is small enough —
+    at p = 0 it is the constant direction from the apex into the open outlet, strictly inward on the other two
+    sides — and the gains compose tries (p/8, p/64, …) reach it."""
+    assume(cross((b[0] - a[0], b[1] - a[1]), (c[0] - a[0], c[1] - a[1])) > 0)
+    tri = decompose_free_space(Environment.from_coords([a, b, c])).cells[0]
+    v, out = tri.vertices, tri.sides[side]
+    average = (sum((p[0] for p in v), F(0)) / 3, sum((p[1] for p in v), F(0)) / 3)
+    assert line_flows_through(LineField(average, out.midpoint, F(0)), tri, {side}).valid  # the constant field
+    assert any(line_flows_through(LineField(average, out.midpoint, F(3) / 2**k), tri, {side}).valid
+               for k in range(3, 40, 3))
