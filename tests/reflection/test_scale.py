@@ -276,3 +276,19 @@ def test_triangle_median_field_flows_through_when_gentle(a, b, c, side):
     assert line_flows_through(LineField(average, out.midpoint, F(0)), tri, {side}).valid  # the constant field
     assert any(line_flows_through(LineField(average, out.midpoint, F(3) / 2**k), tri, {side}).valid
                for k in range(3, 40, 3))
+
+
+def test_fields_of_a_star_with_holes_at_ten_thousand_are_found_at_every_scale():
+    """The second end-to-end reproducer (404 vertices, 182 cells, coordinates ~10⁴: not-found on the old absolute
+    gains): found (exactly), and the same cells, sequence and scaled fields at 10⁻⁷ of it (coordinates ~10⁻³)."""
+    from pathlib import Path
+
+    from solverplan.environment import load_environment
+
+    env = load_environment(Path(__file__).parent / "data" / "holes_808345.json")
+    start, goal = (F("4517.8"), F("2350.3")), (F(-7789), F("-8.7"))
+    plan = compose_fields(env, start, goal)
+    assert plan.flow_through and plan.proved and len(plan.cells) == 182
+    s = F(1, 10**7)
+    image = compose_fields(rw.scale(env, s).env, (start[0] * s, start[1] * s), (goal[0] * s, goal[1] * s))
+    assert structure(image, s) == structure(plan, F(1))
