@@ -205,7 +205,6 @@ class StudyGenerator(Choice):
     RECTILINEAR = "rectilinear"
 
 
-
 class EnvironmentFormat(Choice):
     """The environment file formats: the JSON of ``docs/contract.md``, GeoJSON, WKT."""
 

@@ -33,7 +33,7 @@ from fractions import Fraction
 from typing import Literal
 
 from solverplan.environment import Environment
-from solverplan.exact import ExactPoint, format_number, json_number
+from solverplan.exact import ExactPoint, format_number, json_point
 
 __all__ = [
     "EdgeInfo",
@@ -41,10 +41,6 @@ __all__ = [
     "RingInfo",
     "describe_environment",
 ]
-
-
-def _json_point(p: ExactPoint) -> list[int | float | str]:
-    return [json_number(p[0]), json_number(p[1])]
 
 
 @dataclass(frozen=True, slots=True)
@@ -84,8 +80,8 @@ class EdgeInfo:
             "id": self.id,
             "ring": self.ring,
             "vertices": [self.tail, self.head],
-            "a": _json_point(self.a),
-            "b": _json_point(self.b),
+            "a": json_point(self.a),
+            "b": json_point(self.b),
             "length": self.length,
         }
 
@@ -132,7 +128,7 @@ class EnvironmentInfo:
             "n_edges": len(self.edges),
             "n_holes": len(self.rings) - 1,
             "notes": list(self.notes),
-            "vertices": [[_json_point(self.points[v]) for v in ring.vertices] for ring in self.rings],
+            "vertices": [[json_point(self.points[v]) for v in ring.vertices] for ring in self.rings],
             "rings": [ring.to_json() for ring in self.rings],
             "edges": [edge.to_json() for edge in self.edges],
             "reflex": list(self.reflex),

@@ -43,6 +43,7 @@ __all__ = [
     "ring_without_repeats",
     "format_number",
     "json_number",
+    "json_point",
     "format_point",
     "orient",
     "orient_filter",
@@ -233,17 +234,10 @@ def format_number(value: Fraction | int | float) -> str:
 
 def _long_int_text(n: int) -> str:
     """``str(n)`` for integers of any length: products along long cycles exceed Python's 4,300-digit guard,
-    which protects parsers of untrusted text, not the printing of numbers we computed."""
-    if n.bit_length() < 14_000:
-        return str(n)
-    import sys
-
-    previous = sys.get_int_max_str_digits()
-    sys.set_int_max_str_digits(0)
-    try:
-        return str(n)
-    finally:
-        sys.set_int_max_str_digits(previous)
+    which protects parsers of untrusted text, not the printing of numbers we computed. Past it the digits come
+    from :class:`~decimal.Decimal`, exact for integers and outside the guard, so the guard (a setting of the whole
+    process, which other threads rely on) is never lifted."""
+    return str(n) if n.bit_length() < 14_000 else str(Decimal(n))
 
 
 def json_number(value: Fraction | int) -> int | float | str:
@@ -264,6 +258,15 @@ def json_number(value: Fraction | int) -> int | float | str:
         if Decimal(repr(number)).as_integer_ratio() == (num, den):
             return number
     return format_number(value)  # also integers past Python's digit guard: JSON encoders refuse to print them
+
+
+def json_point(p: Sequence[Fraction | int]) -> list[int | float | str]:
+    """An exact point as JSON: ``[x, y]`` with :func:`json_number` coordinates.
+
+    >>> json_point((Fraction(1, 3), Fraction(5, 2)))
+    ['1/3', 2.5]
+    """
+    return [json_number(p[0]), json_number(p[1])]
 
 
 def format_point(p: Sequence[Fraction | int | float]) -> str:

@@ -712,6 +712,16 @@ class Answer:
         """Read :meth:`to_json`'s output back (``env``: the environment, for kinds that refer to it)."""
         raise NotImplementedError(f"{cls.__name__} cannot be read back")
 
+    @classmethod
+    def _reader_in(cls, data: object, env: Environment | None,
+                   what: str) -> tuple[Reader, Environment, EnvironmentRecord | None]:
+        """How :meth:`from_json` of a kind that names the edges of its environment begins: a :class:`Reader` of
+        ``data`` (messages start at the kind), ``env`` (required) and the answer's environment record, checked
+        against ``env`` (:meth:`Reader.in_environment`; ``what`` names the answer in its messages)."""
+        r = Reader(data, cls.kind)
+        env, record = r.in_environment(env, what)
+        return r, env, record
+
 
 class Construction(Answer):
     """The base of an answer that is built, not searched for (a decomposition, a cut ordering, what a robot

@@ -90,7 +90,7 @@ def test_single_failure_has_no_more_suffix(tmp_path):
         (lambda d: d["stages"][0]["moves"][0].pop("target"), "stages[0].moves[0]: missing field 'target'"),
         (lambda d: d["stages"][0]["moves"][0].update(colour="red"), "stages[0].moves[0]: unknown field 'colour'"),
         (lambda d: d.update(kind="tour"), "kind: 'tour' is not one of plan, cycle, funnel, localize"),
-        (lambda d: d.update(stages=[]), "stages: a certificate has at least one stage"),
+        (lambda d: d.update(kind="localize", stages=[]), "stages: a localize certificate has at least one stage"),
         (lambda d: d.update(kind="funnel"), "stages[0].positions: a funnel certificate claims the positions after every stage"),
     ],
 )

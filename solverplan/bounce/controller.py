@@ -26,7 +26,7 @@ from solverplan.bounce.partitions import partition
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.interval import DEFAULT_HEADING_MARGIN
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_dataclass
 
 __all__ = ["ConstantController", "constant_controller", "DEFAULT_CONTROLLER_TANGENTS"]
 
@@ -45,7 +45,7 @@ _ALGORITHM = "exact enclosure of f_θ^k(∂P) on a 2⁻⁹⁶ grid inside verifi
 @answer_dataclass("controller")
 class ConstantController(Answer):
     """A constant heading under which every start converges to a verified limit cycle (Prop. 4), or the
-    record of the attempts; follows the result protocol of :mod:`solverplan.result`.
+    record of the attempts.
 
     Attributes
     ----------
@@ -109,8 +109,7 @@ class ConstantController(Answer):
     @classmethod
     def from_json(cls, data: Any, *, env: Environment | None = None) -> ConstantController:
         """Read a constant controller back in ``env`` (required, as for its cycles)."""
-        r = Reader(data, "controller")
-        env, record = r.in_environment(env, 'constant controller')
+        r, env, record = cls._reader_in(data, env, "constant controller")
         heading = parse_heading(r.string("theta_exact")) if r.has("theta_exact") else None
         if heading is not None and not isinstance(heading, ExactHeading):
             raise InputError("controller.theta_exact: expected an exact heading (tan:P/Q or dir:C,S)")

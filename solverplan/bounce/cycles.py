@@ -73,7 +73,7 @@ from solverplan.errors import InputError, InvalidBoundarySet, MalformedFile, Sol
 from solverplan.limits import MAX_BOUNCES, quote
 from solverplan.exact import ExactPoint, format_number, to_fraction
 from solverplan.interval import Interval
-from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Reader, Stage, Stats, Status, answer_dataclass
+from solverplan.result import AffineStep, Answer, EnvironmentRecord, Method, Optimality, Stage, Stats, Status, answer_dataclass
 
 __all__ = ["CyclePoint", "LimitCycle", "limit_cycle", "limit_cycles"]
 
@@ -115,7 +115,7 @@ class CyclePoint:
 class LimitCycle(Answer):
     """A limit cycle of the constant rule, or the reason there is none.
 
-    Made by :func:`limit_cycle`; follows the result protocol of :mod:`solverplan.result`.
+    Made by :func:`limit_cycle`.
 
     Attributes
     ----------
@@ -288,8 +288,7 @@ class LimitCycle(Answer):
     @classmethod
     def from_json(cls, data: Any, *, env: Environment | None = None) -> LimitCycle:
         """Read a limit cycle back in ``env`` (required: the cycle's distances and Lemma 3 are of its edges)."""
-        r = Reader(data, "cycle")
-        env, record = r.in_environment(env, 'limit cycle')
+        r, env, record = cls._reader_in(data, env, "limit cycle")
         heading = parse_heading(r.string("theta_exact"))
         if not isinstance(heading, ExactHeading):
             raise MalformedFile(f"cycle.theta_exact: expected an exact heading (tan:P/Q or dir:C,S), got {quote(r.get('theta_exact'))}")

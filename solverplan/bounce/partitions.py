@@ -66,7 +66,7 @@ import numpy as np
 from solverplan.limits import refuse_beyond_memory
 from solverplan.environment import Environment
 from solverplan.errors import InputError, InvalidBoundarySet
-from solverplan.exact import FLOAT_FILTER_REL, ExactPoint, format_number, format_point, json_number
+from solverplan.exact import FLOAT_FILTER_REL, ExactPoint, format_number, format_point, json_number, json_point
 from solverplan.geometry.raycast import cast_ray
 from solverplan.progress import step
 from solverplan.runtime import jobs, parallel_map
@@ -107,8 +107,8 @@ class PartitionSegment:
             "edge": self.edge,
             "t0": json_number(self.t0),
             "t1": json_number(self.t1),
-            "a": _json_point(self.a),
-            "b": _json_point(self.b),
+            "a": json_point(self.a),
+            "b": json_point(self.b),
         }
 
 
@@ -131,7 +131,7 @@ class InsertedPoint:
 
     def to_json(self) -> dict:
         return {
-            "point": _json_point(self.point),
+            "point": json_point(self.point),
             "edge": self.edge,
             "t": json_number(self.t),
             "reflex_vertex": self.reflex_vertex,
@@ -337,7 +337,7 @@ class Partition:
             "name": self.env.name,
             "n_segments": len(self.segments),
             "n_inserted": len(self.inserted),
-            "vertices": [[_json_point(p) for p in ring] for ring in self.vertices()],
+            "vertices": [[json_point(p) for p in ring] for ring in self.vertices()],
             "segments": [s.to_json() for s in self.segments],
             "inserted": [q.to_json() for q in self.inserted],
         }
@@ -384,10 +384,6 @@ class Partition:
 
 def _provenance(q: InsertedPoint) -> str:
     return f"r{q.reflex_vertex} " + ("ext" if q.from_vertex is None else f"v{q.from_vertex}")
-
-
-def _json_point(p: ExactPoint) -> list:
-    return [json_number(p[0]), json_number(p[1])]
 
 
 def _frozen(arr: np.ndarray) -> np.ndarray:

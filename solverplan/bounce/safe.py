@@ -260,45 +260,35 @@ def _theta0(src: _Seg, dst: _Seg) -> tuple[_Bound, _Bound] | None:
 # ---------------------------------------------------------------------------------------------
 # results
 # ---------------------------------------------------------------------------------------------
-def _interval(e: Direction, lo: Direction, hi: Direction, equal: bool) -> Interval:
-    """The float interval of two exact end directions (lo ≤ hi exactly); ties share one float."""
+def _interval(e: Direction, lo: Direction, hi: Direction) -> SafeInterval:
+    """The safe interval between two exact end directions (lo ≤ hi exactly), with float ends; ties share one float."""
     flo, fhi = _angle(e, lo), _angle(e, hi)
     if _hclass(e, lo) == 0:
         flo = 0.0
     if _hclass(e, hi) == 2:
         fhi = math.pi
-    if equal or fhi < flo:  # exact ties (or a difference below float resolution) share one value
+    if _hcmp(e, lo, hi) == 0 or fhi < flo:  # exact ties (or a difference below float resolution) share one value
         fhi = flo
-    return Interval(flo, fhi)
+    return SafeInterval(flo, fhi, lo, hi)
 
 
 @dataclass(frozen=True, slots=True)
-class SafeInterval:
-    """One interval of safe headings with its exact end directions.
+class SafeInterval(Interval):
+    """One interval of safe headings (an :class:`~solverplan.interval.Interval`, radians) with its exact end
+    directions.
 
-    ``interval`` is in radians; an end at 0 or π means "open there" (headings are in (0, π)), and its
-    direction is then ±(b − a). ``lo_direction``/``hi_direction`` are exact vectors whose headings are
-    the ends (e.g. c − b and d − a for Prop. 2).
+    An end at 0 or π means "open there" (headings are in (0, π)), and its direction is then ±(b − a).
+    ``lo_direction``/``hi_direction`` are exact vectors whose headings are the ends (e.g. c − b and d − a for
+    Prop. 2).
     """
 
-    interval: Interval
     lo_direction: Direction
     hi_direction: Direction
 
     @property
-    def lo(self) -> float:
-        """The interval's lower end (radians)."""
-        return self.interval.lo
-
-    @property
-    def hi(self) -> float:
-        """The interval's upper end (radians)."""
-        return self.interval.hi
-
-    @property
-    def width(self) -> float:
-        """The interval's width (radians; 0 for a single heading)."""
-        return self.interval.width
+    def interval(self) -> Interval:
+        """The plain interval [lo, hi], without the directions."""
+        return Interval(self.lo, self.hi)
 
 
 @dataclass(frozen=True, slots=True)
@@ -329,7 +319,7 @@ class SafeSet:
         return Interval.EMPTY if widest is None else widest.interval
 
     def __contains__(self, theta: float) -> bool:
-        return any(theta in piece.interval for piece in self.intervals)
+        return any(theta in piece for piece in self.intervals)
 
     def __len__(self) -> int:
         return len(self.intervals)
@@ -401,8 +391,7 @@ def safe_action(src: object, dst: object) -> SafeAction:
     if bounds is None:
         return SafeAction(Interval.EMPTY, None, None, side, phi)
     lo, hi = bounds
-    interval = _interval(e, lo.direction, hi.direction, _hcmp(e, lo.direction, hi.direction) == 0)
-    return SafeAction(interval, lo.direction, hi.direction, side, phi)
+    return SafeAction(_interval(e, lo.direction, hi.direction).interval, lo.direction, hi.direction, side, phi)
 
 
 def _transition(src: _Seg, dst: _Seg) -> Transition:
@@ -540,10 +529,7 @@ def _safe_set(env: Environment, src: _Seg, dst: _Seg) -> SafeSet:
         if found is not None:
             blocked.append(found)
     pieces = _subtract(e, bounds[0], bounds[1], blocked)
-    return SafeSet(tuple(
-        SafeInterval(_interval(e, p.direction, q.direction, _hcmp(e, p.direction, q.direction) == 0), p.direction, q.direction)
-        for p, q in pieces
-    ))
+    return SafeSet(tuple(_interval(e, p.direction, q.direction) for p, q in pieces))
 
 
 def _edges_meeting_hull(env: Environment, src: _Seg, dst: _Seg) -> list[int]:

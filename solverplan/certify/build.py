@@ -150,7 +150,7 @@ def certificate(result: Any, *, env: Environment | None = None,
     Raises
     ------
     NothingToCertify
-        The answer is infeasible / not found, or a plan has no stages.
+        The answer is not found (or infeasible without a proof the checker can re-derive).
     InputError
         ``env`` is not the answer's environment.
     TypeError
@@ -221,9 +221,6 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None, budget: A
     if not plan.found:
         return _infeasible(plan.status, plan.objective, plan.start, plan.goal, plan.max_bounces, plan.optimality,
                            plan.reason, env, plan.margins)
-    if not plan.stages:
-        raise NothingToCertify("the plan has no stages (its start set lies in its goal set): there is nothing to certify",
-                               why="the plan has no stages (certificates certify plans)")
     part = part if part is not None else make_partition(env)
     plan.check_environment(env, len(part.segments))
     stages = [StageSpec(stage.interval, _plan_moves(part, stage.moves, stage.sources)) for stage in plan.stages]
@@ -234,7 +231,7 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None, budget: A
     # a stage that leaves from a piece of a segment (a landing unit between the query's set ends) is covered by the
     # exact images of the stage before it, not by whole target segments
     from_pieces = any(stage.sources for stage in plan.stages[1:])
-    targets: Literal["image", "segment"] = ("image" if on_walls or from_pieces or set(plan.stages[-1].to_segments) & partial
+    targets: Literal["image", "segment"] = ("image" if on_walls or from_pieces or (plan.stages and set(plan.stages[-1].to_segments) & partial)
                                             else "segment")
     opt = plan.optimality
     proved = opt.proved
@@ -242,6 +239,9 @@ def _plan(plan: Plan, env: Environment | None, part: Partition | None, budget: A
     if proved and opt.bound is not None and value is not None and opt.bound - value > _PROVED_SLACK * len(plan.stages):
         proved = False  # an LP/MILP bound with a visible gap: claim the bound, not optimality
     claimed = ClaimedOptimality(method=str(opt.method), proved=proved, bound=None if opt.bound is None else Fraction(opt.bound))
+    if not plan.stages and not (plan.start and plan.goal):
+        raise NothingToCertify("the plan has no stages and records no start and goal sets: there is nothing to certify",
+                               why="a plan of no stages without its start and goal sets")
     start = plan.start if plan.start else list(plan.stages[0].from_segments)
     goal = plan.goal if plan.goal else list(plan.stages[-1].to_segments)
     cert = build_certificate(env, part, stages, start=start, goal=goal, kind="plan", objective=plan.objective,
@@ -289,6 +289,8 @@ def _with_bound(cert: Certificate, plan: Plan, env: Environment, budget: int | N
     from solverplan.certify.negative import NoBound, bound_claim, heading_margin_of, tolerance_bound
 
     opt = plan.optimality
+    if not plan.stages:
+        return cert  # 0 bounces and no heading constraint: optimal for every objective, nothing to bound
     if not opt.proved or plan.start is None or plan.goal is None or plan.objective not in ("fewest", "tolerance", "constant"):
         return cert
     delta = heading_margin_of(plan.margins, opt.scope)

@@ -175,6 +175,7 @@ WIDTH_SLACK = Fraction(1, 10**9)
 """How far below the exact value a claimed width (or inside the cone a claimed interval end) may be."""
 
 _ZERO = Fraction(0)
+_PI_FLOOR = Fraction(314159265358979323846, 10**20)  # π's first 21 digits: below π, above the double nearest it
 _ONE = Fraction(1)
 
 
@@ -488,6 +489,11 @@ def check_certificate(
     return checker.report()
 
 
+def _a(word: str) -> str:
+    """``word`` with its indefinite article (an infeasible, a plan)."""
+    return f"{'an' if word[:1] in 'aeiou' else 'a'} {word}"
+
+
 class CheckStopped(Exception):
     """The check was told to stop (``stop``, :func:`check_certificate`) before deciding: no verdict at all."""
 
@@ -551,6 +557,8 @@ class _Checker:
                     f"any heading inside each stage's interval, the robot never leaves the cycle's segments and converges "
                     f"to the fixed point t = {_num(cert.cycle.fixed_point)}, by at least the factor "
                     f"{_num(cert.cycle.contraction)} < 1 per cycle; every interval is at least {width} rad wide"]
+        if not cert.stages:
+            return ["the start set lies in the goal set: the robot is there with no bounce (a plan of 0 stages)"]
         out = [f"from every point of the start set, executing at stage j any heading inside its interval lands the robot "
                f"in the goal set after {k} bounce{'s' if k != 1 else ''}; every interval is at least {width} rad wide"]
         if cert.kind in ("funnel", "localize"):
@@ -573,6 +581,10 @@ class _Checker:
         if cert.bound is not None:
             self.check_bound(cert.bound)
         if cert.kind == "infeasible":
+            self.check_objective(self.bound_ok)  # the objective the query asked for: a known one, at least
+            return
+        if not cert.stages:
+            self.check_no_stages()
             return
         results: list[list[_MoveResult | None]] = []
         for k, stage in enumerate(cert.stages):
@@ -590,6 +602,29 @@ class _Checker:
             self.check_cycle(cert.cycle, results)
         if cert.kind == "localize":
             self.check_epsilon()
+
+    def check_no_stages(self) -> None:
+        """A plan or funnel of no stages: its start set lies in its goal set (exactly), it claims 0 bounces and a
+        width no wider than the whole heading range (0, π)."""
+        cert, claims = self.cert, self.cert.claims
+        goal = _merged((p.edge, p.t0, p.t1) for p in (cert.goal or ()))
+        for i, piece in enumerate(cert.start):
+            self.counts["links"] += 1
+            gap = uncovered(piece.t0, piece.t1, goal.get(piece.edge, []))
+            if gap is not None:
+                self.fail("stages", f"none, but t in ({_num(gap[0])}, {_num(gap[1])}) of edge {piece.edge} (part of "
+                                    f"start[{i}]) is not in the goal set")
+        if claims.bounces != 0:
+            self.fail("claims.bounces", f"claims {claims.bounces}, the certificate has no stages")
+        if claims.tolerance * 2 != claims.min_width:
+            self.fail("claims.tolerance", f"claims {_num(claims.tolerance)}, but min_width / 2 = {_num(claims.min_width / 2)}")
+        if not 0 <= claims.min_width < _PI_FLOOR:
+            self.fail("claims.min_width", f"claims {_num(claims.min_width)}, outside [0, π) (the width of headings no "
+                                          f"stage constrains)")
+        if claims.sum_width not in (None, 0):
+            self.fail("claims.sum_width", f"claims {_num(claims.sum_width)}, but there are no stages to add up")
+        self.check_optimality()
+        self.check_objective(self.optimality_rederived)
 
     # ------------------------------------------------------------------ environment
     def check_expected(self, expected: Sequence[Sequence[Point]]) -> None:
@@ -1369,8 +1404,8 @@ class _Checker:
         if objective not in OBJECTIVES.get(kind, ()):
             others = sorted({k for k, known in OBJECTIVES.items() if objective in known} - {"infeasible"})
             self.fail("claims.objective", f"{_quote(objective)} is an objective of {', '.join(others)} certificates, not of "
-                                          f"a {kind} certificate" if others else
-                      f"unknown objective {_quote(objective)}: a {kind} certificate names one of "
+                                          f"{_a(kind)} certificate" if others else
+                      f"unknown objective {_quote(objective)}: {_a(kind)} certificate names one of "
                       f"{', '.join(OBJECTIVES.get(kind, ()))}")
         elif objective == "sum" and claims.sum_width is None and kind == "plan":
             self.fail("claims.objective", "the objective is the sum of widths, but claims.sum_width is missing")

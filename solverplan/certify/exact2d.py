@@ -100,21 +100,31 @@ def affine_coefficients(a: Point, e_s: Point, c: Point, e_t: Point, d: Point) ->
 
 # ======================================================================= polygons
 def convex_hull(points: Iterable[Point]) -> list[Point]:
-    """Counter-clockwise convex hull, collinear points dropped (Andrew's monotone chain, exact)."""
+    """Counter-clockwise convex hull, collinear points dropped, from the lexicographically least point
+    (gift wrapping, exact).
+
+    The least point (smallest x, then smallest y) is a corner of the hull. From a corner p the next corner is
+    the point q with no point strictly to the right of the line p → q, the farthest from p among those collinear
+    with it (so points inside a hull edge are skipped); the walk ends back at the first corner. Points all on one
+    line give the two ends of their segment, fewer than three distinct points themselves.
+
+    >>> convex_hull([(0, 0), (2, 0), (1, 0), (2, 2), (1, 1), (0, 2)])
+    [(0, 0), (2, 0), (2, 2), (0, 2)]
+    """
     pts = sorted(set(points))
     if len(pts) < 3:
         return pts
-
-    def chain(seq: Sequence[Point]) -> list[Point]:
-        out: list[Point] = []
-        for p in seq:
-            while len(out) >= 2 and cross(sub(out[-1], out[-2]), sub(p, out[-2])) <= 0:
-                out.pop()
-            out.append(p)
-        return out
-
-    lower, upper = chain(pts), chain(pts[::-1])
-    return lower[:-1] + upper[:-1]
+    hull = [pts[0]]
+    while True:
+        p = hull[-1]
+        q = pts[0] if p != pts[0] else pts[1]
+        for r in pts:
+            turn = orient(p, q, r)
+            if turn < 0 or (turn == 0 and dot(sub(r, p), sub(r, p)) > dot(sub(q, p), sub(q, p))):
+                q = r
+        if q == hull[0]:
+            return hull
+        hull.append(q)
 
 
 def clip_segment(a: Point, b: Point, hull: Sequence[Point]) -> tuple[Fraction, Fraction] | None:

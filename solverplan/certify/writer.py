@@ -180,7 +180,8 @@ def build_certificate(
     env, part
         The environment and its partition P′ (:func:`solverplan.bounce.partitions.partition`).
     stages
-        The stages in order, each a heading interval and its moves.
+        The stages in order, each a heading interval and its moves; none for a plan or funnel whose start set
+        lies in its goal set (the checker then checks that inclusion, exactly).
     start, goal
         Boundary sets (``"e3:0.25:0.75,e4"``, a :class:`~solverplan.environment.BoundarySet`, boundary
         pieces, or a list of segment ids); a cycle has no goal.
@@ -215,8 +216,9 @@ def build_certificate(
         eps = to_fraction(repr(epsilon) if isinstance(epsilon, float) else epsilon, where="epsilon")
         if eps <= 0:
             raise InputError(f"epsilon {epsilon!r} must be a positive length")
-    if not stages:
-        raise InputError("a certificate needs at least one stage")
+    if not stages and (kind not in ("plan", "funnel") or goal is None):
+        raise InputError("a certificate needs at least one stage (only a plan or funnel whose start set lies in its "
+                         "goal set has none)")
     if (kind == "cycle") != (cycle is not None):
         raise InputError("give a CycleSpec exactly when kind='cycle'")
     mode = targets or ("segment" if kind == "plan" else "image")
@@ -255,7 +257,8 @@ def build_certificate(
                                       for part in _on_wall(env, r.target_edge, r.image))
         out_stages.append(Stage(tuple(records), interval, positions))
 
-    min_width = min(widths)
+    # no stages: no interval constrains the heading, so the narrowest is the whole range (0, π), as the planner says
+    min_width = min(widths) if widths else Fraction(math.pi)
     claims = Claims(
         bounces=len(out_stages),
         min_width=min_width,
@@ -301,7 +304,10 @@ def _segments_ending_at(env: Environment, part: Partition, edge: int, ts: Sequen
     """The segments of P′ on the straight wall through ``edge`` that begin or end at the points of parameters ``ts``
     of its line: named in the certificate, they account for the ends of a source that is a run of segments."""
     a, e = _edge_vector(env, edge)
-    points = {(a[0] + t * e[0], a[1] + t * e[1]) for t in ts}
+    # an end at a vertex is an end of an edge, which needs no segment to account for it (naming one anyway would be
+    # a claim the certificate could drop and stay valid)
+    vertices = {v for ring in env.rings for v in ring}
+    points = {(a[0] + t * e[0], a[1] + t * e[1]) for t in ts} - vertices
 
     def on_line(x: Point) -> bool:
         return (x[0] - a[0]) * e[1] - (x[1] - a[1]) * e[0] == 0

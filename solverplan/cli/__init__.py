@@ -8,14 +8,16 @@ Exit codes: 0 answered; 1 internal failure; 2 bad input — one line on stderr
 (``error: <message>``), no traceback, nothing written. :func:`exit_codes` maps library errors;
 the :class:`Shell` group does the same for usage errors (unknown option, bad choice).
 
-Adding a command::
+Adding a command (its own options one a line through ``Annotated`` aliases; the options commands end with, such as
+--env-format, --format, -o and -v, added by :func:`~solverplan.cli._options.common_options` and given to it as one
+value)::
 
-    @app.command()
-    def partition(env: EnvArg, env_format: EnvFormatOpt = None, fmt: FormatOpt = OutputFormat.JSON,
-                  out: OutOpt = None, verbose: VerboseOpt = 0) -> None:
+    @app.command(name="partition")
+    @common_options("env_format", "fmt", "out", "verbose")
+    def partition_command(env: EnvArg, *, common: CommonOptions) -> None:
         \"\"\"The partition P′ of Algorithm 1.\"\"\"
-        with exit_codes(verbose):
-            emit(partition_environment(load_environment(env, env_format)), fmt, out)
+        with common.loaded(env) as environment:
+            common.emit(partition_boundary(environment))
 """
 
 from __future__ import annotations

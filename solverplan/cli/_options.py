@@ -3,17 +3,22 @@
 from __future__ import annotations
 
 import contextlib
+import functools
+import inspect
 import logging
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Iterator
+from typing import TYPE_CHECKING, Annotated, Any, Callable, ContextManager, Iterator
 
 import typer
 
 from solverplan._io import cannot_write
 from solverplan.choices import RoomRule, ScenarioName, or_all
-from solverplan.cli._output import OutputFormat, emit
+from solverplan.cli._app import EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, load_env, loaded
+from solverplan.cli._errors import exit_codes
+from solverplan.cli._output import EnvFormat, OutputFormat, emit
 from solverplan.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -22,6 +27,7 @@ logger = logging.getLogger(__name__)
 # checker sees as the base ``Choice``.
 if TYPE_CHECKING:
     from solverplan.choices import Choice as RoomRuleOrAll, Choice as ScenarioOrAll
+    from solverplan.environment import Environment
 else:
     RoomRuleOrAll = or_all(RoomRule)
     ScenarioOrAll = or_all(ScenarioName)
@@ -185,15 +191,119 @@ def save_picture(picture: Path | None, renderer: str, *args: Any) -> None:
     save_figure(draw(*args), picture)
 
 
-def emit_checked(checked: Any, fmt: OutputFormat, out: Path | None, *, env: Any = None, certificate: Path | None = None,
-                 picture: Path | None = None, renderer: str = "", draw: tuple = ()) -> None:
-    """The end of a command whose answer passed the exact gate (:func:`~solverplan.certify.gate.checked_answer`):
-    its --certificate (the certificate the gate checked), its --picture (``renderer(answer, *draw)``, by default the
-    picture of its kind: see :func:`save_picture`), then the answer itself."""
-    answer = checked.answer
-    if certificate is not None and checked.stopped:
-        sys.stderr.write(f"warning: no certificate written to {certificate}: {checked.unchecked}\n")
-    elif certificate is not None:
-        write_certificate_file(answer, certificate, env, checked.certificate)
-    save_picture(picture, renderer, answer, *draw)
-    emit(answer, fmt, out)
+_COMMON: dict[str, tuple[Any, Any]] = {
+    "heading_margin": (HeadingMarginOpt, 1e-3),
+    "corner_clearance": (CornerClearanceOpt, None),
+    "timeout": (TimeoutOpt, None),
+    "certificate": (CertificateOpt, None),
+    "picture": (PictureOpt, None),
+    "env_format": (EnvFormatOpt, None),
+    "fmt": (FormatOpt, OutputFormat.JSON),
+    "out": (OutOpt, None),
+    "verbose": (VerboseOpt, 0),
+}
+"""The options commands end with: name → (annotated type, default), in the order ``--help`` lists them."""
+
+
+@dataclass(frozen=True)
+class CommonOptions:
+    """The options a command ends with (:func:`common_options`), given to it as one value: the searches' heading margin,
+    corner clearance and --timeout, the answer's --certificate and --picture (where the command has them), the
+    environment file's --env-format, the answer's --format and -o file, -v.
+
+    Its methods are the steps the commands share: load the environment, map errors to exit codes, emit."""
+
+    heading_margin: float = 1e-3
+    corner_clearance: float | None = None
+    timeout: float | None = None
+    certificate: Path | None = None
+    picture: Path | None = None
+    env_format: EnvFormat | None = None
+    fmt: Any = OutputFormat.JSON
+    out: Path | None = None
+    verbose: int = 0
+
+    def search(self) -> dict[str, Any]:
+        """A search's keywords of these options: ``heading_margin``, ``corner_clearance`` and ``timeout`` (the
+        running deadline of :func:`command_timeout`)."""
+        return {"heading_margin": self.heading_margin, "corner_clearance": self.corner_clearance,
+                "timeout": command_timeout(self.timeout)}
+
+    def exit_codes(self) -> ContextManager[None]:
+        """The command body's errors as one line and an exit code (:func:`~solverplan.cli._errors.exit_codes`)."""
+        return exit_codes(self.verbose)
+
+    def loaded(self, env: Path) -> ContextManager[Environment]:
+        """The environment ``env`` loaded inside :meth:`exit_codes` (a bad --picture path refused first)."""
+        return loaded(env, self.env_format, self.picture, verbose=self.verbose)
+
+    def load(self, env: Path) -> Environment:
+        """The environment ``env`` (a bad --picture path refused first), inside a body already under :meth:`exit_codes`."""
+        return load_env(env, self.env_format, self.picture)
+
+    def emit(self, answer: Any) -> None:
+        """The answer in the --format asked, on stdout or to the -o file."""
+        emit(answer, self.fmt, self.out)
+
+    def emit_checked(self, checked: Any, *, env: Any = None, certificate: Path | None = None, draw_picture: bool = True,
+                     renderer: str = "", draw: tuple = ()) -> None:
+        """The end of a command whose answer passed the exact gate (:func:`~solverplan.certify.gate.checked_answer`):
+        its --certificate (the certificate the gate checked; ``certificate``: a command's own option instead), its
+        --picture unless ``draw_picture`` is false (``renderer(answer, *draw)``, by default the picture of its kind:
+        see :func:`save_picture`), then the answer itself."""
+        answer = checked.answer
+        certificate = certificate if certificate is not None else self.certificate
+        if certificate is not None and checked.stopped:
+            sys.stderr.write(f"warning: no certificate written to {certificate}: {checked.unchecked}\n")
+        elif certificate is not None:
+            write_certificate_file(answer, certificate, env, checked.certificate)
+        save_picture(self.picture if draw_picture else None, renderer, answer, *draw)
+        self.emit(answer)
+
+
+def common_options(*names: str, **own: tuple[Any, Any]) -> Callable[[Callable[..., Any]], Callable[..., None]]:
+    """Decorate a command that takes the common options ``names`` (keys of :data:`_COMMON`; ``own``: a name given
+    another annotated type and default, e.g. graph's ``--format``) as one keyword ``common`` (:class:`CommonOptions`).
+
+    typer reads a command's options from its signature: the decorated command's signature is the command's own
+    parameters followed by these options, in the order of :data:`_COMMON`, so ``--help`` lists them last as
+    before, and each is written once here instead of at the end of every command."""
+    if not set(names) <= set(_COMMON) or not set(own) <= set(names):
+        raise ValueError(f"common options are among {list(_COMMON)} and own types are for names given: {names}, {list(own)}")
+    chosen = {name: own.get(name, _COMMON[name]) for name in _COMMON if name in names}
+    return lambda command: _WithCommonOptions(command, chosen)
+
+
+class _WithCommonOptions:
+    """A command of :func:`common_options`: called with its own options and the common ones, it calls the command
+    with its own and one :class:`CommonOptions`.
+
+    What typer reads of it — its signature, with the command's annotations evaluated (they are strings, ``from
+    __future__``), and its annotations — is made when typer first asks: a process builds one command
+    (cli/_startup.py), and evaluating every command's option annotations would cost every start ≈ 20 ms."""
+
+    def __init__(self, command: Callable[..., Any], chosen: dict[str, tuple[Any, Any]]) -> None:
+        self.__wrapped__ = command
+        self.__module__, self.__name__ = command.__module__, command.__name__
+        self.__qualname__, self.__doc__ = command.__qualname__, command.__doc__
+        self._chosen = chosen
+
+    def __call__(self, **values: Any) -> None:
+        common = CommonOptions(**{name: values.pop(name) for name in self._chosen})
+        self.__wrapped__(**values, common=common)
+
+    @functools.cached_property
+    def __signature__(self) -> inspect.Signature:
+        command = self.__wrapped__
+        namespace = inspect.unwrap(command).__globals__
+        parameters = [p.replace(annotation=eval(p.annotation, namespace)) if isinstance(p.annotation, str) else p
+                      for p in inspect.signature(command).parameters.values() if p.name != "common"]
+        for name, (annotation, default) in self._chosen.items():
+            parameters.append(inspect.Parameter(name, inspect.Parameter.POSITIONAL_OR_KEYWORD, default=default,
+                                                annotation=annotation))
+        # the return annotation is left out: it may name a class imported for type checkers only (generate's)
+        return inspect.Signature(parameters, return_annotation=None)
+
+    @functools.cached_property
+    def __annotations__(self) -> dict[str, Any]:  # type: ignore[override]
+        return {p.name: p.annotation for p in self.__signature__.parameters.values()} | {"return": None}

@@ -7,9 +7,9 @@ from pathlib import Path
 import typer
 
 from solverplan.errors import InputError
-from solverplan.cli._app import FormatOpt, OutOpt, VerboseOpt, app
-from solverplan.cli._errors import Shell, exit_codes
-from solverplan.cli._output import OutputFormat, emit
+from solverplan.cli._app import app
+from solverplan.cli._errors import Shell
+from solverplan.cli._options import CommonOptions, common_options
 
 
 cache_app = typer.Typer(
@@ -31,18 +31,20 @@ def _cache_folder() -> Path:
 
 
 @cache_app.command(name="info")
-def cache_info_command(fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None, verbose: VerboseOpt = 0) -> None:
+@common_options("fmt", "out", "verbose")
+def cache_info_command(*, common: CommonOptions) -> None:
     """The graph cache's folder, its entries and bytes, its size cap and write threshold."""
     from solverplan.bounce import bvg
 
-    with exit_codes(verbose):
-        emit(bvg.graph_cache_report(_cache_folder()), fmt, out)
+    with common.exit_codes():
+        common.emit(bvg.graph_cache_report(_cache_folder()))
 
 
 @cache_app.command(name="clear")
-def cache_clear_command(fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None, verbose: VerboseOpt = 0) -> None:
+@common_options("fmt", "out", "verbose")
+def cache_clear_command(*, common: CommonOptions) -> None:
     """Remove every graph of the cache (its own files only: nothing else in the folder is touched)."""
     from solverplan.bounce import bvg
 
-    with exit_codes(verbose):
-        emit(bvg.purge_graph_cache(_cache_folder()), fmt, out)
+    with common.exit_codes():
+        common.emit(bvg.purge_graph_cache(_cache_folder()))

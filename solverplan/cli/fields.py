@@ -9,12 +9,13 @@ import typer
 
 from solverplan.choices import CellKind, Reflections, RobotKind, ScenarioName, StartMode
 from solverplan.limits import MAX_SEED, MAX_TRAJECTORIES
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, loaded
-from solverplan.cli._options import CertificateOpt, PictureOpt, ScenarioOrAll, emit_checked, parse_xy
-from solverplan.cli._output import OutputFormat, emit_string, json_text
+from solverplan.cli._app import EnvArg, app
+from solverplan.cli._options import CommonOptions, ScenarioOrAll, common_options, parse_xy
+from solverplan.cli._output import emit_string, json_text
 
 
 @app.command(name="fields")
+@common_options("certificate", "picture", "env_format", "fmt", "out", "verbose")
 def fields_command(
     env: EnvArg,
     start: Annotated[str, typer.Option("--from", metavar="X,Y", help="The start, a point of the free space.")],
@@ -38,21 +39,17 @@ def fields_command(
     cells: Annotated[CellKind, typer.Option("--cells", help="convex: Hertel–Mehlhorn cells; corners: with the reflex corners projected along their walls, so turns get corner cells (reflection candidates).")] = CellKind.CONVEX,
     starts: Annotated[StartMode, typer.Option("--starts", help="fixed: every trial from --from; random: each trial from a uniform random point of the free space (seeded, the same in every scenario).")] = StartMode.FIXED,
     export: Annotated[Path | None, typer.Option("--export", metavar="FIELD.json", help="Also write the composed field for a controller (cells as half-planes, fields, reflection zones), atomically.", show_default=False)] = None,
-    certificate: CertificateOpt = None,
-    picture: PictureOpt = None,
-    env_format: EnvFormatOpt = None,
-    fmt: FormatOpt = OutputFormat.JSON,
-    out: OutOpt = None,
-    verbose: VerboseOpt = 0,
+    *,
+    common: CommonOptions,
 ) -> None:
     """Composed local potential fields in convex cells, with reflection (Stager and Tanner): cells, sequence, reflection cells and scenario statistics."""
     from solverplan.certify.gate import checked_answer
     from solverplan.reflection.navigation import navigate_fields
 
-    with loaded(env, env_format, picture, verbose=verbose) as environment:
+    with common.loaded(env) as environment:
         names = ScenarioName.values() if scenario == "all" else (scenario.value,)
         if trajectories is None:  # a picture without runs shows empty corridors: draw a few by default
-            trajectories = min(5, trials) if picture is not None else 0
+            trajectories = min(5, trials) if common.picture is not None else 0
         robot = _robot(model, accel, restitution, control_rate)
         checked = checked_answer(lambda: navigate_fields(
             environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names, model=robot,
@@ -61,7 +58,7 @@ def fields_command(
             goal_radius=goal_radius, dead_band=dead_band), env=environment)
         if export is not None:  # its cells and fields checked exactly before it leaves
             emit_string(json_text(checked.answer.plan.export(), 1) + "\n", export)
-        emit_checked(checked, fmt, out, env=environment, certificate=certificate, picture=picture)
+        common.emit_checked(checked, env=environment)
 
 
 def _robot(model: RobotKind, accel: float, restitution: float, control_rate: float) -> Any:

@@ -8,13 +8,13 @@ from typing import Annotated
 import typer
 
 from solverplan.choices import FloorplanFormat
-from solverplan.cli._app import FormatOpt, VerboseOpt, app, check_picture
-from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import PictureOpt, parse_pair
-from solverplan.cli._output import OutputFormat, emit
+from solverplan.cli._app import app, check_picture
+from solverplan.cli._options import CommonOptions, common_options, parse_pair, save_picture
+from solverplan.cli._output import emit
 
 
 @app.command(name="import")
+@common_options("picture", "fmt", "verbose")
 def import_command(
     plan: Annotated[Path, typer.Argument(metavar="FILE", help="A ROS map (MAP.yaml with its PGM/PNG image), PLAN.dxf or PLAN.svg.", show_default=False)],
     output: Annotated[Path, typer.Option("-o", "--output", metavar="ENV", help="Environment file to write (atomically; .json, .geojson or .wkt).", show_default=False)],
@@ -33,26 +33,21 @@ def import_command(
     scale: Annotated[str | None, typer.Option("--scale", metavar="S", help="SVG: metres per SVG user unit (default: from width/height with units, else 1).", show_default=False)] = None,
     tolerance: Annotated[float | None, typer.Option("--tolerance", metavar="M", help="DXF/SVG: largest distance between a curve and its chords (output units; default 0.01).", show_default=False)] = None,
     input_format: Annotated[FloorplanFormat | None, typer.Option("--input-format", help="ros, dxf or svg, when the extension does not say.", show_default=False)] = None,
-    picture: PictureOpt = None,
-    fmt: FormatOpt = OutputFormat.JSON,
-    verbose: VerboseOpt = 0,
+    *,
+    common: CommonOptions,
 ) -> None:
     """Real floor plans in: a ROS occupancy map, DXF or SVG drawing to an environment file (summary on stdout)."""
     from solverplan.floorplan import import_floorplan
 
-    with exit_codes(verbose):
-        check_picture(picture)
+    with common.exit_codes():
+        check_picture(common.picture)
         point = parse_pair(seed_point, "--seed-point")
-        answer = import_floorplan(plan, output=output, fmt=input_format.value if input_format else None,
+        answer = import_floorplan(plan, output=output, fmt=input_format,
                                   seed_point=point, simplify=simplify, min_hole_area=min_hole_area,
                                   min_obstacle=min_obstacle, spur_width=spur_width, rectilinear=rectilinear,
                                   layer=layer, units=units, scale=scale, tolerance=tolerance, snap=snap,
                                   max_jamb=max_jamb, robot_radius=robot_radius, keepout=keepout)
         for warning in answer.warnings:
             typer.echo(f"warning: {warning}", err=True)
-        if picture is not None:
-            from solverplan.render import save_figure
-            from solverplan.render.floorplan import render_import
-
-            save_figure(render_import(answer), picture)
-        emit(answer, fmt, None)
+        save_picture(common.picture, "floorplan.render_import", answer)
+        emit(answer, common.fmt, None)

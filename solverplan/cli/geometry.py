@@ -11,63 +11,51 @@ import typer
 from solverplan.choices import GraphFormat
 from solverplan.limits import MAX_BOUNCES, MAX_SEED, MAX_TRAJECTORIES
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env, loaded
-from solverplan.cli._errors import exit_codes
+from solverplan.cli._app import EnvArg, app
+from solverplan.cli._options import CommonOptions, common_options
 from solverplan.cli._output import OutputFormat, emit, emit_chunks, emit_string, json_indent
 
 logger = logging.getLogger(__name__)
 
 @app.command()
-def info(
-    env: EnvArg,
-    env_format: EnvFormatOpt = None,
-    fmt: FormatOpt = OutputFormat.JSON,
-    out: OutOpt = None,
-    verbose: VerboseOpt = 0,
-) -> None:
+@common_options("env_format", "fmt", "out", "verbose")
+def info(env: EnvArg, *, common: CommonOptions) -> None:
     """Describe an environment: vertices, rings, edges (id, ring, end points, length), reflex vertices, area, perimeter."""
-    with loaded(env, env_format, verbose=verbose) as environment:
+    with common.loaded(env) as environment:
         logger.info("loaded %r: %d vertices, %d holes", environment.name, environment.n_vertices, len(environment.holes))
         from solverplan.describe import describe_environment
 
-        emit(describe_environment(environment), fmt, out)
+        common.emit(describe_environment(environment))
 
 
 @app.command(name="partition")
-def partition_command(
-    env: EnvArg,
-    env_format: EnvFormatOpt = None,
-    fmt: FormatOpt = OutputFormat.JSON,
-    out: OutOpt = None,
-    verbose: VerboseOpt = 0,
-) -> None:
+@common_options("env_format", "fmt", "out", "verbose")
+def partition_command(env: EnvArg, *, common: CommonOptions) -> None:
     """The partition P′ of Algorithm 1: vertices per ring, segments (id, edge, t0, t1, a, b), inserted points."""
     from solverplan.bounce.partitions import partition as partition_boundary
 
-    with loaded(env, env_format, verbose=verbose) as environment:
-        emit(partition_boundary(environment), fmt, out)
+    with common.loaded(env) as environment:
+        common.emit(partition_boundary(environment))
+
+
+GraphFormatOpt = Annotated[GraphFormat, typer.Option("--format", help="JSON (docs/contract.md), text, GraphML or Graphviz DOT.")]
 
 
 @app.command(name="graph")
+@common_options("env_format", "fmt", "out", "verbose", fmt=(GraphFormatOpt, GraphFormat.JSON))
 def graph_command(
     env: EnvArg,
     safe: Annotated[bool, typer.Option("--safe", help="Label every arc with its exact safe headings (paper §5).")] = False,
-    source: Annotated[
-        int | None, typer.Option("--from", metavar="SEG", help="Only the arcs leaving segment SEG of P′.", show_default=False)
-    ] = None,
-    heading: Annotated[
-        float | None,
-        typer.Option("--heading", metavar="THETA", help="Only the arcs whose safe set holds heading THETA (radians, in (0, π)); implies --safe.", show_default=False),
-    ] = None,
-    env_format: EnvFormatOpt = None,
-    fmt: Annotated[GraphFormat, typer.Option("--format", help="JSON (docs/contract.md), text, GraphML or Graphviz DOT.")] = GraphFormat.JSON,
-    out: OutOpt = None,
-    verbose: VerboseOpt = 0,
+    source: Annotated[int | None, typer.Option("--from", metavar="SEG", help="Only the arcs leaving segment SEG of P′.", show_default=False)] = None,
+    heading: Annotated[float | None, typer.Option("--heading", metavar="THETA", help="Only the arcs whose safe set holds heading THETA (radians, in (0, π)); implies --safe.", show_default=False)] = None,
+    *,
+    common: CommonOptions,
 ) -> None:
     """The bounce visibility graph of P′: arcs between segments that see each other; with --safe, their safe headings."""
     from solverplan.bounce.bvg import safe_bounce_visibility_graph
 
-    with loaded(env, env_format, verbose=verbose) as environment:
+    out, fmt = common.out, common.fmt
+    with common.loaded(env) as environment:
         graph = safe_bounce_visibility_graph(environment)
         logger.info("safe BVG: %d segments, %d arcs, %d safe (%.3f s)", graph.n_segments, graph.n_arcs, graph.n_safe_arcs,
                     graph.stats.get("seconds_total", 0.0))
@@ -102,6 +90,7 @@ DrawPlanOpt = Annotated[Path | None, typer.Option("--plan", metavar="PLAN.json",
 
 
 @app.command()
+@common_options("env_format", "fmt", "verbose")
 def render(
     env: EnvArg,
     out: PictureOutOpt,
@@ -119,21 +108,20 @@ def render(
     show_cycle: ShowCycleOpt = False,
     cycle_theta: CycleThetaOpt = None,
     plan_file: DrawPlanOpt = None,
-    env_format: EnvFormatOpt = None,
-    fmt: FormatOpt = OutputFormat.JSON,
-    verbose: VerboseOpt = 0,
+    *,
+    common: CommonOptions,
 ) -> None:
     """Draw an environment to a PNG or SVG file; prints {"written": FILE, ...}."""
     from solverplan.render import figure_format, save_figure, scene
 
-    with exit_codes(verbose):
+    with common.exit_codes():
         figure_format(out)  # a bad extension is reported before any work
         from solverplan.bounce.rules import parse_rule
 
         bounce_rule = parse_rule(rule)
         if show_cycle != (cycle_theta is not None):
             raise InputError("--cycle and --theta go together: --cycle draws the limit cycle of the heading --theta")
-        environment = load_env(env, env_format)
+        environment = common.load(env)
         if start is not None:
             environment.boundary_set(start)  # a bad start set is reported before drawing
         plan = None
@@ -146,4 +134,4 @@ def render(
         figure = scene(environment, edge_ids=edge_ids, vertex_ids=vertex_ids, reflex=reflex, partition=show_partition,
                        graph=show_graph, safe_arcs=safe_arcs, plan=plan, cycle=cycle_theta, trajectories=trajectories,
                        rule=bounce_rule, start=start, bounces=bounces, seed=seed)
-        emit(save_figure(figure, out), fmt, None)
+        emit(save_figure(figure, out), common.fmt, None)

@@ -9,10 +9,9 @@ import typer
 
 from solverplan.choices import StudyGenerator as GeneratorName
 from solverplan.limits import MAX_BOUNCES, MAX_COUNT, MAX_SEED, MAX_TRIALS
-from solverplan.cli._app import FormatOpt, OutOpt, VerboseOpt, app
-from solverplan.cli._errors import Shell, exit_codes, fail
-from solverplan.cli._options import progress_bar
-from solverplan.cli._output import OutputFormat, emit
+from solverplan.cli._app import app
+from solverplan.cli._errors import Shell, fail
+from solverplan.cli._options import CommonOptions, common_options, progress_bar
 
 
 study_app = typer.Typer(
@@ -50,12 +49,12 @@ FigureOpt = Annotated[bool, typer.Option("--figure/--no-figure", help="Draw the 
 
 
 def _study(name: str, generator: GeneratorName, grid: list[str] | None, per_cell: int, seed: int, out_dir: Path | None,
-           workers: int | None, scheduler: str | None, fresh: bool, quiet: bool, figure: bool, fmt: OutputFormat,
-           out: Path | None, verbose: int, **options: Any) -> None:
+           workers: int | None, scheduler: str | None, fresh: bool, quiet: bool, figure: bool, common: CommonOptions,
+           **options: Any) -> None:
     from solverplan.studies import StudyInterrupted, build_study, run_study
     from solverplan.studies.execute import output_paths
 
-    with exit_codes(verbose):
+    with common.exit_codes():
         study = build_study(name, generator=generator.value, grid=grid or (), per_cell=per_cell, seed=seed, **options)
         folder = out_dir if out_dir is not None else Path(f"{study.name}-study")
         try:
@@ -70,45 +69,42 @@ def _study(name: str, generator: GeneratorName, grid: list[str] | None, per_cell
             save_figure(render_heatmaps(result.table.heatmaps(), title=result.figure_title(),
                                         columns=result.table.panel_columns()), path)
             result = result.with_file("figure", path)
-        emit(result, fmt, out)
+        common.emit(result)
 
 
 def _shared_options_study(name: str, summary: str) -> None:
     """Register ``study NAME``: a study that takes the options every study shares, and no others."""
+    @common_options("fmt", "out", "verbose")
     def command(
         generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
         out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
-        quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
-        verbose: VerboseOpt = 0,
+        quiet: QuietOpt = False, figure: FigureOpt = True, *, common: CommonOptions,
     ) -> None:
-        _study(name, generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose)
+        _study(name, generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, common)
 
     command.__doc__, command.__name__ = summary, f"study_{name}"
     study_app.command(name)(command)
 
 
 for _name, _summary in (
-    ("reachability", "Share of the boundary no safe action reaches (safe-BVG nodes without incoming arcs; paper Fig. 15)."),
-    ("connectivity", "Strongly and weakly connected components of the safe BVG (paper Fig. 16)."),
+    ("reachability", "Share of the boundary no safe action reaches (safe-BVG nodes without incoming arcs; paper Figure 15)."),
+    ("connectivity", "Strongly and weakly connected components of the safe BVG (paper Figure 16)."),
 ):
     _shared_options_study(_name, _summary)
 
 
 @study_app.command("rules")
+@common_options("fmt", "out", "verbose")
 def study_rules(
-    rules: Annotated[
-        str, typer.Option("--rules", metavar="F1,F2,...", help="Rule families: any, fixed, monotone, relative, specular, or one rule "
-                          "such as fixed:pi/4.")
-    ] = "any,fixed,monotone,relative,specular",
+    rules: Annotated[str, typer.Option("--rules", metavar="F1,F2,...", help="Rule families: any, fixed, monotone, relative, specular, or one rule such as fixed:pi/4.")] = "any,fixed,monotone,relative,specular",
     family_size: Annotated[int, typer.Option("--family-size", min=1, max=MAX_COUNT, metavar="M", help="Parameters per family: θ = kπ/(M+1).")] = 5,
     trials: Annotated[int, typer.Option("--trials", min=1, max=MAX_TRIALS, metavar="K", help="Simulated robots per environment and family.")] = 200,
     bounces: Annotated[int, typer.Option("--bounces", min=2, max=MAX_BOUNCES, metavar="B", help="Bounces per simulated robot.")] = 50,
     generator: GeneratorOpt = GeneratorName.STAR, grid: GridOpt = None, per_cell: PerCellOpt = 10, seed: StudySeedOpt = 0,
     out_dir: OutDirOpt = None, workers: WorkersOpt = None, scheduler: SchedulerOpt = None, fresh: FreshOpt = False,
-    quiet: QuietOpt = False, figure: FigureOpt = True, fmt: FormatOpt = OutputFormat.JSON, out: OutOpt = None,
-    verbose: VerboseOpt = 0,
+    quiet: QuietOpt = False, figure: FigureOpt = True, *, common: CommonOptions,
 ) -> None:
     """Compare bounce-rule families by the reachability of the systems they induce (paper §8.2; see rule_systems)."""
     families = [f for f in (part.strip() for part in rules.split(",")) if f]
-    _study("rules", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, fmt, out, verbose,
+    _study("rules", generator, grid, per_cell, seed, out_dir, workers, scheduler, fresh, quiet, figure, common,
            families=families, family_size=family_size, trials=trials, bounces=bounces)

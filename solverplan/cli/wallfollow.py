@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Annotated, Any
 
 import typer
@@ -10,13 +9,12 @@ import typer
 from solverplan.choices import Comparisons, Sensor
 from solverplan.limits import MAX_SEED
 from solverplan.errors import InputError
-from solverplan.cli._app import EnvArg, EnvFormatOpt, FormatOpt, OutOpt, VerboseOpt, app, load_env
-from solverplan.cli._errors import exit_codes
-from solverplan.cli._options import CertificateOpt, PictureOpt, parse_pair, save_picture, write_certificate_file
-from solverplan.cli._output import OutputFormat, emit
+from solverplan.cli._app import EnvArg, app
+from solverplan.cli._options import CommonOptions, common_options, parse_pair, save_picture, write_certificate_file
 
 
 @app.command(name="wallfollow")
+@common_options("certificate", "picture", "env_format", "fmt", "out", "verbose")
 def wallfollow_command(
     env: EnvArg,
     cut_ordering: Annotated[bool, typer.Option("--cut-ordering", help="The exact geometric cut ordering (the default).")] = False,
@@ -33,19 +31,15 @@ def wallfollow_command(
     origin: Annotated[str, typer.Option("--from", metavar="POINT", help="With --pursuit: the pursuer's start, a point of the cut ordering (v0, r3).")] = "v0",
     max_states: Annotated[int, typer.Option("--max-states", min=1, max=10_000_000, metavar="N", help="With --pursuit: cap on the derived I-states searched.")] = 200_000,
     perturb: Annotated[bool, typer.Option("--perturb", help="Make a degenerate polygon general by an infinitesimal symbolic perturbation (simulation of simplicity): grazing JUMPs pass one fixed side, coinciding cut end points are ordered one fixed way.")] = False,
-    certificate: CertificateOpt = None,
-    picture: PictureOpt = None,
-    env_format: EnvFormatOpt = None,
-    fmt: FormatOpt = OutputFormat.JSON,
-    out: OutOpt = None,
-    verbose: VerboseOpt = 0,
+    *,
+    common: CommonOptions,
 ) -> None:
     """The wall-following robot (Yershova et al.): cut ordering, Strategy 1, vertex counting, pursuit-evasion."""
-    with exit_codes(verbose):
+    with common.exit_codes():
         _check_modes(cut_ordering, learn, count, pursuit, pursuit_options=(sensor, origin, max_states),
                      learn_options=(transcript, comparisons), place=(start, heading), walk=(steps, seed),
-                     certificate=certificate)
-        environment = load_env(env, env_format, picture)
+                     certificate=common.certificate)
+        environment = common.load(env)
         perturbation = None
         if perturb:
             from solverplan.wallfollow.perturbation import perturb as make_general
@@ -57,12 +51,12 @@ def wallfollow_command(
         mode = "learn" if learn else "count" if count else "pursuit" if pursuit else "cut-ordering"
         answer = _answer(environment, mode, where, towards, comparisons=comparisons, transcript=transcript,
                          steps=steps, seed=seed, sensor=sensor, origin=origin, max_states=max_states)
-        _check_and_draw(environment, answer, mode, certificate, picture)
+        _check_and_draw(environment, answer, mode, common)
         if perturbation is not None:
             from solverplan.wallfollow.perturbation import PerturbedAnswer
 
             answer = PerturbedAnswer(answer, perturbation)
-        emit(answer, fmt, out)
+        common.emit(answer)
 
 
 def _check_modes(cut_ordering: bool, learn: bool, count: bool, pursuit: bool, *, pursuit_options: tuple,
@@ -102,7 +96,7 @@ def _answer(environment: Any, mode: str, where: Any, towards: Any, *, comparison
     return cut_ordering(environment)
 
 
-def _check_and_draw(environment: Any, answer: Any, mode: str, certificate: Path | None, picture: Path | None) -> None:
+def _check_and_draw(environment: Any, answer: Any, mode: str, common: CommonOptions) -> None:
     """The exact check before the answer leaves (a learned ordering: in the true numbering), the --certificate and
     the --picture."""
     learned = answer.ordering.relabel(answer.pebble_vertex) if mode == "learn" else None
@@ -111,9 +105,9 @@ def _check_and_draw(environment: Any, answer: Any, mode: str, certificate: Path 
 
         certified = learned if learned is not None else answer
         checked = checked_answer(lambda: certified, env=environment)
-        if certificate is not None:
-            write_certificate_file(certified, certificate, environment, checked.certificate)
+        if common.certificate is not None:
+            write_certificate_file(certified, common.certificate, environment, checked.certificate)
     if mode == "pursuit":
-        save_picture(picture, "wallfollow.render_pursuit", environment, answer)
+        save_picture(common.picture, "wallfollow.render_pursuit", environment, answer)
     else:
-        save_picture(picture, "wallfollow.render_cuts", environment, learned)
+        save_picture(common.picture, "wallfollow.render_cuts", environment, learned)

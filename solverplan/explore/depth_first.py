@@ -110,14 +110,16 @@ class ViewpointRun(Answer):
             lines.append(f"  p{k + 1} = ({float(p[0]):.6g}, {float(p[1]):.6g}){via(k)}"[:width])
         return "\n".join(lines)
 
-    @staticmethod
-    def _read_run(r: Reader, env: Environment | None, kind: str) -> dict:
-        """The fields every exploration's JSON has, read back (the exact points; ``env`` is required)."""
-        env, record = r.in_environment(env, kind)
-        return {"status": r.status(), "viewpoints": tuple(r.points("viewpoints_exact")), "parents": tuple(r.ints("parents")),
-                "path": tuple(r.points("path_exact")), "reflex": r.integer("reflex"), "bound": r.integer("bound"),
-                "covered_fraction": r.number("covered_fraction"), "optimality": r.optimality(), "stats": r.stats(),
-                "environment": record, "algorithm": r.string("algorithm"), "choice": r.string("choice")}
+    @classmethod
+    def _read_run(cls, data: Any, env: Environment | None) -> tuple[Reader, Environment, dict]:
+        """How every exploration is read back: a reader of ``data``, ``env`` (required) and the fields every
+        exploration's JSON has (the exact points)."""
+        r, env, record = cls._reader_in(data, env, cls.kind)
+        fields = {"status": r.status(), "viewpoints": tuple(r.points("viewpoints_exact")), "parents": tuple(r.ints("parents")),
+                  "path": tuple(r.points("path_exact")), "reflex": r.integer("reflex"), "bound": r.integer("bound"),
+                  "covered_fraction": r.number("covered_fraction"), "optimality": r.optimality(), "stats": r.stats(),
+                  "environment": record, "algorithm": r.string("algorithm"), "choice": r.string("choice")}
+        return r, env, fields
 
 
 @answer_dataclass("exploration", kw_only=True)
@@ -177,9 +179,7 @@ class Exploration(ViewpointRun):
     def from_json(cls, data: Any, *, env: Environment | None = None) -> Exploration:
         """Read an exploration back in ``env`` (required): the exact viewpoints and path; the views recomputed exactly
         (a view is the visibility polygon of its viewpoint)."""
-        r = Reader(data, "exploration")
-        fields = ViewpointRun._read_run(r, env, "exploration")
-        assert env is not None
+        r, env, fields = cls._read_run(data, env)
         views = tuple(visibility_polygon(env, p) for p in fields["viewpoints"])
         return cls(views=views, seed=r.integer("seed", None), **fields)
 
@@ -289,13 +289,13 @@ def explore_depth_first(env: Environment, start: Sequence[object], *, choice: Vi
             break
         if choice == "first":
             w, part = options[0]
-            z = point_on_part(w, part)
+            z = point_on_part(w, part, viewpoints[w.view])
         elif choice == "random":
             w, part = options[rng.randrange(len(options))]
-            z = point_on_part(w, part)
+            z = point_on_part(w, part, viewpoints[w.view])
         else:
             here = viewpoints[top]
-            candidates = [point_on_part(w, part) for w, part in options]
+            candidates = [point_on_part(w, part, viewpoints[w.view]) for w, part in options]
             z = max(candidates, key=lambda q: (q[0] - here[0]) ** 2 + (q[1] - here[1]) ** 2)
         # the robot walks back along the stack to the viewpoint whose window it explores, then forward to z
         back = _walk_back(path[-1], viewpoints, parents, top)

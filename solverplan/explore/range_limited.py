@@ -54,7 +54,7 @@ from solverplan.explore.depth_first import ViewpointRun, explore_depth_first
 from solverplan.explore.range_view import DEFAULT_SAGITTA, RangeView, check_range, range_visibility
 from solverplan.geometry.visibility import sees
 from solverplan.geometry.walls import StraightWalls
-from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
+from solverplan.result import EnvironmentRecord, Method, Optimality, Stats, Status, answer_dataclass
 from typing import Any
 
 __all__ = ["RangeExploration", "UncoveredPiece", "explore_range_limited", "covers_every_segment", "range_covered_fraction"]
@@ -176,9 +176,7 @@ class RangeExploration(ViewpointRun):
     def from_json(cls, data: Any, *, env: Environment | None = None) -> RangeExploration:
         """Read a range-limited exploration back in ``env`` (required): the exact viewpoints, path, R and ε; the views
         recomputed exactly (RVP of each viewpoint)."""
-        r = Reader(data, "range-exploration")
-        fields = ViewpointRun._read_run(r, env, "range-exploration")
-        assert env is not None
+        r, env, fields = cls._read_run(data, env)
         R = r.exact("range_exact")
         views = tuple(range_visibility(env, p, R) for p in fields["viewpoints"])
         uncovered = []
@@ -565,9 +563,9 @@ class _Explorer:
             return None
 
         frontier = shapely.union_all([g.boundary for g in pieces]).difference(self.walls.buffer(10 * self.tol))
-        coords = np.array([c for g in getattr(frontier, "geoms", [frontier]) if not g.is_empty for c in g.coords])
+        coords = shapely.get_coordinates(frontier)  # (every part's, in order: vectorised, not point by point)
         if not len(coords):
-            coords = np.array([c for g in pieces for c in g.exterior.coords])
+            coords = shapely.get_coordinates([g.exterior for g in pieces])
         if len(coords) > 2000:  # the chords of the arcs are dense: an even subsample is enough to aim at
             coords = coords[np.linspace(0, len(coords) - 1, 2000).astype(int)]
         seen_from = np.array([[float(x), float(y)] for x, y in self.viewpoints])

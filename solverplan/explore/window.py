@@ -14,9 +14,12 @@ not at all, or on one side along a collinear side.
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Sequence
+
+import numpy as np
 
 from solverplan.exact import ExactPoint, on_segment, point_in_ring, segment_intersection
 from solverplan.geometry.visibility import VisibilityPolygon
@@ -61,6 +64,58 @@ def _boxes_meet(s: tuple[Fraction, ...], t: tuple[Fraction, ...]) -> bool:
     return s[0] <= t[2] and t[0] <= s[2] and s[1] <= t[3] and t[1] <= s[3]
 
 
+class _FloatView:
+    """A view's ring in floats, its exact bounding box and a length scale, made once per view: the float filter
+    of :func:`unexplored_parts` (an exploration asks about the same views for every window it weighs)."""
+
+    __slots__ = ("view", "box", "x0", "y0", "dx", "dy", "len2", "tol", "lo", "hi")
+
+    def __init__(self, vp: VisibilityPolygon) -> None:
+        self.view = vp
+        self.box = _bbox(vp.ring)
+        xy = np.array([(float(x), float(y)) for x, y in vp.ring])
+        self.x0, self.y0 = xy[:, 0], xy[:, 1]
+        nxt = np.roll(xy, -1, axis=0)
+        self.dx, self.dy = nxt[:, 0] - self.x0, nxt[:, 1] - self.y0
+        self.len2 = self.dx * self.dx + self.dy * self.dy
+        # floats of exact coordinates err by ~1e-16 of their magnitude: 1e-9 of it is a safe margin
+        self.tol = 1e-9 * max(float(np.abs(xy).max()), float(np.ptp(xy[:, 0])), float(np.ptp(xy[:, 1])), 1e-300)
+        self.lo, self.hi = np.minimum(xy, nxt), np.maximum(xy, nxt)  # each side's float bounding box
+
+    def side(self, m: ExactPoint) -> int:
+        """+1 inside, -1 outside, 0 when ``m`` is within the float margin of the ring (decide exactly)."""
+        mx, my = float(m[0]), float(m[1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.clip(((mx - self.x0) * self.dx + (my - self.y0) * self.dy) / self.len2, 0.0, 1.0)
+        t = np.where(self.len2 > 0, t, 0.0)
+        gap = np.hypot(self.x0 + t * self.dx - mx, self.y0 + t * self.dy - my)
+        if gap.min() <= self.tol:
+            return 0
+        crossing = (self.y0 > my) != (self.y0 + self.dy > my)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x_at = self.x0 + (my - self.y0) * self.dx / self.dy
+        return 1 if np.count_nonzero(crossing & (x_at > mx)) % 2 else -1
+
+
+_FLOAT_VIEWS: OrderedDict[int, _FloatView] = OrderedDict()
+_FLOAT_VIEWS_KEPT = 4096
+
+
+def _float_view(vp: VisibilityPolygon) -> _FloatView:
+    """The cached :class:`_FloatView` of ``vp`` (by identity; the cache holds the view, so an id is never reused
+    while its entry lives)."""
+    key = id(vp)
+    entry = _FLOAT_VIEWS.get(key)
+    if entry is None or entry.view is not vp:
+        entry = _FloatView(vp)
+        _FLOAT_VIEWS[key] = entry
+        if len(_FLOAT_VIEWS) > _FLOAT_VIEWS_KEPT:
+            _FLOAT_VIEWS.popitem(last=False)
+    else:
+        _FLOAT_VIEWS.move_to_end(key)
+    return entry
+
+
 def unexplored_parts(window: Window, views: Sequence[VisibilityPolygon]) -> list[tuple[Fraction, Fraction]]:
     """The parts of ``window`` not in the interior of the union of ``views``, as parameter intervals.
 
@@ -83,19 +138,23 @@ def unexplored_parts(window: Window, views: Sequence[VisibilityPolygon]) -> list
     iff some view covers its right (unseen) side too: it contains the point in its interior, or it has a
     side along the window with its interior on the right (a view whose window lies along the same line on
     the same side covers nothing there). Views whose bounding boxes miss the window are skipped exactly.
+    Floats only skip work: a view's sides whose float boxes miss the window's by more than a margin are not
+    cut against it, and a midpoint farther than the margin from a view's boundary is located in floats;
+    everything nearer is decided exactly.
     """
     a, b = window.a, window.b
     d = (b[0] - a[0], b[1] - a[1])
     dd = d[0] * d[0] + d[1] * d[1]
     box = _bbox([a, b])
-    near = [vp for vp in views if _boxes_meet(box, _bbox(vp.ring))]
+    near = [fv for fv in map(_float_view, views) if _boxes_meet(box, fv.box)]
     cuts = {Fraction(0), Fraction(1)}
-    for vp in near:
-        ring = vp.ring
-        for k in range(len(ring)):
+    wlo = np.array([float(box[0]), float(box[1])])
+    whi = np.array([float(box[2]), float(box[3])])
+    for fv in near:
+        ring = fv.view.ring
+        close = np.all((fv.lo <= whi + fv.tol) & (wlo - fv.tol <= fv.hi), axis=1)
+        for k in np.flatnonzero(close).tolist():
             x, y = ring[k], ring[(k + 1) % len(ring)]
-            if not _boxes_meet(box, _bbox([x, y])):
-                continue
             hit = segment_intersection(a, b, x, y)
             if hit is not None:
                 for q in hit.points:
@@ -105,7 +164,7 @@ def unexplored_parts(window: Window, views: Sequence[VisibilityPolygon]) -> list
     for lo, hi in zip(lams, lams[1:]):
         mid = (lo + hi) / 2
         m = (a[0] + mid * d[0], a[1] + mid * d[1])
-        if not any(_covers_right(vp, m, d) for vp in near):
+        if not any(_covers_right(fv, m, d) for fv in near):
             if open_parts and open_parts[-1][1] == lo:
                 open_parts[-1] = (open_parts[-1][0], hi)
             else:
@@ -113,17 +172,17 @@ def unexplored_parts(window: Window, views: Sequence[VisibilityPolygon]) -> list
     return open_parts
 
 
-def _covers_right(vp: VisibilityPolygon, m: ExactPoint, d: ExactPoint) -> bool:
-    """Does the closed view ``vp`` contain a half-disc around m on the right of direction d?
+def _covers_right(fv: _FloatView, m: ExactPoint, d: ExactPoint) -> bool:
+    """Does the closed view contain a half-disc around m on the right of direction d?
 
-    m is not a cut point, so vp's boundary passes through m only along a side collinear with d.
+    m is not a cut point, so the view's boundary passes through m only along a side collinear with d.
     """
-    where = point_in_ring(m, vp.ring)
+    where = fv.side(m) or point_in_ring(m, fv.view.ring)
     if where > 0:
         return True
     if where < 0:
         return False
-    ring = vp.ring
+    ring = fv.view.ring
     for k in range(len(ring)):
         x, y = ring[k], ring[(k + 1) % len(ring)]
         if on_segment(m, x, y):
@@ -161,14 +220,32 @@ def simplest_between(lo: Fraction, hi: Fraction) -> Fraction:
     return fl + 1 / simplest_between(1 / rest_hi, 1 / rest_lo)
 
 
-def point_on_part(window: Window, part: tuple[Fraction, Fraction]) -> ExactPoint:
-    """The point of ``window`` at the simplest rational parameter λ (a + λ(b − a)) in the middle third of a part.
+def point_on_part(window: Window, part: tuple[Fraction, Fraction], viewpoint: ExactPoint | None = None) -> ExactPoint:
+    """The point of ``window`` at the simplest rational parameter in the middle third of a part.
 
-    The parameter is the window's own (from its reflex vertex a to b), so the point is the same wherever the room
-    is moved, turned, scaled or mirrored, however its walls are written (issue #22): a rule on the coordinates
-    (their simplest value) would pick another point when the room moves.
+    Given the ``viewpoint`` whose view the window bounds, the parameter is μ of u + μ(u − p), u the window's
+    reflex vertex and p the viewpoint (u′ − u is a multiple of u − p): the point's denominators are p's times a
+    small μ's, so a chain of viewpoints grows by a few digits a step. (The window's own parameter λ of
+    a + λ(b − a) gives the same kind of point, but u′ is a ray's hit on a wall, whose digits roughly double
+    with each viewpoint of a chain: after some dozens the coordinates have hundreds of digits.) Either
+    parameter is a ratio of lengths along the window, so the point is the same wherever the room is moved,
+    turned, scaled or mirrored, however its walls are written (issue #22): a rule on the coordinates (their
+    simplest value) would pick another point when the room moves.
     """
     a, b = window.a, window.b
     lo, hi = part
-    lam = simplest_between(lo + (hi - lo) / 3, hi - (hi - lo) / 3)
-    return (a[0] + lam * (b[0] - a[0]), a[1] + lam * (b[1] - a[1]))
+    if viewpoint is None:
+        lam = simplest_between(lo + (hi - lo) / 3, hi - (hi - lo) / 3)
+        return (a[0] + lam * (b[0] - a[0]), a[1] + lam * (b[1] - a[1]))
+    # u is the end nearer the viewpoint (p, u and u' are collinear with u between them)
+    da = (a[0] - viewpoint[0]) ** 2 + (a[1] - viewpoint[1]) ** 2
+    db = (b[0] - viewpoint[0]) ** 2 + (b[1] - viewpoint[1]) ** 2
+    u, w, t_lo, t_hi = (a, b, lo, hi) if da <= db else (b, a, 1 - hi, 1 - lo)
+    d = (u[0] - viewpoint[0], u[1] - viewpoint[1])
+    dd = d[0] * d[0] + d[1] * d[1]
+    if dd == 0:  # a viewpoint at the reflex vertex itself: no ray direction, fall back on the window's parameter
+        return point_on_part(window, part)
+    scale = ((w[0] - u[0]) * d[0] + (w[1] - u[1]) * d[1]) / dd  # u' = u + scale·(u − p)
+    mu_lo, mu_hi = scale * t_lo, scale * t_hi
+    mu = simplest_between(mu_lo + (mu_hi - mu_lo) / 3, mu_hi - (mu_hi - mu_lo) / 3)
+    return (u[0] + mu * d[0], u[1] + mu * d[1])

@@ -9,7 +9,7 @@ from decimal import Decimal
 from fractions import Fraction
 from os import PathLike
 from pathlib import Path
-from typing import Any, Literal, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -27,8 +27,9 @@ from solverplan.result import (Answer, EnvironmentRecord, Method, Optimality, St
 
 __all__ = ["FloorplanImport", "ImportResult", "import_floorplan", "PlanFormat"]
 
-PlanFormat = Literal["ros", "dxf", "svg"]
-_SUFFIXES: dict[str, PlanFormat] = {".yaml": "ros", ".yml": "ros", ".dxf": "dxf", ".svg": "svg"}
+PlanFormat = FloorplanFormat  # the floor plan formats: the library's choice, its values written once
+_SUFFIXES: dict[str, FloorplanFormat] = {".yaml": FloorplanFormat.ROS, ".yml": FloorplanFormat.ROS,
+                                         ".dxf": FloorplanFormat.DXF, ".svg": FloorplanFormat.SVG}
 _ALGORITHMS = {
     "ros": "SciPy labelling and opening, scikit-image marching squares, GEOS topology-preserving simplification",
     "dxf": "ezdxf linework (lines, polylines, circles, arcs, splines, hatches, blocks) joined, noded and polygonized "
@@ -89,7 +90,7 @@ class FloorplanImport(Answer):
     >>> _ = (folder / "room.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="3">'
     ...                                      '<rect width="4" height="3"/></svg>')
     >>> done = sp.import_floorplan(folder / "room.svg")
-    >>> done.status.value, done.format, done.units, done.written
+    >>> done.status.value, done.format.value, done.units, done.written
     ('found', 'svg', 'user units', None)
     >>> done.environment, done.environment.area          # 4 × 3 user units, scale 1
     (Environment(name='room', vertices=4, holes=0, reflex=0), Fraction(12, 1))
@@ -100,7 +101,7 @@ class FloorplanImport(Answer):
     written: str | None
     dropped: dict[str, Any]
     source: str
-    format: PlanFormat
+    format: FloorplanFormat
     units: str
     resolution: str | None = None
     rectilinear_edges: int = 0
@@ -232,11 +233,11 @@ PLANNING_VERTICES = 150
 """Vertices above which an import's summary advises more simplification (``plan`` then takes over ~10 s)."""
 
 
-def _format_of(path: Path, fmt: str | None) -> PlanFormat:
+def _format_of(path: Path, fmt: str | None) -> FloorplanFormat:
     if fmt is not None:
         if fmt not in FloorplanFormat.values():
             raise MalformedFile(f"unknown floor plan format {fmt!r}: use ros, dxf or svg")
-        return fmt  # type: ignore[return-value]
+        return FloorplanFormat(fmt)
     try:
         return _SUFFIXES[path.suffix.lower()]
     except KeyError:
@@ -253,7 +254,7 @@ def import_floorplan(
     source: str | PathLike[str],
     *,
     output: str | PathLike[str] | None = None,
-    fmt: PlanFormat | None = None,
+    fmt: FloorplanFormat | str | None = None,
     seed_point: Sequence[Any] | None = None,
     simplify: float | None = None,
     min_hole_area: float | None = None,

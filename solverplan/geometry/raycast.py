@@ -43,10 +43,11 @@ vertex, with t = 0. Headings θ ∈ (0, π) are radians CCW from the directed ed
 from __future__ import annotations
 
 import functools
+import inspect
 import math
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import TYPE_CHECKING, AbstractSet, Literal, Mapping, Sequence
+from typing import TYPE_CHECKING, AbstractSet, Callable, Concatenate, Literal, Mapping, ParamSpec, Sequence, TypeVar
 
 import numpy as np
 
@@ -74,6 +75,9 @@ __all__ = [
 # _PREFILTER_REL × (scale of the inputs) of zero. Float rounding errors of those expressions are
 # about 10 u ≈ 1e-15 relative, so this margin (1000×) only costs a few extra exact evaluations.
 _PREFILTER_REL = 1e-12
+
+P = ParamSpec("P")
+R = TypeVar("R")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1167,55 +1171,39 @@ def ray_caster(env: Environment) -> RayCaster:
     return RayCaster(env)
 
 
-def cast_rays(
-    env: Environment,
-    origins: np.ndarray,
-    directions: np.ndarray,
-    *,
-    source_edges: np.ndarray | None = None,
-    exact_ties: bool = False,
-    through_vertices: bool = False,
-) -> RayHits:
-    """Batch first hits with the cached caster of ``env``; see :meth:`RayCaster.cast`.
+def _with_cached_caster(method: Callable[Concatenate[RayCaster, P], R], name: str, doc: str
+                        ) -> Callable[Concatenate[Environment, P], R]:
+    """``method`` of :class:`RayCaster` as a function of the environment, run by its cached caster
+    (:func:`ray_caster`): the parameters are the method's, written once (type checkers, :func:`help` and
+    :func:`inspect.signature` see them all, after the environment)."""
+    def call(env: Environment, /, *args: P.args, **kwargs: P.kwargs) -> R:
+        return method(ray_caster(env), *args, **kwargs)
+
+    own = inspect.signature(method)
+    first = inspect.Parameter("env", inspect.Parameter.POSITIONAL_ONLY, annotation="Environment")
+    call.__signature__ = own.replace(parameters=[first, *list(own.parameters.values())[1:]])  # type: ignore[attr-defined]
+    call.__name__ = call.__qualname__ = name
+    call.__doc__ = doc
+    return call
+
+
+cast_rays = _with_cached_caster(RayCaster.cast, "cast_rays", """Batch first hits with the cached caster of ``env``; see :meth:`RayCaster.cast`.
 
     >>> from solverplan.environment import Environment
     >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])
     >>> cast_rays(square, [[1, 2]], [[-2, 0]]).s.tolist()      # s in units of the direction
     [0.5]
-    """
-    return ray_caster(env).cast(
-        origins, directions, source_edges=source_edges, exact_ties=exact_ties, through_vertices=through_vertices
-    )
+    """)
 
-
-def cast_rays_exact(
-    env: Environment,
-    origins: Sequence[Sequence[object]],
-    directions: Sequence[Sequence[object]],
-    *,
-    through_vertices: bool = False,
-    skip_invalid: bool = False,
-) -> list[RayHit | None]:
-    """Exact first hits of many rays with the cached caster of ``env``; see :meth:`RayCaster.cast_exact`.
+cast_rays_exact = _with_cached_caster(RayCaster.cast_exact, "cast_rays_exact", """Exact first hits of many rays with the cached caster of ``env``; see :meth:`RayCaster.cast_exact`.
 
     >>> from solverplan.environment import Environment
     >>> square = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])
     >>> [hit.vertex for hit in cast_rays_exact(square, [(1, 1), (1, 1)], [(1, 1), (1, 0)])]
     [2, None]
-    """
-    return ray_caster(env).cast_exact(origins, directions, through_vertices=through_vertices, skip_invalid=skip_invalid)
+    """)
 
-
-def cast_from_boundary(
-    env: Environment,
-    edges: np.ndarray,
-    t: np.ndarray,
-    headings: np.ndarray,
-    *,
-    exact_ties: bool = False,
-    through_vertices: bool = False,
-) -> RayHits:
-    """Batch first hits from boundary points at headings, with the cached caster of ``env``;
+cast_from_boundary = _with_cached_caster(RayCaster.cast_from_boundary, "cast_from_boundary", """Batch first hits from boundary points at headings, with the cached caster of ``env``;
     see :meth:`RayCaster.cast_from_boundary`.
 
     >>> from solverplan.environment import Environment
@@ -1223,7 +1211,4 @@ def cast_from_boundary(
     >>> hits = cast_from_boundary(square, [0], [0.5], [3 * math.pi / 4])
     >>> hits.edge.tolist(), hits.x.tolist(), hits.y.tolist()
     ([3], [0.0], [2.0])
-    """
-    return ray_caster(env).cast_from_boundary(
-        edges, t, headings, exact_ties=exact_ties, through_vertices=through_vertices
-    )
+    """)

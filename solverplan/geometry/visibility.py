@@ -835,7 +835,12 @@ def visibility_polygon(env: Environment, p: Sequence[object]) -> VisibilityPolyg
     >>> vp.contains((2, 2)), vp.contains((3, 1))
     (True, False)
     """
-    p = exact_point(p, where="viewpoint")
+    if isinstance(p, tuple) and len(p) == 2 and type(p[0]) is Fraction and type(p[1]) is Fraction:
+        # an exact point the library computed (a viewpoint chained from window to window) may need a longer
+        # denominator than input may have: only input text and floats are held to the documented resolution
+        p = (p[0], p[1])
+    else:
+        p = exact_point(p, where="viewpoint")
     kind, idx = _locate(env, p)
     if kind == "out":
         raise InputError(f"viewpoint {format_point(p)} is not in the free space")

@@ -54,7 +54,7 @@ from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import cast_from_boundary
-from solverplan.plan._deadline import NEVER, Deadline, in_chunks
+from solverplan.plan._deadline import Deadline, in_chunks
 from solverplan.plan._results import heading_cone
 from solverplan.plan._walls import PartitionedWalls
 from solverplan.result import Stage
@@ -113,11 +113,10 @@ def merge_exact(items: Sequence[BoundaryPiece]) -> tuple[BoundaryPiece, ...]:
 class PositionSearch:
     """The float machinery: corner rays and swept-hull tests for many (piece, heading) pairs at once."""
 
-    def __init__(self, env: Environment, tolerance: float, *, n_headings: int = 240,
-                 margins: Margins | None = None) -> None:
+    def __init__(self, env: Environment, tolerance: float, *, n_headings: int, margins: Margins) -> None:
         self.env = env
         self.eps = float(tolerance)
-        self.margins = margins if margins is not None else Margins.for_environment(env)
+        self.margins = margins
         delta = self.margins.heading_margin
         lo, hi = self.eps + delta, math.pi - self.eps - delta
         if not lo < hi:
@@ -280,21 +279,23 @@ def search_positions(
     *,
     tolerance: float,
     max_bounces: int,
+    n_headings: int,
+    beam: int,
+    per_edge: int,
+    margins: Margins,
+    max_rows: int | None,
+    deadline: Deadline,
     goal_points: np.ndarray | None = None,
-    n_headings: int = 240,
-    beam: int = 400,
-    per_edge: int = 40,
-    max_replays: int = 20,
     rank: str = "pieces",
-    margins: Margins | None = None,
-    max_rows: int | None = None,
-    deadline: Deadline = NEVER,
+    max_replays: int = 20,
 ) -> SearchOutcome:
     """Breadth-first search with dominance and a beam (module docstring) for a state satisfying ``is_goal``
     (floats, vectorised: a :class:`Flat` batch of states → one bool per state), confirmed by ``is_goal_exact``
-    on the exact replay. ``rank``: how states compete for the beam (:func:`_rank_keys`); ``margins``: the margin
-    policy (default for ``env``); ``max_rows``: a work budget, the (piece, heading) images evaluated over the
-    whole search (a bounce that would exceed it is not started; None: no budget)."""
+    on the exact replay. ``margins``: the margin policy; ``max_rows``: a work budget, the (piece, heading) images
+    evaluated over the whole search (a bounce that would exceed it is not started; None: no budget);
+    ``goal_points``: points of the goal set to aim at; ``rank``: how states compete for the beam
+    (:func:`_rank_keys`); ``max_replays``: the most goal states replayed exactly over the search. The bounds have no
+    defaults here: the planners' own (:func:`~solverplan.plan.funnels.funnel`, ...) are the only ones."""
     ps = PositionSearch(env, tolerance, n_headings=n_headings, margins=margins)
     first = merge_pieces([(p.edge, float(p.t0), float(p.t1)) for p in start])
     nodes = [_Node(first, -1, None, 0)]

@@ -199,7 +199,6 @@ class Problem:
         self._options: dict[Belief, list[Option]] = {}
         self._goal_options: dict[Belief, list[Option]] = {}
         self._goal_lists: dict[int, tuple[list[float], list[float], list[int]]] = {}
-        self.options_built = 0
 
     # ------------------------------------------------------------------ admissible intervals
     def _build_intervals(self) -> None:
@@ -621,20 +620,25 @@ class Problem:
     # ------------------------------------------------------------------ options
     def options(self, belief: Belief) -> list[Option]:
         """Every way to leave ``belief`` (one per choice of targets), widest interval each."""
-        cached = self._options.get(belief)
-        if cached is None:
-            cached = self._combine(belief, [self.intervals(s) for s in belief], self._merged, self._finer)
-            self._options[belief] = cached
-            self.options_built += len(cached)
-        return cached
+        return self._options_from(self._options, belief, self.intervals)
 
     def goal_options(self, belief: Belief) -> list[Option]:
         """The options of ``belief`` that land in the goal set from every source (last stages)."""
-        cached = self._goal_options.get(belief)
+        return self._options_from(self._goal_options, belief, self.goal_intervals)
+
+    def _options_from(self, cache: dict[Belief, list[Option]], belief: Belief,
+                      intervals: Callable[[int], tuple[list[float], list[float], list[int]]]) -> list[Option]:
+        """The options of ``belief`` combined from the ``intervals`` of each of its sources, built once per belief
+        and kept in ``cache``."""
+        cached = cache.get(belief)
         if cached is None:
-            cached = self._combine(belief, [self.goal_intervals(s) for s in belief], self._merged, self._finer)
-            self._goal_options[belief] = cached
+            cached = cache[belief] = self._combine(belief, [intervals(s) for s in belief], self._merged, self._finer)
         return cached
+
+    @property
+    def options_built(self) -> int:
+        """How many options (:meth:`options`, not the goal ones) were built so far: a statistic of the search."""
+        return sum(map(len, self._options.values()))
 
     def _merged(self, targets) -> Belief:
         """The next belief of a choice of target elements: one element per segment or unit, the corner tags of its

@@ -29,16 +29,18 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 from typing import Any, Sequence
 
 import numpy as np
 
+from solverplan._docstrings import fill_doc
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.bounce.partitions import Partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
 from solverplan.errors import InputError
-from solverplan.limits import MAX_BOUNCES, quote
-from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, Margins
+from solverplan.limits import MAX_BOUNCES, MAX_COUNT, quote
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, MARGIN_DOCS, Margins
 from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, SearchOutcome, search_widening, to_user_stages
 from solverplan.plan._results import PositionStrategy
@@ -46,7 +48,8 @@ from solverplan.plan._walls import PartitionedWalls
 from solverplan.plan.search import straight_walls_graph
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 
-__all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "DEFAULT_MAX_ROWS", "NARROW_PASSES", "safe_plan_exists"]
+__all__ = ["Funnel", "funnel", "DEFAULT_FUNNEL_TOLERANCE", "DEFAULT_MAX_ROWS", "NARROW_PASSES", "SearchBounds",
+           "safe_plan_exists"]
 
 DEFAULT_FUNNEL_TOLERANCE = 0.005
 """Radians: the half-width of every heading interval of a funnel when none is given."""
@@ -159,23 +162,74 @@ def search_half_width(tolerance: float | None) -> float:
     return eps
 
 
+@dataclass(frozen=True, slots=True)
+class SearchBounds:
+    """The caps of a search over position sets (funnels and localisation take the same ones), checked when made:
+    ``max_bounces``, ``n_headings`` (headings tried per stage), ``beam`` (states kept per bounce) and ``max_rows``
+    (the work budget over all passes; None: none). A bad value is an :class:`InputError` naming it.
+
+    >>> SearchBounds(30, 240, 400, None).beam
+    400
+    >>> SearchBounds(30, 0, 400, None)
+    Traceback (most recent call last):
+    ...
+    solverplan.errors.InputError: n_headings must be an integer in [1, 100,000], got 0
+    """
+
+    max_bounces: int
+    n_headings: int
+    beam: int
+    max_rows: int | None
+
+    def __post_init__(self) -> None:
+        for name, top in (("max_bounces", MAX_BOUNCES), ("n_headings", MAX_COUNT), ("beam", MAX_COUNT)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= top:
+                raise InputError(f"{name} must be an integer in [1, {top:,}], got {quote(value)}")
+        rows = self.max_rows
+        if rows is not None and (isinstance(rows, bool) or not isinstance(rows, int) or rows < 0):
+            raise InputError(f"max_rows must be a non-negative integer or None (no budget), got {quote(rows)}")
+
+
 def graded_search(env: Environment, part: Partition, start: Sequence[BoundaryPiece], is_goal: Any, is_goal_exact: Any, *,
-                  eps: float, max_bounces: int, n_headings: int, beam: int, max_rows: int | None, heading_margin: float,
-                  corner_clearance: float | None, deadline: Deadline, **options: Any
-                  ) -> tuple[SearchOutcome, Status, Optimality, Stats]:
+                  eps: float, bounds: SearchBounds, heading_margin: float, corner_clearance: float | None,
+                  deadline: Deadline, **options: Any) -> tuple[SearchOutcome, Status, Optimality, Stats]:
     """The search of funnels and localisation strategies and its grades: :func:`search_widening` over the passes of
     :func:`widening_passes` under the margin policy, then the status and optimality (:func:`search_optimality`,
     scope :func:`position_scope`) and the statistics (:func:`search_stats`). ``options`` go to the search."""
     margins = Margins.for_environment(env, heading_margin=heading_margin, corner_clearance=corner_clearance)
     t0 = time.perf_counter()
     outcome, used_beam, used_headings = search_widening(
-        env, part, start, is_goal, is_goal_exact, passes=widening_passes(beam, n_headings), max_rows=max_rows,
-        tolerance=eps, max_bounces=max_bounces, margins=margins, deadline=deadline, **options)
+        env, part, start, is_goal, is_goal_exact, passes=widening_passes(bounds.beam, bounds.n_headings),
+        max_rows=bounds.max_rows, tolerance=eps, max_bounces=bounds.max_bounces, margins=margins, deadline=deadline,
+        **options)
     stats = search_stats(outcome, time.perf_counter() - t0)
     status, optimality = search_optimality(
-        outcome, max_bounces=max_bounces, n_headings=used_headings, beam=used_beam, max_rows=max_rows,
-        scope=position_scope(eps, max_bounces))
+        outcome, max_bounces=bounds.max_bounces, n_headings=used_headings, beam=used_beam, max_rows=bounds.max_rows,
+        scope=position_scope(eps, bounds.max_bounces))
     return outcome, status, optimality, stats
+
+
+POSITION_SEARCH_DOCS = {
+    "tolerance": """
+tolerance
+    ε, radians: every interval is [θ − ε, θ + ε] (default :data:`~solverplan.plan.funnels.DEFAULT_FUNNEL_TOLERANCE`).""",
+    "bounds": """
+max_bounces, n_headings, beam
+    The search's bounds: bounces, headings tried per stage (a uniform grid; a funnel also aims at its goal), states
+    kept per bounce. The search widens: the passes of :data:`~solverplan.plan.funnels.NARROW_PASSES` narrower
+    than ``beam`` × ``n_headings`` run first, the full one only if they find nothing.
+max_rows
+    The work budget over all passes: (piece, heading) images evaluated (None: no budget). When it ends the
+    search, ``optimality.limits`` says so (``cut=max_rows``).""",
+    "margins": MARGIN_DOCS["position_margins"],
+    "timeout": """
+timeout
+    Seconds of wall time (positive, finite; None: no limit), the walls' partition and graph build included (they
+    are not interrupted); at the deadline the search stops: ``not-found``, with the timeout in
+    ``optimality.limits``.""",
+}
+"""The parameters funnels and localisation describe alike (:func:`~solverplan._docstrings.fill_doc` fragments)."""
 
 
 def boundary_pieces(env: Environment, value: str | BoundarySet, what: str) -> BoundarySet:
@@ -220,6 +274,7 @@ def safe_plan_exists(graph: SafeBVG, start: BoundarySet, goal: BoundarySet) -> b
     return True
 
 
+@fill_doc(**POSITION_SEARCH_DOCS)
 def funnel(
     env: Environment,
     start: str | BoundarySet,
@@ -245,29 +300,24 @@ def funnel(
         The environment.
     start, goal
         Boundary sets (``"e0"``, ``"e3:0.25:0.75,e4"``); every point of ``start`` must end inside ``goal``.
-    tolerance
-        ε, radians: every interval is [θ − ε, θ + ε] (default :data:`DEFAULT_FUNNEL_TOLERANCE`).
-    max_bounces, n_headings, beam
-        The search's bounds: bounces, headings tried per stage (a uniform grid, plus aims at the goal), states
-        kept per bounce. The search widens: the passes of :data:`NARROW_PASSES` narrower than ``beam`` ×
-        ``n_headings`` run first, the full one only if they find nothing.
-    max_rows
-        The work budget over all passes: (piece, heading) images evaluated (None: no budget). When it ends the
-        search, ``optimality.limits`` says so (``cut=max_rows``).
-    heading_margin, corner_clearance
-        The margin policy of every planner (:mod:`solverplan.plan.margins`): no interval within δ radians of a
-        wall, no landing within κ (a length) of a segment end.
+    %(tolerance)s
+    %(bounds)s
+    %(margins)s
     graph
         A precomputed safe BVG (for the comparison with plans over whole segments).
-    timeout
-        Seconds of wall time (positive, finite; None: no limit), the graph build included (it is not
-        interrupted); at the deadline the search stops: ``not-found``, with the timeout in ``optimality.limits``.
+    %(timeout)s
 
     Returns
     -------
     Funnel
         Status ``found`` with exact stages, or ``not-found`` with the search's caps in ``optimality.limits``
         (the search is heuristic: not finding is not a proof).
+
+    Raises
+    ------
+    InputError
+        A bad start or goal set, a tolerance outside (0, π/2), a bound out of its range, a margin out of its
+        range, a timeout that is not a positive finite number.
 
     Examples
     --------
@@ -283,8 +333,7 @@ def funnel(
     start_set = boundary_pieces(env, start, "start")
     goal_set = boundary_pieces(env, goal, "goal")
     eps = search_half_width(tolerance)
-    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int) or not 1 <= max_bounces <= MAX_BOUNCES:
-        raise InputError(f"max_bounces must be an integer in [1, {MAX_BOUNCES:,}], got {quote(max_bounces)}")
+    bounds = SearchBounds(max_bounces, n_headings, beam, max_rows)
     deadline = deadline_of(timeout)
     # Collinear vertices are no corners: search the straight walls (the same free space with them merged) and
     # answer in the user's edges (plan._walls, to_user_stages)
@@ -292,7 +341,8 @@ def funnel(
     user_start, user_goal = start_set, goal_set
     g = straight_walls_graph(walls, graph)
     part = g.partition
-    env, start_set, goal_set = walls.merged, walls.to_merged(start_set), walls.to_merged(goal_set)
+    # the goal's touching pieces joined: whether a position set fits must not depend on how the goal is written
+    env, start_set, goal_set = walls.merged, walls.to_merged(start_set), walls.to_merged(goal_set).merged()
     goal_f = [(p.edge, float(p.t0), float(p.t1)) for p in goal_set.pieces]
 
     def inside(flat: Flat) -> np.ndarray:
@@ -312,9 +362,8 @@ def funnel(
         for s in np.linspace(0.1, 0.9, 5):
             points.append(env.point_at(p.edge, float(p.t0) + s * float(p.t1 - p.t0)))
     outcome, status, optimality, stats = graded_search(
-        env, part, start_set.pieces, inside, inside_exact, eps=eps, max_bounces=max_bounces, n_headings=n_headings,
-        beam=beam, max_rows=max_rows, heading_margin=heading_margin, corner_clearance=corner_clearance,
-        deadline=deadline, goal_points=np.array(points))
+        env, part, start_set.pieces, inside, inside_exact, eps=eps, bounds=bounds, heading_margin=heading_margin,
+        corner_clearance=corner_clearance, deadline=deadline, goal_points=np.array(points))
     safe = safe_plan_exists(g, start_set, goal_set)
     user_part = walls.user_partition if not walls.identity else part
     return Funnel(status=status, optimality=optimality, environment=EnvironmentRecord.of(walls.env, user_part.n_segments),

@@ -42,6 +42,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from solverplan._docstrings import fill_doc
 from solverplan.bounce.bvg import SafeBVG
 from solverplan.bounce.partitions import partition
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment
@@ -51,7 +52,8 @@ from solverplan.plan._deadline import Deadline, deadline_of
 from solverplan.plan._positions import Flat, to_user_stages
 from solverplan.plan._results import PositionStrategy
 from solverplan.plan._walls import PartitionedWalls
-from solverplan.plan.funnels import DEFAULT_MAX_ROWS, boundary_pieces, graded_search, search_half_width
+from solverplan.plan.funnels import (DEFAULT_MAX_ROWS, POSITION_SEARCH_DOCS, SearchBounds, boundary_pieces, graded_search,
+                                     search_half_width)
 from solverplan.result import EnvironmentRecord, Method, Optimality, Reader, Status, answer_dataclass
 
 __all__ = ["Localization", "localize", "rotational_symmetry"]
@@ -129,6 +131,7 @@ def _invariant(start: BoundarySet, image: dict[int, int]) -> bool:
     return union(pieces) == union((image[e], a, b) for e, a, b in pieces)
 
 
+@fill_doc(**POSITION_SEARCH_DOCS)
 def localize(
     env: Environment,
     epsilon: float,
@@ -159,21 +162,12 @@ def localize(
         The length (environment's units) the final interval must be shorter than.
     start
         The boundary set the robot may start on (default: the whole boundary).
-    tolerance
-        ε, radians: every interval is [θ − ε, θ + ε] (default :data:`~solverplan.plan.funnels.DEFAULT_FUNNEL_TOLERANCE`).
-    max_bounces, n_headings, beam
-        The search's bounds, as for :func:`~solverplan.plan.funnels.funnel`.
+    %(tolerance)s
+    %(bounds)s
     graph
-        A precomputed safe BVG of ``env``.
-    heading_margin, corner_clearance
-        The margin policy of every planner (:mod:`solverplan.plan.margins`): no interval within δ radians of a
-        wall, no landing within κ (a length) of a segment end.
-    max_rows
-        The work budget over all passes: (piece, heading) images evaluated (None: no budget); when it ends the
-        search, ``optimality.limits`` says so (``cut=max_rows``).
-    timeout
-        Seconds of wall time (positive, finite; None: no limit), the graph build included; at the deadline:
-        ``not-found`` with the timeout in ``optimality.limits``.
+        A precomputed safe BVG of ``env`` (its partition is reused).
+    %(margins)s
+    %(timeout)s
 
     Returns
     -------
@@ -185,8 +179,8 @@ def localize(
     Raises
     ------
     InputError
-        ε not a positive length, a bad start set, a tolerance outside (0, π/2), a timeout that is not a
-        positive finite number.
+        ε not a positive length, a bad start set, a tolerance outside (0, π/2), a bound out of its range, a timeout
+        that is not a positive finite number.
 
     Examples
     --------
@@ -205,6 +199,7 @@ def localize(
     if isinstance(epsilon, bool) or not isinstance(epsilon, (int, float)) or not (math.isfinite(epsilon) and epsilon > 0):
         raise InputError(f"epsilon {epsilon!r} must be a positive length")
     eps = search_half_width(tolerance)
+    bounds = SearchBounds(max_bounces, n_headings, beam, max_rows)
     if start is None:
         start_set = BoundarySet(tuple(BoundaryPiece(e, Fraction(0), Fraction(1)) for e in range(env.n_edges)))
     else:
@@ -259,9 +254,8 @@ def localize(
         return float(hi - lo) * float(lengths[pieces[0].edge]) < limit
 
     outcome, status, optimality, stats = graded_search(
-        env, part, start_set.pieces, done, done_exact, eps=eps, max_bounces=max_bounces, n_headings=n_headings,
-        beam=beam, max_rows=max_rows, heading_margin=heading_margin, corner_clearance=corner_clearance,
-        deadline=deadline, rank="edges")
+        env, part, start_set.pieces, done, done_exact, eps=eps, bounds=bounds, heading_margin=heading_margin,
+        corner_clearance=corner_clearance, deadline=deadline, rank="edges")
     goal = None
     if outcome.stages is not None:
         final = outcome.stages[-1].positions if outcome.stages else start_set.pieces

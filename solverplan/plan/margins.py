@@ -56,7 +56,7 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.interval import DEFAULT_HEADING_MARGIN
 
-__all__ = ["DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "CORNER_CLEARANCE_FRACTION", "Margins",
+__all__ = ["DEFAULT_HEADING_MARGIN", "DEFAULT_SAFE_MARGIN", "CORNER_CLEARANCE_FRACTION", "MARGIN_DOCS", "Margins",
            "environment_diameter", "default_corner_clearance", "AdmissibleIntervals", "admissible_intervals", "corner_arcs"]
 
 DEFAULT_SAFE_MARGIN = 1e-9
@@ -66,6 +66,21 @@ CORNER_CLEARANCE_FRACTION = 1e-4
 """κ / D of the default corner clearance: 10⁻⁴ of the environment's diameter D (1 mm in a 10 m room). One arc into
 a corner at the heading margin shrinks distances to it by ≈ δ = 10⁻³, so contact points stay ≥ 10⁻⁷ D from
 vertices: far above double rounding (10⁻¹⁶ D) and the float caster's tie tolerance (10⁻⁹ D)."""
+
+
+MARGIN_DOCS = {
+    "margins": """
+heading_margin, safe_margin, corner_clearance
+    The margin policy of every planner (:mod:`solverplan.plan.margins`): no interval within δ radians of a wall,
+    every interval μ radians inside the exact safe set it is taken from, no landing within κ (a length; default
+    10⁻⁴ of the environment's diameter) of a segment end.""",
+    "position_margins": """
+heading_margin, corner_clearance
+    The margin policy of every planner (:mod:`solverplan.plan.margins`) but μ (position sets are tracked exactly,
+    with no safe sets): no interval within δ radians of a wall, no landing within κ (a length; default 10⁻⁴ of the
+    environment's diameter) of a segment end.""",
+}
+"""The margin parameters as the planners describe them (:func:`~solverplan._docstrings.fill_doc` fragments)."""
 
 
 def environment_diameter(env: Environment) -> float:

@@ -69,6 +69,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from solverplan.choices import PatrolObjective
+from solverplan._docstrings import fill_doc
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.bounce.dynamics import ExactHeading, cycles_to_epsilon
 from solverplan.interval import Interval
@@ -83,7 +84,7 @@ from solverplan.plan._choices import ArcChoices, arc_choices, max_tolerance
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
 from solverplan.plan._walls import PartitionedWalls, cut_partition
-from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, MARGIN_DOCS, Margins
 from solverplan.plan._graphs import (
     KARP_MAX_NODES,
     cycle_arcs_only,
@@ -597,6 +598,7 @@ def _period_dp(part: Partition, choices: ArcChoices, visit: Visits, H: int,
 
 
 # ---------------------------------------------------------------------- the solver
+@fill_doc(margins=MARGIN_DOCS["margins"])
 def patrol(
     env: Environment,
     visit: str | Sequence[int],
@@ -638,9 +640,7 @@ def patrol(
         cvxpy solver for the LP of ``rate`` (default Clarabel).
     graph
         A precomputed safe BVG of ``env`` (saves its construction).
-    heading_margin, safe_margin, corner_clearance
-        The margin policy of every planner (:mod:`solverplan.plan.margins`): no interval within δ of a wall,
-        μ inside the exact safe sets, no landing within κ of a segment end.
+    %(margins)s
     timeout
         Seconds of wall time (positive, finite; None: no limit), the graph build included (it is not
         interrupted). At the deadline the search answers the best cycle found so far or ``not-found``, not

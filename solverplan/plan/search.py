@@ -79,6 +79,7 @@ import time
 from dataclasses import replace
 
 from solverplan.choices import Objective
+from solverplan._docstrings import fill_doc
 from solverplan.bounce.bvg import SafeBVG, safe_bounce_visibility_graph
 from solverplan.interval import Interval
 from solverplan.environment import BoundarySet, Environment
@@ -88,7 +89,7 @@ from solverplan.plan import _search
 from solverplan.plan._deadline import NEVER, Deadline, deadline_of
 from solverplan.plan._problem import Problem
 from solverplan.plan._walls import PartitionedWalls
-from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, Margins
+from solverplan.plan.margins import DEFAULT_HEADING_MARGIN, DEFAULT_SAFE_MARGIN, MARGIN_DOCS, Margins
 from solverplan.plan.result import ParetoFront, ParetoPoint, Plan
 from solverplan.progress import Stopped
 from solverplan.result import EnvironmentRecord, Method, Optimality, Stage, Stats, Status
@@ -276,6 +277,7 @@ def _exhausted(objective: str, max_bounces: int | None, beliefs: int, cut: bool)
 
 
 # ---------------------------------------------------------------------- the public queries
+@fill_doc(margins=MARGIN_DOCS["margins"])
 def find_plan(
     env: Environment,
     start: str | BoundarySet,
@@ -309,9 +311,7 @@ def find_plan(
         ``lp``; ``label``.
     graph
         A prebuilt safe BVG of ``env`` (built when not given).
-    heading_margin, safe_margin, corner_clearance
-        δ and μ (radians) and κ (a length; default 10⁻⁶ of the environment's diagonal) of the one margin
-        policy of every planner (:mod:`solverplan.plan.margins`).
+    %(margins)s
     timeout
         Seconds of wall time (positive, finite; None: no limit; or a running
         :class:`~solverplan.plan._deadline.Deadline`), the partition and the graph build included (they stop at it
@@ -718,6 +718,7 @@ def _fewest(problem: Problem, k_max: int | None, common: dict, deadline: Deadlin
     return _found(problem, "fewest", path, claim(float(k), algorithm), common, stats)
 
 
+@fill_doc(margins=MARGIN_DOCS["margins"])
 def pareto_front(
     env: Environment,
     start: str | BoundarySet,
@@ -746,8 +747,7 @@ def pareto_front(
         The bounce budget K (None: no budget, the front is complete).
     graph
         A prebuilt safe BVG of ``env`` (built when not given).
-    heading_margin, safe_margin, corner_clearance
-        δ and μ (radians) and κ (a length in the environment's units), as in :func:`find_plan`.
+    %(margins)s
     timeout
         Seconds of wall time, the graph build included (None: no limit). It stops the label setting: the
         points found so far are exact, the front's ``optimality`` is not proved, its bound is an upper bound on

@@ -47,7 +47,7 @@ from solverplan.errors import InputError, SolverFailed
 from solverplan.limits import quote
 from solverplan.exact import ExactPoint, format_point, segment_intersection
 from solverplan.geometry.visibility import visibility_polygon
-from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
+from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Stats, Status, answer_dataclass
 from solverplan.wallfollow.bitangent import bitangents
 from solverplan.wallfollow.cut import corner_polygon, cut_ordering, cuts, merged_count
 from solverplan.wallfollow.ordering import CutOrdering, parse_label
@@ -304,8 +304,7 @@ class PursuitPlan(Answer):
         checker (its verdict, samples and shadow labels are recomputed, not read)."""
         from solverplan.wallfollow.pebble import LearnedBitangent, LearnedBitangents
 
-        r = Reader(data, "pursuit")
-        env, record = r.in_environment(env, 'pursuit')
+        r, env, record = cls._reader_in(data, env, "pursuit")
         actions = tuple(r.texts("plan"))
         start = r.string("start")
         learning = None

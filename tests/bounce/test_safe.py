@@ -227,6 +227,11 @@ def test_safe_set_with_a_hole_is_two_intervals():
     assert second.lo_direction == (Fraction(-3, 2), 2) and second.hi_direction == (-11, 8)
     assert found.interval == max((first.interval, second.interval), key=lambda i: i.width)
     assert found.to_json() == [[first.lo, first.hi], [second.lo, second.hi]]
+    # each piece is an Interval of headings itself, whose ends are the headings of its exact directions
+    assert isinstance(first, Interval) and math.pi / 4 in first and first.interval == Interval(first.lo, first.hi)
+    for piece in (first, second):
+        assert piece.lo == pytest.approx(math.atan2(*reversed(piece.lo_direction)), abs=1e-15)
+        assert piece.hi == pytest.approx(math.atan2(*reversed(piece.hi_direction)), abs=1e-15)
 
 
 def test_safe_set_with_a_hole_agrees_with_the_bvg():

@@ -12,6 +12,8 @@ from pathlib import Path
 
 import mpmath
 import pytest
+from hypothesis import example, given
+from hypothesis import strategies as st
 
 from solverplan.bounce.partitions import partition
 from solverplan.certify import (check, check_exploration, check_fields, check_models, check_rooms, check_wallfollow, exact2d,
@@ -93,6 +95,26 @@ def test_schema_imports_only_stdlib_and_errors():
 
 
 # ---------------------------------------------------------------------- the hand-built cases are right
+_COORDINATES = st.builds(Fraction, st.integers(-6, 6), st.sampled_from([1, 2, 3]))
+
+
+@given(points=st.lists(st.tuples(_COORDINATES, _COORDINATES), max_size=12), on_a_line=st.booleans())
+@example(points=[(Fraction(0), Fraction(0)), (Fraction(1), Fraction(1)), (Fraction(2), Fraction(2))], on_a_line=False)
+def test_checker_hull_by_gift_wrapping_equals_the_planners_monotone_chain(points, on_a_line):
+    """The checker's convex hull (gift wrapping) and the planner's (Andrew's monotone chain) are written independently:
+    they give the same corners in the same order, collinear points dropped, degenerate inputs included."""
+    from solverplan.bounce.transitions import _convex_hull
+
+    if on_a_line:
+        points = [(x, 3 * x - 1) for x, _ in points]
+    hull = exact2d.convex_hull(points)
+    assert hull == _convex_hull(points)
+    if len(hull) >= 3:
+        turns = [exact2d.orient(hull[i - 2], hull[i - 1], hull[i]) for i in range(len(hull))]
+        assert set(turns) == {1}  # counter-clockwise, no collinear corner
+        assert all(exact2d.orient(hull[i - 1], hull[i], p) >= 0 for p in points for i in range(len(hull)))
+
+
 @pytest.mark.parametrize("model", ["square", "l_shape", "one_hole"])
 def test_cases_use_the_shipped_models_normalised_rings(model):
     env = load_environment(MODELS / f"{model}.json")

@@ -526,3 +526,14 @@ def test_piece_monotonicity_the_closure_holds_every_plan_of_the_planner(query):
     with pytest.raises(NoBound):
         bound_claim(env, env.boundary_set(start), env.boundary_set(goal), budget=budget, threshold=threshold,
                     heading_margin=Fraction(1, 1000))
+
+
+@pytest.mark.parametrize("objective,valid", [("tolerance", True), ("tolerancex", False), ("funnel-fewest", False)])
+def test_an_infeasible_certificates_objective_is_one_the_query_could_ask(comb_infeasible, objective, valid):
+    """End-to-end seed 12: an infeasible certificate's objective 'tolerance' -> 'tolerancex' verified."""
+    data = copy.deepcopy(comb_infeasible.to_json())
+    data["claims"]["objective"] = objective
+    report = check_certificate(Certificate.from_json(data))
+    assert report.valid is valid
+    if not valid:
+        assert report.failures[0].claim == "claims.objective" and "an infeasible certificate" in str(report.failures[0])

@@ -6,11 +6,14 @@ from decimal import Decimal
 from fractions import Fraction
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from solverplan.certify.schema import (
     EXAMPLE,
     Certificate,
     CertificateFormatError,
+    _terminating_decimal,
     dumps_certificate,
     json_value,
     number_text,
@@ -44,6 +47,22 @@ def test_numbers_as_json():
     assert [json_value(x) for x in (Fraction(4), Fraction(1, 4), Fraction(1, 3), Fraction(-5, 2))] == [4, "0.25", "1/3", "-2.5"]
     assert number_text(Fraction(1, 1024)) == "1/1024"  # shorter than its 10-digit decimal
     assert number_text(Fraction(-1, 20)) == "-0.05"
+
+
+@given(numerator=st.integers(-10**40, 10**40), twos=st.integers(0, 90), fives=st.integers(0, 60), other=st.sampled_from([1, 1, 3, 7, 9, 77]))
+def test_a_fraction_has_a_finite_decimal_iff_its_denominator_divides_a_power_of_ten(numerator, twos, fives, other):
+    """The checker's decimals (least power of ten found by bisection) agree with the planner's
+    :func:`solverplan.exact.format_number` (factors 2 and 5 counted), two independent ways of writing one number."""
+    from solverplan.exact import format_number
+
+    value = Fraction(numerator, 2**twos * 5**fives * other)
+    if value.denominator == 1:
+        return
+    decimal = _terminating_decimal(value)
+    planner = format_number(value)
+    assert (decimal is None) == ("/" in planner)
+    if decimal is not None:
+        assert decimal == planner and Fraction(Decimal(decimal)) == value
 
 
 @pytest.mark.parametrize("name", [*cases.ALL_VALID, "square_neutral"])
@@ -124,3 +143,19 @@ def test_numbers_longer_than_pythons_digit_guard_round_trip_and_hostile_lengths_
     assert parse_number(number_text(long), "x") == long
     with pytest.raises(CertificateFormatError, match=r"^x: an integer of 200,002 digits \(at most 200,000 are read\)$"):
         parse_number("1" * (MAX_DIGITS + 2) + "/3", "x")
+
+
+@given(bits=st.integers(1, 60_000), negative=st.booleans(), data=st.data())
+def test_long_integers_are_converted_half_by_half_without_lifting_the_digit_guard(bits, negative, data):
+    """The checker reads and writes integers past Python's 4,300-digit guard piece by piece, exactly, and leaves the
+    guard (a setting of the whole process) as it was; the planner's printer agrees."""
+    import sys
+
+    from solverplan.certify.schema import _int_of, _text_of
+    from solverplan.exact import format_number
+
+    n = data.draw(st.integers(2 ** (bits - 1), 2**bits - 1)) * (-1 if negative else 1)
+    guard = sys.get_int_max_str_digits()
+    text = _text_of(n)
+    assert sys.get_int_max_str_digits() == guard
+    assert _int_of(text) == n and format_number(n) == text

@@ -8,6 +8,7 @@ obvious way: is the midpoint to the next contact in the closed free space?
 
 from __future__ import annotations
 
+import inspect
 import math
 from fractions import Fraction
 
@@ -20,7 +21,7 @@ from hypothesis import strategies as st
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import point_in_ring
-from solverplan.geometry import RayCaster, RayHit, cast_from_boundary, cast_ray, cast_rays, ray_caster
+from solverplan.geometry import RayCaster, RayHit, cast_from_boundary, cast_ray, cast_rays, cast_rays_exact, ray_caster
 from tests.strategies import convex_polygons, polygons_with_holes, simple_polygons
 
 SQUARE = Environment.from_coords([[0, 0], [4, 0], [4, 4], [0, 4]])
@@ -539,3 +540,13 @@ def test_ray_caster_is_cached_per_environment():
     assert ray_caster(SQUARE) is ray_caster(same)
     with pytest.raises(InputError, match=r"^index must be 'auto', 'grid' or 'brute-force', got 'kd'$"):
         RayCaster(SQUARE, index="kd")
+
+
+@pytest.mark.parametrize("function, method", [(cast_rays, RayCaster.cast), (cast_rays_exact, RayCaster.cast_exact),
+                                              (cast_from_boundary, RayCaster.cast_from_boundary)])
+def test_the_function_forms_take_the_environment_and_the_methods_parameters(function, method):
+    params = list(inspect.signature(function).parameters.values())
+    assert params[0].name == "env" and params[0].kind is inspect.Parameter.POSITIONAL_ONLY
+    assert params[1:] == list(inspect.signature(method).parameters.values())[1:]
+    hits = function(SQUARE, [[1, 2]], [[-2, 0]]) if function is not cast_from_boundary else function(SQUARE, [0], [0.5], [1.0])
+    assert len(hits) == 1

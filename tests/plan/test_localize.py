@@ -16,6 +16,7 @@ from solverplan.certify.build import certificate
 from solverplan.bounce.transitions import transition_set
 from solverplan.environment import BoundaryPiece, BoundarySet, Environment, load_environment
 from solverplan.errors import InputError
+from solverplan.plan.funnels import funnel
 from solverplan.plan.localization import localize, rotational_symmetry
 from solverplan.result import Method, Status
 from solverplan.simulate import StagePolicy, simulate_policy
@@ -134,6 +135,24 @@ def test_localize_rejects_bad_input():
         localize(env, 0)
     with pytest.raises(InputError, match="tolerance"):
         localize(env, 0.1, tolerance=3.0)
+
+
+@pytest.mark.parametrize("search", [lambda **kw: localize(model("square"), 0.5, **kw),
+                                    lambda **kw: funnel(model("square"), "e0", "e1:0.4:0.6", **kw)],
+                         ids=["localize", "funnel"])
+@pytest.mark.parametrize("bounds, message", [
+    ({"max_bounces": 0}, r"^max_bounces must be an integer in \[1, 10,000,000\], got 0$"),
+    ({"max_bounces": 2.5}, r"^max_bounces must be an integer in \[1, 10,000,000\], got 2\.5$"),
+    ({"n_headings": 0}, r"^n_headings must be an integer in \[1, 100,000\], got 0$"),
+    ({"beam": True}, r"^beam must be an integer in \[1, 100,000\], got True$"),
+    ({"max_rows": -1}, r"^max_rows must be a non-negative integer or None \(no budget\), got -1$"),
+])
+def test_funnel_and_localize_check_their_search_bounds_alike(search, bounds, message):
+    # one SearchBounds for both planners: localisation used to run with max_bounces=0 or -3 and to raise
+    # IndexError/TypeError on n_headings=0 or 2.5 bounces; checked before any work (the square's symmetry
+    # answer included)
+    with pytest.raises(InputError, match=message):
+        search(**bounds)
 
 
 def test_cli_localize_two_rooms_certificate_verifies(tmp_path):

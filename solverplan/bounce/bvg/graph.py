@@ -213,8 +213,8 @@ class SafeBVG:
             return (q[0] - p[0], q[1] - p[1])
 
         return SafeSet(tuple(
-            SafeInterval(Interval(float(self.set_lo[r]), float(self.set_hi[r])),
-                         direction(int(lo_from[r]), int(lo_to[r])), direction(int(hi_from[r]), int(hi_to[r])))
+            SafeInterval(float(self.set_lo[r]), float(self.set_hi[r]), direction(int(lo_from[r]), int(lo_to[r])),
+                         direction(int(hi_from[r]), int(hi_to[r])))
             for r in range(s0, s1)
         ))
 
