@@ -31,8 +31,10 @@ def fields_command(
     accel: Annotated[float, typer.Option("--accel", min=1e-9, max=1e9, metavar="A", help="Inertial robot: largest change of velocity per second (length/s²).")] = 2.0,
     restitution: Annotated[float, typer.Option("--restitution", min=0.0, max=1.0, metavar="E", help="Inertial robot: share of the normal speed kept (reversed) by an impact.")] = 0.8,
     control_rate: Annotated[float, typer.Option("--control-rate", min=0.1, max=10_000.0, metavar="HZ", help="Commands per second; the physics runs at 400 Hz, or at this rate if higher (it must divide it).")] = 20.0,
-    gain_line: Annotated[str, typer.Option("--gain-line", metavar="P", help="Gain of the line fields (1/length), read exactly.")] = "3",
-    gain_arc: Annotated[str, typer.Option("--gain-arc", metavar="P", help="Gain of the arc fields (1/length), read exactly.")] = "1",
+    gain_line: Annotated[str | None, typer.Option("--gain-line", metavar="P", help="Gain of the line fields (1/length), read exactly; default 3 in corridors as wide as the shipped serpentine's, inversely proportional to the environment's mean width 2·area/perimeter.", show_default=False)] = None,
+    gain_arc: Annotated[str | None, typer.Option("--gain-arc", metavar="P", help="Gain of the arc fields (1/length), read exactly; default 1 in the serpentine, scaled like --gain-line.", show_default=False)] = None,
+    goal_radius: Annotated[float | None, typer.Option("--goal-radius", metavar="R", help="A trial reaches the goal within R (length); default 0.1, less in environments narrower than the serpentine (0.1 × mean width / 0.4422).", show_default=False)] = None,
+    dead_band: Annotated[float | None, typer.Option("--dead-band", metavar="V", help="Commanded speeds below V give no motion (length/s); default 1/16 of the slower speed, at most 0.05.", show_default=False)] = None,
     reflections: Annotated[Reflections, typer.Option("--reflections", help="payoff: plan a reflection only where the wall turns the robot to the exit, the robot would overshoot and rollouts predict a gain; all: every zone the geometry allows (the paper); none.")] = Reflections.PAYOFF,
     cells: Annotated[CellKind, typer.Option("--cells", help="convex: Hertel–Mehlhorn cells; corners: with the reflex corners projected along their walls, so turns get corner cells (reflection candidates).")] = CellKind.CONVEX,
     starts: Annotated[StartMode, typer.Option("--starts", help="fixed: every trial from --from; random: each trial from a uniform random point of the free space (seeded, the same in every scenario).")] = StartMode.FIXED,
@@ -52,7 +54,8 @@ def fields_command(
         checked = checked_answer(lambda: navigate_fields(
             environment, parse_xy(start, "--from"), parse_xy(goal, "--to"), scenarios=names, model=robot,
             trials=trials, seed=seed, trajectories=trajectories, arcs=arcs, fast=fast, slow=slow, gain_line=gain_line,
-            gain_arc=gain_arc, reflections=reflections.value, starts=starts.value, cells=cells.value), env=environment)
+            gain_arc=gain_arc, reflections=reflections.value, starts=starts.value, cells=cells.value,
+            goal_radius=goal_radius, dead_band=dead_band), env=environment)
         if export is not None:  # its cells and fields checked exactly before it leaves
             emit_string(json_text(checked.answer.plan.export(), 1) + "\n", export)
         common.emit_checked(checked, env=environment)

@@ -33,7 +33,8 @@ from solverplan.errors import InputError, SolverFailed
 from solverplan.exact import ExactPoint, cross, exact_point, format_point, signed_area2
 from solverplan.geometry.walls import StraightWalls
 
-__all__ = ["Side", "Cell", "CellDecomposition", "decompose_free_space", "with_corner_projections", "CELL_KINDS"]
+__all__ = ["Side", "Cell", "CellDecomposition", "decompose_free_space", "with_corner_projections", "CELL_KINDS",
+           "cut_at_sides"]
 
 
 def _turn(a: ExactPoint, b: ExactPoint, c: ExactPoint) -> Fraction:
@@ -356,8 +357,10 @@ def _merge(triangles: list[list[int]], exact: Sequence[ExactPoint]) -> list[list
     return [polygons[k] for k in sorted(polygons)]
 
 
-def _build(env: Environment, polygons: list[list[int]]) -> CellDecomposition:
-    exact = env.exact_vertices
+def _build(env: Environment, polygons: list[list[int]],
+           vertices: Sequence[ExactPoint] | None = None) -> CellDecomposition:
+    """The cells of ``polygons`` (indices into ``vertices``, by default the environment's), numbered and linked."""
+    exact = env.exact_vertices if vertices is None else vertices
     side_owner: dict[tuple[int, int], int] = {}
     ordered = sorted(polygons, key=lambda poly: (min(exact[k] for k in poly), len(poly)))
     for cid, poly in enumerate(ordered):
@@ -377,3 +380,45 @@ def _build(env: Environment, polygons: list[list[int]]) -> CellDecomposition:
                 pairs.add((min(cid, neighbour), max(cid, neighbour)))
         cells.append(Cell(cid, tuple(exact[k] for k in poly), tuple(sides)))
     return CellDecomposition(env, tuple(cells), tuple(sorted(pairs)))
+
+
+def cut_at_sides(dec: CellDecomposition, cuts: dict[int, int]) -> CellDecomposition:
+    """The decomposition with cell c's side ``cuts[c]`` cut off on a triangle, for every c of ``cuts``.
+
+    Cell c (at least 4 vertices) is cut along a diagonal into a triangle holding side i = ``cuts[c]`` and the rest:
+    the triangle (v_{i−1}, v_i, v_{i+1}) or (v_i, v_{i+1}, v_{i+2}), the fatter (larger area over its longest side
+    squared, exact; ties to the first). Both parts are convex and share the whole diagonal, so the other cells keep
+    their facets; every vertex is still an exact vertex of the environment. Cells are numbered afresh (as
+    :func:`decompose_free_space` numbers them). The composition cuts a cell whose outlet no line field was found
+    for: a triangle always has one (a constant field from the apex through the outlet, bent gently), and the rest
+    gets the diagonal as a new way out.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> square = sp.decompose_free_space(sp.load_environment("square"))
+    >>> [[(int(x), int(y)) for x, y in c.vertices] for c in cut_at_sides(square, {0: 0}).cells]  # a tie: the first
+    [[(0, 0), (10, 0), (0, 10)], [(10, 0), (10, 10), (0, 10)]]
+    """
+    exact = sorted({v for cell in dec.cells for v in cell.vertices})  # corner projections may not be env vertices
+    index = {p: k for k, p in enumerate(exact)}
+    polygons = []
+    for cell in dec.cells:
+        poly = [index[v] for v in cell.vertices]
+        side = cuts.get(cell.id)
+        if side is None or len(poly) < 4:
+            polygons.append(poly)
+            continue
+        m = len(poly)
+        options = [[(side - 1) % m, side, (side + 1) % m], [side, (side + 1) % m, (side + 2) % m]]
+        tri = max(options, key=lambda t: _fatness([exact[poly[k]] for k in t]))  # max keeps the first of ties
+        rest = [poly[k] for k in range(m) if k != tri[1]]
+        polygons += [[poly[k] for k in tri], rest]
+    return _build(dec.env, polygons, exact)
+
+
+def _fatness(tri: list[ExactPoint]) -> Fraction:
+    """A triangle's area over its longest side squared (exact; larger is fatter)."""
+    longest = max((tri[k][0] - tri[k - 1][0]) ** 2 + (tri[k][1] - tri[k - 1][1]) ** 2 for k in range(3))
+    return abs(signed_area2(tri)) / longest
+

@@ -11,7 +11,10 @@
    point in the start cell, the vertex average off the sequence) to the outlet midpoint; the line field through the
    outlet midpoint along the outlet's outward normal. Each at the gain given, then 2×, ½×, 4×, ¼×, 8×, ⅛× of it;
    failing those, any line field found by a linear program over its offset and gain for 15 directions about the
-   outlet's normal (:func:`~solverplan.reflection.fields.fit_line_field`, checked exactly);
+   outlet's normal, then finer sweeps (:func:`~solverplan.reflection.fields.fit_line_field`, checked exactly);
+   then the line from the vertex average to the outlet midpoint at ever smaller gains. A cell still without a
+   field is cut into a triangle on its outlet and the rest (:func:`~solverplan.reflection.cells.cut_at_sides`)
+   and the composition starts again (at worst the cells become triangles, where the last candidate works);
 3. the goal cell's field, straight to the goal;
 4. the reflection zones of the candidate cells of the sequence (:mod:`~solverplan.reflection.zones`).
 
@@ -36,15 +39,52 @@ from typing import Sequence
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.exact import ExactPoint, exact_point, format_number, to_fraction
-from solverplan.reflection.cells import Cell, CellDecomposition, decompose_free_space
+from solverplan.reflection.cells import Cell, CellDecomposition, cut_at_sides, decompose_free_space
 from solverplan.reflection.fields import (Field, FlowCheck, GoalField, LineField, arc_turn, fit_line_field,
                                           flows_through)
 from solverplan.reflection.zones import ReflectionZone, RejectedZone, select_zone_recorded
 
-__all__ = ["CellPolicy", "FieldPlan", "compose_fields", "field_kinds", "GAIN_STEPS"]
+__all__ = ["CellPolicy", "FieldPlan", "compose_fields", "field_kinds", "GAIN_STEPS", "mean_width", "default_gains",
+           "resolve_gains", "REFERENCE_WIDTH"]
 
 #: Multiples of the given gain tried, in order, until a field verifies.
 GAIN_STEPS = (Fraction(1), Fraction(2), Fraction(1, 2), Fraction(4), Fraction(1, 4), Fraction(8), Fraction(1, 8))
+
+REFERENCE_WIDTH = Fraction("0.4422")
+"""The mean width (:func:`mean_width`) of the shipped ``serpentine``, the corridor the default gains (3 and 1, the
+default robot's goal radius 0.1) were tuned for: defaults scale with an environment's mean width against it."""
+
+
+def mean_width(env: Environment) -> Fraction:
+    """The environment's mean width 2A/P (area over half the perimeter of all its rings: the width of a long
+    corridor), rounded to 4 significant digits as an exact decimal, so that it scales exactly with decimal
+    coordinates and does not depend on how the walls are written. The length unit of the fields' defaults.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> mean_width(sp.load_environment("square")), mean_width(sp.load_environment("serpentine")) == REFERENCE_WIDTH
+    (Fraction(5, 1), True)
+    """
+    width = 2 * float(env.area) / env.perimeter
+    return Fraction(f"{width:.4g}")
+
+
+def default_gains(env: Environment) -> tuple[Fraction, Fraction]:
+    """The default gains (line, arc) of ``env``, 1/length: 3 and 1 in a corridor as wide as the shipped
+    ``serpentine``'s, inversely proportional to the mean width (:func:`mean_width`) elsewhere, so that p·w — what
+    decides whether a field flows through — does not depend on the scale of the coordinates.
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> default_gains(sp.load_environment("serpentine"))
+    (Fraction(3, 1), Fraction(1, 1))
+    >>> default_gains(sp.load_environment("square"))          # mean width 5
+    (Fraction(6633, 25000), Fraction(2211, 25000))
+    """
+    w = mean_width(env)
+    return 3 * REFERENCE_WIDTH / w, REFERENCE_WIDTH / w
 
 
 @dataclass(frozen=True, slots=True)
@@ -177,12 +217,58 @@ def _nominal(cell: Cell, origin: ExactPoint, inlet: int | None, outlet: int, gai
     fitted = fit_line_field(cell, exits)  # any line (direction, offset, gain) that works: an LP per direction
     if fitted is not None:
         return fitted
+    average = _vertex_average(cell)  # in a triangle the median to the outlet, bent ever more gently, works
+    for k in range(3, 40, 3):
+        field = LineField(average, mid, gain_line / 2**k)
+        check = flows_through(field, cell, exits)
+        if check.valid:
+            return field, check
     assert first is not None
     return first
 
 
+def resolve_gains(env: Environment, gain_line: object, gain_arc: object) -> tuple[Fraction, Fraction]:
+    """The gains (line, arc) as given (read exactly), or :func:`default_gains` for those given as ``None``."""
+    line, arc = default_gains(env)
+    return (line if gain_line is None else to_fraction(gain_line, where="gain_line"),
+            arc if gain_arc is None else to_fraction(gain_arc, where="gain_arc"))
+
+
+def _policies(dec: CellDecomposition, s: ExactPoint, g: ExactPoint, p_line: Fraction, p_arc: Fraction,
+              arcs: bool) -> tuple[tuple[int, ...], dict[int, CellPolicy]]:
+    """The cell sequence from ``s``'s cell to ``g``'s and every cell's policy (its verdict may be a failure)."""
+    start_cell = dec.locate(s, where="start")
+    goal_cell = dec.locate(g, where="goal")
+    sequence = dec.sequence(start_cell, goal_cell)
+    successors = dec.successors(goal_cell)
+    inlets = {c: dec.cells[c].facet_to(prev) for prev, c in zip(sequence, sequence[1:])}
+    policies: dict[int, CellPolicy] = {}
+    for cell in dec.cells:
+        nxt = successors[cell.id]
+        if cell.id == goal_cell:
+            goal_field = GoalField(g)
+            policies[cell.id] = CellPolicy(cell.id, goal_field, flows_through(goal_field, cell, frozenset()), None,
+                                           None, inlets.get(cell.id))
+            continue
+        if nxt is None:
+            continue  # cannot reach the goal (another component): no policy
+        outlet = cell.facet_to(nxt)
+        on_sequence = cell.id in sequence and sequence.index(cell.id) < len(sequence) - 1 and \
+            sequence[sequence.index(cell.id) + 1] == nxt
+        inlet = inlets.get(cell.id) if on_sequence else None
+        if cell.id == start_cell:
+            origin = s
+        elif inlet is not None:
+            origin = cell.sides[inlet].midpoint
+        else:
+            origin = _vertex_average(cell)
+        field, check = _nominal(cell, origin, inlet, outlet, p_line, p_arc, arcs)
+        policies[cell.id] = CellPolicy(cell.id, field, check, nxt, outlet, inlet)
+    return sequence, policies
+
+
 def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
-                   gain_line: object = Fraction(3), gain_arc: object = Fraction(1), arcs: bool = False,
+                   gain_line: object = None, gain_arc: object = None, arcs: bool = False,
                    reflection: bool = True, decomposition: CellDecomposition | None = None,
                    cells: str = "convex") -> FieldPlan:
     """The composed field policy from ``start`` to ``goal`` (points of the open free space, exact or decimal).
@@ -195,7 +281,9 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
         Points (x, y); read exactly (``"0.1"`` is 1/10).
     gain_line, gain_arc
         The gains p of line and arc fields (1/length of the environment's units). The paper's 0.3 and 0.03 are for
-        its (unstated) workspace units; 3 and 1 suit corridors about half a unit wide.
+        its (unstated) workspace units. ``None`` (default): :func:`default_gains`, 3 and 1 in corridors as wide as
+        the shipped ``serpentine``'s (mean width 0.4422), inversely proportional to the mean width elsewhere, so
+        the composition of a scaled environment is the scaled composition.
     arcs
         Try an arc field in cells whose inlet and outlet meet at a vertex (the paper's "linear/arc" configuration).
     reflection
@@ -226,39 +314,18 @@ def compose_fields(env: Environment, start: Sequence[object], goal: Sequence[obj
     ((0, 1), [0, 1], 'goal')
     """
     dec = decomposition or decompose_free_space(env, cells)
-    p_line = to_fraction(gain_line, where="gain_line")
-    p_arc = to_fraction(gain_arc, where="gain_arc")
+    p_line, p_arc = resolve_gains(env, gain_line, gain_arc)
     if p_line <= 0 or p_arc <= 0:
         raise InputError(f"gains must be positive, got line {p_line} and arc {p_arc}")
     s = exact_point(start, where="start")
     g = exact_point(goal, where="goal")
-    start_cell = dec.locate(s, where="start")
-    goal_cell = dec.locate(g, where="goal")
-    sequence = dec.sequence(start_cell, goal_cell)
-    successors = dec.successors(goal_cell)
-    inlets = {c: dec.cells[c].facet_to(prev) for prev, c in zip(sequence, sequence[1:])}
-    policies: dict[int, CellPolicy] = {}
-    for cell in dec.cells:
-        nxt = successors[cell.id]
-        if cell.id == goal_cell:
-            goal_field = GoalField(g)
-            policies[cell.id] = CellPolicy(cell.id, goal_field, flows_through(goal_field, cell, frozenset()), None,
-                                           None, inlets.get(cell.id))
-            continue
-        if nxt is None:
-            continue  # cannot reach the goal (another component): no policy
-        outlet = cell.facet_to(nxt)
-        on_sequence = cell.id in sequence and sequence.index(cell.id) < len(sequence) - 1 and \
-            sequence[sequence.index(cell.id) + 1] == nxt
-        inlet = inlets.get(cell.id) if on_sequence else None
-        if cell.id == start_cell:
-            origin = s
-        elif inlet is not None:
-            origin = cell.sides[inlet].midpoint
-        else:
-            origin = _vertex_average(cell)
-        field, check = _nominal(cell, origin, inlet, outlet, p_line, p_arc, arcs)
-        policies[cell.id] = CellPolicy(cell.id, field, check, nxt, outlet, inlet)
+    while True:  # cut cells no line field leaves through their outlets, down to triangles at worst
+        sequence, policies = _policies(dec, s, g, p_line, p_arc, arcs)
+        stuck = {c: p.outlet_side for c, p in policies.items()
+                 if not p.check.valid and p.outlet_side is not None and len(dec.cells[c].vertices) > 3}
+        if not stuck:
+            break
+        dec = cut_at_sides(dec, stuck)
     zones: dict[int, ReflectionZone] = {}
     rejected: list[RejectedZone] = []
     if reflection:

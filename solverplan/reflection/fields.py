@@ -476,14 +476,20 @@ along-track speed): a field whose line is far from its cell commands huge speeds
 
 
 def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: int = 15,
-                   gain_range: tuple[float, float] = (0.05, 50.0)) -> tuple[LineField, FlowCheck] | None:
+                   gain_range: tuple[float, float] = (0.05, 1e4)) -> tuple[LineField, FlowCheck] | None:
     """A line field that flows through ``cell`` towards ``exits``, found by linear programming, or ``None``.
 
-    For a fixed direction d, write the line's point as q₀ = c d^⊥ (the cell's centroid as origin) and r = p c: the
-    condition "n_i·v > 0 at both ends of every other side" reads (n_i·d) + r (n_i·d^⊥) − p (n_i·(I − d dᵀ) q) > 0,
-    linear in (r, p). For ``directions`` directions spread over ±79° about the outward normal of the first exit
-    side, the LP maximising the smallest margin (scipy's HiGHS) gives the most robust (r, p) with p in
-    ``gain_range`` (1/length); the best direction's field is rounded to rationals and checked exactly
+    The search is made in the cell's own units — lengths divided by R, the largest distance from the cell's
+    centroid to a vertex, gains multiplied by R — so it does not depend on the scale of the coordinates: the fit
+    in the cell scaled by s (and moved, and turned) is the image of the fit in the cell (up to float rounding; the
+    exact check decides). For a fixed direction d, write the line's point as q₀ = c d^⊥ (the centroid as origin)
+    and r = p c, dimensionless: the condition "n_i·v > 0 at both ends of every other side" reads
+    (n_i·d) + r (n_i·d^⊥) − p (n_i·(I − d dᵀ) q) > 0, linear in (r, p). For ``directions`` directions spread over
+    ±79° about the outward normal of the first exit side, the LP maximising the smallest margin (scipy's HiGHS)
+    gives the most robust (r, p) with p·R in ``gain_range`` (dimensionless); when no direction has a margin, sweeps
+    of 4·``directions`` + 1 directions over ±88° and 16·``directions`` + 1 over ±89° follow (a narrow outlet
+    can leave a window of directions a few degrees wide). The best direction's field is rounded
+    to rationals (in units of R, from the cell's exact vertex average) and checked exactly
     (:func:`line_flows_through`), so the answer never relies on the LP's floats.
 
     Examples
@@ -495,56 +501,88 @@ def fit_line_field(cell: Cell, exits: set[int] | frozenset[int], *, directions: 
     >>> field, check = fit_line_field(kite, {1})
     >>> check.valid, check.method
     (True, 'exact')
+    >>> tiny = decompose_free_space(Environment.from_coords([(0, 0), ("4e-4", 0), ("5e-4", "3e-4"), (0, "1e-4")]))
+    >>> small, _ = fit_line_field(tiny.cells[0], {1})
+    >>> small.gain == field.gain * 10_000, small.origin == (field.origin[0] / 10_000, field.origin[1] / 10_000)
+    (True, True)
     """
     from scipy.optimize import linprog
 
     if not exits:
         return None
     centre = cell.centroid
-    verts = cell.float_vertices - centre
+    unit = cell_unit(cell)  # R rounded to an exact decimal: the fit scales with the cell exactly
+    verts = (cell.float_vertices - centre) / float(unit)
     others = [i for i in range(len(cell.sides)) if i not in exits]
     normals = [cell.sides[i].unit_normal() for i in others]
     ends = [(verts[i], verts[(i + 1) % len(verts)]) for i in others]
     outward = -cell.sides[min(exits)].unit_normal()
     base = math.atan2(outward[1], outward[0])
-    radius = float(np.hypot(verts[:, 0], verts[:, 1]).max())
-    best: tuple[float, np.ndarray, float, float, np.ndarray, np.ndarray] | None = None
     lo, hi = gain_range
-    for j in range(directions):
-        angle = base + (j - directions // 2) * (0.44 * math.pi / max(directions // 2, 1))
-        d = np.array([math.cos(angle), math.sin(angle)])
-        d_perp = np.array([-d[1], d[0]])
-        rows, rhs = [], []
-        for n, (a, b) in zip(normals, ends):
-            for q in (a, b):
-                across = q - (q @ d) * d
-                # a + u r + w p ≥ t  ⇔  −u r − w p + t ≤ a
-                rows.append([-(n @ d_perp), n @ across, 1.0])
-                rhs.append(n @ d)
-        for r_bound in (_CROSS_SPEED, hi * radius):  # a line through the cell first (bounded speed), then any
-            res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
-                          bounds=[(-r_bound, r_bound), (lo, hi), (None, 1.0)], method="highs")
-            if res.status == 0 and res.x[2] > 1e-6:
-                break
-        if res.status == 0 and res.x[2] > 1e-6 and (best is None or res.x[2] > best[0]):
-            best = (float(res.x[2]), d, float(res.x[0]), float(res.x[1]), np.array(rows), np.array(rhs))
+    best: tuple[float, np.ndarray, float, float, np.ndarray, np.ndarray] | None = None
+    for count, spread in ((directions, 0.44), (4 * directions + 1, 0.49), (16 * directions + 1, 0.495)):
+        for j in range(count):  # ±79° first; then ever finer sweeps to within 1° of the side's line
+            angle = base + (j - count // 2) * (spread * math.pi / max(count // 2, 1))
+            found = _direction_lp(angle, normals, ends, lo, hi)
+            if found is not None and (best is None or found[0] > best[0]):
+                best = found
+        if best is not None:
+            break
     if best is None:
         return None
     margin, d, r, p, rows_best, rhs_best = best
     # the gentlest gain keeping half the best margin: a stiff field is as sound but makes robots chatter
-    r_bound = _CROSS_SPEED if abs(r) <= _CROSS_SPEED * (1 + 1e-9) else hi * radius
+    r_bound = _CROSS_SPEED if abs(r) <= _CROSS_SPEED * (1 + 1e-9) else hi
     gentle = linprog(c=[0.0, 1.0, 0.0], A_ub=rows_best, b_ub=rhs_best,
                      bounds=[(-r_bound, r_bound), (lo, hi), (margin / 2, 1.0)], method="highs")
     if gentle.status == 0:
         r, p = float(gentle.x[0]), float(gentle.x[1])
-    q0 = centre + (r / p) * np.array([-d[1], d[0]])
-    scale = max(radius, 1e-12)
+    # in units of R from the exact vertex average a: q₀ = a + R·(centroid − a + (r/p) d^⊥)/R, target q₀ + R·d
+    k = len(cell.vertices)
+    average = (sum((v[0] for v in cell.vertices), Fraction(0)) / k, sum((v[1] for v in cell.vertices), Fraction(0)) / k)
+    q0 = (centre - _f(average)) / float(unit) + (r / p) * np.array([-d[1], d[0]])
 
     def rational(x: float) -> Fraction:
-        return Fraction(x).limit_denominator(max(10**6, int(10**6 / scale)))
+        return Fraction(x).limit_denominator(10**6)
 
-    origin = (rational(q0[0]), rational(q0[1]))
-    target = (origin[0] + rational(d[0] * scale), origin[1] + rational(d[1] * scale))
-    field = LineField(origin, target, Fraction(p).limit_denominator(10**4)).recentred(cell)
+    origin = (average[0] + unit * rational(q0[0]), average[1] + unit * rational(q0[1]))
+    target = (origin[0] + unit * rational(d[0]), origin[1] + unit * rational(d[1]))
+    field = LineField(origin, target, Fraction(p).limit_denominator(10**4) / unit).recentred(cell)
     check = line_flows_through(field, cell, exits)
     return (field, check) if check.valid else None
+
+
+def _direction_lp(angle: float, normals: list[np.ndarray], ends: list[tuple[np.ndarray, np.ndarray]], lo: float,
+                  hi: float) -> tuple[float, np.ndarray, float, float, np.ndarray, np.ndarray] | None:
+    """The LP of :func:`fit_line_field` for one direction: (margin, d, r, p, rows, rhs) or ``None`` (no margin)."""
+    from scipy.optimize import linprog
+
+    d = np.array([math.cos(angle), math.sin(angle)])
+    d_perp = np.array([-d[1], d[0]])
+    rows, rhs = [], []
+    for n, (a, b) in zip(normals, ends):
+        for q in (a, b):
+            across = q - (q @ d) * d
+            # a + u r + w p ≥ t  ⇔  −u r − w p + t ≤ a
+            rows.append([-(n @ d_perp), n @ across, 1.0])
+            rhs.append(n @ d)
+    for r_bound in (_CROSS_SPEED, hi):  # a line through the cell first (bounded speed), then any (|c| ≲ R)
+        res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
+                      bounds=[(-r_bound, r_bound), (lo, hi), (None, 1.0)], method="highs")
+        if res.status == 0 and res.x[2] > 1e-6:
+            return float(res.x[2]), d, float(res.x[0]), float(res.x[1]), np.array(rows), np.array(rhs)
+    return None
+
+
+def cell_unit(cell: Cell) -> Fraction:
+    """The cell's length unit: the largest distance from its centroid to a vertex, rounded to 6 significant
+    digits as an exact decimal (so that it scales exactly with decimal coordinates).
+
+    Examples
+    --------
+    >>> import solverplan as sp
+    >>> cell_unit(sp.decompose_free_space(sp.load_environment("square")).cells[0])
+    Fraction(707107, 100000)
+    """
+    radius = float(np.hypot(*(cell.float_vertices - cell.centroid).T).max())
+    return Fraction(f"{radius:.6g}")

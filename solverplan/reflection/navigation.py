@@ -14,7 +14,7 @@ an arc field was verified by a dense sample — and claims no optimality of the 
 from __future__ import annotations
 
 import time
-from dataclasses import field
+from dataclasses import field, replace
 from typing import Sequence
 
 from solverplan.choices import Reflections, ScenarioName, StartMode
@@ -22,14 +22,14 @@ from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.result import Answer, EnvironmentRecord, Method, Optimality, Reader, Stats, Status, answer_dataclass
 from solverplan.errors import MalformedFile
-from solverplan.exact import format_number, to_fraction
+from solverplan.exact import format_number
 from solverplan.reflection.zones import RejectedZone
 from fractions import Fraction
 from typing import Any
 
 import numpy as np
 
-from solverplan.reflection.compose import FieldPlan, compose_fields
+from solverplan.reflection.compose import FieldPlan, compose_fields, mean_width, resolve_gains
 from solverplan.reflection.payoff import ROLLOUT_TRIALS, ZoneTest, prune_zones
 from solverplan.reflection.simulate import (SCENARIOS, FieldRobotDynamics, ScenarioRun, default_scenarios,
                                             simulate_scenarios)
@@ -67,6 +67,11 @@ class FieldNavigation(Answer):
         ``found`` when every line field's flow-through is verified exactly; what that proves.
     stats, environment
         Times and counts; the :class:`~solverplan.result.EnvironmentRecord` of the environment.
+    gains
+        The line and arc gains used (1/length, exact).
+    derived
+        The parameters not given, derived from the environment's scale (``gain_line``, ``gain_arc``,
+        ``goal_radius``) or the speeds (``dead_band``); written under ``scale`` beside the mean width.
 
     Examples
     --------
@@ -91,9 +96,11 @@ class FieldNavigation(Answer):
     rollouts: dict[int, ZoneTest] = field(default_factory=dict)
     cells: str = "convex"
     gains: tuple[Fraction, Fraction] = (Fraction(3), Fraction(1))
+    derived: tuple[str, ...] = ()
 
     def _fields(self) -> dict:
         plan = self.plan
+        width = mean_width(plan.env)
         out: dict = {
             "cells": [c.to_json() for c in plan.cells],
             "adjacency": [list(pair) for pair in plan.decomposition.adjacency],
@@ -111,6 +118,8 @@ class FieldNavigation(Answer):
             "decomposition": self.cells,
             "gain_line_exact": format_number(self.gains[0]),
             "gain_arc_exact": format_number(self.gains[1]),
+            "scale": {"mean_width": float(width), "mean_width_exact": format_number(width),
+                      "derived": list(self.derived)},
             "rollouts": {str(c): {"time_without": t.without, "time_with": t.with_zone, "gain": t.gain}
                          for c, t in self.rollouts.items()},
             "model": self.model.to_json(),
@@ -159,8 +168,11 @@ class FieldNavigation(Answer):
                         for c, t in recorded.items()} if isinstance(recorded, dict) else {}
         except (KeyError, TypeError, ValueError):
             raise MalformedFile("fields.rollouts: expected {cell: {time_without, time_with, gain}}") from None
+        derived = r.sub("scale").get("derived", []) if r.has("scale") else []
+        if not isinstance(derived, list) or not all(isinstance(d, str) for d in derived):
+            raise MalformedFile("fields.scale.derived: expected a list of parameter names")
         answer = cls(plan, model, runs, r.integer("seed"), r.status(), r.optimality(), r.stats(), record, reflections,
-                     r.string("starts", "fixed"), rollouts, cells, gains)
+                     r.string("starts", "fixed"), rollouts, cells, gains, tuple(derived))
         mine = answer._fields()
         for key in cls._PLAN_KEYS:
             if _without_flow(mine[key]) != _without_flow(data.get(key)):
@@ -172,7 +184,12 @@ class FieldNavigation(Answer):
         lines = [f"{plan.env.name or 'environment'}: {len(plan.cells)} convex cells, sequence "
                  f"{' → '.join(map(str, plan.sequence))}",
                  f"reflection cells: {', '.join(map(str, plan.reflection_cells)) or 'none'}; flow-through "
-                 f"{'verified' if plan.flow_through else 'NOT verified'} ({self.status.value}); model {self.model.kind}"]
+                 f"{'verified' if plan.flow_through else 'NOT verified'} ({self.status.value}); model {self.model.kind}",
+                 f"gains {float(self.gains[0]):.4g} (line), {float(self.gains[1]):.4g} (arc); goal radius "
+                 f"{self.model.goal_radius or float('nan'):.4g}; dead band {self.model.dead_band or 0.0:.4g}"]
+        if self.derived:
+            lines.append(f"defaults (from the mean width {float(mean_width(plan.env)):g} and the speeds): "
+                         f"{', '.join(self.derived)}")
         for c in sorted(plan.policies):  # the cells' verdicts that are not exact proofs, in the verdicts' words
             check = plan.policies[c].check
             lines.extend(f"cell {c}: FAIL {failure}" for failure in check.failures)
@@ -219,8 +236,9 @@ reported)."""
 def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[object], *,
                     scenarios: Sequence[str] = SCENARIOS, model: str | FieldRobotDynamics = "inertial", trials: int = 25,
                     seed: int = 0, trajectories: int = 0, arcs: bool = False, fast: float = 1.5,
-                    slow: float = 0.8, gain_line: object = 3, gain_arc: object = 1, reflections: str = "payoff",
-                    starts: str = "fixed", cells: str = "convex") -> FieldNavigation:
+                    slow: float = 0.8, gain_line: object = None, gain_arc: object = None, reflections: str = "payoff",
+                    starts: str = "fixed", cells: str = "convex", goal_radius: float | None = None,
+                    dead_band: float | None = None) -> FieldNavigation:
     """Compose the fields from ``start`` to ``goal`` and run ``trials`` rollouts of each scenario.
 
     Parameters
@@ -242,7 +260,15 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
     fast, slow
         Commanded speeds of the unconstrained/reflection and the constrained scenarios (length/s).
     gain_line, gain_arc
-        Gains p of the line and arc fields (1/length; :func:`~solverplan.reflection.compose.compose_fields`).
+        Gains p of the line and arc fields (1/length, read exactly); ``None`` (default): relative to the
+        environment's mean width (:func:`~solverplan.reflection.compose.default_gains`: 3 and 1 in the shipped
+        ``serpentine``), so that the answer does not depend on the scale of the coordinates.
+    goal_radius, dead_band
+        The distance within which the goal is reached (length) and the commanded speed below which the robot does
+        not move (length/s); they replace the ``model``'s. ``None`` (default, and unset in the model): relative
+        to the environment and the speeds (:meth:`~solverplan.reflection.simulate.FieldRobotDynamics.resolved`:
+        0.1 and 0.05 in rooms at least as wide as the shipped ``serpentine``, at the default speeds). The answer
+        records the values used (``model``) and which were derived (``scale.derived``).
     reflections
         ``payoff`` (default): plan only the zones that pay for this robot (:mod:`~solverplan.reflection.payoff`:
         turn, overshoot, rollouts); ``all``: every zone the geometry allows (the paper); ``none``.
@@ -274,15 +300,20 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
         raise InputError(f"no scenario: use one or more of {', '.join(SCENARIOS)}")
     scenarios = [ScenarioName.parse(s, "scenario").value for s in scenarios]
     robot = model if isinstance(model, FieldRobotDynamics) else FieldRobotDynamics(kind=model)
+    robot = replace(robot, goal_radius=robot.goal_radius if goal_radius is None else goal_radius,
+                    dead_band=robot.dead_band if dead_band is None else dead_band)
+    derived = robot.unset + tuple(name for name, g in (("gain_line", gain_line), ("gain_arc", gain_arc)) if g is None)
+    robot = robot.resolved(env, min(fast, slow))
     if not 0 <= trajectories <= trials:
         raise InputError(f"trajectories must be between 0 and the number of trials ({trials}), got {trajectories}")
     for name, value in (("fast", fast), ("slow", slow)):
-        if not value > robot.dead_band:  # below it the robot never moves: every trial would run to the time limit
+        if not value > (robot.dead_band or 0.0):  # below it the robot never moves: every trial runs to the limit
             raise InputError(f"the {name} speed must exceed the robot's dead band {robot.dead_band:g} "
                              f"(length/s), got {value:g}")
     reflections = Reflections.parse(reflections, "reflections").value
     starts = StartMode.parse(starts, "starts").value
-    plan = compose_fields(env, start, goal, arcs=arcs, gain_line=gain_line, gain_arc=gain_arc,
+    gains = resolve_gains(env, gain_line, gain_arc)
+    plan = compose_fields(env, start, goal, arcs=arcs, gain_line=gains[0], gain_arc=gains[1],
                           reflection=reflections != "none", cells=cells)
     points = random_starts(plan, trials, seed) if starts == "random" else None
     tests: dict = {}
@@ -309,5 +340,5 @@ def navigate_fields(env: Environment, start: Sequence[object], goal: Sequence[ob
                   counts={"cells": len(plan.cells), "trials": trials * len(scenarios),
                           "unverified_cells": sorted(c for c, p in plan.policies.items() if not p.check.valid)})
     return FieldNavigation(plan, robot, runs, seed, Status.FOUND if plan.flow_through else Status.NOT_FOUND,
-                           optimality, stats, EnvironmentRecord.of(env), reflections, starts, tests, cells,
-                           (to_fraction(gain_line, where="gain_line"), to_fraction(gain_arc, where="gain_arc")))
+                           optimality, stats, EnvironmentRecord.of(env), reflections, starts, tests, cells, gains,
+                           tuple(sorted(derived)))

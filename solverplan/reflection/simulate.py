@@ -31,16 +31,19 @@ same runs, and their difference measures the zones, not the noise.
 
 from __future__ import annotations
 
+import math
 import zlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
 from typing import Sequence
 
 import numpy as np
 
 from solverplan.choices import RobotKind, ScenarioName
+from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import RayCaster
-from solverplan.reflection.compose import FieldPlan
+from solverplan.reflection.compose import REFERENCE_WIDTH, FieldPlan, mean_width
 
 __all__ = ["FieldRobotDynamics", "Scenario", "SCENARIOS", "ScenarioRun", "simulate_scenarios", "default_scenarios"]
 
@@ -81,11 +84,15 @@ class FieldRobotDynamics:
     restitution, friction
         Inertial: the normal speed kept (reversed) by an impact, and the share of the tangential speed lost.
     dead_band
-        Commanded speeds below this give no motion (length/s).
+        Commanded speeds below this give no motion (length/s). ``None`` (default): :meth:`resolved` makes it
+        1/16 of the slowest commanded speed, at most 0.05 length/s (0.05 at the default speeds).
     heading_noise, speed_noise
         Standard deviation of the commanded heading (radians), and relative standard deviation of the speed.
     goal_radius
-        The goal is reached within this distance (length).
+        The goal is reached within this distance (length). ``None`` (default): :meth:`resolved` makes it 0.1
+        length units, or less in an environment narrower than the shipped ``serpentine``: 0.1 × w/0.4422 with w
+        its mean width (:func:`~solverplan.reflection.compose.mean_width`) — never a radius that holds the whole
+        room.
     max_time
         A trial that has not reached the goal by then failed (s); ``None``: ten times the time the scenario's
         speed takes along the cell sequence's centres, at least 60 s and at most 600 s.
@@ -107,10 +114,10 @@ class FieldRobotDynamics:
     accel: float = 2.0  #: inertial: the largest change of velocity per second (length/s²)
     restitution: float = 0.8  #: inertial: normal speed kept (reversed) by an impact
     friction: float = 0.1  #: inertial: share of the tangential speed lost in an impact
-    dead_band: float = 0.05  #: commanded speeds below this give no motion (length/s)
+    dead_band: float | None = None  #: commanded speeds below this give no motion (length/s); None: see resolved()
     heading_noise: float = 0.15  #: standard deviation of the commanded heading (radians)
     speed_noise: float = 0.05  #: relative standard deviation of the commanded speed
-    goal_radius: float = 0.1  #: the goal is reached within this distance (length)
+    goal_radius: float | None = None  #: the goal is reached within this distance (length); None: see resolved()
     #: a trial that has not reached the goal by then failed (s); None: ten times the time the scenario's speed takes
     #: along the cell sequence's centres, at least 60 s and at most 600 s (a 100 m route at 0.8 m/s takes 125 s)
     max_time: float | None = None
@@ -123,15 +130,51 @@ class FieldRobotDynamics:
         for name in ("accel", "goal_radius", "max_time"):
             if getattr(self, name) is not None and not getattr(self, name) > 0:
                 raise InputError(f"{name} must be positive, got {getattr(self, name)}")
+        for name in ("goal_radius", "dead_band"):
+            if getattr(self, name) is not None and not math.isfinite(getattr(self, name)):
+                raise InputError(f"{name} must be finite, got {getattr(self, name)}")
         for name in ("restitution", "friction"):
             if not 0 <= getattr(self, name) <= 1:
                 raise InputError(f"{name} must be in [0, 1], got {getattr(self, name)}")
         for name in ("dead_band", "heading_noise", "speed_noise"):
-            if not getattr(self, name) >= 0:
+            if getattr(self, name) is not None and not getattr(self, name) >= 0:
                 raise InputError(f"{name} must be non-negative, got {getattr(self, name)}")
 
     def to_json(self) -> dict:
         return {name: getattr(self, name) for name in self.__slots__}
+
+    @property
+    def unset(self) -> tuple[str, ...]:
+        """The lengths left to :meth:`resolved` (``goal_radius``, ``dead_band``)."""
+        return tuple(name for name in ("goal_radius", "dead_band") if getattr(self, name) is None)
+
+    def resolved(self, env: Environment, speed: float) -> FieldRobotDynamics:
+        """The robot with its unset lengths made relative to the environment and the commanded speeds.
+
+        ``goal_radius``: 0.1 length units, or 0.1 × w/w₀ when the environment's mean width w
+        (:func:`~solverplan.reflection.compose.mean_width`) is below w₀ = 0.4422, the shipped ``serpentine``'s
+        (the goal then holds the same share of the corridor as there): in a room a millimetre wide the goal is not
+        the whole room, while every shipped model, at least as wide, keeps 0.1. ``dead_band``: 1/16 of
+        ``speed`` (the slowest commanded speed), at most 0.05 length/s: a robot commanded at micro speeds still
+        moves, and the default speeds keep 0.05. Values given are kept.
+
+        Examples
+        --------
+        >>> import solverplan as sp
+        >>> robot = sp.FieldRobotDynamics()
+        >>> tiny = sp.Environment.from_coords([(0, 0), ("0.002", 0), ("0.002", "0.001"), (0, "0.001")])
+        >>> r = robot.resolved(tiny, 0.8)
+        >>> round(r.goal_radius, 8), r.dead_band, robot.unset, r.unset
+        (0.00015077, 0.05, ('goal_radius', 'dead_band'), ())
+        >>> slow = robot.resolved(sp.load_environment("serpentine"), 0.008)     # micro speeds, serpentine's width
+        >>> slow.goal_radius, slow.dead_band
+        (0.1, 0.0005)
+        """
+        if not self.unset:
+            return self
+        radius = 0.1 * float(min(Fraction(1), mean_width(env) / REFERENCE_WIDTH))
+        return replace(self, goal_radius=radius if self.goal_radius is None else self.goal_radius,
+                       dead_band=min(0.05, speed / 16) if self.dead_band is None else self.dead_band)
 
 
 @dataclass(frozen=True, slots=True)
@@ -294,6 +337,8 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
         if not s.speed > 0:
             raise InputError(f"scenario {s.name}: speed must be positive, got {s.speed}")
     env = plan.env
+    model = model.resolved(env, min((s.speed for s in scen), default=1.0))
+    goal_radius, dead_band = float(model.goal_radius or 0.0), float(model.dead_band or 0.0)  # resolved: set
     dec = plan.decomposition
     caster = RayCaster(env)
     fields = _Fields(plan)
@@ -365,7 +410,7 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     inside_everywhere = True
     polygon = env.to_shapely()
 
-    at_goal = np.hypot(q[:, 0] - goal[0], q[:, 1] - goal[1]) <= model.goal_radius
+    at_goal = np.hypot(q[:, 0] - goal[0], q[:, 1] - goal[1]) <= goal_radius
     times[at_goal] = 0.0  # started within reach of the goal
     done |= at_goal
     substeps = int(round(model.physics_rate / model.control_rate))
@@ -394,7 +439,7 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
         rotated = np.stack([cos * direction[:, 0] - sin * direction[:, 1],
                             sin * direction[:, 0] + cos * direction[:, 1]], axis=1)
         magnitude = np.clip(speed[active] * speed_factor, 0.0, None)
-        magnitude[magnitude < model.dead_band] = 0.0
+        magnitude[magnitude < dead_band] = 0.0
         command = rotated * magnitude[:, None]
         for _sub in range(substeps):
             step_count += 1
@@ -467,7 +512,7 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
                 for k, r in enumerate(kept):
                     if not done[r] and r in active_set:
                         paths[k].append(q[r].copy())
-            arrived = np.hypot(q[rows, 0] - goal[0], q[rows, 1] - goal[1]) <= model.goal_radius
+            arrived = np.hypot(q[rows, 0] - goal[0], q[rows, 1] - goal[1]) <= goal_radius
             if arrived.any():
                 times[rows[arrived]] = t
                 done[rows[arrived]] = True

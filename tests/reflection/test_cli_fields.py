@@ -76,6 +76,11 @@ def test_fields_with_arcs_verifies_them_by_sample():
      "error: trajectories must be between 0 and the number of trials (2), got 3"),
     (["--from", "3,2.25", "--to", "3,0.25", "--picture", "f.pdf"], "error: "),
     (["--from", "3,2.25", "--to", "3,0.25", "--model", "wheeled"], "error: Invalid value for '--model'"),
+    (["--from", "3,2.25", "--to", "3,0.25", "--goal-radius", "0"], "error: goal_radius must be positive, got 0.0"),
+    (["--from", "3,2.25", "--to", "3,0.25", "--goal-radius", "inf"], "error: goal_radius must be finite, got inf"),
+    (["--from", "3,2.25", "--to", "3,0.25", "--dead-band", "-1"], "error: dead_band must be non-negative, got -1.0"),
+    (["--from", "3,2.25", "--to", "3,0.25", "--dead-band", "2"],
+     "error: the fast speed must exceed the robot's dead band 2 (length/s), got 1.5"),
 ])
 def test_fields_bad_input_is_one_line_and_exit_2(args, message):
     result = runner.invoke(app, ["fields", "serpentine", *args])
@@ -107,3 +112,29 @@ def test_issue26_robot_options_random_starts_and_the_exported_field(tmp_path):
 def test_a_control_rate_that_does_not_divide_the_physics_is_refused():
     result = runner.invoke(app, [*ARGS, "--control-rate", "33"])
     assert result.exit_code == 0  # 396 Hz physics: the nearest multiple is used
+
+
+def test_fields_at_a_micro_scale_is_found_certified_and_verified(tmp_path):
+    """The end-to-end reproducer (a star with a hole, coordinates ~10⁻³; not-found before the gains were relative
+    to the room): found, its certificate verifies, the derived lengths are recorded; given lengths are kept."""
+    from decimal import Decimal
+
+    from tests.reflection.test_scale import F7_RINGS
+
+    env = tmp_path / "f7.json"
+    tiny = [[[float(Decimal(c).scaleb(-3)) for c in point] for point in ring] for ring in F7_RINGS]
+    env.write_text(json.dumps({"outer": tiny[0], "holes": tiny[1:]}))
+    answer, cert = tmp_path / "A.json", tmp_path / "C.json"
+    args = ["fields", str(env), "--from", "-0.00006384,0.0000153", "--to", "-0.00061931,0.0001742", "--trials", "2",
+            "--scenario", "reflection", "--seed", "74", "-o", str(answer), "--certificate", str(cert)]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    data = json.loads(answer.read_text())
+    assert data["status"] == "found" and data["scale"]["mean_width_exact"] == "0.0007483"
+    assert data["model"]["goal_radius"] < 2e-4 and data["scenarios"]["reflection"]["time_min"] > 0
+    assert runner.invoke(app, ["verify", str(cert)]).exit_code == 0
+    result = runner.invoke(app, [*args, "--goal-radius", "0.00005", "--dead-band", "0.01", "--gain-line", "2000"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(answer.read_text())
+    assert (data["model"]["goal_radius"], data["model"]["dead_band"], data["gain_line_exact"]) == (5e-05, 0.01, "2000")
+    assert data["scale"]["derived"] == ["gain_arc"]
