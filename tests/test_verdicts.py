@@ -79,14 +79,14 @@ def _model(kind: str, valid: bool) -> Verdict:
 
 
 def _rooms_answer(valid: bool) -> Verdict:
-    from solverplan.certify.rooms_answer import check_rooms
+    from solverplan.certify.rooms_answer import check_rooms_answer
 
     env = sp.load_environment("three_chambers")
     answer = json.loads(json.dumps(sp.decompose_rooms(env).to_json()))
     if not valid:
         answer = copy.deepcopy(answer)
         answer["rooms"][0]["area_exact"] = "901"
-    return check_rooms(env, answer)
+    return check_rooms_answer(env, answer)
 
 
 def _replay(valid: bool) -> Verdict:

@@ -234,7 +234,7 @@ class ModelChecker:
 
 def check_model_certificate(cert: ModelCertificate, *, expected_rings: Any = None, partial: bool = False) -> CheckReport:
     """Check a model certificate exactly (module docstring); ``expected_rings`` pins its environment. ``partial``:
-    the claims are an answer file's (:func:`solverplan.certify.rooms_answer.check_rooms`), which may leave exact numbers
+    the claims are an answer file's (:func:`solverplan.certify.rooms_answer.check_rooms_answer`), which may leave exact numbers
     unstated (they are then listed as not checked); a certificate states them all."""
     from solverplan.certify.check_exploration import check as exploration
     from solverplan.certify.check_fields import check as fields

@@ -1,7 +1,7 @@
 """The exact check of a rooms answer (the JSON of ``solverplan rooms``) against its polygon — the ``rooms``
 certificate's checker, reading the answer's own claims.
 
-:func:`check_rooms` turns the answer into the claims of a ``rooms`` certificate (rooms with their exact areas,
+:func:`check_rooms_answer` turns the answer into the claims of a ``rooms`` certificate (rooms with their exact areas,
 doors with their exact escapability Φ from both sides, the tree) and runs the independent exact checker on them
 (:mod:`solverplan.certify.check_rooms`: doors through the interior from reflex vertices, rooms tiling the polygon,
 the tree, Φ). The verdict is the :class:`~solverplan.certify.check.CheckReport` every certificate gets; numbers the
@@ -11,10 +11,10 @@ answer does not state exactly (door lengths, Ψ) are listed under ``not_checked`
 >>> from solverplan.rectilinear.decomposition import decompose_rooms
 >>> env = load_environment("three_chambers")
 >>> answer = decompose_rooms(env).to_json()
->>> check_rooms(env, answer).valid
+>>> check_rooms_answer(env, answer).valid
 True
 >>> answer["doors"][0]["b"] = [30, 16]
->>> print(check_rooms(env, answer).failures[0])
+>>> print(check_rooms_answer(env, answer).failures[0])
 claims.doors[0]: (30, 14.5)–(30, 16) does not run through the interior of the polygon
 """
 
@@ -32,7 +32,7 @@ from solverplan.environment import Environment, read_json
 from solverplan.errors import MalformedFile
 from solverplan.limits import read_text_within_limits
 
-__all__ = ["check_rooms", "load_rooms_answer", "rooms_claims"]
+__all__ = ["check_rooms_answer", "load_rooms_answer", "rooms_claims"]
 
 
 def load_rooms_answer(path: str | PathLike[str]) -> dict:
@@ -134,7 +134,7 @@ def _check_shape(answer: Any, env: Environment) -> None:
             point(p, f"rooms[{k}].polygon")
 
 
-def check_rooms(env: Environment, answer: dict) -> CheckReport:
+def check_rooms_answer(env: Environment, answer: dict) -> CheckReport:
     """Check a rooms answer (``Decomposition.to_json()`` or the JSON of ``solverplan rooms``) against ``env``
     exactly: the ``rooms`` certificate's checker on the answer's claims (module docstring). A malformed answer
     (a field of the wrong type, more rooms or doors than the polygon allows) is

@@ -74,10 +74,10 @@ def _simulate(environment: Any, start: int, goal: int | None, tour: bool, rule: 
 
 def _check_answer(env: Path, check: Path, common: CommonOptions) -> None:
     """--check: a rooms answer file checked against ENV exactly (exit 0 valid, 1 invalid)."""
-    from solverplan.certify.rooms_answer import check_rooms, load_rooms_answer
+    from solverplan.certify.rooms_answer import check_rooms_answer, load_rooms_answer
 
     with common.exit_codes():
-        report = check_rooms(common.load(env), load_rooms_answer(check))
+        report = check_rooms_answer(common.load(env), load_rooms_answer(check))
         common.emit(report)
     if not report.valid:
         raise invalid("rooms answer", report.failures)

@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solverplan.environment import load_environment
-from solverplan.certify.rooms_answer import check_rooms
+from solverplan.certify.rooms_answer import check_rooms_answer
 from solverplan.errors import MalformedFile
 from solverplan.rectilinear.decomposition import decompose_rooms
 from solverplan.generators import rectilinear_polygon
@@ -29,7 +29,7 @@ def chambers():
 def test_every_answer_of_algorithm_1_checks(n, size, seed):
     env = rectilinear_polygon(n, seed=seed, max_size=size)
     answer = json.loads(json.dumps(decompose_rooms(env).to_json()))  # through JSON, as a file would be read
-    report = check_rooms(env, answer)
+    report = check_rooms_answer(env, answer)
     assert report.valid, [str(f) for f in report.failures]
     counts = dict(report.checked)
     assert counts["rooms"] == len(answer["rooms"]) and counts.get("doors", 0) == len(answer["doors"])
@@ -38,7 +38,7 @@ def test_every_answer_of_algorithm_1_checks(n, size, seed):
 @pytest.mark.parametrize("model", ["warehouse", "spiral", "comb", "hallway", "narrow_door", "l_shape", "square"])
 def test_shipped_models_check(model):
     env = load_environment(model)
-    assert check_rooms(env, decompose_rooms(env).to_json()).valid
+    assert check_rooms_answer(env, decompose_rooms(env).to_json()).valid
 
 
 def tampered(answer, change):
@@ -63,7 +63,7 @@ def test_tampered_answers_fail_naming_the_claim(chambers):
                     "claims.rooms[4].polygon: side (31, 15.5)–(31, 40) is neither wall nor door"),
     }
     for name, (change, message) in cases.items():
-        report = check_rooms(env, tampered(answer, change))
+        report = check_rooms_answer(env, tampered(answer, change))
         assert not report.valid, name
         assert any(message in str(failure) for failure in report.failures), (name, [str(f) for f in report.failures])
 
@@ -73,7 +73,7 @@ def test_a_door_must_start_at_a_reflex_vertex():
     answer = decompose_rooms(env).to_json()
     door = answer["doors"][0]
     door["a"], door["b"] = door["b"], door["a"]
-    failures = check_rooms(env, answer).failures
+    failures = check_rooms_answer(env, answer).failures
     assert [f.claim for f in failures] == ["claims.doors[0].a"] and "is not a reflex vertex of the polygon" in failures[0].message
 
 
@@ -83,9 +83,9 @@ def test_crossing_doors_fail(chambers):
     env = Environment.from_coords([(9, 4), (9, 0), (15, 0), (15, 2), (21, 2), (21, 4), (15, 4), (15, 7), (21, 7), (21, 13), (22, 13),
                                    (22, 18), (18, 18), (18, 17), (1, 17), (1, 16), (9, 16), (9, 7), (3, 7), (3, 4)])
     answer = decompose_rooms(env).to_json()
-    assert check_rooms(env, answer).valid
+    assert check_rooms_answer(env, answer).valid
     answer["doors"].append({"a": [21, 13], "b": [21, 18], "rooms": [0, 1]})  # the dropped door of Prop. 2's counterexample
-    failures = check_rooms(env, answer).failures
+    failures = check_rooms_answer(env, answer).failures
     assert any(f.claim == f"claims.doors[{len(answer['doors']) - 1}]" and f.message.startswith("crosses or overlaps door")
                for f in failures), [str(f) for f in failures]
 
@@ -103,10 +103,10 @@ def test_a_malformed_answer_is_bad_input_naming_the_field(chambers, answer, wher
     """A file that is not a rooms answer is bad input (exit 2), not an invalid answer (#28: internal errors)."""
     env, _ = chambers
     with pytest.raises(MalformedFile, match=re.escape(where)):
-        check_rooms(env, answer)
+        check_rooms_answer(env, answer)
 
 
 def test_an_answer_states_no_lengths_or_psi_they_are_listed_not_checked(chambers):
     env, answer = chambers
-    report = check_rooms(env, answer)
+    report = check_rooms_answer(env, answer)
     assert report.valid and any("Ψ" in item for item in report.not_checked)
