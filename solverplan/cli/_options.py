@@ -82,7 +82,11 @@ def start_command_clock() -> None:
         _STARTED = time.monotonic()
     _COMMANDS += 1
 _ANSWER_RESERVE = 0.3
-"""Seconds of a --timeout kept for what follows the search: the exact check of the answer and writing it."""
+"""Seconds of a --timeout kept at least for what follows the search: the exact check of the answer and writing it."""
+_ANSWER_RESERVE_SHARE = 0.1
+"""The share of a --timeout kept for the same when it is more: an anytime search (a patrol's bisection, a plan's
+incumbent) uses all the time it is given, and on large maps the exact check takes seconds (a 401-vertex patrol:
+0.8 s), so with a fixed 0.3 s the check was always stopped and no certificate written."""
 _WRITE_RESERVE = 0.1
 """Seconds of a --timeout kept for writing the answer after its exact check (:func:`command_stop`)."""
 
@@ -96,13 +100,14 @@ def _command_end(seconds: float) -> float:
 def command_timeout(timeout: float | None) -> Any:
     """``--timeout`` as a running deadline for the library (a :class:`~solverplan.plan._deadline.Deadline` whose limit
     reads as the user's seconds): the process's start-up and reading the input count, and a little is kept for
-    checking and writing the answer, so that the whole command ends near ``timeout``."""
+    checking and writing the answer (a tenth of it, at least 0.3 s), so that the whole command ends near ``timeout``."""
     from solverplan.plan._deadline import Deadline, check_timeout
 
     seconds = check_timeout(timeout)
     if seconds is None:
         return None
-    deadline = Deadline(max(1e-3, _command_end(seconds) - time.monotonic() - _ANSWER_RESERVE))
+    reserve = max(_ANSWER_RESERVE, _ANSWER_RESERVE_SHARE * seconds)
+    deadline = Deadline(max(1e-3, _command_end(seconds) - time.monotonic() - reserve))
     deadline.seconds = seconds  # the answer's limits name the user's timeout
     return deadline
 
