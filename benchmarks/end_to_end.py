@@ -404,7 +404,7 @@ STILL_TRUE = re.compile(r"^claims/policies/\d+/field/(origin|target|gain|centre|
 WEAKER = re.compile(r"^bound/(threshold|heading_margin): (-?[\d./]+) -> (-?[\d./]+)$")
 SET_END = re.compile(r"^(start|goal)/\d+/(t0|t1): (-?[\d./]+) -> (-?[\d./]+)$")
 CONE = re.compile(r"^stages/\d+/moves/\d+/d_(lo|hi)/\d: (\S+) -> (\S+)$")
-VIEWPOINT = re.compile(r"^claims/views/\d+/viewpoint/\d: (\S+) -> (\S+)$")
+VIEWPOINT = re.compile(r"^claims/(?:views/\d+/viewpoint|start|goal)/\d: (\S+) -> (\S+)$")
 
 
 def still_true(what: str) -> bool:
@@ -424,7 +424,7 @@ def still_true(what: str) -> bool:
         return True
     if re.match(r"^bound/groups: dropped", what):
         return True  # a bound over fewer plans (landings inside fewer runs of segments): weaker, still true
-    nudged = VIEWPOINT.match(what)  # a viewpoint moved by at most 10⁻⁴ of its coordinate: its view is re-derived
+    nudged = VIEWPOINT.match(what)  # a viewpoint (its view re-derived) or a field's start/goal point moved by ≤ 10⁻⁴
     if nudged:
         old, new = Fraction(nudged.group(1)), Fraction(nudged.group(2))
         return abs(new - old) <= abs(old) / 10**4

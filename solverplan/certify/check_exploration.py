@@ -129,6 +129,12 @@ def check(c: ModelChecker) -> None:
         parent = None if parent_raw is None else R.integer(parent_raw, f"{where}.parent")
         views.append((R.point(R.field(obj, "viewpoint", where), f"{where}.viewpoint"), parent,
                       R.ring(R.field(obj, "polygon", where), f"{where}.polygon")))
+    first_at: dict[Point, int] = {}
+    for k, (z, _, _) in enumerate(views):
+        if z in first_at:  # the same view again: it covers nothing new, and counts against the bound twice
+            c.fail(f"claims.views[{k}].viewpoint", f"repeats the viewpoint of views[{first_at[z]}]: a view is taken "
+                                                   "once at each viewpoint")
+        first_at.setdefault(z, k)
     edges = env.edges
     edge_boxes = [box(e) for e in edges]
     boxes = [box(ring) for _, _, ring in views]

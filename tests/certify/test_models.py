@@ -4,6 +4,7 @@ and tampering with any single claim is rejected by the exact checker."""
 from __future__ import annotations
 
 import copy
+import json
 from fractions import Fraction
 
 import pytest
@@ -300,3 +301,15 @@ def test_23_the_range_cover_finds_the_free_space_a_missing_view_leaves():
     assert "in no view" in gap.failures[0].message
     closed = check_certificate(cert(2, 5, 8))
     assert closed.valid and not closed.not_checked, (closed.failures, closed.not_checked)
+
+
+@pytest.mark.parametrize("name", ["explore-two_holes", "explore-range-one_hole"])
+def test_a_view_listed_twice_is_a_failure(name):
+    """End-to-end seed 14: an exploration certificate with one view duplicated verified (the same view again covers
+    nothing and counts twice against the bound)."""
+    data = json.loads(dumps_certificate(_cert(name)))
+    views = data["claims"]["views"]
+    views.append(copy.deepcopy(views[-1]))
+    report = check_certificate(parse_certificate(json.dumps(data)))
+    assert not report.valid
+    assert str(report.failures[0]).startswith(f"claims.views[{len(views) - 1}].viewpoint: repeats the viewpoint of views[")
