@@ -27,11 +27,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import logging
+
 import numpy as np
 
 from solverplan.reflection.compose import FieldPlan
 from solverplan.reflection.simulate import FieldRobotDynamics, Scenario, simulate_scenarios
 from solverplan.reflection.zones import RejectedZone
+
+logger = logging.getLogger(__name__)
 
 __all__ = ["MIN_GAIN", "CONFIRM_GAIN", "ROLLOUT_TRIALS", "ZoneTest", "overshoot_depth", "stopping_distance", "prune_zones"]
 
@@ -80,6 +84,7 @@ def _mean_time(plan: FieldPlan, model: FieldRobotDynamics, speed: float, trials:
     same noise for every plan compared: common random numbers). A failed run counts as twice the slowest
     arrival: a zone that makes runs fail must not look fast."""
     scenario = Scenario("rollout", speed, True)
+    logger.info("payoff test: %d rollouts with %d reflection zone(s)", trials, len(plan.zones))
     times = simulate_scenarios(plan, [scenario], model=model, trials=trials, seed=seed, starts=starts)["rollout"].times
     worst = 2.0 * float(np.nanmax(times)) if np.isfinite(times).any() else 1e9
     return float(np.mean(np.where(np.isfinite(times), times, worst)))

@@ -43,6 +43,7 @@ from solverplan.choices import RobotKind, ScenarioName
 from solverplan.environment import Environment
 from solverplan.errors import InputError
 from solverplan.geometry.raycast import RayCaster
+from solverplan.progress import tick
 from solverplan.reflection.compose import REFERENCE_WIDTH, FieldPlan, mean_width
 
 __all__ = ["FieldRobotDynamics", "Scenario", "SCENARIOS", "ScenarioRun", "simulate_scenarios", "default_scenarios"]
@@ -417,7 +418,9 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     dt = 1.0 / model.physics_rate
     ticks = int(np.ceil(_time_limit(model, plan, min(s.speed for s in scen)) * model.control_rate))
     step_count = 0
-    for _ in range(ticks):
+    for k_tick in range(ticks):
+        if k_tick % 20 == 0:  # once a simulated second at the default rate: the progress bar of long runs
+            tick("fields rollouts: simulated seconds", k_tick / model.control_rate, ticks / model.control_rate)
         active = np.flatnonzero(~done)
         if not len(active):
             break
