@@ -272,7 +272,7 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
             if unchecked.failure is not None:
                 return _Verdict(where + unchecked.failure, seconds=time.perf_counter() - t0)
             if isinstance(answer, ParetoFront) and answer.points:
-                continue  # a point whose start lies in its goal: checked by _nothing_to_certify
+                continue  # a point of no stages that records no start or goal: checked by _nothing_to_certify
             return _Verdict(None, None, checked, unchecked.unchecked, time.perf_counter() - t0)
         except Exception as exc:  # noqa: BLE001 - an answer that cannot even be certified is not given
             return _Verdict(f"{where}no certificate can be made of it ({type(exc).__name__}: {exc})",
@@ -292,8 +292,9 @@ def _verify(answer: Any, env: Environment | None, start: str | None, goal: str |
 
 def _nothing_to_certify(answer: Any, env: Environment | None, start: str | None, goal: str | None,
                         exc: NothingToCertify | None) -> _Verdict:
-    """An answer without a certificate: a found plan with no stages (its start set must lie in its goal set,
-    checked here exactly), or an answer that there is none (:func:`check_infeasibility`)."""
+    """An answer without a certificate: a found plan with no stages that records no start or goal set (the caller's
+    start set must lie in its goal set, checked here exactly; a plan that records them gets a certificate of no
+    stages), or an answer that there is none (:func:`check_infeasibility`)."""
     if isinstance(answer, Plan) and answer.found:
         if env is None:
             return _Verdict(None, unchecked="a plan without stages and without its environment")
