@@ -418,8 +418,9 @@ def simulate_scenarios(plan: FieldPlan, scenarios: Sequence[Scenario], *, model:
     dt = 1.0 / model.physics_rate
     ticks = int(np.ceil(_time_limit(model, plan, min(s.speed for s in scen)) * model.control_rate))
     step_count = 0
+    ticks_per_second = max(1, round(model.control_rate))
     for k_tick in range(ticks):
-        if k_tick % 20 == 0:  # once a simulated second at the default rate: the progress bar of long runs
+        if k_tick % ticks_per_second == 0:  # once a simulated second: the progress bar of long runs
             tick("fields rollouts: simulated seconds", k_tick / model.control_rate, ticks / model.control_rate)
         active = np.flatnonzero(~done)
         if not len(active):
